@@ -1,0 +1,76 @@
+"""robot_agents: define a robot once, use it in any MuJoCo task.
+
+Quick tour::
+
+    import robot_agents as ra
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_joint_delta_pos")
+    obs, info = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+# Offscreen rendering without a display: prefer EGL unless the user chose a backend.
+if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
+from robot_agents.agent import Agent  # noqa: E402
+from robot_agents.controllers import (  # noqa: E402
+    JointGroup,
+    PassiveConfig,
+    PDJointPosConfig,
+    PDJointPosMimicConfig,
+    PDJointPosVelConfig,
+    PDJointVelConfig,
+    combine_parts,
+    joint_control_modes,
+)
+from robot_agents.envs import make_env  # noqa: E402
+from robot_agents.errors import (  # noqa: E402
+    ActionError,
+    ConfigError,
+    ModelError,
+    RegistryError,
+    RobotAgentsError,
+    StateError,
+    UnknownNameError,
+)
+from robot_agents.keyframe import Keyframe  # noqa: E402
+from robot_agents.model.materials import FrictionMaterial  # noqa: E402
+from robot_agents.model.scene import Prop  # noqa: E402
+from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent  # noqa: E402
+from robot_agents.sim import BatchedWorld, Scene  # noqa: E402
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ActionError",
+    "Agent",
+    "BatchedWorld",
+    "ConfigError",
+    "FrictionMaterial",
+    "JointGroup",
+    "Keyframe",
+    "ModelError",
+    "PDJointPosConfig",
+    "PDJointPosMimicConfig",
+    "PDJointPosVelConfig",
+    "PDJointVelConfig",
+    "PassiveConfig",
+    "Prop",
+    "RegistryError",
+    "RobotAgentsError",
+    "Scene",
+    "StateError",
+    "UnknownNameError",
+    "combine_parts",
+    "get_agent",
+    "joint_control_modes",
+    "list_agents",
+    "make_env",
+    "register_agent",
+    "unregister_agent",
+]

@@ -1,0 +1,99 @@
+"""``robot-agents`` command line: ``list``, ``info UID``, ``demo UID``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from typing import TextIO
+
+from robot_agents.errors import RobotAgentsError
+from robot_agents.registry import get_agent, list_agents
+
+
+def _table(rows: list[list[str]], out: TextIO) -> None:
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for n, row in enumerate(rows):
+        out.write("  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip() + "\n")
+        if n == 0:
+            out.write("  ".join("-" * w for w in widths) + "\n")
+
+
+def cmd_list(out: TextIO) -> int:
+    from robot_agents.sim.scene import Scene
+
+    rows = [["uid", "dof", "control modes"]]
+    for uid in list_agents():
+        cls = get_agent(uid)
+        scene = Scene(cls)
+        rows.append([uid, str(scene.agents[0].dof), ", ".join(cls.control_modes)])
+        scene.close()
+    _table(rows, out)
+    return 0
+
+
+def cmd_info(uid: str, out: TextIO) -> int:
+    from robot_agents.sim.scene import Scene
+
+    cls = get_agent(uid)
+    scene = Scene(cls)
+    agent = scene.agents[0]
+    out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
+    out.write(f"model: {cls.model_path()}\n")
+    out.write(f"root: {'fixed' if cls.fix_root_link else 'free'}; tool frame: {cls.tcp_link or '-'}\n\n")
+    rows = [["joint", "lower", "upper"]]
+    rows += [[n, f"{lo:.4f}", f"{hi:.4f}"] for n, (lo, hi) in zip(agent.joint_names, agent.qpos_limits, strict=True)]
+    _table(rows, out)
+    out.write("\nkeyframes:\n")
+    for name, frame in cls.keyframes.items():
+        out.write(f"  {name}: qpos = [{', '.join(f'{q:.4f}' for q in frame.qpos)}]\n")
+    out.write("\n")
+    rows = [["control mode", "action", "parts"]]
+    for mode in cls.control_modes:
+        agent.set_control_mode(mode)
+        parts = ", ".join(f"{p}[{s.stop - s.start}]: {agent.controller.parts[p].describe()}" for p, s in agent.controller.slices.items())
+        rows.append([mode + (" (default)" if mode == cls.default_mode() else ""), str(agent.controller.action_dim), parts])
+    _table(rows, out)
+    out.write("\nsensors: none\n")
+    scene.close()
+    return 0
+
+
+def cmd_demo(uid: str, output: str, seconds: float, out: TextIO) -> int:
+    from robot_agents.demo import run_demo
+
+    summary = run_demo(uid, output=output, seconds_per_pose=seconds)
+    out.write("\n".join(summary.lines()) + "\n")
+    return 0 if summary.finite else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("list", help="registered robots with their DoF and control modes")
+    info = sub.add_parser("info", help="joints, keyframes and control modes of a robot")
+    info.add_argument("uid")
+    demo = sub.add_parser("demo", help="move a robot through its keyframes and write a GIF")
+    demo.add_argument("uid", nargs="?", default="panda")
+    demo.add_argument("--output", "-o", default=None, help="GIF path (default: <uid>_demo.gif)")
+    demo.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per pose")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
+    """Entry point; returns the exit status."""
+    stream = out if out is not None else sys.stdout
+    args = build_parser().parse_args(argv)
+    try:
+        if args.command == "list":
+            return cmd_list(stream)
+        if args.command == "info":
+            return cmd_info(args.uid, stream)
+        return cmd_demo(args.uid, args.output or f"{args.uid}_demo.gif", args.seconds, stream)
+    except RobotAgentsError as err:
+        sys.stderr.write(f"robot-agents: error: {err}\n")
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

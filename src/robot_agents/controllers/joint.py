@@ -1,0 +1,301 @@
+"""Joint-space PD controllers: position (absolute, delta, delta-from-target),
+velocity, position + velocity, and mimic (one action drives coupled joints).
+
+All of them are MuJoCo actuators: the PD law runs inside physics at every substep.
+With stiffness ``kp`` and damping ``kv`` the joint force is
+``kp * (q_target - q) + kv * (qd_target - qd)``, clamped to ``force_limit``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from robot_agents.controllers.base import (
+    Controller,
+    ControllerConfig,
+    FloatArray,
+    IntArray,
+    JointBinding,
+    PerJoint,
+    per_joint,
+)
+from robot_agents.errors import ConfigError
+
+#: Force limit used when a config gives none: effectively unlimited (N or N*m).
+UNLIMITED_FORCE = 1e6
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDJointPosConfig(ControllerConfig):
+    """PD joint position control.
+
+    Attributes:
+        lower, upper: action bounds (rad or m). For absolute targets ``None`` means the
+            joint limits; delta modes must give them (e.g. ``-0.1``/``0.1``).
+        stiffness: ``kp`` per joint (N*m/rad or N/m).
+        damping: ``kv`` per joint (N*m*s/rad or N*s/m).
+        force_limit: maximum actuator force per joint (N*m or N).
+        use_delta: the action is a change of the target, not the target.
+        use_target: with ``use_delta``, add the change to the previous *target* instead
+            of the measured position (``pd_joint_target_delta_pos``).
+        interpolate: move the target linearly over the control step's substeps instead
+            of jumping to it (smoother, costs a Python call per substep).
+        clip_target: keep targets within the joint limits. A gripper turns this off so
+            that a target below its closed limit keeps squeezing a grasped object.
+    """
+
+    lower: PerJoint | None = None
+    upper: PerJoint | None = None
+    stiffness: PerJoint = 1e3
+    damping: PerJoint = 1e2
+    force_limit: PerJoint = UNLIMITED_FORCE
+    use_delta: bool = False
+    use_target: bool = False
+    interpolate: bool = False
+    clip_target: bool = True
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.use_target and not self.use_delta:
+            raise ConfigError(f"{type(self).__name__}({', '.join(self.joint_names)}): use_target=True needs use_delta=True.")
+        if self.use_delta and (self.lower is None or self.upper is None):
+            raise ConfigError(
+                f"{type(self).__name__}({', '.join(self.joint_names)}): delta control needs explicit lower/upper bounds, "
+                f"got lower={self.lower}, upper={self.upper}."
+            )
+
+    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+        return PDJointPosController(self, binding, num_envs)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDJointPosMimicConfig(PDJointPosConfig):
+    """One action drives several coupled joints (e.g. both fingers of a parallel gripper).
+
+    The first joint in ``joint_names`` leads; joint ``i`` follows with target
+    ``multipliers[i] * leader_target + offsets[i]`` (defaults 1 and 0). Bounds are in
+    the leader's units.
+    """
+
+    multipliers: tuple[float, ...] | None = None
+    offsets: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if len(self.joint_names) < 2:
+            raise ConfigError(f"PDJointPosMimicConfig: expected at least 2 joints (leader + followers), got {self.joint_names}.")
+        for field in ("multipliers", "offsets"):
+            values = getattr(self, field)
+            if values is not None and len(values) != len(self.joint_names):
+                raise ConfigError(
+                    f"PDJointPosMimicConfig.{field}: expected {len(self.joint_names)} values (one per joint), got {len(values)}."
+                )
+
+    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+        return PDJointPosController(self, binding, num_envs)
+
+
+class PDJointPosController(Controller):
+    """Position targets for every joint from an action through a linear coupling.
+
+    ``targets = action @ coupling.T + offsets``; the coupling is the identity for plain
+    joint control and a column of multipliers for mimic joints.
+    """
+
+    config: PDJointPosConfig
+
+    def __init__(self, config: PDJointPosConfig, binding: JointBinding, num_envs: int) -> None:
+        n = binding.size
+        if isinstance(config, PDJointPosMimicConfig):
+            mult = np.ones(n) if config.multipliers is None else np.asarray(config.multipliers, dtype=np.float64)
+            self.coupling = mult.reshape(n, 1)
+            self.offsets = np.zeros(n) if config.offsets is None else np.asarray(config.offsets, dtype=np.float64)
+        else:
+            self.coupling = np.eye(n)
+            self.offsets = np.zeros(n)
+        self._plain = not isinstance(config, PDJointPosMimicConfig)
+        self.binding = binding
+        self.config = config
+        super().__init__(config, binding, num_envs)
+        self.target_qpos = np.zeros((num_envs, n))
+        self._previous_target = np.zeros((num_envs, n))
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        cfg, name = self.config, type(self.config).__name__
+        dim = self.coupling.shape[1]
+        leader_range = self.binding.qpos_range[:dim]
+        low = leader_range[:, 0] if cfg.lower is None else per_joint(name, "lower", cfg.lower, dim)
+        high = leader_range[:, 1] if cfg.upper is None else per_joint(name, "upper", cfg.upper, dim)
+        return low.copy(), high.copy()
+
+    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        name, n = type(self.config).__name__, self.binding.size
+        kp = per_joint(name, "stiffness", self.config.stiffness, n)
+        kv = per_joint(name, "damping", self.config.damping, n)
+        return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
+
+    def _clip_to_limits(self, targets: FloatArray) -> FloatArray:
+        if not self.config.clip_target:
+            return targets
+        return np.clip(targets, self.binding.qpos_range[:, 0], self.binding.qpos_range[:, 1])
+
+    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        measured = qpos[env_ids][:, self.binding.qpos_adr]
+        self.target_qpos[env_ids] = measured
+        self._previous_target[env_ids] = measured
+        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured
+
+    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        raw = self.to_raw(action)
+        change = raw if self._plain else raw @ self.coupling.T
+        if not self.config.use_delta:
+            targets = change + self.offsets
+        elif self.config.use_target:
+            targets = self.target_qpos + change
+        else:
+            targets = qpos[:, self.binding.qpos_adr] + change
+        self._previous_target = self.target_qpos
+        self.target_qpos = self._clip_to_limits(targets)
+        if not self.config.interpolate:
+            ctrl[:, self.binding.ctrl_adr] = self.target_qpos
+
+    @property
+    def needs_substep(self) -> bool:
+        return self.config.interpolate
+
+    def before_substep(self, substep: int, substeps: int, ctrl: FloatArray) -> None:
+        fraction = (substep + 1) / substeps
+        ctrl[:, self.binding.ctrl_adr] = self._previous_target + fraction * (self.target_qpos - self._previous_target)
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {"target_qpos": self.target_qpos.copy(), "previous_target_qpos": self._previous_target.copy()}
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        self.target_qpos = np.array(state["target_qpos"], dtype=np.float64)
+        self._previous_target = np.array(state["previous_target_qpos"], dtype=np.float64)
+
+    def describe(self) -> str:
+        cfg = self.config
+        kind = "mimic position" if not self._plain else "position"
+        if cfg.use_delta:
+            kind = ("delta-from-target " if cfg.use_target else "delta ") + kind
+        return f"PD joint {kind}{' (normalized)' if cfg.normalize_action else ''}"
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDJointVelConfig(ControllerConfig):
+    """Joint velocity control: ``force = damping * (qd_target - qd)``.
+
+    Attributes:
+        lower, upper: target velocity bounds (rad/s or m/s).
+        damping: ``kv`` per joint; force_limit: per joint (N*m or N).
+    """
+
+    lower: PerJoint = -1.0
+    upper: PerJoint = 1.0
+    damping: PerJoint = 1e2
+    force_limit: PerJoint = UNLIMITED_FORCE
+
+    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+        return PDJointVelController(self, binding, num_envs)
+
+
+class PDJointVelController(Controller):
+    config: PDJointVelConfig
+
+    def __init__(self, config: PDJointVelConfig, binding: JointBinding, num_envs: int) -> None:
+        super().__init__(config, binding, num_envs)
+        self.target_qvel = np.zeros((num_envs, binding.size))
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        name, n = type(self.config).__name__, self.binding.size
+        return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
+
+    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        name, n = type(self.config).__name__, self.binding.size
+        kv = per_joint(name, "damping", self.config.damping, n)
+        return kv, np.zeros(n), -kv, per_joint(name, "force_limit", self.config.force_limit, n)
+
+    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        self.target_qvel[env_ids] = 0.0
+        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
+
+    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        self.target_qvel = self.to_raw(action)
+        ctrl[:, self.binding.ctrl_adr] = self.target_qvel
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {"target_qvel": self.target_qvel.copy()}
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        self.target_qvel = np.array(state["target_qvel"], dtype=np.float64)
+
+    def describe(self) -> str:
+        return f"PD joint velocity{' (normalized)' if self.config.normalize_action else ''}"
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDJointPosVelConfig(PDJointPosConfig):
+    """Position and velocity targets: the action is ``[q_target (n), qd_target (n)]``.
+
+    ``vel_lower`` / ``vel_upper`` bound the velocity half (rad/s or m/s). Needs
+    ``stiffness > 0`` on every joint (the velocity target enters the actuator as
+    ``ctrl = q_target + (kv / kp) * qd_target``).
+    """
+
+    vel_lower: PerJoint = -1.0
+    vel_upper: PerJoint = 1.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.use_target:
+            raise ConfigError("PDJointPosVelConfig: use_target is not supported; use use_delta with measured positions.")
+        if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
+            raise ConfigError(f"PDJointPosVelConfig: expected stiffness > 0 on every joint, got {self.stiffness}.")
+
+    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+        return PDJointPosVelController(self, binding, num_envs)
+
+
+class PDJointPosVelController(PDJointPosController):
+    config: PDJointPosVelConfig
+
+    def __init__(self, config: PDJointPosVelConfig, binding: JointBinding, num_envs: int) -> None:
+        super().__init__(config, binding, num_envs)
+        self.target_qvel = np.zeros((num_envs, binding.size))
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        low, high = super().action_bounds()
+        name, n = type(self.config).__name__, self.binding.size
+        vlow = per_joint(name, "vel_lower", self.config.vel_lower, n)
+        vhigh = per_joint(name, "vel_upper", self.config.vel_upper, n)
+        return np.concatenate([low, vlow]), np.concatenate([high, vhigh])
+
+    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        super().reset(env_ids, qpos, qvel, ctrl)
+        self.target_qvel[env_ids] = 0.0
+
+    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        n = self.binding.size
+        raw = self.to_raw(action)
+        base = qpos[:, self.binding.qpos_adr] if self.config.use_delta else 0.0
+        self.target_qpos = self._clip_to_limits(base + raw[:, :n])
+        self.target_qvel = raw[:, n:]
+        kp, _, bias_v, _ = self.gains()
+        ctrl[:, self.binding.ctrl_adr] = self.target_qpos + (-bias_v / kp) * self.target_qvel
+
+    @property
+    def needs_substep(self) -> bool:
+        return False
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {**super().get_state(), "target_qvel": self.target_qvel.copy()}
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        super().set_state(state)
+        self.target_qvel = np.array(state["target_qvel"], dtype=np.float64)
+
+    def describe(self) -> str:
+        return f"PD joint {'delta ' if self.config.use_delta else ''}position + velocity"

@@ -1,0 +1,49 @@
+"""Passive joints: no action, the actuator only adds optional viscous damping."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from robot_agents.controllers.base import (
+    Controller,
+    ControllerConfig,
+    FloatArray,
+    IntArray,
+    JointBinding,
+    PerJoint,
+    per_joint,
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PassiveConfig(ControllerConfig):
+    """Joints that move freely. ``damping``: viscous damping per joint (N*m*s/rad or N*s/m)."""
+
+    damping: PerJoint = 0.0
+    normalize_action: bool = False
+
+    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+        return PassiveController(self, binding, num_envs)
+
+
+class PassiveController(Controller):
+    config: PassiveConfig
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        return np.zeros(0), np.zeros(0)
+
+    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        n = self.binding.size
+        kv = per_joint("PassiveConfig", "damping", self.config.damping, n)
+        return np.zeros(n), np.zeros(n), -kv, np.full(n, 1e6)
+
+    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
+
+    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+        return None
+
+    def describe(self) -> str:
+        return "passive"

@@ -1,0 +1,41 @@
+"""Gymnasium environments. ``make_env("Empty-v1", robot_uids="panda")`` or
+``gymnasium.make("robot_agents/Empty-v1", robot_uids="panda")``."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+
+from robot_agents.envs.base_env import RobotEnv
+from robot_agents.envs.empty import EmptyEnv
+from robot_agents.errors import UnknownNameError
+
+NAMESPACE = "robot_agents"
+#: Task name -> entry point, registered with Gymnasium as ``robot_agents/<name>``.
+TASKS = {"Empty-v1": "robot_agents.envs.empty:EmptyEnv"}
+
+
+def register_envs() -> None:
+    """Register the tasks with Gymnasium (idempotent)."""
+    for name, entry_point in TASKS.items():
+        env_id = f"{NAMESPACE}/{name}"
+        if env_id not in gym.registry:
+            gym.register(id=env_id, entry_point=entry_point, disable_env_checker=True, order_enforce=False)
+
+
+def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
+    """Make a robot_agents task, e.g. ``make_env("Empty-v1", robot_uids="panda")``.
+
+    Keyword arguments go to the task (see :class:`RobotEnv`).
+    """
+    register_envs()
+    name = env_id.split("/", 1)[1] if env_id.startswith(NAMESPACE + "/") else env_id
+    if name not in TASKS:
+        raise UnknownNameError("make_env", "env id", env_id, TASKS)
+    return gym.make(f"{NAMESPACE}/{name}", **kwargs)
+
+
+register_envs()
+
+__all__ = ["NAMESPACE", "TASKS", "EmptyEnv", "RobotEnv", "make_env", "register_envs"]

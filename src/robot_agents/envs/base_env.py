@@ -1,0 +1,267 @@
+"""The Gymnasium environment every task builds on.
+
+Batch-first: observations, actions and states carry a leading ``num_envs`` axis.
+Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
+(``reward`` a float, ``terminated`` / ``truncated`` bools, ``render()`` one
+``H x W x 3`` frame) and are arrays of shape ``(num_envs,)`` (frames
+``(num_envs, H, W, 3)``) otherwise.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar, SupportsFloat
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent import Agent
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.model.scene import Prop
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, DEFAULT_SIM_FREQ, RobotSpecifier, Scene
+
+FloatArray = npt.NDArray[np.float64]
+OBS_MODES = ("state", "state_dict")
+
+
+def _to_float32(tree: Any) -> Any:
+    if isinstance(tree, Mapping):
+        return {k: _to_float32(v) for k, v in tree.items()}
+    return np.asarray(tree, dtype=np.float32)
+
+
+def _space_for(tree: Any) -> gym.Space[Any]:
+    if isinstance(tree, Mapping):
+        return gym.spaces.Dict({k: _space_for(v) for k, v in tree.items()})
+    return gym.spaces.Box(-np.inf, np.inf, shape=np.shape(tree), dtype=np.float32)
+
+
+class RobotEnv(gym.Env[Any, Any]):
+    """A task with one or more robots in a :class:`~robot_agents.sim.Scene`.
+
+    Args:
+        robot_uids: a robot uid / Agent class, or a tuple of them for several robots.
+        num_envs: parallel copies (``>= 1``).
+        control_mode: a mode name for every robot, or one per robot; default: each
+            robot's default mode.
+        obs_mode: ``"state"`` (flat float32 array ``(num_envs, D)``) or ``"state_dict"``.
+        sim_freq / control_freq: physics / control rates in Hz.
+        render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
+        render_size: ``(width, height)`` of rendered frames in pixels.
+        max_episode_steps: episodes are truncated after this many steps (``None``: never).
+        robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
+            keyframe, drawn from the env's seeded RNG.
+        num_threads: stepping threads for ``num_envs > 1``.
+
+    Subclasses override :meth:`_scene_props`, :meth:`compute_reward`,
+    :meth:`evaluate` and :meth:`_extra_obs`.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
+    default_max_episode_steps: ClassVar[int | None] = 200
+
+    def __init__(
+        self,
+        robot_uids: RobotSpecifier | Sequence[RobotSpecifier] = "panda",
+        num_envs: int = 1,
+        control_mode: str | Sequence[str | None] | None = None,
+        obs_mode: str = "state",
+        sim_freq: int = DEFAULT_SIM_FREQ,
+        control_freq: int = DEFAULT_CONTROL_FREQ,
+        render_mode: str | None = None,
+        render_size: tuple[int, int] = (480, 360),
+        max_episode_steps: int | None = -1,
+        robot_init_qpos_noise: float = 0.02,
+        num_threads: int | None = None,
+    ) -> None:
+        if obs_mode not in OBS_MODES:
+            raise UnknownNameError(type(self).__name__, "obs_mode", str(obs_mode), OBS_MODES)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
+        if not (isinstance(robot_init_qpos_noise, (int, float)) and robot_init_qpos_noise >= 0):
+            raise ConfigError(f"{type(self).__name__}: expected robot_init_qpos_noise >= 0, got {robot_init_qpos_noise!r}.")
+        self.scene = Scene(
+            robot_uids,
+            num_envs=num_envs,
+            sim_freq=sim_freq,
+            control_freq=control_freq,
+            props=self._scene_props(),
+            control_modes=control_mode,
+            num_threads=num_threads,
+        )
+        self.num_envs = self.scene.num_envs
+        self.sim_freq, self.control_freq = self.scene.sim_freq, self.scene.control_freq
+        self.obs_mode = obs_mode
+        self.render_mode = render_mode
+        self.render_size = (int(render_size[0]), int(render_size[1]))
+        self.max_episode_steps = self.default_max_episode_steps if max_episode_steps == -1 else max_episode_steps
+        self.robot_init_qpos_noise = float(robot_init_qpos_noise)
+        self.metadata = {**self.metadata, "render_fps": self.control_freq}
+        self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._renderer: mujoco.Renderer | None = None
+        self._single = self.num_envs == 1
+        self.action_space = self._build_action_space()
+        self.observation_space = _space_for(self._get_obs())
+
+    # ------------------------------------------------------------------ task hooks
+    def _scene_props(self) -> Sequence[Prop]:
+        """Props of the task's scene."""
+        return ()
+
+    def compute_reward(self, info: Mapping[str, Any]) -> FloatArray:
+        """Reward per env, shape ``(num_envs,)``."""
+        return np.zeros(self.num_envs)
+
+    def evaluate(self) -> dict[str, Any]:
+        """Task metrics per env; a ``"success"`` or ``"fail"`` bool array ends an episode."""
+        return {}
+
+    def _extra_obs(self) -> dict[str, FloatArray]:
+        """Task observations beyond proprioception (each ``(num_envs, ...)``)."""
+        return {}
+
+    # ------------------------------------------------------------------ access
+    @property
+    def agents(self) -> list[Agent]:
+        return self.scene.agents
+
+    @property
+    def agent(self) -> Agent:
+        """The robot (the first one when the scene has several; see :attr:`agents`)."""
+        return self.scene.agents[0]
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        """The compiled scene, shared by every env."""
+        return self.scene.model
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """The MjData of env 0."""
+        return self.scene.world.datas[0]
+
+    @property
+    def single_action_space(self) -> gym.Space[Any]:
+        if len(self.agents) == 1:
+            return self.agent.single_action_space
+        return gym.spaces.Dict({rid: a.single_action_space for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)})
+
+    def _build_action_space(self) -> gym.Space[Any]:
+        if len(self.agents) == 1:
+            return self.agent.action_space
+        return gym.spaces.Dict({rid: a.action_space for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)})
+
+    def set_control_mode(self, mode: str, robot: int = 0) -> None:
+        """Switch a robot's control mode (its gains are applied again) and update the action space."""
+        self.agents[robot].set_control_mode(mode)
+        self.action_space = self._build_action_space()
+
+    # ------------------------------------------------------------------ observations
+    def _get_obs(self) -> Any:
+        agents = {rid: a.get_proprioception() for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)}
+        extra = {
+            f"{rid}/tcp_pose": a.tcp_pose
+            for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)
+            if a.tcp_body_id >= 0
+        }
+        extra.update(self._extra_obs())
+        if self.obs_mode == "state_dict":
+            agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
+            if len(agents) == 1:
+                extra = {k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()}
+            return _to_float32({"agent": agent_obs, "extra": extra})
+        return np.concatenate([*(_flatten(p) for p in agents.values()), *(v.reshape(self.num_envs, -1) for v in extra.values())], axis=1).astype(np.float32)
+
+    # ------------------------------------------------------------------ gym API
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        """Reset every env (or ``options["env_ids"]``) to each robot's keyframe
+        (``options["keyframe"]``, default the first) plus seeded noise."""
+        super().reset(seed=seed)
+        options = dict(options or {})
+        env_ids = options.pop("env_ids", None)
+        keyframe = options.pop("keyframe", None)
+        if options:
+            raise ConfigError(f"{type(self).__name__}.reset: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'.")
+        ids = self.agent._env_ids(env_ids, f"{type(self).__name__}.reset")
+        self.scene.reset(env_ids=ids, keyframes=keyframe)
+        if self.robot_init_qpos_noise > 0:
+            for agent in self.agents:
+                qpos = agent.qpos[ids] + self.np_random.normal(0.0, self.robot_init_qpos_noise, (len(ids), agent.dof))
+                qpos = np.clip(qpos, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+                agent.reset(qpos=qpos, env_ids=ids)
+        self.elapsed_steps[ids] = 0
+        return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
+
+    def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several
+        robots), advance one control step, and return Gymnasium's five values."""
+        if len(self.agents) == 1:
+            self.agent.set_action(action)
+        else:
+            self._set_multi_action(action)
+        self.scene.step()
+        self.elapsed_steps += 1
+        info = self.evaluate()
+        reward = self.compute_reward(info)
+        terminated = np.zeros(self.num_envs, dtype=bool)
+        for key in ("success", "fail"):
+            if key in info:
+                terminated |= np.asarray(info[key], dtype=bool)
+        if self.max_episode_steps is None:
+            truncated = np.zeros(self.num_envs, dtype=bool)
+        else:
+            truncated = self.elapsed_steps >= self.max_episode_steps
+        info["elapsed_steps"] = self.elapsed_steps.copy()
+        obs = self._get_obs()
+        if self._single:
+            return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
+        return obs, reward, terminated, truncated, info
+
+    def _set_multi_action(self, action: Any) -> None:
+        ids = self.scene.robot_ids
+        if not isinstance(action, Mapping) or set(action) != set(ids):
+            given = sorted(action) if isinstance(action, Mapping) else type(action).__name__
+            raise ConfigError(f"{type(self).__name__}.step: expected a dict of actions keyed by {ids}, got {given}.")
+        checked = [a.validate_action(action[rid]) for rid, a in zip(ids, self.agents, strict=True)]
+        for agent, act in zip(self.agents, checked, strict=True):
+            agent.set_action(act)
+
+    def get_state(self) -> dict[str, Any]:
+        """Exact state (physics, controllers, episode step counts) for :meth:`set_state`."""
+        return {**self.scene.get_state(), "elapsed_steps": self.elapsed_steps.copy()}
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """Restore :meth:`get_state`; continuing with the same actions is bit-identical."""
+        self.scene.set_state(state)
+        if "elapsed_steps" in state:
+            self.elapsed_steps = np.array(state["elapsed_steps"], dtype=np.int64).reshape(self.num_envs)
+
+    def render(self) -> Any:  # type: ignore[override]
+        """An RGB frame (uint8 ``H x W x 3``) of the scene camera, per env for ``num_envs > 1``."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
+            return None
+        if self._renderer is None:
+            width, height = self.render_size
+            self._renderer = mujoco.Renderer(self.model, height=height, width=width)
+        frames = []
+        for data in self.scene.world.datas:
+            self._renderer.update_scene(data, camera="render_camera")
+            frames.append(self._renderer.render().copy())
+        return frames[0] if self._single else np.stack(frames)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        self.scene.close()
+
+
+def _flatten(tree: Any) -> FloatArray:
+    if isinstance(tree, Mapping):
+        parts = [_flatten(v) for v in tree.values()]
+        return np.concatenate(parts, axis=1) if parts else np.zeros((0, 0))
+    array = np.asarray(tree)
+    return array.reshape(array.shape[0], -1)

@@ -1,0 +1,66 @@
+"""The library's exceptions.
+
+Every error raised for bad user input derives from :class:`RobotAgentsError` and
+says *where* it happened, *what* was expected, *what* was given and, for name
+look-ups, *what* is available (with the closest names first).
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+
+class RobotAgentsError(Exception):
+    """Base class of every exception raised by robot_agents."""
+
+
+class UnknownNameError(RobotAgentsError, KeyError):
+    """A name (robot uid, control mode, keyframe, joint, ...) that does not exist."""
+
+    def __init__(self, where: str, kind: str, given: str, available: Iterable[str]) -> None:
+        self.where = where
+        self.kind = kind
+        self.given = given
+        self.available = sorted(available)
+        self.suggestions = close_names(given, self.available)
+        super().__init__(self.message)
+
+    @property
+    def message(self) -> str:
+        hint = f" Did you mean {', '.join(repr(s) for s in self.suggestions)}?" if self.suggestions else ""
+        avail = ", ".join(repr(a) for a in self.available) if self.available else "(none)"
+        return f"{self.where}: unknown {self.kind} {self.given!r}.{hint} Available: {avail}."
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the message
+        return self.message
+
+
+class RegistryError(RobotAgentsError):
+    """Registering a uid that is taken, or a class that is not an Agent."""
+
+
+class ActionError(RobotAgentsError, ValueError):
+    """An action of the wrong shape, dtype, or with non-finite values."""
+
+
+class StateError(RobotAgentsError, ValueError):
+    """A state, qpos, qvel or keyframe of the wrong size or with bad values."""
+
+
+class ModelError(RobotAgentsError):
+    """A robot or scene model file that is missing, malformed or unsupported."""
+
+
+class ConfigError(RobotAgentsError, ValueError):
+    """An invalid robot, controller or environment configuration."""
+
+
+def close_names(given: str, available: Iterable[str], n: int = 3) -> list[str]:
+    """The up to ``n`` names in ``available`` closest to ``given`` (best first)."""
+    names = list(available)
+    matches = difflib.get_close_matches(given, names, n=n, cutoff=0.5)
+    if not matches:
+        lowered = given.lower()
+        matches = [a for a in names if lowered in a.lower() or a.lower() in lowered][:n]
+    return matches

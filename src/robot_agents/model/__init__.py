@@ -1,0 +1,1 @@
+"""From model files to one compiled MuJoCo model: loading, robot editing, scene composition."""

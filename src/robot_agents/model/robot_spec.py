@@ -1,0 +1,131 @@
+"""Edit a robot's MjSpec according to its declaration: root joint, gravity
+compensation, friction materials, self-collision filtering and one actuator per
+controlled joint. Every name is checked; an unknown one lists what is available."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable, Mapping, Sequence
+
+import mujoco
+
+from robot_agents.errors import ModelError, UnknownNameError
+from robot_agents.model.materials import FrictionMaterial
+
+#: Name of the free joint added to a free-floating robot's root body.
+ROOT_FREE_JOINT = "root_free_joint"
+
+
+def robot_bodies(spec: mujoco.MjSpec) -> list[mujoco.MjsBody]:
+    """Every body of the robot (its single top-level tree), root first."""
+    return list(spec.worldbody.find_all(mujoco.mjtObj.mjOBJ_BODY))
+
+
+def root_body(spec: mujoco.MjSpec, where: str) -> mujoco.MjsBody:
+    """The robot's root body; a robot model must have exactly one top-level body."""
+    tops: list[mujoco.MjsBody] = []
+    body = spec.worldbody.first_body()
+    while body is not None:
+        tops.append(body)
+        body = spec.worldbody.next_body(body)
+    if len(tops) != 1:
+        raise ModelError(
+            f"{where}: expected the robot model to have exactly one top-level body, got {len(tops)}: "
+            f"{[b.name for b in tops]}."
+        )
+    return tops[0]
+
+
+def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequence[str]) -> None:
+    known = set(available)
+    for name in wanted:
+        if name not in known:
+            raise UnknownNameError(where, kind, name, available)
+
+
+def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None:
+    """Add a free joint to the root body, or remove one, as ``fix_root_link`` says."""
+    root = root_body(spec, where)
+    free = [j for j in root.joints if j.type == mujoco.mjtJoint.mjJNT_FREE]
+    if fix_root_link:
+        for joint in free:
+            spec.delete(joint)
+    elif not free:
+        root.add_freejoint(name=ROOT_FREE_JOINT)
+
+
+def set_gravity_compensation(spec: mujoco.MjSpec, bodies: bool | Sequence[str], where: str) -> None:
+    """Cancel gravity on the given bodies (``True``: every robot body) via ``gravcomp``."""
+    all_bodies = robot_bodies(spec)
+    if bodies is True:
+        chosen = {b.name for b in all_bodies}
+    elif bodies is False:
+        chosen = set()
+    else:
+        _check_names(where, "body (gravity_compensation)", bodies, [b.name for b in all_bodies])
+        chosen = set(bodies)
+    for body in all_bodies:
+        body.gravcomp = 1.0 if body.name in chosen else 0.0
+
+
+def set_materials(
+    spec: mujoco.MjSpec, materials: Mapping[str, FrictionMaterial], default: FrictionMaterial | None, where: str
+) -> None:
+    """Set the friction of every colliding geom, per body name (``default`` for the rest)."""
+    all_bodies = robot_bodies(spec)
+    _check_names(where, "body (link_materials)", materials, [b.name for b in all_bodies])
+    for body in all_bodies:
+        material = materials.get(body.name, default)
+        if material is None:
+            continue
+        for geom in body.geoms:
+            if geom.contype or geom.conaffinity:
+                geom.friction = material.as_mujoco()
+
+
+def set_self_collisions(
+    spec: mujoco.MjSpec, disable_all: bool, exclusions: Iterable[tuple[str, str]], where: str
+) -> None:
+    """Filter contacts between the robot's own bodies: all pairs, or the listed ones.
+
+    MuJoCo ignores contacts between a moving body and its parent, but not between a
+    body and a parent welded to the world; so the root body's children are always
+    excluded from touching the root (the first joint's housing overlaps both).
+    """
+    names = [b.name for b in robot_bodies(spec)]
+    pairs: list[tuple[str, str]]
+    if disable_all:
+        pairs = list(itertools.combinations(names, 2))
+    else:
+        pairs = list(exclusions)
+        _check_names(where, "body (self_collision_exclusions)", [n for pair in pairs for n in pair], names)
+        root = root_body(spec, where)
+        child = root.first_body()
+        while child is not None:
+            if (root.name, child.name) not in pairs and (child.name, root.name) not in pairs:
+                pairs.append((root.name, child.name))
+            child = root.next_body(child)
+    for first, second in pairs:
+        spec.add_exclude(bodyname1=first, bodyname2=second)
+
+
+def add_joint_actuators(spec: mujoco.MjSpec, joint_names: Iterable[str], where: str) -> None:
+    """One ``general`` actuator per joint, named like the joint, with an affine bias.
+
+    Gains start at zero; a control mode writes them when it is activated.
+    """
+    available = [j.name for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
+    for name in joint_names:
+        _check_names(where, "joint (control modes)", [name], available)
+        spec.add_actuator(
+            name=name,
+            target=name,
+            trntype=mujoco.mjtTrn.mjTRN_JOINT,
+            gaintype=mujoco.mjtGain.mjGAIN_FIXED,
+            biastype=mujoco.mjtBias.mjBIAS_AFFINE,
+            gainprm=[0.0] * 10,
+            biasprm=[0.0] * 10,
+            ctrllimited=0,
+            forcelimited=1,
+            forcerange=[-1e6, 1e6],
+        )

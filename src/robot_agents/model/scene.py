@@ -1,0 +1,166 @@
+"""Compose robots and props into one MuJoCo scene.
+
+Each robot spec is attached under a frame at its mount pose with a name prefix
+(``"panda-0/"``), so several robots (even of the same kind) share one model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from robot_agents.errors import ConfigError, ModelError
+from robot_agents.model.materials import FrictionMaterial
+
+_SHAPES = {
+    "box": mujoco.mjtGeom.mjGEOM_BOX,
+    "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
+    "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+    "capsule": mujoco.mjtGeom.mjGEOM_CAPSULE,
+}
+
+
+@dataclass(frozen=True)
+class Prop:
+    """A primitive object in the scene.
+
+    Attributes:
+        name: body name (a geom of the same name is created).
+        shape: ``"box"`` (size = half extents, m), ``"sphere"`` (radius),
+            ``"cylinder"`` / ``"capsule"`` (radius, half length).
+        size: MuJoCo geom size (m).
+        pos: initial position (m); quat: initial orientation ``(w, x, y, z)``.
+        mass: kg; ``None`` makes the prop static (welded to the world).
+        rgba: colour; friction: contact material.
+    """
+
+    name: str
+    shape: str
+    size: tuple[float, ...]
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    mass: float | None = 0.1
+    rgba: tuple[float, float, float, float] = (0.8, 0.3, 0.2, 1.0)
+    friction: FrictionMaterial = field(default_factory=FrictionMaterial)
+
+    def __post_init__(self) -> None:
+        if self.shape not in _SHAPES:
+            raise ConfigError(f"Prop {self.name!r}: expected shape in {sorted(_SHAPES)}, got {self.shape!r}.")
+        if self.mass is not None and not self.mass > 0:
+            raise ConfigError(f"Prop {self.name!r}: expected mass > 0 kg or None (static), got {self.mass!r}.")
+
+
+@dataclass(frozen=True)
+class RobotMount:
+    """Where a robot spec goes: its prefix and the world pose of its root."""
+
+    prefix: str
+    spec: mujoco.MjSpec
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class SceneOptions:
+    """Physics options of the scene.
+
+    Attributes:
+        timestep: physics step (s), ``1 / sim_freq``.
+        integrator: ``implicitfast`` integrates the actuators' velocity feedback
+            implicitly, which keeps stiff PD gains stable at millisecond steps.
+        floor: add a ground plane at z = 0.
+        gravity: m/s^2.
+    """
+
+    timestep: float = 0.002
+    integrator: str = "implicitfast"
+    floor: bool = True
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+
+
+#: Where the scene's render camera stands and what it looks at (m, world frame).
+RENDER_CAMERA_POS = (1.45, -1.15, 1.05)
+RENDER_CAMERA_TARGET = (0.2, 0.0, 0.35)
+
+
+def look_at_xyaxes(eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0)) -> list[float]:
+    """MuJoCo camera ``xyaxes`` (right and up axes, 6 numbers) of a camera at ``eye``
+    looking at ``target``; MuJoCo cameras look along their -z axis."""
+    forward = np.asarray(target, dtype=np.float64) - np.asarray(eye, dtype=np.float64)
+    norm = np.linalg.norm(forward)
+    if norm < 1e-9:
+        raise ConfigError(f"look_at_xyaxes: eye and target coincide at {list(eye)}.")
+    forward /= norm
+    right = np.cross(forward, np.asarray(up, dtype=np.float64))
+    if np.linalg.norm(right) < 1e-9:
+        raise ConfigError(f"look_at_xyaxes: the view direction {forward.tolist()} is parallel to up {list(up)}.")
+    right /= np.linalg.norm(right)
+    camera_up = np.cross(right, forward)
+    return [*right.tolist(), *camera_up.tolist()]
+
+
+def compose_scene(robots: Sequence[RobotMount], props: Sequence[Prop], options: SceneOptions) -> mujoco.MjSpec:
+    """A new scene spec with a floor, lights, a render camera, the props and the robots."""
+    integrators = {
+        "euler": mujoco.mjtIntegrator.mjINT_EULER,
+        "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+        "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+        "rk4": mujoco.mjtIntegrator.mjINT_RK4,
+    }
+    if options.integrator not in integrators:
+        raise ConfigError(f"SceneOptions.integrator: expected one of {sorted(integrators)}, got {options.integrator!r}.")
+    if not options.timestep > 0:
+        raise ConfigError(f"SceneOptions.timestep: expected a positive step in seconds, got {options.timestep!r}.")
+    spec = mujoco.MjSpec()
+    spec.modelname = "robot_agents_scene"
+    spec.option.timestep = options.timestep
+    spec.option.integrator = integrators[options.integrator]
+    spec.option.gravity = list(options.gravity)
+    spec.visual.global_.offwidth = 1280
+    spec.visual.global_.offheight = 960
+    spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
+    spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
+    world = spec.worldbody
+    world.add_light(name="key_light", pos=[0.5, -1.0, 2.5], dir=[-0.2, 0.4, -1.0], diffuse=[0.6, 0.6, 0.6])
+    if options.floor:
+        spec.add_texture(
+            name="grid", type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+            rgb1=[0.82, 0.84, 0.86], rgb2=[0.72, 0.74, 0.77], width=256, height=256,
+        )
+        spec.add_material(name="floor", textures=["", "grid"], texrepeat=[8, 8], reflectance=0.0)
+        world.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material="floor")
+    world.add_camera(name="render_camera", pos=list(RENDER_CAMERA_POS), xyaxes=look_at_xyaxes(RENDER_CAMERA_POS, RENDER_CAMERA_TARGET), fovy=45)
+    for prop in props:
+        _add_prop(spec, prop)
+    for mount in robots:
+        frame = world.add_frame(pos=list(mount.pos), quat=list(mount.quat))
+        try:
+            frame.attach_body(mount.spec.worldbody.first_body(), mount.prefix, "")
+        except ValueError as err:
+            raise ModelError(f"compose_scene: attaching robot {mount.prefix!r} failed: {err}") from None
+    return spec
+
+
+def _add_prop(spec: mujoco.MjSpec, prop: Prop) -> None:
+    body = spec.worldbody.add_body(name=prop.name, pos=list(prop.pos), quat=list(prop.quat))
+    if prop.mass is not None:
+        body.add_freejoint(name=f"{prop.name}_free_joint")
+    body.add_geom(
+        name=prop.name,
+        type=_SHAPES[prop.shape],
+        size=list(prop.size) + [0.0] * (3 - len(prop.size)),
+        rgba=list(prop.rgba),
+        friction=prop.friction.as_mujoco(),
+        **({"mass": prop.mass} if prop.mass is not None else {}),
+    )
+
+
+def compile_scene(spec: mujoco.MjSpec) -> mujoco.MjModel:
+    """Compile, turning MuJoCo's compiler errors into :class:`ModelError`."""
+    try:
+        return spec.compile()
+    except ValueError as err:
+        raise ModelError(f"compile_scene: MuJoCo could not compile the scene: {err}") from None

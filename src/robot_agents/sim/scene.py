@@ -1,0 +1,200 @@
+"""A Scene: robots and props composed into one model, ``num_envs`` copies of it, and
+the control-rate step (``sim_freq // control_freq`` physics substeps).
+
+Usable on its own (no Gymnasium) and the core of every environment.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent import Agent
+from robot_agents.errors import ConfigError, StateError, UnknownNameError
+from robot_agents.model.scene import Prop, RobotMount, SceneOptions, compile_scene, compose_scene
+from robot_agents.registry import get_agent
+from robot_agents.sim.world import BatchedWorld
+
+#: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
+#: contacts stable with the implicitfast integrator.
+DEFAULT_SIM_FREQ = 500
+#: Default control rate (Hz), as in ManiSkill: 25 substeps per action at 500 Hz.
+DEFAULT_CONTROL_FREQ = 20
+
+RobotSpecifier = str | type[Agent]
+
+
+class Scene:
+    """One or more robots, props and a floor, simulated in ``num_envs`` copies.
+
+    Args:
+        robots: a robot uid or Agent class, or a sequence of them (several robots).
+        num_envs: independent copies, stepped together.
+        sim_freq / control_freq: physics and control rates in Hz; ``sim_freq`` must be
+            a multiple of ``control_freq``.
+        props: primitive objects to add.
+        robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's root;
+            defaults place robots 1 m apart along y.
+        control_modes: one mode name for every robot, or one per robot; ``None`` uses
+            each robot's default.
+        num_threads: threads for stepping ``num_envs > 1``.
+    """
+
+    def __init__(
+        self,
+        robots: RobotSpecifier | Sequence[RobotSpecifier],
+        num_envs: int = 1,
+        sim_freq: int = DEFAULT_SIM_FREQ,
+        control_freq: int = DEFAULT_CONTROL_FREQ,
+        props: Sequence[Prop] = (),
+        robot_poses: Sequence[Sequence[float]] | None = None,
+        control_modes: str | Sequence[str | None] | None = None,
+        num_threads: int | None = None,
+        floor: bool = True,
+    ) -> None:
+        for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
+            if not isinstance(value, (int, np.integer)) or value <= 0:
+                raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
+        if sim_freq % control_freq:
+            raise ConfigError(
+                f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
+            )
+        specifiers = [robots] if isinstance(robots, (str, type)) else list(robots)
+        if not specifiers:
+            raise ConfigError("Scene: expected at least one robot, got none.")
+        classes = [get_agent(r) if isinstance(r, str) else r for r in specifiers]
+        for cls in classes:
+            if not (isinstance(cls, type) and issubclass(cls, Agent)):
+                raise ConfigError(f"Scene: expected a robot uid or an Agent subclass, got {cls!r}.")
+        poses = self._poses(robot_poses, len(classes))
+        modes = self._modes(control_modes, len(classes))
+        self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
+        self.props = tuple(props)
+        self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
+        mounts = [
+            RobotMount(prefix=f"{rid}/", spec=cls.build_spec(), pos=tuple(p[:3]), quat=tuple(p[3:]))  # type: ignore[arg-type]
+            for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
+        ]
+        options = SceneOptions(timestep=1.0 / sim_freq, floor=floor)
+        self.spec = compose_scene(mounts, self.props, options)
+        self.model = compile_scene(self.spec)
+        self.world = BatchedWorld(self.model, num_envs, sim_freq // control_freq, num_threads)
+        self.agents: list[Agent] = [
+            cls(self.world, prefix=f"{rid}/", control_mode=mode)
+            for rid, cls, mode in zip(self.robot_ids, classes, modes, strict=True)
+        ]
+        self._initial_state = self.world.get_state()[0].copy()
+
+    @staticmethod
+    def _poses(poses: Sequence[Sequence[float]] | None, n: int) -> list[tuple[float, ...]]:
+        if poses is None:
+            return [(0.0, (i - (n - 1) / 2) * 1.0, 0.0, 1.0, 0.0, 0.0, 0.0) for i in range(n)]
+        result = [tuple(float(v) for v in p) for p in poses]
+        if len(result) != n or any(len(p) != 7 for p in result):
+            raise ConfigError(
+                f"Scene.robot_poses: expected {n} poses of 7 numbers (x, y, z, qw, qx, qy, qz), got {poses!r}."
+            )
+        return result
+
+    @staticmethod
+    def _modes(modes: str | Sequence[str | None] | None, n: int) -> list[str | None]:
+        if modes is None or isinstance(modes, str):
+            return [modes] * n
+        result = list(modes)
+        if len(result) != n:
+            raise ConfigError(f"Scene.control_modes: expected one mode per robot ({n}), got {len(result)}: {result}.")
+        return result
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def num_envs(self) -> int:
+        return self.world.num_envs
+
+    @property
+    def substeps(self) -> int:
+        return self.world.substeps
+
+    @property
+    def timestep(self) -> float:
+        """Physics step in seconds."""
+        return float(self.model.opt.timestep)
+
+    @property
+    def control_timestep(self) -> float:
+        """Seconds per control step."""
+        return self.timestep * self.substeps
+
+    def body_pose(self, name: str) -> npt.NDArray[np.float64]:
+        """World pose of a scene body, shape ``(num_envs, 7)``: position, quaternion (w, x, y, z)."""
+        body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
+        if body < 0:
+            raise UnknownNameError("Scene.body_pose", "body", name, [self.model.body(b).name for b in range(self.model.nbody)])
+        return np.array([np.concatenate([d.xpos[body], d.xquat[body]]) for d in self.world.datas])
+
+    # ------------------------------------------------------------------ stepping
+    def step(self) -> None:
+        """One control step: every robot's substep hooks, then the physics substeps."""
+        hooked = [a for a in self.agents if a.needs_substep]
+        if not hooked:
+            self.world.step()
+            return
+
+        def before_substep(i: int, n: int) -> None:
+            for agent in hooked:
+                agent.before_substep(i, n)
+
+        self.world.step(before_substep)
+
+    def reset(
+        self,
+        env_ids: npt.ArrayLike | None = None,
+        keyframes: str | Sequence[str | None] | None = None,
+        qpos: Sequence[npt.ArrayLike | None] | None = None,
+    ) -> None:
+        """Reset the envs (all by default): props and time to their initial state, each
+        robot to a keyframe (default: its first) or to the given ``qpos``."""
+        ids = self.agents[0]._env_ids(env_ids, "Scene.reset")
+        frames = self._modes(keyframes, len(self.agents)) if not isinstance(keyframes, str) else [keyframes] * len(self.agents)
+        positions = list(qpos) if qpos is not None else [None] * len(self.agents)
+        if len(positions) != len(self.agents):
+            raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
+        for agent, frame in zip(self.agents, frames, strict=True):
+            if frame is not None and frame not in agent.keyframes:
+                    raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", frame, agent.keyframes)
+        for env in ids:
+            mujoco.mj_setState(self.model, self.world.datas[env], self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION)
+        self.world.invalidate()
+        for agent, frame, position in zip(self.agents, frames, positions, strict=True):
+            agent.reset(keyframe=frame, qpos=position, env_ids=ids)
+
+    # ------------------------------------------------------------------ state
+    def get_state(self) -> dict[str, Any]:
+        """Everything for a bit-identical continuation: physics state ``(num_envs, n)``
+        plus each robot's control mode and controller state."""
+        return {
+            "physics": self.world.get_state(),
+            "agents": [{"control_mode": a.control_mode, "controller": a.controller.get_state()} for a in self.agents],
+        }
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """Restore :meth:`get_state`. The state is checked before anything is written."""
+        if not isinstance(state, Mapping) or "physics" not in state or "agents" not in state:
+            raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
+        physics = self.world.check_state(state["physics"], "Scene.set_state")
+        agent_states = list(state["agents"])
+        if len(agent_states) != len(self.agents):
+            raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
+        for agent, agent_state in zip(self.agents, agent_states, strict=True):
+            if agent_state.get("control_mode") not in agent.control_modes:
+                    raise UnknownNameError("Scene.set_state", "control mode", str(agent_state.get("control_mode")), agent.control_modes)
+        for agent, agent_state in zip(self.agents, agent_states, strict=True):
+            agent.set_control_mode(agent_state["control_mode"])
+            agent.controller.set_state(agent_state["controller"])
+        self.world.set_state(physics)
+
+    def close(self) -> None:
+        self.world.close()

@@ -1,0 +1,163 @@
+"""``num_envs`` copies of one compiled MuJoCo model, stepped together.
+
+Physics state lives in the MjData objects; this class owns the batched ``ctrl``
+buffer (shape ``(num_envs, nu)``) that controllers write, steps every env by a
+number of substeps (threads release the GIL inside ``mj_step``), and reads or writes
+the exact integration state for save / restore.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.errors import ConfigError, StateError
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Everything needed for a bit-identical continuation: time, qpos, qvel, act, warm-start
+#: accelerations, controls, applied forces, mocap poses, plugin and user data.
+STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
+
+
+class BatchedWorld:
+    """A compiled model and ``num_envs`` MjData.
+
+    Args:
+        model: the compiled scene.
+        num_envs: number of independent copies (>= 1).
+        substeps: physics steps per control step (>= 1).
+        num_threads: worker threads for ``num_envs > 1``; default ``min(num_envs,
+            os.cpu_count())``. Each env's result does not depend on the thread count.
+    """
+
+    def __init__(self, model: mujoco.MjModel, num_envs: int, substeps: int, num_threads: int | None = None) -> None:
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ConfigError(f"BatchedWorld: expected num_envs >= 1, got {num_envs!r}.")
+        if not isinstance(substeps, (int, np.integer)) or substeps < 1:
+            raise ConfigError(f"BatchedWorld: expected substeps >= 1, got {substeps!r}.")
+        self.model = model
+        self.num_envs = int(num_envs)
+        self.substeps = int(substeps)
+        self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
+        self.ctrl = np.zeros((self.num_envs, model.nu))
+        self.state_size = mujoco.mj_stateSize(model, STATE_SPEC)
+        threads = num_threads if num_threads is not None else min(self.num_envs, os.cpu_count() or 1)
+        self.num_threads = max(1, min(int(threads), self.num_envs))
+        self._pool = ThreadPoolExecutor(self.num_threads) if self.num_threads > 1 else None
+        bounds = np.linspace(0, self.num_envs, self.num_threads + 1).astype(int)
+        self._chunks = [range(bounds[i], bounds[i + 1]) for i in range(self.num_threads)]
+        self._cache: dict[str, FloatArray] = {}
+        self.forward()
+
+    # -- stepping ---------------------------------------------------------------------
+    def _push_ctrl(self, envs: range) -> None:
+        for i in envs:
+            self.datas[i].ctrl[:] = self.ctrl[i]
+
+    def _step_chunk(self, envs: range, nstep: int) -> None:
+        model, datas, ctrl = self.model, self.datas, self.ctrl
+        for i in envs:
+            data = datas[i]
+            data.ctrl[:] = ctrl[i]
+            mujoco.mj_step(model, data, nstep)
+
+    def _step_all(self, nstep: int) -> None:
+        if self._pool is None:
+            self._step_chunk(self._chunks[0], nstep)
+        else:
+            for future in [self._pool.submit(self._step_chunk, chunk, nstep) for chunk in self._chunks]:
+                future.result()
+
+    def step(self, before_substep: Callable[[int, int], None] | None = None) -> None:
+        """Advance every env by ``substeps`` physics steps with the current ``ctrl``.
+
+        ``before_substep(i, substeps)``, when given, runs before substep ``i`` and may
+        change ``self.ctrl`` (e.g. interpolated targets); without it all substeps run in
+        one ``mj_step`` call per env.
+        """
+        if before_substep is None:
+            self._step_all(self.substeps)
+        else:
+            for i in range(self.substeps):
+                before_substep(i, self.substeps)
+                self._step_all(1)
+        self._cache.clear()
+
+    def forward(self) -> None:
+        """Recompute derived quantities (poses, contacts, sensors) of every env."""
+        for data in self.datas:
+            mujoco.mj_forward(self.model, data)
+        self._cache.clear()
+
+    # -- batched reads (read-only caches, invalidated by step / writes) ---------------
+    def _gather(self, field: str) -> FloatArray:
+        cached = self._cache.get(field)
+        if cached is None:
+            cached = np.stack([getattr(d, field) for d in self.datas])
+            cached.flags.writeable = False
+            self._cache[field] = cached
+        return cached
+
+    @property
+    def qpos(self) -> FloatArray:
+        """All joint positions, shape ``(num_envs, nq)`` (read-only)."""
+        return self._gather("qpos")
+
+    @property
+    def qvel(self) -> FloatArray:
+        """All joint velocities, shape ``(num_envs, nv)`` (read-only)."""
+        return self._gather("qvel")
+
+    @property
+    def time(self) -> FloatArray:
+        """Simulated time of each env in seconds, shape ``(num_envs,)``."""
+        return np.array([d.time for d in self.datas])
+
+    def invalidate(self) -> None:
+        """Forget cached reads after writing into MjData directly."""
+        self._cache.clear()
+
+    # -- exact state ------------------------------------------------------------------
+    def get_state(self) -> FloatArray:
+        """The integration state of every env, shape ``(num_envs, state_size)``."""
+        out = np.empty((self.num_envs, self.state_size))
+        for i, data in enumerate(self.datas):
+            mujoco.mj_getState(self.model, data, out[i], STATE_SPEC)
+        return out
+
+    def check_state(self, state: npt.ArrayLike, where: str = "BatchedWorld.set_state") -> FloatArray:
+        """Validate a state array (shape and finiteness) without applying it."""
+        array = np.asarray(state)
+        expected = (self.num_envs, self.state_size)
+        if array.shape != expected:
+            raise StateError(f"{where}: expected a physics state of shape {expected}, got {array.shape}.")
+        if array.dtype.kind not in "fiu":
+            raise StateError(f"{where}: expected a float array, got dtype {array.dtype}.")
+        array = array.astype(np.float64, copy=False)
+        if not np.all(np.isfinite(array)):
+            raise StateError(f"{where}: the physics state contains NaN or inf.")
+        return array
+
+    def set_state(self, state: npt.ArrayLike) -> None:
+        """Restore :meth:`get_state`; the continuation is bit-identical."""
+        array = self.check_state(state)
+        for i, data in enumerate(self.datas):
+            mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
+            self.ctrl[i] = data.ctrl
+        self.forward()
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+
+    def __del__(self) -> None:
+        pool = getattr(self, "_pool", None)
+        if pool is not None:
+            pool.shutdown(wait=False)

@@ -1,0 +1,206 @@
+"""Controller semantics, checked against numbers on a small user robot and the Panda."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+
+
+def make_scene(cls: type[ra.Agent], mode: str, num_envs: int = 1) -> tuple[ra.Scene, ra.Agent]:
+    scene = ra.Scene(cls, num_envs=num_envs, control_modes=mode)
+    scene.reset(keyframes="bent")
+    return scene, scene.agents[0]
+
+
+def run(scene: ra.Scene, agent: ra.Agent, action: object, steps: int) -> None:
+    for _ in range(steps):
+        agent.set_action(action)
+        scene.step()
+
+
+def test_pd_joint_pos_reaches_absolute_target(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_pos")
+    run(scene, agent, [0.3, 0.4], 40)
+    np.testing.assert_allclose(agent.qpos[0], [0.3, 0.4], atol=2e-3)
+    # Un-normalized: clipped to the joint limits, the Box says so.
+    np.testing.assert_allclose(agent.single_action_space.low, [-2.5, -2.5])
+    run(scene, agent, [9.0, -9.0], 60)
+    np.testing.assert_allclose(agent.qpos[0], [2.5, -2.5], atol=5e-3)
+
+
+def test_delta_and_target_delta_accumulate_differently(pendulum_cls: type[ra.Agent]) -> None:
+    # A target far beyond what one step reaches: delta-from-target keeps adding to the
+    # target, delta-from-measured adds to where the joint actually is.
+    scene, agent = make_scene(pendulum_cls, "pd_joint_target_delta_pos")
+    start = agent.qpos[0].copy()
+    run(scene, agent, [1.0, 0.0], 3)  # +0.1 rad per step on the shoulder, 3 steps
+    target = agent.controller.parts["main"].get_state()["target_qpos"][0]
+    np.testing.assert_allclose(target, start + [0.3, 0.0], atol=1e-12)
+    obs = agent.get_proprioception()["controller"]["main"]["target_qpos"]
+    np.testing.assert_allclose(obs[0], target)
+
+    scene2, agent2 = make_scene(pendulum_cls, "pd_joint_delta_pos")
+    agent2.set_action([1.0, 0.0])
+    q_before = agent2.qpos[0].copy()
+    target2 = agent2.controller.parts["main"].get_state()["target_qpos"][0]
+    np.testing.assert_allclose(target2, q_before + [0.1, 0.0], atol=1e-12)
+    scene2.step()
+    q_mid = agent2.qpos[0].copy()
+    agent2.set_action([1.0, 0.0])
+    target3 = agent2.controller.parts["main"].get_state()["target_qpos"][0]
+    np.testing.assert_allclose(target3, q_mid + [0.1, 0.0], atol=1e-12)  # measured, not previous target
+    assert abs(target3[0] - (target2[0] + 0.1)) > 1e-4
+
+
+def test_normalized_delta_maps_and_clips(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_delta_pos")
+    q = agent.qpos[0].copy()
+    agent.set_action([0.5, 7.0])  # 7 clips to 1 -> +0.1 rad
+    target = agent.controller.parts["main"].get_state()["target_qpos"][0]
+    np.testing.assert_allclose(target, q + [0.05, 0.1], atol=1e-12)
+
+
+def test_velocity_mode_tracks_velocity(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_vel")
+    run(scene, agent, [0.5, 0.0], 10)  # normalized: 0.5 of 1 rad/s
+    np.testing.assert_allclose(agent.qvel[0], [0.5, 0.0], atol=0.02)
+
+
+def test_pos_vel_mode_action_layout(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_pos_vel")
+    assert agent.single_action_space.shape == (4,)
+    run(scene, agent, [0.2, -0.3, 0.0, 0.0], 40)
+    np.testing.assert_allclose(agent.qpos[0], [0.2, -0.3], atol=2e-3)
+    # A ramp at 0.5 rad/s in steps of 0.025 rad: without velocity feed-forward the PD lags
+    # by kv * v / kp = 0.05 rad behind the ramp (0.0375 behind each step's target); with
+    # it only the staircase of the targets remains.
+    dt = scene.control_timestep
+    lag = {}
+    for feed_forward in (0.0, 0.5):
+        agent.reset(qpos=[0.2, -0.3])
+        errors = []
+        for i in range(20):
+            q_target = 0.2 + 0.5 * dt * (i + 1)
+            agent.set_action([q_target, -0.3, feed_forward, 0.0])
+            scene.step()
+            errors.append(abs(agent.qpos[0, 0] - q_target))
+        lag[feed_forward] = max(errors[10:])
+    assert lag[0.0] > 0.03
+    assert lag[0.5] < 0.015 and lag[0.5] < lag[0.0] / 2
+
+
+def test_gains_applied_again_when_switching_back(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_pos")
+    ids = agent.controller.parts["main"].binding.actuator_ids
+    np.testing.assert_allclose(scene.model.actuator_gainprm[ids, 0], 200.0)
+    agent.set_control_mode("pd_joint_vel")
+    np.testing.assert_allclose(scene.model.actuator_gainprm[ids, 0], 20.0)  # kv of velocity mode
+    np.testing.assert_allclose(scene.model.actuator_biasprm[ids, 1], 0.0)
+    scene.model.actuator_gainprm[ids, 0] = 1.0  # somebody tampers with the model
+    agent.set_control_mode("pd_joint_pos")
+    np.testing.assert_allclose(scene.model.actuator_gainprm[ids, 0], 200.0)
+    np.testing.assert_allclose(scene.model.actuator_biasprm[ids, 1], -200.0)
+    np.testing.assert_allclose(scene.model.actuator_forcerange[ids], [[-50.0, 50.0]] * 2)
+
+
+def test_force_limit_is_respected(pendulum_cls: type[ra.Agent]) -> None:
+    scene, agent = make_scene(pendulum_cls, "pd_joint_pos")
+    agent.set_action([2.5, -2.5])  # errors of 2.0 and 1.7 rad: kp * error = 400 and 340 N*m
+    data = scene.world.datas[0]
+    data.ctrl[:] = scene.world.ctrl[0]
+    mujoco.mj_forward(scene.model, data)
+    np.testing.assert_allclose(data.actuator_force, [50.0, -50.0])
+    peak = 0.0
+    for _ in range(10):
+        scene.step()
+        peak = max(peak, float(np.max(np.abs(scene.world.datas[0].actuator_force))))
+    assert peak <= 50.0 + 1e-9
+
+
+def test_passive_joint_swings_under_gravity(pendulum_file: object) -> None:
+    from tests.conftest import make_pendulum_class
+
+    cls = make_pendulum_class(
+        pendulum_file,  # type: ignore[arg-type]
+        control_modes={
+            "shoulder_only": {
+                "arm": ra.PDJointPosConfig(joint_names=("shoulder",), stiffness=200.0, damping=20.0, normalize_action=False),
+                "elbow": ra.PassiveConfig(joint_names=("elbow",)),
+            }
+        },
+        gravity_compensation=False,
+    )
+    scene = ra.Scene(cls, control_modes="shoulder_only")
+    scene.reset(keyframes="down")
+    agent = scene.agents[0]
+    assert agent.single_action_space.shape == (1,)
+    agent.reset(qpos=[0.0, 0.6])  # elbow raised, shoulder held
+    for _ in range(5):
+        agent.set_action([0.0])
+        scene.step()
+    assert agent.qpos[0, 1] < 0.6 - 0.05  # the passive elbow falls back toward hanging
+    assert abs(scene.world.datas[0].actuator_force[1]) < 1e-12
+
+
+def test_interpolated_targets_move_smoothly(pendulum_file: object) -> None:
+    from tests.conftest import make_pendulum_class
+
+    config = ra.PDJointPosConfig(joint_names=("shoulder", "elbow"), stiffness=200.0, damping=20.0, normalize_action=False, interpolate=True)
+    cls = make_pendulum_class(pendulum_file, control_modes={"smooth": config})  # type: ignore[arg-type]
+    scene = ra.Scene(cls)
+    scene.reset(keyframes="down")
+    agent = scene.agents[0]
+    assert agent.needs_substep
+    seen: list[float] = []
+    original = scene.world._step_all
+
+    def spy(nstep: int) -> None:
+        seen.append(float(scene.world.ctrl[0, 0]))
+        original(nstep)
+
+    scene.world._step_all = spy  # type: ignore[method-assign]
+    agent.set_action([0.5, 0.0])
+    scene.step()
+    assert len(seen) == scene.substeps
+    np.testing.assert_allclose(seen, 0.5 * np.arange(1, scene.substeps + 1) / scene.substeps, atol=1e-12)
+
+
+def test_mimic_fingers_follow_one_action() -> None:
+    scene = ra.Scene("panda", control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    fingers = [agent.joint_names.index(j) for j in agent.gripper_joint_names]
+    hold = agent.qpos[0, :7]
+    for action, expected in ((-1.0, 0.0), (0.0, 0.015), (1.0, 0.04)):
+        for _ in range(20):
+            agent.set_action(np.concatenate([hold, [action]]))
+            scene.step()
+        np.testing.assert_allclose(agent.qpos[0, fingers], [expected, expected], atol=2e-3)
+        assert abs(agent.qpos[0, fingers[0]] - agent.qpos[0, fingers[1]]) < 1e-4
+
+
+def test_config_validation_messages() -> None:
+    with pytest.raises(ra.ConfigError, match="use_target=True needs use_delta=True"):
+        ra.PDJointPosConfig(joint_names=("a",), use_target=True)
+    with pytest.raises(ra.ConfigError, match="explicit lower/upper"):
+        ra.PDJointPosConfig(joint_names=("a",), use_delta=True)
+    with pytest.raises(ra.ConfigError, match="listed twice"):
+        ra.PDJointPosConfig(joint_names=("a", "a"))
+    with pytest.raises(ra.ConfigError, match="at least 2 joints"):
+        ra.PDJointPosMimicConfig(joint_names=("a",))
+    with pytest.raises(ra.ConfigError, match="stiffness > 0"):
+        ra.PDJointPosVelConfig(joint_names=("a",), stiffness=0.0)
+
+
+def test_per_joint_gain_length_checked(pendulum_file: object) -> None:
+    from tests.conftest import make_pendulum_class
+
+    cls = make_pendulum_class(
+        pendulum_file,  # type: ignore[arg-type]
+        control_modes={"bad": ra.PDJointPosConfig(joint_names=("shoulder", "elbow"), stiffness=(1.0, 2.0, 3.0))},
+    )
+    with pytest.raises(ra.ConfigError, match=r"stiffness: expected 1 or 2 values"):
+        ra.Scene(cls)

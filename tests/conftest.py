@@ -10,7 +10,7 @@ import pytest
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import robot_agents as ra  # noqa: E402
+import robot_agents as ra
 
 PENDULUM_MJCF = """
 <mujoco>

@@ -38,7 +38,7 @@ def test_delta_and_target_delta_accumulate_differently(pendulum_cls: type[ra.Age
     start = agent.qpos[0].copy()
     run(scene, agent, [1.0, 0.0], 3)  # +0.1 rad per step on the shoulder, 3 steps
     target = agent.controller.parts["main"].get_state()["target_qpos"][0]
-    np.testing.assert_allclose(target, start + [0.3, 0.0], atol=1e-12)
+    np.testing.assert_allclose(target, start + np.array([0.3, 0.0]), atol=1e-12)
     obs = agent.get_proprioception()["controller"]["main"]["target_qpos"]
     np.testing.assert_allclose(obs[0], target)
 
@@ -46,21 +46,21 @@ def test_delta_and_target_delta_accumulate_differently(pendulum_cls: type[ra.Age
     agent2.set_action([1.0, 0.0])
     q_before = agent2.qpos[0].copy()
     target2 = agent2.controller.parts["main"].get_state()["target_qpos"][0]
-    np.testing.assert_allclose(target2, q_before + [0.1, 0.0], atol=1e-12)
+    np.testing.assert_allclose(target2, q_before + np.array([0.1, 0.0]), atol=1e-12)
     scene2.step()
     q_mid = agent2.qpos[0].copy()
     agent2.set_action([1.0, 0.0])
     target3 = agent2.controller.parts["main"].get_state()["target_qpos"][0]
-    np.testing.assert_allclose(target3, q_mid + [0.1, 0.0], atol=1e-12)  # measured, not previous target
+    np.testing.assert_allclose(target3, q_mid + np.array([0.1, 0.0]), atol=1e-12)  # measured, not previous target
     assert abs(target3[0] - (target2[0] + 0.1)) > 1e-4
 
 
 def test_normalized_delta_maps_and_clips(pendulum_cls: type[ra.Agent]) -> None:
-    scene, agent = make_scene(pendulum_cls, "pd_joint_delta_pos")
+    _, agent = make_scene(pendulum_cls, "pd_joint_delta_pos")
     q = agent.qpos[0].copy()
     agent.set_action([0.5, 7.0])  # 7 clips to 1 -> +0.1 rad
     target = agent.controller.parts["main"].get_state()["target_qpos"][0]
-    np.testing.assert_allclose(target, q + [0.05, 0.1], atol=1e-12)
+    np.testing.assert_allclose(target, q + np.array([0.05, 0.1]), atol=1e-12)
 
 
 def test_velocity_mode_tracks_velocity(pendulum_cls: type[ra.Agent]) -> None:
@@ -127,7 +127,9 @@ def test_passive_joint_swings_under_gravity(pendulum_file: object) -> None:
         pendulum_file,  # type: ignore[arg-type]
         control_modes={
             "shoulder_only": {
-                "arm": ra.PDJointPosConfig(joint_names=("shoulder",), stiffness=200.0, damping=20.0, normalize_action=False),
+                "arm": ra.PDJointPosConfig(
+                    joint_names=("shoulder",), stiffness=200.0, damping=20.0, normalize_action=False
+                ),
                 "elbow": ra.PassiveConfig(joint_names=("elbow",)),
             }
         },
@@ -148,7 +150,9 @@ def test_passive_joint_swings_under_gravity(pendulum_file: object) -> None:
 def test_interpolated_targets_move_smoothly(pendulum_file: object) -> None:
     from tests.conftest import make_pendulum_class
 
-    config = ra.PDJointPosConfig(joint_names=("shoulder", "elbow"), stiffness=200.0, damping=20.0, normalize_action=False, interpolate=True)
+    config = ra.PDJointPosConfig(
+        joint_names=("shoulder", "elbow"), stiffness=200.0, damping=20.0, normalize_action=False, interpolate=True
+    )
     cls = make_pendulum_class(pendulum_file, control_modes={"smooth": config})  # type: ignore[arg-type]
     scene = ra.Scene(cls)
     scene.reset(keyframes="down")

@@ -122,12 +122,8 @@ def _parse_gif(raw: bytes) -> dict[str, Any]:
             assert len(pixels) == w * h
             assert left + w <= width and top + h <= height
             canvas = canvas.copy()
-            canvas[top : top + h, left : left + w] = np.frombuffer(
-                pixels, np.uint8
-            ).reshape(h, w)
-            frames.append(
-                {"rect": (left, top, w, h), "rgb": palette[canvas], **control}
-            )
+            canvas[top : top + h, left : left + w] = np.frombuffer(pixels, np.uint8).reshape(h, w)
+            frames.append({"rect": (left, top, w, h), "rgb": palette[canvas], **control})
             control = {}
         else:
             raise AssertionError(f"unknown block 0x{kind:02x} at {pos - 1}")
@@ -152,9 +148,7 @@ def _decode_pillow(path: pathlib.Path) -> tuple[list[npt.NDArray[np.uint8]], lis
 # ----------------------------------------------------------------------- test frames
 
 
-def _gradient_scene(
-    n: int, height: int = 48, width: int = 64
-) -> list[npt.NDArray[np.uint8]]:
+def _gradient_scene(n: int, height: int = 48, width: int = 64) -> list[npt.NDArray[np.uint8]]:
     """Smooth shading plus a moving shaded disc: a small 'rendered' animation."""
     yy, xx = np.mgrid[0:height, 0:width].astype(np.float64)
     background = np.stack([40 + 3 * xx, 60 + 2.5 * yy, 200 - 1.5 * xx - yy], axis=-1)
@@ -176,9 +170,7 @@ def _expected(frame: npt.NDArray[np.uint8]) -> npt.NDArray[np.uint8]:
     return PALETTE[gif._quantize(frame, tmap)]
 
 
-def _mean_abs_error(
-    a: npt.NDArray[np.uint8], b: npt.NDArray[np.uint8]
-) -> npt.NDArray[np.float64]:
+def _mean_abs_error(a: npt.NDArray[np.uint8], b: npt.NDArray[np.uint8]) -> npt.NDArray[np.float64]:
     """Mean absolute error per channel, shape (3,)."""
     diff = np.abs(a.astype(np.int16) - b.astype(np.int16))
     result: npt.NDArray[np.float64] = diff.reshape(-1, 3).mean(axis=0)
@@ -200,9 +192,7 @@ def test_pillow_frame_count_duration_and_error(tmp_path: pathlib.Path) -> None:
         np.testing.assert_array_equal(out, _expected(src))
 
 
-@pytest.mark.parametrize(
-    ("fps", "duration_ms"), [(30, 30), (10, 100), (12.5, 80), (1, 1000), (200, 20)]
-)
+@pytest.mark.parametrize(("fps", "duration_ms"), [(30, 30), (10, 100), (12.5, 80), (1, 1000), (200, 20)])
 def test_pillow_duration(tmp_path: pathlib.Path, fps: float, duration_ms: int) -> None:
     frames = [np.zeros((4, 5, 3), np.uint8), np.full((4, 5, 3), 255, np.uint8)]
     _, durations = _decode_pillow(write_gif(tmp_path / "d.gif", frames, fps))
@@ -397,14 +387,10 @@ def test_bad_frames(tmp_path: pathlib.Path, frames: Any, match: str) -> None:
     assert not path.exists()
 
 
-@pytest.mark.parametrize(
-    "fps", [0, -1, -0.5, math.nan, math.inf, -math.inf, "30", None, True]
-)
+@pytest.mark.parametrize("fps", [0, -1, -0.5, math.nan, math.inf, -math.inf, "30", None, True])
 def test_bad_fps(tmp_path: pathlib.Path, fps: Any) -> None:
     path = tmp_path / "bad.gif"
-    with pytest.raises(
-        ValueError, match="expected fps to be a positive finite number, got"
-    ):
+    with pytest.raises(ValueError, match="expected fps to be a positive finite number, got"):
         write_gif(path, [_OK], fps=fps)
     assert not path.exists()
 
@@ -412,7 +398,5 @@ def test_bad_fps(tmp_path: pathlib.Path, fps: Any) -> None:
 def test_fps_too_small_for_gif_delay(tmp_path: pathlib.Path) -> None:
     with pytest.raises(ValueError, match=r"expected fps >= 100/65535.* got 0\.001"):
         write_gif(tmp_path / "slow.gif", [_OK], fps=0.001)
-    parsed = _parse_gif(
-        write_gif(tmp_path / "ok.gif", [_OK], fps=np.float64(0.002)).read_bytes()
-    )
+    parsed = _parse_gif(write_gif(tmp_path / "ok.gif", [_OK], fps=np.float64(0.002)).read_bytes())
     assert parsed["frames"][0]["delay"] == 50000

@@ -44,7 +44,7 @@ def test_register_get_unregister(pendulum_file: Path) -> None:
 
 
 def test_register_rejects_non_agents_and_bad_definitions(pendulum_file: Path) -> None:
-    with pytest.raises(ra.RegistryError, match="subclass of robot_agents.Agent"):
+    with pytest.raises(ra.RegistryError, match=r"subclass of robot_agents\.Agent"):
         ra.register_agent()(int)  # type: ignore[type-var]
     no_uid = make_pendulum_class(pendulum_file, uid="")
     with pytest.raises(ra.RegistryError, match="non-empty string uid"):

@@ -66,7 +66,9 @@ def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
     for name in agent.keyframes:
         scene.reset(keyframes=name)
         data = scene.world.datas[0]
-        assert data.ncon == 0, f"{name}: {[(scene.model.geom(c.geom1).name, scene.model.geom(c.geom2).name) for c in data.contact]}"
+        assert data.ncon == 0, (
+            f"{name}: {[(scene.model.geom(c.geom1).name, scene.model.geom(c.geom2).name) for c in data.contact]}"
+        )
 
 
 @pytest.mark.parametrize(("uid", "mode"), CASES)

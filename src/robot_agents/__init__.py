@@ -17,8 +17,8 @@ import sys
 if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
     os.environ.setdefault("MUJOCO_GL", "egl")
 
-from robot_agents.agent import Agent  # noqa: E402
-from robot_agents.controllers import (  # noqa: E402
+from robot_agents.agent import Agent
+from robot_agents.controllers import (
     JointGroup,
     PassiveConfig,
     PDJointPosConfig,
@@ -28,8 +28,8 @@ from robot_agents.controllers import (  # noqa: E402
     combine_parts,
     joint_control_modes,
 )
-from robot_agents.envs import make_env  # noqa: E402
-from robot_agents.errors import (  # noqa: E402
+from robot_agents.envs import make_env
+from robot_agents.errors import (
     ActionError,
     ConfigError,
     ModelError,
@@ -38,11 +38,11 @@ from robot_agents.errors import (  # noqa: E402
     StateError,
     UnknownNameError,
 )
-from robot_agents.keyframe import Keyframe  # noqa: E402
-from robot_agents.model.materials import FrictionMaterial  # noqa: E402
-from robot_agents.model.scene import Prop  # noqa: E402
-from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent  # noqa: E402
-from robot_agents.sim import BatchedWorld, Scene  # noqa: E402
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.scene import Prop
+from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
+from robot_agents.sim import BatchedWorld, Scene
 
 __version__ = "0.1.0"
 

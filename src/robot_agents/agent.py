@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.controllers.base import ControllerConfig, JointBinding
+from robot_agents.controllers.base import ControllerConfig, JointBinding, index_selector
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ActionError, ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
@@ -114,7 +114,9 @@ class Agent:
             seen: dict[str, str] = {}
             for part, config in parts.items():
                 if not isinstance(config, ControllerConfig):
-                    raise ConfigError(f"{name}.control_modes[{mode!r}][{part!r}]: expected a ControllerConfig, got {config!r}.")
+                    raise ConfigError(
+                        f"{name}.control_modes[{mode!r}][{part!r}]: expected a ControllerConfig, got {config!r}."
+                    )
                 for joint in config.joint_names:
                     if joint in seen:
                         raise ConfigError(
@@ -122,7 +124,9 @@ class Agent:
                         )
                     seen[joint] = part
         if cls.default_control_mode is not None and cls.default_control_mode not in cls.control_modes:
-            raise UnknownNameError(f"{name}.default_control_mode", "control mode", cls.default_control_mode, cls.control_modes)
+            raise UnknownNameError(
+                f"{name}.default_control_mode", "control mode", cls.default_control_mode, cls.control_modes
+            )
         for key, frame in cls.keyframes.items():
             if not isinstance(frame, Keyframe):
                 raise ConfigError(f"{name}.keyframes[{key!r}]: expected a Keyframe, got {frame!r}.")
@@ -158,6 +162,8 @@ class Agent:
         self._joint_ids = np.array(moving, dtype=np.int64)
         self.qpos_adr = model.jnt_qposadr[self._joint_ids].astype(np.int64)
         self.dof_adr = model.jnt_dofadr[self._joint_ids].astype(np.int64)
+        self._qpos_sel = index_selector(self.qpos_adr)
+        self._dof_sel = index_selector(self.dof_adr)
         limited = model.jnt_limited[self._joint_ids].astype(bool)
         ranges = model.jnt_range[self._joint_ids].copy()
         ranges[~limited] = (-math.inf, math.inf)
@@ -199,7 +205,11 @@ class Agent:
         model = self.world.model
         body_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.prefix + body)
         if body_id < 0:
-            names = [model.body(b).name[len(self.prefix) :] for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)]
+            names = [
+                model.body(b).name[len(self.prefix) :]
+                for b in range(model.nbody)
+                if model.body(b).name.startswith(self.prefix)
+            ]
             raise UnknownNameError(type(self).__name__, "body", body, names)
         return int(body_id)
 
@@ -208,7 +218,9 @@ class Agent:
         ids, actuators = [], []
         for joint in config.joint_names:
             if joint not in self.joint_names:
-                raise UnknownNameError(f"{type(self).__name__} {type(config).__name__}", "joint", joint, self.joint_names)
+                raise UnknownNameError(
+                    f"{type(self).__name__} {type(config).__name__}", "joint", joint, self.joint_names
+                )
             ids.append(self.joint_names.index(joint))
             actuators.append(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, self.prefix + joint))
         index = np.array(ids, dtype=np.int64)
@@ -231,12 +243,14 @@ class Agent:
     @property
     def qpos(self) -> FloatArray:
         """Joint positions, shape ``(num_envs, dof)`` (rad / m), a copy."""
-        return self.world.qpos[:, self.qpos_adr]
+        qpos: FloatArray = self.world.qpos[:, self._qpos_sel].copy()
+        return qpos
 
     @property
     def qvel(self) -> FloatArray:
         """Joint velocities, shape ``(num_envs, dof)`` (rad/s / m/s), a copy."""
-        return self.world.qvel[:, self.dof_adr]
+        qvel: FloatArray = self.world.qvel[:, self._dof_sel].copy()
+        return qvel
 
     @property
     def base_pose(self) -> FloatArray:
@@ -251,7 +265,11 @@ class Agent:
         return self._body_pose(self.tcp_body_id)
 
     def _body_pose(self, body_id: int) -> FloatArray:
-        return np.array([np.concatenate([d.xpos[body_id], d.xquat[body_id]]) for d in self.world.datas])
+        pose = np.empty((self.num_envs, 7))
+        for row, data in zip(pose, self.world.datas, strict=True):
+            row[:3] = data.xpos[body_id]
+            row[3:] = data.xquat[body_id]
+        return pose
 
     # ------------------------------------------------------------------ control
     @property
@@ -261,13 +279,18 @@ class Agent:
     def set_control_mode(self, mode: str) -> None:
         """Activate ``mode``: apply its gains (every time) and hold the measured pose."""
         if mode not in self.control_modes:
-            raise UnknownNameError(f"{type(self).__name__}.set_control_mode", "control mode", str(mode), self.control_modes)
+            raise UnknownNameError(
+                f"{type(self).__name__}.set_control_mode", "control mode", str(mode), self.control_modes
+            )
         controller = self._controllers.get(mode)
         if controller is None:
-            parts = {part: config.build(self._binding(config), self.num_envs) for part, config in self.mode_parts(mode).items()}
+            parts = {
+                part: config.build(self._binding(config), self.num_envs)
+                for part, config in self.mode_parts(mode).items()
+            }
             controller = self._controllers[mode] = CombinedController(mode, parts)
         world = self.world
-        controller.activate(world.model, np.asarray(world.qpos), np.asarray(world.qvel), world.ctrl)
+        controller.activate(world.model, world)
         self.controller = controller
         self._control_mode = mode
 
@@ -297,7 +320,9 @@ class Agent:
         try:
             array = np.asarray(action)
         except (TypeError, ValueError) as err:
-            raise ActionError(f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}.") from None
+            raise ActionError(
+                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
+            ) from None
         if array.dtype.kind not in "fiu":
             raise ActionError(f"{where}: expected a float (or integer) array, got dtype {array.dtype}.")
         if array.shape == (dim,):
@@ -307,8 +332,10 @@ class Agent:
             raise ActionError(
                 f"{where}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {array.shape}."
             )
-        array = array.astype(np.float64)
-        if not np.all(np.isfinite(array)):
+        array = np.asarray(array, dtype=np.float64)
+        # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
+        # finite values falls through to the exact check).
+        if not math.isfinite(array.sum()) and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
             raise ActionError(f"{where}: expected finite values, got NaN or inf at (env, index) {bad}.")
         return array
@@ -320,7 +347,7 @@ class Agent:
         """
         checked = self.validate_action(action)
         world = self.world
-        self.controller.set_action(checked, world.qpos, world.qvel, world.ctrl)
+        self.controller.set_action(checked, world)
 
     @property
     def needs_substep(self) -> bool:
@@ -328,7 +355,7 @@ class Agent:
 
     def before_substep(self, substep: int, substeps: int) -> None:
         """Per-substep hook: lets the controller update ``ctrl`` (e.g. interpolation)."""
-        self.controller.before_substep(substep, substeps, self.world.ctrl)
+        self.controller.before_substep(substep, substeps, self.world)
 
     # ------------------------------------------------------------------ reset / state
     def _env_ids(self, env_ids: Sequence[int] | npt.ArrayLike | None, where: str) -> npt.NDArray[np.int64]:
@@ -379,7 +406,9 @@ class Agent:
         if qvel is not None:
             new_qvel = self._batch(qvel, len(ids), self.dof, "qvel", where)
         else:
-            new_qvel = np.broadcast_to(frame.qvel_array() if frame is not None else np.zeros(self.dof), (len(ids), self.dof))
+            new_qvel = np.broadcast_to(
+                frame.qvel_array() if frame is not None else np.zeros(self.dof), (len(ids), self.dof)
+            )
         low, high = self.qpos_limits[:, 0], self.qpos_limits[:, 1]
         outside = (new_qpos < low - 1e-9) | (new_qpos > high + 1e-9)
         if np.any(outside):
@@ -400,13 +429,22 @@ class Agent:
             data.qacc_warmstart[:] = 0.0
             mujoco.mj_forward(model, data)
         self.world.invalidate()
-        self.controller.reset(ids, np.asarray(self.world.qpos), np.asarray(self.world.qvel), self.world.ctrl)
+        self.controller.reset(ids, self.world)
         for env in ids:
             self.world.datas[env].ctrl[:] = self.world.ctrl[env]
 
     def get_proprioception(self) -> dict[str, Any]:
-        """``qpos`` and ``qvel`` ``(num_envs, dof)`` and the controller's state per part."""
-        return {"qpos": self.qpos, "qvel": self.qvel, "controller": self.controller.get_state()}
+        """``qpos`` and ``qvel`` ``(num_envs, dof)`` and, per part, what the controller
+        exposes (its current ``target_qpos`` / ``target_qvel``)."""
+        return {"qpos": self.qpos, "qvel": self.qvel, "controller": self.controller.observe()}
+
+    def proprioception_arrays(self) -> list[FloatArray]:
+        """:meth:`get_proprioception` as a flat list of ``(num_envs, k)`` arrays, in order
+        (read-only views where possible: copy before keeping them)."""
+        arrays = [self.world.qpos[:, self._qpos_sel], self.world.qvel[:, self._dof_sel]]
+        for part in self.controller.observe().values():
+            arrays.extend(part.values())
+        return arrays
 
     def get_state(self) -> dict[str, Any]:
         """The robot's own state: joint state, base pose, control mode and controller state."""
@@ -457,7 +495,9 @@ class Agent:
         model = self.world.model
         target = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body)
         if target < 0:
-            raise UnknownNameError(f"{type(self).__name__}.is_grasping", "body", body, [model.body(b).name for b in range(model.nbody)])
+            raise UnknownNameError(
+                f"{type(self).__name__}.is_grasping", "body", body, [model.body(b).name for b in range(model.nbody)]
+            )
         fingers = [self._body_id(link) for link in self.finger_links]
         cos_limit = math.cos(math.radians(max_angle))
         result = np.zeros(self.num_envs, dtype=bool)

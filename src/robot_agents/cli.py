@@ -51,8 +51,13 @@ def cmd_info(uid: str, out: TextIO) -> int:
     rows = [["control mode", "action", "parts"]]
     for mode in cls.control_modes:
         agent.set_control_mode(mode)
-        parts = ", ".join(f"{p}[{s.stop - s.start}]: {agent.controller.parts[p].describe()}" for p, s in agent.controller.slices.items())
-        rows.append([mode + (" (default)" if mode == cls.default_mode() else ""), str(agent.controller.action_dim), parts])
+        parts = ", ".join(
+            f"{p}[{s.stop - s.start}]: {agent.controller.parts[p].describe()}"
+            for p, s in agent.controller.slices.items()
+        )
+        rows.append(
+            [mode + (" (default)" if mode == cls.default_mode() else ""), str(agent.controller.action_dim), parts]
+        )
     _table(rows, out)
     out.write("\nsensors: none\n")
     scene.close()

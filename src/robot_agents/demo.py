@@ -50,7 +50,9 @@ class DemoSummary:
             f"simulated        {self.simulated_seconds:.1f} s in {self.wall_seconds:.1f} s wall time",
             f"video            {self.video} ({self.frames} frames)",
         ]
-        rows += [f"keyframe {k.name:<8s} reached within {k.max_error:.4f} (max joint error, rad/m)" for k in self.keyframes]
+        rows += [
+            f"keyframe {k.name:<8s} reached within {k.max_error:.1e} (max joint error, rad/m)" for k in self.keyframes
+        ]
         rows.append(f"state finite     {self.finite}; peak joint speed {self.max_abs_qvel:.2f}")
         return rows
 

@@ -9,7 +9,7 @@ from robot_agents.controllers.joint import (
     PDJointVelConfig,
 )
 from robot_agents.controllers.passive import PassiveConfig
-from robot_agents.controllers.rules import JointGroup, joint_control_modes, combine_parts
+from robot_agents.controllers.rules import JointGroup, combine_parts, joint_control_modes
 
 __all__ = [
     "CombinedController",

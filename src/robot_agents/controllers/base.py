@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import abc
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Protocol
+
 import mujoco
 import numpy as np
 import numpy.typing as npt
@@ -24,6 +26,23 @@ FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 #: A scalar applied to every joint, or one value per joint.
 PerJoint = float | tuple[float, ...]
+
+
+class SimView(Protocol):
+    """What a controller reads and writes: the batched state of every env.
+
+    ``qpos`` ``(num_envs, nq)`` and ``qvel`` ``(num_envs, nv)`` are read-only;
+    controllers write their commands into ``ctrl`` ``(num_envs, nu)``.
+    """
+
+    @property
+    def qpos(self) -> FloatArray: ...
+
+    @property
+    def qvel(self) -> FloatArray: ...
+
+    @property
+    def ctrl(self) -> FloatArray: ...
 
 
 @dataclass(frozen=True)
@@ -45,10 +64,27 @@ class JointBinding:
     actuator_ids: IntArray
     ctrl_adr: IntArray
     qpos_range: FloatArray
+    #: ``qpos_adr`` / ``dof_adr`` / ``ctrl_adr`` as slices where they are contiguous
+    #: (indexing with a slice is a view and several times faster than with an array).
+    qpos_sel: slice | IntArray = field(init=False, repr=False)
+    dof_sel: slice | IntArray = field(init=False, repr=False)
+    ctrl_sel: slice | IntArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "qpos_sel", index_selector(self.qpos_adr))
+        object.__setattr__(self, "dof_sel", index_selector(self.dof_adr))
+        object.__setattr__(self, "ctrl_sel", index_selector(self.ctrl_adr))
 
     @property
     def size(self) -> int:
         return len(self.joint_names)
+
+
+def index_selector(indices: IntArray) -> slice | IntArray:
+    """A slice equivalent to ``indices`` when they are consecutive and ascending, else the array."""
+    if len(indices) > 0 and np.all(np.diff(indices) == 1):
+        return slice(int(indices[0]), int(indices[-1]) + 1)
+    return indices
 
 
 def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:
@@ -57,7 +93,9 @@ def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:
     if array.size == 1:
         return np.full(n, float(array[0]))
     if array.size != n:
-        raise ConfigError(f"{owner}.{field}: expected 1 or {n} values (one per joint), got {array.size}: {array.tolist()}.")
+        raise ConfigError(
+            f"{owner}.{field}: expected 1 or {n} values (one per joint), got {array.size}: {array.tolist()}."
+        )
     return array
 
 
@@ -76,7 +114,9 @@ class ControllerConfig(abc.ABC):
 
     def __post_init__(self) -> None:
         if isinstance(self.joint_names, str) or not isinstance(self.joint_names, Sequence):
-            raise ConfigError(f"{type(self).__name__}.joint_names: expected a tuple of joint names, got {self.joint_names!r}.")
+            raise ConfigError(
+                f"{type(self).__name__}.joint_names: expected a tuple of joint names, got {self.joint_names!r}."
+            )
         object.__setattr__(self, "joint_names", tuple(self.joint_names))
         if len(set(self.joint_names)) != len(self.joint_names):
             raise ConfigError(f"{type(self).__name__}.joint_names: a joint is listed twice in {self.joint_names}.")
@@ -150,28 +190,38 @@ class Controller(abc.ABC):
         model.actuator_forcerange[ids, 1] = force
 
     @abc.abstractmethod
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        """Re-initialise targets of ``env_ids`` from the measured state (full ``(num_envs, nq)``
-        ``qpos`` / ``(num_envs, nv)`` ``qvel``) and write the resulting hold command into ``ctrl``."""
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        """Re-initialise targets of ``env_ids`` from the measured state and write the
+        resulting hold command into ``sim.ctrl``."""
+
+    def set_action(self, action: FloatArray, sim: SimView) -> None:
+        """Turn a validated action ``(num_envs, action_dim)`` into targets written into ``ctrl``."""
+        self.apply(self.to_raw(action), sim)
 
     @abc.abstractmethod
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        """Turn a validated action ``(num_envs, action_dim)`` into targets written into ``ctrl``."""
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        """Like :meth:`set_action` for an action already clipped and de-normalized (:meth:`to_raw`)."""
 
     @property
     def needs_substep(self) -> bool:
         """True when :meth:`before_substep` must run before every physics substep."""
         return False
 
-    def before_substep(self, substep: int, substeps: int, ctrl: FloatArray) -> None:
-        """Update ``ctrl`` before physics substep ``substep`` of ``substeps``."""
+    def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
+        """Update ``ctrl`` before physics substep ``substep`` of ``substeps`` (default: nothing)."""
+        return None
+
+    def observe(self) -> dict[str, FloatArray]:
+        """Controller quantities for observations (copies, leading ``num_envs`` axis)."""
+        return {}
 
     def get_state(self) -> dict[str, FloatArray]:
         """The controller's internal state (copies), each array with a leading ``num_envs`` axis."""
         return {}
 
     def set_state(self, state: dict[str, FloatArray]) -> None:
-        """Restore what :meth:`get_state` returned."""
+        """Restore what :meth:`get_state` returned (default: nothing to restore)."""
+        return None
 
     def describe(self) -> str:
         """One-line human description for CLIs and docs."""

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import mujoco
 import numpy as np
 
-from robot_agents.controllers.base import Controller, FloatArray, IntArray
+from robot_agents.controllers.base import Controller, FloatArray, IntArray, SimView
 
 
 class CombinedController:
@@ -29,30 +29,50 @@ class CombinedController:
         self.action_low = np.concatenate([c.action_low for c in self.parts.values()]) if self.parts else np.zeros(0)
         self.action_high = np.concatenate([c.action_high for c in self.parts.values()]) if self.parts else np.zeros(0)
         self._substep_parts = [c for c in self.parts.values() if c.needs_substep]
+        # One clip and one multiply-add for the whole action: normalized entries are
+        # clipped to [-1, 1] and mapped onto [low, high], raw entries clipped to it.
+        normalized = (
+            np.concatenate([np.full(c.action_dim, c.config.normalize_action) for c in self.parts.values()])
+            if self.parts
+            else np.zeros(0, dtype=bool)
+        )
+        raw_low = np.concatenate([c.raw_low for c in self.parts.values()]) if self.parts else np.zeros(0)
+        raw_high = np.concatenate([c.raw_high for c in self.parts.values()]) if self.parts else np.zeros(0)
+        self._clip_low = np.where(normalized, -1.0, raw_low)
+        self._clip_high = np.where(normalized, 1.0, raw_high)
+        with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
+            self._scale = np.where(normalized, (raw_high - raw_low) / 2, 1.0)
+            self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
+        self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
 
     @property
     def needs_substep(self) -> bool:
         return bool(self._substep_parts)
 
-    def activate(self, model: mujoco.MjModel, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def activate(self, model: mujoco.MjModel, sim: SimView) -> None:
         """Apply this mode's gains and start holding the measured pose in every env."""
-        all_envs = np.arange(qpos.shape[0])
+        all_envs = np.arange(sim.ctrl.shape[0])
         for controller in self.parts.values():
             controller.apply_gains(model)
-            controller.reset(all_envs, qpos, qvel, ctrl)
+            controller.reset(all_envs, sim)
 
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
         for controller in self.parts.values():
-            controller.reset(env_ids, qpos, qvel, ctrl)
+            controller.reset(env_ids, sim)
 
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def set_action(self, action: FloatArray, sim: SimView) -> None:
         """``action``: validated, shape ``(num_envs, action_dim)``."""
-        for name, controller in self.parts.items():
-            controller.set_action(action[:, self.slices[name]], qpos, qvel, ctrl)
+        raw = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
+        for apply, part_slice in self._apply:
+            apply(raw[:, part_slice], sim)
 
-    def before_substep(self, substep: int, substeps: int, ctrl: FloatArray) -> None:
+    def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
         for controller in self._substep_parts:
-            controller.before_substep(substep, substeps, ctrl)
+            controller.before_substep(substep, substeps, sim)
+
+    def observe(self) -> dict[str, dict[str, FloatArray]]:
+        """What a policy sees of each part's controller (e.g. its current targets)."""
+        return {name: c.observe() for name, c in self.parts.items()}
 
     def get_state(self) -> dict[str, dict[str, FloatArray]]:
         return {name: c.get_state() for name, c in self.parts.items()}

@@ -19,6 +19,7 @@ from robot_agents.controllers.base import (
     IntArray,
     JointBinding,
     PerJoint,
+    SimView,
     per_joint,
 )
 from robot_agents.errors import ConfigError
@@ -59,7 +60,9 @@ class PDJointPosConfig(ControllerConfig):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.use_target and not self.use_delta:
-            raise ConfigError(f"{type(self).__name__}({', '.join(self.joint_names)}): use_target=True needs use_delta=True.")
+            raise ConfigError(
+                f"{type(self).__name__}({', '.join(self.joint_names)}): use_target=True needs use_delta=True."
+            )
         if self.use_delta and (self.lower is None or self.upper is None):
             raise ConfigError(
                 f"{type(self).__name__}({', '.join(self.joint_names)}): delta control needs explicit lower/upper bounds, "
@@ -85,7 +88,9 @@ class PDJointPosMimicConfig(PDJointPosConfig):
     def __post_init__(self) -> None:
         super().__post_init__()
         if len(self.joint_names) < 2:
-            raise ConfigError(f"PDJointPosMimicConfig: expected at least 2 joints (leader + followers), got {self.joint_names}.")
+            raise ConfigError(
+                f"PDJointPosMimicConfig: expected at least 2 joints (leader + followers), got {self.joint_names}."
+            )
         for field in ("multipliers", "offsets"):
             values = getattr(self, field)
             if values is not None and len(values) != len(self.joint_names):
@@ -98,33 +103,45 @@ class PDJointPosMimicConfig(PDJointPosConfig):
 
 
 class PDJointPosController(Controller):
-    """Position targets for every joint from an action through a linear coupling.
-
-    ``targets = action @ coupling.T + offsets``; the coupling is the identity for plain
-    joint control and a column of multipliers for mimic joints.
+    """Position targets for joints, one per action entry or, for mimic joints, all of
+    them from one entry: ``target_i = multiplier_i * action + offset_i``.
     """
 
     config: PDJointPosConfig
 
+    _ABSOLUTE, _FROM_TARGET, _FROM_MEASURED = 0, 1, 2
+
     def __init__(self, config: PDJointPosConfig, binding: JointBinding, num_envs: int) -> None:
         n = binding.size
+        self._plain = not isinstance(config, PDJointPosMimicConfig)
         if isinstance(config, PDJointPosMimicConfig):
-            mult = np.ones(n) if config.multipliers is None else np.asarray(config.multipliers, dtype=np.float64)
-            self.coupling = mult.reshape(n, 1)
+            self.multipliers = (
+                np.ones(n) if config.multipliers is None else np.asarray(config.multipliers, dtype=np.float64)
+            )
             self.offsets = np.zeros(n) if config.offsets is None else np.asarray(config.offsets, dtype=np.float64)
         else:
-            self.coupling = np.eye(n)
+            self.multipliers = np.ones(n)
             self.offsets = np.zeros(n)
-        self._plain = not isinstance(config, PDJointPosMimicConfig)
+        self._action_joints = n if self._plain else 1
         self.binding = binding
         self.config = config
         super().__init__(config, binding, num_envs)
         self.target_qpos = np.zeros((num_envs, n))
         self._previous_target = np.zeros((num_envs, n))
+        # Hot-path constants, resolved once.
+        self._lower_limit = binding.qpos_range[:, 0].copy()
+        self._upper_limit = binding.qpos_range[:, 1].copy()
+        self._clip = config.clip_target
+        self._has_offsets = bool(np.any(self.offsets))
+        self._write_ctrl = not config.interpolate
+        if not config.use_delta:
+            self._base = self._ABSOLUTE
+        else:
+            self._base = self._FROM_TARGET if config.use_target else self._FROM_MEASURED
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         cfg, name = self.config, type(self.config).__name__
-        dim = self.coupling.shape[1]
+        dim = self._action_joints
         leader_range = self.binding.qpos_range[:dim]
         low = leader_range[:, 0] if cfg.lower is None else per_joint(name, "lower", cfg.lower, dim)
         high = leader_range[:, 1] if cfg.upper is None else per_joint(name, "upper", cfg.upper, dim)
@@ -137,37 +154,42 @@ class PDJointPosController(Controller):
         return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
 
     def _clip_to_limits(self, targets: FloatArray) -> FloatArray:
-        if not self.config.clip_target:
+        if not self._clip:
             return targets
-        return np.clip(targets, self.binding.qpos_range[:, 0], self.binding.qpos_range[:, 1])
+        clipped: FloatArray = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+        return clipped
 
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        measured = qpos[env_ids][:, self.binding.qpos_adr]
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        measured = sim.qpos[env_ids][:, self.binding.qpos_adr]
         self.target_qpos[env_ids] = measured
         self._previous_target[env_ids] = measured
-        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured
+        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured
 
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        raw = self.to_raw(action)
-        change = raw if self._plain else raw @ self.coupling.T
-        if not self.config.use_delta:
-            targets = change + self.offsets
-        elif self.config.use_target:
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        change = raw if self._plain else raw * self.multipliers  # (N, 1) * (n,) -> (N, n)
+        if self._base == self._ABSOLUTE:
+            targets = change + self.offsets if self._has_offsets else change
+        elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
         else:
-            targets = qpos[:, self.binding.qpos_adr] + change
+            targets = sim.qpos[:, self.binding.qpos_sel] + change
         self._previous_target = self.target_qpos
         self.target_qpos = self._clip_to_limits(targets)
-        if not self.config.interpolate:
-            ctrl[:, self.binding.ctrl_adr] = self.target_qpos
+        if self._write_ctrl:
+            sim.ctrl[:, self.binding.ctrl_sel] = self.target_qpos
 
     @property
     def needs_substep(self) -> bool:
         return self.config.interpolate
 
-    def before_substep(self, substep: int, substeps: int, ctrl: FloatArray) -> None:
+    def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
         fraction = (substep + 1) / substeps
-        ctrl[:, self.binding.ctrl_adr] = self._previous_target + fraction * (self.target_qpos - self._previous_target)
+        sim.ctrl[:, self.binding.ctrl_sel] = self._previous_target + fraction * (
+            self.target_qpos - self._previous_target
+        )
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {"target_qpos": self.target_qpos.copy()}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {"target_qpos": self.target_qpos.copy(), "previous_target_qpos": self._previous_target.copy()}
@@ -218,13 +240,16 @@ class PDJointVelController(Controller):
         kv = per_joint(name, "damping", self.config.damping, n)
         return kv, np.zeros(n), -kv, per_joint(name, "force_limit", self.config.force_limit, n)
 
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
         self.target_qvel[env_ids] = 0.0
-        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
+        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
 
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        self.target_qvel = self.to_raw(action)
-        ctrl[:, self.binding.ctrl_adr] = self.target_qvel
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        self.target_qvel = raw
+        sim.ctrl[:, self.binding.ctrl_sel] = raw
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {"target_qvel": self.target_qvel.copy()}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {"target_qvel": self.target_qvel.copy()}
@@ -251,7 +276,9 @@ class PDJointPosVelConfig(PDJointPosConfig):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.use_target:
-            raise ConfigError("PDJointPosVelConfig: use_target is not supported; use use_delta with measured positions.")
+            raise ConfigError(
+                "PDJointPosVelConfig: use_target is not supported; use use_delta with measured positions."
+            )
         if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
             raise ConfigError(f"PDJointPosVelConfig: expected stiffness > 0 on every joint, got {self.stiffness}.")
 
@@ -265,6 +292,8 @@ class PDJointPosVelController(PDJointPosController):
     def __init__(self, config: PDJointPosVelConfig, binding: JointBinding, num_envs: int) -> None:
         super().__init__(config, binding, num_envs)
         self.target_qvel = np.zeros((num_envs, binding.size))
+        kp, _, bias_v, _ = self.gains()
+        self._velocity_to_position = -bias_v / kp  # kv / kp (s)
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         low, high = super().action_bounds()
@@ -273,22 +302,23 @@ class PDJointPosVelController(PDJointPosController):
         vhigh = per_joint(name, "vel_upper", self.config.vel_upper, n)
         return np.concatenate([low, vlow]), np.concatenate([high, vhigh])
 
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        super().reset(env_ids, qpos, qvel, ctrl)
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        super().reset(env_ids, sim)
         self.target_qvel[env_ids] = 0.0
 
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
         n = self.binding.size
-        raw = self.to_raw(action)
-        base = qpos[:, self.binding.qpos_adr] if self.config.use_delta else 0.0
+        base = sim.qpos[:, self.binding.qpos_sel] if self.config.use_delta else 0.0
         self.target_qpos = self._clip_to_limits(base + raw[:, :n])
         self.target_qvel = raw[:, n:]
-        kp, _, bias_v, _ = self.gains()
-        ctrl[:, self.binding.ctrl_adr] = self.target_qpos + (-bias_v / kp) * self.target_qvel
+        sim.ctrl[:, self.binding.ctrl_sel] = self.target_qpos + self._velocity_to_position * self.target_qvel
 
     @property
     def needs_substep(self) -> bool:
         return False
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {**super().observe(), "target_qvel": self.target_qvel.copy()}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {**super().get_state(), "target_qvel": self.target_qvel.copy()}

@@ -13,6 +13,7 @@ from robot_agents.controllers.base import (
     IntArray,
     JointBinding,
     PerJoint,
+    SimView,
     per_joint,
 )
 
@@ -39,10 +40,10 @@ class PassiveController(Controller):
         kv = per_joint("PassiveConfig", "damping", self.config.damping, n)
         return np.zeros(n), np.zeros(n), -kv, np.full(n, 1e6)
 
-    def reset(self, env_ids: IntArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
-        ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
 
-    def set_action(self, action: FloatArray, qpos: FloatArray, qvel: FloatArray, ctrl: FloatArray) -> None:
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
         return None
 
     def describe(self) -> str:

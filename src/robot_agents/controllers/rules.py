@@ -60,28 +60,50 @@ def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
     ============================  ======================================  ==========
     """
     names = group.joint_names
-    gains = {"stiffness": group.stiffness, "damping": group.damping, "force_limit": group.force_limit}
-    delta = {"lower": -group.max_delta, "upper": group.max_delta}
+    kp, kv, force, step = group.stiffness, group.damping, group.force_limit, group.max_delta
     vmax = group.max_velocity
-    vel_bounds: dict[str, PerJoint] = {
-        "vel_lower": tuple(-v for v in vmax) if isinstance(vmax, tuple) else -vmax,
-        "vel_upper": vmax,
-    }
+    vmin: PerJoint = tuple(-v for v in vmax) if isinstance(vmax, tuple) else -vmax
+    velocity_kv = group.velocity_damping if group.velocity_damping is not None else kv
     return {
-        "pd_joint_pos": PDJointPosConfig(joint_names=names, normalize_action=False, **gains),
-        "pd_joint_delta_pos": PDJointPosConfig(joint_names=names, use_delta=True, **delta, **gains),
+        "pd_joint_pos": PDJointPosConfig(
+            joint_names=names, normalize_action=False, stiffness=kp, damping=kv, force_limit=force
+        ),
+        "pd_joint_delta_pos": PDJointPosConfig(
+            joint_names=names, use_delta=True, lower=-step, upper=step, stiffness=kp, damping=kv, force_limit=force
+        ),
         "pd_joint_target_delta_pos": PDJointPosConfig(
-            joint_names=names, use_delta=True, use_target=True, **delta, **gains
+            joint_names=names,
+            use_delta=True,
+            use_target=True,
+            lower=-step,
+            upper=step,
+            stiffness=kp,
+            damping=kv,
+            force_limit=force,
         ),
         "pd_joint_vel": PDJointVelConfig(
-            joint_names=names,
-            lower=vel_bounds["vel_lower"],
-            upper=vmax,
-            damping=group.velocity_damping if group.velocity_damping is not None else group.damping,
-            force_limit=group.force_limit,
+            joint_names=names, lower=vmin, upper=vmax, damping=velocity_kv, force_limit=force
         ),
-        "pd_joint_pos_vel": PDJointPosVelConfig(joint_names=names, normalize_action=False, **gains, **vel_bounds),
-        "pd_joint_delta_pos_vel": PDJointPosVelConfig(joint_names=names, use_delta=True, **delta, **gains, **vel_bounds),
+        "pd_joint_pos_vel": PDJointPosVelConfig(
+            joint_names=names,
+            normalize_action=False,
+            stiffness=kp,
+            damping=kv,
+            force_limit=force,
+            vel_lower=vmin,
+            vel_upper=vmax,
+        ),
+        "pd_joint_delta_pos_vel": PDJointPosVelConfig(
+            joint_names=names,
+            use_delta=True,
+            lower=-step,
+            upper=step,
+            stiffness=kp,
+            damping=kv,
+            force_limit=force,
+            vel_lower=vmin,
+            vel_upper=vmax,
+        ),
     }
 
 

@@ -10,7 +10,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any, ClassVar, SupportsFloat
+from typing import Any, ClassVar
 
 import gymnasium as gym
 import mujoco
@@ -35,7 +35,9 @@ def _to_float32(tree: Any) -> Any:
 def _space_for(tree: Any) -> gym.Space[Any]:
     if isinstance(tree, Mapping):
         return gym.spaces.Dict({k: _space_for(v) for k, v in tree.items()})
-    return gym.spaces.Box(-np.inf, np.inf, shape=np.shape(tree), dtype=np.float32)
+    # Finite bounds (the largest float32): observations are unbounded physical quantities.
+    limit = np.finfo(np.float32).max
+    return gym.spaces.Box(-limit, limit, shape=np.shape(tree), dtype=np.float32)
 
 
 class RobotEnv(gym.Env[Any, Any]):
@@ -59,7 +61,7 @@ class RobotEnv(gym.Env[Any, Any]):
     :meth:`evaluate` and :meth:`_extra_obs`.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
     default_max_episode_steps: ClassVar[int | None] = 200
 
     def __init__(
@@ -81,7 +83,9 @@ class RobotEnv(gym.Env[Any, Any]):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
         if not (isinstance(robot_init_qpos_noise, (int, float)) and robot_init_qpos_noise >= 0):
-            raise ConfigError(f"{type(self).__name__}: expected robot_init_qpos_noise >= 0, got {robot_init_qpos_noise!r}.")
+            raise ConfigError(
+                f"{type(self).__name__}: expected robot_init_qpos_noise >= 0, got {robot_init_qpos_noise!r}."
+            )
         self.scene = Scene(
             robot_uids,
             num_envs=num_envs,
@@ -146,7 +150,9 @@ class RobotEnv(gym.Env[Any, Any]):
     def single_action_space(self) -> gym.Space[Any]:
         if len(self.agents) == 1:
             return self.agent.single_action_space
-        return gym.spaces.Dict({rid: a.single_action_space for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)})
+        return gym.spaces.Dict(
+            {rid: a.single_action_space for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)}
+        )
 
     def _build_action_space(self) -> gym.Space[Any]:
         if len(self.agents) == 1:
@@ -160,6 +166,14 @@ class RobotEnv(gym.Env[Any, Any]):
 
     # ------------------------------------------------------------------ observations
     def _get_obs(self) -> Any:
+        if self.obs_mode == "state":
+            arrays: list[FloatArray] = []
+            for agent in self.agents:
+                arrays.extend(agent.proprioception_arrays())
+                if agent.tcp_body_id >= 0:
+                    arrays.append(agent.tcp_pose)
+            arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
+            return np.concatenate(arrays, axis=1, dtype=np.float32)
         agents = {rid: a.get_proprioception() for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)}
         extra = {
             f"{rid}/tcp_pose": a.tcp_pose
@@ -167,12 +181,12 @@ class RobotEnv(gym.Env[Any, Any]):
             if a.tcp_body_id >= 0
         }
         extra.update(self._extra_obs())
-        if self.obs_mode == "state_dict":
-            agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
-            if len(agents) == 1:
-                extra = {k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()}
-            return _to_float32({"agent": agent_obs, "extra": extra})
-        return np.concatenate([*(_flatten(p) for p in agents.values()), *(v.reshape(self.num_envs, -1) for v in extra.values())], axis=1).astype(np.float32)
+        agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
+        if len(agents) == 1:
+            extra = {
+                k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()
+            }
+        return _to_float32({"agent": agent_obs, "extra": extra})
 
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
@@ -183,7 +197,9 @@ class RobotEnv(gym.Env[Any, Any]):
         env_ids = options.pop("env_ids", None)
         keyframe = options.pop("keyframe", None)
         if options:
-            raise ConfigError(f"{type(self).__name__}.reset: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'.")
+            raise ConfigError(
+                f"{type(self).__name__}.reset: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'."
+            )
         ids = self.agent._env_ids(env_ids, f"{type(self).__name__}.reset")
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
@@ -205,10 +221,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.elapsed_steps += 1
         info = self.evaluate()
         reward = self.compute_reward(info)
-        terminated = np.zeros(self.num_envs, dtype=bool)
-        for key in ("success", "fail"):
-            if key in info:
-                terminated |= np.asarray(info[key], dtype=bool)
+        terminated = self._terminated(info)
         if self.max_episode_steps is None:
             truncated = np.zeros(self.num_envs, dtype=bool)
         else:
@@ -218,6 +231,17 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._single:
             return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
         return obs, reward, terminated, truncated, info
+
+    def _terminated(self, info: Mapping[str, Any]) -> npt.NDArray[np.bool_]:
+        """``success | fail`` per env (all false when the task reports neither)."""
+        success, fail = info.get("success"), info.get("fail")
+        if success is None and fail is None:
+            return np.zeros(self.num_envs, dtype=bool)
+        terminated = np.zeros(self.num_envs, dtype=bool)
+        for flags in (success, fail):
+            if flags is not None:
+                terminated |= np.asarray(flags, dtype=bool)
+        return terminated
 
     def _set_multi_action(self, action: Any) -> None:
         ids = self.scene.robot_ids
@@ -238,7 +262,7 @@ class RobotEnv(gym.Env[Any, Any]):
         if "elapsed_steps" in state:
             self.elapsed_steps = np.array(state["elapsed_steps"], dtype=np.int64).reshape(self.num_envs)
 
-    def render(self) -> Any:  # type: ignore[override]
+    def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) of the scene camera, per env for ``num_envs > 1``."""
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
@@ -257,11 +281,3 @@ class RobotEnv(gym.Env[Any, Any]):
             self._renderer.close()
             self._renderer = None
         self.scene.close()
-
-
-def _flatten(tree: Any) -> FloatArray:
-    if isinstance(tree, Mapping):
-        parts = [_flatten(v) for v in tree.values()]
-        return np.concatenate(parts, axis=1) if parts else np.zeros((0, 0))
-    array = np.asarray(tree)
-    return array.reshape(array.shape[0], -1)

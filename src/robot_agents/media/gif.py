@@ -73,9 +73,7 @@ PALETTE: npt.NDArray[np.uint8] = _build_palette()
 PALETTE.setflags(write=False)
 
 # 4x4 Bayer matrix; thresholds (value + 0.5) / 16 lie strictly inside (0, 1).
-_BAYER4 = np.array(
-    [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]], dtype=np.intp
-)
+_BAYER4 = np.array([[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]], dtype=np.intp)
 
 
 def _channel_lut(count: int, stride: int) -> npt.NDArray[np.uint8]:
@@ -106,15 +104,9 @@ def _threshold_map(height: int, width: int) -> npt.NDArray[np.intp]:
     return _BAYER4[rows[:, None], cols[None, :]]
 
 
-def _quantize(
-    frame: npt.NDArray[np.uint8], tmap: npt.NDArray[np.intp]
-) -> npt.NDArray[np.uint8]:
+def _quantize(frame: npt.NDArray[np.uint8], tmap: npt.NDArray[np.intp]) -> npt.NDArray[np.uint8]:
     """Map an H x W x 3 uint8 RGB frame to H x W uint8 palette indices (dithered)."""
-    return (
-        _LUT_R[tmap, frame[:, :, 0]]
-        + _LUT_G[tmap, frame[:, :, 1]]
-        + _LUT_B[tmap, frame[:, :, 2]]
-    )
+    return _LUT_R[tmap, frame[:, :, 0]] + _LUT_G[tmap, frame[:, :, 1]] + _LUT_B[tmap, frame[:, :, 2]]
 
 
 # ------------------------------------------------------------------------------ LZW
@@ -216,8 +208,7 @@ def _validate_frames(
             frame_list = list(frames)
         except TypeError:
             raise ValueError(
-                "write_gif: expected frames as a sequence of H x W x 3 uint8 arrays, "
-                f"got {type(frames).__name__}"
+                f"write_gif: expected frames as a sequence of H x W x 3 uint8 arrays, got {type(frames).__name__}"
             ) from None
     if not frame_list:
         raise ValueError("write_gif: expected at least one frame, got 0 frames")
@@ -227,19 +218,14 @@ def _validate_frames(
         if shape is None or len(shape) != 3 or shape[2] != 3:
             given = type(frame).__name__ if shape is None else f"shape {shape}"
             raise ValueError(
-                f"write_gif: expected frame {i} to be a numpy array of shape "
-                f"(H, W, 3) and dtype uint8, got {given}"
+                f"write_gif: expected frame {i} to be a numpy array of shape (H, W, 3) and dtype uint8, got {given}"
             )
         if frame.dtype != np.uint8:
-            raise ValueError(
-                f"write_gif: expected frame {i} to have dtype uint8, got dtype "
-                f"{frame.dtype}"
-            )
+            raise ValueError(f"write_gif: expected frame {i} to have dtype uint8, got dtype {frame.dtype}")
         height, width = int(frame.shape[0]), int(frame.shape[1])
         if not (1 <= height <= 0xFFFF and 1 <= width <= 0xFFFF):
             raise ValueError(
-                f"write_gif: expected frame {i} height and width between 1 and 65535 "
-                f"pixels, got shape {frame.shape}"
+                f"write_gif: expected frame {i} height and width between 1 and 65535 pixels, got shape {frame.shape}"
             )
         if first_shape is None:
             first_shape = frame.shape
@@ -256,14 +242,11 @@ def _delay_centiseconds(fps: float) -> int:
     is_number = isinstance(fps, numbers.Real) and not isinstance(fps, bool)
     value = float(fps) if is_number else math.nan
     if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(
-            f"write_gif: expected fps to be a positive finite number, got {fps!r}"
-        )
+        raise ValueError(f"write_gif: expected fps to be a positive finite number, got {fps!r}")
     delay = max(2, math.floor(100.0 / value + 0.5))
     if delay > 0xFFFF:
         raise ValueError(
-            "write_gif: expected fps >= 100/65535 (about 0.0015, the longest GIF "
-            f"frame delay of 655.35 s), got {fps!r}"
+            f"write_gif: expected fps >= 100/65535 (about 0.0015, the longest GIF frame delay of 655.35 s), got {fps!r}"
         )
     return delay
 
@@ -337,9 +320,7 @@ def write_gif(
         parts.append(control)
         # Image descriptor: position and size of the rectangle, no local colour
         # table, not interlaced.
-        parts.append(
-            b"\x2c" + struct.pack("<HHHHB", left, top, right - left, bottom - top, 0)
-        )
+        parts.append(b"\x2c" + struct.pack("<HHHHB", left, top, right - left, bottom - top, 0))
         parts.append(_lzw_image_data(indices[top:bottom, left:right]))
         previous = indices
     parts.append(b"\x3b")

@@ -37,9 +37,7 @@ def load_model_spec(path: str | os.PathLike[str]) -> mujoco.MjSpec:
         return _load_urdf(file)
     if suffix in (".xml", ".mjcf"):
         return _load_mjcf(file)
-    raise ModelError(
-        f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}."
-    )
+    raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
 
 
 def _parse_xml(file: Path) -> ET.Element:
@@ -52,7 +50,9 @@ def _parse_xml(file: Path) -> ET.Element:
 def _load_mjcf(file: Path) -> mujoco.MjSpec:
     root = _parse_xml(file)
     if root.tag != "mujoco":
-        raise ModelError(f"load_model_spec: expected an MJCF file with a <mujoco> root in {str(file)!r}, got <{root.tag}>.")
+        raise ModelError(
+            f"load_model_spec: expected an MJCF file with a <mujoco> root in {str(file)!r}, got <{root.tag}>."
+        )
     try:
         return mujoco.MjSpec.from_file(str(file))
     except ValueError as err:
@@ -62,7 +62,9 @@ def _load_mjcf(file: Path) -> mujoco.MjSpec:
 def _load_urdf(file: Path) -> mujoco.MjSpec:
     root = _parse_xml(file)
     if root.tag != "robot":
-        raise ModelError(f"load_model_spec: expected a URDF file with a <robot> root in {str(file)!r}, got <{root.tag}>.")
+        raise ModelError(
+            f"load_model_spec: expected a URDF file with a <robot> root in {str(file)!r}, got <{root.tag}>."
+        )
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")

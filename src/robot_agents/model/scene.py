@@ -82,8 +82,8 @@ class SceneOptions:
 
 
 #: Where the scene's render camera stands and what it looks at (m, world frame).
-RENDER_CAMERA_POS = (1.45, -1.15, 1.05)
-RENDER_CAMERA_TARGET = (0.2, 0.0, 0.35)
+RENDER_CAMERA_POS = (1.25, -1.0, 0.9)
+RENDER_CAMERA_TARGET = (0.25, 0.0, 0.35)
 
 
 def look_at_xyaxes(eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0)) -> list[float]:
@@ -111,7 +111,9 @@ def compose_scene(robots: Sequence[RobotMount], props: Sequence[Prop], options: 
         "rk4": mujoco.mjtIntegrator.mjINT_RK4,
     }
     if options.integrator not in integrators:
-        raise ConfigError(f"SceneOptions.integrator: expected one of {sorted(integrators)}, got {options.integrator!r}.")
+        raise ConfigError(
+            f"SceneOptions.integrator: expected one of {sorted(integrators)}, got {options.integrator!r}."
+        )
     if not options.timestep > 0:
         raise ConfigError(f"SceneOptions.timestep: expected a positive step in seconds, got {options.timestep!r}.")
     spec = mujoco.MjSpec()
@@ -127,12 +129,22 @@ def compose_scene(robots: Sequence[RobotMount], props: Sequence[Prop], options: 
     world.add_light(name="key_light", pos=[0.5, -1.0, 2.5], dir=[-0.2, 0.4, -1.0], diffuse=[0.6, 0.6, 0.6])
     if options.floor:
         spec.add_texture(
-            name="grid", type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
-            rgb1=[0.82, 0.84, 0.86], rgb2=[0.72, 0.74, 0.77], width=256, height=256,
+            name="grid",
+            type=mujoco.mjtTexture.mjTEXTURE_2D,
+            builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+            rgb1=[0.82, 0.84, 0.86],
+            rgb2=[0.72, 0.74, 0.77],
+            width=256,
+            height=256,
         )
         spec.add_material(name="floor", textures=["", "grid"], texrepeat=[8, 8], reflectance=0.0)
         world.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material="floor")
-    world.add_camera(name="render_camera", pos=list(RENDER_CAMERA_POS), xyaxes=look_at_xyaxes(RENDER_CAMERA_POS, RENDER_CAMERA_TARGET), fovy=45)
+    world.add_camera(
+        name="render_camera",
+        pos=list(RENDER_CAMERA_POS),
+        xyaxes=look_at_xyaxes(RENDER_CAMERA_POS, RENDER_CAMERA_TARGET),
+        fovy=45,
+    )
     for prop in props:
         _add_prop(spec, prop)
     for mount in robots:

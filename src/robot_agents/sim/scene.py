@@ -132,7 +132,9 @@ class Scene:
         """World pose of a scene body, shape ``(num_envs, 7)``: position, quaternion (w, x, y, z)."""
         body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
         if body < 0:
-            raise UnknownNameError("Scene.body_pose", "body", name, [self.model.body(b).name for b in range(self.model.nbody)])
+            raise UnknownNameError(
+                "Scene.body_pose", "body", name, [self.model.body(b).name for b in range(self.model.nbody)]
+            )
         return np.array([np.concatenate([d.xpos[body], d.xquat[body]]) for d in self.world.datas])
 
     # ------------------------------------------------------------------ stepping
@@ -158,15 +160,21 @@ class Scene:
         """Reset the envs (all by default): props and time to their initial state, each
         robot to a keyframe (default: its first) or to the given ``qpos``."""
         ids = self.agents[0]._env_ids(env_ids, "Scene.reset")
-        frames = self._modes(keyframes, len(self.agents)) if not isinstance(keyframes, str) else [keyframes] * len(self.agents)
+        frames = (
+            self._modes(keyframes, len(self.agents))
+            if not isinstance(keyframes, str)
+            else [keyframes] * len(self.agents)
+        )
         positions = list(qpos) if qpos is not None else [None] * len(self.agents)
         if len(positions) != len(self.agents):
             raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
         for agent, frame in zip(self.agents, frames, strict=True):
             if frame is not None and frame not in agent.keyframes:
-                    raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", frame, agent.keyframes)
+                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", frame, agent.keyframes)
         for env in ids:
-            mujoco.mj_setState(self.model, self.world.datas[env], self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION)
+            mujoco.mj_setState(
+                self.model, self.world.datas[env], self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION
+            )
         self.world.invalidate()
         for agent, frame, position in zip(self.agents, frames, positions, strict=True):
             agent.reset(keyframe=frame, qpos=position, env_ids=ids)
@@ -190,7 +198,9 @@ class Scene:
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             if agent_state.get("control_mode") not in agent.control_modes:
-                    raise UnknownNameError("Scene.set_state", "control mode", str(agent_state.get("control_mode")), agent.control_modes)
+                raise UnknownNameError(
+                    "Scene.set_state", "control mode", str(agent_state.get("control_mode")), agent.control_modes
+                )
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])

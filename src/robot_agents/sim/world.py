@@ -49,17 +49,14 @@ class BatchedWorld:
         self.state_size = mujoco.mj_stateSize(model, STATE_SPEC)
         threads = num_threads if num_threads is not None else min(self.num_envs, os.cpu_count() or 1)
         self.num_threads = max(1, min(int(threads), self.num_envs))
-        self._pool = ThreadPoolExecutor(self.num_threads) if self.num_threads > 1 else None
+        # The calling thread steps the first chunk itself; the pool steps the others.
+        self._pool = ThreadPoolExecutor(self.num_threads - 1) if self.num_threads > 1 else None
         bounds = np.linspace(0, self.num_envs, self.num_threads + 1).astype(int)
         self._chunks = [range(bounds[i], bounds[i + 1]) for i in range(self.num_threads)]
         self._cache: dict[str, FloatArray] = {}
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
-    def _push_ctrl(self, envs: range) -> None:
-        for i in envs:
-            self.datas[i].ctrl[:] = self.ctrl[i]
-
     def _step_chunk(self, envs: range, nstep: int) -> None:
         model, datas, ctrl = self.model, self.datas, self.ctrl
         for i in envs:
@@ -70,9 +67,11 @@ class BatchedWorld:
     def _step_all(self, nstep: int) -> None:
         if self._pool is None:
             self._step_chunk(self._chunks[0], nstep)
-        else:
-            for future in [self._pool.submit(self._step_chunk, chunk, nstep) for chunk in self._chunks]:
-                future.result()
+            return
+        futures = [self._pool.submit(self._step_chunk, chunk, nstep) for chunk in self._chunks[1:]]
+        self._step_chunk(self._chunks[0], nstep)
+        for future in futures:
+            future.result()
 
     def step(self, before_substep: Callable[[int, int], None] | None = None) -> None:
         """Advance every env by ``substeps`` physics steps with the current ``ctrl``.
@@ -99,7 +98,10 @@ class BatchedWorld:
     def _gather(self, field: str) -> FloatArray:
         cached = self._cache.get(field)
         if cached is None:
-            cached = np.stack([getattr(d, field) for d in self.datas])
+            if self.num_envs == 1:
+                cached = getattr(self.datas[0], field).copy().reshape(1, -1)
+            else:
+                cached = np.stack([getattr(d, field) for d in self.datas])
             cached.flags.writeable = False
             self._cache[field] = cached
         return cached

@@ -67,9 +67,9 @@ class Panda(Agent):
     mjcf_path = ASSETS / "panda.xml"
     link_materials = {"panda_leftfinger": FINGER_PAD, "panda_rightfinger": FINGER_PAD}
     keyframes = {
-        "rest": Keyframe(qpos=ARM_REST + FINGERS_OPEN),
-        "ready": Keyframe(qpos=ARM_READY + FINGERS_OPEN),
-        "closed_rest": Keyframe(qpos=ARM_REST + (0.0, 0.0)),
+        "rest": Keyframe(qpos=(*ARM_REST, *FINGERS_OPEN)),
+        "ready": Keyframe(qpos=(*ARM_READY, *FINGERS_OPEN)),
+        "closed_rest": Keyframe(qpos=(*ARM_REST, 0.0, 0.0)),
     }
     control_modes = combine_parts("arm", joint_control_modes(PANDA_ARM), gripper=PANDA_GRIPPER)
     default_control_mode = "pd_joint_delta_pos"

@@ -1,0 +1,171 @@
+"""The Gymnasium environment: API contract, batching, exact state, determinism, rendering."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import robot_agents as ra
+
+
+@pytest.mark.parametrize("obs_mode", ["state", "state_dict"])
+@pytest.mark.parametrize("uid", ["panda", "panda_stick", "floating_panda_gripper"])
+def test_check_env_passes_without_warnings(uid: str, obs_mode: str) -> None:
+    env = ra.make_env("Empty-v1", robot_uids=uid, obs_mode=obs_mode, render_mode="rgb_array", render_size=(64, 48))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+
+
+def test_make_env_and_gymnasium_make_agree() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_joint_pos", sim_freq=400, control_freq=20)
+    env2 = gym.make(
+        "robot_agents/Empty-v1", robot_uids="panda", control_mode="pd_joint_pos", sim_freq=400, control_freq=20
+    )
+    for e in (env, env2):
+        u = e.unwrapped
+        assert isinstance(u.agent, ra.Agent) and u.agent.uid == "panda"
+        assert isinstance(u.model, mujoco.MjModel) and isinstance(u.data, mujoco.MjData)
+        assert (u.sim_freq, u.control_freq) == (400, 20)
+        assert u.scene.substeps == 20 and u.model.opt.timestep == pytest.approx(1 / 400)
+        assert u.agent.control_mode == "pd_joint_pos"
+    o1, _ = env.reset(seed=3)
+    o2, _ = env2.reset(seed=3)
+    np.testing.assert_array_equal(o1, o2)
+    with pytest.raises(ra.UnknownNameError, match="Empty-v1"):
+        ra.make_env("Emptyy-v1")
+
+
+def test_batched_shapes_and_copies() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=4, obs_mode="state_dict")
+    u = env.unwrapped
+    obs, _ = env.reset(seed=0)
+    assert obs["agent"]["qpos"].shape == (4, 9)
+    assert obs["agent"]["qvel"].shape == (4, 9)
+    assert obs["agent"]["controller"]["arm"]["target_qpos"].shape == (4, 7)
+    assert obs["extra"]["tcp_pose"].shape == (4, 7)
+    assert env.action_space.shape == (4, 8) and u.single_action_space.shape == (8,)
+    obs, reward, terminated, truncated, _ = env.step(env.action_space.sample())
+    assert reward.shape == terminated.shape == truncated.shape == (4,)
+    # Returned arrays are copies: writing into them changes nothing in the simulation.
+    qpos = u.agent.qpos
+    qpos[:] = 123.0
+    assert not np.any(u.agent.qpos == 123.0)
+    assert not np.shares_memory(u.agent.qpos, u.data.qpos)
+    # Each env was reset with its own noise draw.
+    assert not np.allclose(obs["agent"]["qpos"][0], obs["agent"]["qpos"][1])
+
+
+def test_truncation_after_max_episode_steps() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", max_episode_steps=3)
+    env.reset(seed=0)
+    flags = [env.step(np.zeros(8))[3] for _ in range(3)]
+    assert flags == [False, False, True]
+    assert isinstance(flags[0], bool)
+
+
+def rollout(env: gym.Env, actions: list[np.ndarray]) -> np.ndarray:
+    return np.stack([np.asarray(env.step(a)[0]) for a in actions])
+
+
+@pytest.mark.parametrize("num_envs", [1, 3])
+def test_same_seed_same_actions_bit_identical(num_envs: int) -> None:
+    rng = np.random.default_rng(1)
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=num_envs, control_mode="pd_joint_target_delta_pos")
+    actions = [rng.uniform(-1, 1, (num_envs, 8)) for _ in range(15)]
+    env.reset(seed=7)
+    first = rollout(env, actions)
+    state_a = env.unwrapped.get_state()["physics"]
+    env.reset(seed=7)
+    second = rollout(env, actions)
+    assert np.array_equal(first, second)
+    assert np.array_equal(state_a, env.unwrapped.get_state()["physics"])
+    env.reset(seed=8)
+    assert not np.array_equal(first, rollout(env, actions))
+
+
+def test_thread_count_does_not_change_results() -> None:
+    rng = np.random.default_rng(2)
+    actions = [rng.uniform(-1, 1, (6, 8)) for _ in range(10)]
+    results = []
+    for threads in (1, 2, 3):
+        env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=6, num_threads=threads)
+        env.reset(seed=0)
+        results.append(rollout(env, actions))
+        env.close()
+    assert np.array_equal(results[0], results[1]) and np.array_equal(results[0], results[2])
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_target_delta_pos", "pd_joint_vel", "pd_joint_delta_pos_vel"])
+def test_get_state_set_state_round_trip_is_exact(mode: str) -> None:
+    rng = np.random.default_rng(3)
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, control_mode=mode)
+    u = env.unwrapped
+    env.reset(seed=0)
+    shape = env.action_space.shape
+    rollout(env, [rng.uniform(-1, 1, shape) for _ in range(5)])
+    saved = u.get_state()
+    continuation = [rng.uniform(-1, 1, shape) for _ in range(10)]
+    expected = rollout(env, continuation)
+    expected_state = u.get_state()
+    # Wander off: other mode, other actions, a reset; then restore and replay.
+    u.set_control_mode("pd_joint_pos")
+    env.reset(seed=99)
+    rollout(env, [u.agent.qpos[:, :8].copy() for _ in range(3)])
+    u.set_state(saved)
+    assert u.agent.control_mode == mode
+    replay = rollout(env, continuation)
+    assert np.array_equal(expected, replay)
+    assert np.array_equal(expected_state["physics"], u.get_state()["physics"])
+    np.testing.assert_array_equal(expected_state["elapsed_steps"], u.get_state()["elapsed_steps"])
+
+
+def test_render_rgb_array() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", render_mode="rgb_array", render_size=(96, 64))
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (64, 96, 3) and frame.dtype == np.uint8
+    assert frame.std() > 5  # not a blank image: floor, robot, shading
+    env.close()
+    batched = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, render_mode="rgb_array", render_size=(32, 32))
+    batched.reset(seed=0)
+    assert batched.render().shape == (2, 32, 32, 3)
+
+
+def test_reset_options_keyframe_and_env_ids() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, robot_init_qpos_noise=0.0)
+    u = env.unwrapped
+    env.reset(options={"keyframe": "ready"})
+    np.testing.assert_allclose(u.agent.qpos, np.tile(u.agent.keyframes["ready"].qpos_array(), (2, 1)))
+    env.reset(options={"keyframe": "rest", "env_ids": [1]})
+    np.testing.assert_allclose(u.agent.qpos[0], u.agent.keyframes["ready"].qpos_array())
+    np.testing.assert_allclose(u.agent.qpos[1], u.agent.keyframes["rest"].qpos_array())
+    with pytest.raises(ra.UnknownNameError, match="'rest'"):
+        env.reset(options={"keyframe": "rests"})
+    with pytest.raises(ra.ConfigError, match="unknown options"):
+        env.reset(options={"keyfram": "rest"})
+
+
+def test_two_robots_share_a_scene() -> None:
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "panda_stick"), num_envs=2, robot_init_qpos_noise=0.0)
+    u = env.unwrapped
+    assert [a.uid for a in u.agents] == ["panda", "panda_stick"]
+    assert isinstance(env.action_space, gym.spaces.Dict)
+    obs, _ = env.reset(seed=0)
+    action = {"panda-0": np.zeros(8), "panda_stick-1": np.ones(7)}
+    obs, *_ = env.step(action)
+    assert obs.shape[0] == 2
+    # The stick robot moved toward +0.1 rad per joint (kv / kp = 0.1 s, so ~40% of it
+    # in one 0.05 s step), the Panda held still.
+    np.testing.assert_allclose(u.agents[0].qpos[0, :7], u.agents[0].keyframes["rest"].qpos_array()[:7], atol=5e-3)
+    assert np.all(u.agents[1].qpos[0] > u.agents[1].keyframes["rest"].qpos_array() + 0.02)
+    bases = np.array([a.base_pose[0, :3] for a in u.agents])
+    assert np.linalg.norm(bases[0] - bases[1]) == pytest.approx(1.0)
+    with pytest.raises(ra.ConfigError, match="panda_stick-1"):
+        env.step({"panda-0": np.zeros(8)})

@@ -1,0 +1,260 @@
+"""Bad input raises a library error that says where, what was expected, what was given
+and what is available, and leaves the simulation exactly as it was."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from tests.conftest import INERTIAL, make_pendulum_class
+
+
+@pytest.fixture
+def env():  # type: ignore[no-untyped-def]
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, control_mode="pd_joint_target_delta_pos")
+    env.reset(seed=0)
+    env.step(np.full((2, 8), 0.3))
+    yield env
+    env.close()
+
+
+def assert_unchanged(env, call: Callable[[], object], error: type[Exception], *fragments: str) -> None:  # type: ignore[no-untyped-def]
+    before = env.unwrapped.get_state()
+    ctrl_before = env.unwrapped.scene.world.ctrl.copy()
+    mode_before = env.unwrapped.agent.control_mode
+    with pytest.raises(error) as caught:
+        call()
+    message = str(caught.value)
+    for fragment in fragments:
+        assert fragment in message, f"{fragment!r} not in {message!r}"
+    assert isinstance(caught.value, ra.RobotAgentsError)
+    after = env.unwrapped.get_state()
+    assert np.array_equal(before["physics"], after["physics"])
+    assert env.unwrapped.agent.control_mode == mode_before
+    np.testing.assert_array_equal(ctrl_before, env.unwrapped.scene.world.ctrl)
+    for part, state in before["agents"][0]["controller"].items():
+        for key, value in state.items():
+            np.testing.assert_array_equal(value, after["agents"][0]["controller"][part][key])
+
+
+@pytest.mark.parametrize(
+    ("action", "fragments"),
+    [
+        (np.zeros((2, 7)), ["expected shape (2, 8) or (8,)", "got (2, 7)", "arm: 7, gripper: 1"]),
+        (np.zeros(9), ["got (9,)"]),
+        (np.zeros((3, 8)), ["got (3, 8)"]),
+        (np.array([["a"] * 8] * 2), ["expected a float", "dtype <U1"]),
+        (np.zeros((2, 8), dtype=complex), ["dtype complex128"]),
+        (np.zeros((2, 8), dtype=bool), ["dtype bool"]),
+        ([[0.0] * 8, [0.0] * 7], ["expected a numeric array"]),
+        (np.full((2, 8), math.nan), ["NaN or inf", "(env, index) [[0, 0]"]),
+        (np.where(np.eye(2, 8) > 0, np.inf, 0.0), ["NaN or inf", "[[0, 0], [1, 1]]"]),
+    ],
+)
+def test_bad_actions_rejected_state_unchanged(env, action: object, fragments: list[str]) -> None:  # type: ignore[no-untyped-def]
+    assert_unchanged(
+        env, lambda: env.step(action), ra.ActionError, "Panda.set_action", "pd_joint_target_delta_pos", *fragments
+    )
+
+
+def test_unknown_control_mode(env) -> None:  # type: ignore[no-untyped-def]
+    assert_unchanged(
+        env,
+        lambda: env.unwrapped.set_control_mode("pd_joint_delta"),
+        ra.UnknownNameError,
+        "unknown control mode 'pd_joint_delta'",
+        "Did you mean 'pd_joint_delta_pos'",
+        "'pd_joint_vel'",
+    )
+    with pytest.raises(ra.UnknownNameError, match="pd_ee_delta_pose"):
+        ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pose")
+
+
+def test_unknown_keyframe(env) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    assert_unchanged(
+        env,
+        lambda: agent.reset(keyframe="rset"),
+        ra.UnknownNameError,
+        "unknown keyframe 'rset'",
+        "Did you mean 'rest'",
+        "'ready'",
+    )
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragments"),
+    [
+        ({"qpos": np.zeros(7)}, ["expected qpos of shape (9,) or (2, 9)", "got (7,)"]),
+        ({"qpos": np.zeros((3, 9))}, ["got (3, 9)"]),
+        ({"qpos": np.full(9, math.nan)}, ["NaN or inf"]),
+        ({"qpos": np.zeros(9)}, ["'panda_joint4' is 0", "outside its limits [-3.0718, -0.0698]"]),
+        ({"keyframe": "rest", "qvel": np.zeros(4)}, ["qvel of shape (9,)"]),
+        ({"keyframe": "rest", "env_ids": [5]}, ["env ids in [0, 2)", "[5]"]),
+    ],
+)
+def test_bad_reset_arguments(env, kwargs: dict[str, object], fragments: list[str]) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    assert_unchanged(env, lambda: agent.reset(**kwargs), ra.StateError, "Panda.reset", *fragments)
+
+
+def test_bad_set_state(env) -> None:  # type: ignore[no-untyped-def]
+    u = env.unwrapped
+    state = u.get_state()
+    bad_physics = {**state, "physics": state["physics"][:, :-1]}
+    assert_unchanged(env, lambda: u.set_state(bad_physics), ra.StateError, "expected a physics state of shape (2,")
+    bad_mode = {**state, "agents": [{**state["agents"][0], "control_mode": "nope"}]}
+    assert_unchanged(env, lambda: u.set_state(bad_mode), ra.UnknownNameError, "unknown control mode 'nope'")
+    assert_unchanged(env, lambda: u.set_state({"physics": 1}), ra.StateError, "keys 'physics' and 'agents'")
+
+
+def test_keyframe_of_wrong_size_fails_at_load(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, keyframes={"bad": ra.Keyframe(qpos=(0.1, 0.2, 0.3))})
+    with pytest.raises(ra.ConfigError) as err:
+        ra.Scene(cls)
+    assert "keyframes['bad']" in str(err.value) and "expected 2 joint positions (shoulder, elbow), got 3" in str(
+        err.value
+    )
+
+
+def test_unknown_joint_in_control_mode(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, control_modes={"m": ra.PDJointPosConfig(joint_names=("shoulder", "elbw"))})
+    with pytest.raises(ra.UnknownNameError) as err:
+        ra.Scene(cls)
+    assert "unknown joint (control modes) 'elbw'" in str(err.value) and "'elbow'" in str(err.value)
+
+
+def test_unknown_link_names_in_declaration(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, link_materials={"lnk1": ra.FrictionMaterial()})
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'link1'"):
+        ra.Scene(cls)
+    cls = make_pendulum_class(pendulum_file, tcp_link="tipp")
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'tip'"):
+        ra.Scene(cls)
+
+
+def test_missing_model_file(tmp_path: Path) -> None:
+    cls = make_pendulum_class(tmp_path / "nowhere.xml")
+    with pytest.raises(ra.ModelError, match=r"nowhere.xml' does not exist"):
+        ra.Scene(cls)
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "fragment"),
+    [
+        ("broken.xml", "<mujoco><worldbody><body></worldbody></mujoco>", "not well-formed XML"),
+        ("wrong_root.xml", "<robot name='x'/>", "expected an MJCF file with a <mujoco> root"),
+        (
+            "bad_attr.xml",
+            "<mujoco><worldbody><body><joint type='spiral'/><geom size='.1'/></body></worldbody></mujoco>",
+            "MuJoCo rejected",
+        ),
+        ("broken.urdf", "<robot name='x'><link name='a'></robot>", "not well-formed XML"),
+        ("empty.urdf", "<robot name='x'/>", "has no <link>"),
+        ("notes.txt", "hello", "ending in .urdf, .xml or .mjcf"),
+    ],
+)
+def test_malformed_model_files(tmp_path: Path, name: str, text: str, fragment: str) -> None:
+    path = tmp_path / name
+    path.write_text(text)
+    cls = make_pendulum_class(path)
+    with pytest.raises(ra.ModelError) as err:
+        ra.Scene(cls)
+    assert fragment in str(err.value) and name in str(err.value)
+
+
+def _urdf(joint_type: str = "revolute", mesh: str | None = None, floating_below_root: bool = False) -> str:
+    geometry = f'<mesh filename="{mesh}"/>' if mesh else '<box size="0.1 0.1 0.1"/>'
+    extra = ""
+    if floating_below_root:
+        extra = f'<link name="c">{INERTIAL.format(m=1)}</link><joint name="float" type="floating"><parent link="b"/><child link="c"/></joint>'
+    return f"""<robot name="r">
+  <link name="a">{INERTIAL.format(m=1)}<collision><geometry>{geometry}</geometry></collision></link>
+  <link name="b">{INERTIAL.format(m=1)}</link>
+  <joint name="j" type="{joint_type}"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>{extra}
+</robot>"""
+
+
+@pytest.mark.parametrize(
+    ("text", "fragment"),
+    [
+        (_urdf(joint_type="spherical"), "has type 'spherical'; expected one of revolute"),
+        (_urdf(mesh="meshes/base.dae"), "has format '.dae'; MuJoCo reads .stl, .obj, .msh"),
+        (_urdf(mesh="package://my_robot/meshes/base.stl"), "was not found; looked at"),
+        (_urdf(floating_below_root=True), "floating joint 'float'"),
+    ],
+)
+def test_urdf_with_unsupported_pieces(tmp_path: Path, text: str, fragment: str) -> None:
+    path = tmp_path / "robot.urdf"
+    path.write_text(text)
+    cls = make_pendulum_class(
+        path, control_modes={"m": ra.PDJointPosConfig(joint_names=("j",))}, keyframes={}, tcp_link=None
+    )
+    with pytest.raises(ra.ModelError) as err:
+        ra.Scene(cls)
+    assert fragment in str(err.value)
+
+
+def test_user_urdf_loads_and_moves(urdf_file: Path) -> None:
+    class TwoLink(ra.Agent):
+        uid = "two_link"
+        urdf_path = urdf_file
+        keyframes = {"home": ra.Keyframe(qpos=(0.0, 0.5))}
+        control_modes = ra.joint_control_modes(
+            ra.JointGroup(joint_names=("joint_a", "joint_b"), stiffness=300.0, damping=30.0, force_limit=(50.0, 20.0))
+        )
+        tcp_link = "tool"  # a fixed link: kept as a body
+
+    scene = ra.Scene(TwoLink, control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.joint_names == ("joint_a", "joint_b")
+    np.testing.assert_allclose(agent.qpos_limits, [[-3, 3], [-2, 2]])
+    for _ in range(40):
+        agent.set_action([0.4, -0.6])
+        scene.step()
+    np.testing.assert_allclose(agent.qpos[0], [0.4, -0.6], atol=2e-3)
+    # Forward kinematics of the tool frame: base 0.05 + upper 0.3 up, then 0.2 along the bent lower link.
+    expected = np.array([np.cos(0.4) * 0.2 * np.sin(-0.6), np.sin(0.4) * 0.2 * np.sin(-0.6), 0.35 + 0.2 * np.cos(-0.6)])
+    np.testing.assert_allclose(agent.tcp_pose[0, :3], expected, atol=2e-3)
+
+
+def test_urdf_package_mesh_resolves(tmp_path: Path) -> None:
+    pkg = tmp_path / "my_robot"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    # A tetrahedron as a Wavefront OBJ.
+    (pkg / "meshes" / "base.obj").write_text(
+        "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+    )
+    path = pkg / "urdf" / "robot.urdf"
+    path.write_text(_urdf(mesh="package://my_robot/meshes/base.obj"))
+    cls = make_pendulum_class(
+        path,
+        control_modes={"m": ra.PDJointPosConfig(joint_names=("j",), normalize_action=False)},
+        keyframes={},
+        tcp_link=None,
+    )
+    scene = ra.Scene(cls)
+    assert scene.model.nmesh == 1
+
+
+def test_scene_argument_errors() -> None:
+    with pytest.raises(ra.ConfigError, match="multiple of control_freq"):
+        ra.Scene("panda", sim_freq=500, control_freq=30)
+    with pytest.raises(ra.ConfigError, match="positive integer"):
+        ra.Scene("panda", sim_freq=0)
+    with pytest.raises(ra.ConfigError, match="num_envs >= 1"):
+        ra.Scene("panda", num_envs=0)
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda'"):
+        ra.Scene("pand")
+    with pytest.raises(ra.ConfigError, match="one mode per robot"):
+        ra.Scene(["panda", "panda"], control_modes=["pd_joint_pos"])
+    with pytest.raises(ra.UnknownNameError, match="obs_mode"):
+        ra.make_env("Empty-v1", obs_mode="rgbd")

@@ -1,0 +1,188 @@
+"""Physical claims checked against numbers: kinematics against Franka's DH table,
+gravity compensation, a grasp that holds a cube, contact forces, free-floating roots."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from tests.conftest import make_pendulum_class
+
+# Franka's modified DH parameters (a, d, alpha) for joints 1..7, then the flange.
+DH = [
+    (0, 0.333, 0),
+    (0, 0, -math.pi / 2),
+    (0, 0.316, math.pi / 2),
+    (0.0825, 0, math.pi / 2),
+    (-0.0825, 0.384, -math.pi / 2),
+    (0, 0, math.pi / 2),
+    (0.088, 0, math.pi / 2),
+]
+FLANGE_D = 0.107
+HAND_TCP = 0.1034
+
+
+def dh_transform(a: float, d: float, alpha: float, theta: float) -> np.ndarray:
+    ca, sa, ct, st = math.cos(alpha), math.sin(alpha), math.cos(theta), math.sin(theta)
+    return np.array([[ct, -st, 0, a], [st * ca, ct * ca, -sa, -d * sa], [st * sa, ct * sa, ca, d * ca], [0, 0, 0, 1]])
+
+
+def panda_tcp_from_dh(q: np.ndarray) -> np.ndarray:
+    pose = np.eye(4)
+    for (a, d, alpha), theta in zip(DH, q, strict=True):
+        pose = pose @ dh_transform(a, d, alpha, theta)
+    pose = pose @ dh_transform(0, FLANGE_D, 0, -math.pi / 4)  # flange, hand turned -45 deg
+    return pose @ dh_transform(0, HAND_TCP, 0, 0)
+
+
+def test_panda_forward_kinematics_match_dh_table() -> None:
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        expected = panda_tcp_from_dh(q[:7])
+        tcp = agent.tcp_pose[0]
+        np.testing.assert_allclose(tcp[:3], expected[:3, 3], atol=1e-6)
+        rotation = np.zeros(9)
+        mujoco.mju_quat2Mat(rotation, tcp[3:])
+        np.testing.assert_allclose(rotation.reshape(3, 3), expected[:3, :3], atol=1e-6)
+
+
+def test_panda_limits_from_datasheet() -> None:
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    np.testing.assert_allclose(
+        agent.qpos_limits[:7],
+        [
+            [-2.8973, 2.8973],
+            [-1.7628, 1.7628],
+            [-2.8973, 2.8973],
+            [-3.0718, -0.0698],
+            [-2.8973, 2.8973],
+            [-0.0175, 3.7525],
+            [-2.8973, 2.8973],
+        ],
+    )
+    np.testing.assert_allclose(agent.qpos_limits[7:], [[0, 0.04], [0, 0.04]])
+    ids = agent.controller.parts["arm"].binding.actuator_ids
+    np.testing.assert_allclose(scene.model.actuator_forcerange[ids, 1], [87, 87, 87, 87, 12, 12, 12])
+    arm_mass = sum(scene.model.body_mass[scene.model.body(f"panda-0/panda_link{i}").id] for i in range(8))
+    assert arm_mass == pytest.approx(16.69, abs=0.01)  # identified link masses, link0..link7
+
+
+def test_gravity_compensation_holds_the_arm_with_motors_off() -> None:
+    """With every actuator passive, gravcomp alone keeps the arm still; without it, it falls."""
+    drift = {}
+    for gravcomp in (True, False):
+        cls = type(
+            "PandaPassive",
+            (ra.get_agent("panda"),),
+            {
+                "uid": "panda_passive",
+                "gravity_compensation": gravcomp,
+                "default_control_mode": "off",
+                "control_modes": {"off": ra.PassiveConfig(joint_names=ra.get_agent("panda").controlled_joints())},
+            },
+        )
+        scene = ra.Scene(cls)
+        scene.reset()
+        start = scene.agents[0].qpos[0, :7]
+        for _ in range(20):  # 1 s
+            scene.agents[0].set_action(np.zeros(0))
+            scene.step()
+        drift[gravcomp] = float(np.max(np.abs(scene.agents[0].qpos[0, :7] - start)))
+    assert drift[True] < 1e-6
+    assert drift[False] > 0.1
+
+
+def grasp_scene() -> tuple[ra.Scene, ra.Agent]:
+    # A 4 cm, 100 g cube on a pedestal, centred on the Panda's rest TCP (0.615, 0, 0.170).
+    props = [
+        ra.Prop(
+            name="pedestal",
+            shape="box",
+            size=(0.05, 0.05, 0.075),
+            pos=(0.615, 0.0, 0.075),
+            mass=None,
+            rgba=(0.5, 0.5, 0.5, 1),
+        ),
+        ra.Prop(name="cube", shape="box", size=(0.02, 0.02, 0.02), pos=(0.615, 0.0, 0.1701), mass=0.1),
+    ]
+    scene = ra.Scene("panda", props=props, control_modes="pd_joint_pos")
+    scene.reset()
+    return scene, scene.agents[0]
+
+
+def test_grasp_holds_and_lifts_a_cube() -> None:
+    scene, agent = grasp_scene()
+    rest = agent.keyframes["rest"].qpos_array()[:7]
+    for _ in range(10):
+        agent.set_action(np.concatenate([rest, [1.0]]))  # open, settle
+        scene.step()
+    assert not agent.is_grasping("cube")[0]
+    for _ in range(20):
+        agent.set_action(np.concatenate([rest, [-1.0]]))  # close
+        scene.step()
+    assert agent.is_grasping("cube")[0]
+    fingers = agent.qpos[0, 7:]
+    np.testing.assert_allclose(fingers, [0.0195, 0.0195], atol=1e-3)  # 4 cm cube, pads 0.5 mm proud
+    # Squeeze force: kp * (q - target) = 1000 N/m * (q + 0.01 m) per finger.
+    data = scene.world.datas[0]
+    left = agent._contact_force_on(
+        data,
+        agent._body_id("panda_leftfinger"),
+        mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_BODY, "cube"),
+        np.zeros(6),
+    )
+    squeeze = 1000.0 * (fingers[0] + 0.01)
+    assert np.linalg.norm(left) == pytest.approx(squeeze, rel=0.1)
+    cube_z0 = scene.body_pose("cube")[0, 2]
+    lift = rest + np.array([0.0, -0.3, 0.0, 0.2, 0.0, 0.0, 0.0])
+    for i in range(60):  # 3 s: lift over 1 s, hold 2 s
+        blend = min(1.0, (i + 1) / 20)
+        agent.set_action(np.concatenate([rest + blend * (lift - rest), [-1.0]]))
+        scene.step()
+    cube = scene.body_pose("cube")[0]
+    tcp = agent.tcp_pose[0]
+    assert cube[2] - cube_z0 > 0.08
+    assert np.linalg.norm(cube[:3] - tcp[:3]) < 0.01  # still centred between the pads
+    assert agent.is_grasping("cube")[0]
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'cube'"):
+        agent.is_grasping("cub")
+
+
+def test_is_static_reflects_arm_motion() -> None:
+    scene = ra.Scene("panda", control_modes="pd_joint_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    agent.set_action(np.zeros(8))
+    scene.step()
+    assert agent.is_static(0.01)[0]
+    agent.set_action(np.concatenate([np.ones(7), [0.0]]))
+    scene.step()
+    assert not agent.is_static(0.2)[0]
+
+
+def test_free_root_robot_falls_and_starts_at_keyframe_base_pose(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(
+        pendulum_file,
+        fix_root_link=False,
+        keyframes={"air": ra.Keyframe(qpos=(0.0, 0.0), base_pos=(0.3, 0.2, 2.0))},
+    )
+    scene = ra.Scene(cls)
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.dof == 2  # the free joint is the base pose, not part of qpos
+    np.testing.assert_allclose(agent.base_pose[0], [0.3, 0.2, 2.0, 1, 0, 0, 0])
+    assert scene.model.body_gravcomp.max() == 0.0  # off by default for free robots
+    for _ in range(4):  # 0.2 s of free fall: z drops by g t^2 / 2 = 0.196 m
+        agent.set_action(np.zeros(2))
+        scene.step()
+    assert agent.base_pose[0, 2] == pytest.approx(2.0 - 0.5 * 9.81 * 0.2**2, abs=2e-3)

@@ -62,6 +62,7 @@ __all__ = [
     "PassiveConfig",
     "Prop",
     "RegistryError",
+    "RobotEnv",
     "RobotAgentsError",
     "Scene",
     "StateError",

@@ -1,15 +1,22 @@
 """Env step throughput of the Panda in every joint mode, against raw MuJoCo.
 
-For each mode, in one run on one machine:
-- ``raw``: ``mujoco.mj_step(model, data, nstep=substeps)`` in a Python loop on the same
-  compiled model, constant ``ctrl``: control steps/s of bare physics;
-- ``env``: ``env.step(action)`` of ``make_env("Empty-v1", robot_uids="panda", ...)``
-  at ``num_envs=1`` (validation, controller, the same substeps, observation), with
-  small random actions, in env steps/s; ``ratio`` = env / raw. Env and raw run in
-  alternating blocks so that machine noise hits both alike;
-- ``env xN``: env steps/s of all ``N`` envs together (``num_envs=N`` on all cores)
-  and its ratio to the single-env raw physics rate.
+For each mode, in one run on one machine, all on the same compiled model with the
+same number of physics substeps per control step:
 
+- ``raw const``: ``mujoco.mj_step(model, data, nstep=substeps)`` in a Python loop with
+  constant ``ctrl`` (the arm holds still): control steps/s of bare physics;
+- ``raw replay``: the same loop replaying the ``ctrl`` sequence our env produced, from
+  the same initial state, so it simulates exactly the env's motion (the benchmark
+  checks the final states are bit-identical);
+- ``env``: ``env.step(action)`` of ``make_env("Empty-v1", robot_uids="panda", ...)``
+  at ``num_envs=1`` (validation, controller, substeps, observation) with small
+  actions of alternating sign, in env steps/s;
+- ``env/replay`` is our overhead on identical physics; ``env/const`` compares with the
+  arm at rest (moving costs MuJoCo a little more than holding still);
+- ``env xN``: env steps/s of all ``N`` envs together (``num_envs=N`` on all cores)
+  and its ratio to the single-env ``raw const`` rate.
+
+Env and raw loops run in alternating blocks so that machine noise hits both alike.
 Usage: ``python benchmarks/step_throughput.py [--rounds 20] [--block 50] [--num-envs 64]``.
 """
 
@@ -34,25 +41,24 @@ JOINT_MODES = (
     "pd_joint_pos_vel",
     "pd_joint_delta_pos_vel",
 )
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
 def small_actions(env: ra.RobotEnv, count: int, rng: np.random.Generator) -> list[np.ndarray]:
     """Small actions of alternating sign (absolute position modes: about the current
-    pose): the arm keeps moving near its rest pose in every mode, so env and raw
-    physics simulate the same situation (no drift into joint limits or the floor)."""
+    pose): the arm keeps moving near its rest pose in every mode (no drift into joint
+    limits or the floor)."""
     space = env.agent.action_space
     mid, half = (space.low + space.high) / 2, (space.high - space.low) / 2
-    actions = [
-        (mid + (-1) ** i * 0.1 * half * rng.uniform(0, 1, space.shape)).astype(np.float32) for i in range(count)
-    ]
+    actions = [(mid + (-1) ** i * 0.1 * half * rng.uniform(0, 1, space.shape)).astype(np.float32) for i in range(count)]
     controller = env.agent.controller
     for part, config in ((p, c.config) for p, c in controller.parts.items()):
         if isinstance(config, ra.PDJointPosConfig) and not config.use_delta and not config.normalize_action:
-            sl = controller.slices[part]
-            n = len(config.joint_names)
-            hold = env.agent.qpos[:, [env.agent.joint_names.index(j) for j in config.joint_names]]
+            start = controller.slices[part].start
+            index = [env.agent.joint_names.index(j) for j in config.joint_names]
+            hold = env.agent.qpos[:, index]
             for action in actions:
-                action[:, sl.start : sl.start + n] = hold + 0.05 * rng.uniform(-1, 1, hold.shape)
+                action[:, start : start + len(index)] = hold + 0.05 * rng.uniform(-1, 1, hold.shape)
     if env.num_envs > 1:  # different motions per env
         for action in actions:
             rng.shuffle(action, axis=0)
@@ -65,30 +71,81 @@ def make(mode: str, num_envs: int) -> ra.RobotEnv:
     return env.unwrapped  # type: ignore[return-value]
 
 
-def stepper(env: ra.RobotEnv, actions: list[np.ndarray]) -> Callable[[int], None]:
+def interleaved(loops: list[Callable[[int], None]], rounds: int, block: int) -> list[float]:
+    """Calls/s of each loop, timed in alternating blocks of ``block`` calls after a warm-up."""
+    for loop in loops:
+        loop(block)
+    totals = [0.0] * len(loops)
+    for _ in range(rounds):
+        for i, loop in enumerate(loops):
+            start = time.perf_counter()
+            loop(block)
+            totals[i] += time.perf_counter() - start
+    return [rounds * block / total for total in totals]
+
+
+def single_env(mode: str, rounds: int, block: int, rng: np.random.Generator) -> tuple[float, float, float]:
+    """(raw const, raw replay, env) control steps/s at num_envs=1."""
+    env = make(mode, 1)
+    model, substeps = env.model, env.scene.substeps
+    actions = small_actions(env, 64, rng)
+    steps = (rounds + 1) * block
+    start = env.get_state()
+    controls = []
+    for i in range(steps):  # record the ctrl sequence the env produces
+        env.step(actions[i % len(actions)])
+        controls.append(env.data.ctrl.copy())
+    final = env.get_state()["physics"][0]
+    env.set_state(start)
+    replay_data, const_data = mujoco.MjData(model), mujoco.MjData(model)
+    for data in (replay_data, const_data):
+        mujoco.mj_setState(model, data, start["physics"][0], STATE)
+    cursor = {"env": 0, "replay": 0}
+
+    def env_loop(count: int) -> None:
+        for _ in range(count):
+            env.step(actions[cursor["env"] % len(actions)])
+            cursor["env"] += 1
+
+    def replay_loop(count: int) -> None:
+        for _ in range(count):
+            replay_data.ctrl[:] = controls[cursor["replay"]]
+            mujoco.mj_step(model, replay_data, substeps)
+            cursor["replay"] += 1
+
+    def const_loop(count: int) -> None:
+        for _ in range(count):
+            mujoco.mj_step(model, const_data, substeps)
+
+    const, replay, env_rate = interleaved([const_loop, replay_loop, env_loop], rounds, block)
+    replay_state = np.empty(mujoco.mj_stateSize(model, STATE))
+    mujoco.mj_getState(model, replay_data, replay_state, STATE)
+    if not (np.array_equal(replay_state, final) and np.array_equal(env.get_state()["physics"][0], final)):
+        raise RuntimeError(f"{mode}: the replay did not reproduce the env's trajectory")
+    env.close()
+    return const, replay, env_rate
+
+
+def batched_env(mode: str, num_envs: int, rounds: int, block: int, rng: np.random.Generator) -> tuple[float, float]:
+    """(raw const single-env, env steps/s of all envs together)."""
+    env = make(mode, num_envs)
+    actions = small_actions(env, 16, rng)
+    data = mujoco.MjData(env.model)
+    mujoco.mj_setState(env.model, data, env.get_state()["physics"][0], STATE)
     counter = [0]
 
-    def run(n: int) -> None:
-        for _ in range(n):
+    def env_loop(count: int) -> None:
+        for _ in range(count):
             env.step(actions[counter[0] % len(actions)])
             counter[0] += 1
 
-    return run
+    def const_loop(count: int) -> None:
+        for _ in range(count):
+            mujoco.mj_step(env.model, data, env.scene.substeps)
 
-
-def interleaved(a: Callable[[int], None], b: Callable[[int], None], rounds: int, block: int) -> tuple[float, float]:
-    """Calls/s of ``a`` and ``b``, timed in alternating blocks after a warm-up."""
-    a(block)
-    b(block)
-    time_a = time_b = 0.0
-    for _ in range(rounds):
-        start = time.perf_counter()
-        a(block)
-        time_a += time.perf_counter() - start
-        start = time.perf_counter()
-        b(block)
-        time_b += time.perf_counter() - start
-    return rounds * block / time_a, rounds * block / time_b
+    const, rate = interleaved([const_loop, env_loop], rounds, block)
+    env.close()
+    return const, rate * num_envs
 
 
 def main() -> None:
@@ -99,36 +156,28 @@ def main() -> None:
     args = parser.parse_args()
     probe = make("pd_joint_pos", 1)
     scene = probe.scene
-    print(f"robot_agents {ra.__version__}, mujoco {mujoco.__version__}, python {platform.python_version()}, {os.cpu_count()} cores")
-    print(f"panda, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n")
+    print(
+        f"robot_agents {ra.__version__}, mujoco {mujoco.__version__}, python {platform.python_version()}, {os.cpu_count()} cores"
+    )
+    print(
+        f"panda, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n"
+    )
     probe.close()
     n = args.num_envs
-    header = f"{'mode':<26} {'raw steps/s':>11} {'env steps/s':>11} {'ratio':>6} {f'env x{n} steps/s':>17} {'vs raw':>7}"
+    header = (
+        f"{'mode':<26} {'raw const':>9} {'raw replay':>10} {'env':>6} {'env/replay':>10} {'env/const':>9}"
+        f" {f'env x{n}':>9} {'x' + str(n) + '/const':>9}"
+    )
+    print("control steps/s" + " " * 12 + "(higher is better)")
     print(header)
     print("-" * len(header))
     rng = np.random.default_rng(0)
     for mode in JOINT_MODES:
-        env = make(mode, 1)
-        model = env.model
-        data = mujoco.MjData(model)
-        mujoco.mj_setState(model, data, env.get_state()["physics"][0], mujoco.mjtState.mjSTATE_INTEGRATION)
-        substeps = env.scene.substeps
-
-        def raw(count: int, model: mujoco.MjModel = model, data: mujoco.MjData = data, substeps: int = substeps) -> None:
-            for _ in range(count):
-                mujoco.mj_step(model, data, substeps)
-
-        env_rate, raw_rate = interleaved(stepper(env, small_actions(env, 64, rng)), raw, args.rounds, args.block)
-        env.close()
-        batched = make(mode, n)
-        batch_rate, raw_rate_2 = interleaved(
-            stepper(batched, small_actions(batched, 16, rng)), raw, max(2, args.rounds // 2), max(2, args.block // 5)
-        )
-        batched.close()
-        raw_mean = (raw_rate + raw_rate_2) / 2
+        const, replay, env_rate = single_env(mode, args.rounds, args.block, rng)
+        const_b, batch = batched_env(mode, n, max(2, args.rounds // 2), max(2, args.block // 5), rng)
         print(
-            f"{mode:<26} {raw_rate:>11.0f} {env_rate:>11.0f} {env_rate / raw_rate:>6.2f} "
-            f"{batch_rate * n:>17.0f} {batch_rate * n / raw_mean:>6.2f}x",
+            f"{mode:<26} {const:>9.0f} {replay:>10.0f} {env_rate:>6.0f} {env_rate / replay:>10.2f} {env_rate / const:>9.2f}"
+            f" {batch:>9.0f} {batch / const_b:>8.2f}x",
             flush=True,
         )
 

@@ -265,6 +265,9 @@ class Agent:
         return self._body_pose(self.tcp_body_id)
 
     def _body_pose(self, body_id: int) -> FloatArray:
+        if self.num_envs == 1:
+            data = self.world.datas[0]
+            return np.concatenate((data.xpos[body_id], data.xquat[body_id])).reshape(1, 7)
         pose = np.empty((self.num_envs, 7))
         for row, data in zip(pose, self.world.datas, strict=True):
             row[:3] = data.xpos[body_id]
@@ -436,14 +439,16 @@ class Agent:
     def get_proprioception(self) -> dict[str, Any]:
         """``qpos`` and ``qvel`` ``(num_envs, dof)`` and, per part, what the controller
         exposes (its current ``target_qpos`` / ``target_qvel``)."""
-        return {"qpos": self.qpos, "qvel": self.qvel, "controller": self.controller.observe()}
+        controller = {part: {k: v.copy() for k, v in obs.items()} for part, obs in self.controller.observe().items()}
+        return {"qpos": self.qpos, "qvel": self.qvel, "controller": controller}
 
     def proprioception_arrays(self) -> list[FloatArray]:
         """:meth:`get_proprioception` as a flat list of ``(num_envs, k)`` arrays, in order
         (read-only views where possible: copy before keeping them)."""
-        arrays = [self.world.qpos[:, self._qpos_sel], self.world.qvel[:, self._dof_sel]]
-        for part in self.controller.observe().values():
-            arrays.extend(part.values())
+        world = self.world
+        arrays = [world.qpos[:, self._qpos_sel], world.qvel[:, self._dof_sel]]
+        for controller in self.controller.parts.values():
+            arrays.extend(controller.observe().values())
         return arrays
 
     def get_state(self) -> dict[str, Any]:

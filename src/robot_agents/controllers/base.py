@@ -212,7 +212,9 @@ class Controller(abc.ABC):
         return None
 
     def observe(self) -> dict[str, FloatArray]:
-        """Controller quantities for observations (copies, leading ``num_envs`` axis)."""
+        """Controller quantities for observations, each with a leading ``num_envs`` axis.
+
+        The arrays may be the controller's own buffers: copy before keeping them."""
         return {}
 
     def get_state(self) -> dict[str, FloatArray]:

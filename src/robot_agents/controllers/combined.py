@@ -71,7 +71,8 @@ class CombinedController:
             controller.before_substep(substep, substeps, sim)
 
     def observe(self) -> dict[str, dict[str, FloatArray]]:
-        """What a policy sees of each part's controller (e.g. its current targets)."""
+        """What a policy sees of each part's controller (e.g. its current targets; the
+        arrays may be internal buffers: copy before keeping them)."""
         return {name: c.observe() for name, c in self.parts.items()}
 
     def get_state(self) -> dict[str, dict[str, FloatArray]]:

@@ -189,7 +189,7 @@ class PDJointPosController(Controller):
         )
 
     def observe(self) -> dict[str, FloatArray]:
-        return {"target_qpos": self.target_qpos.copy()}
+        return {"target_qpos": self.target_qpos}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {"target_qpos": self.target_qpos.copy(), "previous_target_qpos": self._previous_target.copy()}
@@ -249,7 +249,7 @@ class PDJointVelController(Controller):
         sim.ctrl[:, self.binding.ctrl_sel] = raw
 
     def observe(self) -> dict[str, FloatArray]:
-        return {"target_qvel": self.target_qvel.copy()}
+        return {"target_qvel": self.target_qvel}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {"target_qvel": self.target_qvel.copy()}
@@ -318,7 +318,7 @@ class PDJointPosVelController(PDJointPosController):
         return False
 
     def observe(self) -> dict[str, FloatArray]:
-        return {**super().observe(), "target_qvel": self.target_qvel.copy()}
+        return {"target_qpos": self.target_qpos, "target_qvel": self.target_qvel}
 
     def get_state(self) -> dict[str, FloatArray]:
         return {**super().get_state(), "target_qvel": self.target_qvel.copy()}

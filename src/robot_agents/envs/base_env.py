@@ -106,6 +106,9 @@ class RobotEnv(gym.Env[Any, Any]):
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
         self._renderer: mujoco.Renderer | None = None
         self._single = self.num_envs == 1
+        self._plain_task = (
+            type(self).evaluate is RobotEnv.evaluate and type(self).compute_reward is RobotEnv.compute_reward
+        )
         self.action_space = self._build_action_space()
         self.observation_space = _space_for(self._get_obs())
 
@@ -219,9 +222,13 @@ class RobotEnv(gym.Env[Any, Any]):
             self._set_multi_action(action)
         self.scene.step()
         self.elapsed_steps += 1
-        info = self.evaluate()
-        reward = self.compute_reward(info)
-        terminated = self._terminated(info)
+        if self._plain_task:  # no task hooks: skip building empty metrics
+            info: dict[str, Any] = {}
+            reward, terminated = np.zeros(self.num_envs), np.zeros(self.num_envs, dtype=bool)
+        else:
+            info = self.evaluate()
+            reward = self.compute_reward(info)
+            terminated = self._terminated(info)
         if self.max_episode_steps is None:
             truncated = np.zeros(self.num_envs, dtype=bool)
         else:

@@ -65,6 +65,11 @@ class BatchedWorld:
             mujoco.mj_step(model, data, nstep)
 
     def _step_all(self, nstep: int) -> None:
+        if self.num_envs == 1:
+            data = self.datas[0]
+            data.ctrl[:] = self.ctrl[0]
+            mujoco.mj_step(self.model, data, nstep)
+            return
         if self._pool is None:
             self._step_chunk(self._chunks[0], nstep)
             return

@@ -258,3 +258,16 @@ def test_scene_argument_errors() -> None:
         ra.Scene(["panda", "panda"], control_modes=["pd_joint_pos"])
     with pytest.raises(ra.UnknownNameError, match="obs_mode"):
         ra.make_env("Empty-v1", obs_mode="rgbd")
+
+
+def test_bad_controller_state_rejected(env) -> None:  # type: ignore[no-untyped-def]
+    u = env.unwrapped
+    state = u.get_state()
+    controller = state["agents"][0]["controller"]
+    bad_shape = {**controller, "arm": {**controller["arm"], "target_qpos": np.zeros((2, 6))}}
+    bad = {**state, "agents": [{**state["agents"][0], "controller": bad_shape}]}
+    assert_unchanged(
+        env, lambda: u.set_state(bad), ra.StateError, "arm.target_qpos of shape (2, 7)", "got shape (2, 6)"
+    )
+    missing = {**state, "agents": [{**state["agents"][0], "controller": {"arm": controller["arm"]}}]}
+    assert_unchanged(env, lambda: u.set_state(missing), ra.StateError, "parts ['arm', 'gripper']")

@@ -186,3 +186,29 @@ def test_free_root_robot_falls_and_starts_at_keyframe_base_pose(pendulum_file: P
         agent.set_action(np.zeros(2))
         scene.step()
     assert agent.base_pose[0, 2] == pytest.approx(2.0 - 0.5 * 9.81 * 0.2**2, abs=2e-3)
+
+
+def test_agent_state_round_trip_and_rejection() -> None:
+    scene = ra.Scene("panda", num_envs=2, control_modes="pd_joint_target_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    agent.set_action(np.full(8, 0.5))
+    scene.step()
+    saved = agent.get_state()
+    assert saved["qpos"].shape == (2, 9) and saved["base_pose"].shape == (2, 7)
+    agent.set_control_mode("pd_joint_vel")
+    agent.reset(keyframe="ready")
+    agent.set_state(saved)
+    assert agent.control_mode == "pd_joint_target_delta_pos"
+    np.testing.assert_array_equal(agent.qpos, saved["qpos"])
+    np.testing.assert_array_equal(agent.qvel, saved["qvel"])
+    np.testing.assert_array_equal(
+        agent.controller.get_state()["arm"]["target_qpos"], saved["controller"]["arm"]["target_qpos"]
+    )
+    before = scene.world.get_state()
+    with pytest.raises(ra.StateError, match=r"expected qpos of shape \(9,\) or \(2, 9\), got \(2, 7\)"):
+        agent.set_state({**saved, "qpos": saved["qpos"][:, :7]})
+    with pytest.raises(ra.StateError, match="missing"):
+        agent.set_state({"qpos": saved["qpos"]})
+    assert np.array_equal(before, scene.world.get_state())
+    assert agent.control_mode == "pd_joint_target_delta_pos"

@@ -297,6 +297,19 @@ class Agent:
         self.controller = controller
         self._control_mode = mode
 
+    def controller_for(self, mode: str) -> CombinedController:
+        """The controller of ``mode`` (built on first use, not activated)."""
+        if mode not in self.control_modes:
+            raise UnknownNameError(f"{type(self).__name__}", "control mode", str(mode), self.control_modes)
+        controller = self._controllers.get(mode)
+        if controller is None:
+            parts = {
+                part: config.build(self._binding(config), self.num_envs)
+                for part, config in self.mode_parts(mode).items()
+            }
+            controller = self._controllers[mode] = CombinedController(mode, parts)
+        return controller
+
     @property
     def single_action_space(self) -> gym.spaces.Box:
         """Action space of one env, shape ``(action_dim,)``."""
@@ -472,6 +485,7 @@ class Agent:
         base = self._batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None
         if state["control_mode"] not in self.control_modes:
             raise UnknownNameError(where, "control mode", str(state["control_mode"]), self.control_modes)
+        self.controller_for(state["control_mode"]).check_state(state["controller"], where)
         self.set_control_mode(state["control_mode"])
         for env, data in enumerate(self.world.datas):
             data.qpos[self.qpos_adr] = qpos[env]

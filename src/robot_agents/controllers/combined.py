@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
 
 from robot_agents.controllers.base import Controller, FloatArray, IntArray, SimView
+from robot_agents.errors import StateError
 
 
 class CombinedController:
@@ -77,6 +79,26 @@ class CombinedController:
 
     def get_state(self) -> dict[str, dict[str, FloatArray]]:
         return {name: c.get_state() for name, c in self.parts.items()}
+
+    def check_state(self, state: Any, where: str) -> None:
+        """Raise :class:`StateError` unless ``state`` matches :meth:`get_state`'s parts,
+        keys and array shapes (nothing is changed)."""
+        expected = self.get_state()
+        if not isinstance(state, Mapping) or set(state) != set(expected):
+            given = sorted(state) if isinstance(state, Mapping) else type(state).__name__
+            raise StateError(
+                f"{where}: expected controller state for parts {sorted(expected)} of mode {self.mode!r}, got {given}."
+            )
+        for part, arrays in expected.items():
+            given_part = state[part]
+            if not isinstance(given_part, Mapping) or set(given_part) != set(arrays):
+                raise StateError(f"{where}: expected keys {sorted(arrays)} for part {part!r}, got {given_part!r:.80}.")
+            for key, array in arrays.items():
+                value = np.asarray(given_part[key])
+                if value.shape != array.shape or value.dtype.kind not in "fiu" or not np.all(np.isfinite(value)):
+                    raise StateError(
+                        f"{where}: expected finite {part}.{key} of shape {array.shape}, got shape {value.shape}, dtype {value.dtype}."
+                    )
 
     def set_state(self, state: Mapping[str, Mapping[str, FloatArray]]) -> None:
         for name, controller in self.parts.items():

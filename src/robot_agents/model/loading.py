@@ -40,19 +40,21 @@ def load_model_spec(path: str | os.PathLike[str]) -> mujoco.MjSpec:
     raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
 
 
-def _parse_xml(file: Path) -> ET.Element:
+def _parse_xml(file: Path, root_tag: str, kind: str) -> ET.Element:
+    """The root element of a well-formed XML file whose root is ``<root_tag>``."""
     try:
-        return ET.parse(file).getroot()
+        root = ET.parse(file).getroot()
     except ET.ParseError as err:
         raise ModelError(f"load_model_spec: {str(file)!r} is not well-formed XML: {err}.") from None
+    if root.tag != root_tag:
+        raise ModelError(
+            f"load_model_spec: expected {kind} file with a <{root_tag}> root in {str(file)!r}, got <{root.tag}>."
+        )
+    return root
 
 
 def _load_mjcf(file: Path) -> mujoco.MjSpec:
-    root = _parse_xml(file)
-    if root.tag != "mujoco":
-        raise ModelError(
-            f"load_model_spec: expected an MJCF file with a <mujoco> root in {str(file)!r}, got <{root.tag}>."
-        )
+    _parse_xml(file, "mujoco", "an MJCF")
     try:
         return mujoco.MjSpec.from_file(str(file))
     except ValueError as err:
@@ -60,11 +62,7 @@ def _load_mjcf(file: Path) -> mujoco.MjSpec:
 
 
 def _load_urdf(file: Path) -> mujoco.MjSpec:
-    root = _parse_xml(file)
-    if root.tag != "robot":
-        raise ModelError(
-            f"load_model_spec: expected a URDF file with a <robot> root in {str(file)!r}, got <{root.tag}>."
-        )
+    root = _parse_xml(file, "robot", "a URDF")
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")

@@ -197,10 +197,12 @@ class Scene:
         if len(agent_states) != len(self.agents):
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
-            if agent_state.get("control_mode") not in agent.control_modes:
-                raise UnknownNameError(
-                    "Scene.set_state", "control mode", str(agent_state.get("control_mode")), agent.control_modes
-                )
+            if not isinstance(agent_state, Mapping) or agent_state.get("control_mode") not in agent.control_modes:
+                mode = agent_state.get("control_mode") if isinstance(agent_state, Mapping) else agent_state
+                raise UnknownNameError("Scene.set_state", "control mode", str(mode), agent.control_modes)
+            agent.controller_for(agent_state["control_mode"]).check_state(
+                agent_state.get("controller"), "Scene.set_state"
+            )
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])

@@ -212,3 +212,24 @@ def test_agent_state_round_trip_and_rejection() -> None:
         agent.set_state({"qpos": saved["qpos"]})
     assert np.array_equal(before, scene.world.get_state())
     assert agent.control_mode == "pd_joint_target_delta_pos"
+
+
+def test_instability_is_reported_and_cleared_by_reset(pendulum_file: Path) -> None:
+    # A 1e7 N*m/rad gain on a light link at a 2 ms step blows up: MuJoCo resets the
+    # env silently, and the world reports it.
+    cls = make_pendulum_class(
+        pendulum_file,
+        control_modes={
+            "stiff": ra.PDJointPosConfig(
+                joint_names=("shoulder", "elbow"), stiffness=1e9, damping=0.0, normalize_action=False
+            )
+        },
+    )
+    scene = ra.Scene(cls)
+    scene.reset(keyframes="down")
+    for _ in range(5):
+        scene.agents[0].set_action([2.0, -2.0])
+        scene.step()
+    assert scene.world.instability_counts()[0] > 0
+    scene.reset()
+    assert scene.world.instability_counts()[0] == 0

@@ -53,7 +53,9 @@ class DemoSummary:
         rows += [
             f"keyframe {k.name:<8s} reached within {k.max_error:.1e} (max joint error, rad/m)" for k in self.keyframes
         ]
-        rows.append(f"state finite     {self.finite}; peak joint speed {self.max_abs_qvel:.2f}")
+        rows.append(
+            f"state finite     {self.finite} (no NaN, no MuJoCo instability); peak joint speed {self.max_abs_qvel:.2f}"
+        )
         return rows
 
 
@@ -119,7 +121,7 @@ def run_demo(
             target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
             advance(_action_for(agent, target))
     renderer.close()
-    finite = bool(np.all(np.isfinite(scene.world.get_state())))
+    finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
     path = write_gif(output, frames, fps=scene.control_freq / record_every)
     summary = DemoSummary(
         uid=uid,

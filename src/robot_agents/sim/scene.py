@@ -172,9 +172,9 @@ class Scene:
             if frame is not None and frame not in agent.keyframes:
                 raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", frame, agent.keyframes)
         for env in ids:
-            mujoco.mj_setState(
-                self.model, self.world.datas[env], self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION
-            )
+            data = self.world.datas[env]
+            mujoco.mj_resetData(self.model, data)  # also clears MuJoCo's warning counters
+            mujoco.mj_setState(self.model, data, self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION)
         self.world.invalidate()
         for agent, frame, position in zip(self.agents, frames, positions, strict=True):
             agent.reset(keyframe=frame, qpos=position, env_ids=ids)

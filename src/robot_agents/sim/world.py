@@ -130,6 +130,16 @@ class BatchedWorld:
         """Forget cached reads after writing into MjData directly."""
         self._cache.clear()
 
+    def instability_counts(self) -> npt.NDArray[np.int64]:
+        """How often MuJoCo found NaN / inf / huge values in each env, shape ``(num_envs,)``.
+
+        MuJoCo does not raise on a blow-up: it warns and resets that env's state. A
+        non-zero count means the model or the gains are unstable at this time step.
+        Counts start at zero and are cleared by a full reset of the env.
+        """
+        kinds = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQPOS)
+        return np.array([sum(int(d.warning[k].number) for k in kinds) for d in self.datas], dtype=np.int64)
+
     # -- exact state ------------------------------------------------------------------
     def get_state(self) -> FloatArray:
         """The integration state of every env, shape ``(num_envs, state_size)``."""

@@ -184,6 +184,8 @@ class Agent:
                 )
         self._controllers: dict[str, CombinedController] = {}
         self.controller: CombinedController
+        #: True when the active controller needs :meth:`before_substep` every substep.
+        self.needs_substep = False
         self._control_mode = ""
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
@@ -296,6 +298,7 @@ class Agent:
         controller.activate(world.model, world)
         self.controller = controller
         self._control_mode = mode
+        self.needs_substep = controller.needs_substep
 
     def controller_for(self, mode: str) -> CombinedController:
         """The controller of ``mode`` (built on first use, not activated)."""
@@ -331,30 +334,32 @@ class Agent:
         every env. Raises :class:`ActionError` for other shapes, non-numeric dtypes and
         NaN / inf values.
         """
-        where = f"{type(self).__name__}.set_action (mode {self._control_mode!r})"
         dim = self.controller.action_dim
         try:
             array = np.asarray(action)
         except (TypeError, ValueError) as err:
             raise ActionError(
-                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
+                f"{self._action_where()}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
             ) from None
         if array.dtype.kind not in "fiu":
-            raise ActionError(f"{where}: expected a float (or integer) array, got dtype {array.dtype}.")
+            raise ActionError(f"{self._action_where()}: expected a float (or integer) array, got dtype {array.dtype}.")
         if array.shape == (dim,):
             array = np.broadcast_to(array, (self.num_envs, dim))
         elif array.shape != (self.num_envs, dim):
             parts = ", ".join(f"{p}: {s.stop - s.start}" for p, s in self.controller.slices.items())
             raise ActionError(
-                f"{where}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {array.shape}."
+                f"{self._action_where()}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {array.shape}."
             )
         array = np.asarray(array, dtype=np.float64)
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
         # finite values falls through to the exact check).
         if not math.isfinite(array.sum()) and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
-            raise ActionError(f"{where}: expected finite values, got NaN or inf at (env, index) {bad}.")
+            raise ActionError(f"{self._action_where()}: expected finite values, got NaN or inf at (env, index) {bad}.")
         return array
+
+    def _action_where(self) -> str:
+        return f"{type(self).__name__}.set_action (mode {self._control_mode!r})"
 
     def set_action(self, action: Any) -> None:
         """Validate ``action`` and write the resulting targets into the controls.
@@ -364,10 +369,6 @@ class Agent:
         checked = self.validate_action(action)
         world = self.world
         self.controller.set_action(checked, world)
-
-    @property
-    def needs_substep(self) -> bool:
-        return self.controller.needs_substep
 
     def before_substep(self, substep: int, substeps: int) -> None:
         """Per-substep hook: lets the controller update ``ctrl`` (e.g. interpolation)."""

@@ -174,7 +174,7 @@ def test_free_root_robot_falls_and_starts_at_keyframe_base_pose(pendulum_file: P
     cls = make_pendulum_class(
         pendulum_file,
         fix_root_link=False,
-        keyframes={"air": ra.Keyframe(qpos=(0.0, 0.0), base_pos=(0.3, 0.2, 2.0))},
+        keyframes={"air": ra.Keyframe(qpos=(0.0, 0.0), base_pos=(0.3, 0.2, 2.0))},  # root pose, not the file's
     )
     scene = ra.Scene(cls)
     scene.reset()
@@ -233,3 +233,16 @@ def test_instability_is_reported_and_cleared_by_reset(pendulum_file: Path) -> No
     assert scene.world.instability_counts()[0] > 0
     scene.reset()
     assert scene.world.instability_counts()[0] == 0
+
+
+def test_free_robot_keyframe_base_is_relative_to_its_mount(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(
+        pendulum_file,
+        fix_root_link=False,
+        keyframes={"air": ra.Keyframe(qpos=(0.0, 0.0), base_pos=(0.1, 0.0, 1.0))},
+    )
+    quarter_turn = (math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4))  # 90 deg about z
+    scene = ra.Scene([cls, cls], robot_poses=[(0, 0, 0, 1, 0, 0, 0), (2.0, 0.0, 0.0, *quarter_turn)])
+    scene.reset()
+    np.testing.assert_allclose(scene.agents[0].base_pose[0], [0.1, 0, 1, 1, 0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(scene.agents[1].base_pose[0], [2.0, 0.1, 1, *quarter_turn], atol=1e-12)

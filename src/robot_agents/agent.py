@@ -146,8 +146,17 @@ class Agent:
         return spec
 
     # ------------------------------------------------------------------ binding
-    def __init__(self, world: BatchedWorld, prefix: str = "", control_mode: str | None = None) -> None:
-        """Bind to a robot attached with ``prefix`` in ``world`` and activate a control mode."""
+    def __init__(
+        self,
+        world: BatchedWorld,
+        prefix: str = "",
+        control_mode: str | None = None,
+        mount_pose: npt.ArrayLike = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0),
+    ) -> None:
+        """Bind to a robot attached with ``prefix`` in ``world`` and activate a control mode.
+
+        ``mount_pose`` ``(x, y, z, qw, qx, qy, qz)`` is where the scene attached the
+        robot; a free robot's keyframe base poses are taken relative to it."""
         self.world = world
         self.prefix = prefix
         self.num_envs = world.num_envs
@@ -170,6 +179,7 @@ class Agent:
         self.qpos_limits: FloatArray = ranges
         self.root_body_id = int(model.jnt_bodyid[joints[0]]) if free else self._find_root_body(model, prefix)
         self._free_qpos_adr = int(model.jnt_qposadr[free[0]]) if free else -1
+        self._mount_pose = np.array(mount_pose, dtype=np.float64).reshape(7)
         self._free_dof_adr = int(model.jnt_dofadr[free[0]]) if free else -1
         self.tcp_body_id = self._body_id(self.tcp_link) if self.tcp_link else -1
         self._static_dofs = np.array(
@@ -440,8 +450,7 @@ class Agent:
             data.qpos[self.qpos_adr] = new_qpos[row]
             data.qvel[self.dof_adr] = new_qvel[row]
             if frame is not None and self._free_qpos_adr >= 0:
-                data.qpos[self._free_qpos_adr : self._free_qpos_adr + 3] = frame.base_pos
-                data.qpos[self._free_qpos_adr + 3 : self._free_qpos_adr + 7] = frame.base_quat
+                data.qpos[self._free_qpos_adr : self._free_qpos_adr + 7] = self._keyframe_base(frame)
                 data.qvel[self._free_dof_adr : self._free_dof_adr + 6] = 0.0
             data.qacc_warmstart[:] = 0.0
             mujoco.mj_forward(model, data)
@@ -449,6 +458,16 @@ class Agent:
         self.controller.reset(ids, self.world)
         for env in ids:
             self.world.datas[env].ctrl[:] = self.world.ctrl[env]
+
+    def _keyframe_base(self, frame: Keyframe) -> FloatArray:
+        """World pose ``(x, y, z, qw, qx, qy, qz)`` of a keyframe's base: the keyframe's
+        ``base_pos`` / ``base_quat`` taken in the frame where the scene mounted the robot."""
+        mount = self._mount_pose
+        pose = np.empty(7)
+        mujoco.mju_rotVecQuat(pose[:3], np.array(frame.base_pos), mount[3:])
+        pose[:3] += mount[:3]
+        mujoco.mju_mulQuat(pose[3:], mount[3:], np.array(frame.base_quat))
+        return pose
 
     def get_proprioception(self) -> dict[str, Any]:
         """``qpos`` and ``qvel`` ``(num_envs, dof)`` and, per part, what the controller

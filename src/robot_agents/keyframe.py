@@ -30,9 +30,11 @@ class Keyframe:
             hinges, metres for slides). The root pose of a free-floating robot is *not*
             part of ``qpos``; it is ``base_pos`` / ``base_quat``.
         qvel: joint velocities, shape ``(dof,)``; zeros when omitted.
-        base_pos: root position in the world (m), shape ``(3,)``. Applied to free-root
-            robots on reset; a fixed-root robot stays where the scene mounted it.
-        base_quat: root orientation as a unit quaternion ``(w, x, y, z)``.
+        base_pos: root position (m), shape ``(3,)``, relative to where the scene mounts
+            the robot (``Scene(robot_poses=...)``; the world origin by default). Applied
+            to free-root robots on reset; a fixed-root robot stays on its mount.
+        base_quat: root orientation as a unit quaternion ``(w, x, y, z)``, relative to
+            the mount's orientation.
     """
 
     qpos: tuple[float, ...]

@@ -84,8 +84,8 @@ class Scene:
         self.model = compile_scene(self.spec)
         self.world = BatchedWorld(self.model, num_envs, sim_freq // control_freq, num_threads)
         self.agents: list[Agent] = [
-            cls(self.world, prefix=f"{rid}/", control_mode=mode)
-            for rid, cls, mode in zip(self.robot_ids, classes, modes, strict=True)
+            cls(self.world, prefix=f"{rid}/", control_mode=mode, mount_pose=pose)
+            for rid, cls, mode, pose in zip(self.robot_ids, classes, modes, poses, strict=True)
         ]
         self._initial_state = self.world.get_state()[0].copy()
 

@@ -293,27 +293,16 @@ class Agent:
 
     def set_control_mode(self, mode: str) -> None:
         """Activate ``mode``: apply its gains (every time) and hold the measured pose."""
-        if mode not in self.control_modes:
-            raise UnknownNameError(
-                f"{type(self).__name__}.set_control_mode", "control mode", str(mode), self.control_modes
-            )
-        controller = self._controllers.get(mode)
-        if controller is None:
-            parts = {
-                part: config.build(self._binding(config), self.num_envs)
-                for part, config in self.mode_parts(mode).items()
-            }
-            controller = self._controllers[mode] = CombinedController(mode, parts)
-        world = self.world
-        controller.activate(world.model, world)
+        controller = self.controller_for(mode, where=f"{type(self).__name__}.set_control_mode")
+        controller.activate(self.world.model, self.world)
         self.controller = controller
         self._control_mode = mode
         self.needs_substep = controller.needs_substep
 
-    def controller_for(self, mode: str) -> CombinedController:
+    def controller_for(self, mode: str, where: str = "") -> CombinedController:
         """The controller of ``mode`` (built on first use, not activated)."""
         if mode not in self.control_modes:
-            raise UnknownNameError(f"{type(self).__name__}", "control mode", str(mode), self.control_modes)
+            raise UnknownNameError(where or type(self).__name__, "control mode", str(mode), self.control_modes)
         controller = self._controllers.get(mode)
         if controller is None:
             parts = {

@@ -222,18 +222,23 @@ class RobotEnv(gym.Env[Any, Any]):
             self._set_multi_action(action)
         self.scene.step()
         self.elapsed_steps += 1
-        if self._plain_task:  # no task hooks: skip building empty metrics
-            info: dict[str, Any] = {}
+        if self._plain_task:  # no task hooks: no metrics, zero reward, never terminates
+            info: dict[str, Any] = {"elapsed_steps": self.elapsed_steps.copy()}
+            if self._single:
+                truncated_single = (
+                    self.max_episode_steps is not None and self.elapsed_steps[0] >= self.max_episode_steps
+                )
+                return self._get_obs(), 0.0, False, bool(truncated_single), info
             reward, terminated = np.zeros(self.num_envs), np.zeros(self.num_envs, dtype=bool)
         else:
             info = self.evaluate()
             reward = self.compute_reward(info)
             terminated = self._terminated(info)
+            info["elapsed_steps"] = self.elapsed_steps.copy()
         if self.max_episode_steps is None:
             truncated = np.zeros(self.num_envs, dtype=bool)
         else:
             truncated = self.elapsed_steps >= self.max_episode_steps
-        info["elapsed_steps"] = self.elapsed_steps.copy()
         obs = self._get_obs()
         if self._single:
             return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info

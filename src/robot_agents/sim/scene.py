@@ -140,10 +140,10 @@ class Scene:
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
         """One control step: every robot's substep hooks, then the physics substeps."""
-        if not any(a.needs_substep for a in self.agents):
+        hooked = [a for a in self.agents if a.needs_substep]
+        if not hooked:
             self.world.step()
             return
-        hooked = [a for a in self.agents if a.needs_substep]
 
         def before_substep(i: int, n: int) -> None:
             for agent in hooked:

@@ -271,3 +271,12 @@ def test_bad_controller_state_rejected(env) -> None:  # type: ignore[no-untyped-
     )
     missing = {**state, "agents": [{**state["agents"][0], "controller": {"arm": controller["arm"]}}]}
     assert_unchanged(env, lambda: u.set_state(missing), ra.StateError, "parts ['arm', 'gripper']")
+
+
+def test_unknown_gripper_and_finger_names(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, gripper_joint_names=("elbo",))
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'elbow'"):
+        ra.Scene(cls)
+    cls = make_pendulum_class(pendulum_file, finger_links=("link1", "lnk2"))
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'link2'"):
+        ra.Scene(cls)

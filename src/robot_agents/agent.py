@@ -182,6 +182,10 @@ class Agent:
         self._mount_pose = np.array(mount_pose, dtype=np.float64).reshape(7)
         self._free_dof_adr = int(model.jnt_dofadr[free[0]]) if free else -1
         self.tcp_body_id = self._body_id(self.tcp_link) if self.tcp_link else -1
+        self._finger_body_ids = [self._body_id(link) for link in self.finger_links or ()]
+        for joint in self.gripper_joint_names:
+            if joint not in self.joint_names:
+                raise UnknownNameError(f"{name}.gripper_joint_names", "joint", joint, self.joint_names)
         self._static_dofs = np.array(
             [a for n, a in zip(self.joint_names, self.dof_adr, strict=True) if n not in self.gripper_joint_names],
             dtype=np.int64,
@@ -526,7 +530,7 @@ class Agent:
             raise UnknownNameError(
                 f"{type(self).__name__}.is_grasping", "body", body, [model.body(b).name for b in range(model.nbody)]
             )
-        fingers = [self._body_id(link) for link in self.finger_links]
+        fingers = self._finger_body_ids
         cos_limit = math.cos(math.radians(max_angle))
         result = np.zeros(self.num_envs, dtype=bool)
         wrench = np.zeros(6)

@@ -169,3 +169,14 @@ def test_two_robots_share_a_scene() -> None:
     assert np.linalg.norm(bases[0] - bases[1]) == pytest.approx(1.0)
     with pytest.raises(ra.ConfigError, match="panda_stick-1"):
         env.step({"panda-0": np.zeros(8)})
+
+
+def test_switching_mode_updates_spaces() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_joint_pos")
+    u = env.unwrapped
+    env.reset(seed=0)
+    for mode in ("pd_joint_delta_pos_vel", "pd_joint_vel", "pd_joint_pos"):
+        u.set_control_mode(mode)
+        obs, *_ = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs), mode
+        assert env.action_space.shape == (1, u.agent.controller.action_dim)

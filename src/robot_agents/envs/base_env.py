@@ -163,9 +163,11 @@ class RobotEnv(gym.Env[Any, Any]):
         return gym.spaces.Dict({rid: a.action_space for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)})
 
     def set_control_mode(self, mode: str, robot: int = 0) -> None:
-        """Switch a robot's control mode (its gains are applied again) and update the action space."""
+        """Switch a robot's control mode (its gains are applied again) and update the
+        action and observation spaces (the controller's targets are observed)."""
         self.agents[robot].set_control_mode(mode)
         self.action_space = self._build_action_space()
+        self.observation_space = _space_for(self._get_obs())  # controller targets differ per mode
 
     # ------------------------------------------------------------------ observations
     def _get_obs(self) -> Any:

@@ -36,6 +36,17 @@ ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 SINGLE_PART = "main"
 
 
+def ctrl_addresses(model: mujoco.MjModel, actuator_ids: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """Index in ``ctrl`` of each actuator's (first) control input.
+
+    Since MuJoCo 3.15 an actuator may take several controls (``model.nu`` counts
+    controls, not actuators) and ``actuator_ctrladr`` maps them; before that, control
+    ``i`` belongs to actuator ``i``.
+    """
+    adr = getattr(model, "actuator_ctrladr", None)
+    return (np.asarray(adr)[actuator_ids] if adr is not None else actuator_ids).astype(np.int64)
+
+
 class Agent:
     """Base class of every robot. Subclass it, set the class attributes, register it.
 
@@ -246,7 +257,7 @@ class Agent:
             qpos_adr=self.qpos_adr[index],
             dof_adr=self.dof_adr[index],
             actuator_ids=actuator_ids,
-            ctrl_adr=model.actuator_ctrladr[actuator_ids].astype(np.int64),
+            ctrl_adr=ctrl_addresses(model, actuator_ids),
             qpos_range=self.qpos_limits[index],
         )
 

@@ -32,6 +32,7 @@ from robot_agents.envs import make_env
 from robot_agents.errors import (
     ActionError,
     ConfigError,
+    MediaError,
     ModelError,
     RegistryError,
     RobotAgentsError,
@@ -54,6 +55,7 @@ __all__ = [
     "FrictionMaterial",
     "JointGroup",
     "Keyframe",
+    "MediaError",
     "ModelError",
     "PDJointPosConfig",
     "PDJointPosMimicConfig",

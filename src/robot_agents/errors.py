@@ -52,6 +52,10 @@ class ModelError(RobotAgentsError):
     """A robot or scene model file that is missing, malformed or unsupported."""
 
 
+class MediaError(RobotAgentsError, ValueError):
+    """Frames or settings a video / image writer cannot use."""
+
+
 class ConfigError(RobotAgentsError, ValueError):
     """An invalid robot, controller or environment configuration."""
 

@@ -41,6 +41,8 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.errors import MediaError
+
 __all__ = ["PALETTE", "write_gif"]
 
 # --------------------------------------------------------------------------- palette
@@ -198,7 +200,7 @@ def _validate_frames(
     """Check the frames and return them as a list of H x W x 3 uint8 arrays."""
     if isinstance(frames, np.ndarray):
         if frames.ndim != 4:
-            raise ValueError(
+            raise MediaError(
                 "write_gif: expected frames as an array of shape (N, H, W, 3) or a "
                 f"sequence of H x W x 3 arrays, got an array of shape {frames.shape}"
             )
@@ -207,30 +209,30 @@ def _validate_frames(
         try:
             frame_list = list(frames)
         except TypeError:
-            raise ValueError(
+            raise MediaError(
                 f"write_gif: expected frames as a sequence of H x W x 3 uint8 arrays, got {type(frames).__name__}"
             ) from None
     if not frame_list:
-        raise ValueError("write_gif: expected at least one frame, got 0 frames")
+        raise MediaError("write_gif: expected at least one frame, got 0 frames")
     first_shape: tuple[int, ...] | None = None
     for i, frame in enumerate(frame_list):
         shape = frame.shape if isinstance(frame, np.ndarray) else None
         if shape is None or len(shape) != 3 or shape[2] != 3:
             given = type(frame).__name__ if shape is None else f"shape {shape}"
-            raise ValueError(
+            raise MediaError(
                 f"write_gif: expected frame {i} to be a numpy array of shape (H, W, 3) and dtype uint8, got {given}"
             )
         if frame.dtype != np.uint8:
-            raise ValueError(f"write_gif: expected frame {i} to have dtype uint8, got dtype {frame.dtype}")
+            raise MediaError(f"write_gif: expected frame {i} to have dtype uint8, got dtype {frame.dtype}")
         height, width = int(frame.shape[0]), int(frame.shape[1])
         if not (1 <= height <= 0xFFFF and 1 <= width <= 0xFFFF):
-            raise ValueError(
+            raise MediaError(
                 f"write_gif: expected frame {i} height and width between 1 and 65535 pixels, got shape {frame.shape}"
             )
         if first_shape is None:
             first_shape = frame.shape
         elif frame.shape != first_shape:
-            raise ValueError(
+            raise MediaError(
                 f"write_gif: expected all frames to have shape {first_shape} like "
                 f"frame 0, got shape {frame.shape} for frame {i}"
             )
@@ -242,10 +244,10 @@ def _delay_centiseconds(fps: float) -> int:
     is_number = isinstance(fps, numbers.Real) and not isinstance(fps, bool)
     value = float(fps) if is_number else math.nan
     if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"write_gif: expected fps to be a positive finite number, got {fps!r}")
+        raise MediaError(f"write_gif: expected fps to be a positive finite number, got {fps!r}")
     delay = max(2, math.floor(100.0 / value + 0.5))
     if delay > 0xFFFF:
-        raise ValueError(
+        raise MediaError(
             f"write_gif: expected fps >= 100/65535 (about 0.0015, the longest GIF frame delay of 655.35 s), got {fps!r}"
         )
     return delay
@@ -275,7 +277,7 @@ def write_gif(
         The written path as a :class:`pathlib.Path`.
 
     Raises:
-        ValueError: no frames; a frame that is not an H x W x 3 uint8 array (or
+        MediaError (a ValueError): no frames; a frame that is not an H x W x 3 uint8 array (or
             is empty or larger than 65535 pixels on a side); frames of differing
             shapes; fps that is not a finite number > 0 (or below 100/65535).
 

@@ -74,6 +74,7 @@ def run_demo(
     agent = scene.agents[0]
     scene.reset()
     renderer = mujoco.Renderer(scene.model, height=size[1], width=size[0])
+    camera = _framing_camera(scene, agent)
     record_every = max(1, round(scene.control_freq / fps))
     frames: list[np.ndarray] = []
     peak_speed = 0.0
@@ -88,7 +89,7 @@ def run_demo(
         scene.step()
         peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
         if step_count % record_every == 0:
-            renderer.update_scene(scene.world.datas[0], camera="render_camera")
+            renderer.update_scene(scene.world.datas[0], camera=camera)
             frames.append(renderer.render().copy())
         step_count += 1
 
@@ -137,6 +138,21 @@ def run_demo(
     )
     scene.close()
     return summary
+
+
+def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
+    """A free camera that frames the robot at its first keyframe, seen from the front left."""
+    data = scene.world.datas[0]
+    bodies = [b for b in range(scene.model.nbody) if scene.model.body(b).name.startswith(agent.prefix)]
+    points = data.xpos[bodies]
+    center = (points.min(axis=0) + points.max(axis=0)) / 2
+    size = float(np.max(points.max(axis=0) - points.min(axis=0)))
+    camera = mujoco.MjvCamera()
+    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+    camera.lookat[:] = center
+    camera.distance = max(1.3, 2.2 * size)  # room for the demo motion around the pose
+    camera.azimuth, camera.elevation = 140.0, -22.0
+    return camera
 
 
 def _action_for(agent: Agent, qpos_target: np.ndarray) -> np.ndarray:

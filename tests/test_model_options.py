@@ -1,0 +1,95 @@
+"""What a robot declares about its model reaches the compiled MuJoCo model."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+import robot_agents as ra
+from tests.conftest import make_pendulum_class
+
+
+def robot_geoms(scene: ra.Scene, agent: ra.Agent) -> list[int]:
+    model = scene.model
+    return [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.startswith(agent.prefix)]
+
+
+def self_contacts(scene: ra.Scene, agent: ra.Agent) -> list[tuple[str, str]]:
+    """Bodies (unprefixed names) of every contact between two of the robot's own geoms."""
+    model, data = scene.model, scene.world.datas[0]
+    mine = set(robot_geoms(scene, agent))
+    body = lambda geom: model.body(model.geom_bodyid[geom]).name[len(agent.prefix) :]  # noqa: E731
+    return [(body(c.geom1), body(c.geom2)) for c in data.contact[: data.ncon] if c.geom1 in mine and c.geom2 in mine]
+
+
+def test_friction_materials_per_link_and_default(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(
+        pendulum_file,
+        link_materials={"link2": ra.FrictionMaterial(sliding=1.7, torsional=0.02, rolling=0.001)},
+        default_material=ra.FrictionMaterial(sliding=0.4),
+    )
+    scene = ra.Scene(cls)
+    model = scene.model
+    for g in robot_geoms(scene, scene.agents[0]):
+        body = model.body(model.geom_bodyid[g]).name
+        expected = [1.7, 0.02, 0.001] if body.endswith("/link2") else [0.4, 0.005, 0.0001]
+        np.testing.assert_allclose(model.geom_friction[g], expected)
+    panda = ra.Scene("panda")
+    pads = [g for g in range(panda.model.ngeom) if panda.model.geom(g).name.endswith("finger_pad")]
+    assert len(pads) == 2
+    np.testing.assert_allclose(panda.model.geom_friction[pads, 0], 2.0)
+
+
+def test_gravity_compensation_on_named_bodies(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, gravity_compensation=("link2",))
+    scene = ra.Scene(cls)
+    model = scene.model
+    gravcomp = {model.body(b).name.split("/")[-1]: model.body_gravcomp[b] for b in range(1, model.nbody)}
+    assert gravcomp == {"base": 0.0, "link1": 0.0, "link2": 1.0, "tip": 0.0}
+
+
+def _folded_panda_pose(scene: ra.Scene) -> np.ndarray:
+    """A Panda configuration in which the arm touches itself (found by search, seeded)."""
+    agent = scene.agents[0]
+    rng = np.random.default_rng(5)
+    for _ in range(2000):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        if self_contacts(scene, agent):
+            return q
+    raise AssertionError("no self-colliding configuration found")
+
+
+def test_self_collisions_on_by_default_and_can_be_disabled() -> None:
+    scene = ra.Scene("panda", floor=False)
+    q = _folded_panda_pose(scene)
+    assert self_contacts(scene, scene.agents[0])
+
+    no_self = type("PandaNoSelf", (ra.get_agent("panda"),), {"uid": "panda_no_self", "disable_self_collisions": True})
+    other = ra.Scene(no_self, floor=False)
+    other.agents[0].reset(qpos=q)
+    assert self_contacts(other, other.agents[0]) == []
+
+
+def test_self_collision_exclusions_filter_named_pairs() -> None:
+    scene = ra.Scene("panda", floor=False)
+    q = _folded_panda_pose(scene)
+    bodies = {tuple(sorted(pair)) for pair in self_contacts(scene, scene.agents[0])}
+    excluded = type(
+        "PandaExcl",
+        (ra.get_agent("panda"),),
+        {"uid": "panda_excl", "self_collision_exclusions": tuple(tuple(p) for p in bodies)},
+    )
+    other = ra.Scene(excluded, floor=False)
+    other.agents[0].reset(qpos=q)
+    assert self_contacts(other, other.agents[0]) == []
+    assert other.model.nexclude == scene.model.nexclude + len(bodies)
+
+
+def test_fixed_root_is_welded_and_free_root_has_a_free_joint(pendulum_file: Path) -> None:
+    fixed = ra.Scene(make_pendulum_class(pendulum_file))
+    assert mujoco.mjtJoint.mjJNT_FREE not in fixed.model.jnt_type
+    free = ra.Scene(make_pendulum_class(pendulum_file, fix_root_link=False))
+    assert list(free.model.jnt_type).count(mujoco.mjtJoint.mjJNT_FREE) == 1

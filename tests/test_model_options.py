@@ -93,3 +93,38 @@ def test_fixed_root_is_welded_and_free_root_has_a_free_joint(pendulum_file: Path
     assert mujoco.mjtJoint.mjJNT_FREE not in fixed.model.jnt_type
     free = ra.Scene(make_pendulum_class(pendulum_file, fix_root_link=False))
     assert list(free.model.jnt_type).count(mujoco.mjtJoint.mjJNT_FREE) == 1
+
+
+GRIPPER_URDF = """<robot name="gripper">
+  <link name="palm"><inertial><mass value="0.5"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.02 0.12 0.02"/></geometry></collision></link>
+  <link name="left"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 -0.03"/><geometry><box size="0.01 0.01 0.04"/></geometry></collision></link>
+  <link name="right"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 -0.03"/><geometry><box size="0.01 0.01 0.04"/></geometry></collision></link>
+  <joint name="left_slide" type="prismatic"><parent link="palm"/><child link="left"/><origin xyz="0 0.01 -0.01"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="20" velocity="0.1"/></joint>
+  <joint name="right_slide" type="prismatic"><parent link="palm"/><child link="right"/><origin xyz="0 -0.01 -0.01"/>
+    <axis xyz="0 -1 0"/><limit lower="0" upper="0.04" effort="20" velocity="0.1"/><mimic joint="left_slide"/></joint>
+</robot>"""
+
+
+def test_urdf_mimic_joint_becomes_a_coupling(tmp_path: Path) -> None:
+    path = tmp_path / "gripper.urdf"
+    path.write_text(GRIPPER_URDF)
+
+    class Gripper(ra.Agent):
+        uid = "urdf_gripper"
+        urdf_path = path
+        keyframes = {"open": ra.Keyframe(qpos=(0.04, 0.04))}
+        # Only the leading joint is actuated; the URDF <mimic> drags the other along.
+        control_modes = {"grip": ra.PDJointPosConfig(joint_names=("left_slide",), stiffness=200.0, damping=5.0)}
+
+    scene = ra.Scene(Gripper, floor=False)
+    assert scene.model.neq == 1  # the <mimic> became a joint equality
+    scene.reset()
+    agent = scene.agents[0]
+    for _ in range(20):
+        agent.set_action([0.0])  # normalized 0 -> 0.02 m
+        scene.step()
+    np.testing.assert_allclose(agent.qpos[0], [0.02, 0.02], atol=1e-3)

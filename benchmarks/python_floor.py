@@ -5,7 +5,9 @@ Times, in alternating blocks on the same compiled Panda model (25 substeps per s
 - ``minimal``: a hand-written loop doing the least a ``pd_joint_delta_pos`` env step
   must do — check the action, clip and scale it, add it to the measured arm joints,
   write ``ctrl``, step, and build the same 34-number observation — with no classes;
-- ``env``: our ``env.step`` on the same actions (small, alternating sign).
+- ``env``: our ``env.step`` on the same actions (small, alternating sign);
+- ``raw 25x1``: for reference, the naive raw loop that calls ``mj_step(model, data)``
+  once per substep from Python (what we avoid by stepping with ``nstep``).
 
 Usage: ``python benchmarks/python_floor.py [--rounds 40] [--block 50]``.
 """
@@ -34,8 +36,8 @@ def main() -> None:
     env.reset(seed=0)
     model, agent = u.model, u.agent
     start = u.get_state()["physics"][0]
-    const_data, minimal_data = mujoco.MjData(model), mujoco.MjData(model)
-    for data in (const_data, minimal_data):
+    const_data, minimal_data, single_data = mujoco.MjData(model), mujoco.MjData(model), mujoco.MjData(model)
+    for data in (const_data, minimal_data, single_data):
         mujoco.mj_setState(model, data, start, STATE)
     rng = np.random.default_rng(0)
     actions = [((-1) ** i * 0.1 * rng.uniform(0, 1, (1, 8))).astype(np.float32) for i in range(64)]
@@ -74,6 +76,7 @@ def main() -> None:
         "raw const": lambda i: mujoco.mj_step(model, const_data, 25),
         "minimal": lambda i: minimal_step(actions[i % 64]),
         "env": lambda i: env.step(actions[i % 64]),
+        "raw 25x1": lambda i: [mujoco.mj_step(model, single_data) for _ in range(25)],
     }
     totals = dict.fromkeys(loops, 0.0)
     for _ in range(args.rounds):

@@ -18,6 +18,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.contacts import contact_force_between
 from robot_agents.controllers.base import ControllerConfig, JointBinding, index_selector
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ActionError, ConfigError, ModelError, StateError, UnknownNameError
@@ -544,11 +545,10 @@ class Agent:
         fingers = self._finger_body_ids
         cos_limit = math.cos(math.radians(max_angle))
         result = np.zeros(self.num_envs, dtype=bool)
-        wrench = np.zeros(6)
         for env, data in enumerate(self.world.datas):
             grasped = []
             for finger in fingers:
-                force = self._contact_force_on(data, finger, target, wrench)
+                force = contact_force_between(model, data, finger, target)
                 magnitude = float(np.linalg.norm(force))
                 ok = magnitude >= min_force
                 joint = model.body_jntadr[finger]
@@ -558,17 +558,3 @@ class Agent:
                 grasped.append(ok)
             result[env] = all(grasped)
         return result
-
-    def _contact_force_on(self, data: mujoco.MjData, source: int, target: int, wrench: FloatArray) -> FloatArray:
-        """World-frame force (N) that body ``source`` exerts on body ``target``."""
-        model = self.world.model
-        total = np.zeros(3)
-        for i in range(data.ncon):
-            contact = data.contact[i]
-            b1, b2 = model.geom_bodyid[contact.geom1], model.geom_bodyid[contact.geom2]
-            if {b1, b2} != {source, target}:
-                continue
-            mujoco.mj_contactForce(model, data, i, wrench)
-            force = contact.frame.reshape(3, 3).T @ wrench[:3]  # acts on geom2, from geom1
-            total += force if b1 == source else -force
-        return total

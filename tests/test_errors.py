@@ -71,8 +71,8 @@ def test_unknown_control_mode(env) -> None:  # type: ignore[no-untyped-def]
         "Did you mean 'pd_joint_delta_pos'",
         "'pd_joint_vel'",
     )
-    with pytest.raises(ra.UnknownNameError, match="pd_ee_delta_pose"):
-        ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pose")
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'pd_ee_delta_pose'"):
+        ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pse")
 
 
 def test_unknown_keyframe(env) -> None:  # type: ignore[no-untyped-def]

@@ -7,6 +7,8 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.agent import Agent
+from robot_agents.controllers import PDEEController
+from robot_agents.kinematics.rotations import quat_to_rotvec
 
 ROBOTS = ra.list_agents()
 CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).control_modes]
@@ -22,6 +24,10 @@ def hold_action(agent: Agent) -> np.ndarray:
             raw = agent.qpos[0, index]
             if isinstance(controller, ra.controllers.joint.PDJointPosVelController):
                 raw = np.concatenate([raw, np.zeros(len(index))])
+        elif isinstance(controller, PDEEController) and not cfg.use_delta:
+            pose = controller.target_pose[0]  # the measured tool pose (root frame) since the reset
+            rotation = pose[3:] if controller.quaternion_input else quat_to_rotvec(pose[3:])
+            raw = np.concatenate([pose[:3], rotation]) if controller.rotation else pose[:3]
         else:
             raw = np.zeros(controller.action_dim)  # zero delta / zero velocity (symmetric bounds)
         if cfg.normalize_action and isinstance(cfg, ra.PDJointPosConfig) and not cfg.use_delta:

@@ -19,10 +19,11 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.contacts import contact_force_between
-from robot_agents.controllers.base import ControllerConfig, JointBinding, index_selector
+from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding, index_selector
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ActionError, ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics
 from robot_agents.model import robot_spec
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
@@ -208,6 +209,26 @@ class Agent:
                     f"{name}.keyframes[{key!r}]: expected {self.dof} joint positions ({', '.join(self.joint_names)}), "
                     f"got {frame.dof}."
                 )
+        #: Side-effect-free kinematics of the scene (a private scratch MjData).
+        self.kinematics = Kinematics(model)
+        # Commands "in the root frame" use the robot's fixed (or free-floating) base; when the
+        # root body itself carries joints (a floating mount), that is the frame it hangs from.
+        root_moves_on_joints = model.body_jntnum[self.root_body_id] > 0 and not free
+        base_body = int(model.body_parentid[self.root_body_id]) if root_moves_on_joints else self.root_body_id
+        self.root_frame = FrameRef(FrameKind.BODY, base_body, model.body(base_body).name)
+        self.tool_frame = (
+            FrameRef(FrameKind.BODY, self.tcp_body_id, model.body(self.tcp_body_id).name) if self.tcp_link else None
+        )
+        self._controller_context = ControllerContext(
+            num_envs=self.num_envs,
+            model=model,
+            control_timestep=float(model.opt.timestep) * world.substeps,
+            kinematics=self.kinematics,
+            root_frame=self.root_frame,
+            tool_frame=self.tool_frame,
+            prefix=prefix,
+            owner=name,
+        )
         self._controllers: dict[str, CombinedController] = {}
         self.controller: CombinedController
         #: True when the active controller needs :meth:`before_substep` every substep.
@@ -322,7 +343,7 @@ class Agent:
         controller = self._controllers.get(mode)
         if controller is None:
             parts = {
-                part: config.build(self._binding(config), self.num_envs)
+                part: config.build(self._binding(config), self._controller_context)
                 for part, config in self.mode_parts(mode).items()
             }
             controller = self._controllers[mode] = CombinedController(mode, parts)
@@ -371,6 +392,9 @@ class Agent:
         if not math.isfinite(array.sum()) and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
             raise ActionError(f"{self._action_where()}: expected finite values, got NaN or inf at (env, index) {bad}.")
+        problem = self.controller.check_action(array)
+        if problem is not None:
+            raise ActionError(f"{self._action_where()}: {problem}")
         return array
 
     def _action_where(self) -> str:

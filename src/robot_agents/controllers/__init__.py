@@ -1,7 +1,15 @@
 """Controllers: frozen configs a robot declares, and the small objects they build."""
 
-from robot_agents.controllers.base import Controller, ControllerConfig, JointBinding
+from robot_agents.controllers.base import Controller, ControllerConfig, ControllerContext, JointBinding
 from robot_agents.controllers.combined import CombinedController
+from robot_agents.controllers.ee import (
+    CommandFrame,
+    PDEEController,
+    PDEEPosConfig,
+    PDEEPoseConfig,
+    RotationFormat,
+    WorkspaceBox,
+)
 from robot_agents.controllers.joint import (
     PDJointPosConfig,
     PDJointPosMimicConfig,
@@ -9,19 +17,36 @@ from robot_agents.controllers.joint import (
     PDJointVelConfig,
 )
 from robot_agents.controllers.passive import PassiveConfig
-from robot_agents.controllers.rules import JointGroup, combine_parts, joint_control_modes
+from robot_agents.controllers.rules import (
+    EE_MODES,
+    JointGroup,
+    TaskSpace,
+    combine_parts,
+    ee_control_modes,
+    joint_control_modes,
+)
 
 __all__ = [
+    "EE_MODES",
     "CombinedController",
+    "CommandFrame",
     "Controller",
     "ControllerConfig",
+    "ControllerContext",
     "JointBinding",
     "JointGroup",
+    "PDEEController",
+    "PDEEPosConfig",
+    "PDEEPoseConfig",
     "PDJointPosConfig",
     "PDJointPosMimicConfig",
     "PDJointPosVelConfig",
     "PDJointVelConfig",
     "PassiveConfig",
+    "RotationFormat",
+    "TaskSpace",
+    "WorkspaceBox",
     "combine_parts",
+    "ee_control_modes",
     "joint_control_modes",
 ]

@@ -21,6 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -99,6 +100,35 @@ def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:
     return array
 
 
+@dataclass(frozen=True)
+class ControllerContext:
+    """What a controller may need beyond its joints, given by the robot that builds it.
+
+    Attributes:
+        num_envs: number of envs (the leading axis of every array).
+        model: the compiled scene.
+        control_timestep: seconds per control step (one action).
+        kinematics: side-effect-free kinematics of the scene (shared by the robot's controllers).
+        root_frame: the robot's root body (the frame of root-relative commands).
+        tool_frame: the robot's tool centre point, if it declares one.
+        prefix: the robot's name prefix in the scene.
+        owner: the robot's class name, for messages.
+    """
+
+    num_envs: int
+    model: mujoco.MjModel
+    control_timestep: float
+    kinematics: Kinematics
+    root_frame: FrameRef
+    tool_frame: FrameRef | None
+    prefix: str = ""
+    owner: str = ""
+
+    def resolve_frame(self, name: str, where: str) -> FrameRef:
+        """The robot's body or site ``name`` (unprefixed); unknown names raise with suggestions."""
+        return resolve_frame(self.model, name, self.prefix, where)
+
+
 @dataclass(frozen=True, kw_only=True)
 class ControllerConfig(abc.ABC):
     """Base of all controller configs.
@@ -122,7 +152,7 @@ class ControllerConfig(abc.ABC):
             raise ConfigError(f"{type(self).__name__}.joint_names: a joint is listed twice in {self.joint_names}.")
 
     @abc.abstractmethod
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         """Make the controller for these joints of a compiled model."""
 
 
@@ -201,6 +231,16 @@ class Controller(abc.ABC):
     @abc.abstractmethod
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         """Like :meth:`set_action` for an action already clipped and de-normalized (:meth:`to_raw`)."""
+
+    def check_raw_action(self, raw: FloatArray) -> str | None:
+        """Why a clipped, de-normalized action ``(num_envs, action_dim)`` cannot be applied,
+        or ``None`` when it can (e.g. a zero quaternion). Checked before anything is written."""
+        return None
+
+    def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        """Per-env outcome of the last action for the env's ``info`` (copies, each with a
+        leading ``num_envs`` axis), e.g. whether IK reached its target."""
+        return {}
 
     @property
     def needs_substep(self) -> bool:

@@ -7,6 +7,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.controllers.base import Controller, FloatArray, IntArray, SimView
 from robot_agents.errors import StateError
@@ -46,6 +47,10 @@ class CombinedController:
             self._scale = np.where(normalized, (raw_high - raw_low) / 2, 1.0)
             self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
+        self._checked = [
+            (name, c) for name, c in self.parts.items() if type(c).check_raw_action is not Controller.check_raw_action
+        ]
+        self._reporting = [c for c in self.parts.values() if type(c).step_info is not Controller.step_info]
 
     @property
     def needs_substep(self) -> bool:
@@ -62,9 +67,24 @@ class CombinedController:
         for controller in self.parts.values():
             controller.reset(env_ids, sim)
 
+    def _to_raw(self, action: FloatArray) -> FloatArray:
+        raw: FloatArray = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
+        return raw
+
+    def check_action(self, action: FloatArray) -> str | None:
+        """Why the parts cannot apply ``action`` ``(num_envs, action_dim)`` (``None`` if they can)."""
+        if not self._checked:
+            return None
+        raw = self._to_raw(action)
+        for name, controller in self._checked:
+            problem = controller.check_raw_action(raw[:, self.slices[name]])
+            if problem is not None:
+                return f"part {name!r}: {problem}"
+        return None
+
     def set_action(self, action: FloatArray, sim: SimView) -> None:
         """``action``: validated, shape ``(num_envs, action_dim)``."""
-        raw = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
+        raw = self._to_raw(action)
         for apply, part_slice in self._apply:
             apply(raw[:, part_slice], sim)
 
@@ -76,6 +96,19 @@ class CombinedController:
         """What a policy sees of each part's controller (e.g. its current targets; the
         arrays may be internal buffers: copy before keeping them)."""
         return {name: c.observe() for name, c in self.parts.items()}
+
+    def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        """What the parts report about the last action (e.g. ``ik_success``), merged;
+        keys two parts share are prefixed with the part name."""
+        if not self._reporting:
+            return {}
+        if len(self._reporting) == 1:
+            return self._reporting[0].step_info()
+        merged: dict[str, npt.NDArray[np.generic]] = {}
+        for name, controller in self.parts.items():
+            for key, value in controller.step_info().items():
+                merged[f"{name}/{key}" if key in merged else key] = value
+        return merged
 
     def get_state(self) -> dict[str, dict[str, FloatArray]]:
         return {name: c.get_state() for name, c in self.parts.items()}

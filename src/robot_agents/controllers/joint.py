@@ -15,6 +15,7 @@ import numpy as np
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
+    ControllerContext,
     FloatArray,
     IntArray,
     JointBinding,
@@ -69,8 +70,8 @@ class PDJointPosConfig(ControllerConfig):
                 f"got lower={self.lower}, upper={self.upper}."
             )
 
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
-        return PDJointPosController(self, binding, num_envs)
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDJointPosController(self, binding, context.num_envs)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -98,8 +99,8 @@ class PDJointPosMimicConfig(PDJointPosConfig):
                     f"PDJointPosMimicConfig.{field}: expected {len(self.joint_names)} values (one per joint), got {len(values)}."
                 )
 
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
-        return PDJointPosController(self, binding, num_envs)
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDJointPosController(self, binding, context.num_envs)
 
 
 class PDJointPosController(Controller):
@@ -220,8 +221,8 @@ class PDJointVelConfig(ControllerConfig):
     damping: PerJoint = 1e2
     force_limit: PerJoint = UNLIMITED_FORCE
 
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
-        return PDJointVelController(self, binding, num_envs)
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDJointVelController(self, binding, context.num_envs)
 
 
 class PDJointVelController(Controller):
@@ -282,8 +283,8 @@ class PDJointPosVelConfig(PDJointPosConfig):
         if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
             raise ConfigError(f"PDJointPosVelConfig: expected stiffness > 0 on every joint, got {self.stiffness}.")
 
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
-        return PDJointPosVelController(self, binding, num_envs)
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDJointPosVelController(self, binding, context.num_envs)
 
 
 class PDJointPosVelController(PDJointPosController):

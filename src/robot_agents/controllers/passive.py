@@ -9,6 +9,7 @@ import numpy as np
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
+    ControllerContext,
     FloatArray,
     IntArray,
     JointBinding,
@@ -25,8 +26,8 @@ class PassiveConfig(ControllerConfig):
     damping: PerJoint = 0.0
     normalize_action: bool = False
 
-    def build(self, binding: JointBinding, num_envs: int) -> Controller:
-        return PassiveController(self, binding, num_envs)
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PassiveController(self, binding, context.num_envs)
 
 
 class PassiveController(Controller):

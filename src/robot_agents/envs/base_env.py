@@ -226,6 +226,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.elapsed_steps += 1
         if self._plain_task:  # no task hooks: no metrics, zero reward, never terminates
             info: dict[str, Any] = {"elapsed_steps": self.elapsed_steps.copy()}
+            self._add_controller_info(info)
             if self._single:
                 truncated_single = (
                     self.max_episode_steps is not None and self.elapsed_steps[0] >= self.max_episode_steps
@@ -237,6 +238,7 @@ class RobotEnv(gym.Env[Any, Any]):
             reward = self.compute_reward(info)
             terminated = self._terminated(info)
             info["elapsed_steps"] = self.elapsed_steps.copy()
+            self._add_controller_info(info)
         if self.max_episode_steps is None:
             truncated = np.zeros(self.num_envs, dtype=bool)
         else:
@@ -245,6 +247,17 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._single:
             return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
         return obs, reward, terminated, truncated, info
+
+    def _add_controller_info(self, info: dict[str, Any]) -> None:
+        """What the controllers report about the last action, per env (``(num_envs,)``
+        arrays even for one env), e.g. ``ik_success``, ``ik_position_error`` (m) and
+        ``ik_rotation_error`` (rad) in end-effector modes; keyed ``"<robot id>/<key>"``
+        when the scene has several robots."""
+        if len(self.agents) == 1:
+            info.update(self.agent.controller.step_info())
+            return
+        for rid, agent in zip(self.scene.robot_ids, self.agents, strict=True):
+            info.update({f"{rid}/{key}": value for key, value in agent.controller.step_info().items()})
 
     def _terminated(self, info: Mapping[str, Any]) -> npt.NDArray[np.bool_]:
         """``success | fail`` per env (all false when the task reports neither)."""

@@ -18,7 +18,15 @@ import math
 from pathlib import Path
 
 from robot_agents.agent import Agent
-from robot_agents.controllers import JointGroup, PDJointPosMimicConfig, combine_parts, joint_control_modes
+from robot_agents.controllers import (
+    JointGroup,
+    PDJointPosMimicConfig,
+    TaskSpace,
+    WorkspaceBox,
+    combine_parts,
+    ee_control_modes,
+    joint_control_modes,
+)
 from robot_agents.keyframe import Keyframe
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.registry import register_agent
@@ -35,6 +43,15 @@ PANDA_ARM = JointGroup(
     force_limit=(87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0),
     max_delta=0.1,
     max_velocity=(2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61),
+)
+
+#: End-effector commands: ManiSkill's delta bounds (10 cm, 0.1 rad per step); absolute
+#: positions bounded by a box around the arm's reach (855 mm from the shoulder at
+#: z = 0.333 m, plus the 0.21 m flange-to-TCP offset).
+PANDA_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-1.1, -1.1, -0.8), upper=(1.1, 1.1, 1.4)),
+    max_translation=0.1,
+    max_rotation=0.1,
 )
 
 #: One action in [-1, 1] for both fingers: -1 closes past contact (squeezes), +1 opens 8 cm.
@@ -71,7 +88,11 @@ class Panda(Agent):
         "ready": Keyframe(qpos=(*ARM_READY, *FINGERS_OPEN)),
         "closed_rest": Keyframe(qpos=(*ARM_REST, 0.0, 0.0)),
     }
-    control_modes = combine_parts("arm", joint_control_modes(PANDA_ARM), gripper=PANDA_GRIPPER)
+    control_modes = combine_parts(
+        "arm",
+        {**joint_control_modes(PANDA_ARM), **ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)},
+        gripper=PANDA_GRIPPER,
+    )
     default_control_mode = "pd_joint_delta_pos"
     tcp_link = "panda_hand_tcp"
     finger_links = ("panda_leftfinger", "panda_rightfinger")
@@ -85,7 +106,7 @@ class PandaStick(Agent):
     uid = "panda_stick"
     mjcf_path = ASSETS / "panda_stick.xml"
     keyframes = {"rest": Keyframe(qpos=ARM_REST), "ready": Keyframe(qpos=ARM_READY)}
-    control_modes = joint_control_modes(PANDA_ARM)
+    control_modes = {**joint_control_modes(PANDA_ARM), **ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)}
     default_control_mode = "pd_joint_delta_pos"
     tcp_link = "panda_stick_tcp"
 
@@ -98,6 +119,12 @@ MOUNT_JOINTS = (
     "root_y_rot_joint",
     "root_z_rot_joint",
 )
+
+
+#: The mount's slides and hinges: stiff enough to hold the hand against contact forces.
+FLOATING_MOUNT = JointGroup(joint_names=MOUNT_JOINTS, stiffness=1e3, damping=1e2, force_limit=100.0, max_delta=0.1)
+#: The mount's slide range bounds absolute positions.
+FLOATING_TASK_SPACE = TaskSpace(position_bounds=WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)))
 
 
 @register_agent()
@@ -116,9 +143,10 @@ class FloatingPandaGripper(Agent):
     }
     control_modes = combine_parts(
         "arm",
-        joint_control_modes(
-            JointGroup(joint_names=MOUNT_JOINTS, stiffness=1e3, damping=1e2, force_limit=100.0, max_delta=0.1)
-        ),
+        {
+            **joint_control_modes(FLOATING_MOUNT),
+            **ee_control_modes(FLOATING_MOUNT, FLOATING_TASK_SPACE, modes=("pd_ee_delta_pose", "pd_ee_pose")),
+        },
         gripper=PANDA_GRIPPER,
     )
     default_control_mode = "pd_joint_delta_pos"

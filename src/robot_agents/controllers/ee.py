@@ -1,0 +1,397 @@
+"""End-effector (task-space) control: poses commanded in the robot's root frame,
+turned into joint targets by damped-least-squares IK, tracked by the joint PD actuators.
+
+One control step of an end-effector controller, per env:
+
+1. the *base pose* is the measured tool pose (``pd_ee_delta_*``) or the previous
+   target (``pd_ee_target_delta_*``), both in the root frame;
+2. the action moves it: a translation ``d`` in the root frame (``p + d``) or the tool
+   frame (``p + R d``), and a rotation vector ``r`` about root-aligned axes through the
+   tool point (``R' = exp(r) R``) or about the tool's own axes (``R' = R exp(r)``);
+   absolute modes (``pd_ee_pose``) give the pose itself; position-only modes hold the
+   orientation the controller had at its last reset;
+3. the target position is clipped to the optional workspace box;
+4. IK solves for the arm's joints (a few DLS iterations, warm-started) and the PD
+   actuators track the solution. Delta modes add velocity feed-forward: the joints
+   are driven along the straight path from where they start to the solution, at the
+   speed that covers it in one control step, so a constant command moves the tool at
+   the commanded rate instead of lagging behind it;
+5. whether IK met its tolerances, and the residual errors, are kept per env and
+   reported in the env's ``info``. A failed solve still applies the closest
+   configuration found.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.controllers.base import (
+    Controller,
+    ControllerConfig,
+    ControllerContext,
+    FloatArray,
+    IntArray,
+    JointBinding,
+    PerJoint,
+    SimView,
+    per_joint,
+)
+from robot_agents.controllers.joint import UNLIMITED_FORCE
+from robot_agents.errors import ConfigError
+from robot_agents.kinematics.forward import FrameKind, FrameRef
+from robot_agents.kinematics.ik import IKConfig, IKSolver
+from robot_agents.kinematics.rotations import (
+    pose_multiply,
+    quat_multiply,
+    quat_normalize,
+    quat_rotate,
+    relative_pose,
+    rotvec_to_quat,
+)
+
+#: A scalar for x, y and z, or one value per axis.
+PerAxis = float | tuple[float, float, float]
+
+
+class CommandFrame(Enum):
+    """Axes a delta command is expressed in."""
+
+    #: The robot's root (base) frame; rotations turn about root-aligned axes through the tool point.
+    ROOT = "root"
+    #: The end effector's own frame, as it is at the start of the step.
+    EE = "ee"
+
+
+class RotationFormat(Enum):
+    """How an absolute orientation is given in the action."""
+
+    #: Rotation vector (axis * angle, rad): 3 numbers.
+    ROTVEC = "rotvec"
+    #: Unit quaternion ``(w, x, y, z)``: 4 numbers (normalized by the controller).
+    QUAT = "quat"
+
+
+@dataclass(frozen=True)
+class WorkspaceBox:
+    """An axis-aligned box in the robot's root frame; targets are clipped into it (m)."""
+
+    lower: tuple[float, float, float]
+    upper: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        low, high = np.asarray(self.lower, dtype=np.float64), np.asarray(self.upper, dtype=np.float64)
+        if low.shape != (3,) or high.shape != (3,) or not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
+            raise ConfigError(
+                f"WorkspaceBox: expected finite lower and upper corners of 3 values, got {self.lower}, {self.upper}."
+            )
+        if np.any(low > high):
+            raise ConfigError(f"WorkspaceBox: expected lower <= upper on every axis, got {self.lower}, {self.upper}.")
+
+
+def _axes(owner: str, name: str, value: PerAxis) -> FloatArray:
+    return per_joint(owner, name, value, 3)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDEEPosConfig(ControllerConfig):
+    """End-effector position control; the orientation is held.
+
+    Attributes:
+        joint_names: the arm joints IK may move (a serial chain to ``ee_link``).
+        pos_lower, pos_upper: action bounds (m): per-step translation for delta modes,
+            the position in the root frame for absolute ones.
+        use_delta: the action moves the target; otherwise it is the target.
+        use_target: deltas accumulate on the previous target, not on the measured pose.
+        translation_frame: axes of translation deltas (root or end effector).
+        ee_link: the controlled body or site; default: the robot's ``tcp_link``.
+        workspace: optional box in the root frame the target position is clipped to.
+        stiffness, damping, force_limit: the joint PD actuators, per joint.
+        velocity_feedforward: drive the joints with the IK path's velocity as well as
+            its position; default on for delta modes, off for absolute ones.
+        ik: solver settings.
+        rest_qpos: posture of the IK null-space pull (with ``ik.null_space_gain > 0``).
+    """
+
+    pos_lower: PerAxis = -0.1
+    pos_upper: PerAxis = 0.1
+    use_delta: bool = True
+    use_target: bool = False
+    translation_frame: CommandFrame = CommandFrame.ROOT
+    ee_link: str | None = None
+    workspace: WorkspaceBox | None = None
+    stiffness: PerJoint = 1e3
+    damping: PerJoint = 1e2
+    force_limit: PerJoint = UNLIMITED_FORCE
+    velocity_feedforward: bool | None = None
+    ik: IKConfig = field(default_factory=IKConfig)
+    rest_qpos: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        name = type(self).__name__
+        if self.use_target and not self.use_delta:
+            raise ConfigError(f"{name}({', '.join(self.joint_names)}): use_target=True needs use_delta=True.")
+        if not isinstance(self.translation_frame, CommandFrame):
+            raise ConfigError(
+                f"{name}.translation_frame: expected a CommandFrame ({', '.join(f.name for f in CommandFrame)}), "
+                f"got {self.translation_frame!r}."
+            )
+        if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
+            raise ConfigError(f"{name}: expected stiffness > 0 on every joint, got {self.stiffness}.")
+        if not isinstance(self.ik, IKConfig):
+            raise ConfigError(f"{name}.ik: expected an IKConfig, got {self.ik!r}.")
+
+    @property
+    def controls_rotation(self) -> bool:
+        return False
+
+    @property
+    def feedforward(self) -> bool:
+        return self.use_delta if self.velocity_feedforward is None else self.velocity_feedforward
+
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDEEController(self, binding, context)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDEEPoseConfig(PDEEPosConfig):
+    """End-effector pose control: position and orientation.
+
+    Attributes:
+        rot_lower, rot_upper: action bounds of the rotation part (rad for rotation
+            vectors; quaternion entries are bounded to ``[-1, 1]``).
+        rotation_frame: axes rotation deltas turn about (root-aligned through the
+            tool point, or the end effector's own).
+        rotation_format: absolute modes take a rotation vector or a quaternion; deltas
+            are always rotation vectors.
+    """
+
+    rot_lower: PerAxis = -0.1
+    rot_upper: PerAxis = 0.1
+    rotation_frame: CommandFrame = CommandFrame.ROOT
+    rotation_format: RotationFormat = RotationFormat.ROTVEC
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        name = type(self).__name__
+        if not isinstance(self.rotation_frame, CommandFrame):
+            raise ConfigError(f"{name}.rotation_frame: expected a CommandFrame, got {self.rotation_frame!r}.")
+        if not isinstance(self.rotation_format, RotationFormat):
+            raise ConfigError(f"{name}.rotation_format: expected a RotationFormat, got {self.rotation_format!r}.")
+        if self.use_delta and self.rotation_format is not RotationFormat.ROTVEC:
+            raise ConfigError(
+                f"{name}: rotation deltas are rotation vectors; rotation_format={self.rotation_format.name} "
+                "applies to absolute poses (use_delta=False) only."
+            )
+
+    @property
+    def controls_rotation(self) -> bool:
+        return True
+
+
+class PDEEController(Controller):
+    """Controller of :class:`PDEEPosConfig` and :class:`PDEEPoseConfig` (see the module doc)."""
+
+    config: PDEEPosConfig
+
+    def __init__(self, config: PDEEPosConfig, binding: JointBinding, context: ControllerContext) -> None:
+        self.config = config
+        self.binding = binding
+        owner = f"{context.owner} {type(config).__name__}"
+        frame = context.resolve_frame(config.ee_link, owner) if config.ee_link else context.tool_frame
+        if frame is None:
+            raise ConfigError(f"{owner}: end-effector control needs ee_link, or a tcp_link on the robot; got neither.")
+        self.ee_frame: FrameRef = frame
+        self.root_frame = context.root_frame
+        self._check_chain(context.model, binding, frame, owner)
+        self.rotation = config.controls_rotation
+        self.quaternion_input = (
+            isinstance(config, PDEEPoseConfig)
+            and config.rotation_format is RotationFormat.QUAT
+            and not config.use_delta
+        )
+        super().__init__(config, binding, context.num_envs)
+        self.kinematics = context.kinematics
+        self.solver = IKSolver(
+            context.kinematics,
+            frame,
+            binding.qpos_adr,
+            binding.dof_adr,
+            binding.qpos_range,
+            config.ik,
+            config.rest_qpos,
+        )
+        self.control_timestep = context.control_timestep
+        kp, _, bias_v, _ = self.gains()
+        self._velocity_to_position = -bias_v / kp  # kv / kp (s)
+        self._workspace = (
+            (np.asarray(config.workspace.lower, dtype=np.float64), np.asarray(config.workspace.upper, dtype=np.float64))
+            if config.workspace is not None
+            else None
+        )
+        n, num_envs = binding.size, context.num_envs
+        self.target_qpos = np.zeros((num_envs, n))
+        #: Target tool pose in the root frame, ``(num_envs, 7)``.
+        self.target_pose = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
+        self.ik_success = np.ones(num_envs, dtype=bool)
+        self.ik_position_error = np.zeros(num_envs)
+        self.ik_rotation_error = np.zeros(num_envs)
+        self._frames = (frame, self.root_frame)
+
+    @staticmethod
+    def _check_chain(model: mujoco.MjModel, binding: JointBinding, frame: FrameRef, owner: str) -> None:
+        """Every controlled joint must move the end effector (be on its chain to the root)."""
+        body = frame.id if frame.kind is FrameKind.BODY else int(model.site_bodyid[frame.id])
+        ancestors = set()
+        while body > 0:
+            ancestors.add(body)
+            body = int(model.body_parentid[body])
+        for name, adr in zip(binding.joint_names, binding.dof_adr, strict=True):
+            if int(model.dof_bodyid[adr]) not in ancestors:
+                raise ConfigError(
+                    f"{owner}: joint {name!r} does not move {frame.name!r}; end-effector control takes the joints "
+                    "on the chain from the root to the end effector."
+                )
+
+    # -- action ---------------------------------------------------------------------------
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        name = type(self.config).__name__
+        low = [_axes(name, "pos_lower", self.config.pos_lower)]
+        high = [_axes(name, "pos_upper", self.config.pos_upper)]
+        if isinstance(self.config, PDEEPoseConfig):
+            if self.quaternion_input:
+                low.append(-np.ones(4))
+                high.append(np.ones(4))
+            else:
+                low.append(_axes(name, "rot_lower", self.config.rot_lower))
+                high.append(_axes(name, "rot_upper", self.config.rot_upper))
+        return np.concatenate(low), np.concatenate(high)
+
+    def check_raw_action(self, raw: FloatArray) -> str | None:
+        if not self.quaternion_input:
+            return None
+        norms = np.linalg.norm(raw[:, 3:7], axis=1)
+        if np.all(norms > 1e-6):
+            return None
+        env = int(np.argmin(norms))
+        return (
+            f"expected a non-zero quaternion (w, x, y, z) in entries 3-6, got norm {norms[env]:.3g} in env {env} "
+            f"({raw[env, 3:7].tolist()})."
+        )
+
+    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        name, n = type(self.config).__name__, self.binding.size
+        kp = per_joint(name, "stiffness", self.config.stiffness, n)
+        kv = per_joint(name, "damping", self.config.damping, n)
+        return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
+
+    def _measured(self, qpos: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Tool pose in the root frame and the root's world pose, each ``(k, 7)``."""
+        poses = self.kinematics.poses(qpos, self._frames)
+        root = poses[:, 1]
+        return relative_pose(poses[:, 0], root), root
+
+    def _target_pose(self, raw: FloatArray, measured: FloatArray) -> FloatArray:
+        cfg = self.config
+        if cfg.use_delta:
+            base = self.target_pose if cfg.use_target else measured
+            translation = raw[:, :3]
+            if cfg.translation_frame is CommandFrame.EE:
+                translation = quat_rotate(base[:, 3:], translation)
+            position = base[:, :3] + translation
+            if self.rotation:
+                turn = rotvec_to_quat(raw[:, 3:6])
+                rotation_frame = cfg.rotation_frame if isinstance(cfg, PDEEPoseConfig) else CommandFrame.ROOT
+                if rotation_frame is CommandFrame.ROOT:
+                    quat = quat_multiply(turn, base[:, 3:])
+                else:
+                    quat = quat_multiply(base[:, 3:], turn)
+            else:
+                quat = self.target_pose[:, 3:]
+        else:
+            position = raw[:, :3]
+            if not self.rotation:
+                quat = self.target_pose[:, 3:]
+            elif self.quaternion_input:
+                quat = raw[:, 3:7]
+            else:
+                quat = rotvec_to_quat(raw[:, 3:6])
+        if self._workspace is not None:
+            position = np.clip(position, self._workspace[0], self._workspace[1])
+        return np.concatenate((position, quat_normalize(quat)), axis=1)
+
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        cfg = self.config
+        qpos = sim.qpos
+        measured_q = qpos[:, self.binding.qpos_sel]
+        measured_pose, root = self._measured(qpos)
+        target = self._target_pose(raw, measured_pose)
+        start = self.target_qpos if (cfg.use_target or not cfg.use_delta) else measured_q
+        result = self.solver.solve(qpos, pose_multiply(root, target), start)
+        solution = result.qpos
+        if cfg.feedforward:
+            # Mean position and velocity of the straight joint path start -> solution over
+            # one control step (the actuator holds ctrl constant across the substeps).
+            velocity = (solution - start) / self.control_timestep
+            ctrl = 0.5 * (start + solution) + self._velocity_to_position * velocity
+        else:
+            ctrl = solution
+        sim.ctrl[:, self.binding.ctrl_sel] = ctrl
+        self.target_qpos = solution
+        self.target_pose = target
+        self.ik_success = result.success
+        self.ik_position_error = result.position_error
+        self.ik_rotation_error = result.rotation_error
+
+    # -- lifecycle ------------------------------------------------------------------------
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        qpos = sim.qpos[env_ids]
+        measured_q = qpos[:, self.binding.qpos_adr]
+        pose, _ = self._measured(qpos)
+        pose[:, 3:] = quat_normalize(pose[:, 3:])
+        self.target_pose[env_ids] = pose
+        self.target_qpos[env_ids] = measured_q
+        self.ik_success[env_ids] = True
+        self.ik_position_error[env_ids] = 0.0
+        self.ik_rotation_error[env_ids] = 0.0
+        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured_q
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {"target_qpos": self.target_qpos, "target_ee_pose": self.target_pose}
+
+    def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        return {
+            "ik_success": self.ik_success.copy(),
+            "ik_position_error": self.ik_position_error.copy(),
+            "ik_rotation_error": self.ik_rotation_error.copy(),
+        }
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {
+            "target_qpos": self.target_qpos.copy(),
+            "target_ee_pose": self.target_pose.copy(),
+            "ik_success": self.ik_success.astype(np.float64),
+            "ik_position_error": self.ik_position_error.copy(),
+            "ik_rotation_error": self.ik_rotation_error.copy(),
+        }
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        self.target_qpos = np.array(state["target_qpos"], dtype=np.float64)
+        self.target_pose = np.array(state["target_ee_pose"], dtype=np.float64)
+        self.ik_success = np.asarray(state["ik_success"]) > 0.5
+        self.ik_position_error = np.array(state["ik_position_error"], dtype=np.float64)
+        self.ik_rotation_error = np.array(state["ik_rotation_error"], dtype=np.float64)
+
+    def describe(self) -> str:
+        cfg = self.config
+        what = "pose" if self.rotation else "position"
+        if cfg.use_delta:
+            kind = ("delta-from-target " if cfg.use_target else "delta ") + what
+        else:
+            kind = what + (" (quaternion)" if self.quaternion_input else "")
+        return f"end-effector {kind} via IK{' (normalized)' if cfg.normalize_action else ''}"

@@ -1,0 +1,6 @@
+"""Kinematics without side effects: batched forward kinematics, Jacobians and IK."""
+
+from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
+from robot_agents.kinematics.ik import IKConfig, IKResult, IKSolver
+
+__all__ = ["FrameKind", "FrameRef", "IKConfig", "IKResult", "IKSolver", "Kinematics", "resolve_frame"]

@@ -1,0 +1,142 @@
+"""Forward kinematics and Jacobians of any body or site, batched over envs.
+
+Everything runs on a private scratch ``MjData``: the simulation's own data is never
+read or written, so asking "where would the tool be at this ``qpos``?" has no side
+effects on physics, contacts or sensors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import Enum
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.errors import StateError, UnknownNameError
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+
+class FrameKind(Enum):
+    """What a kinematic frame is attached to."""
+
+    BODY = "body"
+    SITE = "site"
+
+
+@dataclass(frozen=True)
+class FrameRef:
+    """A body or site of the compiled model, resolved once.
+
+    Attributes:
+        kind: body or site.
+        id: its index in the model.
+        name: its full name (for messages).
+    """
+
+    kind: FrameKind
+    id: int
+    name: str
+
+
+def resolve_frame(model: mujoco.MjModel, name: str, prefix: str = "", where: str = "resolve_frame") -> FrameRef:
+    """The body (first) or site called ``prefix + name``; raises :class:`UnknownNameError`
+    listing the bodies and sites under ``prefix`` when there is none."""
+    full = prefix + name
+    body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, full)
+    if body >= 0:
+        return FrameRef(FrameKind.BODY, int(body), full)
+    site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, full)
+    if site >= 0:
+        return FrameRef(FrameKind.SITE, int(site), full)
+    names = [model.body(b).name for b in range(model.nbody)] + [model.site(s).name for s in range(model.nsite)]
+    available = [n[len(prefix) :] for n in names if n.startswith(prefix) and n]
+    raise UnknownNameError(where, "body or site", name, available)
+
+
+class Kinematics:
+    """Poses and Jacobians of a compiled model at given joint positions.
+
+    Args:
+        model: the compiled model; the scratch data is made from it.
+
+    All methods take ``qpos`` of shape ``(num_envs, nq)`` (a full configuration per env)
+    and loop over envs with MuJoCo's C kinematics (``mj_kinematics`` + ``mj_comPos``);
+    outputs carry the leading ``num_envs`` axis.
+    """
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        self.model = model
+        self.data = mujoco.MjData(model)
+        self._jacp = np.zeros((3, model.nv))
+        self._jacr = np.zeros((3, model.nv))
+
+    # -- single configuration (the hot path of IK) --------------------------------------
+    def load(self, qpos: FloatArray) -> None:
+        """Put one configuration ``(nq,)`` into the scratch data and compute positions,
+        orientations and the quantities Jacobians need."""
+        self.data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_comPos(self.model, self.data)
+
+    def loaded_pose(self, frame: FrameRef, out: FloatArray) -> None:
+        """World pose of ``frame`` at the loaded configuration into ``out`` ``(7,)``."""
+        data = self.data
+        if frame.kind is FrameKind.BODY:
+            out[:3] = data.xpos[frame.id]
+            out[3:] = data.xquat[frame.id]
+        else:
+            out[:3] = data.site_xpos[frame.id]
+            mujoco.mju_mat2Quat(out[3:], data.site_xmat[frame.id])
+
+    def loaded_jacobian(self, frame: FrameRef) -> tuple[FloatArray, FloatArray]:
+        """Translational and rotational Jacobians ``(3, nv)`` each of ``frame``'s origin at
+        the loaded configuration, in world axes (internal buffers: copy to keep)."""
+        if frame.kind is FrameKind.BODY:
+            mujoco.mj_jacBody(self.model, self.data, self._jacp, self._jacr, frame.id)
+        else:
+            mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, frame.id)
+        return self._jacp, self._jacr
+
+    # -- batched ------------------------------------------------------------------------
+    def _check(self, qpos: npt.ArrayLike, where: str) -> FloatArray:
+        array = np.asarray(qpos, dtype=np.float64)
+        if array.ndim == 1:
+            array = array[None]
+        if array.ndim != 2 or array.shape[1] != self.model.nq:
+            raise StateError(f"{where}: expected qpos of shape (num_envs, {self.model.nq}), got {np.shape(qpos)}.")
+        if not np.all(np.isfinite(array)):
+            raise StateError(f"{where}: qpos contains NaN or inf.")
+        return array
+
+    def poses(self, qpos: npt.ArrayLike, frames: Sequence[FrameRef]) -> FloatArray:
+        """World poses ``(num_envs, len(frames), 7)`` of several frames, one FK per env."""
+        array = self._check(qpos, "Kinematics.poses")
+        out = np.empty((array.shape[0], len(frames), 7))
+        for env, row in enumerate(array):
+            self.load(row)
+            for k, frame in enumerate(frames):
+                self.loaded_pose(frame, out[env, k])
+        return out
+
+    def pose(self, qpos: npt.ArrayLike, frame: FrameRef) -> FloatArray:
+        """World pose ``(num_envs, 7)`` of ``frame``: position (m), quaternion (w, x, y, z)."""
+        return self.poses(qpos, (frame,))[:, 0]
+
+    def jacobian(self, qpos: npt.ArrayLike, frame: FrameRef, dofs: npt.ArrayLike | None = None) -> FloatArray:
+        """Jacobian ``(num_envs, 6, k)`` of ``frame``'s origin: rows 0-2 map joint
+        velocities to its linear velocity (m/s), rows 3-5 to its angular velocity
+        (rad/s), both in world axes. Columns are the ``dofs`` (default all ``nv``)."""
+        array = self._check(qpos, "Kinematics.jacobian")
+        columns = np.arange(self.model.nv) if dofs is None else np.asarray(dofs, dtype=np.int64)
+        out = np.empty((array.shape[0], 6, len(columns)))
+        for env, row in enumerate(array):
+            self.load(row)
+            jacp, jacr = self.loaded_jacobian(frame)
+            out[env, :3] = jacp[:, columns]
+            out[env, 3:] = jacr[:, columns]
+        return out

@@ -1,0 +1,115 @@
+"""Batched rotation and pose arithmetic (numpy, any leading batch shape).
+
+Conventions, the same as MuJoCo's:
+- quaternions are ``(w, x, y, z)``, unit norm, shape ``(..., 4)``;
+- a rotation vector (axis-angle) is ``angle * axis`` in radians, shape ``(..., 3)``;
+- a pose is ``(x, y, z, qw, qx, qy, qz)``, shape ``(..., 7)``, mapping points of its
+  own frame into the frame it is expressed in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+
+_TINY = 1e-12
+
+
+def quat_multiply(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Hamilton product ``a * b`` (apply ``b`` first, then ``a``), shape ``(..., 4)``."""
+    aw, ax, ay, az = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    bw, bx, by, bz = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    return np.stack(
+        (
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ),
+        axis=-1,
+    )
+
+
+def quat_conjugate(q: FloatArray) -> FloatArray:
+    """The inverse of a unit quaternion, shape ``(..., 4)``."""
+    out: FloatArray = q * np.array([1.0, -1.0, -1.0, -1.0])
+    return out
+
+
+def quat_normalize(q: FloatArray) -> FloatArray:
+    """Unit quaternion with ``w >= 0`` (one canonical sign per rotation), shape ``(..., 4)``."""
+    norm = np.linalg.norm(q, axis=-1, keepdims=True)
+    unit = q / np.maximum(norm, _TINY)
+    out: FloatArray = np.where(unit[..., :1] < 0.0, -unit, unit)
+    return out
+
+
+def quat_rotate(q: FloatArray, v: FloatArray) -> FloatArray:
+    """Rotate vectors ``v`` ``(..., 3)`` by unit quaternions ``q`` ``(..., 4)``."""
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    out: FloatArray = v + w * t + np.cross(u, t)
+    return out
+
+
+def quat_to_matrix(q: FloatArray) -> FloatArray:
+    """Rotation matrices ``(..., 3, 3)`` of unit quaternions ``(..., 4)``."""
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack(
+        (
+            np.stack((1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)), axis=-1),
+            np.stack((2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)), axis=-1),
+            np.stack((2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)), axis=-1),
+        ),
+        axis=-2,
+    )
+
+
+def rotvec_to_quat(r: FloatArray) -> FloatArray:
+    """Unit quaternions ``(..., 4)`` of rotation vectors ``(..., 3)`` (radians)."""
+    angle = np.linalg.norm(r, axis=-1, keepdims=True)
+    half = 0.5 * angle
+    # sin(half) / angle, with its limit 1/2 - angle^2/48 near zero.
+    small = angle < 1e-6
+    scale = np.where(small, 0.5 - angle * angle / 48.0, np.sin(half) / np.where(small, 1.0, angle))
+    return np.concatenate((np.cos(half), r * scale), axis=-1)
+
+
+def quat_to_rotvec(q: FloatArray) -> FloatArray:
+    """Rotation vectors ``(..., 3)`` of unit quaternions, angles in ``[0, pi]``."""
+    q = np.where(q[..., :1] < 0.0, -q, q)
+    w = q[..., :1]
+    v = q[..., 1:]
+    sin_half = np.linalg.norm(v, axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(sin_half, w)
+    # angle / sin(half) -> 2 / w as the rotation vanishes.
+    small = sin_half < 1e-9
+    scale = np.where(small, 2.0 / np.maximum(w, _TINY), angle / np.where(small, 1.0, sin_half))
+    out: FloatArray = v * scale
+    return out
+
+
+def rotation_error(target: FloatArray, current: FloatArray) -> FloatArray:
+    """Rotation vector ``(..., 3)`` that turns ``current`` into ``target`` about axes of
+    the frame both are expressed in (``target = exp(error) * current``)."""
+    return quat_to_rotvec(quat_multiply(target, quat_conjugate(current)))
+
+
+def pose_multiply(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Compose poses ``a * b`` (``b`` expressed in ``a``'s frame), shape ``(..., 7)``."""
+    position = a[..., :3] + quat_rotate(a[..., 3:], b[..., :3])
+    return np.concatenate((position, quat_multiply(a[..., 3:], b[..., 3:])), axis=-1)
+
+
+def pose_inverse(a: FloatArray) -> FloatArray:
+    """The inverse pose, shape ``(..., 7)``."""
+    inverse = quat_conjugate(a[..., 3:])
+    return np.concatenate((-quat_rotate(inverse, a[..., :3]), inverse), axis=-1)
+
+
+def relative_pose(pose: FloatArray, reference: FloatArray) -> FloatArray:
+    """``pose`` expressed in the frame ``reference`` (both in the same outer frame)."""
+    return pose_multiply(pose_inverse(reference), pose)

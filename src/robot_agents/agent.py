@@ -23,7 +23,8 @@ from robot_agents.controllers.base import ControllerConfig, ControllerContext, J
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ActionError, ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
-from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics
+from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
+from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose
 from robot_agents.model import robot_spec
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
@@ -211,11 +212,16 @@ class Agent:
                 )
         #: Side-effect-free kinematics of the scene (a private scratch MjData).
         self.kinematics = Kinematics(model)
-        # Commands "in the root frame" use the robot's fixed (or free-floating) base; when the
-        # root body itself carries joints (a floating mount), that is the frame it hangs from.
-        root_moves_on_joints = model.body_jntnum[self.root_body_id] > 0 and not free
-        base_body = int(model.body_parentid[self.root_body_id]) if root_moves_on_joints else self.root_body_id
-        self.root_frame = FrameRef(FrameKind.BODY, base_body, model.body(base_body).name)
+        # Commands "in the root frame" use the robot's fixed (or free-floating) base. When the
+        # root body itself moves on joints (a floating mount), the root frame is where that
+        # body sits with its joints at zero: a fixed pose in its parent.
+        root = self.root_body_id
+        if model.body_jntnum[root] > 0 and not free:
+            home = (*model.body_pos[root], *model.body_quat[root])
+            parent = int(model.body_parentid[root])
+            self.root_frame = FrameRef(FrameKind.BODY, parent, model.body(root).name + " (home)", tuple(home))
+        else:
+            self.root_frame = FrameRef(FrameKind.BODY, root, model.body(root).name)
         self.tool_frame = (
             FrameRef(FrameKind.BODY, self.tcp_body_id, model.body(self.tcp_body_id).name) if self.tcp_link else None
         )
@@ -322,6 +328,62 @@ class Agent:
             row[:3] = data.xpos[body_id]
             row[3:] = data.xquat[body_id]
         return pose
+
+    # ------------------------------------------------------------------ kinematics
+    def _configurations(self, qpos: npt.ArrayLike | None, where: str) -> FloatArray:
+        """Full scene configurations ``(num_envs, nq)``: the measured state with this
+        robot's joints replaced by ``qpos`` ``(dof,)`` or ``(num_envs, dof)`` when given."""
+        full = np.array(self.world.qpos, dtype=np.float64)
+        if qpos is not None:
+            full[:, self.qpos_adr] = self._batch(qpos, self.num_envs, self.dof, "qpos", where)
+        return full
+
+    def frame_pose(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
+        """Pose ``(num_envs, 7)`` of the robot's body or site ``name``: position (m) and
+        quaternion (w, x, y, z), computed on scratch data (the simulation is untouched).
+
+        Args:
+            name: a body or site of this robot (unprefixed).
+            qpos: joint positions ``(dof,)`` or ``(num_envs, dof)``; default: measured.
+            relative_to: ``"world"``, ``"root"`` (the robot's base frame, the frame of
+                end-effector commands) or another body / site of this robot.
+        """
+        where = f"{type(self).__name__}.frame_pose"
+        frame = self._frame(name, where)
+        reference = self._reference_frame(relative_to, where)
+        configurations = self._configurations(qpos, where)
+        if reference is None:
+            return self.kinematics.pose(configurations, frame)
+        poses = self.kinematics.poses(configurations, (frame, reference))
+        return relative_pose(poses[:, 0], poses[:, 1])
+
+    def frame_jacobian(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
+        """Jacobian ``(num_envs, 6, dof)`` of the origin of body or site ``name``: rows 0-2
+        give its linear velocity (m/s), rows 3-5 its angular velocity (rad/s) per unit
+        velocity of each of this robot's joints (a free base's 6 DoF are not columns).
+        Axes are the world's, or those of ``"root"`` or a named body / site of the robot."""
+        where = f"{type(self).__name__}.frame_jacobian"
+        frame = self._frame(name, where)
+        reference = self._reference_frame(relative_to, where)
+        configurations = self._configurations(qpos, where)
+        jacobian = self.kinematics.jacobian(configurations, frame, self.dof_adr)
+        if reference is None:
+            return jacobian
+        rotation = quat_to_matrix(self.kinematics.pose(configurations, reference)[:, 3:])
+        rotated: FloatArray = np.concatenate(
+            (np.swapaxes(rotation, 1, 2) @ jacobian[:, :3], np.swapaxes(rotation, 1, 2) @ jacobian[:, 3:]), axis=1
+        )
+        return rotated
+
+    def _frame(self, name: str, where: str) -> FrameRef:
+        return resolve_frame(self.world.model, name, self.prefix, where)
+
+    def _reference_frame(self, relative_to: str, where: str) -> FrameRef | None:
+        if relative_to == "world":
+            return None
+        if relative_to == "root":
+            return self.root_frame
+        return self._frame(relative_to, where)
 
     # ------------------------------------------------------------------ control
     @property

@@ -36,11 +36,15 @@ class FrameRef:
         kind: body or site.
         id: its index in the model.
         name: its full name (for messages).
+        offset: a fixed pose of the frame relative to the body or site, for frames
+            that are not an object of the model (e.g. where a floating mount starts).
     """
 
     kind: FrameKind
     id: int
     name: str
+    #: A fixed pose ``(7,)`` of the frame in the body or site (``None``: the origin itself).
+    offset: tuple[float, ...] | None = None
 
 
 def resolve_frame(model: mujoco.MjModel, name: str, prefix: str = "", where: str = "resolve_frame") -> FrameRef:
@@ -92,11 +96,23 @@ class Kinematics:
         else:
             out[:3] = data.site_xpos[frame.id]
             mujoco.mju_mat2Quat(out[3:], data.site_xmat[frame.id])
+        if frame.offset is not None:
+            offset = np.asarray(frame.offset)
+            position, quat = np.empty(3), np.empty(4)
+            mujoco.mju_rotVecQuat(position, offset[:3], out[3:])
+            mujoco.mju_mulQuat(quat, out[3:], offset[3:])
+            out[:3] += position
+            out[3:] = quat
 
     def loaded_jacobian(self, frame: FrameRef) -> tuple[FloatArray, FloatArray]:
         """Translational and rotational Jacobians ``(3, nv)`` each of ``frame``'s origin at
         the loaded configuration, in world axes (internal buffers: copy to keep)."""
-        if frame.kind is FrameKind.BODY:
+        if frame.offset is not None:
+            pose = np.empty(7)
+            self.loaded_pose(frame, pose)
+            body = frame.id if frame.kind is FrameKind.BODY else int(self.model.site_bodyid[frame.id])
+            mujoco.mj_jac(self.model, self.data, self._jacp, self._jacr, pose[:3], body)
+        elif frame.kind is FrameKind.BODY:
             mujoco.mj_jacBody(self.model, self.data, self._jacp, self._jacr, frame.id)
         else:
             mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, frame.id)

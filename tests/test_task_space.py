@@ -1,0 +1,452 @@
+"""Kinematics, IK and end-effector controllers, checked against numbers."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.controllers import (
+    CommandFrame,
+    PDEEController,
+    PDEEPoseConfig,
+    RotationFormat,
+    WorkspaceBox,
+    ee_control_modes,
+)
+from robot_agents.kinematics import IKConfig, IKSolver, resolve_frame
+from robot_agents.kinematics.rotations import (
+    quat_multiply,
+    quat_rotate,
+    quat_to_rotvec,
+    rotation_error,
+    rotvec_to_quat,
+)
+from robot_agents.robots.panda.panda import PANDA_ARM, PANDA_TASK_SPACE, Panda
+
+#: A yawed, raised mount, so that "root frame" and "world frame" differ in every test.
+YAWED_MOUNT = (0.3, -0.2, 0.5, math.cos(math.pi / 6), 0.0, 0.0, math.sin(math.pi / 6))
+
+
+def ee_part(agent: ra.Agent) -> PDEEController:
+    for controller in agent.controller.parts.values():
+        if isinstance(controller, PDEEController):
+            return controller
+    raise AssertionError("no end-effector controller in this mode")
+
+
+def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
+    agent = scene.agents[0]
+    for _ in range(steps):
+        agent.set_action(action)
+        scene.step()
+
+
+# ---------------------------------------------------------------------------- rotations
+def test_rotation_helpers_round_trip() -> None:
+    rng = np.random.default_rng(0)
+    vectors = rng.normal(size=(200, 3))
+    vectors *= (rng.uniform(0, math.pi, 200) / np.linalg.norm(vectors, axis=1))[:, None]
+    vectors[0] = 0.0
+    vectors[1] = [1e-9, 0, 0]
+    np.testing.assert_allclose(quat_to_rotvec(rotvec_to_quat(vectors)), vectors, atol=1e-12)
+    # Agrees with MuJoCo's own quaternion product and vector rotation.
+    a, b = rotvec_to_quat(vectors[: 2 + 10]), rotvec_to_quat(vectors[20:32])
+    for qa, qb, product in zip(a, b, quat_multiply(a, b), strict=True):
+        expected = np.empty(4)
+        mujoco.mju_mulQuat(expected, qa, qb)
+        np.testing.assert_allclose(product, expected, atol=1e-14)
+    point = np.array([0.3, -0.1, 0.7])
+    for quat in a:
+        expected = np.empty(3)
+        mujoco.mju_rotVecQuat(expected, point, quat)
+        np.testing.assert_allclose(quat_rotate(quat, point), expected, atol=1e-14)
+
+
+# ---------------------------------------------------------------------------- kinematics
+@pytest.mark.parametrize(("uid", "frame"), [("panda", "panda_hand_tcp"), ("floating_panda_gripper", "panda_hand_tcp")])
+def test_jacobian_matches_finite_differences(uid: str, frame: str) -> None:
+    """Central differences of FK (position, and rotation as a world-frame rotation vector)
+    match the analytic Jacobian to 1e-5 at random configurations of three envs."""
+    scene = ra.Scene(uid, num_envs=3, robot_poses=[YAWED_MOUNT])
+    agent = scene.agents[0]
+    scene.reset()
+    rng = np.random.default_rng(1)
+    low, high = agent.qpos_limits[:, 0], agent.qpos_limits[:, 1]
+    qpos = rng.uniform(low + 0.1 * (high - low), high - 0.1 * (high - low), (3, agent.dof))
+    jacobian = agent.frame_jacobian(frame, qpos)
+    assert jacobian.shape == (3, 6, agent.dof)
+    eps = 1e-6
+    numeric = np.zeros_like(jacobian)
+    for j in range(agent.dof):
+        plus, minus = qpos.copy(), qpos.copy()
+        plus[:, j] += eps
+        minus[:, j] -= eps
+        pose_plus, pose_minus = agent.frame_pose(frame, plus), agent.frame_pose(frame, minus)
+        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
+        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
+    np.testing.assert_allclose(jacobian, numeric, atol=1e-5)
+    # In root axes: the same Jacobian rotated by the mount.
+    root = agent.frame_jacobian(frame, qpos, relative_to="root")
+    mount_rotation = np.empty(9)
+    mujoco.mju_quat2Mat(mount_rotation, np.array(YAWED_MOUNT[3:]))
+    rotation = mount_rotation.reshape(3, 3)
+    np.testing.assert_allclose(rotation @ root[0, :3], jacobian[0, :3], atol=1e-12)
+    np.testing.assert_allclose(rotation @ root[0, 3:], jacobian[0, 3:], atol=1e-12)
+    scene.close()
+
+
+def test_kinematics_has_no_side_effects_and_poses_are_relative() -> None:
+    scene = ra.Scene("panda", num_envs=2, robot_poses=[YAWED_MOUNT])
+    agent = scene.agents[0]
+    scene.reset()
+    before = scene.world.get_state()
+    xpos = scene.world.datas[0].xpos.copy()
+    bent = agent.qpos.copy()
+    bent[:, 3] += 0.5
+    moved = agent.frame_pose("panda_hand_tcp", bent)
+    agent.frame_jacobian("panda_hand_tcp", bent)
+    assert np.array_equal(scene.world.get_state(), before)
+    assert np.array_equal(scene.world.datas[0].xpos, xpos)
+    # Measured pose = the simulation's own body pose.
+    np.testing.assert_allclose(agent.frame_pose("panda_hand_tcp"), agent.tcp_pose, atol=1e-12)
+    assert not np.allclose(moved, agent.tcp_pose)
+    # Relative to the root: the world pose with the mount taken out.
+    in_root = agent.frame_pose("panda_hand_tcp", relative_to="root")
+    inverse_mount, expected = np.empty(4), np.empty(3)
+    mujoco.mju_negQuat(inverse_mount, np.array(YAWED_MOUNT[3:]))
+    mujoco.mju_rotVecQuat(expected, agent.tcp_pose[0, :3] - np.array(YAWED_MOUNT[:3]), inverse_mount)
+    np.testing.assert_allclose(in_root[0, :3], expected, atol=1e-12)
+    # Relative to a named body: the hand TCP sits 0.1034 m along the hand's z axis.
+    in_hand = agent.frame_pose("panda_hand_tcp", relative_to="panda_hand")
+    np.testing.assert_allclose(in_hand[:, :3], [[0, 0, 0.1034]] * 2, atol=1e-9)
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda_hand'"):
+        agent.frame_pose("panda_hnd")
+    with pytest.raises(ra.StateError, match=r"qpos of shape \(9,\)"):
+        agent.frame_pose("panda_hand", np.zeros(4))
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- IK
+def panda_solver(scene: ra.Scene, config: IKConfig | None = None) -> IKSolver:
+    agent = scene.agents[0]
+    arm = np.arange(7)
+    frame = resolve_frame(scene.model, "panda_hand_tcp", agent.prefix)
+    return IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], agent.qpos_limits[arm], config)
+
+
+def test_ik_solves_100_random_reachable_targets_from_rest() -> None:
+    """Targets are FK of random configurations; IK starts at the rest keyframe."""
+    scene = ra.Scene("panda", robot_poses=[YAWED_MOUNT])
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    solver = panda_solver(scene)
+    rng = np.random.default_rng(2)
+    limits = agent.qpos_limits[:7]
+    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 7))
+    context = np.repeat(scene.world.qpos, 100, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = goals
+    targets = agent.kinematics.pose(configurations, solver.frame)
+    seed = np.repeat(agent.qpos[:, :7], 100, axis=0)
+    result = solver.solve(context, targets, seed, max_iterations=100, restarts=20)
+    assert result.success.all(), np.flatnonzero(~result.success)
+    assert np.all(result.position_error < 1e-3) and np.all(result.rotation_error < math.radians(1))
+    # Independently: FK of the solutions reaches the targets, and the joints stay in limits.
+    configurations[:, agent.qpos_adr[:7]] = result.qpos
+    reached = agent.kinematics.pose(configurations, solver.frame)
+    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
+    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
+    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    scene.close()
+
+
+def test_ik_null_space_pull_keeps_the_pose_and_nears_the_rest_posture() -> None:
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    rest = agent.qpos[:, :7]
+    target = agent.kinematics.pose(scene.world.qpos, panda_solver(scene).frame)
+    seed = rest + np.array([[0.4, 0.0, -0.4, 0.0, 0.3, 0.0, 0.0]])  # same task, other posture would do
+    plain = panda_solver(scene, IKConfig(max_iterations=50)).solve(scene.world.qpos, target, seed)
+    pulled_solver = IKSolver(
+        agent.kinematics,
+        panda_solver(scene).frame,
+        agent.qpos_adr[:7],
+        agent.dof_adr[:7],
+        agent.qpos_limits[:7],
+        IKConfig(max_iterations=50, null_space_gain=0.5, position_tolerance=1e-4, rotation_tolerance=1e-3),
+        rest_qpos=rest[0],
+    )
+    pulled = pulled_solver.solve(scene.world.qpos, target, seed, max_iterations=200)
+    assert plain.success.all() and pulled.success.all()
+    assert np.linalg.norm(pulled.qpos - rest) < 0.5 * np.linalg.norm(plain.qpos - rest)
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- conventions
+@pytest.mark.parametrize("frame", [CommandFrame.ROOT, CommandFrame.EE])
+@pytest.mark.parametrize("mode", ["pd_ee_target_delta_pose", "pd_ee_delta_pose"])
+def test_sign_conventions(frame: CommandFrame, mode: str) -> None:
+    """+x / +y / +z translation moves the TCP along that axis of the chosen frame; a
+    positive rotation about x / y / z turns the tool positively about that axis (root-
+    aligned axes through the TCP, or the tool's own), and nothing else moves.
+
+    The target variant lands on the commanded total (1 mm / 0.06 deg); the measured-pose
+    variant re-bases every step on the measured pose, so the path errors of the arm's
+    dynamics (e.g. its light wrist turning ahead of the heavy shoulder) stay in the
+    result (up to ~35 % across axes for rotations): for it we check directions only."""
+    exact = "target" in mode
+
+    class FramedPanda(Panda):
+        uid = f"test_panda_{frame.value}_frame"
+        control_modes = {
+            "ee": {
+                "arm": replace(
+                    ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)[mode],  # type: ignore[type-var]
+                    translation_frame=frame,
+                    rotation_frame=frame,
+                ),
+                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+            }
+        }
+        default_control_mode = "ee"
+
+    scene = ra.Scene(FramedPanda, robot_poses=[YAWED_MOUNT])
+    agent = scene.agents[0]
+    for index in range(6):
+        rotate, axis = divmod(index, 3)
+        scene.reset(keyframes="rest")
+        start = agent.frame_pose("panda_hand_tcp", relative_to="root")[0]
+        action = np.zeros(7)
+        action[index] = 0.2  # 2 cm or 0.02 rad per step
+        action[6] = 1.0  # fingers stay open
+        run(scene, action, 5)
+        assert ee_part(agent).ik_success.all()
+        run(scene, np.concatenate([np.zeros(6), [1.0]]), 10)  # hold and settle
+        end = agent.frame_pose("panda_hand_tcp", relative_to="root")[0]
+        # Rows: the command frame's axes at the start, in root coordinates.
+        basis = np.eye(3) if frame is CommandFrame.ROOT else np.array([quat_rotate(start[3:], e) for e in np.eye(3)])
+        moved = basis @ (end[:3] - start[:3])
+        turned = basis @ rotation_error(end[3:], start[3:])
+        commanded, other = (turned, moved) if rotate else (moved, turned)
+        if exact:
+            expected = np.zeros(3)
+            expected[axis] = 0.1
+            np.testing.assert_allclose(commanded, expected, atol=1e-3)
+            np.testing.assert_allclose(other, 0.0, atol=1e-3)
+        else:
+            assert commanded[axis] > 0.08, commanded
+            assert np.all(np.abs(np.delete(commanded, axis)) < 0.4 * commanded[axis]), commanded
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- tracking
+@pytest.mark.parametrize("mode", ["pd_ee_delta_pos", "pd_ee_target_delta_pos", "pd_ee_delta_pose"])
+def test_constant_delta_command_tracks_within_5_percent(mode: str) -> None:
+    scene = ra.Scene("panda", control_modes=mode, robot_poses=[YAWED_MOUNT])
+    agent = scene.agents[0]
+    for axis, sign in ((1, 1.0), (2, 1.0), (0, -1.0)):
+        scene.reset(keyframes="rest")
+        start = agent.frame_pose("panda_hand_tcp", relative_to="root")[0]
+        action = np.zeros(agent.controller.action_dim)
+        action[axis] = 0.05 * sign  # 5 mm per step, 10 cm over 1 s
+        action[-1] = 1.0
+        run(scene, action, scene.control_freq)
+        moved = agent.frame_pose("panda_hand_tcp", relative_to="root")[0, :3] - start[:3]
+        commanded = np.zeros(3)
+        commanded[axis] = 0.005 * sign * scene.control_freq
+        assert np.linalg.norm(moved - commanded) < 0.05 * np.linalg.norm(commanded), (axis, moved)
+        assert ee_part(agent).ik_success.all()
+    scene.close()
+
+
+@pytest.mark.parametrize(("mode", "accumulates"), [("pd_ee_delta_pos", False), ("pd_ee_target_delta_pos", True)])
+def test_target_variants_accumulate_and_others_do_not(mode: str, accumulates: bool) -> None:
+    """Pushing the hand down into the floor: the target of a target variant keeps
+    going down by the commanded step; a measured-pose variant stays one step ahead."""
+    scene = ra.Scene("panda", control_modes=mode)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    controller = ee_part(agent)
+    start = controller.target_pose[0, 2]
+    action = np.array([0.0, 0.0, -0.5, 1.0])  # 5 cm per step down
+    steps = 20
+    run(scene, action, steps)
+    measured = agent.frame_pose("panda_hand_tcp", relative_to="root")[0, 2]
+    assert measured > 0.0  # the floor (fingers on it) stopped the hand
+    if accumulates:
+        assert controller.target_pose[0, 2] == pytest.approx(start - 0.05 * steps, abs=1e-9)
+    else:
+        # One step below the pose measured at the last action.
+        assert -0.06 < controller.target_pose[0, 2] - measured < -0.04
+    assert not np.any(scene.world.instability_counts())
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- failure
+def test_unreachable_delta_target_reports_failure_and_stays_stable() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pos", robot_init_qpos_noise=0.0)
+    env.reset(seed=0)
+    agent = env.unwrapped.agent
+    step = 0.01  # m per action: 0.1 normalized
+    failures = 0
+    previous = agent.tcp_pose[0, :3]
+    for _ in range(60):  # 60 cm outward along +x: beyond the 855 mm reach
+        _, _, _, _, info = env.step(np.array([0.1, 0.0, 0.0, 1.0]))
+        assert info["ik_success"].shape == (1,) and info["ik_success"].dtype == bool
+        assert info["ik_position_error"].shape == (1,) and info["ik_rotation_error"].shape == (1,)
+        failures += int(not info["ik_success"][0])
+        now = agent.tcp_pose[0, :3]
+        assert np.all(np.isfinite(now))
+        assert np.linalg.norm(now - previous) <= step * 1.5  # never jumps more than the commanded step
+        previous = now
+        if not info["ik_success"][0]:
+            assert info["ik_position_error"][0] > 1e-3
+    assert failures > 10
+    assert not np.any(env.unwrapped.scene.world.instability_counts())
+    assert agent.is_static(0.5).all()
+    env.close()
+
+
+def test_unreachable_absolute_pose_reports_failure_and_stays_stable() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_pose", num_envs=2)
+    env.reset(seed=0)
+    reachable = np.array([0.5, 0.0, 0.4, math.pi, 0.0, 0.0, 0.04])
+    unreachable = np.array([1.1, 1.1, 1.2, math.pi, 0.0, 0.0, 0.04])
+    for _ in range(40):
+        _, _, _, _, info = env.step(np.stack([reachable, unreachable]))
+    assert info["ik_success"].tolist() == [True, False]
+    assert info["ik_position_error"][1] > 0.3
+    agent = env.unwrapped.agent
+    np.testing.assert_allclose(agent.tcp_pose[0, :3], reachable[:3], atol=2e-3)
+    assert np.all(np.isfinite(agent.qpos)) and not np.any(env.unwrapped.scene.world.instability_counts())
+    assert np.all(agent.qpos[:, :7] >= agent.qpos_limits[:7, 0] - 0.02)
+    env.close()
+
+
+def test_workspace_box_clips_targets() -> None:
+    box = WorkspaceBox(lower=(0.3, -0.2, 0.15), upper=(0.6, 0.2, 0.5))
+
+    class BoxedPanda(Panda):
+        uid = "test_boxed_panda"
+        default_control_mode = "ee"
+        control_modes = {
+            "ee": {
+                "arm": ee_control_modes(PANDA_ARM, replace(PANDA_TASK_SPACE, workspace=box))["pd_ee_target_delta_pos"],
+                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+            }
+        }
+
+    scene = ra.Scene(BoxedPanda)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    run(scene, np.array([1.0, 1.0, 1.0, 0.04]), 30)  # 3 m commanded along each axis
+    target = ee_part(agent).target_pose[0, :3]
+    np.testing.assert_allclose(target, box.upper, atol=1e-12)
+    np.testing.assert_allclose(agent.frame_pose("panda_hand_tcp", relative_to="root")[0, :3], box.upper, atol=2e-3)
+    run(scene, np.array([-1.0, -1.0, -1.0, 0.04]), 30)
+    np.testing.assert_allclose(ee_part(agent).target_pose[0, :3], box.lower, atol=1e-12)
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- formats
+def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
+    class QuatPanda(Panda):
+        uid = "test_quat_panda"
+        default_control_mode = "ee"
+        control_modes = {
+            "ee": {
+                "arm": replace(
+                    ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
+                    rotation_format=RotationFormat.QUAT,
+                ),
+                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+            }
+        }
+
+    scene = ra.Scene(QuatPanda)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    assert agent.controller.action_dim == 8
+    # The hand turned 0.5 rad about the vertical and tilted 0.2 rad from its rest orientation.
+    goal = quat_multiply(rotvec_to_quat(np.array([0.2, 0.0, 0.5])), ee_part(agent).target_pose[0, 3:])
+    action = np.concatenate([[0.45, 0.1, 0.35], 0.8 * goal, [0.04]])  # normalized by the controller
+    run(scene, action, 40)
+    pose = agent.frame_pose("panda_hand_tcp", relative_to="root")[0]
+    np.testing.assert_allclose(pose[:3], [0.45, 0.1, 0.35], atol=2e-3)
+    assert np.linalg.norm(rotation_error(pose[3:], goal)) < math.radians(1)
+    before = scene.get_state()
+    bad = action.copy()
+    bad[3:7] = 0.0
+    with pytest.raises(ra.ActionError, match="non-zero quaternion"):
+        agent.set_action(bad)
+    after = scene.get_state()
+    assert np.array_equal(before["physics"], after["physics"])
+    np.testing.assert_equal(before["agents"], after["agents"])
+    scene.close()
+
+
+def test_config_errors_are_clear() -> None:
+    with pytest.raises(ra.ConfigError, match="rotation deltas are rotation vectors"):
+        PDEEPoseConfig(joint_names=("a",), rotation_format=RotationFormat.QUAT)
+    with pytest.raises(ra.ConfigError, match="use_target=True needs use_delta=True"):
+        PDEEPoseConfig(joint_names=("a",), use_delta=False, use_target=True)
+    with pytest.raises(ra.ConfigError, match="translation_frame"):
+        PDEEPoseConfig(joint_names=("a",), translation_frame="ee")  # type: ignore[arg-type]
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'pd_ee_pose'"):
+        ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE, modes=("pd_ee_pos",))
+    with pytest.raises(ra.ConfigError, match="max_iterations"):
+        IKConfig(max_iterations=0)
+    with pytest.raises(ra.ConfigError, match="WorkspaceBox"):
+        WorkspaceBox(lower=(0.0, 0.0, 1.0), upper=(1.0, 1.0, 0.0))
+
+    class FingerIK(Panda):
+        uid = "test_finger_ik"
+        default_control_mode = "ee"
+        control_modes = {
+            "ee": replace(
+                ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_delta_pos"],  # type: ignore[type-var]
+                joint_names=(*PANDA_ARM.joint_names, "panda_finger_joint1"),
+            )
+        }
+
+    with pytest.raises(ra.ConfigError, match="'panda_finger_joint1' does not move"):
+        ra.Scene(FingerIK)
+
+    class WrongLink(Panda):
+        uid = "test_wrong_link"
+        default_control_mode = "ee"
+        control_modes = {
+            "ee": ee_control_modes(PANDA_ARM, replace(PANDA_TASK_SPACE, ee_link="panda_hnd"))["pd_ee_delta_pos"]
+        }
+
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda_hand'"):
+        ra.Scene(WrongLink)
+
+
+# ---------------------------------------------------------------------------- env
+def test_env_info_and_exact_state_round_trip_in_ee_mode() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_target_delta_pose", num_envs=3)
+    env.reset(seed=3)
+    rng = np.random.default_rng(3)
+    actions = rng.uniform(-0.3, 0.3, (12, 3, 7))
+    for action in actions[:4]:
+        env.step(action)
+    state = env.unwrapped.get_state()
+    first = []
+    for action in actions[4:]:
+        obs, _, _, _, info = env.step(action)
+        first.append((obs.copy(), info["ik_position_error"].copy()))
+    assert info["ik_success"].shape == (3,) and info["ik_success"].dtype == bool
+    env.unwrapped.set_state(state)
+    for (obs_a, err_a), action in zip(first, actions[4:], strict=True):
+        obs, _, _, _, info = env.step(action)
+        assert np.array_equal(obs, obs_a) and np.array_equal(info["ik_position_error"], err_a)
+    proprio = env.unwrapped.agent.get_proprioception()["controller"]["arm"]
+    assert proprio["target_ee_pose"].shape == (3, 7) and proprio["target_qpos"].shape == (3, 7)
+    env.close()

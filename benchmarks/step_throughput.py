@@ -16,8 +16,13 @@ same number of physics substeps per control step:
 - ``env xN``: env steps/s of all ``N`` envs together (``num_envs=N`` on all cores)
   and its ratio to the single-env ``raw const`` rate.
 
+End-effector control (``--ee``, on by default): env steps/s of ``pd_ee_delta_pose``
+against ``pd_joint_delta_pos`` on the same robot, timed in alternating blocks, and
+the IK success rate of ``pd_ee_delta_pose`` on 1000 random deltas over its whole
+action range (up to 10 cm and 0.1 rad per axis) applied from the ``rest`` keyframe.
+
 Env and raw loops run in alternating blocks so that machine noise hits both alike.
-Usage: ``python benchmarks/step_throughput.py [--rounds 20] [--block 50] [--num-envs 64]``.
+Usage: ``python benchmarks/step_throughput.py [--rounds 20] [--block 50] [--num-envs 64] [--no-joint]``.
 """
 
 from __future__ import annotations
@@ -148,11 +153,59 @@ def batched_env(mode: str, num_envs: int, rounds: int, block: int, rng: np.rando
     return const, rate * num_envs
 
 
+def ee_against_joint(rounds: int, block: int, rng: np.random.Generator) -> dict[str, float]:
+    """Env steps/s of pd_ee_delta_pose and pd_joint_delta_pos (num_envs=1), interleaved."""
+    rates: dict[str, float] = {}
+    envs = {mode: make(mode, 1) for mode in ("pd_joint_delta_pos", "pd_ee_delta_pose", "pd_ee_target_delta_pose")}
+    loops = []
+    for env in envs.values():
+        actions = small_actions(env, 64, rng)
+        counter = [0]
+
+        def loop(
+            count: int, env: ra.RobotEnv = env, actions: list[np.ndarray] = actions, counter: list[int] = counter
+        ) -> None:
+            for _ in range(count):
+                env.step(actions[counter[0] % len(actions)])
+                counter[0] += 1
+
+        loops.append(loop)
+    for mode, rate in zip(envs, interleaved(loops, rounds, block), strict=True):
+        rates[mode] = rate
+    for mode, env in envs.items():
+        failures = int(np.sum(~env.agent.controller.step_info().get("ik_success", np.ones(1, dtype=bool))))
+        if failures:
+            raise RuntimeError(f"{mode}: IK failed during the timing run; the actions are not small")
+        env.close()
+    return rates
+
+
+def ik_success_rate(count: int = 1000) -> tuple[float, float, float, float]:
+    """(success rate, mean DLS iterations, 99th-percentile position error (m), rotation
+    error (rad)) of one pd_ee_delta_pose step from ``rest`` for ``count`` random actions."""
+    env = ra.make_env(
+        "Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pose", num_envs=count, robot_init_qpos_noise=0.0
+    ).unwrapped
+    env.reset(seed=0, options={"keyframe": "rest"})
+    actions = np.random.default_rng(1).uniform(-1.0, 1.0, (count, env.agent.controller.action_dim))
+    _, _, _, _, info = env.step(actions)
+    iterations = env.agent.controller.parts["arm"]._result.iterations  # type: ignore[attr-defined]
+    env.close()
+    return (
+        float(np.mean(info["ik_success"])),
+        float(np.mean(iterations)),
+        float(np.percentile(info["ik_position_error"], 99)),
+        float(np.percentile(info["ik_rotation_error"], 99)),
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--rounds", type=int, default=20)
     parser.add_argument("--block", type=int, default=50, help="control steps per timed block")
     parser.add_argument("--num-envs", type=int, default=64)
+    parser.add_argument("--no-joint", action="store_true", help="skip the joint-mode table")
+    parser.add_argument("--no-ee", action="store_true", help="skip the end-effector comparison")
     args = parser.parse_args()
     probe = make("pd_joint_pos", 1)
     scene = probe.scene
@@ -168,11 +221,12 @@ def main() -> None:
         f"{'mode':<26} {'raw const':>9} {'raw replay':>10} {'env':>6} {'env/replay':>10} {'env/const':>9}"
         f" {f'env x{n}':>9} {'x' + str(n) + '/const':>9}"
     )
-    print("control steps/s" + " " * 12 + "(higher is better)")
-    print(header)
-    print("-" * len(header))
     rng = np.random.default_rng(0)
-    for mode in JOINT_MODES:
+    if not args.no_joint:
+        print("control steps/s" + " " * 12 + "(higher is better)")
+        print(header)
+        print("-" * len(header))
+    for mode in () if args.no_joint else JOINT_MODES:
         const, replay, env_rate = single_env(mode, args.rounds, args.block, rng)
         const_b, batch = batched_env(mode, n, max(2, args.rounds // 2), max(2, args.block // 5), rng)
         print(
@@ -180,6 +234,19 @@ def main() -> None:
             f" {batch:>9.0f} {batch / const_b:>8.2f}x",
             flush=True,
         )
+    if args.no_ee:
+        return
+    rates = ee_against_joint(args.rounds, args.block, rng)
+    joint = rates["pd_joint_delta_pos"]
+    print("\nend-effector vs joint control, num_envs=1 (env steps/s, interleaved)")
+    for mode, rate in rates.items():
+        print(f"{mode:<26} {rate:>6.0f}  {rate / joint:.2f}x of pd_joint_delta_pos")
+    success, iterations, position, rotation = ik_success_rate()
+    print(
+        f"\npd_ee_delta_pose IK from rest, 1000 random actions over the full range: success {100 * success:.1f}%, "
+        f"mean {iterations:.2f} DLS iterations, 99th percentile error {1000 * position:.3f} mm / "
+        f"{np.degrees(rotation):.3f} deg"
+    )
 
 
 if __name__ == "__main__":

@@ -19,9 +19,10 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.contacts import contact_force_between
-from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding, index_selector
+from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ActionError, ConfigError, ModelError, StateError, UnknownNameError
+from robot_agents.indexing import index_selector
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
 from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose

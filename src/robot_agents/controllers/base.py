@@ -21,6 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
 
 FloatArray = npt.NDArray[np.float64]
@@ -79,13 +80,6 @@ class JointBinding:
     @property
     def size(self) -> int:
         return len(self.joint_names)
-
-
-def index_selector(indices: IntArray) -> slice | IntArray:
-    """A slice equivalent to ``indices`` when they are consecutive and ascending, else the array."""
-    if len(indices) > 0 and np.all(np.diff(indices) == 1):
-        return slice(int(indices[0]), int(indices[-1]) + 1)
-    return indices
 
 
 def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:
@@ -232,9 +226,15 @@ class Controller(abc.ABC):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         """Like :meth:`set_action` for an action already clipped and de-normalized (:meth:`to_raw`)."""
 
+    @property
+    def checks_actions(self) -> bool:
+        """True when :meth:`check_raw_action` can reject an action within the bounds."""
+        return False
+
     def check_raw_action(self, raw: FloatArray) -> str | None:
         """Why a clipped, de-normalized action ``(num_envs, action_dim)`` cannot be applied,
-        or ``None`` when it can (e.g. a zero quaternion). Checked before anything is written."""
+        or ``None`` when it can (e.g. a zero quaternion). Checked before anything is
+        written, for controllers whose :attr:`checks_actions` is true."""
         return None
 
     def step_info(self) -> dict[str, npt.NDArray[np.generic]]:

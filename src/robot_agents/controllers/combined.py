@@ -47,9 +47,7 @@ class CombinedController:
             self._scale = np.where(normalized, (raw_high - raw_low) / 2, 1.0)
             self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
-        self._checked = [
-            (name, c) for name, c in self.parts.items() if type(c).check_raw_action is not Controller.check_raw_action
-        ]
+        self._checked = [(name, c) for name, c in self.parts.items() if c.checks_actions]
         self._reporting = [c for c in self.parts.values() if type(c).step_info is not Controller.step_info]
 
     @property

@@ -44,16 +44,10 @@ from robot_agents.controllers.base import (
 from robot_agents.controllers.joint import UNLIMITED_FORCE
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.forward import FrameKind, FrameRef
-from robot_agents.kinematics.ik import IKConfig, IKSolver
-from robot_agents.kinematics.rotations import (
-    pose_multiply,
-    quat_multiply,
-    quat_normalize,
-    quat_rotate,
-    relative_pose,
-    rotvec_to_quat,
-)
+from robot_agents.kinematics.ik import IKConfig, IKResult, IKSolver
+from robot_agents.kinematics.rotations import compose_into, relative_pose_into, rotvec_to_quat_into
 
+BoolArray = npt.NDArray[np.bool_]
 #: A scalar for x, y and z, or one value per axis.
 PerAxis = float | tuple[float, float, float]
 
@@ -238,10 +232,17 @@ class PDEEController(Controller):
         self.target_qpos = np.zeros((num_envs, n))
         #: Target tool pose in the root frame, ``(num_envs, 7)``.
         self.target_pose = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
-        self.ik_success = np.ones(num_envs, dtype=bool)
-        self.ik_position_error = np.zeros(num_envs)
-        self.ik_rotation_error = np.zeros(num_envs)
-        self._frames = (frame, self.root_frame)
+        self._result = IKResult(
+            qpos=np.zeros((num_envs, n)),
+            success=np.ones(num_envs, dtype=bool),
+            position_error=np.zeros(num_envs),
+            rotation_error=np.zeros(num_envs),
+            iterations=np.zeros(num_envs, dtype=np.int64),
+        )
+        self._rotate_about_root = not (isinstance(config, PDEEPoseConfig) and config.rotation_frame is CommandFrame.EE)
+        # Per-env scratch poses.
+        self._tool, self._root, self._measured = np.empty(7), np.empty(7), np.empty(7)
+        self._target, self._world_target, self._turn = np.empty(7), np.empty(7), np.empty(4)
 
     @staticmethod
     def _check_chain(model: mujoco.MjModel, binding: JointBinding, frame: FrameRef, owner: str) -> None:
@@ -272,6 +273,10 @@ class PDEEController(Controller):
                 high.append(_axes(name, "rot_upper", self.config.rot_upper))
         return np.concatenate(low), np.concatenate(high)
 
+    @property
+    def checks_actions(self) -> bool:
+        return self.quaternion_input
+
     def check_raw_action(self, raw: FloatArray) -> str | None:
         if not self.quaternion_input:
             return None
@@ -290,49 +295,60 @@ class PDEEController(Controller):
         kv = per_joint(name, "damping", self.config.damping, n)
         return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
 
-    def _measured(self, qpos: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Tool pose in the root frame and the root's world pose, each ``(k, 7)``."""
-        poses = self.kinematics.poses(qpos, self._frames)
-        root = poses[:, 1]
-        return relative_pose(poses[:, 0], root), root
+    def _measure(self, configuration: FloatArray) -> None:
+        """Forward kinematics of one env: world poses of the root (``self._root``) and the
+        tool, and the tool in the root frame (``self._measured``)."""
+        kinematics = self.kinematics
+        kinematics.load(configuration)
+        kinematics.loaded_pose(self.ee_frame, self._tool)
+        kinematics.loaded_pose(self.root_frame, self._root)
+        relative_pose_into(self._measured, self._tool, self._root)
 
-    def _target_pose(self, raw: FloatArray, measured: FloatArray) -> FloatArray:
+    def _set_target(self, raw: FloatArray, base: FloatArray, out: FloatArray) -> None:
+        """Target tool pose ``(7,)`` in the root frame from one env's action and base pose."""
         cfg = self.config
+        turn = self._turn
         if cfg.use_delta:
-            base = self.target_pose if cfg.use_target else measured
-            translation = raw[:, :3]
             if cfg.translation_frame is CommandFrame.EE:
-                translation = quat_rotate(base[:, 3:], translation)
-            position = base[:, :3] + translation
+                mujoco.mju_rotVecQuat(out[:3], raw[:3], base[3:])
+                out[:3] += base[:3]
+            else:
+                np.add(base[:3], raw[:3], out=out[:3])
             if self.rotation:
-                turn = rotvec_to_quat(raw[:, 3:6])
-                rotation_frame = cfg.rotation_frame if isinstance(cfg, PDEEPoseConfig) else CommandFrame.ROOT
-                if rotation_frame is CommandFrame.ROOT:
-                    quat = quat_multiply(turn, base[:, 3:])
+                rotvec_to_quat_into(turn, raw[3:6])
+                if self._rotate_about_root:
+                    mujoco.mju_mulQuat(out[3:], turn, base[3:])
                 else:
-                    quat = quat_multiply(base[:, 3:], turn)
-            else:
-                quat = self.target_pose[:, 3:]
+                    mujoco.mju_mulQuat(out[3:], base[3:], turn)
         else:
-            position = raw[:, :3]
-            if not self.rotation:
-                quat = self.target_pose[:, 3:]
-            elif self.quaternion_input:
-                quat = raw[:, 3:7]
-            else:
-                quat = rotvec_to_quat(raw[:, 3:6])
+            out[:3] = raw[:3]
+            if self.quaternion_input:
+                out[3:] = raw[3:7]
+            elif self.rotation:
+                rotvec_to_quat_into(out[3:], raw[3:6])
         if self._workspace is not None:
-            position = np.clip(position, self._workspace[0], self._workspace[1])
-        return np.concatenate((position, quat_normalize(quat)), axis=1)
+            np.clip(out[:3], self._workspace[0], self._workspace[1], out=out[:3])
+        mujoco.mju_normalize4(out[3:])
+        if out[3] < 0.0:  # one sign per orientation
+            out[3:] *= -1.0
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         cfg = self.config
         qpos = sim.qpos
         measured_q = qpos[:, self.binding.qpos_sel]
-        measured_pose, root = self._measured(qpos)
-        target = self._target_pose(raw, measured_pose)
-        start = self.target_qpos if (cfg.use_target or not cfg.use_delta) else measured_q
-        result = self.solver.solve(qpos, pose_multiply(root, target), start)
+        from_target = cfg.use_target or not cfg.use_delta
+        start = self.target_qpos.copy() if from_target else np.array(measured_q)
+        target, world_target, result = self._target, self._world_target, self._result
+        for env in range(self.num_envs):
+            self._measure(qpos[env])
+            base = self.target_pose[env] if cfg.use_target else self._measured
+            if not self.rotation:
+                target[3:] = self.target_pose[env, 3:]  # position modes hold the orientation
+            self._set_target(raw[env], base, target)
+            compose_into(world_target, self._root, target)
+            # Non-target deltas start IK at the measured joints, which _measure just loaded.
+            self.solver.solve_one(qpos[env], world_target, start[env], result, env, loaded=not from_target)
+            self.target_pose[env] = target
         solution = result.qpos
         if cfg.feedforward:
             # Mean position and velocity of the straight joint path start -> solution over
@@ -342,24 +358,39 @@ class PDEEController(Controller):
         else:
             ctrl = solution
         sim.ctrl[:, self.binding.ctrl_sel] = ctrl
-        self.target_qpos = solution
-        self.target_pose = target
-        self.ik_success = result.success
-        self.ik_position_error = result.position_error
-        self.ik_rotation_error = result.rotation_error
+        self.target_qpos[:] = solution
 
     # -- lifecycle ------------------------------------------------------------------------
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
-        qpos = sim.qpos[env_ids]
-        measured_q = qpos[:, self.binding.qpos_adr]
-        pose, _ = self._measured(qpos)
-        pose[:, 3:] = quat_normalize(pose[:, 3:])
-        self.target_pose[env_ids] = pose
+        qpos = sim.qpos
+        for env in env_ids:
+            self._measure(qpos[env])
+            self.target_pose[env] = self._measured
+            if self.target_pose[env, 3] < 0.0:
+                self.target_pose[env, 3:] *= -1.0
+        measured_q = qpos[env_ids][:, self.binding.qpos_adr]
         self.target_qpos[env_ids] = measured_q
-        self.ik_success[env_ids] = True
-        self.ik_position_error[env_ids] = 0.0
-        self.ik_rotation_error[env_ids] = 0.0
+        result = self._result
+        result.qpos[env_ids] = measured_q
+        result.success[env_ids] = True
+        result.position_error[env_ids] = 0.0
+        result.rotation_error[env_ids] = 0.0
         sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured_q
+
+    @property
+    def ik_success(self) -> BoolArray:
+        """Whether the last IK solve met its tolerances, per env ``(num_envs,)`` (a view)."""
+        return self._result.success
+
+    @property
+    def ik_position_error(self) -> FloatArray:
+        """Position error (m) the last IK solve left, per env ``(num_envs,)`` (a view)."""
+        return self._result.position_error
+
+    @property
+    def ik_rotation_error(self) -> FloatArray:
+        """Rotation error (rad) the last IK solve left, per env ``(num_envs,)`` (a view)."""
+        return self._result.rotation_error
 
     def observe(self) -> dict[str, FloatArray]:
         return {"target_qpos": self.target_qpos, "target_ee_pose": self.target_pose}
@@ -381,11 +412,11 @@ class PDEEController(Controller):
         }
 
     def set_state(self, state: dict[str, FloatArray]) -> None:
-        self.target_qpos = np.array(state["target_qpos"], dtype=np.float64)
-        self.target_pose = np.array(state["target_ee_pose"], dtype=np.float64)
-        self.ik_success = np.asarray(state["ik_success"]) > 0.5
-        self.ik_position_error = np.array(state["ik_position_error"], dtype=np.float64)
-        self.ik_rotation_error = np.array(state["ik_rotation_error"], dtype=np.float64)
+        self.target_qpos[:] = state["target_qpos"]
+        self.target_pose[:] = state["target_ee_pose"]
+        self._result.success[:] = np.asarray(state["ik_success"]) > 0.5
+        self._result.position_error[:] = state["ik_position_error"]
+        self._result.rotation_error[:] = state["ik_rotation_error"]
 
     def describe(self) -> str:
         cfg = self.config

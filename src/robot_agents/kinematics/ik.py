@@ -32,8 +32,8 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics
-from robot_agents.kinematics.rotations import rotation_error
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -154,7 +154,17 @@ class IKSolver:
                 raise ConfigError(
                     f"IKSolver({frame.name}): expected rest_qpos of {n} values, got {self.rest_qpos.size}."
                 )
+        self._qpos_sel = index_selector(self.qpos_adr)
+        self._dof_sel = index_selector(self.dof_adr)
+        # Scratch buffers of the per-env descent.
         self._pose = np.empty(7)
+        self._error = np.empty(6)
+        self._systems = {3: np.empty((3, 3)), 6: np.empty((6, 6))}
+        self._damping = {rows: self.config.damping**2 * np.eye(rows) for rows in (3, 6)}
+        self._solution = np.empty(6)
+        self._jacobian = np.empty((6, n))
+        self._conjugate = np.empty(4)
+        self._difference = np.empty(4)
 
     @property
     def size(self) -> int:
@@ -183,108 +193,122 @@ class IKSolver:
                 generator, so results are deterministic). Use it for global targets;
                 controllers use 0, since another IK branch means a large motion.
         """
-        result = self._solve_local(context_qpos, target, seed, position_only, max_iterations)
-        if restarts <= 0 or result.success.all():
-            return result
-        rng = np.random.default_rng(0)
+        num_envs = len(seed)
+        result = IKResult(
+            qpos=np.empty((num_envs, self.size)),
+            success=np.empty(num_envs, dtype=bool),
+            position_error=np.empty(num_envs),
+            rotation_error=np.empty(num_envs),
+            iterations=np.zeros(num_envs, dtype=np.int64),
+        )
+        rng: np.random.Generator | None = None
         low = np.where(np.isfinite(self.lower), self.lower, -np.pi)
         high = np.where(np.isfinite(self.upper), self.upper, np.pi)
-        qpos, success = result.qpos.copy(), result.success.copy()
-        position_error, rotation_error_ = result.position_error.copy(), result.rotation_error.copy()
-        iterations = result.iterations.copy()
-        for _ in range(restarts):
-            failed = np.flatnonzero(~success)
-            if len(failed) == 0:
-                break
-            random_seed = rng.uniform(low, high, (len(failed), self.size))
-            retry = self._solve_local(context_qpos[failed], target[failed], random_seed, position_only, max_iterations)
-            iterations[failed] += retry.iterations
-            better = retry.success | (retry.position_error < position_error[failed]) & ~success[failed]
-            chosen = failed[better]
-            qpos[chosen] = retry.qpos[better]
-            success[chosen] = retry.success[better]
-            position_error[chosen] = retry.position_error[better]
-            rotation_error_[chosen] = retry.rotation_error[better]
-        return IKResult(qpos, success, position_error, rotation_error_, iterations)
+        for env in range(num_envs):
+            self.solve_one(context_qpos[env], target[env], seed[env], result, env, position_only, max_iterations)
+            best = (result.qpos[env].copy(), result.position_error[env], result.rotation_error[env])
+            for _ in range(restarts if not result.success[env] else 0):
+                rng = rng or np.random.default_rng(0)
+                used = result.iterations[env]
+                self.solve_one(
+                    context_qpos[env], target[env], rng.uniform(low, high), result, env, position_only, max_iterations
+                )
+                result.iterations[env] += used
+                if result.success[env]:
+                    break
+                if result.position_error[env] >= best[1]:  # keep the closest failure
+                    result.qpos[env], result.position_error[env], result.rotation_error[env] = best
+                else:
+                    best = (result.qpos[env].copy(), result.position_error[env], result.rotation_error[env])
+        return result
 
-    def _solve_local(
+    def solve_one(
         self,
-        context_qpos: FloatArray,
+        context: FloatArray,
         target: FloatArray,
         seed: FloatArray,
-        position_only: bool,
-        max_iterations: int | None,
-    ) -> IKResult:
-        """One DLS descent from ``seed`` (see :meth:`solve`)."""
+        out: IKResult,
+        row: int,
+        position_only: bool = False,
+        max_iterations: int | None = None,
+        loaded: bool = False,
+    ) -> None:
+        """One DLS descent for one env, written into row ``row`` of ``out``.
+
+        ``context`` ``(nq,)``, ``target`` ``(7,)`` world pose, ``seed`` ``(n,)``. With
+        ``loaded``, the kinematics' scratch data already holds ``context`` (whose chain
+        joints equal ``seed``) with positions computed, and the first forward pass is
+        skipped. Runs per env with MuJoCo's C helpers: on problems this small numpy's
+        per-call overhead, not arithmetic, dominates, and per-env results do not depend
+        on the batch size.
+        """
         cfg = self.config
-        iterations_allowed = cfg.max_iterations if max_iterations is None else int(max_iterations)
-        num_envs, n = seed.shape[0], self.size
+        iterations = cfg.max_iterations if max_iterations is None else int(max_iterations)
+        kinematics, frame, dof_sel = self.kinematics, self.frame, self._dof_sel
+        model, data = kinematics.model, kinematics.data
+        if not loaded:
+            data.qpos[:] = context
         rows = 3 if position_only else 6
-        q = np.clip(np.asarray(seed, dtype=np.float64), self.lower, self.upper)
-        best_q = q.copy()
-        best_cost = np.full(num_envs, np.inf)
-        best_position_error = np.full(num_envs, np.inf)
-        best_rotation_error = np.full(num_envs, np.inf)
-        iterations = np.zeros(num_envs, dtype=np.int64)
-        active = np.ones(num_envs, dtype=bool)
-        configuration = np.array(context_qpos, dtype=np.float64)
-        poses = np.empty((num_envs, 7))
-        jacobian = np.zeros((num_envs, 6, n))
-        target_position, target_quat = target[:, :3], target[:, 3:]
-        weight = cfg.rotation_weight
-        damping_sq = cfg.damping**2
-        kinematics, frame, qpos_adr, dof_adr = self.kinematics, self.frame, self.qpos_adr, self.dof_adr
-        for iteration in range(iterations_allowed + 1):
-            envs = np.flatnonzero(active)
-            for env in envs:
-                row = configuration[env]
-                row[qpos_adr] = q[env]
-                kinematics.load(row)
-                kinematics.loaded_pose(frame, poses[env])
-                jacp, jacr = kinematics.loaded_jacobian(frame)
-                jacobian[env, :3] = jacp[:, dof_adr]
-                jacobian[env, 3:] = jacr[:, dof_adr]
-            position_error = target_position[envs] - poses[envs, :3]
-            position_norm = np.linalg.norm(position_error, axis=1)
+        q = np.minimum(np.maximum(seed, self.lower), self.upper)
+        if loaded and not (q == seed).all():  # a seed past a (soft) limit was clipped
+            loaded = False
+            data.qpos[:] = context
+        best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf
+        pose, error = self._pose, self._error
+        system, solution = self._systems[rows], self._solution[:rows]
+        jacobian, task = self._jacobian[:rows], error[:rows]
+        conjugate, difference = self._conjugate, self._difference
+        target_position, target_quat = target[:3], target[3:]
+        weight, damping, max_task = cfg.rotation_weight, self._damping[rows], cfg.max_task_step
+        tol_position, tol_rotation = cfg.position_tolerance, cfg.rotation_tolerance
+        done = 0
+        for iteration in range(iterations + 1):
+            if iteration or not loaded:
+                data.qpos[self._qpos_sel] = q
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_comPos(model, data)
+            kinematics.loaded_pose(frame, pose)
+            np.subtract(target_position, pose[:3], out=error[:3])
+            position_norm = math.sqrt(error[:3] @ error[:3])
             if position_only:
-                rotation_vec = np.zeros((len(envs), 3))
-                rotation_norm = np.zeros(len(envs))
+                rotation_norm = 0.0
             else:
-                rotation_vec = rotation_error(target_quat[envs], poses[envs, 3:])
-                rotation_norm = np.linalg.norm(rotation_vec, axis=1)
-            cost = np.maximum(position_norm / cfg.position_tolerance, rotation_norm / cfg.rotation_tolerance)
-            better = cost < best_cost[envs]
-            improved = envs[better]
-            best_cost[improved] = cost[better]
-            best_q[improved] = q[improved]
-            best_position_error[improved] = position_norm[better]
-            best_rotation_error[improved] = rotation_norm[better]
-            converged = cost <= 1.0
-            active[envs[converged]] = False
-            if iteration == iterations_allowed or not active.any():
+                mujoco.mju_negQuat(conjugate, pose[3:])
+                mujoco.mju_mulQuat(difference, target_quat, conjugate)
+                mujoco.mju_quat2Vel(error[3:], difference, 1.0)
+                rotation_norm = math.sqrt(error[3:] @ error[3:])
+            cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
+            if cost < best_cost:
+                best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
+            if cost <= 1.0 or iteration == iterations:
                 break
-            keep = ~converged
-            envs = envs[keep]
-            error = np.concatenate((position_error[keep], weight * rotation_vec[keep]), axis=1)[:, :rows]
-            size = np.linalg.norm(error, axis=1, keepdims=True)
-            error *= np.minimum(1.0, cfg.max_task_step / np.maximum(size, 1e-300))
-            jac = jacobian[envs, :rows].copy()
+            jacp, jacr = kinematics.loaded_jacobian(frame)
+            jacobian[:3] = jacp[:, dof_sel]
             if not position_only:
-                jac[:, 3:] *= weight
-            jac_t = np.swapaxes(jac, 1, 2)
-            system = jac @ jac_t + damping_sq * np.eye(rows)
-            step = (jac_t @ np.linalg.solve(system, error[..., None]))[..., 0]
+                np.multiply(jacr[:, dof_sel], weight, out=jacobian[3:])
+                error[3:] *= weight
+            size = math.sqrt(task @ task)
+            if size > max_task:
+                task *= max_task / size
+            np.matmul(jacobian, jacobian.T, out=system)
+            system += damping
+            mujoco.mju_cholFactor(system, 0.0)
+            mujoco.mju_cholSolve(solution, system, task)
+            step = jacobian.T @ solution
             if cfg.null_space_gain > 0:
-                pull = cfg.null_space_gain * (self.rest_qpos - q[envs])
-                projected = jac_t @ np.linalg.solve(system, (jac @ pull[..., None]))
-                step += pull - projected[..., 0]
-            largest = np.max(np.abs(step), axis=1, keepdims=True)
-            step *= np.minimum(1.0, cfg.max_step / np.maximum(largest, 1e-300))
-            q[envs] = np.clip(q[envs] + step, self.lower, self.upper)
-            iterations[envs] += 1
-        success = (best_position_error <= cfg.position_tolerance) & (
-            position_only | (best_rotation_error <= cfg.rotation_tolerance)
-        )
-        if position_only:
-            best_rotation_error = np.zeros(num_envs)
-        return IKResult(best_q, success, best_position_error, best_rotation_error, iterations)
+                pull = cfg.null_space_gain * (self.rest_qpos - q)
+                np.matmul(jacobian, jacobian.T, out=system)
+                system += damping
+                mujoco.mju_cholFactor(system, 0.0)
+                mujoco.mju_cholSolve(solution, system, jacobian @ pull)
+                step += pull - jacobian.T @ solution
+            largest = float(np.abs(step).max())
+            if largest > cfg.max_step:
+                step *= cfg.max_step / largest
+            q = np.minimum(np.maximum(q + step, self.lower), self.upper)
+            done += 1
+        out.qpos[row] = best_q
+        out.position_error[row] = best_position
+        out.rotation_error[row] = 0.0 if position_only else best_rotation
+        out.success[row] = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
+        out.iterations[row] = done

@@ -19,13 +19,20 @@ if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
 
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
+    CommandFrame,
     JointGroup,
     PassiveConfig,
+    PDEEPosConfig,
+    PDEEPoseConfig,
     PDJointPosConfig,
     PDJointPosMimicConfig,
     PDJointPosVelConfig,
     PDJointVelConfig,
+    RotationFormat,
+    TaskSpace,
+    WorkspaceBox,
     combine_parts,
+    ee_control_modes,
     joint_control_modes,
 )
 from robot_agents.envs import make_env
@@ -40,6 +47,7 @@ from robot_agents.errors import (
     UnknownNameError,
 )
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics import IKConfig, IKSolver, Kinematics
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
@@ -51,12 +59,18 @@ __all__ = [
     "ActionError",
     "Agent",
     "BatchedWorld",
+    "CommandFrame",
     "ConfigError",
     "FrictionMaterial",
+    "IKConfig",
+    "IKSolver",
     "JointGroup",
     "Keyframe",
+    "Kinematics",
     "MediaError",
     "ModelError",
+    "PDEEPosConfig",
+    "PDEEPoseConfig",
     "PDJointPosConfig",
     "PDJointPosMimicConfig",
     "PDJointPosVelConfig",
@@ -66,10 +80,14 @@ __all__ = [
     "RegistryError",
     "RobotAgentsError",
     "RobotEnv",
+    "RotationFormat",
     "Scene",
     "StateError",
+    "TaskSpace",
     "UnknownNameError",
+    "WorkspaceBox",
     "combine_parts",
+    "ee_control_modes",
     "get_agent",
     "joint_control_modes",
     "list_agents",

@@ -303,7 +303,7 @@ def test_unreachable_delta_target_reports_failure_and_stays_stable() -> None:
         failures += int(not info["ik_success"][0])
         now = agent.tcp_pose[0, :3]
         assert np.all(np.isfinite(now))
-        assert np.linalg.norm(now - previous) <= step * 1.5  # never jumps more than the commanded step
+        assert np.linalg.norm(now - previous) <= step * 1.1  # no jump beyond the commanded step (2.4 % seen)
         previous = now
         if not info["ik_success"][0]:
             assert info["ik_position_error"][0] > 1e-3

@@ -222,7 +222,9 @@ class PDEEController(Controller):
         )
         self.control_timestep = context.control_timestep
         kp, _, bias_v, _ = self.gains()
-        self._velocity_to_position = -bias_v / kp  # kv / kp (s)
+        velocity_to_position = -bias_v / kp  # kv / kp (s)
+        self._start_weight = 0.5 - velocity_to_position / self.control_timestep
+        self._solution_weight = 0.5 + velocity_to_position / self.control_timestep
         self._workspace = (
             (np.asarray(config.workspace.lower, dtype=np.float64), np.asarray(config.workspace.upper, dtype=np.float64))
             if config.workspace is not None
@@ -340,21 +342,29 @@ class PDEEController(Controller):
         start = self.target_qpos.copy() if from_target else np.array(measured_q)
         target, world_target, result = self._target, self._world_target, self._result
         for env in range(self.num_envs):
-            self._measure(qpos[env])
+            if from_target:
+                # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
+                configuration = qpos[env].copy()
+                configuration[self.binding.qpos_sel] = start[env]
+                self.kinematics.load(configuration)
+                self.kinematics.loaded_pose(self.root_frame, self._root)
+            else:
+                configuration = qpos[env]
+                self._measure(configuration)
             base = self.target_pose[env] if cfg.use_target else self._measured
             if not self.rotation:
                 target[3:] = self.target_pose[env, 3:]  # position modes hold the orientation
             self._set_target(raw[env], base, target)
             compose_into(world_target, self._root, target)
-            # Non-target deltas start IK at the measured joints, which _measure just loaded.
-            self.solver.solve_one(qpos[env], world_target, start[env], result, env, loaded=not from_target)
+            # The scratch data holds `configuration` (IK's start) with its kinematics done.
+            self.solver.solve_one(configuration, world_target, start[env], result, env, loaded=True)
             self.target_pose[env] = target
         solution = result.qpos
         if cfg.feedforward:
             # Mean position and velocity of the straight joint path start -> solution over
-            # one control step (the actuator holds ctrl constant across the substeps).
-            velocity = (solution - start) / self.control_timestep
-            ctrl = 0.5 * (start + solution) + self._velocity_to_position * velocity
+            # one control step (the actuator holds ctrl constant across the substeps):
+            # (start + solution) / 2 + (kv / kp) (solution - start) / dt.
+            ctrl = self._start_weight * start + self._solution_weight * solution
         else:
             ctrl = solution
         sim.ctrl[:, self.binding.ctrl_sel] = ctrl

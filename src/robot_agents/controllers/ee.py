@@ -360,13 +360,10 @@ class PDEEController(Controller):
             self.solver.solve_one(configuration, world_target, start[env], result, env, loaded=True)
             self.target_pose[env] = target
         solution = result.qpos
-        if cfg.feedforward:
-            # Mean position and velocity of the straight joint path start -> solution over
-            # one control step (the actuator holds ctrl constant across the substeps):
-            # (start + solution) / 2 + (kv / kp) (solution - start) / dt.
-            ctrl = self._start_weight * start + self._solution_weight * solution
-        else:
-            ctrl = solution
+        # With feed-forward: the mean position and velocity of the straight joint path
+        # start -> solution over one control step (the actuator holds ctrl constant over
+        # the substeps), (start + solution) / 2 + (kv / kp) (solution - start) / dt.
+        ctrl = self._start_weight * start + self._solution_weight * solution if cfg.feedforward else solution
         sim.ctrl[:, self.binding.ctrl_sel] = ctrl
         self.target_qpos[:] = solution
 

@@ -452,3 +452,25 @@ def test_env_info_and_exact_state_round_trip_in_ee_mode() -> None:
     proprio = env.unwrapped.agent.get_proprioception()["controller"]["arm"]
     assert proprio["target_ee_pose"].shape == (3, 7) and proprio["target_qpos"].shape == (3, 7)
     env.close()
+
+
+def test_two_robots_report_ik_per_robot_and_partial_reset_keeps_other_targets() -> None:
+    env = ra.make_env(
+        "Empty-v1", robot_uids=("panda", "panda_stick"), control_mode="pd_ee_target_delta_pose", num_envs=2
+    )
+    env.reset(seed=0)
+    ids = env.unwrapped.scene.robot_ids
+    actions = {ids[0]: np.full(7, 0.2), ids[1]: np.full(6, 0.2)}
+    for _ in range(3):
+        _, _, _, _, info = env.step(actions)
+    for rid in ids:
+        assert info[f"{rid}/ik_success"].shape == (2,) and info[f"{rid}/ik_success"].all()
+        assert f"{rid}/ik_position_error" in info and f"{rid}/ik_rotation_error" in info
+    stick = ee_part(env.unwrapped.agents[1])
+    moved = stick.target_pose.copy()
+    env.reset(options={"env_ids": [0]})
+    assert np.array_equal(stick.target_pose[1], moved[1])  # env 1 keeps its accumulated target
+    np.testing.assert_allclose(
+        stick.target_pose[0, :3], env.unwrapped.agents[1].frame_pose("panda_stick_tcp", relative_to="root")[0, :3]
+    )
+    env.close()

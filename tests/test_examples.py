@@ -22,10 +22,22 @@ def test_define_robot_example_runs() -> None:
     assert result.stdout.startswith("qpos [")
 
 
+def test_ee_square_example_traces_the_square() -> None:
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "ee_square.py")], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert len(lines) == 4 and all(line.endswith("IK solved every step: True") for line in lines)
+    moved = [np.array(re.findall(r"[-+]\d+\.\d+", line.split("moved")[1])[:3], dtype=float) for line in lines]
+    expected = [(100, 0, 0), (0, 100, 0), (-100, 0, 0), (0, -100, 0)]
+    np.testing.assert_allclose(moved, expected, atol=2.0)  # mm
+
+
 def test_readme_python_blocks_run() -> None:
     readme = (ROOT / "README.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
-    assert len(blocks) >= 2
+    assert len(blocks) >= 3
     namespace: dict[str, object] = {}
     exec(compile(blocks[0], "README block 1", "exec"), namespace)
     assert namespace["obs"].shape == (4, 34)  # type: ignore[attr-defined]
@@ -36,3 +48,7 @@ def test_readme_python_blocks_run() -> None:
         np.testing.assert_allclose(scene.agents[0].qpos[0], [0.0, 0.5])
     finally:
         ra.unregister_agent("two_link_arm")
+    ee: dict[str, object] = {"ra": ra}
+    exec(compile(blocks[2], "README block 3", "exec"), ee)
+    assert ee["info"]["ik_success"].shape == (4,)  # type: ignore[index]
+    assert ee["agent"].frame_jacobian("panda_hand_tcp").shape == (4, 6, 9)  # type: ignore[attr-defined]

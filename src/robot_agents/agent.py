@@ -323,7 +323,8 @@ class Agent:
     def _body_pose(self, body_id: int) -> FloatArray:
         if self.num_envs == 1:
             data = self.world.datas[0]
-            return np.concatenate((data.xpos[body_id], data.xquat[body_id])).reshape(1, 7)
+            single: FloatArray = np.concatenate((data.xpos[body_id], data.xquat[body_id])).reshape(1, 7)
+            return single
         pose = np.empty((self.num_envs, 7))
         for row, data in zip(pose, self.world.datas, strict=True):
             row[:3] = data.xpos[body_id]

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.media.gif import write_gif
@@ -76,11 +77,11 @@ def run_demo(
     renderer = mujoco.Renderer(scene.model, height=size[1], width=size[0])
     camera = _framing_camera(scene, agent)
     record_every = max(1, round(scene.control_freq / fps))
-    frames: list[np.ndarray] = []
+    frames: list[npt.NDArray[np.uint8]] = []
     peak_speed = 0.0
     step_count = 0
 
-    def advance(target: np.ndarray | None) -> None:
+    def advance(target: npt.NDArray[np.float64] | None) -> None:
         nonlocal peak_speed, step_count
         if target is not None:
             agent.set_action(target)
@@ -155,7 +156,7 @@ def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
     return camera
 
 
-def _action_for(agent: Agent, qpos_target: np.ndarray) -> np.ndarray:
+def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """The ``pd_joint_pos`` action (per part) that commands ``qpos_target`` (shape ``(dof,)``)."""
     parts = []
     for controller in agent.controller.parts.values():

@@ -231,9 +231,9 @@ class PDEEController(Controller):
             else None
         )
         n, num_envs = binding.size, context.num_envs
-        self.target_qpos = np.zeros((num_envs, n))
+        self.target_qpos: FloatArray = np.zeros((num_envs, n))
         #: Target tool pose in the root frame, ``(num_envs, 7)``.
-        self.target_pose = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
+        self.target_pose: FloatArray = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
         self._result = IKResult(
             qpos=np.zeros((num_envs, n)),
             success=np.ones(num_envs, dtype=bool),

@@ -127,8 +127,8 @@ class PDJointPosController(Controller):
         self.binding = binding
         self.config = config
         super().__init__(config, binding, num_envs)
-        self.target_qpos = np.zeros((num_envs, n))
-        self._previous_target = np.zeros((num_envs, n))
+        self.target_qpos: FloatArray = np.zeros((num_envs, n))
+        self._previous_target: FloatArray = np.zeros((num_envs, n))
         # Hot-path constants, resolved once.
         self._lower_limit = binding.qpos_range[:, 0].copy()
         self._upper_limit = binding.qpos_range[:, 1].copy()
@@ -230,7 +230,7 @@ class PDJointVelController(Controller):
 
     def __init__(self, config: PDJointVelConfig, binding: JointBinding, num_envs: int) -> None:
         super().__init__(config, binding, num_envs)
-        self.target_qvel = np.zeros((num_envs, binding.size))
+        self.target_qvel: FloatArray = np.zeros((num_envs, binding.size))
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         name, n = type(self.config).__name__, self.binding.size
@@ -292,7 +292,7 @@ class PDJointPosVelController(PDJointPosController):
 
     def __init__(self, config: PDJointPosVelConfig, binding: JointBinding, num_envs: int) -> None:
         super().__init__(config, binding, num_envs)
-        self.target_qvel = np.zeros((num_envs, binding.size))
+        self.target_qvel: FloatArray = np.zeros((num_envs, binding.size))
         kp, _, bias_v, _ = self.gains()
         self._velocity_to_position = -bias_v / kp  # kv / kp (s)
 

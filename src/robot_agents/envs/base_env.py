@@ -232,13 +232,15 @@ class RobotEnv(gym.Env[Any, Any]):
                     self.max_episode_steps is not None and self.elapsed_steps[0] >= self.max_episode_steps
                 )
                 return self._get_obs(), 0.0, False, bool(truncated_single), info
-            reward, terminated = np.zeros(self.num_envs), np.zeros(self.num_envs, dtype=bool)
+            reward: FloatArray = np.zeros(self.num_envs)
+            terminated: npt.NDArray[np.bool_] = np.zeros(self.num_envs, dtype=bool)
         else:
             info = self.evaluate()
             reward = self.compute_reward(info)
             terminated = self._terminated(info)
             info["elapsed_steps"] = self.elapsed_steps.copy()
             self._add_controller_info(info)
+        truncated: npt.NDArray[np.bool_]
         if self.max_episode_steps is None:
             truncated = np.zeros(self.num_envs, dtype=bool)
         else:

@@ -103,7 +103,8 @@ def _threshold_map(height: int, width: int) -> npt.NDArray[np.intp]:
     """Bayer threshold index (0..15) of every pixel, shape (height, width)."""
     rows = np.arange(height) % 4
     cols = np.arange(width) % 4
-    return _BAYER4[rows[:, None], cols[None, :]]
+    pattern: npt.NDArray[np.intp] = _BAYER4[rows[:, None], cols[None, :]]
+    return pattern
 
 
 def _quantize(frame: npt.NDArray[np.uint8], tmap: npt.NDArray[np.intp]) -> npt.NDArray[np.uint8]:

@@ -10,12 +10,11 @@ Quick tour::
 
 from __future__ import annotations
 
-import os
-import sys
+from robot_agents.gl_backend import configure as _configure_gl
 
-# Offscreen rendering without a display: prefer EGL unless the user chose a backend.
-if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
-    os.environ.setdefault("MUJOCO_GL", "egl")
+# Before anything imports mujoco, which reads MUJOCO_GL once: without a display,
+# EGL if it works here, else OSMesa (see robot_agents.gl_backend).
+_configure_gl()
 
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
@@ -28,13 +27,14 @@ from robot_agents.controllers import (
     combine_parts,
     joint_control_modes,
 )
-from robot_agents.envs import make_env
+from robot_agents.envs import RobotEnv, make_env
 from robot_agents.errors import (
     ActionError,
     ConfigError,
     MediaError,
     ModelError,
     RegistryError,
+    RenderError,
     RobotAgentsError,
     StateError,
     UnknownNameError,
@@ -43,6 +43,7 @@ from robot_agents.keyframe import Keyframe
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
+from robot_agents.sensors import CameraConfig, SegmentationEntry, TouchSensorConfig
 from robot_agents.sim import BatchedWorld, Scene
 
 __version__ = "0.1.0"
@@ -51,6 +52,7 @@ __all__ = [
     "ActionError",
     "Agent",
     "BatchedWorld",
+    "CameraConfig",
     "ConfigError",
     "FrictionMaterial",
     "JointGroup",
@@ -64,10 +66,13 @@ __all__ = [
     "PassiveConfig",
     "Prop",
     "RegistryError",
+    "RenderError",
     "RobotAgentsError",
     "RobotEnv",
     "Scene",
+    "SegmentationEntry",
     "StateError",
+    "TouchSensorConfig",
     "UnknownNameError",
     "combine_parts",
     "get_agent",

@@ -121,13 +121,14 @@ DEFAULT_PROBES: Mapping[str, Probe] = {"pyopengl": probe_pyopengl, "egl": probe_
 
 
 def select_backend(
-    environ: Mapping[str, str], platform: str = sys.platform, probes: Mapping[str, Probe] | None = None
+    environ: Mapping[str, str], platform: str | None = None, probes: Mapping[str, Probe] | None = None
 ) -> BackendChoice:
     """Decide the backend (pure: reads ``environ``, runs the probes, sets nothing).
 
     ``probes`` maps ``"pyopengl"``, ``"egl"``, ``"osmesa"`` to functions returning
     ``None`` (usable) or what is missing; tests pass failing ones.
     """
+    platform = sys.platform if platform is None else platform
     chosen = environ.get("MUJOCO_GL", "").strip()
     if chosen:
         return BackendChoice(chosen.lower(), "MUJOCO_GL was set before robot_agents was imported")

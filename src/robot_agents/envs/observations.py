@@ -88,6 +88,7 @@ class SensorObservation:
             )
         self.rig = rig
         self.mode = mode
+        rig.prepare()  # a missing OpenGL backend fails here, before any episode
         self._max_id = max(rig.model.nbody - 1, 0)
         self._rays = {}
         if mode.pointcloud:

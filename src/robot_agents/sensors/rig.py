@@ -93,6 +93,14 @@ class CameraRig:
         ``cam2world_gl`` ``(N, 4, 4)`` (float64); see :mod:`.camera_params`."""
         return {key: camera_params(datas, self._ids[key], self._intrinsics[key]) for key in self.cameras}
 
+    def prepare(self) -> None:
+        """Create the OpenGL contexts now (one per image size), so that a missing
+        backend raises :class:`~robot_agents.errors.RenderError` here, not mid-episode."""
+        if self._renderer is None:
+            self._renderer = CameraRenderer(self.model)
+        for camera in self.cameras.values():
+            self._renderer.prepare(camera.config.width, camera.config.height)
+
     def capture(
         self, datas: Sequence[mujoco.MjData], textures: Iterable[str] = ("rgb",)
     ) -> dict[str, dict[str, npt.NDArray[np.generic]]]:

@@ -94,7 +94,6 @@ class CameraRenderer:
         self.model = model
         self.option = mujoco.MjvOption()  # geom groups 0-2: visual geoms, not collision or sites
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
-        self._seg_raw: dict[tuple[int, int], npt.NDArray[np.int32]] = {}
         self._lookup = SegmentationLookup(model)
 
     def prepare(self, width: int, height: int) -> None:
@@ -138,11 +137,8 @@ class CameraRenderer:
                 renderer.disable_depth_rendering()
                 depth[depth > config.far * (1.0 - FAR_SNAP)] = config.far
             if segmentation is not None:
-                raw = self._seg_raw.get((width, height))
-                if raw is None:
-                    raw = self._seg_raw[(width, height)] = np.empty((height, width, 2), dtype=np.int32)
                 renderer.enable_segmentation_rendering()
-                renderer.render(out=raw)
+                raw = renderer.render()  # (H, W, 2): object id, type (no `out` before MuJoCo 3.4)
                 renderer.disable_segmentation_rendering()
                 self._lookup.body_ids(raw, segmentation)
 

@@ -155,3 +155,25 @@ def test_broken_libraries_end_to_end(tmp_path: Path) -> None:
         "apt-get install libosmesa6",
     ):
         assert fragment in message, message
+
+
+MUJOCO_FIRST = """
+import mujoco  # before robot_agents, with MUJOCO_GL unset: MuJoCo binds GLFW, which needs a display
+import robot_agents as ra
+from robot_agents import gl_backend
+choice = gl_backend.current_choice()
+assert choice.backend in ("egl", "osmesa") and "reloaded" in choice.reason, choice
+env = ra.make_env("Empty-v1", robot_uids="panda_wristcam", obs_mode="rgb", sensor_configs={"base_camera": None})
+obs, _ = env.reset(seed=0)
+print(obs["sensor_data"]["hand_camera"]["rgb"].shape, obs["sensor_data"]["hand_camera"]["rgb"].std() > 5)
+"""
+
+
+def test_importing_mujoco_first_still_renders_headless() -> None:
+    env = {
+        k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY", "WAYLAND_DISPLAY")
+    }
+    env["PYTHONPATH"] = os.pathsep.join([str(Path(ra.__file__).parents[1]), env.get("PYTHONPATH", "")])
+    result = subprocess.run([sys.executable, "-c", MUJOCO_FIRST], env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "(1, 128, 128, 3) True"

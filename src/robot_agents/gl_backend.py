@@ -11,6 +11,11 @@ platform). So ``import robot_agents`` decides first, in this order:
    (a GPU driver, or Mesa's software device); otherwise **OSMesa** if ``libOSMesa.so``
    loads. Both need PyOpenGL.
 
+If ``mujoco`` was imported first (with ``MUJOCO_GL`` unset, so it bound GLFW) and no
+OpenGL binding is loaded yet, the choice is still applied: MuJoCo's small GL-context
+module is reloaded under the new ``MUJOCO_GL``. Once PyOpenGL is loaded its platform
+is fixed, and the process keeps what it has.
+
 The probes only load the libraries and enumerate EGL devices (about 2 ms); creating a
 full context would cost ~0.2 s on every import, even for state-only use. When the
 chosen backend still fails to create a context, or when nothing was found,
@@ -24,6 +29,8 @@ This module must not import ``mujoco``.
 from __future__ import annotations
 
 import ctypes
+import dataclasses
+import importlib
 import importlib.util
 import os
 import sys
@@ -160,15 +167,37 @@ def configure(environ: MutableMapping[str, str] | None = None) -> BackendChoice:
     if _CHOICE is not None:
         return _CHOICE
     env = os.environ if environ is None else environ
-    if "mujoco" in sys.modules:
+    late = "mujoco" in sys.modules
+    if late and (env.get("MUJOCO_GL") or "OpenGL" in sys.modules):
         current = env.get("MUJOCO_GL") or None
         _CHOICE = BackendChoice(current, "mujoco was imported before robot_agents; it keeps the MUJOCO_GL of then")
         return _CHOICE
     choice = select_backend(env)
     if choice.backend is not None and not env.get("MUJOCO_GL"):
         env["MUJOCO_GL"] = choice.backend
+        if late:
+            problem = reload_mujoco_gl_context()
+            note = "; mujoco was imported first: its GL context module was reloaded"
+            choice = dataclasses.replace(
+                choice, reason=choice.reason + note, problems=choice.problems + ((problem,) if problem else ())
+            )
     _CHOICE = choice
     return choice
+
+
+def reload_mujoco_gl_context() -> str | None:
+    """Re-run MuJoCo's backend selection (its ``gl_context`` module, read by
+    ``mujoco.Renderer`` when it is created) under the current ``MUJOCO_GL``; returns
+    what went wrong, if anything."""
+    for name in ("mujoco.rendering.classic.gl_context", "mujoco.gl_context"):  # MuJoCo >= 3.4, then older
+        module = sys.modules.get(name)
+        if module is not None and hasattr(module, "GLContext"):
+            try:
+                importlib.reload(module)
+            except Exception as err:  # an import error of the backend; reported, never raised
+                return f"reloading {name} with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} failed: {err}"
+            return None
+    return "no MuJoCo gl_context module to reload"
 
 
 def current_choice() -> BackendChoice:

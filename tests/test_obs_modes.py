@@ -3,7 +3,9 @@ ManiSkill's, and the spaces contain the observations."""
 
 from __future__ import annotations
 
+import re
 import warnings
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -106,3 +108,13 @@ def test_state_modes_render_nothing() -> None:
     env.reset(seed=0)
     env.step(np.zeros(8))
     assert env.unwrapped.scene.cameras._renderer is None  # no OpenGL context was made
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/sensors.md"])
+def test_documented_camera_example_runs(doc: str) -> None:
+    """The first camera example of the README and of docs/sensors.md runs as written."""
+    text = (Path(__file__).resolve().parents[1] / doc).read_text()
+    block = next(b for b in re.findall(r"```python\n(.*?)```", text, flags=re.S) if "sensor_data" in b)
+    namespace: dict[str, Any] = {"ra": ra}
+    exec(compile(block, f"{doc} camera example", "exec"), namespace)
+    assert namespace["obs"]["sensor_data"]["hand_camera"]["rgb"].shape == (1, 256, 256, 3)

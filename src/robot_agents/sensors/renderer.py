@@ -33,6 +33,15 @@ from robot_agents.sensors.segmentation import SegmentationLookup
 FloatArray = npt.NDArray[np.float64]
 #: Depth within this fraction of ``far`` reads exactly ``far`` (nothing seen).
 FAR_SNAP = 1e-4
+#: Shadow-map texels per image pixel of sensor cameras, and the bounds of its side.
+SHADOW_TEXELS_PER_PIXEL = 8
+SHADOW_SIZE_RANGE = (512, 4096)
+
+
+def shadow_size_for(width: int, height: int) -> int:
+    """Side (pixels) of a sensor camera's shadow map: 1024 for 128 x 128 images."""
+    low, high = SHADOW_SIZE_RANGE
+    return min(high, max(low, SHADOW_TEXELS_PER_PIXEL * max(width, height)))
 
 
 def make_renderer(
@@ -104,9 +113,8 @@ class CameraRenderer:
         key = (width, height)
         renderer = self._renderers.get(key)
         if renderer is None:
-            shadow_size = min(4096, max(512, 8 * max(width, height)))
             renderer = self._renderers[key] = make_renderer(
-                self.model, width, height, multisample=False, shadow_size=shadow_size
+                self.model, width, height, multisample=False, shadow_size=shadow_size_for(width, height)
             )
         return renderer
 

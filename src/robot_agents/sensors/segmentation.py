@@ -16,6 +16,8 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.errors import ModelError
+
 #: Segmentation id of pixels that show nothing.
 BACKGROUND_ID = -1
 SEGMENTATION_DTYPE = np.int16
@@ -62,6 +64,11 @@ class SegmentationLookup:
     """Turns MuJoCo's per-pixel ``(object id, object type)`` into body ids."""
 
     def __init__(self, model: mujoco.MjModel) -> None:
+        if model.nbody > np.iinfo(SEGMENTATION_DTYPE).max:
+            raise ModelError(
+                f"SegmentationLookup: the scene has {model.nbody} bodies; int16 segmentation ids hold at most "
+                f"{np.iinfo(SEGMENTATION_DTYPE).max}."
+            )
         # A trailing -1 makes object id -1 (background) map to -1 by negative indexing.
         self._geom = np.append(model.geom_bodyid, BACKGROUND_ID).astype(SEGMENTATION_DTYPE)
         self._site = np.append(model.site_bodyid, BACKGROUND_ID).astype(SEGMENTATION_DTYPE)

@@ -67,6 +67,7 @@ def test_user_choice_and_displays_are_respected() -> None:
     with_display = gl_backend.select_backend({"DISPLAY": ":0"}, "linux", never)
     assert with_display.backend is None and not with_display.headless_failed
     assert gl_backend.select_backend({}, "darwin", never).backend is None
+    assert gl_backend.select_backend({"PYOPENGL_PLATFORM": "osmesa"}, "linux", never).backend == "osmesa"
 
 
 def test_configure_exports_the_choice_once(monkeypatch: pytest.MonkeyPatch) -> None:

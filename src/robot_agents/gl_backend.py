@@ -4,7 +4,8 @@ MuJoCo reads the ``MUJOCO_GL`` environment variable once, when ``mujoco`` is imp
 and its choice cannot be changed afterwards in the same process (PyOpenGL binds one
 platform). So ``import robot_agents`` decides first, in this order:
 
-1. ``MUJOCO_GL`` already set: the user's choice is kept.
+1. ``MUJOCO_GL`` already set: the user's choice is kept (likewise a headless
+   ``PYOPENGL_PLATFORM`` of ``egl`` or ``osmesa``, which MuJoCo's context must match).
 2. A display (``DISPLAY`` / ``WAYLAND_DISPLAY``), or not Linux: nothing is set; MuJoCo
    uses its platform default (GLFW, CGL, WGL).
 3. Headless Linux: **EGL** if ``libEGL.so.1`` loads and offers at least one EGL device
@@ -143,6 +144,9 @@ def select_backend(
         return BackendChoice(None, f"platform {platform!r}: MuJoCo's default OpenGL context")
     if environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY"):
         return BackendChoice(None, "a display is available: MuJoCo's default (GLFW)")
+    platform_gl = environ.get("PYOPENGL_PLATFORM", "").strip().lower()
+    if platform_gl in ("egl", "osmesa"):  # MuJoCo's context must match PyOpenGL's platform
+        return BackendChoice(platform_gl, f"PYOPENGL_PLATFORM={platform_gl} was set before robot_agents was imported")
     probes = DEFAULT_PROBES if probes is None else probes
     gl = probes["pyopengl"]()
     if gl is not None:

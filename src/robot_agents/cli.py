@@ -92,9 +92,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
-    info = sub.add_parser("info", help="joints, keyframes and control modes of a robot")
+    info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
     info.add_argument("uid")
-    demo = sub.add_parser("demo", help="move a robot through its keyframes and write a GIF")
+    demo = sub.add_parser(
+        "demo", help="move a robot through its keyframes and write a GIF (its cameras beside the scene)"
+    )
     demo.add_argument("uid", nargs="?", default="panda")
     demo.add_argument("--output", "-o", default=None, help="GIF path (default: <uid>_demo.gif)")
     demo.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per pose")

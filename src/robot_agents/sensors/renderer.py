@@ -146,7 +146,7 @@ class CameraRenderer:
                 depth[depth > config.far * (1.0 - FAR_SNAP)] = config.far
             if segmentation is not None:
                 renderer.enable_segmentation_rendering()
-                raw = renderer.render()  # (H, W, 2): object id, type (no `out` before MuJoCo 3.4)
+                raw = renderer.render()  # (H, W, 2): object id, type; MuJoCo 3.3 takes no (H, W, 2) `out`
                 renderer.disable_segmentation_rendering()
                 self._lookup.body_ids(raw, segmentation)
 

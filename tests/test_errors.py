@@ -256,8 +256,8 @@ def test_scene_argument_errors() -> None:
         ra.Scene("pand")
     with pytest.raises(ra.ConfigError, match="one mode per robot"):
         ra.Scene(["panda", "panda"], control_modes=["pd_joint_pos"])
-    with pytest.raises(ra.UnknownNameError, match="obs_mode"):
-        ra.make_env("Empty-v1", obs_mode="rgbd")
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'rgbd'"):
+        ra.make_env("Empty-v1", obs_mode="rgbdd")
 
 
 def test_bad_controller_state_rejected(env) -> None:  # type: ignore[no-untyped-def]

@@ -10,12 +10,11 @@ Quick tour::
 
 from __future__ import annotations
 
-import os
-import sys
+from robot_agents.gl_backend import configure as _configure_gl
 
-# Offscreen rendering without a display: prefer EGL unless the user chose a backend.
-if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
-    os.environ.setdefault("MUJOCO_GL", "egl")
+# Before anything imports mujoco, which reads MUJOCO_GL once: without a display,
+# EGL if it works here, else OSMesa (see robot_agents.gl_backend).
+_configure_gl()
 
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
@@ -35,13 +34,14 @@ from robot_agents.controllers import (
     ee_control_modes,
     joint_control_modes,
 )
-from robot_agents.envs import make_env
+from robot_agents.envs import RobotEnv, make_env
 from robot_agents.errors import (
     ActionError,
     ConfigError,
     MediaError,
     ModelError,
     RegistryError,
+    RenderError,
     RobotAgentsError,
     StateError,
     UnknownNameError,
@@ -51,6 +51,7 @@ from robot_agents.kinematics import IKConfig, IKSolver, Kinematics
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
+from robot_agents.sensors import CameraConfig, SegmentationEntry, TouchSensorConfig
 from robot_agents.sim import BatchedWorld, Scene
 
 __version__ = "0.1.0"
@@ -59,6 +60,7 @@ __all__ = [
     "ActionError",
     "Agent",
     "BatchedWorld",
+    "CameraConfig",
     "CommandFrame",
     "ConfigError",
     "FrictionMaterial",
@@ -78,12 +80,15 @@ __all__ = [
     "PassiveConfig",
     "Prop",
     "RegistryError",
+    "RenderError",
     "RobotAgentsError",
     "RobotEnv",
     "RotationFormat",
     "Scene",
+    "SegmentationEntry",
     "StateError",
     "TaskSpace",
+    "TouchSensorConfig",
     "UnknownNameError",
     "WorkspaceBox",
     "combine_parts",

@@ -29,6 +29,9 @@ from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose
 from robot_agents.model import robot_spec
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.spec import add_cameras, add_touch_sensors
+from robot_agents.sensors.touch import TouchReader, TouchSensorConfig
 
 if TYPE_CHECKING:
     from robot_agents.sim.world import BatchedWorld
@@ -70,6 +73,9 @@ class Agent:
         tcp_link: body name of the tool centre point, if the robot has a tool.
         finger_links: ``(left, right)`` finger bodies used by :meth:`is_grasping`.
         gripper_joint_names: joints ignored by :meth:`is_static`.
+        cameras: :class:`CameraConfig` per camera mounted on a link (moves with it).
+        touch_sensors: :class:`TouchSensorConfig` per touch sensor (normal force, N;
+            read as ``touch`` in the proprioception).
     """
 
     uid: ClassVar[str] = ""
@@ -87,6 +93,8 @@ class Agent:
     tcp_link: ClassVar[str | None] = None
     finger_links: ClassVar[tuple[str, str] | None] = None
     gripper_joint_names: ClassVar[tuple[str, ...]] = ()
+    cameras: ClassVar[tuple[CameraConfig, ...]] = ()
+    touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
 
     # ------------------------------------------------------------------ declaration
     @classmethod
@@ -145,10 +153,20 @@ class Agent:
         for key, frame in cls.keyframes.items():
             if not isinstance(frame, Keyframe):
                 raise ConfigError(f"{name}.keyframes[{key!r}]: expected a Keyframe, got {frame!r}.")
+        for attr, kind in (("cameras", CameraConfig), ("touch_sensors", TouchSensorConfig)):
+            uids: set[str] = set()
+            for entry in getattr(cls, attr):
+                if not isinstance(entry, kind):
+                    raise ConfigError(f"{name}.{attr}: expected {kind.__name__} entries, got {entry!r}.")
+                if entry.uid in uids:
+                    raise ConfigError(f"{name}.{attr}: two entries have the uid {entry.uid!r}.")
+                uids.add(entry.uid)
 
     @classmethod
-    def build_spec(cls) -> mujoco.MjSpec:
-        """A fresh MjSpec of this robot with every declared option applied."""
+    def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+        """A fresh MjSpec of this robot with every declared option applied.
+
+        ``cameras`` replaces the declared :attr:`cameras` (an env's overrides)."""
         cls.validate_definition()
         where = f"{cls.__name__} ({cls.model_path()})"
         spec = load_model_spec(cls.model_path())
@@ -158,6 +176,8 @@ class Agent:
         robot_spec.set_materials(spec, cls.link_materials, cls.default_material, where)
         robot_spec.set_self_collisions(spec, cls.disable_self_collisions, cls.self_collision_exclusions, where)
         robot_spec.add_joint_actuators(spec, cls.controlled_joints(), where)
+        add_cameras(spec, cls.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
+        add_touch_sensors(spec, cls.touch_sensors, f"{cls.__name__}.touch_sensors")
         return spec
 
     # ------------------------------------------------------------------ binding
@@ -236,6 +256,7 @@ class Agent:
             prefix=prefix,
             owner=name,
         )
+        self.touch_reader = TouchReader(model, prefix, self.touch_sensors)
         self._controllers: dict[str, CombinedController] = {}
         self.controller: CombinedController
         #: True when the active controller needs :meth:`before_substep` every substep.
@@ -319,6 +340,11 @@ class Agent:
         if self.tcp_body_id < 0:
             raise ConfigError(f"{type(self).__name__}: this robot declares no tcp_link.")
         return self._body_pose(self.tcp_body_id)
+
+    @property
+    def touch(self) -> FloatArray:
+        """Normal force (N) of each of :attr:`touch_sensors`, shape ``(num_envs, n)``."""
+        return self.touch_reader.read(self.world.datas)
 
     def _body_pose(self, body_id: int) -> FloatArray:
         if self.num_envs == 1:
@@ -563,10 +589,14 @@ class Agent:
         return pose
 
     def get_proprioception(self) -> dict[str, Any]:
-        """``qpos`` and ``qvel`` ``(num_envs, dof)`` and, per part, what the controller
-        exposes (its current ``target_qpos`` / ``target_qvel``)."""
+        """``qpos`` and ``qvel`` ``(num_envs, dof)``, per part what the controller
+        exposes (its current ``target_qpos`` / ``target_qvel``) and, with touch sensors,
+        ``touch`` ``(num_envs, n)`` (N)."""
         controller = {part: {k: v.copy() for k, v in obs.items()} for part, obs in self.controller.observe().items()}
-        return {"qpos": self.qpos, "qvel": self.qvel, "controller": controller}
+        proprioception: dict[str, Any] = {"qpos": self.qpos, "qvel": self.qvel, "controller": controller}
+        if self.touch_sensors:
+            proprioception["touch"] = self.touch
+        return proprioception
 
     def proprioception_arrays(self) -> list[FloatArray]:
         """:meth:`get_proprioception` as a flat list of ``(num_envs, k)`` arrays, in order
@@ -575,6 +605,8 @@ class Agent:
         arrays = [world.qpos[:, self._qpos_sel], world.qvel[:, self._dof_sel]]
         for controller in self.controller.parts.values():
             arrays.extend(controller.observe().values())
+        if self.touch_sensors:
+            arrays.append(self.touch)
         return arrays
 
     def get_state(self) -> dict[str, Any]:

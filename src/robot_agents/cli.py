@@ -7,6 +7,7 @@ import sys
 from collections.abc import Sequence
 from typing import TextIO
 
+from robot_agents.agent import Agent
 from robot_agents.errors import RobotAgentsError
 from robot_agents.registry import get_agent, list_agents
 
@@ -59,9 +60,24 @@ def cmd_info(uid: str, out: TextIO) -> int:
             [mode + (" (default)" if mode == cls.default_mode() else ""), str(agent.controller.action_dim), parts]
         )
     _table(rows, out)
-    out.write("\nsensors: none\n")
+    out.write("\n" + "\n".join(_sensor_lines(cls)) + "\n")
     scene.close()
     return 0
+
+
+def _sensor_lines(cls: type[Agent]) -> list[str]:
+    """One line per declared camera and touch sensor (``sensors: none`` without any)."""
+    lines = []
+    for camera in cls.cameras:
+        projection = f"fovy {camera.vertical_fov():.1f} deg" + (", intrinsic K" if camera.intrinsic else "")
+        lines.append(
+            f"  camera {camera.uid} on {camera.mount}: {camera.width}x{camera.height}, {projection}, "
+            f"near {camera.near:g} m, far {camera.far:g} m"
+        )
+    for touch in cls.touch_sensors:
+        where = f"site {touch.site}" if touch.site else f"{touch.shape} site on {touch.link}"
+        lines.append(f"  touch {touch.uid} on {where} (normal force, N)")
+    return ["sensors:", *lines] if lines else ["sensors: none"]
 
 
 def cmd_demo(uid: str, output: str, seconds: float, out: TextIO) -> int:
@@ -76,9 +92,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
-    info = sub.add_parser("info", help="joints, keyframes and control modes of a robot")
+    info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
     info.add_argument("uid")
-    demo = sub.add_parser("demo", help="move a robot through its keyframes and write a GIF")
+    demo = sub.add_parser(
+        "demo", help="move a robot through its keyframes and write a GIF (its cameras beside the scene)"
+    )
     demo.add_argument("uid", nargs="?", default="panda")
     demo.add_argument("--output", "-o", default=None, help="GIF path (default: <uid>_demo.gif)")
     demo.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per pose")

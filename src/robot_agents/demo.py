@@ -2,11 +2,13 @@
 
 The robot goes through each of its keyframes under joint position control (targets
 moved smoothly between poses), then waves its joints about the first keyframe; the
-scene camera records an animated GIF and the run is summarised.
+scene camera records an animated GIF and the run is summarised. A robot with cameras
+shows what each of them sees beside the scene view, at the same height.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +20,8 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.media.gif import write_gif
 from robot_agents.registry import get_agent
+from robot_agents.sensors.renderer import make_renderer
+from robot_agents.sensors.rig import CameraRig
 from robot_agents.sim.scene import Scene
 
 DEMO_MODE = "pd_joint_pos"
@@ -74,8 +78,9 @@ def run_demo(
     scene = Scene(cls, control_modes=mode)
     agent = scene.agents[0]
     scene.reset()
-    renderer = mujoco.Renderer(scene.model, height=size[1], width=size[0])
+    renderer = make_renderer(scene.model, size[0], size[1])
     camera = _framing_camera(scene, agent)
+    robot_views = _robot_views(scene, size[1])
     record_every = max(1, round(scene.control_freq / fps))
     frames: list[npt.NDArray[np.uint8]] = []
     peak_speed = 0.0
@@ -91,7 +96,11 @@ def run_demo(
         peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
         if step_count % record_every == 0:
             renderer.update_scene(scene.world.datas[0], camera=camera)
-            frames.append(renderer.render().copy())
+            panels = [renderer.render().copy()]
+            if robot_views is not None:
+                views = robot_views.capture(scene.world.datas[:1], ("rgb",))
+                panels += [images["rgb"][0] for images in views.values()]
+            frames.append(np.concatenate(panels, axis=1))
         step_count += 1
 
     steps_per_pose = max(1, round(seconds_per_pose * scene.control_freq))
@@ -123,6 +132,8 @@ def run_demo(
             target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
             advance(_action_for(agent, target))
     renderer.close()
+    if robot_views is not None:
+        robot_views.close()
     finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
     path = write_gif(output, frames, fps=scene.control_freq / record_every)
     summary = DemoSummary(
@@ -139,6 +150,18 @@ def run_demo(
     )
     scene.close()
     return summary
+
+
+def _robot_views(scene: Scene, height: int) -> CameraRig | None:
+    """The robot's own cameras, resized to ``height`` pixels (aspect kept), or ``None``."""
+    cameras = [
+        dataclasses.replace(
+            c, config=c.config.resized(max(1, round(c.config.width * height / c.config.height)), height)
+        )
+        for c in scene.cameras.cameras.values()
+        if c.robot is not None
+    ]
+    return CameraRig(scene.model, cameras) if cameras else None
 
 
 def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:

@@ -60,6 +60,10 @@ class ConfigError(RobotAgentsError, ValueError):
     """An invalid robot, controller or environment configuration."""
 
 
+class RenderError(RobotAgentsError, RuntimeError):
+    """Offscreen rendering is unavailable: no usable OpenGL backend (EGL / OSMesa)."""
+
+
 def close_names(given: str, available: Iterable[str], n: int = 3) -> list[str]:
     """The up to ``n`` names in ``available`` closest to ``given`` (best first)."""
     names = list(available)

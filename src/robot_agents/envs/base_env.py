@@ -18,12 +18,16 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.model.scene import Prop
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.overrides import SensorOverrides
+from robot_agents.sensors.renderer import make_renderer
+from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, DEFAULT_SIM_FREQ, RobotSpecifier, Scene
 
 FloatArray = npt.NDArray[np.float64]
-OBS_MODES = ("state", "state_dict")
 
 
 def _to_float32(tree: Any) -> Any:
@@ -48,7 +52,9 @@ class RobotEnv(gym.Env[Any, Any]):
         num_envs: parallel copies (``>= 1``).
         control_mode: a mode name for every robot, or one per robot; default: each
             robot's default mode.
-        obs_mode: ``"state"`` (flat float32 array ``(num_envs, D)``) or ``"state_dict"``.
+        obs_mode: ``"state"`` (flat float32 array ``(num_envs, D)``), ``"state_dict"``, or
+            a camera mode: ``"sensor_data"``, ``"rgb"``, ``"depth"``, ``"rgbd"``,
+            ``"segmentation"``, ``"pointcloud"`` (see ``docs/sensors.md``).
         sim_freq / control_freq: physics / control rates in Hz.
         render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
         render_size: ``(width, height)`` of rendered frames in pixels.
@@ -56,9 +62,12 @@ class RobotEnv(gym.Env[Any, Any]):
         robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
             keyframe, drawn from the env's seeded RNG.
         num_threads: stepping threads for ``num_envs > 1``.
+        sensor_configs: camera overrides by camera key, e.g.
+            ``{"hand_camera": {"width": 256, "height": 256}}``, or ``{"base_camera": None}``
+            to drop a camera; unknown keys and fields raise.
 
-    Subclasses override :meth:`_scene_props`, :meth:`compute_reward`,
-    :meth:`evaluate` and :meth:`_extra_obs`.
+    Subclasses override :meth:`_scene_props`, :meth:`_scene_cameras`,
+    :meth:`compute_reward`, :meth:`evaluate` and :meth:`_extra_obs`.
     """
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
@@ -77,9 +86,9 @@ class RobotEnv(gym.Env[Any, Any]):
         max_episode_steps: int | None = -1,
         robot_init_qpos_noise: float = 0.02,
         num_threads: int | None = None,
+        sensor_configs: SensorOverrides | None = None,
     ) -> None:
-        if obs_mode not in OBS_MODES:
-            raise UnknownNameError(type(self).__name__, "obs_mode", str(obs_mode), OBS_MODES)
+        mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
         if not (isinstance(robot_init_qpos_noise, (int, float)) and robot_init_qpos_noise >= 0):
@@ -94,10 +103,13 @@ class RobotEnv(gym.Env[Any, Any]):
             props=self._scene_props(),
             control_modes=control_mode,
             num_threads=num_threads,
+            cameras=self._scene_cameras(),
+            sensor_configs=sensor_configs,
         )
         self.num_envs = self.scene.num_envs
         self.sim_freq, self.control_freq = self.scene.sim_freq, self.scene.control_freq
         self.obs_mode = obs_mode
+        self._sensor_obs = SensorObservation(self.scene.cameras, mode, type(self).__name__) if mode.visual else None
         self.render_mode = render_mode
         self.render_size = (int(render_size[0]), int(render_size[1]))
         self.max_episode_steps = self.default_max_episode_steps if max_episode_steps == -1 else max_episode_steps
@@ -110,11 +122,15 @@ class RobotEnv(gym.Env[Any, Any]):
             type(self).evaluate is RobotEnv.evaluate and type(self).compute_reward is RobotEnv.compute_reward
         )
         self.action_space = self._build_action_space()
-        self.observation_space = _space_for(self._get_obs())
+        self.observation_space = self._build_observation_space()
 
     # ------------------------------------------------------------------ task hooks
     def _scene_props(self) -> Sequence[Prop]:
         """Props of the task's scene."""
+        return ()
+
+    def _scene_cameras(self) -> Sequence[CameraConfig]:
+        """The task's cameras, mounted on ``"world"`` or a scene body."""
         return ()
 
     def compute_reward(self, info: Mapping[str, Any]) -> FloatArray:
@@ -150,6 +166,12 @@ class RobotEnv(gym.Env[Any, Any]):
         return self.scene.world.datas[0]
 
     @property
+    def segmentation_id_map(self) -> dict[int, SegmentationEntry]:
+        """Segmentation id -> the robot link or scene object it stands for (``-1``:
+        background)."""
+        return dict(self.scene.cameras.segmentation_id_map)
+
+    @property
     def single_action_space(self) -> gym.Space[Any]:
         if len(self.agents) == 1:
             return self.agent.single_action_space
@@ -167,9 +189,15 @@ class RobotEnv(gym.Env[Any, Any]):
         action and observation spaces (the controller's targets are observed)."""
         self.agents[robot].set_control_mode(mode)
         self.action_space = self._build_action_space()
-        self.observation_space = _space_for(self._get_obs())  # controller targets differ per mode
+        self.observation_space = self._build_observation_space()  # controller targets differ per mode
 
     # ------------------------------------------------------------------ observations
+    def _build_observation_space(self) -> gym.Space[Any]:
+        if self._sensor_obs is None:
+            return _space_for(self._get_obs())
+        state = _space_for(self._state_dict_obs())
+        return gym.spaces.Dict({**state.spaces, **self._sensor_obs.spaces(self.num_envs)})  # type: ignore[attr-defined]
+
     def _get_obs(self) -> Any:
         if self.obs_mode == "state":
             arrays: list[FloatArray] = []
@@ -179,6 +207,12 @@ class RobotEnv(gym.Env[Any, Any]):
                     arrays.append(agent.tcp_pose)
             arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
             return np.concatenate(arrays, axis=1, dtype=np.float32)
+        obs = self._state_dict_obs()
+        if self._sensor_obs is not None:
+            obs.update(self._sensor_obs.observe(self.scene.world.datas))
+        return obs
+
+    def _state_dict_obs(self) -> dict[str, Any]:
         agents = {rid: a.get_proprioception() for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)}
         extra = {
             f"{rid}/tcp_pose": a.tcp_pose
@@ -191,7 +225,7 @@ class RobotEnv(gym.Env[Any, Any]):
             extra = {
                 k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()
             }
-        return _to_float32({"agent": agent_obs, "extra": extra})
+        return dict(_to_float32({"agent": agent_obs, "extra": extra}))
 
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
@@ -298,7 +332,7 @@ class RobotEnv(gym.Env[Any, Any]):
             return None
         if self._renderer is None:
             width, height = self.render_size
-            self._renderer = mujoco.Renderer(self.model, height=height, width=width)
+            self._renderer = make_renderer(self.model, width, height)
         frames = []
         for data in self.scene.world.datas:
             self._renderer.update_scene(data, camera="render_camera")

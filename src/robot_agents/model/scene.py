@@ -14,6 +14,8 @@ import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.spec import add_camera
 
 _SHAPES = {
     "box": mujoco.mjtGeom.mjGEOM_BOX,
@@ -102,8 +104,14 @@ def look_at_xyaxes(eye: Sequence[float], target: Sequence[float], up: Sequence[f
     return [*right.tolist(), *camera_up.tolist()]
 
 
-def compose_scene(robots: Sequence[RobotMount], props: Sequence[Prop], options: SceneOptions) -> mujoco.MjSpec:
-    """A new scene spec with a floor, lights, a render camera, the props and the robots."""
+def compose_scene(
+    robots: Sequence[RobotMount],
+    props: Sequence[Prop],
+    options: SceneOptions,
+    cameras: Sequence[CameraConfig] = (),
+) -> mujoco.MjSpec:
+    """A new scene spec with a floor, lights, a render camera, the props, the robots and
+    the task's ``cameras`` (on ``"world"`` or any scene body, robot links by full name)."""
     integrators = {
         "euler": mujoco.mjtIntegrator.mjINT_EULER,
         "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
@@ -153,6 +161,13 @@ def compose_scene(robots: Sequence[RobotMount], props: Sequence[Prop], options: 
             frame.attach_body(mount.spec.worldbody.first_body(), mount.prefix, "")
         except ValueError as err:
             raise ModelError(f"compose_scene: attaching robot {mount.prefix!r} failed: {err}") from None
+    for camera in cameras:
+        add_camera(spec, camera, camera.uid, "scene cameras", allow_world=True)
+    # The offscreen buffer must hold the largest camera image.
+    for camera in spec.cameras:
+        width, height = (int(v) for v in camera.resolution)
+        spec.visual.global_.offwidth = max(spec.visual.global_.offwidth, width)
+        spec.visual.global_.offheight = max(spec.visual.global_.offheight, height)
     return spec
 
 

@@ -17,6 +17,10 @@ from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop, RobotMount, SceneOptions, compile_scene, compose_scene
 from robot_agents.registry import get_agent
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
+from robot_agents.sensors.rig import CameraRig
+from robot_agents.sensors.segmentation import segmentation_id_map
 from robot_agents.sim.world import BatchedWorld
 
 #: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
@@ -42,6 +46,12 @@ class Scene:
         control_modes: one mode name for every robot, or one per robot; ``None`` uses
             each robot's default.
         num_threads: threads for stepping ``num_envs > 1``.
+        cameras: the task's cameras (mounted on ``"world"`` or a scene body).
+        sensor_configs: camera overrides by camera key: a dict of
+            :class:`~robot_agents.sensors.CameraConfig` fields, or ``None`` to drop it.
+
+    The robots' and the task's cameras are in :attr:`cameras` (a
+    :class:`~robot_agents.sensors.CameraRig`); nothing is rendered unless asked.
     """
 
     def __init__(
@@ -55,6 +65,8 @@ class Scene:
         control_modes: str | Sequence[str | None] | None = None,
         num_threads: int | None = None,
         floor: bool = True,
+        cameras: Sequence[CameraConfig] = (),
+        sensor_configs: SensorOverrides | None = None,
     ) -> None:
         for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
             if not isinstance(value, (int, np.integer)) or value <= 0:
@@ -75,12 +87,20 @@ class Scene:
         self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
         self.props = tuple(props)
         self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
+        planned = plan_cameras(
+            [(rid, cls.cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)], cameras, sensor_configs
+        )
         mounts = [
-            RobotMount(prefix=f"{rid}/", spec=cls.build_spec(), pos=tuple(p[:3]), quat=tuple(p[3:]))  # type: ignore[arg-type]
+            RobotMount(
+                prefix=f"{rid}/",
+                spec=cls.build_spec(cameras=[c.config for c in planned if c.robot == rid]),
+                pos=tuple(p[:3]),  # type: ignore[arg-type]
+                quat=tuple(p[3:]),  # type: ignore[arg-type]
+            )
             for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
         ]
         options = SceneOptions(timestep=1.0 / sim_freq, floor=floor)
-        self.spec = compose_scene(mounts, self.props, options)
+        self.spec = compose_scene(mounts, self.props, options, [c.config for c in planned if c.robot is None])
         self.model = compile_scene(self.spec)
         self.world = BatchedWorld(self.model, num_envs, sim_freq // control_freq, num_threads)
         self.agents: list[Agent] = [
@@ -88,6 +108,8 @@ class Scene:
             for rid, cls, mode, pose in zip(self.robot_ids, classes, modes, poses, strict=True)
         ]
         self._initial_state = self.world.get_state()[0].copy()
+        prefixes = {rid: f"{rid}/" for rid in self.robot_ids}
+        self.cameras = CameraRig(self.model, planned, segmentation_id_map(self.model, prefixes))
 
     @staticmethod
     def _poses(poses: Sequence[Sequence[float]] | None, n: int) -> list[tuple[float, ...]]:
@@ -209,4 +231,5 @@ class Scene:
         self.world.set_state(physics)
 
     def close(self) -> None:
+        self.cameras.close()
         self.world.close()

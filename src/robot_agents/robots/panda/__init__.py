@@ -1,5 +1,5 @@
 """The Franka Emika Panda family: arm + hand, arm + stick, and the floating hand."""
 
-from robot_agents.robots.panda.panda import FloatingPandaGripper, Panda, PandaStick
+from robot_agents.robots.panda.panda import FloatingPandaGripper, Panda, PandaStick, PandaTouch, PandaWristCam
 
-__all__ = ["FloatingPandaGripper", "Panda", "PandaStick"]
+__all__ = ["FloatingPandaGripper", "Panda", "PandaStick", "PandaTouch", "PandaWristCam"]

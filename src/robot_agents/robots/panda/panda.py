@@ -10,12 +10,23 @@ Sources of the numbers:
 - Gains: kp = 1000, kv = 100 on the arm (the ManiSkill defaults, so ported policies
   see the same response), on top of exact gravity compensation of every link.
 - ``ready`` is Franka's own default pose; ``rest`` is the ManiSkill rest pose.
+- Wrist camera (``panda_wristcam``): an Intel RealSense D415 on the hand, placed as
+  in ManiSkill's public ``panda_v3.urdf`` (``camera_link``: 0.0465 m along the hand's
+  x axis, -0.02 m along y, 0.036 m along z), looking along the gripper's approach
+  axis (hand +z) with the image's up towards hand +x; housing 99 x 23 x 20 mm and
+  72 g (Intel D415 datasheet).
+- Fingertip touch pads (``panda_touch``): the rubber pads of the public Panda model
+  (17.5 x 15.2 x 18.5 mm; ours 17 x 15 x 19 mm), each covered by a touch site 1 mm
+  larger on every side.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+
+import mujoco
 
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
@@ -30,6 +41,7 @@ from robot_agents.controllers import (
 from robot_agents.keyframe import Keyframe
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.registry import register_agent
+from robot_agents.sensors import CameraConfig, TouchSensorConfig
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -97,6 +109,78 @@ class Panda(Agent):
     tcp_link = "panda_hand_tcp"
     finger_links = ("panda_leftfinger", "panda_rightfinger")
     gripper_joint_names = FINGER_JOINTS
+
+
+#: The wrist camera's optical centre in the ``panda_hand`` frame (m), and its
+#: orientation: camera -z (view) = hand +z, camera y (image up) = hand +x, camera x
+#: (image right) = hand +y; a half turn about (x + y) / sqrt(2).
+WRIST_CAMERA_POS = (0.0465, -0.02, 0.036)
+WRIST_CAMERA_QUAT = (0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0)
+#: D415 housing in the hand frame: centre (m), half extents (m), mass (kg). Its front
+#: face is 2.5 mm behind the optical centre.
+WRIST_CAMERA_HOUSING = ((0.0465, 0.0, 0.0235), (0.0115, 0.0495, 0.010), 0.072)
+
+HAND_CAMERA = CameraConfig(
+    uid="hand_camera",
+    mount="panda_hand",
+    pos=WRIST_CAMERA_POS,
+    quat=WRIST_CAMERA_QUAT,
+    width=128,
+    height=128,
+    fovy=90.0,
+    near=0.01,
+    far=10.0,
+)
+
+#: Touch sites over the finger pads (pad: centre (0, +-0.008, 0.0445), half extents
+#: (0.0085, 0.0075, 0.0095) m in the finger frame), 1 mm larger on every side so the
+#: contact points of the pad's faces (mid-penetration) fall inside.
+FINGERTIP_TOUCH = (
+    TouchSensorConfig(
+        "left_pad_touch", link="panda_leftfinger", pos=(0.0, 0.008, 0.0445), size=(0.0095, 0.0085, 0.0105)
+    ),
+    TouchSensorConfig(
+        "right_pad_touch", link="panda_rightfinger", pos=(0.0, -0.008, 0.0445), size=(0.0095, 0.0085, 0.0105)
+    ),
+)
+
+
+@register_agent()
+class PandaWristCam(Panda):
+    """The Panda with a RealSense D415 on the hand: camera ``hand_camera`` (128 x 128,
+    90 deg vertical field of view) looking along the gripper's approach axis."""
+
+    uid = "panda_wristcam"
+    cameras = (HAND_CAMERA,)
+
+    @classmethod
+    def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+        """The Panda's spec plus the camera housing on the hand (collision and visual)."""
+        spec = super().build_spec(cameras)
+        (pos, half, mass) = WRIST_CAMERA_HOUSING
+        hand = spec.body("panda_hand")
+        box = mujoco.mjtGeom.mjGEOM_BOX
+        hand.add_geom(name="wrist_camera_housing", type=box, pos=list(pos), size=list(half), mass=mass, group=3)
+        hand.add_geom(
+            type=box,
+            pos=list(pos),
+            size=list(half),
+            group=2,
+            contype=0,
+            conaffinity=0,
+            mass=0.0,
+            rgba=[0.2, 0.2, 0.22, 1],
+        )
+        return spec
+
+
+@register_agent()
+class PandaTouch(Panda):
+    """The Panda with touch-sensing fingertip pads: ``touch`` ``(num_envs, 2)`` in the
+    proprioception, the normal force (N) on the left and right pad."""
+
+    uid = "panda_touch"
+    touch_sensors = FINGERTIP_TOUCH
 
 
 @register_agent()

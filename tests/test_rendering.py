@@ -1,0 +1,131 @@
+"""What cameras see, checked against geometry: depth of a plane, a point cloud on a box's
+faces, segmentation ids that name links and objects, exact intrinsics, shadows."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.sensors.geometry import quat_to_mat
+from robot_agents.sensors.pointcloud import pixel_rays, world_points
+
+BOX_POS = np.array([0.6, 0.4, 0.1])
+BOX_HALF = np.array([0.05, 0.08, 0.1])
+BOX_QUAT = (math.cos(math.pi / 12), 0.0, 0.0, math.sin(math.pi / 12))  # 30 deg about z
+
+
+class BoxEnv(ra.RobotEnv):
+    """A Panda, a static box and three task cameras."""
+
+    def _scene_props(self) -> Sequence[ra.Prop]:
+        return (ra.Prop("box", "box", size=tuple(BOX_HALF), pos=tuple(BOX_POS), quat=BOX_QUAT, mass=None),)
+
+    def _scene_cameras(self) -> Sequence[ra.CameraConfig]:
+        small: dict[str, Any] = {"width": 64, "height": 64, "fovy": 60.0}
+        return (
+            ra.CameraConfig.look_at("front", eye=(1.2, 0.8, 0.6), target=BOX_POS, **small),
+            ra.CameraConfig.look_at("side", eye=(0.2, 1.1, 0.5), target=BOX_POS, **small),
+            ra.CameraConfig.look_at("overview", eye=(1.6, -0.9, 1.1), target=(0.3, 0.1, 0.35), **small),
+        )
+
+
+def box_distance(points: np.ndarray) -> np.ndarray:
+    """Unsigned distance (m) of world points ``(P, 3)`` to the box's surface."""
+    local = (points - BOX_POS) @ quat_to_mat(BOX_QUAT)  # rows: R^T (p - c)
+    q = np.abs(local) - BOX_HALF
+    outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
+    inside = np.minimum(q.max(axis=1), 0.0)
+    return np.abs(outside + inside)
+
+
+def test_depth_of_a_plane_is_its_distance() -> None:
+    """A camera 0.7 m above the floor looking straight down sees 0.7 m everywhere (depth
+    is along the optical axis); tilted, the centre pixel sees the distance to its target."""
+    down = ra.CameraConfig.look_at("down", eye=(3, 3, 0.7), target=(3, 3, 0), up=(1, 0, 0), width=65, height=65)
+    tilted = ra.CameraConfig.look_at("tilted", eye=(3, 3, 0.7), target=(3.4, 3, 0), width=65, height=65, fovy=60.0)
+    scene = ra.Scene("panda", cameras=[down, tilted])
+    images = scene.cameras.capture(scene.world.datas, ("depth",))
+    depth = images["down"]["depth"]
+    assert depth.dtype == np.float32 and depth.shape == (1, 65, 65, 1)
+    assert depth[0, 32, 32, 0] == pytest.approx(0.7, abs=1e-3)
+    assert np.max(np.abs(depth - 0.7)) < 1e-3
+    assert images["tilted"]["depth"][0, 32, 32, 0] == pytest.approx(math.hypot(0.4, 0.7), abs=1e-3)
+    # Looking at the sky: nothing within the far plane reads exactly `far`.
+    up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
+    scene = ra.Scene("panda", cameras=[up])
+    assert np.all(scene.cameras.capture(scene.world.datas, ("depth",))["up"]["depth"] == 5.0)
+
+
+def test_full_intrinsic_matrix_is_rendered_exactly() -> None:
+    """Off-centre principal point and fx != fy: back-projected floor pixels lie on z = 0."""
+    k = [[70.0, 0.0, 40.0], [0.0, 55.0, 20.0], [0.0, 0.0, 1.0]]
+    camera = ra.CameraConfig.look_at("k", eye=(3, 3, 0.9), target=(3.5, 3.2, 0), width=64, height=48, intrinsic=k)
+    scene = ra.Scene("panda", cameras=[camera])
+    depth = scene.cameras.capture(scene.world.datas, ("depth",))["k"]["depth"]
+    pose = scene.cameras.params(scene.world.datas)["k"]["cam2world_gl"]
+    points = world_points(depth, pixel_rays(np.array(k), 64, 48), pose)
+    assert np.max(np.abs(points[0, :, 2])) < 1e-3
+    np.testing.assert_allclose(scene.cameras.intrinsic("k"), k)
+
+
+def test_point_cloud_of_a_box_lies_on_its_faces() -> None:
+    env = BoxEnv(robot_uids="panda", obs_mode="pointcloud", num_envs=2, robot_init_qpos_noise=0.0)
+    obs, _ = env.reset(seed=0)
+    cloud = obs["pointcloud"]
+    assert cloud["xyzw"].shape == (2, 3 * 64 * 64, 4) and cloud["xyzw"].dtype == np.float32
+    assert cloud["rgb"].shape == (2, 3 * 64 * 64, 3) and cloud["segmentation"].shape == (2, 3 * 64 * 64, 1)
+    box_id = env.model.body("box").id
+    seg, xyzw = cloud["segmentation"][0, :, 0], cloud["xyzw"][0].astype(np.float64)
+    on_box = (seg == box_id) & (xyzw[:, 3] == 1)
+    per_camera = on_box.reshape(3, -1).sum(axis=1)
+    assert per_camera[0] > 50 and per_camera[1] > 50, per_camera  # seen from two sides
+    assert np.max(box_distance(xyzw[on_box, :3])) < 2e-3
+    floor = (seg == 0) & (xyzw[:, 3] == 1)
+    assert floor.sum() > 1000 and np.max(np.abs(xyzw[floor, 2])) < 2e-3
+    # Pixels that see nothing are marked w = 0 with xyz = 0.
+    sky = xyzw[:, 3] == 0
+    assert np.all(seg[sky] == -1) and np.all(xyzw[sky, :3] == 0)
+    np.testing.assert_array_equal(cloud["xyzw"][0], cloud["xyzw"][1])  # same state, same cloud
+
+
+def test_segmentation_names_robot_links_and_scene_objects() -> None:
+    env = BoxEnv(robot_uids="panda", obs_mode="segmentation", robot_init_qpos_noise=0.0)
+    obs, _ = env.reset(seed=0)
+    id_map = env.segmentation_id_map
+    seg = obs["sensor_data"]["overview"]["segmentation"]
+    assert seg.dtype == np.int16 and seg.shape == (1, 64, 64, 1)
+    ids = set(np.unique(seg).tolist())
+    box_id = env.model.body("box").id
+    assert box_id in ids and id_map[box_id] == ra.SegmentationEntry("box", "object")
+    assert 0 in ids and id_map[0].kind == "world"  # the floor
+    links = {id_map[i].link for i in ids if i >= 0 and id_map[i].kind == "robot_link"}
+    assert {"panda_link0", "panda_link1", "panda_link2", "panda_link3", "panda_link4", "panda_hand"} <= links
+    assert all(
+        id_map[i].robot == "panda-0" and id_map[i].name == f"panda-0/{id_map[i].link}"
+        for i in ids
+        if i > 0 and i != box_id
+    )
+    assert ids <= set(id_map) | {-1}
+    # The pixel where the box's centre projects shows the box (parameters and ids agree).
+    params = {k: v[0].astype(np.float64) for k, v in obs["sensor_param"]["front"].items()}
+    u, v, w = params["intrinsic_cv"] @ params["extrinsic_cv"] @ np.append(BOX_POS, 1.0)
+    assert obs["sensor_data"]["front"]["segmentation"][0, round(v / w), round(u / w), 0] == box_id
+
+
+def test_shadows_are_configurable() -> None:
+    """With shadows on, the robot's shadow darkens a patch of the floor by ~100 levels."""
+    camera = ra.CameraConfig.look_at("view", eye=(1.0, 0.6, 0.9), target=(0.0, 0.2, 0.2), width=64, height=64)
+    images = []
+    for shadows in (True, False, False):
+        scene = ra.Scene("panda", cameras=[camera], sensor_configs={"view": {"shadows": shadows}})
+        scene.reset()
+        images.append(scene.cameras.capture(scene.world.datas)["view"]["rgb"][0].astype(float).mean(axis=-1))
+        scene.close()
+    change = images[0] - images[1]
+    assert np.mean(change < -10) > 0.02 and change.min() < -60
+    np.testing.assert_array_equal(images[1], images[2])  # deterministic without them

@@ -474,3 +474,42 @@ def test_two_robots_report_ik_per_robot_and_partial_reset_keeps_other_targets() 
         stick.target_pose[0, :3], env.unwrapped.agents[1].frame_pose("panda_stick_tcp", relative_to="root")[0, :3]
     )
     env.close()
+
+
+def test_failed_ik_never_moves_the_tool_farther_than_its_target() -> None:
+    """Targets beyond reach: the applied (best) solution moves the TCP no farther from
+    where it started than the target is, in position and in angle. Near the workspace
+    edge the lowest-error iterate can be a large swing for a marginal gain; the solver
+    pulls such solutions back along the joint path."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    solver = panda_solver(scene)
+    rng = np.random.default_rng(5)
+    count = 200
+    limits = agent.qpos_limits[:7]
+    context = np.repeat(scene.world.qpos, count, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
+    targets = agent.kinematics.pose(configurations, solver.frame)
+    shoulder = np.array([0.0, 0.0, 0.333])
+    targets[:, :3] = shoulder + 1.25 * (targets[:, :3] - shoulder)  # pushed out of reach
+    seed = np.repeat(agent.qpos[:, :7], count, axis=0)
+    start = agent.kinematics.pose(context, solver.frame)
+    result = solver.solve(context, targets, seed)
+    failed = ~result.success
+    assert failed.sum() > 100
+    configurations[:, agent.qpos_adr[:7]] = result.qpos
+    reached = agent.kinematics.pose(configurations, solver.frame)
+    moved = np.linalg.norm(reached[:, :3] - start[:, :3], axis=1)
+    asked = np.linalg.norm(targets[:, :3] - start[:, :3], axis=1)
+    turned = np.linalg.norm(rotation_error(reached[:, 3:], start[:, 3:]), axis=1)
+    asked_turn = np.linalg.norm(rotation_error(targets[:, 3:], start[:, 3:]), axis=1)
+    config = solver.config
+    assert np.all(moved[failed] <= asked[failed] + config.position_tolerance + 1e-9)
+    assert np.all(turned[failed] <= asked_turn[failed] + config.rotation_tolerance + 1e-9)
+    # The reported errors are those of the applied solution.
+    np.testing.assert_allclose(
+        result.position_error, np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1), atol=1e-9
+    )
+    scene.close()

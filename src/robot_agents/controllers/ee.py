@@ -362,8 +362,16 @@ class PDEEController(Controller):
         solution = result.qpos
         # With feed-forward: the mean position and velocity of the straight joint path
         # start -> solution over one control step (the actuator holds ctrl constant over
-        # the substeps), (start + solution) / 2 + (kv / kp) (solution - start) / dt.
-        ctrl = self._start_weight * start + self._solution_weight * solution if cfg.feedforward else solution
+        # the substeps), (start + solution) / 2 + (kv / kp) (solution - start) / dt. Envs
+        # whose IK failed (at the edge of the workspace, a joint limit or a singularity)
+        # get a plain position target, so the arm does not carry speed into the limit.
+        if cfg.feedforward:
+            ctrl = self._start_weight * start + self._solution_weight * solution
+            if not result.success.all():
+                failed = ~result.success
+                ctrl[failed] = solution[failed]
+        else:
+            ctrl = solution
         sim.ctrl[:, self.binding.ctrl_sel] = ctrl
         self.target_qpos[:] = solution
 

@@ -278,8 +278,11 @@ class IKSolver:
                 mujoco.mju_quat2Vel(error[3:], difference, 1.0)
                 rotation_norm = math.sqrt(error[3:] @ error[3:])
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
+            if iteration == 0:
+                start_q, start_pose = q, pose.copy()
             if cost < best_cost:
                 best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
+                best_pose = pose.copy()
             if cost <= 1.0 or iteration == iterations:
                 break
             jacp, jacr = kinematics.loaded_jacobian(frame)
@@ -307,8 +310,62 @@ class IKSolver:
                 step *= cfg.max_step / largest
             q = np.minimum(np.maximum(q + step, self.lower), self.upper)
             done += 1
+        success = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
+        if not success and best_q is not start_q:
+            best_q, best_position, best_rotation = self._no_farther_than_asked(
+                start_q, start_pose, best_q, best_pose, best_position, best_rotation, target, position_only
+            )
         out.qpos[row] = best_q
         out.position_error[row] = best_position
         out.rotation_error[row] = 0.0 if position_only else best_rotation
-        out.success[row] = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
+        out.success[row] = success
         out.iterations[row] = done
+
+    def _no_farther_than_asked(
+        self,
+        start_q: FloatArray,
+        start_pose: FloatArray,
+        best_q: FloatArray,
+        best_pose: FloatArray,
+        best_position: float,
+        best_rotation: float,
+        target: FloatArray,
+        position_only: bool,
+    ) -> tuple[FloatArray, float, float]:
+        """A failed solve must not move the frame farther than the target is from the
+        start: near a singularity the lowest-error iterate can be a large swing of the arm
+        for a marginal gain. Such a solution is pulled back along the joint path toward
+        the start (halving up to 5 times, else the start itself). Returns the joints and
+        their position / rotation errors (m, rad)."""
+        cfg = self.config
+        asked_position = _distance(target[:3], start_pose[:3]) + cfg.position_tolerance
+        asked_rotation = _angle(target[3:], start_pose[3:]) + cfg.rotation_tolerance
+
+        def within(pose: FloatArray) -> bool:
+            return _distance(pose[:3], start_pose[:3]) <= asked_position and (
+                position_only or _angle(pose[3:], start_pose[3:]) <= asked_rotation
+            )
+
+        if within(best_pose):
+            return best_q, best_position, best_rotation
+        kinematics, data, pose = self.kinematics, self.kinematics.data, self._pose
+        fraction = 1.0
+        for _ in range(5):
+            fraction *= 0.5
+            q = start_q + fraction * (best_q - start_q)
+            data.qpos[self._qpos_sel] = q
+            mujoco.mj_kinematics(kinematics.model, data)
+            kinematics.loaded_pose(self.frame, pose)
+            if within(pose):
+                return q, _distance(target[:3], pose[:3]), _angle(target[3:], pose[3:])
+        return start_q, _distance(target[:3], start_pose[:3]), _angle(target[3:], start_pose[3:])
+
+
+def _distance(a: FloatArray, b: FloatArray) -> float:
+    difference = a - b
+    return math.sqrt(difference @ difference)
+
+
+def _angle(a: FloatArray, b: FloatArray) -> float:
+    """Rotation angle (rad) between unit quaternions ``a`` and ``b``."""
+    return 2.0 * math.acos(min(1.0, abs(float(a @ b))))

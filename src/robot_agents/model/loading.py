@@ -13,6 +13,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import mujoco
+import numpy as np
 
 from robot_agents.errors import ModelError
 
@@ -100,7 +101,26 @@ def _load_urdf(file: Path) -> mujoco.MjSpec:
     except ValueError as err:
         raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {err}") from None
     spec.modelfiledir = str(file.parent)
+    _add_mimic_equalities(spec, root)
     return spec
+
+
+def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:
+    """Couple URDF ``<mimic>`` joints with joint equalities
+    (``follower = multiplier * leader + offset``) where MuJoCo's URDF parser did not
+    (4.0.0's parser does; 3.3.7's drops the tag)."""
+    existing = {(eq.name1, eq.name2) for eq in spec.equalities if eq.type == mujoco.mjtEq.mjEQ_JOINT}
+    for joint in root.findall("joint"):
+        mimic = joint.find("mimic")
+        follower = joint.get("name", "")
+        if mimic is None or (follower, mimic.get("joint", "")) in existing:
+            continue
+        equality = spec.add_equality()
+        equality.type = mujoco.mjtEq.mjEQ_JOINT
+        equality.name1, equality.name2 = follower, mimic.get("joint", "")
+        data = np.zeros(len(equality.data))
+        data[0], data[1] = float(mimic.get("offset", 0.0)), float(mimic.get("multiplier", 1.0))
+        equality.data = data
 
 
 def _resolve_mesh(urdf: Path, filename: str) -> Path:

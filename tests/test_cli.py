@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
+import os
+import subprocess
+import sys
+import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+from PIL import Image
 
+import robot_agents
 from robot_agents.cli import main
+from robot_agents.media.label import LABEL_BACKGROUND
 
 
 def run(*argv: str) -> tuple[int, str]:
@@ -57,14 +66,117 @@ def test_unknown_uid_is_a_clean_error(capsys: pytest.CaptureFixture[str]) -> Non
 @pytest.mark.parametrize(("uid", "width"), [("panda", 320), ("floating_panda_gripper", 320), ("panda_wristcam", 560)])
 def test_demo_writes_a_gif_and_reaches_keyframes(tmp_path: Path, uid: str, width: int) -> None:
     """The GIF shows the scene (320 x 240) and, beside it, each robot camera at 240 px high."""
-    pil = pytest.importorskip("PIL.Image")
     output = tmp_path / "demo.gif"
     code, text = run("demo", uid, "--output", str(output), "--seconds", "1.0")
     assert code == 0, text
     assert output.is_file()
-    with pil.open(output) as image:
+    with Image.open(output) as image:
         assert image.n_frames >= 10
         assert image.size == (width, 240)
+        first = np.asarray(image.convert("RGB")).astype(int)
+    # With robot cameras, each panel carries its camera's name on a dark strip at its top left.
+    on_strip = np.abs(first[1, 1::320] - LABEL_BACKGROUND).max(axis=-1) < 12
+    assert list(on_strip) == ([True, True] if uid == "panda_wristcam" else [False])
     assert "state finite     True" in text
     errors = [float(line.split("within")[1].split()[0]) for line in text.splitlines() if line.startswith("keyframe")]
     assert errors and max(errors) < 0.01
+
+
+def test_demo_writes_an_mp4(tmp_path: Path) -> None:
+    pytest.importorskip("imageio_ffmpeg", reason="MP4 needs the optional extra: pip install 'robot-agents[video]'")
+    iio = pytest.importorskip("imageio.v2")
+    output = tmp_path / "demo.mp4"
+    code, text = run("demo", "panda_stick", "-o", str(output), "--seconds", "0.5")
+    assert code == 0, text
+    frames = iio.mimread(output, format="FFMPEG")
+    assert f"video            {output} ({len(frames)} frames)" in text
+    assert frames[0].shape == (240, 320, 3)
+
+
+# ------------------------------------------------ arguments checked before simulating
+
+
+@pytest.fixture
+def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make any call of the demo fail the test: bad arguments must be caught before it."""
+
+    def run_demo(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the demo ran although its arguments were bad")
+
+    monkeypatch.setattr("robot_agents.demo.run_demo", run_demo)
+
+
+def run_fast(*argv: str) -> tuple[int, str, str]:
+    """Run the CLI, check it returned within a second; return (status, stdout, stderr)."""
+    out, err = io.StringIO(), io.StringIO()
+    start = time.perf_counter()
+    with contextlib.redirect_stderr(err):
+        code = main(list(argv), out=out)
+    assert time.perf_counter() - start < 1.0
+    return code, out.getvalue(), err.getvalue()
+
+
+@pytest.mark.usefixtures("no_simulation")
+@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "inf", "abc", "61", "1e9", ""])
+def test_demo_rejects_bad_seconds_before_simulating(tmp_path: Path, seconds: str) -> None:
+    code, out, err = run_fast("demo", "panda", "-o", str(tmp_path / "x.gif"), f"--seconds={seconds}")
+    assert code == 2
+    assert out == ""
+    assert err == (
+        "robot-agents: error: argument --seconds: expected a number of simulated seconds per pose, "
+        f"> 0 and <= 60, got {seconds!r}\n"
+    )
+    assert not (tmp_path / "x.gif").exists()
+
+
+@pytest.mark.usefixtures("no_simulation")
+@pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
+def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:
+    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name))
+    assert code == 2
+    assert err.count("\n") == 1  # one line, no traceback
+    assert err.startswith("robot-agents: error: video output ")
+    assert "expected a file name ending in .gif or .mp4" in err
+
+
+@pytest.mark.usefixtures("no_simulation")
+def test_demo_rejects_a_missing_output_directory(tmp_path: Path) -> None:
+    code, _, err = run_fast("demo", "panda", "--output", str(tmp_path / "no" / "such" / "dir" / "x.gif"))
+    assert code == 2
+    assert err.count("\n") == 1
+    assert f"expected an existing directory, but {str(tmp_path / 'no' / 'such' / 'dir')!r} does not exist" in err
+
+
+@pytest.mark.usefixtures("no_simulation")
+def test_demo_mp4_without_the_video_extra_says_how_to_install(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)  # as if not installed
+    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / "x.mp4"))
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "pip install 'robot-agents[video]'" in err
+
+
+def test_version(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as caught:
+        main(["--version"])
+    assert caught.value.code == 0
+    assert capsys.readouterr().out == f"robot-agents {robot_agents.__version__}\n"
+
+
+def test_bad_arguments_fail_fast_from_the_shell(tmp_path: Path) -> None:
+    """As a user runs it: exit status 2, one line on stderr, no traceback, well under the time of a demo."""
+    src = str(Path(robot_agents.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    command = [sys.executable, "-m", "robot_agents.cli", "demo", "panda", "--seconds", "abc"]
+    result = subprocess.run(command, capture_output=True, text=True, env=env, cwd=tmp_path, timeout=60)
+    assert result.returncode == 2
+    assert result.stdout == ""
+    assert result.stderr.strip().splitlines() == [
+        "robot-agents: error: argument --seconds: expected a number of simulated seconds per pose, "
+        "> 0 and <= 60, got 'abc'"
+    ]
+    version = subprocess.run(
+        [sys.executable, "-m", "robot_agents.cli", "--version"], capture_output=True, text=True, env=env, timeout=60
+    )
+    assert version.returncode == 0
+    assert version.stdout == f"robot-agents {robot_agents.__version__}\n"

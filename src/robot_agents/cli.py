@@ -1,15 +1,39 @@
-"""``robot-agents`` command line: ``list``, ``info UID``, ``demo UID``."""
+"""``robot-agents`` command line: ``list``, ``info UID``, ``demo UID``, ``--version``."""
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Sequence
 from typing import TextIO
 
+import robot_agents
 from robot_agents.agent import Agent
 from robot_agents.errors import RobotAgentsError
+from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
+
+MAX_SECONDS = 60.0
+"""Upper bound of ``demo --seconds`` (simulated seconds per pose)."""
+
+
+class UsageError(Exception):
+    """A command-line argument with a bad value (reported in one line, exit status 2)."""
+
+
+def parse_seconds(text: str) -> float:
+    """``--seconds``: a finite number of simulated seconds per pose, > 0 and <= :data:`MAX_SECONDS`."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0.0 < value <= MAX_SECONDS):
+        raise UsageError(
+            f"argument --seconds: expected a number of simulated seconds per pose, > 0 and <= {MAX_SECONDS:g}, "
+            f"got {text!r}"
+        )
+    return value
 
 
 def _table(rows: list[list[str]], out: TextIO) -> None:
@@ -80,26 +104,40 @@ def _sensor_lines(cls: type[Agent]) -> list[str]:
     return ["sensors:", *lines] if lines else ["sensors: none"]
 
 
-def cmd_demo(uid: str, output: str, seconds: float, out: TextIO) -> int:
+def cmd_demo(uid: str, output: str, seconds: str, out: TextIO) -> int:
+    """Check the arguments (before anything is simulated), run the demo and print its summary."""
+    seconds_per_pose = parse_seconds(seconds)
+    output_path = check_output_path(output)
+    get_agent(uid)  # an unknown uid fails here, before the demo's imports
+
     from robot_agents.demo import run_demo
 
-    summary = run_demo(uid, output=output, seconds_per_pose=seconds)
+    summary = run_demo(uid, output=output_path, seconds_per_pose=seconds_per_pose)
     out.write("\n".join(summary.lines()) + "\n")
     return 0 if summary.finite else 1
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
+    parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
     info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
     info.add_argument("uid")
     demo = sub.add_parser(
-        "demo", help="move a robot through its keyframes and write a GIF (its cameras beside the scene)"
+        "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
     demo.add_argument("uid", nargs="?", default="panda")
-    demo.add_argument("--output", "-o", default=None, help="GIF path (default: <uid>_demo.gif)")
-    demo.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per pose")
+    demo.add_argument(
+        "--output",
+        "-o",
+        default=None,
+        help=f"video path ending in {' or '.join(SUPPORTED_SUFFIXES)}; .mp4 needs robot-agents[video] "
+        "(default: <uid>_demo.gif)",
+    )
+    demo.add_argument(
+        "--seconds", default="2.0", help=f"simulated seconds per pose, > 0 and <= {MAX_SECONDS:g} (default: 2)"
+    )
     return parser
 
 
@@ -113,7 +151,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "info":
             return cmd_info(args.uid, stream)
         return cmd_demo(args.uid, args.output or f"{args.uid}_demo.gif", args.seconds, stream)
-    except RobotAgentsError as err:
+    except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")
         return 2
 

@@ -2,8 +2,9 @@
 
 The robot goes through each of its keyframes under joint position control (targets
 moved smoothly between poses), then waves its joints about the first keyframe; the
-scene camera records an animated GIF and the run is summarised. A robot with cameras
-shows what each of them sees beside the scene view, at the same height.
+scene camera records a video (GIF or MP4, by the output's suffix) and the run is
+summarised. A robot with cameras shows what each of them sees beside the scene view,
+at the same height, each panel labelled with its camera's name.
 """
 
 from __future__ import annotations
@@ -18,13 +19,15 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
-from robot_agents.media.gif import write_gif
+from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.registry import get_agent
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sim.scene import Scene
 
 DEMO_MODE = "pd_joint_pos"
+SCENE_LABEL = "scene"
+"""Label of the scene view when robot camera views are shown beside it."""
 
 
 @dataclass
@@ -71,7 +74,23 @@ def run_demo(
     fps: int = 10,
     size: tuple[int, int] = (320, 240),
 ) -> DemoSummary:
-    """Run the demo for robot ``uid`` and write the GIF to ``output``."""
+    """Run the demo for robot ``uid`` and write the video to ``output``.
+
+    Args:
+        uid: Registered robot uid.
+        output: Video file; ``.gif`` or ``.mp4`` (needs ``robot-agents[video]``). Its
+            directory must exist. Checked before anything is simulated.
+        seconds_per_pose: Simulated seconds spent reaching each keyframe.
+        fps: Video frame rate (frames per second) to aim for; the actual rate
+            divides the control frequency.
+        size: Scene view ``(width, height)`` in pixels; robot cameras are shown
+            beside it at the same height.
+
+    Raises:
+        MediaError: ``output`` has an unsupported suffix, its directory is missing
+            or read-only, or ``.mp4`` is asked for without imageio-ffmpeg.
+    """
+    output = check_output_path(output)
     start = time.perf_counter()
     cls: type[Agent] = get_agent(uid)
     mode = DEMO_MODE if DEMO_MODE in cls.control_modes else cls.default_mode()
@@ -96,11 +115,14 @@ def run_demo(
         peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
         if step_count % record_every == 0:
             renderer.update_scene(scene.world.datas[0], camera=camera)
-            panels = [renderer.render().copy()]
-            if robot_views is not None:
+            scene_view = renderer.render().copy()
+            if robot_views is None:
+                frames.append(scene_view)
+            else:
                 views = robot_views.capture(scene.world.datas[:1], ("rgb",))
-                panels += [images["rgb"][0] for images in views.values()]
-            frames.append(np.concatenate(panels, axis=1))
+                panels = [draw_label(scene_view, SCENE_LABEL)]
+                panels += [draw_label(images["rgb"][0], name) for name, images in views.items()]
+                frames.append(np.concatenate(panels, axis=1))
         step_count += 1
 
     steps_per_pose = max(1, round(seconds_per_pose * scene.control_freq))
@@ -135,7 +157,7 @@ def run_demo(
     if robot_views is not None:
         robot_views.close()
     finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
-    path = write_gif(output, frames, fps=scene.control_freq / record_every)
+    path = write_video(output, frames, fps=scene.control_freq / record_every)
     summary = DemoSummary(
         uid=uid,
         dof=agent.dof,

@@ -14,20 +14,21 @@ class TwoLinkArm(ra.Agent):
     uid = "two_link_arm"
     urdf_path = HERE / "two_link_arm.urdf"
     fix_root_link = True  # bolted to the world; gravity compensation is on by default
-    keyframes = {"home": ra.Keyframe(qpos=(0.0, 0.5)), "up": ra.Keyframe(qpos=(0.0, 0.0))}
-    control_modes = ra.joint_control_modes(
-        ra.JointGroup(
-            joint_names=("joint_a", "joint_b"),
-            stiffness=300.0,  # N*m/rad
-            damping=30.0,  # N*m*s/rad
-            force_limit=(50.0, 20.0),  # N*m, from the motor datasheet
-        )
+    actuators = (  # the drives, declared once: PD servos with the motors' torque limits
+        ra.PDActuator(joints="joint_[ab]", stiffness=300.0, damping=30.0, effort_limit=(50.0, 20.0)),
     )
-    tcp_link = "tool"
+    parts = (  # what the joints are for; control modes are generated from the parts
+        ra.Arm(name="arm", joints="joint_[ab]", end_effectors=(ra.EndEffector("tool"),)),
+    )
+    keyframes = {
+        "home": ra.Keyframe(qpos={"joint_a": 0.0, "joint_b": 0.5}),
+        "up": ra.Keyframe(qpos={"joint_.": 0.0}),
+    }
+    default_control_mode = "pd_joint_delta_pos"
 
 
 if __name__ == "__main__":
-    env = ra.make_env("Empty-v1", robot_uids="two_link_arm", control_mode="pd_joint_delta_pos")
+    env = ra.make_env("Empty-v1", robot_uids="two_link_arm")
     obs, info = env.reset(seed=0)
     for _ in range(20):
         obs, reward, terminated, truncated, info = env.step(np.array([1.0, -0.5]))  # normalized deltas

@@ -74,11 +74,10 @@ def make_pendulum_class(path: Path, uid: str = "test_pendulum", **extra: object)
     attrs: dict[str, object] = {
         "uid": uid,
         "mjcf_path": path,
-        "keyframes": {"down": ra.Keyframe(qpos=(0.0, 0.0)), "bent": ra.Keyframe(qpos=(0.5, -0.8))},
-        "control_modes": ra.joint_control_modes(
-            ra.JointGroup(joint_names=("shoulder", "elbow"), stiffness=200.0, damping=20.0, force_limit=50.0)
-        ),
-        "tcp_link": "tip",
+        "actuators": (ra.PDActuator(joints=("shoulder", "elbow"), stiffness=200.0, damping=20.0, effort_limit=50.0),),
+        "parts": (ra.Arm(name="arm", joints=("shoulder", "elbow"), end_effectors=(ra.EndEffector("tip"),)),),
+        "keyframes": {"down": ra.Keyframe(qpos=(0.0, 0.0)), "bent": ra.Keyframe(qpos={"shoulder": 0.5, "elbow": -0.8})},
+        "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("shoulder", "elbow"))),
     }
     attrs.update(extra)
     return type("Pendulum", (ra.Agent,), attrs)

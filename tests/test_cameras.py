@@ -83,7 +83,7 @@ def test_wrist_camera_pose_follows_its_link() -> None:
     action = np.array([1.0, -1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 0.0])
     for _ in range(4):
         obs, *_ = env.step(action)
-    data, hand = env.data, env.agent._body_id("panda_hand")
+    data, hand = env.data, env.agent.index.body_id("panda_hand", "test")
     link = np.eye(4)
     link[:3, :3], link[:3, 3] = data.xmat[hand].reshape(3, 3), data.xpos[hand]
     offset = np.eye(4)
@@ -182,7 +182,9 @@ def test_camera_mounts_are_checked() -> None:
         ra.Scene("panda", cameras=[ra.CameraConfig("render_camera")])
     # A task camera may ride on a robot link, by its full name.
     scene = ra.Scene("panda", cameras=[ra.CameraConfig("on_hand", mount="panda-0/panda_hand")])
-    assert scene.model.cam_bodyid[scene.cameras.camera_id("on_hand")] == scene.agents[0]._body_id("panda_hand")
+    assert scene.model.cam_bodyid[scene.cameras.camera_id("on_hand")] == scene.agents[0].index.body_id(
+        "panda_hand", "test"
+    )
 
 
 def test_camera_keys_with_several_robots() -> None:

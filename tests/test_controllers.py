@@ -94,7 +94,7 @@ def test_pos_vel_mode_action_layout(pendulum_cls: type[ra.Agent]) -> None:
 
 def test_gains_applied_again_when_switching_back(pendulum_cls: type[ra.Agent]) -> None:
     scene, agent = make_scene(pendulum_cls, "pd_joint_pos")
-    ids = agent.controller.parts["main"].binding.actuator_ids
+    ids = agent.drives.actuator_ids
     np.testing.assert_allclose(scene.model.actuator_gainprm[ids, 0], 200.0)
     agent.set_control_mode("pd_joint_vel")
     np.testing.assert_allclose(scene.model.actuator_gainprm[ids, 0], 20.0)  # kv of velocity mode
@@ -127,9 +127,7 @@ def test_passive_joint_swings_under_gravity(pendulum_file: object) -> None:
         pendulum_file,  # type: ignore[arg-type]
         control_modes={
             "shoulder_only": {
-                "arm": ra.PDJointPosConfig(
-                    joint_names=("shoulder",), stiffness=200.0, damping=20.0, normalize_action=False
-                ),
+                "arm": ra.PDJointPosConfig(joint_names=("shoulder",), normalize_action=False),
                 "elbow": ra.PassiveConfig(joint_names=("elbow",)),
             }
         },
@@ -150,9 +148,7 @@ def test_passive_joint_swings_under_gravity(pendulum_file: object) -> None:
 def test_interpolated_targets_move_smoothly(pendulum_file: object) -> None:
     from tests.conftest import make_pendulum_class
 
-    config = ra.PDJointPosConfig(
-        joint_names=("shoulder", "elbow"), stiffness=200.0, damping=20.0, normalize_action=False, interpolate=True
-    )
+    config = ra.PDJointPosConfig(joint_names=("shoulder", "elbow"), normalize_action=False, interpolate=True)
     cls = make_pendulum_class(pendulum_file, control_modes={"smooth": config})  # type: ignore[arg-type]
     scene = ra.Scene(cls)
     scene.reset(keyframes="down")
@@ -176,7 +172,7 @@ def test_mimic_fingers_follow_one_action() -> None:
     scene = ra.Scene("panda", control_modes="pd_joint_pos")
     scene.reset()
     agent = scene.agents[0]
-    fingers = [agent.joint_names.index(j) for j in agent.gripper_joint_names]
+    fingers = [agent.joint_names.index(j) for j in agent.part_joints["gripper"]]
     hold = agent.qpos[0, :7]
     for action, expected in ((-1.0, 0.0), (0.0, 0.015), (1.0, 0.04)):
         for _ in range(20):

@@ -142,10 +142,10 @@ def test_reset_options_keyframe_and_env_ids() -> None:
     env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, robot_init_qpos_noise=0.0)
     u = env.unwrapped
     env.reset(options={"keyframe": "ready"})
-    np.testing.assert_allclose(u.agent.qpos, np.tile(u.agent.keyframes["ready"].qpos_array(), (2, 1)))
+    np.testing.assert_allclose(u.agent.qpos, np.tile(u.agent.keyframe_qpos("ready"), (2, 1)))
     env.reset(options={"keyframe": "rest", "env_ids": [1]})
-    np.testing.assert_allclose(u.agent.qpos[0], u.agent.keyframes["ready"].qpos_array())
-    np.testing.assert_allclose(u.agent.qpos[1], u.agent.keyframes["rest"].qpos_array())
+    np.testing.assert_allclose(u.agent.qpos[0], u.agent.keyframe_qpos("ready"))
+    np.testing.assert_allclose(u.agent.qpos[1], u.agent.keyframe_qpos("rest"))
     with pytest.raises(ra.UnknownNameError, match="'rest'"):
         env.reset(options={"keyframe": "rests"})
     with pytest.raises(ra.ConfigError, match="unknown options"):
@@ -163,8 +163,8 @@ def test_two_robots_share_a_scene() -> None:
     assert obs.shape[0] == 2
     # The stick robot moved toward +0.1 rad per joint (kv / kp = 0.1 s, so ~40% of it
     # in one 0.05 s step), the Panda held still.
-    np.testing.assert_allclose(u.agents[0].qpos[0, :7], u.agents[0].keyframes["rest"].qpos_array()[:7], atol=5e-3)
-    assert np.all(u.agents[1].qpos[0] > u.agents[1].keyframes["rest"].qpos_array() + 0.02)
+    np.testing.assert_allclose(u.agents[0].qpos[0, :7], u.agents[0].keyframe_qpos("rest")[:7], atol=5e-3)
+    assert np.all(u.agents[1].qpos[0] > u.agents[1].keyframe_qpos("rest") + 0.02)
     bases = np.array([a.base_pose[0, :3] for a in u.agents])
     assert np.linalg.norm(bases[0] - bases[1]) == pytest.approx(1.0)
     with pytest.raises(ra.ConfigError, match="panda_stick-1"):

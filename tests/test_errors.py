@@ -126,15 +126,18 @@ def test_unknown_joint_in_control_mode(pendulum_file: Path) -> None:
     cls = make_pendulum_class(pendulum_file, control_modes={"m": ra.PDJointPosConfig(joint_names=("shoulder", "elbw"))})
     with pytest.raises(ra.UnknownNameError) as err:
         ra.Scene(cls)
-    assert "unknown joint (control modes) 'elbw'" in str(err.value) and "'elbow'" in str(err.value)
+    assert "control_modes['m']" in str(err.value) and "unknown joint 'elbw'" in str(err.value)
+    assert "Did you mean 'elbow'" in str(err.value)
 
 
 def test_unknown_link_names_in_declaration(pendulum_file: Path) -> None:
     cls = make_pendulum_class(pendulum_file, link_materials={"lnk1": ra.FrictionMaterial()})
     with pytest.raises(ra.UnknownNameError, match="Did you mean 'link1'"):
         ra.Scene(cls)
-    cls = make_pendulum_class(pendulum_file, tcp_link="tipp")
-    with pytest.raises(ra.UnknownNameError, match="Did you mean 'tip'"):
+    cls = make_pendulum_class(
+        pendulum_file, parts=(ra.Arm(name="arm", joints=".*", end_effectors=(ra.EndEffector("tipp"),)),)
+    )
+    with pytest.raises(ra.UnknownNameError, match=r"end effector 'tipp'.*Did you mean 'tip'"):
         ra.Scene(cls)
 
 
@@ -194,7 +197,11 @@ def test_urdf_with_unsupported_pieces(tmp_path: Path, text: str, fragment: str) 
     path = tmp_path / "robot.urdf"
     path.write_text(text)
     cls = make_pendulum_class(
-        path, control_modes={"m": ra.PDJointPosConfig(joint_names=("j",))}, keyframes={}, tcp_link=None
+        path,
+        actuators=(ra.PDActuator(joints="j", stiffness=10.0),),
+        parts=(),
+        control_modes={"m": ra.PDJointPosConfig(joint_names=("j",))},
+        keyframes={},
     )
     with pytest.raises(ra.ModelError) as err:
         ra.Scene(cls)
@@ -205,11 +212,11 @@ def test_user_urdf_loads_and_moves(urdf_file: Path) -> None:
     class TwoLink(ra.Agent):
         uid = "two_link"
         urdf_path = urdf_file
-        keyframes = {"home": ra.Keyframe(qpos=(0.0, 0.5))}
-        control_modes = ra.joint_control_modes(
-            ra.JointGroup(joint_names=("joint_a", "joint_b"), stiffness=300.0, damping=30.0, force_limit=(50.0, 20.0))
-        )
-        tcp_link = "tool"  # a fixed link: kept as a body
+        actuators = (ra.PDActuator(joints="joint_[ab]", stiffness=300.0, damping=30.0, effort_limit=(50.0, 20.0)),)
+        # the tool is a fixed link: kept as a body
+        parts = (ra.Arm(name="arm", joints="joint_[ab]", end_effectors=(ra.EndEffector("tool"),)),)
+        keyframes = {"home": ra.Keyframe(qpos={"joint_a": 0.0, "joint_b": 0.5})}
+        control_modes = ra.joint_control_modes(ra.JointGroup(joint_names=("joint_a", "joint_b")))
 
     scene = ra.Scene(TwoLink, control_modes="pd_joint_pos")
     scene.reset()
@@ -237,9 +244,10 @@ def test_urdf_package_mesh_resolves(tmp_path: Path) -> None:
     path.write_text(_urdf(mesh="package://my_robot/meshes/base.obj"))
     cls = make_pendulum_class(
         path,
+        actuators=(ra.PDActuator(joints="j", stiffness=10.0),),
+        parts=(),
         control_modes={"m": ra.PDJointPosConfig(joint_names=("j",), normalize_action=False)},
         keyframes={},
-        tcp_link=None,
     )
     scene = ra.Scene(cls)
     assert scene.model.nmesh == 1
@@ -274,9 +282,17 @@ def test_bad_controller_state_rejected(env) -> None:  # type: ignore[no-untyped-
 
 
 def test_unknown_gripper_and_finger_names(pendulum_file: Path) -> None:
-    cls = make_pendulum_class(pendulum_file, gripper_joint_names=("elbo",))
-    with pytest.raises(ra.UnknownNameError, match="Did you mean 'elbow'"):
+    def gripper(joints: str, fingers: tuple[str, str]) -> tuple[ra.Arm, ra.Gripper]:
+        return (
+            ra.Arm(name="arm", joints="shoulder"),
+            ra.Gripper(name="gripper", joints=joints, open=0.5, closed=0.0, fingers=fingers),
+        )
+
+    cls = make_pendulum_class(pendulum_file, parts=gripper("elbo", ("link1", "link2")))
+    with pytest.raises(
+        ra.UnknownNameError, match=r"part 'gripper'.*unknown joint \(pattern\) 'elbo'.*Did you mean 'elbow'"
+    ):
         ra.Scene(cls)
-    cls = make_pendulum_class(pendulum_file, finger_links=("link1", "lnk2"))
-    with pytest.raises(ra.UnknownNameError, match="Did you mean 'link2'"):
+    cls = make_pendulum_class(pendulum_file, parts=gripper("elbow", ("link1", "lnk2")))
+    with pytest.raises(ra.UnknownNameError, match=r"fingers.*Did you mean 'link2'"):
         ra.Scene(cls)

@@ -111,7 +111,7 @@ def test_a_context_that_cannot_be_created_is_a_render_error(monkeypatch: pytest.
     before = scene.world.get_state()
     quality = (scene.model.vis.quality.offsamples, scene.model.vis.quality.shadowsize)
     with pytest.raises(ra.RenderError) as caught:
-        scene.cameras.capture(scene.world.datas)
+        scene.cameras.capture(scene.world)
     message = str(caught.value)
     for fragment in ("MUJOCO_GL='egl'", "Cannot initialize a EGL device display", "libosmesa6", "MUJOCO_GL=osmesa"):
         assert fragment in message, message

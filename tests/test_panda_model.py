@@ -7,6 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from robot_agents.model.compiling import compile_spec
 from robot_agents.robots.panda.panda import Panda
 
 VISUAL_GROUP = 2
@@ -14,10 +15,10 @@ POSES = ["q0", *Panda.keyframes]
 
 
 def compiled(pose: str) -> tuple[mujoco.MjModel, mujoco.MjData]:
-    model = mujoco.MjModel.from_xml_path(str(Panda.mjcf_path))
+    model = compile_spec(Panda.build_spec(), "test")  # the arm with the hand attached
     data = mujoco.MjData(model)
     if pose != "q0":
-        data.qpos[:] = Panda.keyframes[pose].qpos
+        data.qpos[:] = Panda.check().keyframes[pose].qpos
     mujoco.mj_forward(model, data)
     return model, data
 

@@ -72,7 +72,7 @@ def test_panda_limits_from_datasheet() -> None:
         ],
     )
     np.testing.assert_allclose(agent.qpos_limits[7:], [[0, 0.04], [0, 0.04]])
-    ids = agent.controller.parts["arm"].binding.actuator_ids
+    ids = agent.drives.actuator_ids[agent.drives.columns(agent.part_joints["arm"], "test")]
     np.testing.assert_allclose(scene.model.actuator_forcerange[ids, 1], [87, 87, 87, 87, 12, 12, 12])
     arm_mass = sum(scene.model.body_mass[scene.model.body(f"panda-0/panda_link{i}").id] for i in range(8))
     assert arm_mass == pytest.approx(16.69, abs=0.01)  # identified link masses, link0..link7
@@ -89,7 +89,7 @@ def test_gravity_compensation_holds_the_arm_with_motors_off() -> None:
                 "uid": "panda_passive",
                 "gravity_compensation": gravcomp,
                 "default_control_mode": "off",
-                "control_modes": {"off": ra.PassiveConfig(joint_names=ra.get_agent("panda").controlled_joints())},
+                "control_modes": {"off": ra.PassiveConfig(joint_names=ra.get_agent("panda").check().index.joint_names)},
             },
         )
         scene = ra.Scene(cls)
@@ -123,7 +123,7 @@ def grasp_scene() -> tuple[ra.Scene, ra.Agent]:
 
 def test_grasp_holds_and_lifts_a_cube() -> None:
     scene, agent = grasp_scene()
-    rest = agent.keyframes["rest"].qpos_array()[:7]
+    rest = agent.keyframe_qpos("rest")[:7]
     for _ in range(10):
         agent.set_action(np.concatenate([rest, [1.0]]))  # open, settle
         scene.step()
@@ -223,7 +223,11 @@ def test_instability_is_reported_and_cleared_by_reset(pendulum_file: Path) -> No
         pendulum_file,
         control_modes={
             "stiff": ra.PDJointPosConfig(
-                joint_names=("shoulder", "elbow"), stiffness=1e9, damping=0.0, normalize_action=False
+                joint_names=("shoulder", "elbow"),
+                stiffness=1e9,
+                damping=0.0,
+                effort_limit=1e12,
+                normalize_action=False,
             )
         },
     )

@@ -8,7 +8,19 @@ import robot_agents as ra
 from tests.conftest import make_pendulum_class
 
 
-def test_builtin_robots_registered() -> None:
+def test_builtin_robots_registered_lazily() -> None:
+    import subprocess
+    import sys
+
+    # Importing the library loads no robot model; asking for a uid imports its module.
+    code = (
+        "import sys, robot_agents as ra; "
+        "assert 'robot_agents.robots.panda.panda' not in sys.modules; "
+        "assert 'panda' in ra.list_agents(); "
+        "assert 'robot_agents.robots.panda.panda' not in sys.modules; "
+        "ra.get_agent('panda'); assert 'robot_agents.robots.panda.panda' in sys.modules"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
     uids = ra.list_agents()
     for uid in ("panda", "panda_stick", "floating_panda_gripper"):
         assert uid in uids
@@ -37,7 +49,8 @@ def test_register_get_unregister(pendulum_file: Path) -> None:
         ra.register_agent(override=True)(other)
         assert ra.get_agent("reg_pendulum") is other
     finally:
-        assert ra.unregister_agent("reg_pendulum") is not None
+        removed = ra.unregister_agent("reg_pendulum")
+    assert removed is other
     assert "reg_pendulum" not in ra.list_agents()
     with pytest.raises(ra.UnknownNameError):
         ra.unregister_agent("reg_pendulum")
@@ -49,9 +62,17 @@ def test_register_rejects_non_agents_and_bad_definitions(pendulum_file: Path) ->
     no_uid = make_pendulum_class(pendulum_file, uid="")
     with pytest.raises(ra.RegistryError, match="non-empty string uid"):
         ra.register_agent()(no_uid)
-    no_modes = make_pendulum_class(pendulum_file, uid="no_modes", control_modes={})
-    with pytest.raises(ra.ConfigError, match="control_modes"):
+    no_modes = make_pendulum_class(pendulum_file, uid="no_modes", control_modes={}, parts=())
+    with pytest.raises(ra.ConfigError, match="expected control_modes, or parts to generate them from"):
         ra.register_agent()(no_modes)
+    bad_keyframe = make_pendulum_class(
+        pendulum_file, uid="bad_keyframe", keyframes={"far": ra.Keyframe(qpos={"shoulder": 3.0})}
+    )
+    with pytest.raises(
+        ra.ConfigError, match=r"keyframes\['far'\]: joint 'shoulder' at 3 is outside its limits \[-2.5, 2.5\]"
+    ):
+        ra.register_agent()(bad_keyframe)
+    assert "bad_keyframe" not in ra.list_agents()
     bad_default = make_pendulum_class(pendulum_file, uid="bad_default", default_control_mode="pd_joint_poss")
     with pytest.raises(ra.UnknownNameError, match="pd_joint_pos"):
         ra.register_agent()(bad_default)

@@ -49,7 +49,7 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     down = ra.CameraConfig.look_at("down", eye=(3, 3, 0.7), target=(3, 3, 0), up=(1, 0, 0), width=65, height=65)
     tilted = ra.CameraConfig.look_at("tilted", eye=(3, 3, 0.7), target=(3.4, 3, 0), width=65, height=65, fovy=60.0)
     scene = ra.Scene("panda", cameras=[down, tilted])
-    images = scene.cameras.capture(scene.world.datas, ("depth",))
+    images = scene.cameras.capture(scene.world, ("depth",))
     depth = images["down"]["depth"]
     assert depth.dtype == np.float32 and depth.shape == (1, 65, 65, 1)
     assert depth[0, 32, 32, 0] == pytest.approx(0.7, abs=1e-3)
@@ -58,7 +58,7 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     # Looking at the sky: nothing within the far plane reads exactly `far`.
     up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
     scene = ra.Scene("panda", cameras=[up])
-    assert np.all(scene.cameras.capture(scene.world.datas, ("depth",))["up"]["depth"] == 5.0)
+    assert np.all(scene.cameras.capture(scene.world, ("depth",))["up"]["depth"] == 5.0)
 
 
 def test_full_intrinsic_matrix_is_rendered_exactly() -> None:
@@ -66,8 +66,8 @@ def test_full_intrinsic_matrix_is_rendered_exactly() -> None:
     k = [[70.0, 0.0, 40.0], [0.0, 55.0, 20.0], [0.0, 0.0, 1.0]]
     camera = ra.CameraConfig.look_at("k", eye=(3, 3, 0.9), target=(3.5, 3.2, 0), width=64, height=48, intrinsic=k)
     scene = ra.Scene("panda", cameras=[camera])
-    depth = scene.cameras.capture(scene.world.datas, ("depth",))["k"]["depth"]
-    pose = scene.cameras.params(scene.world.datas)["k"]["cam2world_gl"]
+    depth = scene.cameras.capture(scene.world, ("depth",))["k"]["depth"]
+    pose = scene.cameras.params(scene.world)["k"]["cam2world_gl"]
     points = world_points(depth, pixel_rays(np.array(k), 64, 48), pose)
     assert np.max(np.abs(points[0, :, 2])) < 1e-3
     np.testing.assert_allclose(scene.cameras.intrinsic("k"), k)
@@ -124,7 +124,7 @@ def test_shadows_are_configurable() -> None:
     for shadows in (True, False, False):
         scene = ra.Scene("panda", cameras=[camera], sensor_configs={"view": {"shadows": shadows}})
         scene.reset()
-        images.append(scene.cameras.capture(scene.world.datas)["view"]["rgb"][0].astype(float).mean(axis=-1))
+        images.append(scene.cameras.capture(scene.world)["view"]["rgb"][0].astype(float).mean(axis=-1))
         scene.close()
     change = images[0] - images[1]
     assert np.mean(change < -10) > 0.02 and change.min() < -60

@@ -11,7 +11,7 @@ from robot_agents.controllers import PDEEController
 from robot_agents.kinematics.rotations import quat_to_rotvec
 
 ROBOTS = ra.list_agents()
-CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).control_modes]
+CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).modes()]
 
 
 def hold_action(agent: Agent) -> np.ndarray:
@@ -51,24 +51,40 @@ def scene(request: pytest.FixtureRequest) -> ra.Scene:
 def test_loads_with_consistent_model(scene: ra.Scene) -> None:
     agent = scene.agents[0]
     cls = type(agent)
-    assert agent.dof == len(agent.joint_names) > 0
-    assert agent.qpos.shape == (2, agent.dof)
-    assert agent.qvel.shape == (2, agent.dof)
-    robot_bodies = [b for b in range(scene.model.nbody) if scene.model.body(b).name.startswith(agent.prefix)]
-    assert all(scene.model.body_mass[b] > 0 for b in robot_bodies if scene.model.body_jntnum[b] > 0)
-    gravcomp = scene.model.body_gravcomp[robot_bodies]
+    model = scene.model
+    joints = [j for j in range(model.njnt) if model.joint(j).name.startswith(agent.prefix)]
+    moving = [j for j in joints if model.jnt_type[j] != 0]  # a free root is the base pose
+    sizes = {1: (4, 3), 2: (1, 1), 3: (1, 1)}
+    assert agent.qpos.shape == (2, sum(sizes[int(model.jnt_type[j])][0] for j in moving))
+    assert agent.qvel.shape == (2, sum(sizes[int(model.jnt_type[j])][1] for j in moving))
+    robot_bodies = [b for b in range(model.nbody) if model.body(b).name.startswith(agent.prefix)]
+    assert all(model.body_mass[b] > 0 for b in robot_bodies if model.body_jntnum[b] > 0)
+    gravcomp = model.body_gravcomp[robot_bodies]
     assert np.all(gravcomp == (1.0 if cls.fix_root_link else 0.0))
-    for joint in cls.controlled_joints():
-        assert joint in agent.joint_names
+    # Every joint a control mode commands has exactly one actuator on it in the compiled
+    # scene (never a duplicate beside the file's own), and every part's joints exist.
+    driving = [int(model.actuator_trnid[a, 0]) for a in range(model.nu) if model.actuator_trntype[a] == 0]
+    for mode in cls.modes():
+        for config in cls.mode_parts(mode).values():
+            for joint in config.joint_names:
+                joint_id = model.joint(agent.prefix + joint).id
+                assert driving.count(joint_id) == 1, (mode, joint)
+    for part, names in agent.part_joints.items():
+        assert names and all(n in agent.joint_names for n in names), part
 
 
 def test_keyframes_within_limits(scene: ra.Scene) -> None:
     agent = scene.agents[0]
     assert agent.keyframes, "every built-in robot declares at least one keyframe"
-    for name, frame in agent.keyframes.items():
-        qpos = frame.qpos_array()
-        assert qpos.shape == (agent.dof,), name
-        assert np.all(qpos >= agent.qpos_limits[:, 0]) and np.all(qpos <= agent.qpos_limits[:, 1]), name
+    model = scene.model
+    for name in agent.keyframes:
+        qpos = agent.keyframe_qpos(name)
+        assert qpos.shape == (agent.nq,), name
+        for joint, value in zip(agent.joint_names, qpos, strict=True):  # hinge and slide joints
+            low, high = model.jnt_range[model.joint(agent.prefix + joint).id]
+            assert low - 1e-9 <= value <= high + 1e-9, (name, joint)
+        scene.reset(keyframes=name)
+        np.testing.assert_array_equal(agent.qpos[0], qpos)
 
 
 def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
@@ -94,10 +110,16 @@ def test_every_mode(uid: str, mode: str) -> None:
     assert space.dtype == np.float32
     for part, controller in agent.controller.parts.items():
         sl = agent.controller.slices[part]
-        if controller.config.normalize_action:
+        cfg = controller.config
+        if cfg.normalize_action:
             assert np.all(space.low[:, sl] == -1) and np.all(space.high[:, sl] == 1)
-        else:
-            np.testing.assert_allclose(space.low[0, sl], controller.raw_low.astype(np.float32))
+        elif isinstance(cfg, ra.PDJointPosConfig) and cfg.lower is None:
+            # absolute joint targets: bounded by the joint limits in the compiled model
+            ranges = [scene.model.jnt_range[scene.model.joint(agent.prefix + j).id] for j in cfg.joint_names]
+            limits = np.array(ranges[: len(range(sl.start, sl.stop))])
+            n = len(cfg.joint_names) if not isinstance(cfg, ra.PDJointPosMimicConfig) else 1
+            np.testing.assert_allclose(space.low[0, sl.start : sl.start + n], limits[:n, 0].astype(np.float32))
+            np.testing.assert_allclose(space.high[0, sl.start : sl.start + n], limits[:n, 1].astype(np.float32))
 
     # Hold: the robot stays at its rest keyframe for 1 s (5 s for the default mode: see below).
     scene.reset()

@@ -26,7 +26,9 @@ from robot_agents.kinematics.rotations import (
     rotation_error,
     rotvec_to_quat,
 )
-from robot_agents.robots.panda.panda import PANDA_ARM, PANDA_TASK_SPACE, Panda
+from robot_agents.robots.panda.panda import ARM_JOINTS, PANDA_TASK_SPACE, Panda
+
+PANDA_ARM = ra.JointGroup(ARM_JOINTS)
 
 #: A yawed, raised mount, so that "root frame" and "world frame" differ in every test.
 YAWED_MOUNT = (0.3, -0.2, 0.5, math.cos(math.pi / 6), 0.0, 0.0, math.sin(math.pi / 6))
@@ -213,7 +215,7 @@ def test_sign_conventions(frame: CommandFrame, mode: str) -> None:
                     translation_frame=frame,
                     rotation_frame=frame,
                 ),
-                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
             }
         }
         default_control_mode = "ee"
@@ -340,7 +342,7 @@ def test_workspace_box_clips_targets() -> None:
         control_modes = {
             "ee": {
                 "arm": ee_control_modes(PANDA_ARM, replace(PANDA_TASK_SPACE, workspace=box))["pd_ee_target_delta_pos"],
-                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
             }
         }
 
@@ -367,7 +369,7 @@ def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
                     ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
                     rotation_format=RotationFormat.QUAT,
                 ),
-                "gripper": Panda.control_modes["pd_joint_pos"]["gripper"],  # type: ignore[index]
+                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
             }
         }
 
@@ -424,10 +426,10 @@ def test_config_errors_are_clear() -> None:
         uid = "test_wrong_link"
         default_control_mode = "ee"
         control_modes = {
-            "ee": ee_control_modes(PANDA_ARM, replace(PANDA_TASK_SPACE, ee_link="panda_hnd"))["pd_ee_delta_pos"]
+            "ee": ee_control_modes(PANDA_ARM, replace(PANDA_TASK_SPACE, end_effector="tcpp"))["pd_ee_delta_pos"]
         }
 
-    with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda_hand'"):
+    with pytest.raises(ra.UnknownNameError, match=r"unknown end effector 'tcpp'\. Did you mean 'tcp'"):
         ra.Scene(WrongLink)
 
 

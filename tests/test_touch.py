@@ -35,9 +35,8 @@ def touch_pad_class(path: Path, **extra: Any) -> type[ra.Agent]:
         "uid": "touch_pad",
         "mjcf_path": path,
         "keyframes": {"home": ra.Keyframe(qpos=(0.0,))},
-        "control_modes": ra.joint_control_modes(
-            ra.JointGroup(joint_names=("lift",), stiffness=5000.0, damping=200.0, force_limit=200.0)
-        ),
+        "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+        "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
         "touch_sensors": (
             ra.TouchSensorConfig("pad_touch", link="pad", pos=(0.0, 0.0, 0.02), size=(0.085, 0.085, 0.003)),
             ra.TouchSensorConfig("site_touch", site="pad_top"),
@@ -114,7 +113,7 @@ def test_panda_fingertip_pads_read_the_squeeze() -> None:
     scene = ra.Scene("panda_touch", props=props, control_modes="pd_joint_pos")
     scene.reset()
     agent = scene.agents[0]
-    rest = agent.keyframes["rest"].qpos_array()[:7]
+    rest = agent.keyframe_qpos("rest")[:7]
     for _ in range(5):
         agent.set_action(np.concatenate([rest, [1.0]]))
         scene.step()
@@ -124,7 +123,7 @@ def test_panda_fingertip_pads_read_the_squeeze() -> None:
         scene.step()
     model, data = scene.model, scene.world.datas[0]
     cube = model.body("cube").id
-    left, right = (agent._body_id(f"panda_{side}finger") for side in ("left", "right"))
+    left, right = (agent.index.body_id(f"panda_{side}finger", "test") for side in ("left", "right"))
     touch = agent.touch[0]
     assert touch[0] == pytest.approx(normal_force(model, data, left, cube), rel=0.01)
     assert touch[1] == pytest.approx(normal_force(model, data, right, cube), rel=0.01)

@@ -16,6 +16,14 @@ from robot_agents.gl_backend import configure as _configure_gl
 # EGL if it works here, else OSMesa (see robot_agents.gl_backend).
 _configure_gl()
 
+from robot_agents.actuators import (
+    DCMotorActuator,
+    FileActuators,
+    MotorActuator,
+    PDActuator,
+    PIDActuator,
+    VelocityActuator,
+)
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
     CommandFrame,
@@ -33,6 +41,7 @@ from robot_agents.controllers import (
     combine_parts,
     ee_control_modes,
     joint_control_modes,
+    modes_from_parts,
 )
 from robot_agents.envs import RobotEnv, make_env
 from robot_agents.errors import (
@@ -48,8 +57,10 @@ from robot_agents.errors import (
 )
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics import IKConfig, IKSolver, Kinematics
+from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
+from robot_agents.parts import Arm, Base, EndEffector, Gripper, Hand, Head, Legs, Torso
 from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
 from robot_agents.sensors import CameraConfig, SegmentationEntry, TouchSensorConfig
 from robot_agents.sim import BatchedWorld, Scene
@@ -59,24 +70,37 @@ __version__ = "0.1.0"
 __all__ = [
     "ActionError",
     "Agent",
+    "Arm",
+    "Attachment",
+    "Base",
     "BatchedWorld",
     "CameraConfig",
     "CommandFrame",
     "ConfigError",
+    "DCMotorActuator",
+    "EndEffector",
+    "FileActuators",
     "FrictionMaterial",
+    "Gripper",
+    "Hand",
+    "Head",
     "IKConfig",
     "IKSolver",
     "JointGroup",
     "Keyframe",
     "Kinematics",
+    "Legs",
     "MediaError",
     "ModelError",
+    "MotorActuator",
+    "PDActuator",
     "PDEEPosConfig",
     "PDEEPoseConfig",
     "PDJointPosConfig",
     "PDJointPosMimicConfig",
     "PDJointPosVelConfig",
     "PDJointVelConfig",
+    "PIDActuator",
     "PassiveConfig",
     "Prop",
     "RegistryError",
@@ -88,8 +112,10 @@ __all__ = [
     "SegmentationEntry",
     "StateError",
     "TaskSpace",
+    "Torso",
     "TouchSensorConfig",
     "UnknownNameError",
+    "VelocityActuator",
     "WorkspaceBox",
     "combine_parts",
     "ee_control_modes",
@@ -97,6 +123,7 @@ __all__ = [
     "joint_control_modes",
     "list_agents",
     "make_env",
+    "modes_from_parts",
     "register_agent",
     "unregister_agent",
 ]

@@ -10,6 +10,7 @@ from typing import TextIO
 
 import robot_agents
 from robot_agents.agent import Agent
+from robot_agents.agent.declaration import composition
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
@@ -51,7 +52,7 @@ def cmd_list(out: TextIO) -> int:
     for uid in list_agents():
         cls = get_agent(uid)
         scene = Scene(cls)
-        rows.append([uid, str(scene.agents[0].dof), ", ".join(cls.control_modes)])
+        rows.append([uid, str(scene.agents[0].dof), ", ".join(cls.modes())])
         scene.close()
     _table(rows, out)
     return 0
@@ -65,16 +66,25 @@ def cmd_info(uid: str, out: TextIO) -> int:
     agent = scene.agents[0]
     out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
     out.write(f"model: {cls.model_path()}\n")
-    out.write(f"root: {'fixed' if cls.fix_root_link else 'free'}; tool frame: {cls.tcp_link or '-'}\n\n")
+    tools = ", ".join(agent.frames.end_effectors) or "-"
+    out.write(f"root: {'fixed' if cls.fix_root_link else 'free'}; end effectors: {tools}\n")
+    parts = "; ".join(f"{p} ({', '.join(joints)})" for p, joints in agent.part_joints.items()) or "-"
+    out.write(f"parts: {parts}\n")
+    drives: dict[str, list[str]] = {}
+    for joint, source in agent.drives.describe():
+        drives.setdefault(source, []).append(joint)
+    for source, joints in drives.items():
+        out.write(f"drive: {source}: {', '.join(joints)}\n")
+    out.write("\n")
     rows = [["joint", "lower", "upper"]]
     rows += [[n, f"{lo:.4f}", f"{hi:.4f}"] for n, (lo, hi) in zip(agent.joint_names, agent.qpos_limits, strict=True)]
     _table(rows, out)
     out.write("\nkeyframes:\n")
-    for name, frame in cls.keyframes.items():
-        out.write(f"  {name}: qpos = [{', '.join(f'{q:.4f}' for q in frame.qpos)}]\n")
+    for name in cls.keyframes:
+        out.write(f"  {name}: qpos = [{', '.join(f'{q:.4f}' for q in agent.keyframe_qpos(name))}]\n")
     out.write("\n")
     rows = [["control mode", "action", "parts"]]
-    for mode in cls.control_modes:
+    for mode in cls.modes():
         agent.set_control_mode(mode)
         parts = ", ".join(
             f"{p}[{s.stop - s.start}]: {agent.controller.parts[p].describe()}"
@@ -92,13 +102,13 @@ def cmd_info(uid: str, out: TextIO) -> int:
 def _sensor_lines(cls: type[Agent]) -> list[str]:
     """One line per declared camera and touch sensor (``sensors: none`` without any)."""
     lines = []
-    for camera in cls.cameras:
+    for camera in composition(cls).cameras:
         projection = f"fovy {camera.vertical_fov():.1f} deg" + (", intrinsic K" if camera.intrinsic else "")
         lines.append(
             f"  camera {camera.uid} on {camera.mount}: {camera.width}x{camera.height}, {projection}, "
             f"near {camera.near:g} m, far {camera.far:g} m"
         )
-    for touch in cls.touch_sensors:
+    for touch in composition(cls).touch_sensors:
         where = f"site {touch.site}" if touch.site else f"{touch.shape} site on {touch.link}"
         lines.append(f"  touch {touch.uid} on {where} (normal force, N)")
     return ["sensors:", *lines] if lines else ["sensors: none"]

@@ -20,6 +20,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.media import check_output_path, draw_label, write_video
+from robot_agents.parts.declaration import Gripper
 from robot_agents.registry import get_agent
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.rig import CameraRig
@@ -93,7 +94,7 @@ def run_demo(
     output = check_output_path(output)
     start = time.perf_counter()
     cls: type[Agent] = get_agent(uid)
-    mode = DEMO_MODE if DEMO_MODE in cls.control_modes else cls.default_mode()
+    mode = DEMO_MODE if DEMO_MODE in cls.modes() else cls.default_mode()
     scene = Scene(cls, control_modes=mode)
     agent = scene.agents[0]
     scene.reset()
@@ -114,12 +115,12 @@ def run_demo(
         scene.step()
         peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
         if step_count % record_every == 0:
-            renderer.update_scene(scene.world.datas[0], camera=camera)
+            renderer.update_scene(scene.world.render_sources([0])[0], camera=camera)
             scene_view = renderer.render().copy()
             if robot_views is None:
                 frames.append(scene_view)
             else:
-                views = robot_views.capture(scene.world.datas[:1], ("rgb",))
+                views = robot_views.capture(scene.world, ("rgb",), env_ids=[0])
                 panels = [draw_label(scene_view, SCENE_LABEL)]
                 panels += [draw_label(images["rgb"][0], name) for name, images in views.items()]
                 frames.append(np.concatenate(panels, axis=1))
@@ -129,8 +130,8 @@ def run_demo(
     position_mode = mode == DEMO_MODE
     results: list[KeyframeResult] = []
     poses = list(agent.keyframes.items())
-    for name, frame in [*poses[1:], *poses[:1]]:
-        goal = frame.qpos_array()
+    for name, _ in [*poses[1:], *poses[:1]]:
+        goal = agent.keyframe_qpos(name)
         begin = agent.qpos[0]
         for i in range(steps_per_pose):
             if position_mode:
@@ -143,8 +144,11 @@ def run_demo(
             scene.reset(keyframes=name)
         results.append(KeyframeResult(name, float(np.max(np.abs(agent.qpos[0] - goal)))))
     if position_mode and poses:
-        base = poses[0][1].qpos_array()
-        movable = [i for i, n in enumerate(agent.joint_names) if n not in agent.gripper_joint_names]
+        base = agent.keyframe_qpos(poses[0][0])
+        gripping = {
+            j for p in agent.parts_by_name.values() if isinstance(p, Gripper) for j in agent.part_joints[p.name]
+        }
+        movable = [i for i, n in enumerate(agent.joint_names) if n not in gripping]
         span = agent.qpos_limits[movable, 1] - agent.qpos_limits[movable, 0]
         amplitude = np.minimum(0.35, 0.15 * np.where(np.isfinite(span), span, 2.0))
         for i in range(steps_per_pose * 2):
@@ -188,9 +192,8 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
 
 def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
     """A free camera that frames the robot at its first keyframe, seen from the front left."""
-    data = scene.world.datas[0]
     bodies = [b for b in range(scene.model.nbody) if scene.model.body(b).name.startswith(agent.prefix)]
-    points = data.xpos[bodies]
+    points = scene.world.body_poses(bodies)[0, :, :3]
     center = (points.min(axis=0) + points.max(axis=0)) / 2
     size = float(np.max(points.max(axis=0) - points.min(axis=0)))
     camera = mujoco.MjvCamera()

@@ -1,19 +1,46 @@
-"""Named robot poses used for resets."""
+"""Named robot poses used for resets, by joint name.
+
+A keyframe names joints by pattern::
+
+    Keyframe(qpos={"panda_joint[1-7]": (0, 0.39, 0, -1.96, 0, 2.36, 0.79), "panda_finger_joint.*": 0.04})
+
+Each pattern (a regular expression over the robot's joint names, whole-name match)
+must match at least one joint; a scalar applies to every matched joint, a tuple gives
+the matched joints' positions in model order (4 numbers, a unit quaternion
+``w, x, y, z``, for a ball joint). Joints not named take the model's default (the
+file's own keyframe where it has one); followers of joint couplings (mimic fingers,
+linkages) that are not named are filled from their leaders. A positional tuple over
+every joint's ``qpos`` still works. :func:`resolve_keyframe` turns a keyframe into
+the robot's ``qpos`` / ``qvel`` vectors and checks names, sizes, limits and
+quaternions; robots resolve every keyframe when they are checked or registered.
+"""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.patterns import as_patterns, match
+
+if TYPE_CHECKING:
+    from robot_agents.agent.index import RobotIndex
+
+FloatArray = npt.NDArray[np.float64]
+#: Positions (or velocities) by joint pattern, or one positional tuple over the robot's vector.
+JointValues = tuple[float, ...] | Mapping[str, float | tuple[float, ...]]
 
 
-def _as_floats(name: str, values: Sequence[float] | npt.ArrayLike, size: int | None = None) -> tuple[float, ...]:
-    array = np.asarray(values, dtype=np.float64).reshape(-1)
+def _as_floats(name: str, values: Any, size: int | None = None) -> tuple[float, ...]:
+    try:
+        array = np.asarray(values, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ConfigError(f"Keyframe.{name}: expected numbers, got {values!r}.") from None
     if size is not None and array.size != size:
         raise ConfigError(f"Keyframe.{name}: expected {size} values, got {array.size}: {array.tolist()}.")
     if not np.all(np.isfinite(array)):
@@ -21,31 +48,44 @@ def _as_floats(name: str, values: Sequence[float] | npt.ArrayLike, size: int | N
     return tuple(float(v) for v in array)
 
 
+def _as_values(name: str, values: Any) -> JointValues:
+    if isinstance(values, Mapping):
+        out: dict[str, float | tuple[float, ...]] = {}
+        for pattern, value in values.items():
+            as_patterns(pattern, f"Keyframe.{name}")
+            floats = _as_floats(f"{name}[{pattern!r}]", value)
+            if not floats:
+                raise ConfigError(f"Keyframe.{name}[{pattern!r}]: expected a number or a tuple, got nothing.")
+            out[pattern] = floats[0] if np.ndim(value) == 0 else floats
+        return out
+    return _as_floats(name, values)
+
+
 @dataclass(frozen=True)
 class Keyframe:
     """A named pose of one robot.
 
     Attributes:
-        qpos: joint positions, shape ``(dof,)``, in the robot's joint order (radians for
-            hinges, metres for slides). The root pose of a free-floating robot is *not*
-            part of ``qpos``; it is ``base_pos`` / ``base_quat``.
-        qvel: joint velocities, shape ``(dof,)``; zeros when omitted.
-        base_pos: root position (m), shape ``(3,)``, relative to where the scene mounts
-            the robot (``Scene(robot_poses=...)``; the world origin by default). Applied
-            to free-root robots on reset; a fixed-root robot stays on its mount.
+        qpos: joint positions by joint pattern (see the module doc), or a positional
+            tuple over the robot's ``qpos`` vector (radians for hinges, metres for
+            slides, quaternions for ball joints). The root pose of a free-floating robot
+            is not part of it: that is ``base_pos`` / ``base_quat``.
+        qvel: joint velocities, by pattern or positional over ``qvel``; zeros when omitted.
+        base_pos: root position (m), relative to where the scene mounts the robot.
+            Applied to free-root robots on reset; a fixed-root robot stays on its mount.
         base_quat: root orientation as a unit quaternion ``(w, x, y, z)``, relative to
             the mount's orientation.
     """
 
-    qpos: tuple[float, ...]
-    qvel: tuple[float, ...] | None = None
+    qpos: JointValues = field(default_factory=dict)
+    qvel: JointValues | None = None
     base_pos: tuple[float, ...] = (0.0, 0.0, 0.0)
-    base_quat: tuple[float, ...] = field(default=(1.0, 0.0, 0.0, 0.0))
+    base_quat: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "qpos", _as_floats("qpos", self.qpos))
+        object.__setattr__(self, "qpos", _as_values("qpos", self.qpos))
         if self.qvel is not None:
-            object.__setattr__(self, "qvel", _as_floats("qvel", self.qvel, len(self.qpos)))
+            object.__setattr__(self, "qvel", _as_values("qvel", self.qvel))
         object.__setattr__(self, "base_pos", _as_floats("base_pos", self.base_pos, 3))
         quat = _as_floats("base_quat", self.base_quat, 4)
         norm = math.sqrt(sum(q * q for q in quat))
@@ -54,16 +94,133 @@ class Keyframe:
         object.__setattr__(self, "base_quat", tuple(q / norm for q in quat))
 
     @property
-    def dof(self) -> int:
-        """Number of joint positions in this keyframe."""
-        return len(self.qpos)
+    def by_name(self) -> bool:
+        """True when ``qpos`` names joints by pattern."""
+        return isinstance(self.qpos, Mapping)
 
-    def qpos_array(self) -> npt.NDArray[np.float64]:
-        """``qpos`` as a new float64 array of shape ``(dof,)``."""
-        return np.array(self.qpos, dtype=np.float64)
 
-    def qvel_array(self) -> npt.NDArray[np.float64]:
-        """``qvel`` (zeros when omitted) as a new float64 array of shape ``(dof,)``."""
-        if self.qvel is None:
-            return np.zeros(self.dof, dtype=np.float64)
-        return np.array(self.qvel, dtype=np.float64)
+@dataclass(frozen=True)
+class ResolvedKeyframe:
+    """A keyframe as the robot's vectors: ``qpos`` ``(nq,)``, ``qvel`` ``(nv,)``, base pose ``(7,)``."""
+
+    qpos: FloatArray
+    qvel: FloatArray
+    base: FloatArray
+
+
+def default_qpos(index: RobotIndex) -> FloatArray:
+    """The robot's default ``qpos`` ``(nq,)``: the file's first keyframe if it has one,
+    else the model's reference pose (``qpos0``; identity quaternions for ball joints)."""
+    model = index.model
+    source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
+    default: FloatArray = np.array(source[index.qpos_adr], dtype=np.float64)
+    return default
+
+
+def resolve_keyframe(
+    frame: Keyframe, index: RobotIndex, where: str, default: FloatArray | None = None
+) -> ResolvedKeyframe:
+    """``frame`` as the robot's ``qpos`` / ``qvel`` vectors, checked. Joints it does not
+    name take ``default`` (``(nq,)``; :func:`default_qpos` when ``None``).
+
+    Raises:
+        ConfigError / UnknownNameError: a pattern matches no joint, two patterns name one
+            joint, a value has the wrong size, a position is outside its joint's limits,
+            or a ball joint's quaternion is not a unit quaternion. The message names
+            ``where`` (the keyframe).
+    """
+    if not isinstance(frame, Keyframe):
+        raise ConfigError(f"{where}: expected a Keyframe, got {frame!r}.")
+    named: set[str] = set()
+    base_qpos = default_qpos(index) if default is None else default
+    qpos = _fill(frame.qpos, index, base_qpos, "qpos", where, named)
+    _fill_couplings(qpos, index, named)
+    qvel = (
+        np.zeros(index.nv) if frame.qvel is None else _fill(frame.qvel, index, np.zeros(index.nv), "qvel", where, set())
+    )
+    _check_limits(qpos, index, where)
+    base = np.array([*frame.base_pos, *frame.base_quat], dtype=np.float64)
+    return ResolvedKeyframe(qpos, qvel, base)
+
+
+def _fill(
+    values: JointValues, index: RobotIndex, default: FloatArray, what: str, where: str, named: set[str]
+) -> FloatArray:
+    positions = what == "qpos"
+    size = index.nq if positions else index.nv
+    if not isinstance(values, Mapping):
+        if len(values) != size:
+            layout = ", ".join(index.joint_names)
+            raise ConfigError(
+                f"{where}: expected {size} joint {'positions' if positions else 'velocities'} ({layout}), got {len(values)}."
+            )
+        named.update(index.joint_names)
+        return np.array(values, dtype=np.float64)
+    out: FloatArray = default.copy()
+    owner: dict[str, str] = {}
+    for pattern, value in values.items():
+        hits = [index.joints[i] for i in match(pattern, index.joint_names, f"{where}.{what}")]
+        for joint in hits:
+            if joint.name in owner:
+                raise ConfigError(
+                    f"{where}.{what}: joint {joint.name!r} is named by both {owner[joint.name]!r} and {pattern!r}."
+                )
+            owner[joint.name] = pattern
+        widths = [joint.nq if positions else joint.nv for joint in hits]
+        scalar = not isinstance(value, tuple)
+        if scalar and any(w != 1 for w in widths):
+            odd = next(j.name for j, w in zip(hits, widths, strict=True) if w != 1)
+            raise ConfigError(
+                f"{where}.{what}[{pattern!r}]: joint {odd!r} is a ball joint; give its "
+                f"{'quaternion (w, x, y, z)' if positions else 'angular velocity (3 values)'} as a tuple."
+            )
+        flat = np.full(sum(widths), value) if scalar else np.asarray(value, dtype=np.float64)
+        if flat.size != sum(widths):
+            names = ", ".join(j.name for j in hits)
+            raise ConfigError(
+                f"{where}.{what}[{pattern!r}]: matches {len(hits)} joint(s) ({names}) with {sum(widths)} values; got {flat.size}."
+            )
+        cursor = 0
+        for joint, width in zip(hits, widths, strict=True):
+            start = joint.qpos_start if positions else joint.dof_start
+            out[start : start + width] = flat[cursor : cursor + width]
+            cursor += width
+            named.add(joint.name)
+    return out
+
+
+def _fill_couplings(qpos: FloatArray, index: RobotIndex, named: set[str]) -> None:
+    """Followers the keyframe did not name follow their leaders (twice, for chains)."""
+    for _ in range(2):
+        for coupling in index.couplings:
+            if coupling.follower in named:
+                continue
+            leader = index.joint(coupling.leader, "coupling")
+            follower = index.joint(coupling.follower, "coupling")
+            if leader.nq == 1 and follower.nq == 1:
+                qpos[follower.qpos_start] = coupling.follow(float(qpos[leader.qpos_start]))
+
+
+def _check_limits(qpos: FloatArray, index: RobotIndex, where: str) -> None:
+    for joint in index.joints:
+        start = joint.qpos_start
+        if joint.kind.value == "ball":
+            quat = qpos[start : start + 4]
+            norm = float(np.linalg.norm(quat))
+            if abs(norm - 1.0) > 1e-6:
+                raise ConfigError(
+                    f"{where}: ball joint {joint.name!r} needs a unit quaternion (w, x, y, z), got {quat.tolist()} "
+                    f"(norm {norm:.6g})."
+                )
+            continue
+        low, high = index.qpos_limits[start]
+        value = float(qpos[start])
+        if value < low - 1e-9 or value > high + 1e-9:
+            raise ConfigError(
+                f"{where}: joint {joint.name!r} at {value:.6g} is outside its limits [{low:.6g}, {high:.6g}]."
+            )
+
+
+def unknown_keyframe(where: str, name: object, available: Sequence[str]) -> UnknownNameError:
+    """The error for a keyframe name that does not exist."""
+    return UnknownNameError(where, "keyframe", str(name), available)

@@ -1,10 +1,17 @@
-"""Robots registered by string id."""
+"""Robots registered by string id.
+
+User robots register with :func:`register_agent`; built-in ones are listed in
+:mod:`robot_agents.robots.catalog` and imported (registered and checked) on first use,
+so importing the library loads no robot model.
+"""
 
 from __future__ import annotations
 
+import importlib
 from typing import TYPE_CHECKING, TypeVar
 
 from robot_agents.errors import RegistryError, UnknownNameError
+from robot_agents.robots.catalog import BUILTIN_ROBOTS
 
 if TYPE_CHECKING:
     from robot_agents.agent import Agent
@@ -12,6 +19,8 @@ if TYPE_CHECKING:
 AgentT = TypeVar("AgentT", bound="type[Agent]")
 
 _REGISTRY: dict[str, type[Agent]] = {}
+#: Built-in uids that were unregistered in this process.
+_REMOVED: set[str] = set()
 
 
 def register_agent(uid: str | None = None, *, override: bool = False):  # type: ignore[no-untyped-def]
@@ -41,13 +50,28 @@ def register_agent(uid: str | None = None, *, override: bool = False):  # type: 
                 f"register_agent({cls.__name__}): uid {key!r} is already registered to "
                 f"{_REGISTRY[key].__module__}.{_REGISTRY[key].__qualname__}; pass override=True to replace it."
             )
-        cls.validate_definition()
+        cls.check()
         if uid is not None and cls.uid != uid:
             cls.uid = uid
         _REGISTRY[key] = cls
+        _REMOVED.discard(key)
         return cls
 
     return decorator
+
+
+def _builtin(uid: str) -> type[Agent] | None:
+    """Import the module of built-in robot ``uid`` (registering it) and return its class."""
+    if uid in _REMOVED or uid not in BUILTIN_ROBOTS:
+        return None
+    module, name = BUILTIN_ROBOTS[uid].split(":")
+    cls: type[Agent] = getattr(importlib.import_module(module), name)
+    _REGISTRY.setdefault(uid, cls)
+    return cls
+
+
+def _available() -> list[str]:
+    return sorted(set(_REGISTRY) | (set(BUILTIN_ROBOTS) - _REMOVED))
 
 
 def get_agent(uid: str) -> type[Agent]:
@@ -56,27 +80,24 @@ def get_agent(uid: str) -> type[Agent]:
     Raises:
         UnknownNameError: no agent has that uid; the message lists close matches.
     """
-    _ensure_builtin_robots()
-    try:
-        return _REGISTRY[uid]
-    except KeyError:
-        raise UnknownNameError("get_agent", "robot uid", str(uid), _REGISTRY) from None
+    if isinstance(uid, str):
+        found = _REGISTRY.get(uid) or _builtin(uid)
+        if found is not None:
+            return found
+    raise UnknownNameError("get_agent", "robot uid", str(uid), _available())
 
 
 def list_agents() -> list[str]:
-    """Registered robot uids, sorted."""
-    _ensure_builtin_robots()
-    return sorted(_REGISTRY)
+    """Registered robot uids (built-in and user), sorted."""
+    return _available()
 
 
 def unregister_agent(uid: str) -> type[Agent]:
     """Remove ``uid`` from the registry and return its class."""
-    _ensure_builtin_robots()
-    try:
-        return _REGISTRY.pop(uid)
-    except KeyError:
-        raise UnknownNameError("unregister_agent", "robot uid", str(uid), _REGISTRY) from None
-
-
-def _ensure_builtin_robots() -> None:
-    import robot_agents.robots  # noqa: F401  (registers the built-in zoo on first import)
+    cls = get_agent(uid) if isinstance(uid, str) and uid in _available() else None
+    if cls is None:
+        raise UnknownNameError("unregister_agent", "robot uid", str(uid), _available())
+    _REGISTRY.pop(uid, None)
+    if uid in BUILTIN_ROBOTS:
+        _REMOVED.add(uid)
+    return cls

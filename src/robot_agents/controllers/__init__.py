@@ -8,7 +8,6 @@ from robot_agents.controllers.ee import (
     PDEEPosConfig,
     PDEEPoseConfig,
     RotationFormat,
-    WorkspaceBox,
 )
 from robot_agents.controllers.joint import (
     PDJointPosConfig,
@@ -20,11 +19,13 @@ from robot_agents.controllers.passive import PassiveConfig
 from robot_agents.controllers.rules import (
     EE_MODES,
     JointGroup,
-    TaskSpace,
     combine_parts,
     ee_control_modes,
+    gripper_config,
     joint_control_modes,
+    modes_from_parts,
 )
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 
 __all__ = [
     "EE_MODES",
@@ -48,5 +49,7 @@ __all__ = [
     "WorkspaceBox",
     "combine_parts",
     "ee_control_modes",
+    "gripper_config",
     "joint_control_modes",
+    "modes_from_parts",
 ]

@@ -1,12 +1,13 @@
-"""What every controller shares: joint bindings, gains written into MuJoCo actuators,
-action bounds and [-1, 1] normalization.
+"""What every controller shares: joint bindings, action bounds and [-1, 1]
+normalization, and the joint targets it produces.
 
 A *config* is a frozen dataclass that a robot declares; :meth:`ControllerConfig.build`
-turns it into a small stateful *controller* bound to joints of a compiled model.
-PD control runs inside MuJoCo: every controlled joint has one ``general`` actuator
-with an affine bias, ``force = gain * ctrl + b1 * qpos + b2 * qvel`` (clamped to the
-force limit), and a controller writes ``gain``/``bias`` when its mode is activated
-and the target into ``ctrl`` on each action.
+turns it into a small stateful *controller* bound to joints of a compiled model. A
+controller never writes MuJoCo controls: it writes joint targets (position, velocity,
+effort) into the robot's :class:`~robot_agents.actuators.drives.JointTargets`, and the
+drive stage turns them into ``ctrl`` for the robot's declared actuators. A config may
+override the drives' gains while its mode is active (``stiffness``, ``damping``,
+``effort_limit``); ``None`` keeps what the robot declares.
 """
 
 from __future__ import annotations
@@ -14,12 +15,13 @@ from __future__ import annotations
 import abc
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.actuators.drives import JointTargets
 from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
@@ -31,20 +33,14 @@ PerJoint = float | tuple[float, ...]
 
 
 class SimView(Protocol):
-    """What a controller reads and writes: the batched state of every env.
-
-    ``qpos`` ``(num_envs, nq)`` and ``qvel`` ``(num_envs, nv)`` are read-only;
-    controllers write their commands into ``ctrl`` ``(num_envs, nu)``.
-    """
+    """What a controller reads: the batched state of every env, ``qpos``
+    ``(num_envs, nq)`` and ``qvel`` ``(num_envs, nv)`` (read-only)."""
 
     @property
     def qpos(self) -> FloatArray: ...
 
     @property
     def qvel(self) -> FloatArray: ...
-
-    @property
-    def ctrl(self) -> FloatArray: ...
 
 
 @dataclass(frozen=True)
@@ -55,27 +51,25 @@ class JointBinding:
         joint_names: full (prefixed) joint names, shape ``(n,)``.
         qpos_adr: index of each joint in ``qpos``, shape ``(n,)``.
         dof_adr: index of each joint in ``qvel``, shape ``(n,)``.
-        actuator_ids: the actuator driving each joint, shape ``(n,)``.
-        ctrl_adr: index of each actuator's control in ``ctrl``, shape ``(n,)``.
+        columns: each joint's column in the robot's joint targets (its drive), ``(n,)``.
         qpos_range: joint limits, shape ``(n, 2)``; ``(-inf, inf)`` for unlimited joints.
     """
 
     joint_names: tuple[str, ...]
     qpos_adr: IntArray
     dof_adr: IntArray
-    actuator_ids: IntArray
-    ctrl_adr: IntArray
+    columns: IntArray
     qpos_range: FloatArray
-    #: ``qpos_adr`` / ``dof_adr`` / ``ctrl_adr`` as slices where they are contiguous
+    #: ``qpos_adr`` / ``dof_adr`` / ``columns`` as slices where they are contiguous
     #: (indexing with a slice is a view and several times faster than with an array).
     qpos_sel: slice | IntArray = field(init=False, repr=False)
     dof_sel: slice | IntArray = field(init=False, repr=False)
-    ctrl_sel: slice | IntArray = field(init=False, repr=False)
+    column_sel: slice | IntArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "qpos_sel", index_selector(self.qpos_adr))
         object.__setattr__(self, "dof_sel", index_selector(self.dof_adr))
-        object.__setattr__(self, "ctrl_sel", index_selector(self.ctrl_adr))
+        object.__setattr__(self, "column_sel", index_selector(self.columns))
 
     @property
     def size(self) -> int:
@@ -104,7 +98,9 @@ class ControllerContext:
         control_timestep: seconds per control step (one action).
         kinematics: side-effect-free kinematics of the scene (shared by the robot's controllers).
         root_frame: the robot's root body (the frame of root-relative commands).
-        tool_frame: the robot's tool centre point, if it declares one.
+        targets: the robot's joint targets, which controllers write.
+        end_effectors: the robot's end effectors by name: ``(tool frame, command frame)``;
+            the first is the default.
         prefix: the robot's name prefix in the scene.
         owner: the robot's class name, for messages.
     """
@@ -114,7 +110,8 @@ class ControllerContext:
     control_timestep: float
     kinematics: Kinematics
     root_frame: FrameRef
-    tool_frame: FrameRef | None
+    targets: JointTargets
+    end_effectors: dict[str, tuple[FrameRef, FrameRef]] = field(default_factory=dict)
     prefix: str = ""
     owner: str = ""
 
@@ -131,12 +128,31 @@ class ControllerConfig(abc.ABC):
         joint_names: the joints this controller drives, in action order (unprefixed).
         normalize_action: take actions in ``[-1, 1]`` and map them linearly onto
             ``[lower, upper]``; otherwise take raw values. Both are clipped.
+        stiffness, damping, effort_limit: drive settings this mode imposes on its
+            joints while it is active (N*m/rad, N*m*s/rad, N*m; per joint or one for
+            all); ``None`` keeps the robot's declared actuators'.
     """
+
+    #: The target kinds the controller writes: ``"position"``, ``"velocity"``, ``"effort"``.
+    writes: ClassVar[tuple[str, ...]] = ("position",)
 
     joint_names: tuple[str, ...]
     normalize_action: bool = True
+    stiffness: PerJoint | None = None
+    damping: PerJoint | None = None
+    effort_limit: PerJoint | None = None
 
     def __post_init__(self) -> None:
+        for name in ("stiffness", "damping", "effort_limit"):
+            value = getattr(self, name)
+            if value is None:
+                continue
+            try:
+                array = np.asarray(value, dtype=np.float64).reshape(-1)
+            except (TypeError, ValueError):
+                array = np.array([np.nan])
+            if array.size == 0 or not np.all(np.isfinite(array)) or np.any(array < 0):
+                raise ConfigError(f"{type(self).__name__}.{name}: expected finite values >= 0, got {value!r}.")
         if isinstance(self.joint_names, str) or not isinstance(self.joint_names, Sequence):
             raise ConfigError(
                 f"{type(self).__name__}.joint_names: expected a tuple of joint names, got {self.joint_names!r}."
@@ -145,18 +161,25 @@ class ControllerConfig(abc.ABC):
         if len(set(self.joint_names)) != len(self.joint_names):
             raise ConfigError(f"{type(self).__name__}.joint_names: a joint is listed twice in {self.joint_names}.")
 
+    def target_kinds(self) -> tuple[str, ...]:
+        """The target kinds the controller writes (see :attr:`writes`)."""
+        return self.writes
+
     @abc.abstractmethod
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         """Make the controller for these joints of a compiled model."""
 
 
 class Controller(abc.ABC):
-    """A controller bound to a compiled model; all arrays carry a leading ``num_envs`` axis."""
+    """A controller bound to a compiled model; all arrays carry a leading ``num_envs`` axis.
 
-    def __init__(self, config: ControllerConfig, binding: JointBinding, num_envs: int) -> None:
+    It writes its joints' columns of ``targets`` (position, velocity, effort)."""
+
+    def __init__(self, config: ControllerConfig, binding: JointBinding, context: ControllerContext) -> None:
         self.config = config
         self.binding = binding
-        self.num_envs = num_envs
+        self.num_envs = context.num_envs
+        self.targets = context.targets
         low, high = self.action_bounds()
         if low.shape != high.shape or np.any(low > high):
             raise ConfigError(
@@ -197,29 +220,12 @@ class Controller(abc.ABC):
 
     # -- lifecycle --------------------------------------------------------------------
     @abc.abstractmethod
-    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Actuator parameters per joint, each shape ``(n,)``: gain on ctrl, bias on qpos,
-        bias on qvel, force limit (N or N*m)."""
-
-    def apply_gains(self, model: mujoco.MjModel) -> None:
-        """Write this controller's gains and force limits into the model's actuators."""
-        gain, bias_q, bias_v, force = self.gains()
-        ids = self.binding.actuator_ids
-        model.actuator_gainprm[ids, 0] = gain
-        model.actuator_biasprm[ids, 0] = 0.0
-        model.actuator_biasprm[ids, 1] = bias_q
-        model.actuator_biasprm[ids, 2] = bias_v
-        model.actuator_forcelimited[ids] = 1
-        model.actuator_forcerange[ids, 0] = -force
-        model.actuator_forcerange[ids, 1] = force
-
-    @abc.abstractmethod
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
-        """Re-initialise targets of ``env_ids`` from the measured state and write the
-        resulting hold command into ``sim.ctrl``."""
+        """Re-initialise the controller's state of ``env_ids`` from the measured state
+        (the drive stage has set targets that hold the measured pose)."""
 
     def set_action(self, action: FloatArray, sim: SimView) -> None:
-        """Turn a validated action ``(num_envs, action_dim)`` into targets written into ``ctrl``."""
+        """Turn a validated action ``(num_envs, action_dim)`` into joint targets."""
         self.apply(self.to_raw(action), sim)
 
     @abc.abstractmethod
@@ -248,7 +254,7 @@ class Controller(abc.ABC):
         return False
 
     def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
-        """Update ``ctrl`` before physics substep ``substep`` of ``substeps`` (default: nothing)."""
+        """Update targets before physics substep ``substep`` of ``substeps`` (default: nothing)."""
         return None
 
     def observe(self) -> dict[str, FloatArray]:

@@ -1,46 +1,66 @@
-"""One flat action split by slices over per-part controllers (arm, gripper, base, ...)."""
+"""One control mode: a flat action split by slices over per-part controllers (arm,
+gripper, base, ...), their drive overrides, and the drive stage they feed."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, Protocol
 
-import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.controllers.base import Controller, FloatArray, IntArray, SimView
+from robot_agents.actuators.drives import DriveOverride, Drives
+from robot_agents.controllers.base import Controller, FloatArray, IntArray
 from robot_agents.errors import StateError
+
+
+class ControlledSim(Protocol):
+    """What a control mode reads (``qpos``, ``qvel``) and writes (``ctrl``, through the drives)."""
+
+    ctrl: FloatArray
+
+    @property
+    def qpos(self) -> FloatArray: ...
+
+    @property
+    def qvel(self) -> FloatArray: ...
 
 
 class CombinedController:
     """The controllers of one control mode, in action order.
 
     ``parts`` maps a part name (``"arm"``, ``"gripper"``, ...) to its controller; the
-    flat action is their actions concatenated in that order.
+    flat action is their actions concatenated in that order. Activating the mode
+    applies the robot's declared drive settings with the mode's ``override`` on top.
     """
 
-    def __init__(self, mode: str, parts: Mapping[str, Controller]) -> None:
+    def __init__(self, mode: str, parts: Mapping[str, Controller], drives: Drives, override: DriveOverride) -> None:
         self.mode = mode
         self.parts = dict(parts)
+        self.drives = drives
+        self.override = override
+        kinds = {kind for c in self.parts.values() for kind in c.config.target_kinds()}
+        self._uses_velocity = "velocity" in kinds
+        self._uses_effort = "effort" in kinds
         self.slices: dict[str, slice] = {}
         start = 0
         for name, controller in self.parts.items():
             self.slices[name] = slice(start, start + controller.action_dim)
             start += controller.action_dim
         self.action_dim = start
-        self.action_low = np.concatenate([c.action_low for c in self.parts.values()]) if self.parts else np.zeros(0)
-        self.action_high = np.concatenate([c.action_high for c in self.parts.values()]) if self.parts else np.zeros(0)
-        self._substep_parts = [c for c in self.parts.values() if c.needs_substep]
+        controllers = list(self.parts.values())
+        self.action_low = np.concatenate([c.action_low for c in controllers]) if controllers else np.zeros(0)
+        self.action_high = np.concatenate([c.action_high for c in controllers]) if controllers else np.zeros(0)
+        self._substep_parts = [c for c in controllers if c.needs_substep]
         # One clip and one multiply-add for the whole action: normalized entries are
         # clipped to [-1, 1] and mapped onto [low, high], raw entries clipped to it.
         normalized = (
-            np.concatenate([np.full(c.action_dim, c.config.normalize_action) for c in self.parts.values()])
-            if self.parts
+            np.concatenate([np.full(c.action_dim, c.config.normalize_action) for c in controllers])
+            if controllers
             else np.zeros(0, dtype=bool)
         )
-        raw_low = np.concatenate([c.raw_low for c in self.parts.values()]) if self.parts else np.zeros(0)
-        raw_high = np.concatenate([c.raw_high for c in self.parts.values()]) if self.parts else np.zeros(0)
+        raw_low = np.concatenate([c.raw_low for c in controllers]) if controllers else np.zeros(0)
+        raw_high = np.concatenate([c.raw_high for c in controllers]) if controllers else np.zeros(0)
         self._clip_low = np.where(normalized, -1.0, raw_low)
         self._clip_high = np.where(normalized, 1.0, raw_high)
         with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
@@ -48,22 +68,24 @@ class CombinedController:
             self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
         self._checked = [(name, c) for name, c in self.parts.items() if c.checks_actions]
-        self._reporting = [c for c in self.parts.values() if type(c).step_info is not Controller.step_info]
+        self._reporting = [c for c in controllers if type(c).step_info is not Controller.step_info]
 
     @property
     def needs_substep(self) -> bool:
-        return bool(self._substep_parts)
+        """True when targets or controls change between physics substeps."""
+        return bool(self._substep_parts) or self.drives.needs_substep
 
-    def activate(self, model: mujoco.MjModel, sim: SimView) -> None:
-        """Apply this mode's gains and start holding the measured pose in every env."""
-        all_envs = np.arange(sim.ctrl.shape[0])
-        for controller in self.parts.values():
-            controller.apply_gains(model)
-            controller.reset(all_envs, sim)
+    def activate(self, sim: ControlledSim) -> None:
+        """Apply this mode's drive settings and start holding the measured pose in every env."""
+        self.drives.activate(self.override, self._uses_velocity, self._uses_effort)
+        self.reset(np.arange(sim.ctrl.shape[0]), sim)
 
-    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+    def reset(self, env_ids: IntArray, sim: ControlledSim) -> None:
+        """Hold the measured pose in ``env_ids`` (targets and controls)."""
+        self.drives.hold(env_ids, sim.qpos[env_ids])
         for controller in self.parts.values():
             controller.reset(env_ids, sim)
+        self.drives.write(sim.ctrl, sim.qpos, sim.qvel)
 
     def _to_raw(self, action: FloatArray) -> FloatArray:
         raw: FloatArray = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
@@ -80,15 +102,17 @@ class CombinedController:
                 return f"part {name!r}: {problem}"
         return None
 
-    def set_action(self, action: FloatArray, sim: SimView) -> None:
-        """``action``: validated, shape ``(num_envs, action_dim)``."""
+    def set_action(self, action: FloatArray, sim: ControlledSim) -> None:
+        """``action``: validated, shape ``(num_envs, action_dim)``; targets, then controls."""
         raw = self._to_raw(action)
         for apply, part_slice in self._apply:
             apply(raw[:, part_slice], sim)
+        self.drives.write(sim.ctrl)
 
-    def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
+    def before_substep(self, substep: int, substeps: int, sim: ControlledSim) -> None:
         for controller in self._substep_parts:
             controller.before_substep(substep, substeps, sim)
+        self.drives.write(sim.ctrl, sim.qpos, sim.qvel)
 
     def observe(self) -> dict[str, dict[str, FloatArray]]:
         """What a policy sees of each part's controller (e.g. its current targets; the
@@ -108,7 +132,9 @@ class CombinedController:
                 merged[f"{name}/{key}" if key in merged else key] = value
         return merged
 
-    def get_state(self) -> dict[str, dict[str, FloatArray]]:
+    def get_state(self) -> dict[str, Any]:
+        """Each part's state (copies). The joint targets need no saving: the next action
+        (or substep) rewrites every target the mode uses from this state."""
         return {name: c.get_state() for name, c in self.parts.items()}
 
     def check_state(self, state: Any, where: str) -> None:
@@ -131,6 +157,6 @@ class CombinedController:
                         f"{where}: expected finite {part}.{key} of shape {array.shape}, got shape {value.shape}, dtype {value.dtype}."
                     )
 
-    def set_state(self, state: Mapping[str, Mapping[str, FloatArray]]) -> None:
+    def set_state(self, state: Mapping[str, Any]) -> None:
         for name, controller in self.parts.items():
             controller.set_state(dict(state.get(name, {})))

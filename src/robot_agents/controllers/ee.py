@@ -37,12 +37,11 @@ from robot_agents.controllers.base import (
     FloatArray,
     IntArray,
     JointBinding,
-    PerJoint,
     SimView,
     per_joint,
 )
-from robot_agents.controllers.joint import UNLIMITED_FORCE
-from robot_agents.errors import ConfigError
+from robot_agents.controllers.task_space import WorkspaceBox
+from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKConfig, IKResult, IKSolver
 from robot_agents.kinematics.rotations import compose_into, relative_pose_into, rotvec_to_quat_into
@@ -70,23 +69,6 @@ class RotationFormat(Enum):
     QUAT = "quat"
 
 
-@dataclass(frozen=True)
-class WorkspaceBox:
-    """An axis-aligned box in the robot's root frame; targets are clipped into it (m)."""
-
-    lower: tuple[float, float, float]
-    upper: tuple[float, float, float]
-
-    def __post_init__(self) -> None:
-        low, high = np.asarray(self.lower, dtype=np.float64), np.asarray(self.upper, dtype=np.float64)
-        if low.shape != (3,) or high.shape != (3,) or not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
-            raise ConfigError(
-                f"WorkspaceBox: expected finite lower and upper corners of 3 values, got {self.lower}, {self.upper}."
-            )
-        if np.any(low > high):
-            raise ConfigError(f"WorkspaceBox: expected lower <= upper on every axis, got {self.lower}, {self.upper}.")
-
-
 def _axes(owner: str, name: str, value: PerAxis) -> FloatArray:
     return per_joint(owner, name, value, 3)
 
@@ -102,9 +84,11 @@ class PDEEPosConfig(ControllerConfig):
         use_delta: the action moves the target; otherwise it is the target.
         use_target: deltas accumulate on the previous target, not on the measured pose.
         translation_frame: axes of translation deltas (root or end effector).
-        ee_link: the controlled body or site; default: the robot's ``tcp_link``.
-        workspace: optional box in the root frame the target position is clipped to.
-        stiffness, damping, force_limit: the joint PD actuators, per joint.
+        end_effector: the controlled end effector, by the name a part declares; default:
+            the robot's first end effector (its tool frame and command frame).
+        ee_link: a body or site to control instead of a declared end effector
+            (commands in the robot's root frame).
+        workspace: optional box in the command frame the target position is clipped to.
         velocity_feedforward: drive the joints with the IK path's velocity as well as
             its position; default on for delta modes, off for absolute ones.
         ik: solver settings.
@@ -116,11 +100,9 @@ class PDEEPosConfig(ControllerConfig):
     use_delta: bool = True
     use_target: bool = False
     translation_frame: CommandFrame = CommandFrame.ROOT
+    end_effector: str | None = None
     ee_link: str | None = None
     workspace: WorkspaceBox | None = None
-    stiffness: PerJoint = 1e3
-    damping: PerJoint = 1e2
-    force_limit: PerJoint = UNLIMITED_FORCE
     velocity_feedforward: bool | None = None
     ik: IKConfig = field(default_factory=IKConfig)
     rest_qpos: tuple[float, ...] | None = None
@@ -135,7 +117,7 @@ class PDEEPosConfig(ControllerConfig):
                 f"{name}.translation_frame: expected a CommandFrame ({', '.join(f.name for f in CommandFrame)}), "
                 f"got {self.translation_frame!r}."
             )
-        if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
+        if self.stiffness is not None and np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
             raise ConfigError(f"{name}: expected stiffness > 0 on every joint, got {self.stiffness}.")
         if not isinstance(self.ik, IKConfig):
             raise ConfigError(f"{name}.ik: expected an IKConfig, got {self.ik!r}.")
@@ -147,6 +129,9 @@ class PDEEPosConfig(ControllerConfig):
     @property
     def feedforward(self) -> bool:
         return self.use_delta if self.velocity_feedforward is None else self.velocity_feedforward
+
+    def target_kinds(self) -> tuple[str, ...]:
+        return ("position", "velocity") if self.feedforward else ("position",)
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDEEController(self, binding, context)
@@ -197,11 +182,21 @@ class PDEEController(Controller):
         self.config = config
         self.binding = binding
         owner = f"{context.owner} {type(config).__name__}"
-        frame = context.resolve_frame(config.ee_link, owner) if config.ee_link else context.tool_frame
-        if frame is None:
-            raise ConfigError(f"{owner}: end-effector control needs ee_link, or a tcp_link on the robot; got neither.")
+        if config.ee_link:
+            frame, command = context.resolve_frame(config.ee_link, owner), context.root_frame
+        elif config.end_effector is not None:
+            if config.end_effector not in context.end_effectors:
+                raise UnknownNameError(owner, "end effector", config.end_effector, context.end_effectors)
+            frame, command = context.end_effectors[config.end_effector]
+        elif context.end_effectors:
+            frame, command = next(iter(context.end_effectors.values()))
+        else:
+            raise ConfigError(
+                f"{owner}: end-effector control needs an end effector (declare one on an Arm part) or ee_link; got neither."
+            )
         self.ee_frame: FrameRef = frame
-        self.root_frame = context.root_frame
+        #: The frame commands are expressed in (the robot's root, or a body that may move).
+        self.root_frame = command
         self._check_chain(context.model, binding, frame, owner)
         self.rotation = config.controls_rotation
         self.quaternion_input = (
@@ -209,7 +204,7 @@ class PDEEController(Controller):
             and config.rotation_format is RotationFormat.QUAT
             and not config.use_delta
         )
-        super().__init__(config, binding, context.num_envs)
+        super().__init__(config, binding, context)
         self.kinematics = context.kinematics
         self.solver = IKSolver(
             context.kinematics,
@@ -221,10 +216,7 @@ class PDEEController(Controller):
             config.rest_qpos,
         )
         self.control_timestep = context.control_timestep
-        kp, _, bias_v, _ = self.gains()
-        velocity_to_position = -bias_v / kp  # kv / kp (s)
-        self._start_weight = 0.5 - velocity_to_position / self.control_timestep
-        self._solution_weight = 0.5 + velocity_to_position / self.control_timestep
+        self._columns = binding.column_sel
         self._workspace = (
             (np.asarray(config.workspace.lower, dtype=np.float64), np.asarray(config.workspace.upper, dtype=np.float64))
             if config.workspace is not None
@@ -291,12 +283,6 @@ class PDEEController(Controller):
             f"({raw[env, 3:7].tolist()})."
         )
 
-    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        name, n = type(self.config).__name__, self.binding.size
-        kp = per_joint(name, "stiffness", self.config.stiffness, n)
-        kv = per_joint(name, "damping", self.config.damping, n)
-        return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
-
     def _measure(self, configuration: FloatArray) -> None:
         """Forward kinematics of one env: world poses of the root (``self._root``) and the
         tool, and the tool in the root frame (``self._measured``)."""
@@ -360,19 +346,23 @@ class PDEEController(Controller):
             self.solver.solve_one(configuration, world_target, start[env], result, env, loaded=True)
             self.target_pose[env] = target
         solution = result.qpos
-        # With feed-forward: the mean position and velocity of the straight joint path
-        # start -> solution over one control step (the actuator holds ctrl constant over
-        # the substeps), (start + solution) / 2 + (kv / kp) (solution - start) / dt. Envs
-        # whose IK failed (at the edge of the workspace, a joint limit or a singularity)
-        # get a plain position target, so the arm does not carry speed into the limit.
+        # With feed-forward: the mean position and the velocity of the straight joint
+        # path start -> solution over one control step (the targets are held over the
+        # substeps): (start + solution) / 2 and (solution - start) / dt. Envs whose IK
+        # failed (at the edge of the workspace, a joint limit or a singularity) get a
+        # plain position target, so the arm does not carry speed into the limit.
+        targets = self.targets
         if cfg.feedforward:
-            ctrl = self._start_weight * start + self._solution_weight * solution
+            position = 0.5 * (start + solution)
+            velocity = (solution - start) / self.control_timestep
             if not result.success.all():
                 failed = ~result.success
-                ctrl[failed] = solution[failed]
+                position[failed] = solution[failed]
+                velocity[failed] = 0.0
+            targets.position[:, self._columns] = position
+            targets.velocity[:, self._columns] = velocity
         else:
-            ctrl = solution
-        sim.ctrl[:, self.binding.ctrl_sel] = ctrl
+            targets.position[:, self._columns] = solution
         self.target_qpos[:] = solution
 
     # -- lifecycle ------------------------------------------------------------------------
@@ -390,7 +380,6 @@ class PDEEController(Controller):
         result.success[env_ids] = True
         result.position_error[env_ids] = 0.0
         result.rotation_error[env_ids] = 0.0
-        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured_q
 
     @property
     def ik_success(self) -> BoolArray:

@@ -1,14 +1,15 @@
-"""Joint-space PD controllers: position (absolute, delta, delta-from-target),
-velocity, position + velocity, and mimic (one action drives coupled joints).
+"""Joint-space controllers: position (absolute, delta, delta-from-target), velocity,
+position + velocity, and mimic (one action drives coupled joints).
 
-All of them are MuJoCo actuators: the PD law runs inside physics at every substep.
-With stiffness ``kp`` and damping ``kv`` the joint force is
-``kp * (q_target - q) + kv * (qd_target - qd)``, clamped to ``force_limit``.
+They produce joint targets; the robot's drives track them (for PD drives the law
+``kp (q* - q) + kv (qd* - qd)`` runs inside physics at every substep, clamped to the
+drive's effort limit).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -25,9 +26,6 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.errors import ConfigError
 
-#: Force limit used when a config gives none: effectively unlimited (N or N*m).
-UNLIMITED_FORCE = 1e6
-
 
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosConfig(ControllerConfig):
@@ -36,9 +34,6 @@ class PDJointPosConfig(ControllerConfig):
     Attributes:
         lower, upper: action bounds (rad or m). For absolute targets ``None`` means the
             joint limits; delta modes must give them (e.g. ``-0.1``/``0.1``).
-        stiffness: ``kp`` per joint (N*m/rad or N/m).
-        damping: ``kv`` per joint (N*m*s/rad or N*s/m).
-        force_limit: maximum actuator force per joint (N*m or N).
         use_delta: the action is a change of the target, not the target.
         use_target: with ``use_delta``, add the change to the previous *target* instead
             of the measured position (``pd_joint_target_delta_pos``).
@@ -50,9 +45,6 @@ class PDJointPosConfig(ControllerConfig):
 
     lower: PerJoint | None = None
     upper: PerJoint | None = None
-    stiffness: PerJoint = 1e3
-    damping: PerJoint = 1e2
-    force_limit: PerJoint = UNLIMITED_FORCE
     use_delta: bool = False
     use_target: bool = False
     interpolate: bool = False
@@ -71,7 +63,7 @@ class PDJointPosConfig(ControllerConfig):
             )
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PDJointPosController(self, binding, context.num_envs)
+        return PDJointPosController(self, binding, context)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -100,7 +92,7 @@ class PDJointPosMimicConfig(PDJointPosConfig):
                 )
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PDJointPosController(self, binding, context.num_envs)
+        return PDJointPosController(self, binding, context)
 
 
 class PDJointPosController(Controller):
@@ -112,8 +104,8 @@ class PDJointPosController(Controller):
 
     _ABSOLUTE, _FROM_TARGET, _FROM_MEASURED = 0, 1, 2
 
-    def __init__(self, config: PDJointPosConfig, binding: JointBinding, num_envs: int) -> None:
-        n = binding.size
+    def __init__(self, config: PDJointPosConfig, binding: JointBinding, context: ControllerContext) -> None:
+        n, num_envs = binding.size, context.num_envs
         self._plain = not isinstance(config, PDJointPosMimicConfig)
         if isinstance(config, PDJointPosMimicConfig):
             self.multipliers = (
@@ -126,7 +118,7 @@ class PDJointPosController(Controller):
         self._action_joints = n if self._plain else 1
         self.binding = binding
         self.config = config
-        super().__init__(config, binding, num_envs)
+        super().__init__(config, binding, context)
         self.target_qpos: FloatArray = np.zeros((num_envs, n))
         self._previous_target: FloatArray = np.zeros((num_envs, n))
         # Hot-path constants, resolved once.
@@ -134,7 +126,8 @@ class PDJointPosController(Controller):
         self._upper_limit = binding.qpos_range[:, 1].copy()
         self._clip = config.clip_target
         self._has_offsets = bool(np.any(self.offsets))
-        self._write_ctrl = not config.interpolate
+        self._write_now = not config.interpolate
+        self._columns = binding.column_sel
         if not config.use_delta:
             self._base = self._ABSOLUTE
         else:
@@ -148,12 +141,6 @@ class PDJointPosController(Controller):
         high = leader_range[:, 1] if cfg.upper is None else per_joint(name, "upper", cfg.upper, dim)
         return low.copy(), high.copy()
 
-    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        name, n = type(self.config).__name__, self.binding.size
-        kp = per_joint(name, "stiffness", self.config.stiffness, n)
-        kv = per_joint(name, "damping", self.config.damping, n)
-        return kp, -kp, -kv, per_joint(name, "force_limit", self.config.force_limit, n)
-
     def _clip_to_limits(self, targets: FloatArray) -> FloatArray:
         if not self._clip:
             return targets
@@ -164,7 +151,6 @@ class PDJointPosController(Controller):
         measured = sim.qpos[env_ids][:, self.binding.qpos_adr]
         self.target_qpos[env_ids] = measured
         self._previous_target[env_ids] = measured
-        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = measured
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         change = raw if self._plain else raw * self.multipliers  # (N, 1) * (n,) -> (N, n)
@@ -176,8 +162,8 @@ class PDJointPosController(Controller):
             targets = sim.qpos[:, self.binding.qpos_sel] + change
         self._previous_target = self.target_qpos
         self.target_qpos = self._clip_to_limits(targets)
-        if self._write_ctrl:
-            sim.ctrl[:, self.binding.ctrl_sel] = self.target_qpos
+        if self._write_now:
+            self.targets.position[:, self._columns] = self.target_qpos
 
     @property
     def needs_substep(self) -> bool:
@@ -185,7 +171,7 @@ class PDJointPosController(Controller):
 
     def before_substep(self, substep: int, substeps: int, sim: SimView) -> None:
         fraction = (substep + 1) / substeps
-        sim.ctrl[:, self.binding.ctrl_sel] = self._previous_target + fraction * (
+        self.targets.position[:, self._columns] = self._previous_target + fraction * (
             self.target_qpos - self._previous_target
         )
 
@@ -209,45 +195,38 @@ class PDJointPosController(Controller):
 
 @dataclass(frozen=True, kw_only=True)
 class PDJointVelConfig(ControllerConfig):
-    """Joint velocity control: ``force = damping * (qd_target - qd)``.
+    """Joint velocity control: ``force = kv (qd* - qd)``. Position-servo drives need
+    ``stiffness=0`` here (the rules set it), so that the servo tracks velocity only.
 
     Attributes:
         lower, upper: target velocity bounds (rad/s or m/s).
-        damping: ``kv`` per joint; force_limit: per joint (N*m or N).
     """
 
+    writes: ClassVar[tuple[str, ...]] = ("velocity",)
     lower: PerJoint = -1.0
     upper: PerJoint = 1.0
-    damping: PerJoint = 1e2
-    force_limit: PerJoint = UNLIMITED_FORCE
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PDJointVelController(self, binding, context.num_envs)
+        return PDJointVelController(self, binding, context)
 
 
 class PDJointVelController(Controller):
     config: PDJointVelConfig
 
-    def __init__(self, config: PDJointVelConfig, binding: JointBinding, num_envs: int) -> None:
-        super().__init__(config, binding, num_envs)
-        self.target_qvel: FloatArray = np.zeros((num_envs, binding.size))
+    def __init__(self, config: PDJointVelConfig, binding: JointBinding, context: ControllerContext) -> None:
+        super().__init__(config, binding, context)
+        self.target_qvel: FloatArray = np.zeros((context.num_envs, binding.size))
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         name, n = type(self.config).__name__, self.binding.size
         return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
 
-    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        name, n = type(self.config).__name__, self.binding.size
-        kv = per_joint(name, "damping", self.config.damping, n)
-        return kv, np.zeros(n), -kv, per_joint(name, "force_limit", self.config.force_limit, n)
-
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
         self.target_qvel[env_ids] = 0.0
-        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         self.target_qvel = raw
-        sim.ctrl[:, self.binding.ctrl_sel] = raw
+        self.targets.velocity[:, self.binding.column_sel] = raw
 
     def observe(self) -> dict[str, FloatArray]:
         return {"target_qvel": self.target_qvel}
@@ -266,11 +245,11 @@ class PDJointVelController(Controller):
 class PDJointPosVelConfig(PDJointPosConfig):
     """Position and velocity targets: the action is ``[q_target (n), qd_target (n)]``.
 
-    ``vel_lower`` / ``vel_upper`` bound the velocity half (rad/s or m/s). Needs
-    ``stiffness > 0`` on every joint (the velocity target enters the actuator as
-    ``ctrl = q_target + (kv / kp) * qd_target``).
+    ``vel_lower`` / ``vel_upper`` bound the velocity half (rad/s or m/s). The drives
+    need stiffness > 0 (a PD servo tracks both targets).
     """
 
+    writes: ClassVar[tuple[str, ...]] = ("position", "velocity")
     vel_lower: PerJoint = -1.0
     vel_upper: PerJoint = 1.0
 
@@ -280,21 +259,19 @@ class PDJointPosVelConfig(PDJointPosConfig):
             raise ConfigError(
                 "PDJointPosVelConfig: use_target is not supported; use use_delta with measured positions."
             )
-        if np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
+        if self.stiffness is not None and np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
             raise ConfigError(f"PDJointPosVelConfig: expected stiffness > 0 on every joint, got {self.stiffness}.")
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PDJointPosVelController(self, binding, context.num_envs)
+        return PDJointPosVelController(self, binding, context)
 
 
 class PDJointPosVelController(PDJointPosController):
     config: PDJointPosVelConfig
 
-    def __init__(self, config: PDJointPosVelConfig, binding: JointBinding, num_envs: int) -> None:
-        super().__init__(config, binding, num_envs)
-        self.target_qvel: FloatArray = np.zeros((num_envs, binding.size))
-        kp, _, bias_v, _ = self.gains()
-        self._velocity_to_position = -bias_v / kp  # kv / kp (s)
+    def __init__(self, config: PDJointPosVelConfig, binding: JointBinding, context: ControllerContext) -> None:
+        super().__init__(config, binding, context)
+        self.target_qvel: FloatArray = np.zeros((context.num_envs, binding.size))
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         low, high = super().action_bounds()
@@ -312,7 +289,8 @@ class PDJointPosVelController(PDJointPosController):
         base = sim.qpos[:, self.binding.qpos_sel] if self.config.use_delta else 0.0
         self.target_qpos = self._clip_to_limits(base + raw[:, :n])
         self.target_qvel = raw[:, n:]
-        sim.ctrl[:, self.binding.ctrl_sel] = self.target_qpos + self._velocity_to_position * self.target_qvel
+        self.targets.position[:, self._columns] = self.target_qpos
+        self.targets.velocity[:, self._columns] = self.target_qvel
 
     @property
     def needs_substep(self) -> bool:

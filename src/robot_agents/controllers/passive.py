@@ -1,8 +1,10 @@
-"""Passive joints: no action, the actuator only adds optional viscous damping."""
+"""Passive joints: no action and no target; the drive is relaxed (zero stiffness) and
+adds only optional viscous damping."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -15,19 +17,21 @@ from robot_agents.controllers.base import (
     JointBinding,
     PerJoint,
     SimView,
-    per_joint,
 )
 
 
 @dataclass(frozen=True, kw_only=True)
 class PassiveConfig(ControllerConfig):
-    """Joints that move freely. ``damping``: viscous damping per joint (N*m*s/rad or N*s/m)."""
+    """Joints that move freely. ``damping``: viscous damping per joint (N*m*s/rad or
+    N*s/m) the drive applies while the mode is active."""
 
-    damping: PerJoint = 0.0
+    writes: ClassVar[tuple[str, ...]] = ()
+    stiffness: PerJoint | None = 0.0
+    damping: PerJoint | None = 0.0
     normalize_action: bool = False
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PassiveController(self, binding, context.num_envs)
+        return PassiveController(self, binding, context)
 
 
 class PassiveController(Controller):
@@ -36,13 +40,8 @@ class PassiveController(Controller):
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         return np.zeros(0), np.zeros(0)
 
-    def gains(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        n = self.binding.size
-        kv = per_joint("PassiveConfig", "damping", self.config.damping, n)
-        return np.zeros(n), np.zeros(n), -kv, np.full(n, 1e6)
-
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
-        sim.ctrl[np.ix_(env_ids, self.binding.ctrl_adr)] = 0.0
+        return None
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         return None

@@ -1,50 +1,50 @@
 """Generate control-mode tables from a few rules instead of writing them per robot.
 
-A robot declares its joint groups once, with the actuator physics (gains, force
-limits) and how far a delta action may move; :func:`joint_control_modes` derives
-every joint-space mode from that, and :func:`combine_parts` pairs each of them
-with the robot's other parts (e.g. one gripper controller used in every mode).
+A robot declares its drives once (``actuators``) and its parts; the rules derive every
+joint-space mode of a joint group (:func:`joint_control_modes`), the end-effector modes
+of an arm (:func:`ee_control_modes`), pair each of them with the robot's other parts
+(:func:`combine_parts`), or do all of it from the parts (:func:`modes_from_parts`).
+Modes carry action bounds and, only where they must, drive overrides (velocity modes
+relax the stiffness of position servos).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
+import numpy as np
+
 from robot_agents.controllers.base import ControllerConfig, PerJoint
-from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig, WorkspaceBox
+from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (
-    UNLIMITED_FORCE,
     PDJointPosConfig,
+    PDJointPosMimicConfig,
     PDJointPosVelConfig,
     PDJointVelConfig,
 )
-from robot_agents.errors import UnknownNameError
-from robot_agents.kinematics.ik import IKConfig
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.parts.declaration import Arm, Gripper, Hand, Part
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
 
 @dataclass(frozen=True)
 class JointGroup:
-    """Joints driven together, with the physics of their actuators.
+    """Joints commanded together, and how far one action may move them.
 
     Attributes:
         joint_names: the joints, in action order.
-        stiffness: position gain ``kp`` (N*m/rad or N/m), per joint or one for all.
-        damping: velocity gain ``kv`` (N*m*s/rad or N*s/m) in position modes.
-        force_limit: actuator force limit (N*m or N), e.g. the datasheet torque.
-        max_delta: largest joint change one delta action may command (rad or m).
+        max_delta: largest joint change one delta action commands (rad or m).
         max_velocity: velocity bound of velocity modes (rad/s or m/s).
-        velocity_damping: ``kv`` in pure velocity mode (defaults to ``damping``).
+        velocity_damping: ``kv`` the drives use in pure velocity mode (their declared
+            damping when ``None``).
     """
 
     joint_names: tuple[str, ...]
-    stiffness: PerJoint
-    damping: PerJoint
-    force_limit: PerJoint = UNLIMITED_FORCE
     max_delta: float = 0.1
     max_velocity: PerJoint = 1.0
     velocity_damping: PerJoint | None = None
@@ -59,55 +59,28 @@ def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
     ``pd_joint_pos``              absolute targets within joint limits    no
     ``pd_joint_delta_pos``        target = measured qpos + delta          yes
     ``pd_joint_target_delta_pos`` target = previous target + delta        yes
-    ``pd_joint_vel``              target velocities                       yes
+    ``pd_joint_vel``              target velocities (stiffness relaxed)   yes
     ``pd_joint_pos_vel``          absolute targets, then velocities       no
     ``pd_joint_delta_pos_vel``    deltas on measured qpos, then velocities yes
     ============================  ======================================  ==========
     """
-    names = group.joint_names
-    kp, kv, force, step = group.stiffness, group.damping, group.force_limit, group.max_delta
+    names, step = tuple(group.joint_names), group.max_delta
     vmax = group.max_velocity
     vmin: PerJoint = tuple(-v for v in vmax) if isinstance(vmax, tuple) else -vmax
-    velocity_kv = group.velocity_damping if group.velocity_damping is not None else kv
     return {
-        "pd_joint_pos": PDJointPosConfig(
-            joint_names=names, normalize_action=False, stiffness=kp, damping=kv, force_limit=force
-        ),
-        "pd_joint_delta_pos": PDJointPosConfig(
-            joint_names=names, use_delta=True, lower=-step, upper=step, stiffness=kp, damping=kv, force_limit=force
-        ),
+        "pd_joint_pos": PDJointPosConfig(joint_names=names, normalize_action=False),
+        "pd_joint_delta_pos": PDJointPosConfig(joint_names=names, use_delta=True, lower=-step, upper=step),
         "pd_joint_target_delta_pos": PDJointPosConfig(
-            joint_names=names,
-            use_delta=True,
-            use_target=True,
-            lower=-step,
-            upper=step,
-            stiffness=kp,
-            damping=kv,
-            force_limit=force,
+            joint_names=names, use_delta=True, use_target=True, lower=-step, upper=step
         ),
         "pd_joint_vel": PDJointVelConfig(
-            joint_names=names, lower=vmin, upper=vmax, damping=velocity_kv, force_limit=force
+            joint_names=names, lower=vmin, upper=vmax, stiffness=0.0, damping=group.velocity_damping
         ),
         "pd_joint_pos_vel": PDJointPosVelConfig(
-            joint_names=names,
-            normalize_action=False,
-            stiffness=kp,
-            damping=kv,
-            force_limit=force,
-            vel_lower=vmin,
-            vel_upper=vmax,
+            joint_names=names, normalize_action=False, vel_lower=vmin, vel_upper=vmax
         ),
         "pd_joint_delta_pos_vel": PDJointPosVelConfig(
-            joint_names=names,
-            use_delta=True,
-            lower=-step,
-            upper=step,
-            stiffness=kp,
-            damping=kv,
-            force_limit=force,
-            vel_lower=vmin,
-            vel_upper=vmax,
+            joint_names=names, use_delta=True, lower=-step, upper=step, vel_lower=vmin, vel_upper=vmax
         ),
     }
 
@@ -120,30 +93,6 @@ EE_MODES = (
     "pd_ee_target_delta_pos",
     "pd_ee_target_delta_pose",
 )
-
-
-@dataclass(frozen=True)
-class TaskSpace:
-    """How a joint group's end effector is commanded.
-
-    Attributes:
-        position_bounds: action bounds of absolute positions (``pd_ee_pose``), a box in
-            the root frame covering the reachable space (m).
-        max_translation: largest translation one delta action commands, per axis (m).
-        max_rotation: largest rotation one delta action commands, per axis (rad).
-        workspace: optional box in the root frame every target is clipped to.
-        ee_link: the controlled body or site (default: the robot's ``tcp_link``).
-        ik: solver settings.
-        rest_qpos: posture of the IK null-space pull.
-    """
-
-    position_bounds: WorkspaceBox
-    max_translation: float = 0.1
-    max_rotation: float = 0.1
-    workspace: WorkspaceBox | None = None
-    ee_link: str | None = None
-    ik: IKConfig = field(default_factory=IKConfig)
-    rest_qpos: tuple[float, ...] | None = None
 
 
 def ee_control_modes(
@@ -161,16 +110,14 @@ def ee_control_modes(
     ``pd_ee_target_delta_pose``  ``[dx, dy, dz, rx, ry, rz]`` on the previous one yes
     ===========================  ===============================================  ==========
 
-    Translations are in the root frame and rotations (rotation vectors, rad) turn
-    about root-aligned axes through the tool point; position modes hold the orientation.
+    Translations are in the command frame (the robot's root unless the end effector
+    names another) and rotations (rotation vectors, rad) turn about its axes through
+    the tool point; position modes hold the orientation.
     """
     step, turn = task.max_translation, task.max_rotation
     position = PDEEPosConfig(
-        joint_names=group.joint_names,
-        stiffness=group.stiffness,
-        damping=group.damping,
-        force_limit=group.force_limit,
-        ee_link=task.ee_link,
+        joint_names=tuple(group.joint_names),
+        end_effector=task.end_effector,
         workspace=task.workspace,
         ik=task.ik,
         rest_qpos=task.rest_qpos,
@@ -213,3 +160,104 @@ def combine_parts(
     if not other_parts:
         return dict(modes)
     return {mode: {main_part: config, **other_parts} for mode, config in modes.items()}
+
+
+def _velocity_bounds(part: Part, joints: Sequence[str], velocity_limits: Mapping[str, float]) -> PerJoint:
+    if part.max_velocity is not None:
+        return part.max_velocity
+    limits = [velocity_limits.get(j, math.inf) for j in joints]
+    return tuple(v if math.isfinite(v) else 1.0 for v in limits)
+
+
+def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) -> ControllerConfig:
+    """One normalized action for a gripper: -1 closes (``squeeze`` past ``closed``), +1
+    opens; the first driven joint leads and the other driven joints follow linearly."""
+    names = [j for j in joints if j in driven]
+    if not names:
+        raise ConfigError(f"Gripper {part.name!r}: none of its joints {list(joints)} has a drive.")
+    n = len(joints)
+    opened = np.broadcast_to(np.asarray(part.open, dtype=np.float64).reshape(-1), (n,))
+    closed = np.broadcast_to(np.asarray(part.closed, dtype=np.float64).reshape(-1), (n,))
+    pick = [list(joints).index(j) for j in names]
+    o, c = opened[pick], closed[pick]
+    span = o[0] - c[0]
+    if span == 0:
+        raise ConfigError(f"Gripper {part.name!r}: open and closed positions of {names[0]!r} are equal.")
+    squeeze = part.squeeze if span > 0 else -part.squeeze
+    low, high = sorted((c[0] - squeeze, o[0]))
+    if len(names) == 1:
+        return PDJointPosConfig(joint_names=tuple(names), lower=low, upper=high, clip_target=False)
+    multipliers = (o - c) / span
+    offsets = c - multipliers * c[0]
+    return PDJointPosMimicConfig(
+        joint_names=tuple(names),
+        lower=low,
+        upper=high,
+        multipliers=tuple(float(m) for m in multipliers),
+        offsets=tuple(float(v) for v in offsets),
+        clip_target=False,
+    )
+
+
+def modes_from_parts(
+    parts: Sequence[Part], part_joints: Mapping[str, Sequence[str]], velocity_limits: Mapping[str, float]
+) -> dict[str, ModeConfig]:
+    """The control-mode table of a robot from its parts.
+
+    The main part (the first arm; else the first hand; else the first part that is not
+    a gripper) gets the six joint modes and, for an arm with a task space, the five
+    end-effector modes; a gripper adds one normalized open/close action to every mode;
+    every other part adds delta joint-position actions. ``velocity_limits`` holds the
+    driven joints (rad/s or m/s; ``inf`` where unknown).
+    """
+    if not parts:
+        return {}
+    driven = list(velocity_limits)
+    main: Part = next(
+        (p for p in parts if isinstance(p, Arm)),
+        next(
+            (p for p in parts if isinstance(p, Hand)), next((p for p in parts if not isinstance(p, Gripper)), parts[0])
+        ),
+    )
+    joints = [j for j in part_joints[main.name] if j in driven]
+    if isinstance(main, Gripper) and not isinstance(main, Hand):
+        table: dict[str, ControllerConfig] = {"pd_joint_pos": gripper_config(main, part_joints[main.name], driven)}
+    else:
+        group = JointGroup(
+            tuple(joints), max_delta=main.max_delta, max_velocity=_velocity_bounds(main, joints, velocity_limits)
+        )
+        table = dict(joint_control_modes(group))
+        if isinstance(main, Arm) and main.task_space is not None:
+            task = main.task_space
+            if not isinstance(task, TaskSpace):
+                raise ConfigError(f"Arm {main.name!r}.task_space: expected a TaskSpace, got {task!r}.")
+            if task.end_effector is None and main.end_effectors:
+                task = replace(task, end_effector=main.end_effectors[0].name)
+            table.update(ee_control_modes(group, task, task.modes))
+    others: dict[str, ControllerConfig] = {}
+    for part in parts:
+        if part is main:
+            continue
+        names = part_joints[part.name]
+        if isinstance(part, Gripper) and not isinstance(part, Hand):
+            others[part.name] = gripper_config(part, names, driven)
+        else:
+            moving = tuple(j for j in names if j in driven)
+            if moving:
+                others[part.name] = PDJointPosConfig(
+                    joint_names=moving, use_delta=True, lower=-part.max_delta, upper=part.max_delta
+                )
+    return combine_parts(main.name, table, **others)
+
+
+__all__ = [
+    "EE_MODES",
+    "JointGroup",
+    "TaskSpace",
+    "WorkspaceBox",
+    "combine_parts",
+    "ee_control_modes",
+    "gripper_config",
+    "joint_control_modes",
+    "modes_from_parts",
+]

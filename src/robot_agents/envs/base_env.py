@@ -162,8 +162,8 @@ class RobotEnv(gym.Env[Any, Any]):
 
     @property
     def data(self) -> mujoco.MjData:
-        """The MjData of env 0."""
-        return self.scene.world.datas[0]
+        """The MjData of env 0 (the CPU backend's, for inspection)."""
+        return self.scene.world.render_sources([0])[0]
 
     @property
     def segmentation_id_map(self) -> dict[int, SegmentationEntry]:
@@ -203,13 +203,13 @@ class RobotEnv(gym.Env[Any, Any]):
             arrays: list[FloatArray] = []
             for agent in self.agents:
                 arrays.extend(agent.proprioception_arrays())
-                if agent.tcp_body_id >= 0:
+                if agent.has_end_effector:
                     arrays.append(agent.tcp_pose)
             arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
             return np.concatenate(arrays, axis=1, dtype=np.float32)
         obs = self._state_dict_obs()
         if self._sensor_obs is not None:
-            obs.update(self._sensor_obs.observe(self.scene.world.datas))
+            obs.update(self._sensor_obs.observe(self.scene.world))
         return obs
 
     def _state_dict_obs(self) -> dict[str, Any]:
@@ -217,7 +217,7 @@ class RobotEnv(gym.Env[Any, Any]):
         extra = {
             f"{rid}/tcp_pose": a.tcp_pose
             for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)
-            if a.tcp_body_id >= 0
+            if a.has_end_effector
         }
         extra.update(self._extra_obs())
         agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
@@ -239,12 +239,11 @@ class RobotEnv(gym.Env[Any, Any]):
             raise ConfigError(
                 f"{type(self).__name__}.reset: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'."
             )
-        ids = self.agent._env_ids(env_ids, f"{type(self).__name__}.reset")
+        ids = self.agent.state.env_ids(env_ids, f"{type(self).__name__}.reset")
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
             for agent in self.agents:
-                qpos = agent.qpos[ids] + self.np_random.normal(0.0, self.robot_init_qpos_noise, (len(ids), agent.dof))
-                qpos = np.clip(qpos, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+                qpos = agent.perturbed_qpos(ids, self.robot_init_qpos_noise, self.np_random)
                 agent.reset(qpos=qpos, env_ids=ids)
         self.elapsed_steps[ids] = 0
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
@@ -334,7 +333,7 @@ class RobotEnv(gym.Env[Any, Any]):
             width, height = self.render_size
             self._renderer = make_renderer(self.model, width, height)
         frames = []
-        for data in self.scene.world.datas:
+        for data in self.scene.world.render_sources():
             self._renderer.update_scene(data, camera="render_camera")
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)

@@ -17,18 +17,19 @@ Modes: ``sensor_data`` (rgb + depth + segmentation), ``rgb``, ``depth``, ``rgbd`
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
-import mujoco
 import numpy as np
 
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.sensors.pointcloud import fuse, pixel_rays
 from robot_agents.sensors.rig import TEXTURES, CameraRig
 from robot_agents.sensors.segmentation import BACKGROUND_ID, SEGMENTATION_DTYPE
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
 
 STATE_MODES = ("state", "state_dict")
 VISUAL_MODES: dict[str, tuple[str, ...]] = {
@@ -96,10 +97,10 @@ class SensorObservation:
                 key: pixel_rays(rig.intrinsic(key), c.config.width, c.config.height) for key, c in rig.cameras.items()
             }
 
-    def observe(self, datas: Sequence[mujoco.MjData]) -> dict[str, Any]:
+    def observe(self, world: SimBackend) -> dict[str, Any]:
         """``sensor_param`` and ``sensor_data`` (or ``pointcloud``) of every env."""
-        params = self.rig.params(datas)
-        images = self.rig.capture(datas, self.mode.textures)
+        params = self.rig.params(world)
+        images = self.rig.capture(world, self.mode.textures)
         out: dict[str, Any] = {
             "sensor_param": {k: {n: v.astype(np.float32) for n, v in p.items()} for k, p in params.items()}
         }

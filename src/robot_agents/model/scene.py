@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError
+from robot_agents.model.compiling import compile_spec, mujoco_messages
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_camera
@@ -158,7 +159,8 @@ def compose_scene(
     for mount in robots:
         frame = world.add_frame(pos=list(mount.pos), quat=list(mount.quat))
         try:
-            frame.attach_body(mount.spec.worldbody.first_body(), mount.prefix, "")
+            with mujoco_messages("compose_scene"):
+                frame.attach_body(mount.spec.worldbody.first_body(), mount.prefix, "")
         except ValueError as err:
             raise ModelError(f"compose_scene: attaching robot {mount.prefix!r} failed: {err}") from None
     for camera in cameras:
@@ -187,7 +189,4 @@ def _add_prop(spec: mujoco.MjSpec, prop: Prop) -> None:
 
 def compile_scene(spec: mujoco.MjSpec) -> mujoco.MjModel:
     """Compile, turning MuJoCo's compiler errors into :class:`ModelError`."""
-    try:
-        return spec.compile()
-    except ValueError as err:
-        raise ModelError(f"compile_scene: MuJoCo could not compile the scene: {err}") from None
+    return compile_spec(spec, "compile_scene")

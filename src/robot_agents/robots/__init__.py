@@ -1,5 +1,2 @@
-"""The built-in robot zoo; importing it registers every robot."""
-
-from robot_agents.robots.panda import FloatingPandaGripper, Panda, PandaStick, PandaTouch, PandaWristCam
-
-__all__ = ["FloatingPandaGripper", "Panda", "PandaStick", "PandaTouch", "PandaWristCam"]
+"""The built-in robot zoo, one subpackage per family; registered lazily by uid
+(see :mod:`robot_agents.robots.catalog`)."""

@@ -10,26 +10,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
-import mujoco
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.sensors.geometry import GL_TO_CV
 
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
+
 FloatArray = npt.NDArray[np.float64]
-
-
-def cam2world_gl(datas: Sequence[mujoco.MjData], camera_id: int) -> FloatArray:
-    """World pose of camera ``camera_id`` in every env, shape ``(num_envs, 4, 4)``, from
-    MuJoCo's ``cam_xpos`` / ``cam_xmat`` (the kinematics of the last physics step)."""
-    out = np.zeros((len(datas), 4, 4))
-    for pose, data in zip(out, datas, strict=True):
-        pose[:3, :3] = data.cam_xmat[camera_id].reshape(3, 3)
-        pose[:3, 3] = data.cam_xpos[camera_id]
-        pose[3, 3] = 1.0
-    return out
 
 
 def extrinsic_cv(cam2world: FloatArray) -> FloatArray:
@@ -41,12 +32,13 @@ def extrinsic_cv(cam2world: FloatArray) -> FloatArray:
     return np.concatenate([world_to_cam, translation[:, :, None]], axis=2)
 
 
-def camera_params(datas: Sequence[mujoco.MjData], camera_id: int, intrinsic: FloatArray) -> dict[str, FloatArray]:
+def camera_params(world: SimBackend, camera_id: int, intrinsic: FloatArray) -> dict[str, FloatArray]:
     """``intrinsic_cv`` ``(num_envs, 3, 3)``, ``extrinsic_cv`` ``(num_envs, 3, 4)`` and
-    ``cam2world_gl`` ``(num_envs, 4, 4)`` of one camera (float64)."""
-    pose = cam2world_gl(datas, camera_id)
+    ``cam2world_gl`` ``(num_envs, 4, 4)`` of one camera (float64); the pose is MuJoCo's
+    ``cam_xpos`` / ``cam_xmat`` after the last physics step."""
+    pose = world.camera_poses(camera_id)
     return {
         "extrinsic_cv": extrinsic_cv(pose),
         "cam2world_gl": pose,
-        "intrinsic_cv": np.broadcast_to(intrinsic, (len(datas), 3, 3)).copy(),
+        "intrinsic_cv": np.broadcast_to(intrinsic, (len(pose), 3, 3)).copy(),
     }

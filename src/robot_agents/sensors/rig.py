@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -19,6 +20,9 @@ from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.camera_params import camera_params
 from robot_agents.sensors.renderer import CameraRenderer
 from robot_agents.sensors.segmentation import SEGMENTATION_DTYPE, SegmentationEntry
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
 #: The image kinds a camera renders.
@@ -88,10 +92,10 @@ class CameraRig:
         intrinsic: FloatArray = self._intrinsics[key].copy()
         return intrinsic
 
-    def params(self, datas: Sequence[mujoco.MjData]) -> dict[str, dict[str, FloatArray]]:
+    def params(self, world: SimBackend) -> dict[str, dict[str, FloatArray]]:
         """Per camera: ``intrinsic_cv`` ``(N, 3, 3)``, ``extrinsic_cv`` ``(N, 3, 4)``,
         ``cam2world_gl`` ``(N, 4, 4)`` (float64); see :mod:`.camera_params`."""
-        return {key: camera_params(datas, self._ids[key], self._intrinsics[key]) for key in self.cameras}
+        return {key: camera_params(world, self._ids[key], self._intrinsics[key]) for key in self.cameras}
 
     def prepare(self) -> None:
         """Create the OpenGL contexts now (one per image size), so that a missing
@@ -102,7 +106,7 @@ class CameraRig:
             self._renderer.prepare(camera.config.width, camera.config.height)
 
     def capture(
-        self, datas: Sequence[mujoco.MjData], textures: Iterable[str] = ("rgb",)
+        self, world: SimBackend, textures: Iterable[str] = ("rgb",), env_ids: Sequence[int] | None = None
     ) -> dict[str, dict[str, npt.NDArray[np.generic]]]:
         """Per camera, the requested textures of every env:
 
@@ -118,6 +122,7 @@ class CameraRig:
         if self._renderer is None:
             self._renderer = CameraRenderer(self.model)
         renderer = self._renderer
+        datas = world.render_sources(env_ids)
         n = len(datas)
         out: dict[str, dict[str, npt.NDArray[np.generic]]] = {}
         for key, camera in self.cameras.items():

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -19,6 +20,9 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, ModelError
 from robot_agents.sensors.geometry import float_tuple
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -90,6 +94,6 @@ class TouchReader:
             addresses.append(int(model.sensor_adr[sensor]))
         self._adr = np.array(addresses, dtype=np.int64)
 
-    def read(self, datas: Sequence[mujoco.MjData]) -> FloatArray:
+    def read(self, world: SimBackend) -> FloatArray:
         """Normal force (N) of each sensor, shape ``(num_envs, len(names))``."""
-        return np.array([data.sensordata[self._adr] for data in datas], dtype=np.float64).reshape(len(datas), -1)
+        return world.sensor_values(self._adr)

@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.agent.declaration import composition
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop, RobotMount, SceneOptions, compile_scene, compose_scene
 from robot_agents.registry import get_agent
@@ -88,7 +89,9 @@ class Scene:
         self.props = tuple(props)
         self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
         planned = plan_cameras(
-            [(rid, cls.cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)], cameras, sensor_configs
+            [(rid, composition(cls).cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)],
+            cameras,
+            sensor_configs,
         )
         mounts = [
             RobotMount(
@@ -152,12 +155,12 @@ class Scene:
 
     def body_pose(self, name: str) -> npt.NDArray[np.float64]:
         """World pose of a scene body, shape ``(num_envs, 7)``: position, quaternion (w, x, y, z)."""
-        body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
+        body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name) if isinstance(name, str) else -1
         if body < 0:
             raise UnknownNameError(
-                "Scene.body_pose", "body", name, [self.model.body(b).name for b in range(self.model.nbody)]
+                "Scene.body_pose", "body", str(name), [self.model.body(b).name for b in range(self.model.nbody)]
             )
-        return np.array([np.concatenate([d.xpos[body], d.xquat[body]]) for d in self.world.datas])
+        return self.world.body_poses([body])[:, 0]
 
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
@@ -181,7 +184,7 @@ class Scene:
     ) -> None:
         """Reset the envs (all by default): props and time to their initial state, each
         robot to a keyframe (default: its first) or to the given ``qpos``."""
-        ids = self.agents[0]._env_ids(env_ids, "Scene.reset")
+        ids = self.agents[0].state.env_ids(env_ids, "Scene.reset")
         frames = (
             self._modes(keyframes, len(self.agents))
             if not isinstance(keyframes, str)
@@ -191,13 +194,9 @@ class Scene:
         if len(positions) != len(self.agents):
             raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
         for agent, frame in zip(self.agents, frames, strict=True):
-            if frame is not None and frame not in agent.keyframes:
-                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", frame, agent.keyframes)
-        for env in ids:
-            data = self.world.datas[env]
-            mujoco.mj_resetData(self.model, data)  # also clears MuJoCo's warning counters
-            mujoco.mj_setState(self.model, data, self._initial_state, mujoco.mjtState.mjSTATE_INTEGRATION)
-        self.world.invalidate()
+            if frame is not None and (not isinstance(frame, str) or frame not in agent.keyframes):
+                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", str(frame), agent.keyframes)
+        self.world.reset_envs(ids, self._initial_state)  # also clears MuJoCo's warning counters
         for agent, frame, position in zip(self.agents, frames, positions, strict=True):
             agent.reset(keyframe=frame, qpos=position, env_ids=ids)
 
@@ -219,12 +218,8 @@ class Scene:
         if len(agent_states) != len(self.agents):
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
-            if not isinstance(agent_state, Mapping) or agent_state.get("control_mode") not in agent.control_modes:
-                mode = agent_state.get("control_mode") if isinstance(agent_state, Mapping) else agent_state
-                raise UnknownNameError("Scene.set_state", "control mode", str(mode), agent.control_modes)
-            agent.controller_for(agent_state["control_mode"]).check_state(
-                agent_state.get("controller"), "Scene.set_state"
-            )
+            mode = agent_state.get("control_mode") if isinstance(agent_state, Mapping) else agent_state
+            agent.controller_for(mode, "Scene.set_state").check_state(agent_state.get("controller"), "Scene.set_state")
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])

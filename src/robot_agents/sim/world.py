@@ -1,4 +1,9 @@
-"""``num_envs`` copies of one compiled MuJoCo model, stepped together.
+"""``num_envs`` copies of one compiled MuJoCo model, stepped together: the CPU backend.
+
+This is the one place that touches ``MjData``: every read and write of simulation
+state (joint state, body poses, contacts, sensors, controls, reset, step, state save
+and restore) goes through its methods, so a GPU backend or a real-robot driver can
+take its place behind the same interface (:class:`~robot_agents.sim.backend.SimBackend`).
 
 Physics state lives in the MjData objects; this class owns the batched ``ctrl``
 buffer (shape ``(num_envs, nu)``) that controllers write, steps every env by a
@@ -9,7 +14,7 @@ the exact integration state for save / restore.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 
 import mujoco
@@ -140,6 +145,100 @@ class BatchedWorld:
         """
         kinds = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQPOS)
         return np.array([sum(int(d.warning[k].number) for k in kinds) for d in self.datas], dtype=np.int64)
+
+    # -- reads of derived quantities ---------------------------------------------------
+    def body_poses(self, body_ids: npt.ArrayLike) -> FloatArray:
+        """World poses of bodies, shape ``(num_envs, k, 7)``: position (m), quaternion (w, x, y, z)."""
+        ids = np.asarray(body_ids, dtype=np.int64).reshape(-1)
+        out = np.empty((self.num_envs, len(ids), 7))
+        for row, data in zip(out, self.datas, strict=True):
+            row[:, :3] = data.xpos[ids]
+            row[:, 3:] = data.xquat[ids]
+        return out
+
+    def sensor_values(self, adr: npt.ArrayLike) -> FloatArray:
+        """``sensordata`` entries at ``adr`` of every env, shape ``(num_envs, k)``."""
+        index = np.asarray(adr, dtype=np.int64).reshape(-1)
+        return np.array([data.sensordata[index] for data in self.datas], dtype=np.float64).reshape(self.num_envs, -1)
+
+    def contact_forces(self, sources: Sequence[Sequence[int]], target: int) -> FloatArray:
+        """World-frame force (N) each group of bodies in ``sources`` exerts on body
+        ``target`` through their active contacts (normal and friction), shape
+        ``(num_envs, len(sources), 3)``."""
+        groups = [frozenset(int(b) for b in group) for group in sources]
+        out = np.zeros((self.num_envs, len(groups), 3))
+        wrench = np.zeros(6)
+        model = self.model
+        body_of = model.geom_bodyid
+        for env, data in enumerate(self.datas):
+            for i in range(data.ncon):
+                contact = data.contact[i]
+                b1, b2 = int(body_of[contact.geom1]), int(body_of[contact.geom2])
+                if target not in (b1, b2):
+                    continue
+                other = b2 if b1 == target else b1
+                for k, group in enumerate(groups):
+                    if other in group:
+                        mujoco.mj_contactForce(model, data, i, wrench)  # contact frame, acting on geom2
+                        force = contact.frame.reshape(3, 3).T @ wrench[:3]
+                        out[env, k] += force if b1 == other else -force
+        return out
+
+    def camera_poses(self, camera_id: int) -> FloatArray:
+        """World pose of a camera in every env as a 4x4 matrix, shape ``(num_envs, 4, 4)``
+        (MuJoCo's ``cam_xpos`` / ``cam_xmat``: -z is the viewing direction)."""
+        out = np.zeros((self.num_envs, 4, 4))
+        for pose, data in zip(out, self.datas, strict=True):
+            pose[:3, :3] = data.cam_xmat[camera_id].reshape(3, 3)
+            pose[:3, 3] = data.cam_xpos[camera_id]
+            pose[3, 3] = 1.0
+        return out
+
+    def render_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
+        """What a ``mujoco.Renderer`` draws for each env (the CPU backend's MjData); for
+        renderers only, never to be written."""
+        return list(self.datas) if env_ids is None else [self.datas[i] for i in env_ids]
+
+    # -- writes ---------------------------------------------------------------------------
+    def write_joint_state(
+        self,
+        env_ids: npt.ArrayLike,
+        qpos_adr: npt.ArrayLike,
+        qpos: FloatArray,
+        dof_adr: npt.ArrayLike,
+        qvel: FloatArray,
+    ) -> None:
+        """Set ``qpos[adr]`` / ``qvel[adr]`` of ``env_ids`` (rows of ``qpos`` / ``qvel``),
+        clear the solver's warm start and recompute derived quantities."""
+        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
+        qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
+        for row, env in enumerate(ids):
+            data = self.datas[env]
+            data.qpos[qa] = qpos[row]
+            data.qvel[da] = qvel[row]
+            data.qacc_warmstart[:] = 0.0
+            data.ctrl[:] = self.ctrl[env]
+            mujoco.mj_forward(self.model, data)
+        self._cache.clear()
+
+    def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
+        """Reset ``env_ids`` to one integration ``state`` ``(state_size,)`` (MuJoCo's
+        warning counters are cleared too)."""
+        for env in np.asarray(env_ids, dtype=np.int64).reshape(-1):
+            data = self.datas[env]
+            mujoco.mj_resetData(self.model, data)
+            mujoco.mj_setState(self.model, data, state, STATE_SPEC)
+            self.ctrl[env] = data.ctrl
+        self._cache.clear()
+
+    def sync_ctrl(self, env_ids: npt.ArrayLike | None = None) -> None:
+        """Copy the ``ctrl`` buffer into the envs' controls now (before the next step
+        would), e.g. so that a forward pass sees the actuator forces."""
+        ids = range(self.num_envs) if env_ids is None else np.asarray(env_ids, dtype=np.int64).reshape(-1)
+        for env in ids:
+            self.datas[env].ctrl[:] = self.ctrl[env]
+            mujoco.mj_forward(self.model, self.datas[env])
+        self._cache.clear()
 
     # -- exact state ------------------------------------------------------------------
     def get_state(self) -> FloatArray:

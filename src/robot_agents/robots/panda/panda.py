@@ -10,6 +10,10 @@ Sources of the numbers:
 - Gains: kp = 1000, kv = 100 on the arm (the ManiSkill defaults, so ported policies
   see the same response), on top of exact gravity compensation of every link.
 - ``ready`` is Franka's own default pose; ``rest`` is the ManiSkill rest pose.
+- Composition: the arm (``panda_arm.xml``) and the hand (``panda_hand.xml``) are
+  separate models; ``panda``, ``panda_wristcam``, ``panda_touch``, ``panda_stick`` and
+  ``floating_panda_gripper`` attach pieces to them (the hand at the flange, turned
+  -45 deg about its z axis; a stick tool; a camera housing; the hand on a mount).
 - Wrist camera (``panda_wristcam``): an Intel RealSense D415 on the hand, placed as
   in ManiSkill's public ``panda_v3.urdf`` (``camera_link``: 0.0465 m along the hand's
   x axis, -0.02 m along y, 0.036 m along z), looking along the gripper's approach
@@ -22,24 +26,20 @@ Sources of the numbers:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import ClassVar
 
-import mujoco
-
-from robot_agents.agent import Agent
-from robot_agents.controllers import (
-    JointGroup,
-    PDJointPosMimicConfig,
-    TaskSpace,
-    WorkspaceBox,
-    combine_parts,
-    ee_control_modes,
-    joint_control_modes,
-)
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.rules import EE_MODES
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
 from robot_agents.sensors import CameraConfig, TouchSensorConfig
 
@@ -48,14 +48,17 @@ ASSETS = Path(__file__).parent / "assets"
 ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
 
-PANDA_ARM = JointGroup(
-    joint_names=ARM_JOINTS,
+#: The arm's drives: PD servos (kp = 1000 N*m/rad, kv = 100 N*m*s/rad) with the
+#: datasheet's torque and speed limits.
+PANDA_ARM_DRIVES = PDActuator(
+    joints="panda_joint[1-7]",
     stiffness=1e3,
     damping=1e2,
-    force_limit=(87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0),
-    max_delta=0.1,
-    max_velocity=(2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61),
+    effort_limit=(87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0),
+    velocity_limit=(2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61),
 )
+#: The hand's drive (both fingers; 70 N continuous grasping force).
+PANDA_HAND_DRIVES = PDActuator(joints="panda_finger_joint[12]", stiffness=1e3, damping=1e2, effort_limit=70.0)
 
 #: End-effector commands: ManiSkill's delta bounds (10 cm, 0.1 rad per step); absolute
 #: positions bounded by a box around the arm's reach (855 mm from the shoulder at
@@ -65,16 +68,22 @@ PANDA_TASK_SPACE = TaskSpace(
     max_translation=0.1,
     max_rotation=0.1,
 )
-
-#: One action in [-1, 1] for both fingers: -1 closes past contact (squeezes), +1 opens 8 cm.
-PANDA_GRIPPER = PDJointPosMimicConfig(
-    joint_names=FINGER_JOINTS,
-    lower=-0.01,
-    upper=0.04,
-    stiffness=1e3,
-    damping=1e2,
-    force_limit=70.0,
-    clip_target=False,
+#: The arm part; its end effector is the flange until a tool is attached.
+PANDA_ARM = Arm(
+    name="arm",
+    joints="panda_joint[1-7]",
+    end_effectors=(EndEffector("panda_link8", name="flange"),),
+    task_space=PANDA_TASK_SPACE,
+    max_delta=0.1,
+)
+#: The hand: one action for both fingers, -1 closes 1 cm past contact (squeezes), +1 opens 8 cm.
+PANDA_GRIPPER = Gripper(
+    name="gripper",
+    joints="panda_finger_joint[12]",
+    open=0.04,
+    closed=0.0,
+    squeeze=0.01,
+    fingers=("panda_leftfinger", "panda_rightfinger"),
 )
 
 #: High-friction finger pads, as rubber pads on the real fingertips.
@@ -82,33 +91,54 @@ FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
 
 ARM_REST = (0.0, math.pi / 8, 0.0, -5 * math.pi / 8, 0.0, 3 * math.pi / 4, math.pi / 4)
 ARM_READY = (0.0, -math.pi / 4, 0.0, -3 * math.pi / 4, 0.0, math.pi / 2, math.pi / 4)
-FINGERS_OPEN = (0.04, 0.04)
+#: The hand is mounted on the flange turned -45 deg about its z axis.
+HAND_ON_FLANGE = (math.cos(-math.pi / 8), 0.0, 0.0, math.sin(-math.pi / 8))
+
+
+class PandaArm(Agent):
+    """The Panda arm alone, up to its flange (a piece to mount tools on)."""
+
+    mjcf_path = ASSETS / "panda_arm.xml"
+    actuators = (PANDA_ARM_DRIVES,)
+    parts = (PANDA_ARM,)
+    keyframes = {
+        "rest": Keyframe(qpos={"panda_joint[1-7]": ARM_REST}),
+        "ready": Keyframe(qpos={"panda_joint[1-7]": ARM_READY}),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+class PandaHand(Agent):
+    """The Franka Hand alone: two mimic fingers, 0-0.04 m each (a piece)."""
+
+    mjcf_path = ASSETS / "panda_hand.xml"
+    actuators = (PANDA_HAND_DRIVES,)
+    parts = (PANDA_GRIPPER,)
+    link_materials = {"panda_leftfinger": FINGER_PAD, "panda_rightfinger": FINGER_PAD}
+    keyframes = {"open": Keyframe(qpos={"panda_finger_joint[12]": 0.04})}
+
+
+def with_tool(tcp: str) -> tuple[Arm]:
+    """The arm part with its end effector moved to a tool's TCP body."""
+    return (dataclasses.replace(PANDA_ARM, end_effectors=(EndEffector(tcp, name="tcp"),)),)
 
 
 @register_agent()
-class Panda(Agent):
+class Panda(PandaArm):
     """Franka Emika Panda: 7-DoF arm and the Franka Hand with mimic fingers.
 
     qpos order: ``panda_joint1``..``panda_joint7`` (base to wrist), then the two fingers.
     """
 
     uid = "panda"
-    mjcf_path = ASSETS / "panda.xml"
-    link_materials = {"panda_leftfinger": FINGER_PAD, "panda_rightfinger": FINGER_PAD}
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(PandaHand, at="panda_link8", quat=HAND_ON_FLANGE),)
+    parts = with_tool("panda_hand_tcp")
     keyframes = {
-        "rest": Keyframe(qpos=(*ARM_REST, *FINGERS_OPEN)),
-        "ready": Keyframe(qpos=(*ARM_READY, *FINGERS_OPEN)),
-        "closed_rest": Keyframe(qpos=(*ARM_REST, 0.0, 0.0)),
+        "rest": Keyframe(qpos={"panda_joint[1-7]": ARM_REST}),
+        "ready": Keyframe(qpos={"panda_joint[1-7]": ARM_READY}),
+        # the second finger follows the first through the hand's coupling
+        "closed_rest": Keyframe(qpos={"panda_joint[1-7]": ARM_REST, "panda_finger_joint1": 0.0}),
     }
-    control_modes = combine_parts(
-        "arm",
-        {**joint_control_modes(PANDA_ARM), **ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)},
-        gripper=PANDA_GRIPPER,
-    )
-    default_control_mode = "pd_joint_delta_pos"
-    tcp_link = "panda_hand_tcp"
-    finger_links = ("panda_leftfinger", "panda_rightfinger")
-    gripper_joint_names = FINGER_JOINTS
 
 
 #: The wrist camera's optical centre in the ``panda_hand`` frame (m), and its
@@ -116,9 +146,9 @@ class Panda(Agent):
 #: (image right) = hand +y; a half turn about (x + y) / sqrt(2).
 WRIST_CAMERA_POS = (0.0465, -0.02, 0.036)
 WRIST_CAMERA_QUAT = (0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0)
-#: D415 housing in the hand frame: centre (m), half extents (m), mass (kg). Its front
-#: face is 2.5 mm behind the optical centre.
-WRIST_CAMERA_HOUSING = ((0.0465, 0.0, 0.0235), (0.0115, 0.0495, 0.010), 0.072)
+#: Centre of the D415 housing in the hand frame (m); its front face is 2.5 mm behind
+#: the optical centre.
+WRIST_CAMERA_HOUSING_POS = (0.0465, 0.0, 0.0235)
 
 HAND_CAMERA = CameraConfig(
     uid="hand_camera",
@@ -131,6 +161,13 @@ HAND_CAMERA = CameraConfig(
     near=0.01,
     far=10.0,
 )
+
+
+class RealSenseD415(Agent):
+    """An Intel RealSense D415 housing (a piece; its camera is declared by the robot)."""
+
+    mjcf_path = ASSETS / "realsense_d415.xml"
+
 
 #: Touch sites over the finger pads (pad: centre (0, +-0.008, 0.0445), half extents
 #: (0.0085, 0.0075, 0.0095) m in the finger frame), 1 mm larger on every side so the
@@ -151,27 +188,11 @@ class PandaWristCam(Panda):
     90 deg vertical field of view) looking along the gripper's approach axis."""
 
     uid = "panda_wristcam"
+    attachments = (
+        *Panda.attachments,
+        Attachment(RealSenseD415, at="panda_hand", pos=WRIST_CAMERA_HOUSING_POS),
+    )
     cameras = (HAND_CAMERA,)
-
-    @classmethod
-    def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
-        """The Panda's spec plus the camera housing on the hand (collision and visual)."""
-        spec = super().build_spec(cameras)
-        (pos, half, mass) = WRIST_CAMERA_HOUSING
-        hand = spec.body("panda_hand")
-        box = mujoco.mjtGeom.mjGEOM_BOX
-        hand.add_geom(name="wrist_camera_housing", type=box, pos=list(pos), size=list(half), mass=mass, group=3)
-        hand.add_geom(
-            type=box,
-            pos=list(pos),
-            size=list(half),
-            group=2,
-            contype=0,
-            conaffinity=0,
-            mass=0.0,
-            rgba=[0.2, 0.2, 0.22, 1],
-        )
-        return spec
 
 
 @register_agent()
@@ -183,16 +204,19 @@ class PandaTouch(Panda):
     touch_sensors = FINGERTIP_TOUCH
 
 
+class PandaStickTool(Agent):
+    """A stick on the flange (a piece); its TCP is ``panda_stick_tcp``."""
+
+    mjcf_path = ASSETS / "panda_stick_tool.xml"
+
+
 @register_agent()
-class PandaStick(Agent):
+class PandaStick(PandaArm):
     """The Panda arm with a stick tool on its flange instead of the hand (7 DoF)."""
 
     uid = "panda_stick"
-    mjcf_path = ASSETS / "panda_stick.xml"
-    keyframes = {"rest": Keyframe(qpos=ARM_REST), "ready": Keyframe(qpos=ARM_READY)}
-    control_modes = {**joint_control_modes(PANDA_ARM), **ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)}
-    default_control_mode = "pd_joint_delta_pos"
-    tcp_link = "panda_stick_tcp"
+    attachments = (Attachment(PandaStickTool, at="panda_link8", quat=HAND_ON_FLANGE),)
+    parts = with_tool("panda_stick_tcp")
 
 
 MOUNT_JOINTS = (
@@ -205,12 +229,6 @@ MOUNT_JOINTS = (
 )
 
 
-#: The mount's slides and hinges: stiff enough to hold the hand against contact forces.
-FLOATING_MOUNT = JointGroup(joint_names=MOUNT_JOINTS, stiffness=1e3, damping=1e2, force_limit=100.0, max_delta=0.1)
-#: The mount's slide range bounds absolute positions.
-FLOATING_TASK_SPACE = TaskSpace(position_bounds=WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)))
-
-
 @register_agent()
 class FloatingPandaGripper(Agent):
     """The Franka Hand on a 6-DoF floating mount (x, y, z slides, then x, y, z hinges).
@@ -219,21 +237,36 @@ class FloatingPandaGripper(Agent):
     """
 
     uid = "floating_panda_gripper"
-    mjcf_path = ASSETS / "floating_panda_gripper.xml"
-    link_materials = {"panda_leftfinger": FINGER_PAD, "panda_rightfinger": FINGER_PAD}
-    keyframes = {
-        "rest": Keyframe(qpos=(0.0,) * 6 + FINGERS_OPEN),
-        "closed": Keyframe(qpos=(0.0,) * 6 + (0.0, 0.0)),
-    }
-    control_modes = combine_parts(
-        "arm",
-        {
-            **joint_control_modes(FLOATING_MOUNT),
-            **ee_control_modes(FLOATING_MOUNT, FLOATING_TASK_SPACE, modes=("pd_ee_delta_pose", "pd_ee_pose")),
-        },
-        gripper=PANDA_GRIPPER,
+    mjcf_path = ASSETS / "floating_mount.xml"
+    attachments = (Attachment(PandaHand, at="root", quat=(0.0, 1.0, 0.0, 0.0)),)
+    #: The mount's slides and hinges: stiff enough to hold the hand against contact forces.
+    actuators = (PDActuator(joints="root_.*_joint", stiffness=1e3, damping=1e2, effort_limit=100.0),)
+    parts = (
+        Arm(
+            name="arm",
+            joints="root_.*_joint",
+            end_effectors=(EndEffector("panda_hand_tcp", name="tcp"),),
+            # the mount's slide range bounds absolute positions
+            task_space=TaskSpace(
+                position_bounds=WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)),
+                modes=("pd_ee_delta_pose", "pd_ee_pose"),
+            ),
+        ),
     )
+    keyframes = {
+        "rest": Keyframe(qpos={"root_.*": 0.0}),
+        "closed": Keyframe(qpos={"root_.*": 0.0, "panda_finger_joint1": 0.0}),
+    }
     default_control_mode = "pd_joint_delta_pos"
-    tcp_link = "panda_hand_tcp"
-    finger_links = ("panda_leftfinger", "panda_rightfinger")
-    gripper_joint_names = FINGER_JOINTS
+
+
+__all__ = [
+    "EE_MODES",
+    "FloatingPandaGripper",
+    "Panda",
+    "PandaArm",
+    "PandaHand",
+    "PandaStick",
+    "PandaTouch",
+    "PandaWristCam",
+]

@@ -1,0 +1,168 @@
+"""Actuator declarations: the drives of a robot, declared once per joint pattern.
+
+An actuator declaration says *what physically drives* a group of joints (a PD servo
+inside MuJoCo, a velocity servo, a torque motor, MuJoCo's ``pid`` or ``dcmotor``, or
+the model file's own actuators) with its gains and limits. Control modes never write
+MuJoCo controls: they produce joint *targets* (position, velocity, effort) and the
+drive stage (:mod:`robot_agents.actuators.drives`) turns those into ``ctrl`` for the
+declared actuators. A mode that needs other settings (zero stiffness for velocity
+control, stiffer gains for tracking) overrides them explicitly; leaving the mode
+restores the declared ones.
+
+Units: stiffness N*m/rad (N/m for slides), damping N*m*s/rad (N*s/m), effort limit
+N*m (N), velocity limit rad/s (m/s), armature kg*m^2 (kg), friction N*m (N).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from robot_agents.errors import ConfigError
+from robot_agents.patterns import Patterns, as_patterns
+
+#: A scalar for every matched joint, or one value per matched joint (in model order).
+PerJoint = float | tuple[float, ...]
+
+
+def _check_per_joint(owner: str, name: str, value: PerJoint | None, minimum: float = 0.0) -> None:
+    if value is None:
+        return
+    try:
+        array = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{owner}.{name}: expected a number or a tuple of numbers, got {value!r}.") from None
+    if array.size == 0 or not np.all(np.isfinite(array)) or np.any(array < minimum):
+        raise ConfigError(f"{owner}.{name}: expected finite values >= {minimum:g}, got {value!r}.")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ActuatorConfig:
+    """What every drive declaration shares.
+
+    Attributes:
+        joints: joint name pattern(s) (regular expressions, whole-name match); each must
+            match at least one joint and no joint may be claimed by two declarations.
+        effort_limit: largest force / torque the drive applies (N*m or N); ``None``:
+            unlimited.
+        velocity_limit: the motor's rated speed (rad/s or m/s); bounds velocity modes.
+        armature: reflected rotor inertia added to each joint (kg*m^2 or kg).
+        friction: dry friction of each joint (``frictionloss``, N*m or N).
+    """
+
+    joints: Patterns
+    effort_limit: PerJoint | None = None
+    velocity_limit: PerJoint | None = None
+    armature: PerJoint | None = None
+    friction: PerJoint | None = None
+
+    def __post_init__(self) -> None:
+        owner = type(self).__name__
+        object.__setattr__(self, "joints", as_patterns(self.joints, f"{owner}.joints"))
+        for name in ("effort_limit", "velocity_limit", "armature", "friction"):
+            _check_per_joint(owner, name, getattr(self, name))
+
+    @property
+    def label(self) -> str:
+        """How messages name this declaration, e.g. ``PDActuator('panda_joint[1-7]')``."""
+        return f"{type(self).__name__}({', '.join(repr(p) for p in self.joints)})"
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDActuator(ActuatorConfig):
+    """A PD position servo inside MuJoCo: ``force = kp (q* - q) + kv (qd* - qd) + tau*``,
+    integrated implicitly (stable at stiff gains), clamped to ``effort_limit``."""
+
+    stiffness: PerJoint
+    damping: PerJoint = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _check_per_joint(type(self).__name__, "stiffness", self.stiffness)
+        _check_per_joint(type(self).__name__, "damping", self.damping)
+
+
+@dataclass(frozen=True, kw_only=True)
+class VelocityActuator(ActuatorConfig):
+    """A velocity servo inside MuJoCo: ``force = kv (qd* - qd) + tau*``."""
+
+    damping: PerJoint
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _check_per_joint(type(self).__name__, "damping", self.damping)
+
+
+@dataclass(frozen=True, kw_only=True)
+class MotorActuator(ActuatorConfig):
+    """A torque motor: MuJoCo applies the commanded effort. With ``stiffness`` or
+    ``damping`` > 0 the library closes an explicit PD loop before every physics substep
+    (``force = kp (q* - q) + kv (qd* - qd) + tau*``, as Isaac Lab's ideal PD), which
+    lets position and velocity modes drive it; with both zero it takes efforts only."""
+
+    stiffness: PerJoint = 0.0
+    damping: PerJoint = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _check_per_joint(type(self).__name__, "stiffness", self.stiffness)
+        _check_per_joint(type(self).__name__, "damping", self.damping)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PIDActuator(ActuatorConfig):
+    """MuJoCo's ``pid`` actuator (MuJoCo >= 3.15): a PID servo with an integral state
+    bounded by ``integral_limit`` (N*m or N); takes position and velocity targets."""
+
+    stiffness: float
+    damping: float = 0.0
+    integral_gain: float = 0.0
+    integral_limit: float | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for name in ("stiffness", "damping", "integral_gain", "integral_limit"):
+            value = getattr(self, name)
+            if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ConfigError(f"{type(self).__name__}.{name}: expected a finite number >= 0, got {value!r}.")
+        if self.stiffness <= 0:
+            raise ConfigError(f"{type(self).__name__}.stiffness: expected > 0, got {self.stiffness!r}.")
+
+
+@dataclass(frozen=True, kw_only=True)
+class DCMotorActuator(ActuatorConfig):
+    """MuJoCo's ``dcmotor`` actuator (MuJoCo >= 3.15): a brushed DC motor (torque
+    constant ``motor_constant`` N*m/A, winding ``resistance`` ohm) under its own
+    position controller with gains ``stiffness`` (V/rad) and ``damping`` (V*s/rad);
+    takes position, velocity and effort (feed-forward) targets."""
+
+    motor_constant: float
+    resistance: float
+    stiffness: float
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for name in ("motor_constant", "resistance", "stiffness", "damping"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ConfigError(f"{type(self).__name__}.{name}: expected a finite number >= 0, got {value!r}.")
+        if self.motor_constant <= 0 or self.resistance <= 0:
+            raise ConfigError(f"{type(self).__name__}: expected motor_constant > 0 and resistance > 0.")
+
+
+@dataclass(frozen=True, kw_only=True)
+class FileActuators(ActuatorConfig):
+    """Adopt the model file's own actuators on the matched joints as their drives.
+
+    Position actuators (``<position>``, ``<general>`` with an affine bias), velocity
+    actuators and motors are adopted with their gains and ranges; control modes drive
+    them through the same targets as declared drives."""
+
+    joints: Patterns = ".*"
+
+
+#: Every declaration kind, for messages.
+ACTUATOR_KINDS = (PDActuator, VelocityActuator, MotorActuator, PIDActuator, DCMotorActuator, FileActuators)

@@ -1,0 +1,280 @@
+"""Write a robot's actuator declarations into its MjSpec (before compiling).
+
+One function, :func:`apply_actuators`, decides for every joint which actuator drives
+it: a declared one (added here, named like its joint), the model file's own (adopted),
+or none. A file's actuators are adopted by default, replaced when the robot says so,
+and never kept beside a declared drive on the same joint.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import Enum
+
+import mujoco
+import numpy as np
+
+from robot_agents.actuators.config import (
+    ActuatorConfig,
+    DCMotorActuator,
+    FileActuators,
+    MotorActuator,
+    PDActuator,
+    PerJoint,
+    PIDActuator,
+    VelocityActuator,
+)
+from robot_agents.errors import ConfigError
+from robot_agents.patterns import claim
+
+
+class DriveKind(Enum):
+    """How targets reach a drive."""
+
+    #: MuJoCo's affine actuator (PD, velocity servo, motor): ``ctrl`` is solved from the targets.
+    AFFINE = "affine"
+    #: A torque motor under an explicit PD loop closed before every substep.
+    EXPLICIT = "explicit"
+    #: MuJoCo's ``pid`` actuator: ``ctrl = [q*, qd*]``.
+    PID = "pid"
+    #: MuJoCo's ``dcmotor`` actuator with a position controller: ``ctrl = [q*, qd*, tau*]``.
+    DCMOTOR = "dcmotor"
+
+
+@dataclass(frozen=True)
+class DriveDeclaration:
+    """The drive of one joint, as declared (names without the scene prefix).
+
+    Attributes:
+        joint: the joint it drives.
+        kind: how targets become controls.
+        source: the declaration it comes from, for messages.
+        stiffness, damping: the explicit PD gains of an ``EXPLICIT`` drive (joint units).
+        effort_limit: N*m or N (``inf``: unlimited); velocity_limit: rad/s or m/s.
+    """
+
+    joint: str
+    kind: DriveKind
+    source: str
+    stiffness: float = 0.0
+    damping: float = 0.0
+    effort_limit: float = np.inf
+    velocity_limit: float = np.inf
+
+
+def per_joint(owner: str, field: str, value: PerJoint | None, n: int, default: float) -> np.ndarray:
+    """A scalar or per-joint tuple as a float64 array ``(n,)`` (``default`` for ``None``)."""
+    if value is None:
+        return np.full(n, default)
+    array = np.asarray(value, dtype=np.float64).reshape(-1)
+    if array.size == 1:
+        return np.full(n, float(array[0]))
+    if array.size != n:
+        raise ConfigError(f"{owner}.{field}: expected 1 or {n} values (one per matched joint), got {array.size}.")
+    return array
+
+
+def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:
+    return list(spec.actuators)
+
+
+def apply_actuators(
+    spec: mujoco.MjSpec,
+    declarations: Sequence[ActuatorConfig],
+    replace_file_actuators: bool,
+    implicit_joints: Sequence[str],
+    where: str,
+) -> list[DriveDeclaration]:
+    """Edit ``spec`` so that every declared joint has exactly one actuator.
+
+    Args:
+        declarations: the robot's actuator declarations.
+        replace_file_actuators: delete the file's actuators first.
+        implicit_joints: joints that get a zero-gain PD actuator when the robot declares
+            no actuators and the file has none (their control modes set the gains).
+        where: the robot, for messages.
+
+    Returns:
+        The drive of each driven joint, in the model's joint order.
+    """
+    joints = [j for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
+    names = [j.name for j in joints]
+    file_actuators = _file_actuators(spec)
+    if replace_file_actuators:
+        for actuator in file_actuators:
+            spec.delete(actuator)
+        file_actuators = []
+    on_joint: dict[str, mujoco.MjsActuator] = {}
+    for actuator in file_actuators:
+        label = actuator.name or f"#{file_actuators.index(actuator)}"
+        if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT:
+            raise ConfigError(
+                f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint; "
+                "robot_agents drives joints: set replace_file_actuators = True and declare the joint drives."
+            )
+        if actuator.target in on_joint:
+            raise ConfigError(
+                f"{where}: joint {actuator.target!r} has two actuators in the model file "
+                f"({on_joint[actuator.target].name!r}, {label!r}); set replace_file_actuators = True."
+            )
+        on_joint[actuator.target] = actuator
+
+    declared = [d for d in declarations if not isinstance(d, FileActuators)]
+    adopted = [d for d in declarations if isinstance(d, FileActuators)]
+    claims = claim([(d.label, d.joints) for d in declared], names, f"{where}.actuators")
+    file_driven = [n for n in names if n in on_joint]
+    adopted_claims = claim(
+        [(d.label, d.joints) for d in adopted], file_driven, f"{where}.actuators", "joint with a file actuator"
+    )
+    claimed_by: dict[str, ActuatorConfig] = {}
+    for decl, hits in zip(declared, claims, strict=True):
+        for i in hits:
+            if names[i] in on_joint:
+                raise ConfigError(
+                    f"{where}.actuators: {decl.label} claims joint {names[i]!r}, which the model file already drives "
+                    f"with actuator {on_joint[names[i]].name!r}; adopt it with FileActuators({names[i]!r}) or set "
+                    "replace_file_actuators = True."
+                )
+            claimed_by[names[i]] = decl
+    for decl, hits in zip(adopted, adopted_claims, strict=True):
+        for i in hits:
+            claimed_by[file_driven[i]] = decl
+
+    drives: dict[str, DriveDeclaration] = {}
+    taken = {a.name for a in spec.actuators}
+    for decl in declarations:
+        matched = [n for n in names if claimed_by.get(n) is decl]
+        _set_joint_properties(spec, decl, matched)
+        if isinstance(decl, FileActuators):
+            for joint in matched:
+                drives[joint] = _adopted(on_joint[joint], decl.label, joint)
+        else:
+            for joint, drive in zip(matched, _add_declared(spec, decl, matched, taken), strict=True):
+                drives[joint] = drive
+    # Actuators of the file nobody declared: adopted as they are.
+    for joint, actuator in on_joint.items():
+        if joint not in drives:
+            drives[joint] = _adopted(actuator, "the model file", joint)
+    if not declarations and not on_joint:
+        for joint in implicit_joints:
+            if joint not in names:
+                continue
+            _add_affine(spec, joint, taken, kp=0.0, kv=0.0, limit=np.inf)
+            drives[joint] = DriveDeclaration(
+                joint, DriveKind.AFFINE, "a zero-gain drive (gains from the control modes)"
+            )
+    return [drives[n] for n in names if n in drives]
+
+
+def _set_joint_properties(spec: mujoco.MjSpec, decl: ActuatorConfig, matched: list[str]) -> None:
+    owner = decl.label
+    n = len(matched)
+    if decl.armature is not None:
+        for joint, value in zip(matched, per_joint(owner, "armature", decl.armature, n, 0.0), strict=True):
+            spec.joint(joint).armature = float(value)
+    if decl.friction is not None:
+        for joint, value in zip(matched, per_joint(owner, "friction", decl.friction, n, 0.0), strict=True):
+            spec.joint(joint).frictionloss = float(value)
+
+
+def _actuator_name(joint: str, taken: set[str]) -> str:
+    name = joint if joint not in taken else f"{joint}_drive"
+    taken.add(name)
+    return name
+
+
+def _add_affine(spec: mujoco.MjSpec, joint: str, taken: set[str], kp: float, kv: float, limit: float) -> None:
+    """A ``general`` actuator in joint units: gain ``g`` (kp, else kv, else 1), bias
+    ``(0, -kp, -kv)``, force clamped to ``limit``."""
+    gain = kp if kp > 0 else (kv if kv > 0 else 1.0)
+    spec.add_actuator(
+        name=_actuator_name(joint, taken),
+        target=joint,
+        trntype=mujoco.mjtTrn.mjTRN_JOINT,
+        gaintype=mujoco.mjtGain.mjGAIN_FIXED,
+        biastype=mujoco.mjtBias.mjBIAS_AFFINE,
+        gainprm=[gain] + [0.0] * 9,
+        biasprm=[0.0, -kp, -kv] + [0.0] * 7,
+        ctrllimited=0,
+        forcelimited=int(np.isfinite(limit)),
+        forcerange=[-limit, limit] if np.isfinite(limit) else [0.0, 0.0],
+    )
+
+
+def _add_declared(
+    spec: mujoco.MjSpec, decl: ActuatorConfig, matched: list[str], taken: set[str]
+) -> list[DriveDeclaration]:
+    owner, n = decl.label, len(matched)
+    limits = per_joint(owner, "effort_limit", decl.effort_limit, n, np.inf)
+    speeds = per_joint(owner, "velocity_limit", decl.velocity_limit, n, np.inf)
+    result = []
+    for k, joint in enumerate(matched):
+        limit, speed = float(limits[k]), float(speeds[k])
+        if isinstance(decl, PDActuator):
+            kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
+            kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
+            _add_affine(spec, joint, taken, kp, kv, limit)
+            result.append(DriveDeclaration(joint, DriveKind.AFFINE, owner, kp, kv, limit, speed))
+        elif isinstance(decl, VelocityActuator):
+            kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
+            _add_affine(spec, joint, taken, 0.0, kv, limit)
+            result.append(DriveDeclaration(joint, DriveKind.AFFINE, owner, 0.0, kv, limit, speed))
+        elif isinstance(decl, MotorActuator):
+            kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
+            kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
+            _add_affine(spec, joint, taken, 0.0, 0.0, limit)
+            result.append(DriveDeclaration(joint, DriveKind.EXPLICIT, owner, kp, kv, limit, speed))
+        elif isinstance(decl, (PIDActuator, DCMotorActuator)):
+            actuator = spec.add_actuator(
+                name=_actuator_name(joint, taken), target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT
+            )
+            kind = _native(actuator, decl, owner)
+            if np.isfinite(limit):
+                actuator.forcelimited = 1
+                actuator.forcerange = [-limit, limit]
+            result.append(DriveDeclaration(joint, kind, owner, decl.stiffness, decl.damping, limit, speed))
+        else:
+            raise ConfigError(f"{owner}: unknown actuator declaration type {type(decl).__name__}.")
+    return result
+
+
+def _native(actuator: mujoco.MjsActuator, decl: PIDActuator | DCMotorActuator, owner: str) -> DriveKind:
+    """Make ``actuator`` MuJoCo's ``pid`` or ``dcmotor`` (position and velocity inputs)."""
+    setter = "set_to_pid" if isinstance(decl, PIDActuator) else "set_to_dcmotor"
+    if not hasattr(actuator, setter):
+        raise ConfigError(
+            f"{owner}: MuJoCo {mujoco.__version__} has no {setter[7:]} actuator; it needs MuJoCo >= 3.15."
+        )
+    if isinstance(decl, PIDActuator):
+        actuator.set_to_pid(
+            kp=decl.stiffness,
+            kv=decl.damping,
+            ki=decl.integral_gain,
+            imax=decl.integral_limit if decl.integral_limit is not None else -1,
+        )
+        return DriveKind.PID
+    # Inputs: position (1), velocity (2) and feed-forward effort (4).
+    actuator.set_to_dcmotor(
+        motorconst=[decl.motor_constant, decl.motor_constant],
+        resistance=decl.resistance,
+        controller=[decl.stiffness, 0.0, decl.damping, 0.0, 0.0, 0.0],
+        ctrlspec=7,
+    )
+    return DriveKind.DCMOTOR
+
+
+def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDeclaration:
+    """A file's actuator on ``joint``: affine gain and bias are driven through targets."""
+    label = f"{source} (actuator {actuator.name!r})" if actuator.name else source
+    if actuator.gaintype != mujoco.mjtGain.mjGAIN_FIXED or actuator.biastype not in (
+        mujoco.mjtBias.mjBIAS_NONE,
+        mujoco.mjtBias.mjBIAS_AFFINE,
+    ):
+        raise ConfigError(
+            f"{label} on joint {joint!r} has gain type {actuator.gaintype.name} and bias type "
+            f"{actuator.biastype.name}; robot_agents adopts position, velocity and motor actuators only: "
+            "set replace_file_actuators = True and declare the drive."
+        )
+    limit = float(abs(actuator.forcerange[1])) if actuator.forcelimited == 1 else np.inf
+    return DriveDeclaration(joint, DriveKind.AFFINE, label, effort_limit=limit)

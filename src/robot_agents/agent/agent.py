@@ -1,0 +1,440 @@
+"""The Agent base class: a declarative robot definition plus its lifecycle.
+
+A robot is a subclass that declares, as class attributes, its model file, how to load
+it, its drives, parts, mounted pieces, keyframes, control modes and sensors; see
+``docs/defining-a-robot.md``. An *instance* is the robot loaded into a simulation
+backend (:class:`~robot_agents.sim.backend.SimBackend`): every array it returns has a
+leading ``num_envs`` axis and is a copy. What the instance does is split by concept:
+names to addresses (:mod:`.index`), frames (:mod:`.frames`), control modes
+(:mod:`.control`), joint state (:mod:`.joint_state`); the declaration is composed and
+checked in :mod:`.declaration`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.actuators.config import ActuatorConfig
+from robot_agents.actuators.drives import Drives
+from robot_agents.agent import declaration
+from robot_agents.agent.control import ControlModes
+from robot_agents.agent.declaration import CheckedRobot, ModeConfig
+from robot_agents.agent.frames import RobotFrames
+from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.joint_state import JointState
+from robot_agents.controllers.base import ControllerConfig, ControllerContext
+from robot_agents.controllers.combined import CombinedController
+from robot_agents.errors import ConfigError, StateError, UnknownNameError
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.compose import Attachment
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Arm, Gripper, Part
+from robot_agents.parts.grasp import grasped
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.touch import TouchReader, TouchSensorConfig
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+class Agent:
+    """Base class of every robot. Subclass it, set the class attributes, register it.
+
+    Declaration (class attributes):
+        uid: registry id, e.g. ``"panda"``.
+        mjcf_path / urdf_path: the model file (exactly one).
+        fix_root_link: weld the root to the world (arms) or give it a free joint.
+        actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
+            model file's own actuators are adopted unless ``replace_file_actuators``.
+        parts: arm(s), gripper(s) or hand(s), head, torso, base, legs, with their roles
+            (end effectors, gripper open / closed, fingers).
+        attachments: pieces (other Agent classes) mounted at a body or site; their
+            actuators, parts, sensors and default keyframe come along.
+        keyframes: name -> :class:`Keyframe` (joints by name); the first is the default.
+        control_modes: name -> controller config, or ``{part: config}``; empty:
+            generated from the parts.
+        default_control_mode: defaults to the first control mode.
+        disable_self_collisions / self_collision_exclusions: contact filtering.
+        gravity_compensation: ``True`` (every body), ``False``, or body names; ``None``
+            means ``fix_root_link`` (on for fixed-base arms, off for free robots).
+        link_materials / default_material: friction per body / for every other geom.
+        cameras / touch_sensors: sensors that travel with the robot.
+    """
+
+    uid: ClassVar[str] = ""
+    mjcf_path: ClassVar[str | Path | None] = None
+    urdf_path: ClassVar[str | Path | None] = None
+    fix_root_link: ClassVar[bool] = True
+    actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
+    replace_file_actuators: ClassVar[bool] = False
+    parts: ClassVar[tuple[Part, ...]] = ()
+    attachments: ClassVar[Sequence[Attachment]] = ()
+    keyframes: ClassVar[Mapping[str, Keyframe]] = {}
+    control_modes: ClassVar[Mapping[str, ModeConfig]] = {}
+    default_control_mode: ClassVar[str | None] = None
+    disable_self_collisions: ClassVar[bool] = False
+    self_collision_exclusions: ClassVar[tuple[tuple[str, str], ...]] = ()
+    gravity_compensation: ClassVar[bool | tuple[str, ...] | None] = None
+    link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {}
+    default_material: ClassVar[FrictionMaterial | None] = None
+    cameras: ClassVar[tuple[CameraConfig, ...]] = ()
+    touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
+
+    # ------------------------------------------------------------------ declaration
+    @classmethod
+    def model_path(cls) -> Path:
+        """The declared model file (not checked for existence)."""
+        return declaration.model_path(cls)
+
+    @classmethod
+    def validate_definition(cls) -> None:
+        """Check the declaration's types without loading the model (see :meth:`check`)."""
+        declaration.validate_definition(cls)
+
+    @classmethod
+    def check(cls) -> CheckedRobot:
+        """Compile the robot alone and check its whole declaration (parts, drives,
+        keyframes, control modes) against it; cached per class. Run at registration."""
+        return declaration.check(cls)
+
+    @classmethod
+    def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+        """A fresh MjSpec of the composed robot with every declared option applied;
+        ``cameras`` replaces the declared cameras (an env's overrides)."""
+        return declaration.build_spec(cls, cameras)[0]
+
+    @classmethod
+    def modes(cls) -> dict[str, ModeConfig]:
+        """The control-mode table: ``control_modes``, or generated from the parts."""
+        return cls.check().modes
+
+    @classmethod
+    def mode_parts(cls, mode: str) -> dict[str, ControllerConfig]:
+        """The per-part configs of a control mode (a single config becomes part ``"main"``)."""
+        return declaration.mode_parts(cls, cls.modes(), mode)
+
+    @classmethod
+    def default_mode(cls) -> str:
+        return cls.default_control_mode or next(iter(cls.modes()))
+
+    @classmethod
+    def default_keyframe(cls) -> str | None:
+        return next(iter(cls.keyframes), None)
+
+    # ------------------------------------------------------------------ binding
+    def __init__(
+        self,
+        world: SimBackend,
+        prefix: str = "",
+        control_mode: str | None = None,
+        mount_pose: npt.ArrayLike = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0),
+    ) -> None:
+        """Bind to the robot attached with ``prefix`` in ``world`` and activate a control
+        mode. ``mount_pose`` ``(x, y, z, qw, qx, qy, qz)`` is where the scene attached
+        it; a free robot's keyframe base poses are taken relative to it."""
+        name = type(self).__name__
+        checked = self.check()
+        self.world = world
+        self.prefix = prefix
+        self.num_envs = world.num_envs
+        model = world.model
+        self.index = RobotIndex(model, prefix, name)
+        self.drives = Drives(model, checked.drives, prefix, self.num_envs, name)
+        self.part_joints = checked.part_joints
+        self.parts_by_name: dict[str, Part] = {p.name: p for p in checked.parts}
+        end_effectors = [ee for part in checked.parts if isinstance(part, Arm) for ee in part.end_effectors]
+        self.frames = RobotFrames(model, self.index, end_effectors, name)
+        self.state = JointState(world, self.index, np.asarray(mount_pose, dtype=np.float64).reshape(7), name)
+        self._resolved_keyframes = checked.keyframes
+        self.touch_reader = TouchReader(model, prefix, declaration.composition(type(self)).touch_sensors)
+        context = ControllerContext(
+            num_envs=self.num_envs,
+            model=model,
+            control_timestep=float(model.opt.timestep) * world.substeps,
+            kinematics=self.frames.kinematics,
+            root_frame=self.frames.root_frame,
+            targets=self.drives.targets,
+            end_effectors=self.frames.end_effectors,
+            prefix=prefix,
+            owner=name,
+        )
+        self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
+        static = [
+            adr
+            for joint in self.index.joints
+            if not any(joint.name in self.part_joints[p.name] for p in checked.parts if isinstance(p, Gripper))
+            for adr in range(joint.dof_adr, joint.dof_adr + joint.nv)
+        ]
+        self._static_dofs = np.array(static, dtype=np.int64)
+        self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
+
+    # ------------------------------------------------------------------ names and sizes
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Every joint except a floating root's, in model order."""
+        return self.index.joint_names
+
+    @property
+    def dof(self) -> int:
+        """Velocity degrees of freedom of the joints (a free root excluded): ``qvel`` width."""
+        return self.index.nv
+
+    @property
+    def nq(self) -> int:
+        """Width of ``qpos`` (a ball joint counts 4)."""
+        return self.index.nq
+
+    @property
+    def qpos_adr(self) -> npt.NDArray[np.int64]:
+        return self.index.qpos_adr
+
+    @property
+    def dof_adr(self) -> npt.NDArray[np.int64]:
+        return self.index.dof_adr
+
+    @property
+    def qpos_limits(self) -> FloatArray:
+        """``(nq, 2)`` joint limits (``(-inf, inf)`` where unlimited or a quaternion entry)."""
+        return self.index.qpos_limits
+
+    @property
+    def root_body_id(self) -> int:
+        return self.index.root_body_id
+
+    @property
+    def kinematics(self) -> Any:
+        return self.frames.kinematics
+
+    @property
+    def root_frame(self) -> Any:
+        return self.frames.root_frame
+
+    # ------------------------------------------------------------------ state reads
+    @property
+    def qpos(self) -> FloatArray:
+        """Joint positions, shape ``(num_envs, nq)`` (rad / m / quaternions), a copy."""
+        return self.state.qpos
+
+    @property
+    def qvel(self) -> FloatArray:
+        """Joint velocities, shape ``(num_envs, dof)`` (rad/s / m/s), a copy."""
+        return self.state.qvel
+
+    @property
+    def base_pose(self) -> FloatArray:
+        """Root body pose in the world, shape ``(num_envs, 7)``: ``x, y, z, qw, qx, qy, qz``."""
+        return self.world.body_poses([self.index.root_body_id])[:, 0]
+
+    def tcp_pose_of(self, end_effector: str | None = None) -> FloatArray:
+        """World pose ``(num_envs, 7)`` of an end effector (default: the first declared)."""
+        frame = self.frames.end_effector(end_effector, f"{type(self).__name__}.tcp_pose")
+        return self.frames.pose(frame, None, self.state.configurations(None, "tcp_pose"))
+
+    @property
+    def tcp_pose(self) -> FloatArray:
+        """World pose ``(num_envs, 7)`` of the first end effector: position (m), quaternion (w, x, y, z)."""
+        return self.tcp_pose_of(None)
+
+    @property
+    def has_end_effector(self) -> bool:
+        return bool(self.frames.end_effectors)
+
+    @property
+    def touch(self) -> FloatArray:
+        """Normal force (N) of each touch sensor, shape ``(num_envs, n)``."""
+        return self.touch_reader.read(self.world)
+
+    def frame_pose(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
+        """Pose ``(num_envs, 7)`` of the robot's body, site or end effector ``name``, at the
+        measured or given ``qpos`` (``(nq,)`` or ``(num_envs, nq)``), in the world,
+        ``"root"`` (the frame of end-effector commands) or another frame of the robot;
+        computed on scratch data (the simulation is untouched)."""
+        where = f"{type(self).__name__}.frame_pose"
+        frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
+        return self.frames.pose(frame, reference, self.state.configurations(qpos, where))
+
+    def frame_jacobian(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
+        """Jacobian ``(num_envs, 6, dof)`` of the origin of ``name``: rows 0-2 linear
+        velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity."""
+        where = f"{type(self).__name__}.frame_jacobian"
+        frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
+        return self.frames.jacobian(frame, reference, self.state.configurations(qpos, where))
+
+    # ------------------------------------------------------------------ control
+    @property
+    def control_mode(self) -> str:
+        return self.control.mode
+
+    @property
+    def controller(self) -> CombinedController:
+        """The active mode's controller."""
+        return self.control.active
+
+    def set_control_mode(self, mode: str) -> None:
+        """Activate ``mode``: the declared drive settings with the mode's overrides (every
+        time), holding the measured pose."""
+        self.control.activate(mode, f"{type(self).__name__}.set_control_mode")
+
+    def controller_for(self, mode: Any, where: str = "") -> CombinedController:
+        return self.control.controller_for(mode, where or type(self).__name__)
+
+    @property
+    def needs_substep(self) -> bool:
+        """True when :meth:`before_substep` must run before every physics substep."""
+        return self.control.active.needs_substep
+
+    @property
+    def single_action_space(self) -> gym.spaces.Box:
+        """Action space of one env, shape ``(action_dim,)``."""
+        return self.control.single_action_space
+
+    @property
+    def action_space(self) -> gym.spaces.Box:
+        """Batched action space, shape ``(num_envs, action_dim)``."""
+        return self.control.action_space
+
+    def validate_action(self, action: Any) -> FloatArray:
+        """``action`` as float64 ``(num_envs, action_dim)``; raises :class:`ActionError`."""
+        return self.control.validate_action(action)
+
+    def set_action(self, action: Any) -> None:
+        """Validate ``action``, turn it into joint targets and those into controls.
+        Nothing is changed when the action is rejected."""
+        self.control.active.set_action(self.control.validate_action(action), self.world)
+
+    def before_substep(self, substep: int, substeps: int) -> None:
+        """Per-substep hook: interpolated targets, explicit PD loops."""
+        self.control.active.before_substep(substep, substeps, self.world)
+
+    # ------------------------------------------------------------------ reset / state
+    def keyframe_qpos(self, name: str) -> FloatArray:
+        """Keyframe ``name`` as the robot's ``qpos`` vector ``(nq,)`` (a copy)."""
+        if name not in self._resolved_keyframes:
+            raise UnknownNameError(f"{type(self).__name__}.keyframe_qpos", "keyframe", str(name), self.keyframes)
+        qpos: FloatArray = self._resolved_keyframes[name].qpos.copy()
+        return qpos
+
+    def reset(
+        self,
+        keyframe: str | None = None,
+        qpos: npt.ArrayLike | None = None,
+        qvel: npt.ArrayLike | None = None,
+        env_ids: npt.ArrayLike | None = None,
+    ) -> None:
+        """Put the robot at a keyframe (default: the first) or at ``qpos`` / ``qvel``
+        (``(nq,)`` / ``(dof,)`` or one row per env), then hold that pose. Every input is
+        checked before anything is written."""
+        where = f"{type(self).__name__}.reset"
+        ids = self.state.env_ids(env_ids, where)
+        name = keyframe if keyframe is not None else (self.default_keyframe() if qpos is None else None)
+        frame = None
+        if name is not None:
+            if not isinstance(name, str) or name not in self._resolved_keyframes:
+                raise UnknownNameError(where, "keyframe", str(name), self.keyframes)
+            frame = self._resolved_keyframes[name]
+        if frame is None and qpos is None:
+            raise StateError(f"{where}: {type(self).__name__} has no keyframes; pass qpos of shape ({self.nq},).")
+        self.state.write(ids, qpos, qvel, frame, where)
+        self.control.active.reset(ids, self.world)
+
+    def perturbed_qpos(self, env_ids: npt.NDArray[np.int64], std: float, rng: np.random.Generator) -> FloatArray:
+        """The measured ``qpos`` of ``env_ids`` plus Gaussian noise of ``std`` (rad / m;
+        ball joints turn by a random rotation vector), clipped into the limits."""
+        return self.state.perturbed(env_ids, std, rng)
+
+    def get_proprioception(self) -> dict[str, Any]:
+        """``qpos`` and ``qvel``, per part what the controller exposes (its current
+        targets) and, with touch sensors, ``touch`` ``(num_envs, n)`` (N)."""
+        controller = {part: {k: v.copy() for k, v in obs.items()} for part, obs in self.controller.observe().items()}
+        proprioception: dict[str, Any] = {"qpos": self.qpos, "qvel": self.qvel, "controller": controller}
+        if self.touch_reader.names:
+            proprioception["touch"] = self.touch
+        return proprioception
+
+    def proprioception_arrays(self) -> list[FloatArray]:
+        """:meth:`get_proprioception` as a flat list of ``(num_envs, k)`` arrays, in order
+        (read-only views where possible: copy before keeping them)."""
+        arrays = self.state.views()
+        for controller in self.controller.parts.values():
+            arrays.extend(controller.observe().values())
+        if self.touch_reader.names:
+            arrays.append(self.touch)
+        return arrays
+
+    def get_state(self) -> dict[str, Any]:
+        """The robot's own state: joint state, base pose, control mode and controller state."""
+        return {
+            "qpos": self.qpos,
+            "qvel": self.qvel,
+            "base_pose": self.base_pose,
+            "control_mode": self.control_mode,
+            "controller": self.controller.get_state(),
+        }
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """Restore :meth:`get_state`; everything is checked before anything is written."""
+        where = f"{type(self).__name__}.set_state"
+        checked = self.state.check_state(state, where)
+        mode = state["control_mode"]
+        self.controller_for(mode, where).check_state(state["controller"], where)
+        self.set_control_mode(mode)
+        self.state.write_state(*checked)
+        self.controller.set_state(state["controller"])
+        self.drives.write(self.world.ctrl)
+
+    # ------------------------------------------------------------------ part helpers
+    def is_static(self, threshold: float = 0.2) -> BoolArray:
+        """Per env: every joint except grippers' moves slower than ``threshold`` (rad/s or m/s)."""
+        qvel = self.world.qvel[:, self._static_dofs]
+        return np.asarray(np.max(np.abs(qvel), axis=1, initial=0.0) <= threshold)
+
+    def gripper(self, name: str | None = None) -> Gripper:
+        """The gripper or hand part ``name`` (default: the first)."""
+        grippers = {n: p for n, p in self.parts_by_name.items() if isinstance(p, Gripper)}
+        if not grippers:
+            raise ConfigError(f"{type(self).__name__}: declares no Gripper or Hand part.")
+        if name is None:
+            return next(iter(grippers.values()))
+        if name not in grippers:
+            raise UnknownNameError(f"{type(self).__name__}.gripper", "gripper", str(name), grippers)
+        return grippers[name]
+
+    def is_grasping(
+        self, body: str, min_force: float = 0.5, max_angle: float = 85.0, gripper: str | None = None
+    ) -> BoolArray:
+        """Per env: two fingers of the gripper (or hand) press on scene body ``body`` from
+        opposing sides, each with at least ``min_force`` (N); forces within ``max_angle``
+        degrees of directly opposite count (see :mod:`robot_agents.parts.grasp`)."""
+        part = self.gripper(gripper)
+        where = f"{type(self).__name__}.is_grasping"
+        if not part.finger_links:
+            raise ConfigError(f"{where}: gripper {part.name!r} declares no fingers.")
+        model = self.world.model
+        target = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else -1
+        if target < 0:
+            raise UnknownNameError(where, "body", str(body), [model.body(b).name for b in range(model.nbody)])
+        groups = [
+            [b for link in finger for b in self.index.subtree_bodies(self.index.body_id(link, where))]
+            for finger in part.finger_links
+        ]
+        return grasped(self.world.contact_forces(groups, target), min_force, max_angle)
+
+    def gripper_opening(self, gripper: str | None = None) -> FloatArray:
+        """Per env, how open the gripper is: 0 at ``closed``, 1 at ``open`` (its first joint)."""
+        part = self.gripper(gripper)
+        joint = self.index.joint(self.part_joints[part.name][0], "gripper_opening")
+        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
+        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        q = self.world.qpos[:, joint.qpos_adr]
+        opening: FloatArray = (q - closed) / (opened - closed)
+        return opening

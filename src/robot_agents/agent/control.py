@@ -1,0 +1,144 @@
+"""A bound robot's control modes: building each mode's controllers (with their drive
+overrides), switching modes, and checking and applying actions."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.actuators.drives import DriveOverride, Drives, override_for
+from robot_agents.agent.declaration import SINGLE_PART, ModeConfig
+from robot_agents.agent.index import RobotIndex
+from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding
+from robot_agents.controllers.combined import CombinedController, ControlledSim
+from robot_agents.errors import ActionError, UnknownNameError
+
+FloatArray = npt.NDArray[np.float64]
+
+
+class ControlModes:
+    """The control modes of one bound robot; one of them is active.
+
+    Args:
+        owner: the robot's class name (messages).
+        modes: the mode table (name -> config or ``{part: config}``).
+        index, drives, context: the robot's names, drives and controller context.
+        sim: the simulation the controllers read and the drives write.
+    """
+
+    def __init__(
+        self,
+        owner: str,
+        modes: Mapping[str, ModeConfig],
+        index: RobotIndex,
+        drives: Drives,
+        context: ControllerContext,
+        sim: ControlledSim,
+    ) -> None:
+        self.owner = owner
+        self.modes = dict(modes)
+        self.index = index
+        self.drives = drives
+        self.context = context
+        self.sim = sim
+        self.num_envs = context.num_envs
+        self._built: dict[str, CombinedController] = {}
+        self.active: CombinedController
+        self.mode = ""
+
+    def parts_of(self, mode: str) -> dict[str, ControllerConfig]:
+        entry = self.modes[mode]
+        return {SINGLE_PART: entry} if isinstance(entry, ControllerConfig) else dict(entry)
+
+    def controller_for(self, mode: Any, where: str = "") -> CombinedController:
+        """The controller of ``mode`` (built on first use, not activated)."""
+        if not isinstance(mode, str) or mode not in self.modes:
+            raise UnknownNameError(where or self.owner, "control mode", str(mode), self.modes)
+        built = self._built.get(mode)
+        if built is None:
+            built = self._built[mode] = self._build(mode)
+        return built
+
+    def _build(self, mode: str) -> CombinedController:
+        override = DriveOverride.none(self.drives.size)
+        where = f"{self.owner}.control_modes[{mode!r}]"
+        bound = []
+        for part, config in self.parts_of(mode).items():
+            binding = self._binding(config, f"{where}[{part!r}]")
+            override_for(self.drives, binding.columns, config.stiffness, config.damping, config.effort_limit, override)
+            bound.append((part, config, binding))
+        controllers = {}
+        for part, config, binding in bound:
+            self.drives.check_targets(binding.columns, config.target_kinds(), override, f"{where}[{part!r}]")
+            controllers[part] = config.build(binding, self.context)
+        return CombinedController(mode, controllers, self.drives, override)
+
+    def _binding(self, config: ControllerConfig, where: str) -> JointBinding:
+        index = self.index
+        joints = [index.joint(name, f"{where} {type(config).__name__}") for name in config.joint_names]
+        ranges = np.array([j.range if j.limited else (-math.inf, math.inf) for j in joints], dtype=np.float64).reshape(
+            -1, 2
+        )
+        return JointBinding(
+            joint_names=config.joint_names,
+            qpos_adr=np.array([j.qpos_adr for j in joints], dtype=np.int64),
+            dof_adr=np.array([j.dof_adr for j in joints], dtype=np.int64),
+            columns=self.drives.columns(config.joint_names, where),
+            qpos_range=ranges,
+        )
+
+    def activate(self, mode: Any, where: str) -> None:
+        """Make ``mode`` active: its drive settings (every time) and a hold of the measured pose."""
+        controller = self.controller_for(mode, where)
+        controller.activate(self.sim)
+        self.active = controller
+        self.mode = mode
+
+    # -- actions --------------------------------------------------------------------------
+    @property
+    def single_action_space(self) -> gym.spaces.Box:
+        c = self.active
+        return gym.spaces.Box(c.action_low.astype(np.float32), c.action_high.astype(np.float32), dtype=np.float32)
+
+    @property
+    def action_space(self) -> gym.spaces.Box:
+        c = self.active
+        low = np.tile(c.action_low.astype(np.float32), (self.num_envs, 1))
+        high = np.tile(c.action_high.astype(np.float32), (self.num_envs, 1))
+        return gym.spaces.Box(low, high, dtype=np.float32)
+
+    def validate_action(self, action: Any) -> FloatArray:
+        """``action`` as float64 ``(num_envs, action_dim)``; ``(action_dim,)`` applies to
+        every env. Raises :class:`ActionError` for other shapes, dtypes, NaN / inf."""
+        dim = self.active.action_dim
+        where = f"{self.owner}.set_action (mode {self.mode!r})"
+        try:
+            array = np.asarray(action)
+        except (TypeError, ValueError) as err:
+            raise ActionError(
+                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
+            ) from None
+        if array.dtype.kind not in "fiu":
+            raise ActionError(f"{where}: expected a float (or integer) array, got dtype {array.dtype}.")
+        if array.shape == (dim,):
+            array = np.broadcast_to(array, (self.num_envs, dim))
+        elif array.shape != (self.num_envs, dim):
+            parts = ", ".join(f"{p}: {s.stop - s.start}" for p, s in self.active.slices.items())
+            raise ActionError(
+                f"{where}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {array.shape}."
+            )
+        array = np.asarray(array, dtype=np.float64)
+        # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
+        # finite values falls through to the exact check).
+        if not math.isfinite(array.sum()) and not np.isfinite(array).all():
+            bad = np.argwhere(~np.isfinite(array))[:3].tolist()
+            raise ActionError(f"{where}: expected finite values, got NaN or inf at (env, index) {bad}.")
+        problem = self.active.check_action(array)
+        if problem is not None:
+            raise ActionError(f"{where}: {problem}")
+        return array

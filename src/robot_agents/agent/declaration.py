@@ -1,0 +1,346 @@
+"""A robot class's declaration, composed and checked.
+
+A robot is declared by class attributes (see :class:`~robot_agents.agent.Agent`);
+pieces mounted on it (:class:`~robot_agents.model.compose.Attachment`) bring their
+own declarations, renamed with the attachment's prefix. This module merges them
+(:func:`composition`), builds the robot's ``MjSpec`` (:func:`build_spec`) and checks
+everything against the compiled robot once per class (:func:`check`): parts, drives,
+end effectors, fingers, keyframes (names, sizes, limits, quaternions) and control modes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import weakref
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+
+from robot_agents.actuators.config import ActuatorConfig
+from robot_agents.actuators.spec import DriveDeclaration, apply_actuators
+from robot_agents.agent.index import RobotIndex
+from robot_agents.controllers.base import ControllerConfig
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
+from robot_agents.kinematics.forward import resolve_frame
+from robot_agents.model import robot_spec
+from robot_agents.model.compiling import compile_spec
+from robot_agents.model.compose import Attachment, attach
+from robot_agents.model.loading import load_model_spec
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import EndEffector, Gripper, Part
+from robot_agents.patterns import claim, prefixed
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.spec import add_cameras, add_touch_sensors
+from robot_agents.sensors.touch import TouchSensorConfig
+
+if TYPE_CHECKING:
+    from robot_agents.agent.agent import Agent
+
+ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
+#: Part name used when a control mode is a single config rather than a dict of parts.
+SINGLE_PART = "main"
+
+
+@dataclass(frozen=True)
+class Composition:
+    """Everything a robot and the pieces mounted on it declare, names as in the composed model."""
+
+    actuators: tuple[ActuatorConfig, ...]
+    parts: tuple[Part, ...]
+    link_materials: dict[str, FrictionMaterial]
+    self_collision_exclusions: tuple[tuple[str, str], ...]
+    cameras: tuple[CameraConfig, ...]
+    touch_sensors: tuple[TouchSensorConfig, ...]
+    #: (prefix, piece class) of every mounted piece, outermost first.
+    pieces: tuple[tuple[str, type[Agent]], ...]
+
+
+def _prefix_part(part: Part, prefix: str) -> Part:
+    if not prefix:
+        return part
+    changes: dict[str, Any] = {"joints": prefixed(part.joints, prefix)}
+    end_effectors = getattr(part, "end_effectors", None)
+    if end_effectors:
+        changes["end_effectors"] = tuple(
+            dataclasses.replace(
+                ee,
+                link=prefix + ee.link,
+                command_frame=None if ee.command_frame is None else prefix + ee.command_frame,
+            )
+            for ee in end_effectors
+        )
+    if isinstance(part, Gripper):
+        changes["fingers"] = tuple(tuple(prefix + link for link in finger) for finger in part.finger_links)
+    return dataclasses.replace(part, **changes)
+
+
+def composition(cls: type[Agent]) -> Composition:
+    """The robot's declarations merged with those of every mounted piece."""
+    actuators = list(cls.actuators)
+    parts = list(cls.parts)
+    materials = dict(cls.link_materials)
+    exclusions = list(cls.self_collision_exclusions)
+    cameras = list(cls.cameras)
+    touch = list(cls.touch_sensors)
+    pieces: list[tuple[str, type[Agent]]] = []
+    for attachment in cls.attachments:
+        if not isinstance(attachment, Attachment):
+            raise ConfigError(f"{cls.__name__}.attachments: expected Attachment entries, got {attachment!r}.")
+        inner = composition(attachment.piece)
+        p = attachment.prefix
+        actuators += [dataclasses.replace(a, joints=prefixed(a.joints, p)) for a in inner.actuators]
+        parts += [_prefix_part(part, p) for part in inner.parts]
+        materials.update({p + name: m for name, m in inner.link_materials.items()})
+        exclusions += [(p + a, p + b) for a, b in inner.self_collision_exclusions]
+        cameras += [dataclasses.replace(c, mount=p + c.mount) for c in inner.cameras]
+        touch += [
+            dataclasses.replace(
+                t, link=None if t.link is None else p + t.link, site=None if t.site is None else p + t.site
+            )
+            for t in inner.touch_sensors
+        ]
+        pieces.append((p, attachment.piece))
+        pieces += [(p + q, piece) for q, piece in inner.pieces]
+    return Composition(
+        tuple(actuators), tuple(parts), materials, tuple(exclusions), tuple(cameras), tuple(touch), tuple(pieces)
+    )
+
+
+def model_path(cls: type[Agent]) -> Path:
+    """The declared model file (not checked for existence)."""
+    paths = [p for p in (cls.mjcf_path, cls.urdf_path) if p is not None]
+    if len(paths) != 1:
+        raise ConfigError(
+            f"{cls.__name__}: expected exactly one of mjcf_path / urdf_path, got mjcf_path={cls.mjcf_path!r}, "
+            f"urdf_path={cls.urdf_path!r}."
+        )
+    return Path(paths[0])
+
+
+def mode_parts(cls: type[Agent], modes: Mapping[str, ModeConfig], mode: str) -> dict[str, ControllerConfig]:
+    """The per-part configs of a control mode (a single config becomes part ``"main"``)."""
+    if mode not in modes:
+        raise UnknownNameError(f"{cls.__name__}", "control mode", str(mode), modes)
+    entry = modes[mode]
+    return {SINGLE_PART: entry} if isinstance(entry, ControllerConfig) else dict(entry)
+
+
+def validate_definition(cls: type[Agent]) -> None:
+    """Check the declaration's types and internal consistency without loading a model."""
+    name = cls.__name__
+    model_path(cls)
+    for attr, kind in (
+        ("actuators", ActuatorConfig),
+        ("parts", Part),
+        ("cameras", CameraConfig),
+        ("touch_sensors", TouchSensorConfig),
+        ("attachments", Attachment),
+    ):
+        value = getattr(cls, attr)
+        if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+            raise ConfigError(f"{name}.{attr}: expected a tuple of {kind.__name__}, got {value!r}.")
+        for entry in value:
+            if not isinstance(entry, kind):
+                raise ConfigError(f"{name}.{attr}: expected {kind.__name__} entries, got {entry!r}.")
+    for attr in ("cameras", "touch_sensors"):
+        uids = [entry.uid for entry in getattr(cls, attr)]
+        for uid in uids:
+            if uids.count(uid) > 1:
+                raise ConfigError(f"{name}.{attr}: two entries have the uid {uid!r}.")
+    part_names = [p.name for p in cls.parts]
+    for part in part_names:
+        if part_names.count(part) > 1:
+            raise ConfigError(f"{name}.parts: two parts are named {part!r}.")
+    if not isinstance(cls.keyframes, Mapping):
+        raise ConfigError(f"{name}.keyframes: expected a dict of name -> Keyframe, got {cls.keyframes!r}.")
+    for key, frame in cls.keyframes.items():
+        if not isinstance(frame, Keyframe):
+            raise ConfigError(f"{name}.keyframes[{key!r}]: expected a Keyframe, got {frame!r}.")
+    for mode in cls.control_modes:
+        seen: dict[str, str] = {}
+        for part, config in mode_parts(cls, cls.control_modes, mode).items():
+            if not isinstance(config, ControllerConfig):
+                raise ConfigError(
+                    f"{name}.control_modes[{mode!r}][{part!r}]: expected a ControllerConfig, got {config!r}."
+                )
+            for joint in config.joint_names:
+                if joint in seen:
+                    raise ConfigError(
+                        f"{name}.control_modes[{mode!r}]: joint {joint!r} is driven by both part {seen[joint]!r} and {part!r}."
+                    )
+                seen[joint] = part
+    if not cls.control_modes and not cls.parts and not any(a.piece.parts for a in cls.attachments):
+        raise ConfigError(f"{name}: expected control_modes, or parts to generate them from; got neither.")
+
+
+def _raw_spec(cls: type[Agent], where: str) -> mujoco.MjSpec:
+    """The model file with every mounted piece attached (no options applied yet)."""
+    spec = load_model_spec(model_path(cls))
+    for attachment in cls.attachments:
+        attach(spec, _raw_spec(attachment.piece, where), attachment, where)
+    return spec
+
+
+def controlled_joints(modes: Mapping[str, ModeConfig]) -> list[str]:
+    """Every joint named by any control mode, in first-seen order."""
+    seen: dict[str, None] = {}
+    for entry in modes.values():
+        configs = [entry] if isinstance(entry, ControllerConfig) else list(entry.values())
+        for config in configs:
+            seen.update(dict.fromkeys(config.joint_names))
+    return list(seen)
+
+
+def build_spec(
+    cls: type[Agent], cameras: Sequence[CameraConfig] | None = None
+) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
+    """A fresh MjSpec of the composed robot with every declared option applied, and the
+    drive of each driven joint. ``cameras`` replaces the declared cameras (an env's overrides)."""
+    validate_definition(cls)
+    where = f"{cls.__name__} ({model_path(cls)})"
+    parts = composition(cls)
+    spec = _raw_spec(cls, where)
+    robot_spec.set_root_joint(spec, cls.fix_root_link, where)
+    gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
+    robot_spec.set_gravity_compensation(spec, gravcomp, where)
+    robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
+    robot_spec.set_self_collisions(spec, cls.disable_self_collisions, parts.self_collision_exclusions, where)
+    drives = apply_actuators(
+        spec, parts.actuators, cls.replace_file_actuators, controlled_joints(cls.control_modes), cls.__name__
+    )
+    add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
+    add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
+    return spec, drives
+
+
+@dataclass(frozen=True)
+class CheckedRobot:
+    """A robot class checked against its compiled model (alone, at the origin).
+
+    Attributes:
+        index: names to addresses in the robot's own model (prefix ``""``).
+        drives: the drive of each driven joint.
+        keyframes: every keyframe resolved to the robot's vectors.
+        part_joints: each part's joints, in model order.
+        modes: the control-mode table (declared, or generated from the parts).
+    """
+
+    index: RobotIndex
+    drives: tuple[DriveDeclaration, ...]
+    keyframes: dict[str, ResolvedKeyframe]
+    part_joints: dict[str, tuple[str, ...]]
+    parts: tuple[Part, ...]
+    modes: dict[str, ModeConfig]
+
+
+_CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
+
+
+def check(cls: type[Agent]) -> CheckedRobot:
+    """Compile the robot alone and check its whole declaration against it (cached per class).
+
+    Raises:
+        ConfigError / UnknownNameError / ModelError: what is wrong, where (the robot,
+            the keyframe, the part, the actuator), and what is available.
+    """
+    cached = _CHECKED.get(cls)
+    if cached is not None:
+        return cached
+    name = cls.__name__
+    spec, drives = build_spec(cls)
+    model = compile_spec(spec, name)
+    index = RobotIndex(model, "", name)
+    parts = composition(cls)
+    part_joints = _resolve_parts(cls, parts.parts, index, model)
+    default = _composed_default(cls, index)
+    keyframes = {}
+    for key, frame in cls.keyframes.items():
+        keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
+    from robot_agents.controllers.rules import modes_from_parts
+
+    modes: dict[str, ModeConfig] = (
+        dict(cls.control_modes)
+        if cls.control_modes
+        else modes_from_parts(parts.parts, part_joints, {d.joint: d.velocity_limit for d in drives})
+    )
+    if not modes:
+        raise ConfigError(f"{name}: its parts give no control mode; declare control_modes.")
+    if cls.default_control_mode is not None and cls.default_control_mode not in modes:
+        raise UnknownNameError(f"{name}.default_control_mode", "control mode", cls.default_control_mode, modes)
+    driven = {d.joint for d in drives}
+    for mode in modes:
+        for part, config in mode_parts(cls, modes, mode).items():
+            for joint in config.joint_names:
+                if joint not in index.joint_names:
+                    raise UnknownNameError(
+                        f"{name}.control_modes[{mode!r}][{part!r}] {type(config).__name__}",
+                        "joint",
+                        joint,
+                        index.joint_names,
+                    )
+                if joint not in driven:
+                    raise ConfigError(
+                        f"{name}.control_modes[{mode!r}][{part!r}]: joint {joint!r} has no drive; declare one in "
+                        f"actuators. Driven joints: {sorted(driven)}."
+                    )
+    checked = CheckedRobot(index, tuple(drives), keyframes, part_joints, parts.parts, modes)
+    _CHECKED[cls] = checked
+    return checked
+
+
+def _resolve_parts(
+    cls: type[Agent], parts: Sequence[Part], index: RobotIndex, model: mujoco.MjModel
+) -> dict[str, tuple[str, ...]]:
+    where = f"{cls.__name__}.parts"
+    names = [p.name for p in parts]
+    for duplicate in names:
+        if names.count(duplicate) > 1:
+            raise ConfigError(f"{where}: two parts are named {duplicate!r} (a mounted piece brings one; rename it).")
+    hits = claim([(f"part {p.name!r}", p.joints) for p in parts], index.joint_names, where)
+    resolved = {p.name: tuple(index.joint_names[i] for i in h) for p, h in zip(parts, hits, strict=True)}
+    for part in parts:
+        for ee in getattr(part, "end_effectors", ()):
+            assert_frame(model, ee, f"{where} {part.name!r} end effector {ee.name!r}")
+        if isinstance(part, Gripper):
+            for finger in part.finger_links:
+                for link in finger:
+                    index.body_id(link, f"{where} {part.name!r}.fingers")
+            n = len(resolved[part.name])
+            for attr in ("open", "closed"):
+                value = np.asarray(getattr(part, attr), dtype=np.float64).reshape(-1)
+                if value.size not in (1, n):
+                    raise ConfigError(
+                        f"{where} {part.name!r}.{attr}: expected 1 or {n} values (one per joint: "
+                        f"{', '.join(resolved[part.name])}), got {value.size}."
+                    )
+    return resolved
+
+
+def assert_frame(model: mujoco.MjModel, ee: EndEffector, where: str) -> None:
+    """Raise unless the end effector's link (and command frame) exist in ``model``."""
+    resolve_frame(model, ee.link, "", where)
+    if ee.command_frame is not None:
+        resolve_frame(model, ee.command_frame, "", where + " command_frame")
+
+
+def _composed_default(cls: type[Agent], index: RobotIndex) -> np.ndarray:
+    """The default pose: the model's, with each mounted piece's first keyframe on its joints."""
+    default = default_qpos(index)
+    for prefix, piece in composition(cls).pieces:
+        if not piece.keyframes:
+            continue
+        piece_checked = check(piece)
+        frame = next(iter(piece_checked.keyframes.values()))
+        for joint in piece_checked.index.joints:
+            full = prefix + joint.name
+            if full in index.joint_names:
+                target = index.joint(full, "composition")
+                default[target.qpos_start : target.qpos_start + target.nq] = frame.qpos[
+                    joint.qpos_start : joint.qpos_start + joint.nq
+                ]
+    return default

@@ -1,0 +1,96 @@
+"""A bound robot's kinematic frames: its root (command) frame, its end effectors, and
+poses and Jacobians of any of its bodies or sites, computed on scratch data."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent.index import RobotIndex
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
+from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose
+from robot_agents.parts.declaration import EndEffector
+
+FloatArray = npt.NDArray[np.float64]
+
+
+class RobotFrames:
+    """Frames of one robot in a compiled scene.
+
+    Attributes:
+        root_frame: the frame of root-relative commands: the robot's fixed (or
+            free-floating) base; when the root body itself moves on joints (a floating
+            mount), where that body sits with its joints at zero.
+        end_effectors: name -> ``(tool frame, command frame)``; the first is the default.
+    """
+
+    def __init__(
+        self, model: mujoco.MjModel, index: RobotIndex, end_effectors: Sequence[EndEffector], owner: str
+    ) -> None:
+        self.model = model
+        self.index = index
+        self.owner = owner
+        self.kinematics = Kinematics(model)
+        root = index.root_body_id
+        if model.body_jntnum[root] > 0 and index.free_joint is None:
+            home = (*model.body_pos[root], *model.body_quat[root])
+            parent = int(model.body_parentid[root])
+            self.root_frame = FrameRef(FrameKind.BODY, parent, model.body(root).name + " (home)", tuple(home))
+        else:
+            self.root_frame = FrameRef(FrameKind.BODY, root, model.body(root).name)
+        self.end_effectors: dict[str, tuple[FrameRef, FrameRef]] = {}
+        for ee in end_effectors:
+            where = f"{owner} end effector {ee.name!r}"
+            base = resolve_frame(model, ee.link, index.prefix, where)
+            tool = FrameRef(base.kind, base.id, base.name, (*ee.pos, *ee.quat)) if ee.has_offset else base
+            command = (
+                self.root_frame
+                if ee.command_frame is None
+                else resolve_frame(model, ee.command_frame, index.prefix, where + " command_frame")
+            )
+            self.end_effectors[ee.name] = (tool, command)
+
+    def end_effector(self, name: str | None, where: str) -> FrameRef:
+        """The tool frame of end effector ``name`` (``None``: the first)."""
+        if not self.end_effectors:
+            raise ConfigError(f"{where}: {self.owner} declares no end effector (an Arm part's end_effectors).")
+        if name is None:
+            return next(iter(self.end_effectors.values()))[0]
+        if name not in self.end_effectors:
+            raise UnknownNameError(where, "end effector", str(name), self.end_effectors)
+        return self.end_effectors[name][0]
+
+    def frame(self, name: str, where: str) -> FrameRef:
+        """A body or site of the robot, or one of its end effectors, by name."""
+        if not isinstance(name, str):
+            raise ConfigError(f"{where}: expected a body, site or end-effector name, got {name!r}.")
+        if name in self.end_effectors:
+            return self.end_effectors[name][0]
+        return resolve_frame(self.model, name, self.index.prefix, where)
+
+    def reference(self, relative_to: str, where: str) -> FrameRef | None:
+        if relative_to == "world":
+            return None
+        if relative_to == "root":
+            return self.root_frame
+        return self.frame(relative_to, where)
+
+    def pose(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:
+        """Pose ``(num_envs, 7)`` of ``frame`` in ``reference`` (world when ``None``)."""
+        if reference is None:
+            return self.kinematics.pose(configurations, frame)
+        poses = self.kinematics.poses(configurations, (frame, reference))
+        return relative_pose(poses[:, 0], poses[:, 1])
+
+    def jacobian(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:
+        """Jacobian ``(num_envs, 6, nv)`` over the robot's joints, in world or ``reference`` axes."""
+        jacobian = self.kinematics.jacobian(configurations, frame, self.index.dof_adr)
+        if reference is None:
+            return jacobian
+        rotation = np.swapaxes(quat_to_matrix(self.kinematics.pose(configurations, reference)[:, 3:]), 1, 2)
+        rotated: FloatArray = np.concatenate((rotation @ jacobian[:, :3], rotation @ jacobian[:, 3:]), axis=1)
+        return rotated

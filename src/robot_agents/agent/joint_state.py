@@ -1,0 +1,187 @@
+"""A bound robot's joint state: reads, checked writes (resets, state restores) and
+reset noise, all through the simulation backend.
+
+Ball joints are handled as unit quaternions everywhere: written qpos must hold unit
+quaternions (they are normalized, a zero one is rejected), and reset noise turns them
+by a random rotation instead of adding to their entries.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent.index import JointKind, RobotIndex
+from robot_agents.errors import StateError
+
+if TYPE_CHECKING:
+    from robot_agents.keyframe import ResolvedKeyframe
+    from robot_agents.sim.backend import SimBackend
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+
+class JointState:
+    """Joint reads and writes of one robot (``index``) in ``world``.
+
+    ``mount_pose`` ``(7,)`` is where the scene mounted the robot: a free robot's keyframe
+    base poses are relative to it."""
+
+    def __init__(self, world: SimBackend, index: RobotIndex, mount_pose: FloatArray, owner: str) -> None:
+        self.world = world
+        self.index = index
+        self.mount_pose = mount_pose
+        self.owner = owner
+        self.num_envs = world.num_envs
+        free = index.free_joint
+        self._free_qpos = np.arange(free.qpos_adr, free.qpos_adr + 7) if free is not None else np.zeros(0, np.int64)
+        self._free_dofs = np.arange(free.dof_adr, free.dof_adr + 6) if free is not None else np.zeros(0, np.int64)
+        self._balls = [(j.qpos_start, j.dof_start) for j in index.joints if j.kind is JointKind.BALL]
+
+    # -- input checks -----------------------------------------------------------------------
+    def env_ids(self, env_ids: Any, where: str) -> IntArray:
+        """``env_ids`` (``None``: all) as distinct ints in ``[0, num_envs)``."""
+        if env_ids is None:
+            return np.arange(self.num_envs)
+        try:
+            ids = np.asarray(env_ids).reshape(-1)
+        except (TypeError, ValueError):
+            raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {env_ids!r}.") from None
+        if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= self.num_envs):
+            raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {ids.tolist()}.")
+        return ids.astype(np.int64)
+
+    def batch(self, value: Any, n_envs: int, size: int, what: str, where: str) -> FloatArray:
+        """``value`` as finite float64 ``(n_envs, size)`` (a ``(size,)`` row applies to all)."""
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError):
+            raise StateError(f"{where}: expected numeric {what}, got {type(value).__name__}.") from None
+        if array.dtype.kind not in "fiu":
+            raise StateError(f"{where}: expected numeric {what}, got dtype {array.dtype}.")
+        if array.shape == (size,):
+            array = np.broadcast_to(array, (n_envs, size))
+        if array.shape != (n_envs, size):
+            raise StateError(f"{where}: expected {what} of shape ({size},) or ({n_envs}, {size}), got {array.shape}.")
+        array = array.astype(np.float64)
+        if not np.all(np.isfinite(array)):
+            raise StateError(f"{where}: {what} contains NaN or inf.")
+        return array
+
+    def checked_qpos(self, value: Any, n_envs: int, where: str) -> FloatArray:
+        """Joint positions ``(n_envs, nq)`` within the limits, ball quaternions normalized."""
+        qpos = self.batch(value, n_envs, self.index.nq, "qpos", where)
+        low, high = self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1]
+        outside = (qpos < low - 1e-9) | (qpos > high + 1e-9)
+        if np.any(outside):
+            env, entry = np.argwhere(outside)[0]
+            joint = next(j for j in self.index.joints if j.qpos_start <= entry < j.qpos_start + j.nq)
+            raise StateError(
+                f"{where}: qpos of joint {joint.name!r} is {qpos[env, entry]:.6g}, outside its limits "
+                f"[{low[entry]:.6g}, {high[entry]:.6g}]."
+            )
+        for start, _ in self._balls:
+            norms = np.linalg.norm(qpos[:, start : start + 4], axis=1)
+            if np.any(norms < 1e-9):
+                raise StateError(f"{where}: a ball joint's quaternion (qpos {start}-{start + 3}) is zero.")
+            qpos[:, start : start + 4] /= norms[:, None]
+        return qpos
+
+    # -- reads ----------------------------------------------------------------------------
+    @property
+    def qpos(self) -> FloatArray:
+        qpos: FloatArray = self.world.qpos[:, self.index.qpos_sel].copy()
+        return qpos
+
+    @property
+    def qvel(self) -> FloatArray:
+        qvel: FloatArray = self.world.qvel[:, self.index.dof_sel].copy()
+        return qvel
+
+    def views(self) -> list[FloatArray]:
+        """``qpos`` and ``qvel`` as read-only views where possible."""
+        return [self.world.qpos[:, self.index.qpos_sel], self.world.qvel[:, self.index.dof_sel]]
+
+    def configurations(self, qpos: npt.ArrayLike | None, where: str) -> FloatArray:
+        """Full scene configurations ``(num_envs, nq_model)``: the measured state with this
+        robot's joints replaced by ``qpos`` ``(nq,)`` or ``(num_envs, nq)`` when given."""
+        full = np.array(self.world.qpos, dtype=np.float64)
+        if qpos is not None:
+            full[:, self.index.qpos_adr] = self.batch(qpos, self.num_envs, self.index.nq, "qpos", where)
+        return full
+
+    # -- writes ---------------------------------------------------------------------------
+    def keyframe_base(self, base: FloatArray) -> FloatArray:
+        """World pose of a keyframe's base ``(7,)`` given relative to the mount."""
+        mount = self.mount_pose
+        pose = np.empty(7)
+        mujoco.mju_rotVecQuat(pose[:3], base[:3], mount[3:])
+        pose[:3] += mount[:3]
+        mujoco.mju_mulQuat(pose[3:], mount[3:], base[3:])
+        return pose
+
+    def write(
+        self,
+        ids: IntArray,
+        qpos: Any,
+        qvel: Any,
+        frame: ResolvedKeyframe | None,
+        where: str,
+    ) -> None:
+        """Set joints (and, with a keyframe, a free base) of ``ids``; all checked first."""
+        n = len(ids)
+        source_qpos = qpos if qpos is not None else frame.qpos if frame is not None else None
+        new_qpos = self.checked_qpos(source_qpos, n, where)
+        if qvel is not None:
+            new_qvel = self.batch(qvel, n, self.index.nv, "qvel", where)
+        else:
+            row = frame.qvel if frame is not None else np.zeros(self.index.nv)
+            new_qvel = np.broadcast_to(row, (n, self.index.nv))
+        qpos_adr, dof_adr = self.index.qpos_adr, self.index.dof_adr
+        if frame is not None and len(self._free_qpos):
+            base = np.broadcast_to(self.keyframe_base(frame.base), (n, 7))
+            new_qpos = np.concatenate([new_qpos, base], axis=1)
+            new_qvel = np.concatenate([new_qvel, np.zeros((n, 6))], axis=1)
+            qpos_adr = np.concatenate([qpos_adr, self._free_qpos])
+            dof_adr = np.concatenate([dof_adr, self._free_dofs])
+        self.world.write_joint_state(ids, qpos_adr, new_qpos, dof_adr, np.asarray(new_qvel))
+
+    def perturbed(self, env_ids: IntArray, std: float, rng: np.random.Generator) -> FloatArray:
+        """Measured ``qpos`` of ``env_ids`` plus noise (``std`` rad or m), clipped to the limits."""
+        qpos = self.qpos[env_ids]
+        noise = rng.normal(0.0, std, (len(env_ids), self.index.nv))
+        scalar = [j for j in self.index.joints if j.kind in (JointKind.HINGE, JointKind.SLIDE)]
+        for joint in scalar:
+            qpos[:, joint.qpos_start] += noise[:, joint.dof_start]
+        for q_start, v_start in self._balls:
+            for row in range(len(env_ids)):
+                quat = qpos[row, q_start : q_start + 4].copy()
+                mujoco.mju_quatIntegrate(quat, noise[row, v_start : v_start + 3], 1.0)
+                qpos[row, q_start : q_start + 4] = quat
+        clipped: FloatArray = np.clip(qpos, self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1])
+        return clipped
+
+    def check_state(self, state: Any, where: str) -> tuple[FloatArray, FloatArray, FloatArray | None]:
+        """Validate :meth:`Agent.get_state`'s joint part; returns what :meth:`write_state` takes."""
+        if not isinstance(state, Mapping):
+            raise StateError(f"{where}: expected a dict from get_state(), got {type(state).__name__}.")
+        missing = [k for k in ("qpos", "qvel", "control_mode", "controller") if k not in state]
+        if missing:
+            raise StateError(f"{where}: expected keys qpos, qvel, control_mode, controller; missing {missing}.")
+        qpos = self.batch(state["qpos"], self.num_envs, self.index.nq, "qpos", where)
+        qvel = self.batch(state["qvel"], self.num_envs, self.index.nv, "qvel", where)
+        base = self.batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None
+        return qpos, qvel, base
+
+    def write_state(self, qpos: FloatArray, qvel: FloatArray, base: FloatArray | None) -> None:
+        """Write joint state (and a free base pose) of every env, exactly as given."""
+        qpos_adr, dof_adr = self.index.qpos_adr, self.index.dof_adr
+        if base is not None and len(self._free_qpos):
+            qpos = np.concatenate([qpos, base], axis=1)
+            qpos_adr = np.concatenate([qpos_adr, self._free_qpos])
+        self.world.write_joint_state(np.arange(self.num_envs), qpos_adr, qpos, dof_adr, qvel)

@@ -1,0 +1,59 @@
+"""Where end-effector commands may go: workspace boxes and the task space of an arm."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from robot_agents.errors import ConfigError
+from robot_agents.kinematics.ik import IKConfig
+
+
+@dataclass(frozen=True)
+class WorkspaceBox:
+    """An axis-aligned box in the robot's root frame; targets are clipped into it (m)."""
+
+    lower: tuple[float, float, float]
+    upper: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        low, high = np.asarray(self.lower, dtype=np.float64), np.asarray(self.upper, dtype=np.float64)
+        if low.shape != (3,) or high.shape != (3,) or not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
+            raise ConfigError(
+                f"WorkspaceBox: expected finite lower and upper corners of 3 values, got {self.lower}, {self.upper}."
+            )
+        if np.any(low > high):
+            raise ConfigError(f"WorkspaceBox: expected lower <= upper on every axis, got {self.lower}, {self.upper}.")
+
+
+@dataclass(frozen=True)
+class TaskSpace:
+    """How an arm's end effector is commanded (end-effector control modes).
+
+    Attributes:
+        position_bounds: action bounds of absolute positions (``pd_ee_pose``), a box in
+            the command frame covering the reachable space (m).
+        max_translation: largest translation one delta action commands, per axis (m).
+        max_rotation: largest rotation one delta action commands, per axis (rad).
+        workspace: optional box in the command frame every target is clipped to.
+        end_effector: which of the arm's end effectors (default: its first).
+        ik: solver settings.
+        rest_qpos: posture of the IK null-space pull.
+        modes: which end-effector modes the arm offers (ManiSkill names).
+    """
+
+    position_bounds: WorkspaceBox
+    max_translation: float = 0.1
+    max_rotation: float = 0.1
+    workspace: WorkspaceBox | None = None
+    end_effector: str | None = None
+    ik: IKConfig = field(default_factory=IKConfig)
+    rest_qpos: tuple[float, ...] | None = None
+    modes: tuple[str, ...] = (
+        "pd_ee_delta_pos",
+        "pd_ee_delta_pose",
+        "pd_ee_pose",
+        "pd_ee_target_delta_pos",
+        "pd_ee_target_delta_pose",
+    )

@@ -1,0 +1,90 @@
+"""Compose robot models from pieces: attach one model onto another at a named site or
+body, with a name prefix (an arm plus a gripper, a hand or a camera housing; a floating
+mount plus a gripper). Uses ``MjSpec`` attachment, so the child's joints, actuators,
+equalities and default classes come along, renamed with the prefix.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from robot_agents.errors import ConfigError, ModelError, UnknownNameError
+from robot_agents.model.compiling import mujoco_messages
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """A piece (another :class:`~robot_agents.agent.Agent` class, usually unregistered)
+    mounted on this robot.
+
+    Attributes:
+        piece: the class whose model, actuators, parts, sensors and default keyframe
+            the piece brings.
+        at: the body or site of the parent model it is fixed to.
+        prefix: put in front of every name of the piece (``""``: names as they are,
+            which must then not clash with the parent's).
+        pos, quat: the piece's root pose in the ``at`` frame (m; ``w, x, y, z``).
+    """
+
+    piece: Any
+    at: str
+    prefix: str = ""
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        from robot_agents.agent.agent import Agent
+
+        if not (isinstance(self.piece, type) and issubclass(self.piece, Agent)):
+            raise ConfigError(f"Attachment: expected an Agent subclass as the piece, got {self.piece!r}.")
+        if not isinstance(self.at, str) or not self.at:
+            raise ConfigError(
+                f"Attachment({self.piece.__name__}): expected 'at' to name a body or site, got {self.at!r}."
+            )
+        pos = tuple(float(v) for v in self.pos)
+        quat = tuple(float(v) for v in self.quat)
+        if len(pos) != 3 or len(quat) != 4 or not all(math.isfinite(v) for v in pos + quat):
+            raise ConfigError(f"Attachment({self.piece.__name__}): expected pos (3) and quat (4) finite numbers.")
+        norm = math.sqrt(sum(q * q for q in quat))
+        if norm < 1e-9:
+            raise ConfigError(f"Attachment({self.piece.__name__}): expected a unit quaternion, got {self.quat!r}.")
+        object.__setattr__(self, "pos", pos)
+        object.__setattr__(self, "quat", tuple(q / norm for q in quat))
+
+
+def attach(parent: mujoco.MjSpec, child: mujoco.MjSpec, attachment: Attachment, where: str) -> None:
+    """Fix ``child``'s root body onto ``parent`` at ``attachment.at`` (a body, else a site)."""
+    root = child.worldbody.first_body()
+    if root is None:
+        raise ModelError(f"{where}: the piece {attachment.piece.__name__} has no body to attach.")
+    for joint in list(root.joints):
+        if joint.type == mujoco.mjtJoint.mjJNT_FREE:
+            child.delete(joint)  # a mounted piece is fixed to its parent
+    pos, quat = np.array(attachment.pos), np.array(attachment.quat)
+    body = parent.body(attachment.at)
+    if body is None:
+        site = parent.site(attachment.at)
+        if site is None:
+            names = [b.name for b in parent.bodies if b.name] + [s.name for s in parent.sites if s.name]
+            raise UnknownNameError(
+                f"{where} Attachment({attachment.piece.__name__})", "body or site", attachment.at, names
+            )
+        body = site.parent
+        site_pos, site_quat = np.array(site.pos, dtype=np.float64), np.array(site.quat, dtype=np.float64)
+        mujoco.mju_normalize4(site_quat)
+        rotated = np.empty(3)
+        mujoco.mju_rotVecQuat(rotated, pos, site_quat)
+        composed = np.empty(4)
+        mujoco.mju_mulQuat(composed, site_quat, quat)
+        pos, quat = site_pos + rotated, composed
+    frame = body.add_frame(pos=list(pos), quat=list(quat))
+    try:
+        with mujoco_messages(where):
+            frame.attach_body(root, attachment.prefix, "")
+    except ValueError as err:
+        raise ModelError(f"{where}: attaching {attachment.piece.__name__} at {attachment.at!r} failed: {err}") from None

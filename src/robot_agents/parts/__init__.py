@@ -1,0 +1,6 @@
+"""Parts of a robot (arm, gripper, hand, head, torso, base, legs) and their roles."""
+
+from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Hand, Head, Legs, Part, PartKind, Torso
+from robot_agents.parts.grasp import grasped
+
+__all__ = ["Arm", "Base", "EndEffector", "Gripper", "Hand", "Head", "Legs", "Part", "PartKind", "Torso", "grasped"]

@@ -1,0 +1,186 @@
+"""Parts: what a robot's joints are *for*, declared by joint pattern.
+
+A robot names its parts (arm, gripper, hand, head, torso, base, legs) with the roles
+later features need: end effectors (tool frames with offsets, and the frame their
+commands are expressed in), gripper open and closed positions, finger links. Control
+modes are generated from parts (:func:`robot_agents.controllers.rules.modes_from_parts`),
+``tcp_pose`` works per end effector and ``is_grasping`` for any gripper or hand.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+from typing import ClassVar
+
+from robot_agents.errors import ConfigError
+from robot_agents.patterns import Patterns, as_patterns
+
+
+class PartKind(Enum):
+    ARM = "arm"
+    GRIPPER = "gripper"
+    HAND = "hand"
+    HEAD = "head"
+    TORSO = "torso"
+    BASE = "base"
+    LEGS = "legs"
+
+
+def _vector(where: str, value: tuple[float, ...], size: int) -> tuple[float, ...]:
+    try:
+        floats = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{where}: expected {size} numbers, got {value!r}.") from None
+    if len(floats) != size or not all(math.isfinite(v) for v in floats):
+        raise ConfigError(f"{where}: expected {size} finite numbers, got {value!r}.")
+    return floats
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    """A tool frame.
+
+    Attributes:
+        link: the body or site it is fixed to.
+        name: how the robot refers to it (``tcp_pose(name)``); default: ``link``.
+        pos, quat: its pose in ``link``'s frame (m; ``w, x, y, z``).
+        command_frame: the body or site whose axes end-effector commands are expressed
+            in (it may move, e.g. a torso on a mobile base); ``None``: the robot's root.
+    """
+
+    link: str
+    name: str = ""
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    command_frame: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.link, str) or not self.link:
+            raise ConfigError(f"EndEffector: expected link to be a body or site name, got {self.link!r}.")
+        if not self.name:
+            object.__setattr__(self, "name", self.link)
+        object.__setattr__(self, "pos", _vector(f"EndEffector {self.name!r}.pos", self.pos, 3))
+        quat = _vector(f"EndEffector {self.name!r}.quat", self.quat, 4)
+        norm = math.sqrt(sum(q * q for q in quat))
+        if norm < 1e-9:
+            raise ConfigError(f"EndEffector {self.name!r}.quat: expected a unit quaternion, got {self.quat!r}.")
+        object.__setattr__(self, "quat", tuple(q / norm for q in quat))
+
+    @property
+    def has_offset(self) -> bool:
+        return self.pos != (0.0, 0.0, 0.0) or self.quat != (1.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Part:
+    """Joints that serve one purpose.
+
+    Attributes:
+        name: the part's name in control modes (``"arm"``, ``"gripper"``, ...).
+        joints: joint name pattern(s); every pattern must match, and no joint may
+            belong to two parts.
+        max_delta: largest joint change one delta action commands (rad or m).
+        max_velocity: velocity bound of velocity modes (rad/s or m/s); ``None``: the
+            drives' velocity limits, else 1.
+    """
+
+    kind: ClassVar[PartKind]
+    name: str
+    joints: Patterns
+    max_delta: float = 0.1
+    max_velocity: float | tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        where = f"{type(self).__name__} {self.name!r}"
+        if not isinstance(self.name, str) or not self.name or "/" in self.name:
+            raise ConfigError(f"{type(self).__name__}: expected a part name without '/', got {self.name!r}.")
+        object.__setattr__(self, "joints", as_patterns(self.joints, f"{where}.joints"))
+        if not (isinstance(self.max_delta, (int, float)) and 0 < self.max_delta < math.inf):
+            raise ConfigError(f"{where}.max_delta: expected a positive number (rad or m), got {self.max_delta!r}.")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Arm(Part):
+    """A manipulator arm. ``end_effectors``: its tool frames (the first is the default);
+    ``task_space``: how end-effector modes command it (``None``: joint modes only)."""
+
+    kind: ClassVar[PartKind] = PartKind.ARM
+    end_effectors: tuple[EndEffector, ...] = ()
+    task_space: object | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        object.__setattr__(self, "end_effectors", tuple(self.end_effectors))
+        for ee in self.end_effectors:
+            if not isinstance(ee, EndEffector):
+                raise ConfigError(f"Arm {self.name!r}.end_effectors: expected EndEffector entries, got {ee!r}.")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Gripper(Part):
+    """A gripper driven by one action: the first matched driven joint leads, the others
+    follow (driven followers get proportional targets, undriven ones follow through
+    their joint couplings, e.g. a linkage).
+
+    Attributes:
+        open, closed: the positions of the part's joints when open and closed (a
+            scalar for every joint, or one per matched joint in model order).
+        squeeze: how far past ``closed`` the action may command the leader (rad or m),
+            so that a grasp keeps pressing when the fingers stop on an object.
+        fingers: the links of each finger (a link name, or a tuple of them); a grasp
+            needs opposing contact forces from at least two fingers.
+        tolerance: how close to ``open`` / ``closed`` counts as open / closed (rad or m).
+    """
+
+    kind: ClassVar[PartKind] = PartKind.GRIPPER
+    open: float | tuple[float, ...]
+    closed: float | tuple[float, ...]
+    fingers: tuple[str | tuple[str, ...], ...] = ()
+    squeeze: float = 0.0
+    tolerance: float = 0.005
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        fingers = tuple((f,) if isinstance(f, str) else tuple(f) for f in self.fingers)
+        if fingers and len(fingers) < 2:
+            raise ConfigError(
+                f"{type(self).__name__} {self.name!r}.fingers: expected at least two fingers, got {fingers}."
+            )
+        object.__setattr__(self, "fingers", fingers)
+
+    @property
+    def finger_links(self) -> tuple[tuple[str, ...], ...]:
+        return self.fingers  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Hand(Gripper):
+    """A multi-finger hand: every joint takes its own action; ``open`` / ``closed`` are
+    its open and power-grasp poses, ``fingers`` the links of each finger."""
+
+    kind: ClassVar[PartKind] = PartKind.HAND
+
+
+@dataclass(frozen=True, kw_only=True)
+class Head(Part):
+    kind: ClassVar[PartKind] = PartKind.HEAD
+
+
+@dataclass(frozen=True, kw_only=True)
+class Torso(Part):
+    kind: ClassVar[PartKind] = PartKind.TORSO
+
+
+@dataclass(frozen=True, kw_only=True)
+class Legs(Part):
+    kind: ClassVar[PartKind] = PartKind.LEGS
+
+
+@dataclass(frozen=True, kw_only=True)
+class Base(Part):
+    kind: ClassVar[PartKind] = PartKind.BASE
+
+
+PART_TYPES = (Arm, Gripper, Hand, Head, Torso, Legs, Base)

@@ -50,10 +50,10 @@ def test_panda_forward_kinematics_match_dh_table() -> None:
         agent.reset(qpos=q)
         expected = panda_tcp_from_dh(q[:7])
         tcp = agent.tcp_pose[0]
-        np.testing.assert_allclose(tcp[:3], expected[:3, 3], atol=1e-6)
+        np.testing.assert_allclose(tcp[:3], expected[:3, 3], atol=1e-9)  # arm + hand composed at load
         rotation = np.zeros(9)
         mujoco.mju_quat2Mat(rotation, tcp[3:])
-        np.testing.assert_allclose(rotation.reshape(3, 3), expected[:3, :3], atol=1e-6)
+        np.testing.assert_allclose(rotation.reshape(3, 3), expected[:3, :3], atol=1e-9)
 
 
 def test_panda_limits_from_datasheet() -> None:

@@ -27,6 +27,7 @@ from robot_agents.actuators import (
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
     CommandFrame,
+    JointEffortConfig,
     JointGroup,
     PassiveConfig,
     PDEEPosConfig,
@@ -86,6 +87,7 @@ __all__ = [
     "Head",
     "IKConfig",
     "IKSolver",
+    "JointEffortConfig",
     "JointGroup",
     "Keyframe",
     "Kinematics",

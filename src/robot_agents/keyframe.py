@@ -110,10 +110,13 @@ class ResolvedKeyframe:
 
 def default_qpos(index: RobotIndex) -> FloatArray:
     """The robot's default ``qpos`` ``(nq,)``: the file's first keyframe if it has one,
-    else the model's reference pose (``qpos0``; identity quaternions for ball joints)."""
+    else the model's reference pose (``qpos0``; identity quaternions for ball joints),
+    clipped into the joint limits (a model's zero pose may lie outside them)."""
     model = index.model
     source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
-    default: FloatArray = np.array(source[index.qpos_adr], dtype=np.float64)
+    default: FloatArray = np.clip(
+        np.array(source[index.qpos_adr], dtype=np.float64), index.qpos_limits[:, 0], index.qpos_limits[:, 1]
+    )
     return default
 
 

@@ -276,5 +276,12 @@ def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDecl
             f"{actuator.biastype.name}; robot_agents adopts position, velocity and motor actuators only: "
             "set replace_file_actuators = True and declare the drive."
         )
-    limit = float(abs(actuator.forcerange[1])) if actuator.forcelimited == 1 else np.inf
+    gear = abs(float(actuator.gear[0]))
+    limit = np.inf
+    if actuator.forcelimited == 1:
+        limit = gear * max(abs(float(actuator.forcerange[0])), abs(float(actuator.forcerange[1])))
+    if actuator.ctrllimited == 1 and actuator.biastype == mujoco.mjtBias.mjBIAS_NONE:
+        # a motor: the largest control times its gain bounds the effort too
+        reach = gear * abs(float(actuator.gainprm[0])) * max(abs(float(c)) for c in actuator.ctrlrange)
+        limit = min(limit, reach)
     return DriveDeclaration(joint, DriveKind.AFFINE, label, effort_limit=limit)

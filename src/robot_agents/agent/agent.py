@@ -165,6 +165,7 @@ class Agent:
             root_frame=self.frames.root_frame,
             targets=self.drives.targets,
             end_effectors=self.frames.end_effectors,
+            effort_limits=dict(zip(self.drives.joint_names, self.drives.declared_effort_limit.tolist(), strict=True)),
             prefix=prefix,
             owner=name,
         )

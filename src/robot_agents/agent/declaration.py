@@ -11,6 +11,7 @@ end effectors, fingers, keyframes (names, sizes, limits, quaternions) and contro
 from __future__ import annotations
 
 import dataclasses
+import re
 import weakref
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -61,9 +62,12 @@ class Composition:
 
 
 def _prefix_part(part: Part, prefix: str) -> Part:
+    """``part`` of a piece attached with ``prefix``: its names prefixed, and its own name
+    too (``"left/"`` + ``"gripper"`` -> ``"left_gripper"``), so two hands can coexist."""
     if not prefix:
         return part
-    changes: dict[str, Any] = {"joints": prefixed(part.joints, prefix)}
+    label = re.sub(r"\W+", "_", prefix).strip("_")
+    changes: dict[str, Any] = {"joints": prefixed(part.joints, prefix), "name": f"{label}_{part.name}"}
     end_effectors = getattr(part, "end_effectors", None)
     if end_effectors:
         changes["end_effectors"] = tuple(

@@ -10,6 +10,7 @@ from robot_agents.controllers.ee import (
     RotationFormat,
 )
 from robot_agents.controllers.joint import (
+    JointEffortConfig,
     PDJointPosConfig,
     PDJointPosMimicConfig,
     PDJointPosVelConfig,
@@ -35,6 +36,7 @@ __all__ = [
     "ControllerConfig",
     "ControllerContext",
     "JointBinding",
+    "JointEffortConfig",
     "JointGroup",
     "PDEEController",
     "PDEEPosConfig",

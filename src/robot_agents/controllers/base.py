@@ -101,6 +101,7 @@ class ControllerContext:
         targets: the robot's joint targets, which controllers write.
         end_effectors: the robot's end effectors by name: ``(tool frame, command frame)``;
             the first is the default.
+        effort_limits: each driven joint's effort limit (N*m or N; ``inf`` if none).
         prefix: the robot's name prefix in the scene.
         owner: the robot's class name, for messages.
     """
@@ -112,6 +113,7 @@ class ControllerContext:
     root_frame: FrameRef
     targets: JointTargets
     end_effectors: dict[str, tuple[FrameRef, FrameRef]] = field(default_factory=dict)
+    effort_limits: dict[str, float] = field(default_factory=dict)
     prefix: str = ""
     owner: str = ""
 

@@ -308,3 +308,56 @@ class PDJointPosVelController(PDJointPosController):
 
     def describe(self) -> str:
         return f"PD joint {'delta ' if self.config.use_delta else ''}position + velocity"
+
+
+@dataclass(frozen=True, kw_only=True)
+class JointEffortConfig(ControllerConfig):
+    """Joint efforts: the action is the torque (N*m) or force (N) each joint's drive
+    applies on top of its (declared or overridden) PD terms; set ``stiffness=0`` and
+    ``damping=0`` for pure torque control of servo drives.
+
+    Attributes:
+        lower, upper: effort bounds (N*m or N); ``None``: the drives' effort limits.
+    """
+
+    writes: ClassVar[tuple[str, ...]] = ("effort",)
+    lower: PerJoint | None = None
+    upper: PerJoint | None = None
+
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return JointEffortController(self, binding, context)
+
+
+class JointEffortController(Controller):
+    config: JointEffortConfig
+
+    def __init__(self, config: JointEffortConfig, binding: JointBinding, context: ControllerContext) -> None:
+        limits = np.array([context.effort_limits.get(j, np.inf) for j in binding.joint_names], dtype=np.float64)
+        self._limits = limits
+        super().__init__(config, binding, context)
+        self.target_effort: FloatArray = np.zeros((context.num_envs, binding.size))
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        name, n = type(self.config).__name__, self.binding.size
+        high = self._limits if self.config.upper is None else per_joint(name, "upper", self.config.upper, n)
+        low = -self._limits if self.config.lower is None else per_joint(name, "lower", self.config.lower, n)
+        return low.copy(), high.copy()
+
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        self.target_effort[env_ids] = 0.0
+
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        self.target_effort = raw
+        self.targets.effort[:, self.binding.column_sel] = raw
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {"target_effort": self.target_effort}
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {"target_effort": self.target_effort.copy()}
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        self.target_effort = np.array(state["target_effort"], dtype=np.float64)
+
+    def describe(self) -> str:
+        return f"joint effort{' (normalized)' if self.config.normalize_action else ''}"

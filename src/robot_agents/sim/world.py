@@ -96,6 +96,7 @@ class BatchedWorld:
             for i in range(self.substeps):
                 before_substep(i, self.substeps)
                 self._step_all(1)
+                self._cache.clear()  # the hook reads the state of every substep
         self._cache.clear()
 
     def forward(self) -> None:

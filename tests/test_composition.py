@@ -1,0 +1,136 @@
+"""Composed robots: pieces attached at a body or site bring their model, drives, parts
+and default keyframe; the Panda family is built that way."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.robots.panda.panda import PandaHand
+
+# A fixed bar with two tool sites, 40 cm apart, the right one turned 90 deg about z.
+BAR_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="bar" pos="0 0 0.5">
+      <geom type="box" size="0.05 0.3 0.02" mass="2"/>
+      <body name="carriage">
+        <joint name="slide" type="slide" axis="1 0 0" range="-0.2 0.2"/>
+        <geom type="box" size="0.02 0.02 0.02" mass="0.5"/>
+        <site name="left_mount" pos="0 0.2 -0.03" quat="0 1 0 0"/>
+        <site name="right_mount" pos="0 -0.2 -0.03" quat="0 0.70710678 0.70710678 0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.fixture
+def two_hands(tmp_path: Path) -> type[ra.Agent]:
+    path = tmp_path / "bar.xml"
+    path.write_text(BAR_MJCF)
+
+    class TwoHands(ra.Agent):
+        uid = "two_hands"
+        mjcf_path = path
+        actuators = (ra.PDActuator(joints="slide", stiffness=500.0, damping=50.0),)
+        parts = (ra.Torso(name="carriage", joints="slide"),)
+        attachments = (
+            ra.Attachment(PandaHand, at="left_mount", prefix="left/"),
+            ra.Attachment(PandaHand, at="right_mount", prefix="right/", pos=(0.0, 0.0, 0.01)),
+        )
+        keyframes = {"home": ra.Keyframe(qpos={"slide": 0.1, "right/panda_finger_joint1": 0.01})}
+
+    return TwoHands
+
+
+def test_pieces_bring_drives_parts_and_default_keyframe(two_hands: type[ra.Agent]) -> None:
+    scene = ra.Scene(two_hands)
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.joint_names == (
+        "slide",
+        "left/panda_finger_joint1",
+        "left/panda_finger_joint2",
+        "right/panda_finger_joint1",
+        "right/panda_finger_joint2",
+    )
+    assert agent.drives.size == 5 and scene.model.nu == 5  # the hands' drives came along, once each
+    assert set(agent.part_joints) == {"carriage", "left_gripper", "right_gripper"}
+    # The left hand takes its piece's default keyframe (open); the right one follows the
+    # keyframe, its second finger through the hand's own coupling.
+    np.testing.assert_allclose(agent.qpos[0], [0.1, 0.04, 0.04, 0.01, 0.01])
+    # Modes from the parts: the carriage leads, each gripper adds one action.
+    assert agent.controller.slices == {
+        "carriage": slice(0, 1),
+        "left_gripper": slice(1, 2),
+        "right_gripper": slice(2, 3),
+    }
+    assert not agent.is_grasping("world", gripper="left_gripper")[0]
+
+
+def test_a_piece_sits_at_its_site_with_its_offset(two_hands: type[ra.Agent]) -> None:
+    scene = ra.Scene(two_hands)
+    scene.reset()
+    model = scene.model
+    data = scene.world.render_sources([0])[0]
+    for side, offset in (("left", 0.0), ("right", 0.01)):
+        site = model.site(f"two_hands-0/{side}_mount").id
+        hand = model.body(f"two_hands-0/{side}/panda_hand").id
+        rotation = data.site_xmat[site].reshape(3, 3)
+        np.testing.assert_allclose(data.xpos[hand], data.site_xpos[site] + rotation @ [0.0, 0.0, offset], atol=1e-12)
+        hand_rotation = np.zeros(9)
+        mujoco.mju_quat2Mat(hand_rotation, data.xquat[hand])
+        np.testing.assert_allclose(hand_rotation.reshape(3, 3), rotation, atol=1e-12)
+
+
+def test_panda_is_composed_from_arm_and_hand() -> None:
+    panda = ra.get_agent("panda")
+    checked = panda.check()
+    assert [d.joint for d in checked.drives] == [
+        *(f"panda_joint{i}" for i in range(1, 8)),
+        "panda_finger_joint1",
+        "panda_finger_joint2",
+    ]
+    assert checked.part_joints == {
+        "arm": tuple(f"panda_joint{i}" for i in range(1, 8)),
+        "gripper": ("panda_finger_joint1", "panda_finger_joint2"),
+    }
+    # closed_rest names only the first finger: the second follows through the hand's coupling.
+    np.testing.assert_allclose(checked.keyframes["closed_rest"].qpos[7:], [0.0, 0.0])
+    np.testing.assert_allclose(checked.keyframes["rest"].qpos[7:], [0.04, 0.04])  # the hand's default: open
+    model = ra.Scene("panda").model
+    assert sum(
+        model.body_mass[model.body(f"panda-0/panda_{n}").id] for n in ("hand", "leftfinger", "rightfinger")
+    ) == pytest.approx(0.76, abs=1e-6)
+
+
+def test_wrist_camera_housing_is_a_piece() -> None:
+    scene = ra.Scene("panda_wristcam")
+    model = scene.model
+    housing = model.body("panda_wristcam-0/camera_housing").id
+    assert model.body_parentid[housing] == model.body("panda_wristcam-0/panda_hand").id
+    assert model.body_mass[housing] == pytest.approx(0.072)  # Intel D415 datasheet
+    np.testing.assert_allclose(model.body_pos[housing], [0.0465, 0.0, 0.0235])
+
+
+def test_bad_attachments_are_clear(two_hands: type[ra.Agent]) -> None:
+    bad = type("BadMount", (two_hands,), {"attachments": (ra.Attachment(PandaHand, at="left_mnt"),)})
+    with pytest.raises(ra.UnknownNameError, match=r"body or site 'left_mnt'.*Did you mean 'left_mount'"):
+        ra.Scene(bad)
+    with pytest.raises(ra.ConfigError, match="expected an Agent subclass"):
+        ra.Attachment(int, at="x")
+    clash = type(
+        "Clash",
+        (two_hands,),
+        {"attachments": (ra.Attachment(PandaHand, at="left_mount"), ra.Attachment(PandaHand, at="right_mount"))},
+    )
+    with pytest.raises(ra.RobotAgentsError):
+        ra.Scene(clash)

@@ -119,7 +119,7 @@ def test_gymnasium_humanoid_motors_are_adopted() -> None:
     Positional = type(
         "Positional", (Humanoid,), {"control_modes": ra.joint_control_modes(ra.JointGroup(("right_knee",)))}
     )
-    with pytest.raises(ra.ConfigError, match="'right_knee', but its drive .* has no stiffness"):
+    with pytest.raises(ra.ConfigError, match=r"'right_knee', but its drive .* has no stiffness"):
         ra.Scene(Positional)
 
 

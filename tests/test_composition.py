@@ -3,7 +3,6 @@ and default keyframe; the Panda family is built that way."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import mujoco

@@ -234,12 +234,12 @@ class Agent:
     @property
     def base_pose(self) -> FloatArray:
         """Root body pose in the world, shape ``(num_envs, 7)``: ``x, y, z, qw, qx, qy, qz``."""
-        return self.world.body_poses([self.index.root_body_id])[:, 0]
+        return self.world.body_poses(self.index.root_body_id)[:, 0]
 
     def tcp_pose_of(self, end_effector: str | None = None) -> FloatArray:
         """World pose ``(num_envs, 7)`` of an end effector (default: the first declared)."""
         frame = self.frames.end_effector(end_effector, f"{type(self).__name__}.tcp_pose")
-        return self.frames.pose(frame, None, self.state.configurations(None, "tcp_pose"))
+        return self.frames.measured_pose(frame, self.world)
 
     @property
     def tcp_pose(self) -> FloatArray:

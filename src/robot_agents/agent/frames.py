@@ -4,6 +4,7 @@ poses and Jacobians of any of its bodies or sites, computed on scratch data."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -14,6 +15,9 @@ from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
 from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose
 from robot_agents.parts.declaration import EndEffector
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -78,6 +82,23 @@ class RobotFrames:
         if relative_to == "root":
             return self.root_frame
         return self.frame(relative_to, where)
+
+    def measured_pose(self, frame: FrameRef, world: SimBackend) -> FloatArray:
+        """World pose ``(num_envs, 7)`` of ``frame`` in the simulation's current state
+        (read from the backend, no kinematics of its own)."""
+        if frame.kind is FrameKind.BODY:
+            pose: FloatArray = world.body_poses(frame.id)[:, 0]
+        else:
+            pose = world.site_poses([frame.id])[:, 0]
+        if frame.offset is not None:
+            offset = np.asarray(frame.offset)
+            for row in pose:
+                shifted, turned = np.empty(3), np.empty(4)
+                mujoco.mju_rotVecQuat(shifted, offset[:3], row[3:])
+                mujoco.mju_mulQuat(turned, row[3:], offset[3:])
+                row[:3] += shifted
+                row[3:] = turned
+        return pose
 
     def pose(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:
         """Pose ``(num_envs, 7)`` of ``frame`` in ``reference`` (world when ``None``)."""

@@ -45,8 +45,11 @@ class SimBackend(Protocol):
     def forward(self) -> None:
         """Recompute derived quantities of every env."""
 
-    def body_poses(self, body_ids: npt.ArrayLike) -> FloatArray:
+    def body_poses(self, body_ids: int | npt.ArrayLike) -> FloatArray:
         """World poses ``(num_envs, k, 7)`` of bodies."""
+
+    def site_poses(self, site_ids: npt.ArrayLike) -> FloatArray:
+        """World poses ``(num_envs, k, 7)`` of sites."""
 
     def sensor_values(self, adr: npt.ArrayLike) -> FloatArray:
         """Sensor readings ``(num_envs, k)``."""

@@ -148,13 +148,28 @@ class BatchedWorld:
         return np.array([sum(int(d.warning[k].number) for k in kinds) for d in self.datas], dtype=np.int64)
 
     # -- reads of derived quantities ---------------------------------------------------
-    def body_poses(self, body_ids: npt.ArrayLike) -> FloatArray:
+    def body_poses(self, body_ids: int | npt.ArrayLike) -> FloatArray:
         """World poses of bodies, shape ``(num_envs, k, 7)``: position (m), quaternion (w, x, y, z)."""
-        ids = np.asarray(body_ids, dtype=np.int64).reshape(-1)
+        if self.num_envs == 1 and type(body_ids) is int:  # the common read, without array indexing
+            data = self.datas[0]
+            single: FloatArray = np.concatenate((data.xpos[body_ids], data.xquat[body_ids])).reshape(1, 1, 7)
+            return single
+        ids = [int(b) for b in np.asarray(body_ids, dtype=np.int64).reshape(-1)]
         out = np.empty((self.num_envs, len(ids), 7))
         for row, data in zip(out, self.datas, strict=True):
-            row[:, :3] = data.xpos[ids]
-            row[:, 3:] = data.xquat[ids]
+            for k, body in enumerate(ids):
+                row[k, :3] = data.xpos[body]
+                row[k, 3:] = data.xquat[body]
+        return out
+
+    def site_poses(self, site_ids: npt.ArrayLike) -> FloatArray:
+        """World poses of sites, shape ``(num_envs, k, 7)``: position (m), quaternion (w, x, y, z)."""
+        ids = np.asarray(site_ids, dtype=np.int64).reshape(-1)
+        out = np.empty((self.num_envs, len(ids), 7))
+        for row, data in zip(out, self.datas, strict=True):
+            row[:, :3] = data.site_xpos[ids]
+            for k, site in enumerate(ids):
+                mujoco.mju_mat2Quat(row[k, 3:], data.site_xmat[site])
         return out
 
     def sensor_values(self, adr: npt.ArrayLike) -> FloatArray:

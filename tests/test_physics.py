@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.contacts import contact_force_between
 from tests.conftest import make_pendulum_class
 
 # Franka's modified DH parameters (a, d, alpha) for joints 1..7, then the flange.
@@ -135,15 +134,13 @@ def test_grasp_holds_and_lifts_a_cube() -> None:
     fingers = agent.qpos[0, 7:]
     np.testing.assert_allclose(fingers, [0.0195, 0.0195], atol=1e-3)  # 4 cm cube, pads 0.5 mm proud
     # Squeeze force: kp * (q - target) = 1000 N/m * (q + 0.01 m) per finger.
-    data = scene.world.datas[0]
     body = lambda name: mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_BODY, name)  # noqa: E731
-    left = contact_force_between(scene.model, data, body("panda-0/panda_leftfinger"), body("cube"))
-    right = contact_force_between(scene.model, data, body("panda-0/panda_rightfinger"), body("cube"))
+    sources = [[body("panda-0/panda_leftfinger")], [body("panda-0/panda_rightfinger")], [body("pedestal")]]
+    left, right, pedestal = scene.world.contact_forces(sources, body("cube"))[0]
     squeeze = 1000.0 * (fingers[0] + 0.01)
     assert np.linalg.norm(left) == pytest.approx(squeeze, rel=0.1)
     assert np.linalg.norm(right) == pytest.approx(squeeze, rel=0.1)
     # The cube is in equilibrium: the pedestal and the fingers together carry its weight.
-    pedestal = contact_force_between(scene.model, data, body("pedestal"), body("cube"))
     np.testing.assert_allclose(left + right + pedestal, [0.0, 0.0, 0.1 * 9.81], atol=0.05)
     cube_z0 = scene.body_pose("cube")[0, 2]
     lift = rest + np.array([0.0, -0.3, 0.0, 0.2, 0.0, 0.0, 0.0])

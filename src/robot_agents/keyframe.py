@@ -18,14 +18,14 @@ quaternions; robots resolve every keyframe when they are checked or registered.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.errors import ConfigError
 from robot_agents.patterns import as_patterns, match
 
 if TYPE_CHECKING:
@@ -222,8 +222,3 @@ def _check_limits(qpos: FloatArray, index: RobotIndex, where: str) -> None:
             raise ConfigError(
                 f"{where}: joint {joint.name!r} at {value:.6g} is outside its limits [{low:.6g}, {high:.6g}]."
             )
-
-
-def unknown_keyframe(where: str, name: object, available: Sequence[str]) -> UnknownNameError:
-    """The error for a keyframe name that does not exist."""
-    return UnknownNameError(where, "keyframe", str(name), available)

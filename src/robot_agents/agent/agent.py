@@ -27,16 +27,17 @@ from robot_agents.agent import declaration
 from robot_agents.agent.control import ControlModes
 from robot_agents.agent.declaration import CheckedRobot, ModeConfig
 from robot_agents.agent.frames import RobotFrames
+from robot_agents.agent.grippers import GripperParts
 from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
 from robot_agents.controllers.base import ControllerConfig, ControllerContext
 from robot_agents.controllers.combined import CombinedController
-from robot_agents.errors import ConfigError, StateError, UnknownNameError
+from robot_agents.errors import StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.forward import FrameRef, Kinematics
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, Gripper, Part
-from robot_agents.parts.grasp import grasped
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.touch import TouchReader, TouchSensorConfig
 
@@ -170,13 +171,7 @@ class Agent:
             owner=name,
         )
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
-        static = [
-            adr
-            for joint in self.index.joints
-            if not any(joint.name in self.part_joints[p.name] for p in checked.parts if isinstance(p, Gripper))
-            for adr in range(joint.dof_adr, joint.dof_adr + joint.nv)
-        ]
-        self._static_dofs = np.array(static, dtype=np.int64)
+        self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -213,11 +208,13 @@ class Agent:
         return self.index.root_body_id
 
     @property
-    def kinematics(self) -> Any:
+    def kinematics(self) -> Kinematics:
+        """Side-effect-free kinematics of the scene (a private scratch MjData)."""
         return self.frames.kinematics
 
     @property
-    def root_frame(self) -> Any:
+    def root_frame(self) -> FrameRef:
+        """The frame of root-relative commands (see :class:`.frames.RobotFrames`)."""
         return self.frames.root_frame
 
     # ------------------------------------------------------------------ state reads
@@ -396,19 +393,11 @@ class Agent:
     # ------------------------------------------------------------------ part helpers
     def is_static(self, threshold: float = 0.2) -> BoolArray:
         """Per env: every joint except grippers' moves slower than ``threshold`` (rad/s or m/s)."""
-        qvel = self.world.qvel[:, self._static_dofs]
-        return np.asarray(np.max(np.abs(qvel), axis=1, initial=0.0) <= threshold)
+        return self.grippers.is_static(threshold)
 
     def gripper(self, name: str | None = None) -> Gripper:
         """The gripper or hand part ``name`` (default: the first)."""
-        grippers = {n: p for n, p in self.parts_by_name.items() if isinstance(p, Gripper)}
-        if not grippers:
-            raise ConfigError(f"{type(self).__name__}: declares no Gripper or Hand part.")
-        if name is None:
-            return next(iter(grippers.values()))
-        if name not in grippers:
-            raise UnknownNameError(f"{type(self).__name__}.gripper", "gripper", str(name), grippers)
-        return grippers[name]
+        return self.grippers.part(name)
 
     def is_grasping(
         self, body: str, min_force: float = 0.5, max_angle: float = 85.0, gripper: str | None = None
@@ -416,26 +405,8 @@ class Agent:
         """Per env: two fingers of the gripper (or hand) press on scene body ``body`` from
         opposing sides, each with at least ``min_force`` (N); forces within ``max_angle``
         degrees of directly opposite count (see :mod:`robot_agents.parts.grasp`)."""
-        part = self.gripper(gripper)
-        where = f"{type(self).__name__}.is_grasping"
-        if not part.finger_links:
-            raise ConfigError(f"{where}: gripper {part.name!r} declares no fingers.")
-        model = self.world.model
-        target = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else -1
-        if target < 0:
-            raise UnknownNameError(where, "body", str(body), [model.body(b).name for b in range(model.nbody)])
-        groups = [
-            [b for link in finger for b in self.index.subtree_bodies(self.index.body_id(link, where))]
-            for finger in part.finger_links
-        ]
-        return grasped(self.world.contact_forces(groups, target), min_force, max_angle)
+        return self.grippers.is_grasping(body, min_force, max_angle, gripper)
 
     def gripper_opening(self, gripper: str | None = None) -> FloatArray:
         """Per env, how open the gripper is: 0 at ``closed``, 1 at ``open`` (its first joint)."""
-        part = self.gripper(gripper)
-        joint = self.index.joint(self.part_joints[part.name][0], "gripper_opening")
-        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
-        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
-        q = self.world.qpos[:, joint.qpos_adr]
-        opening: FloatArray = (q - closed) / (opened - closed)
-        return opening
+        return self.grippers.opening(gripper)

@@ -23,154 +23,34 @@ One control step of an end-effector controller, per env:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from enum import Enum
-
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.controllers.base import (
     Controller,
-    ControllerConfig,
     ControllerContext,
     FloatArray,
     IntArray,
     JointBinding,
     SimView,
-    per_joint,
 )
-from robot_agents.controllers.task_space import WorkspaceBox
+from robot_agents.controllers.ee_config import (
+    CommandFrame,
+    PDEEPosConfig,
+    PDEEPoseConfig,
+    PerAxis,
+    RotationFormat,
+    per_axis,
+)
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import FrameKind, FrameRef
-from robot_agents.kinematics.ik import IKConfig, IKResult, IKSolver
+from robot_agents.kinematics.ik import IKResult, IKSolver
 from robot_agents.kinematics.rotations import compose_into, relative_pose_into, rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]
-#: A scalar for x, y and z, or one value per axis.
-PerAxis = float | tuple[float, float, float]
 
-
-class CommandFrame(Enum):
-    """Axes a delta command is expressed in."""
-
-    #: The robot's root (base) frame; rotations turn about root-aligned axes through the tool point.
-    ROOT = "root"
-    #: The end effector's own frame, as it is at the start of the step.
-    EE = "ee"
-
-
-class RotationFormat(Enum):
-    """How an absolute orientation is given in the action."""
-
-    #: Rotation vector (axis * angle, rad): 3 numbers.
-    ROTVEC = "rotvec"
-    #: Unit quaternion ``(w, x, y, z)``: 4 numbers (normalized by the controller).
-    QUAT = "quat"
-
-
-def _axes(owner: str, name: str, value: PerAxis) -> FloatArray:
-    return per_joint(owner, name, value, 3)
-
-
-@dataclass(frozen=True, kw_only=True)
-class PDEEPosConfig(ControllerConfig):
-    """End-effector position control; the orientation is held.
-
-    Attributes:
-        joint_names: the arm joints IK may move (a serial chain to ``ee_link``).
-        pos_lower, pos_upper: action bounds (m): per-step translation for delta modes,
-            the position in the root frame for absolute ones.
-        use_delta: the action moves the target; otherwise it is the target.
-        use_target: deltas accumulate on the previous target, not on the measured pose.
-        translation_frame: axes of translation deltas (root or end effector).
-        end_effector: the controlled end effector, by the name a part declares; default:
-            the robot's first end effector (its tool frame and command frame).
-        ee_link: a body or site to control instead of a declared end effector
-            (commands in the robot's root frame).
-        workspace: optional box in the command frame the target position is clipped to.
-        velocity_feedforward: drive the joints with the IK path's velocity as well as
-            its position; default on for delta modes, off for absolute ones.
-        ik: solver settings.
-        rest_qpos: posture of the IK null-space pull (with ``ik.null_space_gain > 0``).
-    """
-
-    pos_lower: PerAxis = -0.1
-    pos_upper: PerAxis = 0.1
-    use_delta: bool = True
-    use_target: bool = False
-    translation_frame: CommandFrame = CommandFrame.ROOT
-    end_effector: str | None = None
-    ee_link: str | None = None
-    workspace: WorkspaceBox | None = None
-    velocity_feedforward: bool | None = None
-    ik: IKConfig = field(default_factory=IKConfig)
-    rest_qpos: tuple[float, ...] | None = None
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        name = type(self).__name__
-        if self.use_target and not self.use_delta:
-            raise ConfigError(f"{name}({', '.join(self.joint_names)}): use_target=True needs use_delta=True.")
-        if not isinstance(self.translation_frame, CommandFrame):
-            raise ConfigError(
-                f"{name}.translation_frame: expected a CommandFrame ({', '.join(f.name for f in CommandFrame)}), "
-                f"got {self.translation_frame!r}."
-            )
-        if self.stiffness is not None and np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
-            raise ConfigError(f"{name}: expected stiffness > 0 on every joint, got {self.stiffness}.")
-        if not isinstance(self.ik, IKConfig):
-            raise ConfigError(f"{name}.ik: expected an IKConfig, got {self.ik!r}.")
-
-    @property
-    def controls_rotation(self) -> bool:
-        return False
-
-    @property
-    def feedforward(self) -> bool:
-        return self.use_delta if self.velocity_feedforward is None else self.velocity_feedforward
-
-    def target_kinds(self) -> tuple[str, ...]:
-        return ("position", "velocity") if self.feedforward else ("position",)
-
-    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
-        return PDEEController(self, binding, context)
-
-
-@dataclass(frozen=True, kw_only=True)
-class PDEEPoseConfig(PDEEPosConfig):
-    """End-effector pose control: position and orientation.
-
-    Attributes:
-        rot_lower, rot_upper: action bounds of the rotation part (rad for rotation
-            vectors; quaternion entries are bounded to ``[-1, 1]``).
-        rotation_frame: axes rotation deltas turn about (root-aligned through the
-            tool point, or the end effector's own).
-        rotation_format: absolute modes take a rotation vector or a quaternion; deltas
-            are always rotation vectors.
-    """
-
-    rot_lower: PerAxis = -0.1
-    rot_upper: PerAxis = 0.1
-    rotation_frame: CommandFrame = CommandFrame.ROOT
-    rotation_format: RotationFormat = RotationFormat.ROTVEC
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        name = type(self).__name__
-        if not isinstance(self.rotation_frame, CommandFrame):
-            raise ConfigError(f"{name}.rotation_frame: expected a CommandFrame, got {self.rotation_frame!r}.")
-        if not isinstance(self.rotation_format, RotationFormat):
-            raise ConfigError(f"{name}.rotation_format: expected a RotationFormat, got {self.rotation_format!r}.")
-        if self.use_delta and self.rotation_format is not RotationFormat.ROTVEC:
-            raise ConfigError(
-                f"{name}: rotation deltas are rotation vectors; rotation_format={self.rotation_format.name} "
-                "applies to absolute poses (use_delta=False) only."
-            )
-
-    @property
-    def controls_rotation(self) -> bool:
-        return True
+__all__ = ["CommandFrame", "PDEEController", "PDEEPosConfig", "PDEEPoseConfig", "PerAxis", "RotationFormat"]
 
 
 class PDEEController(Controller):
@@ -256,15 +136,15 @@ class PDEEController(Controller):
     # -- action ---------------------------------------------------------------------------
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         name = type(self.config).__name__
-        low = [_axes(name, "pos_lower", self.config.pos_lower)]
-        high = [_axes(name, "pos_upper", self.config.pos_upper)]
+        low = [per_axis(name, "pos_lower", self.config.pos_lower)]
+        high = [per_axis(name, "pos_upper", self.config.pos_upper)]
         if isinstance(self.config, PDEEPoseConfig):
             if self.quaternion_input:
                 low.append(-np.ones(4))
                 high.append(np.ones(4))
             else:
-                low.append(_axes(name, "rot_lower", self.config.rot_lower))
-                high.append(_axes(name, "rot_upper", self.config.rot_upper))
+                low.append(per_axis(name, "rot_lower", self.config.rot_lower))
+                high.append(per_axis(name, "rot_upper", self.config.rot_upper))
         return np.concatenate(low), np.concatenate(high)
 
     @property

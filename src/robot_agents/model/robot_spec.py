@@ -1,6 +1,7 @@
 """Edit a robot's MjSpec according to its declaration: root joint, gravity
-compensation, friction materials, self-collision filtering and one actuator per
-controlled joint. Every name is checked; an unknown one lists what is available."""
+compensation, friction materials and self-collision filtering (actuators are
+:mod:`robot_agents.actuators`). Every name is checked; an unknown one lists what is
+available."""
 
 from __future__ import annotations
 
@@ -107,25 +108,3 @@ def set_self_collisions(
             child = root.next_body(child)
     for first, second in pairs:
         spec.add_exclude(bodyname1=first, bodyname2=second)
-
-
-def add_joint_actuators(spec: mujoco.MjSpec, joint_names: Iterable[str], where: str) -> None:
-    """One ``general`` actuator per joint, named like the joint, with an affine bias.
-
-    Gains start at zero; a control mode writes them when it is activated.
-    """
-    available = [j.name for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
-    for name in joint_names:
-        _check_names(where, "joint (control modes)", [name], available)
-        spec.add_actuator(
-            name=name,
-            target=name,
-            trntype=mujoco.mjtTrn.mjTRN_JOINT,
-            gaintype=mujoco.mjtGain.mjGAIN_FIXED,
-            biastype=mujoco.mjtBias.mjBIAS_AFFINE,
-            gainprm=[0.0] * 10,
-            biasprm=[0.0] * 10,
-            ctrllimited=0,
-            forcelimited=1,
-            forcerange=[-1e6, 1e6],
-        )

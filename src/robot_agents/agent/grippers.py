@@ -1,0 +1,86 @@
+"""A bound robot's grippers and hands: grasp detection, opening, and which joints
+``is_static`` ignores."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent.index import RobotIndex
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.parts.declaration import Gripper, Part
+from robot_agents.parts.grasp import grasped
+
+if TYPE_CHECKING:
+    from robot_agents.sim.backend import SimBackend
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+class GripperParts:
+    """The Gripper and Hand parts of one robot in ``world``."""
+
+    def __init__(
+        self,
+        world: SimBackend,
+        index: RobotIndex,
+        parts: Sequence[Part],
+        part_joints: Mapping[str, Sequence[str]],
+        owner: str,
+    ) -> None:
+        self.world = world
+        self.index = index
+        self.owner = owner
+        self.parts = {p.name: p for p in parts if isinstance(p, Gripper)}
+        self.part_joints = part_joints
+        gripping = {j for name in self.parts for j in part_joints[name]}
+        self._static_dofs = np.array(
+            [a for j in index.joints if j.name not in gripping for a in range(j.dof_adr, j.dof_adr + j.nv)],
+            dtype=np.int64,
+        )
+
+    def part(self, name: str | None) -> Gripper:
+        """The gripper or hand ``name`` (default: the first)."""
+        if not self.parts:
+            raise ConfigError(f"{self.owner}: declares no Gripper or Hand part.")
+        if name is None:
+            return next(iter(self.parts.values()))
+        if name not in self.parts:
+            raise UnknownNameError(f"{self.owner}.gripper", "gripper", str(name), self.parts)
+        return self.parts[name]
+
+    def is_static(self, threshold: float) -> BoolArray:
+        """Per env: every joint except grippers' moves slower than ``threshold``."""
+        qvel = self.world.qvel[:, self._static_dofs]
+        return np.asarray(np.max(np.abs(qvel), axis=1, initial=0.0) <= threshold)
+
+    def is_grasping(self, body: str, min_force: float, max_angle: float, gripper: str | None) -> BoolArray:
+        """Per env: two fingers press on scene body ``body`` from opposing sides."""
+        part = self.part(gripper)
+        where = f"{self.owner}.is_grasping"
+        if not part.finger_links:
+            raise ConfigError(f"{where}: gripper {part.name!r} declares no fingers.")
+        model = self.world.model
+        target = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else -1
+        if target < 0:
+            raise UnknownNameError(where, "body", str(body), [model.body(b).name for b in range(model.nbody)])
+        groups = [
+            [b for link in finger for b in self.index.subtree_bodies(self.index.body_id(link, where))]
+            for finger in part.finger_links
+        ]
+        return grasped(self.world.contact_forces(groups, target), min_force, max_angle)
+
+    def opening(self, gripper: str | None) -> FloatArray:
+        """Per env, 0 at ``closed`` and 1 at ``open`` (the part's first joint)."""
+        part = self.part(gripper)
+        joint = self.index.joint(self.part_joints[part.name][0], "gripper_opening")
+        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
+        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        q = self.world.qpos[:, joint.qpos_adr]
+        opening: FloatArray = (q - closed) / (opened - closed)
+        return opening

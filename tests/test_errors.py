@@ -26,6 +26,8 @@ def env():  # type: ignore[no-untyped-def]
 def assert_unchanged(env, call: Callable[[], object], error: type[Exception], *fragments: str) -> None:  # type: ignore[no-untyped-def]
     before = env.unwrapped.get_state()
     ctrl_before = env.unwrapped.scene.world.ctrl.copy()
+    targets = env.unwrapped.agent.drives.targets
+    targets_before = [targets.position.copy(), targets.velocity.copy(), targets.effort.copy()]
     mode_before = env.unwrapped.agent.control_mode
     with pytest.raises(error) as caught:
         call()
@@ -37,6 +39,8 @@ def assert_unchanged(env, call: Callable[[], object], error: type[Exception], *f
     assert np.array_equal(before["physics"], after["physics"])
     assert env.unwrapped.agent.control_mode == mode_before
     np.testing.assert_array_equal(ctrl_before, env.unwrapped.scene.world.ctrl)
+    for before_targets, now in zip(targets_before, (targets.position, targets.velocity, targets.effort), strict=True):
+        np.testing.assert_array_equal(before_targets, now)
     for part, state in before["agents"][0]["controller"].items():
         for key, value in state.items():
             np.testing.assert_array_equal(value, after["agents"][0]["controller"][part][key])

@@ -66,6 +66,8 @@ def cmd_info(uid: str, out: TextIO) -> int:
     agent = scene.agents[0]
     out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
     out.write(f"model: {cls.model_path()}\n")
+    for prefix, piece in composition(cls).pieces:
+        out.write(f"  + {piece.__name__} ({piece.model_path().name}){f' as {prefix!r}' if prefix else ''}\n")
     tools = ", ".join(agent.frames.end_effectors) or "-"
     out.write(f"root: {'fixed' if cls.fix_root_link else 'free'}; end effectors: {tools}\n")
     parts = "; ".join(f"{p} ({', '.join(joints)})" for p, joints in agent.part_joints.items()) or "-"

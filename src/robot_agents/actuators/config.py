@@ -61,8 +61,8 @@ class ActuatorConfig:
     def __post_init__(self) -> None:
         owner = type(self).__name__
         object.__setattr__(self, "joints", as_patterns(self.joints, f"{owner}.joints"))
-        for name in ("effort_limit", "velocity_limit", "armature", "friction"):
-            _check_per_joint(owner, name, getattr(self, name))
+        for name in ("effort_limit", "velocity_limit", "armature", "friction", "stiffness", "damping"):
+            _check_per_joint(owner, name, getattr(self, name, None))
 
     @property
     def label(self) -> str:
@@ -78,21 +78,12 @@ class PDActuator(ActuatorConfig):
     stiffness: PerJoint
     damping: PerJoint = 0.0
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_per_joint(type(self).__name__, "stiffness", self.stiffness)
-        _check_per_joint(type(self).__name__, "damping", self.damping)
-
 
 @dataclass(frozen=True, kw_only=True)
 class VelocityActuator(ActuatorConfig):
     """A velocity servo inside MuJoCo: ``force = kv (qd* - qd) + tau*``."""
 
     damping: PerJoint
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_per_joint(type(self).__name__, "damping", self.damping)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -104,11 +95,6 @@ class MotorActuator(ActuatorConfig):
 
     stiffness: PerJoint = 0.0
     damping: PerJoint = 0.0
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        _check_per_joint(type(self).__name__, "stiffness", self.stiffness)
-        _check_per_joint(type(self).__name__, "damping", self.damping)
 
 
 @dataclass(frozen=True, kw_only=True)

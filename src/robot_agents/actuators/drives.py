@@ -134,8 +134,8 @@ class Drives:
     @staticmethod
     def _find_actuators(model: mujoco.MjModel, joint_ids: IntArray) -> IntArray:
         by_joint: dict[int, int] = {}
-        for actuator in range(model.nu if not hasattr(model, "nactuator") else model.nactuator):
-            if model.actuator_trntype[actuator] == mujoco.mjtTrn.mjTRN_JOINT:
+        for actuator in range(getattr(model, "nactuator", model.nu)):
+            if int(model.actuator_trntype[actuator]) == int(mujoco.mjtTrn.mjTRN_JOINT):
                 by_joint.setdefault(int(model.actuator_trnid[actuator, 0]), actuator)
         missing = [model.joint(j).name for j in joint_ids if int(j) not in by_joint]
         if missing:

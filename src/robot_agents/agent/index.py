@@ -196,7 +196,7 @@ class RobotIndex:
         by_id = {j.id: j.name for j in self.joints}
         out = []
         for eq in range(model.neq):
-            if model.eq_type[eq] != mujoco.mjtEq.mjEQ_JOINT:
+            if int(model.eq_type[eq]) != int(mujoco.mjtEq.mjEQ_JOINT):
                 continue
             follower, leader = int(model.eq_obj1id[eq]), int(model.eq_obj2id[eq])
             if follower in by_id and leader in by_id:

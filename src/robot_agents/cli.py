@@ -82,7 +82,7 @@ def cmd_info(uid: str, out: TextIO) -> int:
     rows += [[n, f"{lo:.4f}", f"{hi:.4f}"] for n, (lo, hi) in zip(agent.joint_names, agent.qpos_limits, strict=True)]
     _table(rows, out)
     out.write("\nkeyframes:\n")
-    for name in cls.keyframes:
+    for name in cls.keyframe_names():
         out.write(f"  {name}: qpos = [{', '.join(f'{q:.4f}' for q in agent.keyframe_qpos(name))}]\n")
     out.write("\n")
     rows = [["control mode", "action", "parts"]]

@@ -129,7 +129,7 @@ def run_demo(
     steps_per_pose = max(1, round(seconds_per_pose * scene.control_freq))
     position_mode = mode == DEMO_MODE
     results: list[KeyframeResult] = []
-    poses = list(agent.keyframes.items())
+    poses = [(name, None) for name in agent.keyframe_names()]
     for name, _ in [*poses[1:], *poses[:1]]:
         goal = agent.keyframe_qpos(name)
         begin = agent.qpos[0]

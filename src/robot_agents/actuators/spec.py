@@ -8,7 +8,7 @@ and never kept beside a declared drive on the same joint.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
 
@@ -79,11 +79,23 @@ def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:
     return list(spec.actuators)
 
 
+#: Gains of derived drives: joint -> (stiffness, damping, effort limit).
+DerivedGains = Mapping[str, tuple[float, float, float]]
+
+
+def drivable_joints(spec: mujoco.MjSpec) -> list[str]:
+    """Hinge and slide joints that are not followers of a joint coupling (mimic
+    fingers, linkages): the joints a robot without declared drives gets drives on."""
+    followers = {eq.name1 for eq in spec.equalities if eq.type == mujoco.mjtEq.mjEQ_JOINT and eq.name2}
+    kinds = (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
+    return [j.name for j in spec.joints if j.type in kinds and j.name not in followers]
+
+
 def apply_actuators(
     spec: mujoco.MjSpec,
     declarations: Sequence[ActuatorConfig],
     replace_file_actuators: bool,
-    implicit_joints: Sequence[str],
+    derived: DerivedGains | None,
     where: str,
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
@@ -91,8 +103,9 @@ def apply_actuators(
     Args:
         declarations: the robot's actuator declarations.
         replace_file_actuators: delete the file's actuators first.
-        implicit_joints: joints that get a zero-gain PD actuator when the robot declares
-            no actuators and the file has none (their control modes set the gains).
+        derived: when the robot declares no actuators and the file has none, every
+            drivable joint gets a PD drive with these gains (see
+            :mod:`robot_agents.actuators.gains`); ``None``: zero gains for now.
         where: the robot, for messages.
 
     Returns:
@@ -157,12 +170,11 @@ def apply_actuators(
         if joint not in drives:
             drives[joint] = _adopted(actuator, "the model file", joint)
     if not declarations and not on_joint:
-        for joint in implicit_joints:
-            if joint not in names:
-                continue
-            _add_affine(spec, joint, taken, kp=0.0, kv=0.0, limit=np.inf)
+        for joint in drivable_joints(spec):
+            kp, kv, limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
+            _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
             drives[joint] = DriveDeclaration(
-                joint, DriveKind.AFFINE, "a zero-gain drive (gains from the control modes)"
+                joint, DriveKind.AFFINE, "derived gains (see robot_agents.actuators.gains)", kp, kv, limit
             )
     return [drives[n] for n in names if n in drives]
 

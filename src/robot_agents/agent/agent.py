@@ -55,6 +55,8 @@ class Agent:
         uid: registry id, e.g. ``"panda"``.
         mjcf_path / urdf_path: the model file (exactly one).
         fix_root_link: weld the root to the world (arms) or give it a free joint.
+        root_body: which top-level body of the file is the robot, when it has several
+            (a target marker beside it); ``None``: the one holding the actuated joints.
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
             model file's own actuators are adopted unless ``replace_file_actuators``.
         parts: arm(s), gripper(s) or hand(s), head, torso, base, legs, with their roles
@@ -76,6 +78,7 @@ class Agent:
     mjcf_path: ClassVar[str | Path | None] = None
     urdf_path: ClassVar[str | Path | None] = None
     fix_root_link: ClassVar[bool] = True
+    root_body: ClassVar[str | None] = None
     actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
     replace_file_actuators: ClassVar[bool] = False
     parts: ClassVar[tuple[Part, ...]] = ()
@@ -110,9 +113,9 @@ class Agent:
 
     @classmethod
     def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
-        """A fresh MjSpec of the composed robot with every declared option applied;
-        ``cameras`` replaces the declared cameras (an env's overrides)."""
-        return declaration.build_spec(cls, cameras)[0]
+        """A fresh MjSpec of the composed robot with every declared (or derived) option
+        applied; ``cameras`` replaces the declared cameras (an env's overrides)."""
+        return declaration.build_spec(cls, cameras)
 
     @classmethod
     def modes(cls) -> dict[str, ModeConfig]:
@@ -126,11 +129,18 @@ class Agent:
 
     @classmethod
     def default_mode(cls) -> str:
-        return cls.default_control_mode or next(iter(cls.modes()))
+        """The declared default mode; for a generated table a delta mode (random actions
+        are then small), else the first mode."""
+        return cls.check().default_mode
+
+    @classmethod
+    def keyframe_names(cls) -> list[str]:
+        """Keyframe names, the default first (``["default"]`` for a robot that declares none)."""
+        return list(cls.check().keyframes)
 
     @classmethod
     def default_keyframe(cls) -> str | None:
-        return next(iter(cls.keyframes), None)
+        return next(iter(cls.check().keyframes), None)
 
     # ------------------------------------------------------------------ binding
     def __init__(
@@ -318,7 +328,9 @@ class Agent:
     def keyframe_qpos(self, name: str) -> FloatArray:
         """Keyframe ``name`` as the robot's ``qpos`` vector ``(nq,)`` (a copy)."""
         if name not in self._resolved_keyframes:
-            raise UnknownNameError(f"{type(self).__name__}.keyframe_qpos", "keyframe", str(name), self.keyframes)
+            raise UnknownNameError(
+                f"{type(self).__name__}.keyframe_qpos", "keyframe", str(name), self._resolved_keyframes
+            )
         qpos: FloatArray = self._resolved_keyframes[name].qpos.copy()
         return qpos
 
@@ -338,7 +350,7 @@ class Agent:
         frame = None
         if name is not None:
             if not isinstance(name, str) or name not in self._resolved_keyframes:
-                raise UnknownNameError(where, "keyframe", str(name), self.keyframes)
+                raise UnknownNameError(where, "keyframe", str(name), self._resolved_keyframes)
             frame = self._resolved_keyframes[name]
         if frame is None and qpos is None:
             raise StateError(f"{where}: {type(self).__name__} has no keyframes; pass qpos of shape ({self.nq},).")

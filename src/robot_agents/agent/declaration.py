@@ -11,6 +11,8 @@ end effectors, fingers, keyframes (names, sizes, limits, quaternions) and contro
 from __future__ import annotations
 
 import dataclasses
+import itertools
+import math
 import re
 import weakref
 from collections.abc import Mapping, Sequence
@@ -22,7 +24,8 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.spec import DriveDeclaration, apply_actuators
+from robot_agents.actuators.gains import gains_from_inertia
+from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, DriveKind, apply_actuators
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, UnknownNameError
@@ -33,7 +36,7 @@ from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.parts.declaration import EndEffector, Gripper, Part
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -178,8 +181,6 @@ def validate_definition(cls: type[Agent]) -> None:
                         f"{name}.control_modes[{mode!r}]: joint {joint!r} is driven by both part {seen[joint]!r} and {part!r}."
                     )
                 seen[joint] = part
-    if not cls.control_modes and not cls.parts and not any(a.piece.parts for a in cls.attachments):
-        raise ConfigError(f"{name}: expected control_modes, or parts to generate them from; got neither.")
 
 
 def _raw_spec(cls: type[Agent], where: str) -> mujoco.MjSpec:
@@ -190,36 +191,30 @@ def _raw_spec(cls: type[Agent], where: str) -> mujoco.MjSpec:
     return spec
 
 
-def controlled_joints(modes: Mapping[str, ModeConfig]) -> list[str]:
-    """Every joint named by any control mode, in first-seen order."""
-    seen: dict[str, None] = {}
-    for entry in modes.values():
-        configs = [entry] if isinstance(entry, ControllerConfig) else list(entry.values())
-        for config in configs:
-            seen.update(dict.fromkeys(config.joint_names))
-    return list(seen)
-
-
-def build_spec(
-    cls: type[Agent], cameras: Sequence[CameraConfig] | None = None
+def _build(
+    cls: type[Agent], cameras: Sequence[CameraConfig] | None, derived: DerivedGains | None
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
-    """A fresh MjSpec of the composed robot with every declared option applied, and the
-    drive of each driven joint. ``cameras`` replaces the declared cameras (an env's overrides)."""
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
     spec = _raw_spec(cls, where)
+    robot_spec.isolate_robot(spec, cls.root_body, where)
     robot_spec.set_root_joint(spec, cls.fix_root_link, where)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
     robot_spec.set_self_collisions(spec, cls.disable_self_collisions, parts.self_collision_exclusions, where)
-    drives = apply_actuators(
-        spec, parts.actuators, cls.replace_file_actuators, controlled_joints(cls.control_modes), cls.__name__
-    )
+    drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__)
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
     return spec, drives
+
+
+def build_spec(cls: type[Agent], cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+    """A fresh MjSpec of the composed robot with every declared (or derived) option
+    applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
+    checked = check(cls)
+    return _build(cls, cameras, checked.derived_gains)[0]
 
 
 @dataclass(frozen=True)
@@ -229,9 +224,14 @@ class CheckedRobot:
     Attributes:
         index: names to addresses in the robot's own model (prefix ``""``).
         drives: the drive of each driven joint.
-        keyframes: every keyframe resolved to the robot's vectors.
+        keyframes: every keyframe resolved to the robot's vectors (a robot that declares
+            none gets ``"default"``: see :func:`check`).
         part_joints: each part's joints, in model order.
+        parts: the parts (declared, mounted pieces', or inferred).
         modes: the control-mode table (declared, or generated from the parts).
+        default_mode: the mode a robot starts in.
+        derived_gains: gains of drives derived from the model's inertia (``None`` when
+            the robot or its file declares drives).
     """
 
     index: RobotIndex
@@ -240,13 +240,23 @@ class CheckedRobot:
     part_joints: dict[str, tuple[str, ...]]
     parts: tuple[Part, ...]
     modes: dict[str, ModeConfig]
+    default_mode: str
+    derived_gains: DerivedGains | None = None
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
+#: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
+DERIVED = "derived gains"
 
 
 def check(cls: type[Agent]) -> CheckedRobot:
     """Compile the robot alone and check its whole declaration against it (cached per class).
+
+    What a robot does not declare is derived here: parts (a serial chain becomes an
+    arm whose last body is the end effector), a ``"default"`` keyframe (the file's own
+    keyframe or the model's pose clipped into the limits; a floating robot resting on
+    the floor), drives (PD gains from the model's inertia when neither the robot nor its
+    file has any), control modes (from the parts) and the default mode (a delta mode).
 
     Raises:
         ConfigError / UnknownNameError / ModelError: what is wrong, where (the robot,
@@ -256,26 +266,56 @@ def check(cls: type[Agent]) -> CheckedRobot:
     if cached is not None:
         return cached
     name = cls.__name__
-    spec, drives = build_spec(cls)
+    spec, drives = _build(cls, None, None)
     model = compile_spec(spec, name)
     index = RobotIndex(model, "", name)
-    parts = composition(cls)
-    part_joints = _resolve_parts(cls, parts.parts, index, model)
+    composed = composition(cls)
+    parts = composed.parts
+    if not parts and not cls.control_modes:
+        parts = infer_parts(model, index, [d.joint for d in drives])
+    part_joints = _resolve_parts(cls, parts, index, model)
     default = _composed_default(cls, index)
+    frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
     keyframes = {}
-    for key, frame in cls.keyframes.items():
+    for key, frame in frames.items():
         keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
+    if not cls.keyframes and index.free_joint is not None:
+        base = resting_base(model, index, keyframes["default"].qpos)
+        keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
+    derived: DerivedGains | None = None
+    if drives and all(d.source.startswith(DERIVED) for d in drives):
+        full = model.qpos0.copy()
+        full[index.qpos_adr] = next(iter(keyframes.values())).qpos
+        gains = gains_from_inertia(model, [d.joint for d in drives], full)
+        derived = {
+            j: (float(kp), float(kv), float(lim))
+            for j, kp, kv, lim in zip(gains.joints, gains.stiffness, gains.damping, gains.effort_limit, strict=True)
+        }
+        drives = [
+            dataclasses.replace(
+                d, stiffness=derived[d.joint][0], damping=derived[d.joint][1], effort_limit=derived[d.joint][2]
+            )
+            for d in drives
+        ]
     from robot_agents.controllers.rules import modes_from_parts
 
     modes: dict[str, ModeConfig] = (
         dict(cls.control_modes)
         if cls.control_modes
-        else modes_from_parts(parts.parts, part_joints, {d.joint: d.velocity_limit for d in drives})
+        else modes_from_parts(
+            parts,
+            part_joints,
+            {d.joint: d.velocity_limit for d in drives},
+            torque_only=_torque_only(model, drives),
+        )
     )
     if not modes:
-        raise ConfigError(f"{name}: its parts give no control mode; declare control_modes.")
+        raise ConfigError(f"{name}: no control mode: declare control_modes, or parts with driven joints.")
     if cls.default_control_mode is not None and cls.default_control_mode not in modes:
         raise UnknownNameError(f"{name}.default_control_mode", "control mode", cls.default_control_mode, modes)
+    default_mode = cls.default_control_mode or (
+        "pd_joint_delta_pos" if not cls.control_modes and "pd_joint_delta_pos" in modes else next(iter(modes))
+    )
     driven = {d.joint for d in drives}
     for mode in modes:
         for part, config in mode_parts(cls, modes, mode).items():
@@ -292,9 +332,97 @@ def check(cls: type[Agent]) -> CheckedRobot:
                         f"{name}.control_modes[{mode!r}][{part!r}]: joint {joint!r} has no drive; declare one in "
                         f"actuators. Driven joints: {sorted(driven)}."
                     )
-    checked = CheckedRobot(index, tuple(drives), keyframes, part_joints, parts.parts, modes)
+    checked = CheckedRobot(index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived)
     _CHECKED[cls] = checked
     return checked
+
+
+def _torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
+    """Driven joints whose drive is an affine actuator without stiffness (a motor)."""
+    out = []
+    for drive in drives:
+        if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED):
+            continue
+        joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+        actuators = [
+            a
+            for a in range(getattr(model, "nactuator", model.nu))
+            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT) and model.actuator_trnid[a, 0] == joint
+        ]
+        if actuators and model.actuator_biasprm[actuators[0], 1] == 0.0:
+            out.append(drive.joint)
+    return out
+
+
+def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
+    """Parts of a robot that declares none: its driven joints as one arm when they form
+    a serial chain (each joint's body below the previous one's), with the chain's last
+    body as the end effector; otherwise one ``Body`` part over all of them."""
+    if not driven:
+        return ()
+    joints = [index.joint(j, "infer_parts") for j in driven]
+    bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
+    serial = all(b in index.subtree_bodies(a) for a, b in itertools.pairwise(bodies))
+    patterns = tuple(re.escape(j) for j in driven)
+    if not serial:
+        return (Body(name="body", joints=patterns),)
+    tip = bodies[-1]
+    while True:
+        children = [b for b in range(tip + 1, model.nbody) if int(model.body_parentid[b]) == tip]
+        if len(children) != 1:
+            break
+        tip = children[0]
+    link = model.body(tip).name[len(index.prefix) :]
+    return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
+
+
+def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float:
+    """World z (m) of the lowest point of ``geom`` after kinematics (exact for spheres,
+    capsules, cylinders, boxes, ellipsoids and meshes; the bounding box otherwise)."""
+    kind = int(model.geom_type[geom])
+    z = float(data.geom_xpos[geom, 2])
+    rotation = data.geom_xmat[geom].reshape(3, 3)
+    size = model.geom_size[geom]
+    axis_z = abs(float(rotation[2, 2]))
+    if kind == int(mujoco.mjtGeom.mjGEOM_SPHERE):
+        return z - float(size[0])
+    if kind == int(mujoco.mjtGeom.mjGEOM_CAPSULE):
+        return z - axis_z * float(size[1]) - float(size[0])
+    if kind == int(mujoco.mjtGeom.mjGEOM_CYLINDER):
+        return z - axis_z * float(size[1]) - float(size[0]) * math.sqrt(max(0.0, 1.0 - axis_z**2))
+    if kind == int(mujoco.mjtGeom.mjGEOM_BOX):
+        return z - float(np.abs(rotation[2]) @ size)
+    if kind == int(mujoco.mjtGeom.mjGEOM_ELLIPSOID):
+        return z - float(np.linalg.norm(rotation[2] * size))
+    if kind == int(mujoco.mjtGeom.mjGEOM_MESH):
+        mesh = int(model.geom_dataid[geom])
+        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
+        vertices = model.mesh_vert[start : start + count]
+        return z + float(np.min(vertices @ rotation[2]))
+    center, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+    return z + float(rotation[2] @ center) - float(np.abs(rotation[2]) @ half)
+
+
+def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> np.ndarray:
+    """A floating robot's base pose ``(7,)`` at ``qpos`` that puts its lowest colliding
+    geom 1 mm above the floor (z = 0), upright, at the origin."""
+    data = mujoco.MjData(model)
+    data.qpos[index.qpos_adr] = qpos
+    free = index.free_joint
+    if free is not None:
+        data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    mujoco.mj_kinematics(model, data)
+    lowest = min(
+        (
+            lowest_point(model, data, g)
+            for g in range(model.ngeom)
+            if (model.geom_contype[g] or model.geom_conaffinity[g])
+            and int(model.geom_type[g]) != int(mujoco.mjtGeom.mjGEOM_PLANE)
+        ),
+        default=np.inf,
+    )
+    height = 0.0 if not np.isfinite(lowest) else 0.001 - lowest
+    return np.array([0.0, 0.0, height, 1.0, 0.0, 0.0, 0.0])
 
 
 def _resolve_parts(

@@ -20,6 +20,7 @@ import numpy as np
 from robot_agents.controllers.base import ControllerConfig, PerJoint
 from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (
+    JointEffortConfig,
     PDJointPosConfig,
     PDJointPosMimicConfig,
     PDJointPosVelConfig,
@@ -199,8 +200,15 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
     )
 
 
+#: The mode of robots whose drives are torque motors (a model file's ``<motor>``s).
+EFFORT_MODE = "joint_effort"
+
+
 def modes_from_parts(
-    parts: Sequence[Part], part_joints: Mapping[str, Sequence[str]], velocity_limits: Mapping[str, float]
+    parts: Sequence[Part],
+    part_joints: Mapping[str, Sequence[str]],
+    velocity_limits: Mapping[str, float],
+    torque_only: Sequence[str] = (),
 ) -> dict[str, ModeConfig]:
     """The control-mode table of a robot from its parts.
 
@@ -208,11 +216,17 @@ def modes_from_parts(
     a gripper) gets the six joint modes and, for an arm with a task space, the five
     end-effector modes; a gripper adds one normalized open/close action to every mode;
     every other part adds delta joint-position actions. ``velocity_limits`` holds the
-    driven joints (rad/s or m/s; ``inf`` where unknown).
+    driven joints (rad/s or m/s; ``inf`` where unknown). When any of the main part's
+    drives is in ``torque_only`` (motors that cannot follow position targets), the
+    table is one mode, ``joint_effort``: normalized efforts within the drives' limits
+    over every driven joint of every part.
     """
     if not parts:
         return {}
     driven = list(velocity_limits)
+    if set(torque_only) & {j for p in parts for j in part_joints[p.name]}:
+        every = tuple(j for p in parts for j in part_joints[p.name] if j in driven)
+        return {EFFORT_MODE: JointEffortConfig(joint_names=every)}
     main: Part = next(
         (p for p in parts if isinstance(p, Arm)),
         next(

@@ -6,6 +6,7 @@ available."""
 from __future__ import annotations
 
 import itertools
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 
 import mujoco
@@ -35,6 +36,62 @@ def root_body(spec: mujoco.MjSpec, where: str) -> mujoco.MjsBody:
             f"{[b.name for b in tops]}."
         )
     return tops[0]
+
+
+def _top_bodies(spec: mujoco.MjSpec) -> list[mujoco.MjsBody]:
+    tops: list[mujoco.MjsBody] = []
+    body = spec.worldbody.first_body()
+    while body is not None:
+        tops.append(body)
+        body = spec.worldbody.next_body(body)
+    return tops
+
+
+def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
+    """Keep only the robot in a model file: one top-level body and its subtree.
+
+    A file may carry more than the robot: a floor or an arena as world geoms (dropped:
+    the scene has its own floor), or other top-level bodies such as a target marker.
+    With several top-level bodies the robot is ``chosen`` (the robot's ``root_body``),
+    else the one whose subtree holds the file's actuated joints (or, without
+    actuators, the most joints); each dropped body is named in one warning. An
+    ambiguous file raises :class:`ModelError` naming the bodies and the fix."""
+    for geom in list(spec.worldbody.geoms):
+        spec.delete(geom)
+    tops = _top_bodies(spec)
+    if len(tops) <= 1 and chosen is None:
+        return
+    names = [b.name for b in tops]
+    if chosen is not None:
+        _check_names(where, "top-level body (root_body)", [chosen], names)
+        keep = next(b for b in tops if b.name == chosen)
+    else:
+        actuated = {a.target for a in spec.actuators if a.trntype == mujoco.mjtTrn.mjTRN_JOINT}
+
+        def score(body: mujoco.MjsBody) -> tuple[int, int]:
+            joints = [j.name for j in body.find_all(mujoco.mjtObj.mjOBJ_JOINT)]
+            return (len(actuated & set(joints)), len(joints))
+
+        ranked = sorted(tops, key=score, reverse=True)
+        if score(ranked[0]) == score(ranked[1]):
+            raise ModelError(
+                f"{where}: the model file has {len(tops)} top-level bodies {names} and none stands out as the robot; "
+                f"set root_body = {names[0]!r} (or another) on the robot class to choose."
+            )
+        keep = ranked[0]
+    dropped = [b for b in tops if b is not keep]
+    gone = {j.name for b in dropped for j in b.find_all(mujoco.mjtObj.mjOBJ_JOINT)}
+    for actuator in list(spec.actuators):
+        if actuator.target in gone:
+            spec.delete(actuator)
+    for body in dropped:
+        spec.delete(body)
+    warnings.warn(
+        f"{where}: kept top-level body {keep.name!r} as the robot and dropped {[b.name for b in dropped]} "
+        "(set root_body on the robot class to choose another).",
+        RuntimeWarning,
+        stacklevel=3,
+    )
 
 
 def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequence[str]) -> None:

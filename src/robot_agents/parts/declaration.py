@@ -26,6 +26,7 @@ class PartKind(Enum):
     TORSO = "torso"
     BASE = "base"
     LEGS = "legs"
+    BODY = "body"
 
 
 def _vector(where: str, value: tuple[float, ...], size: int) -> tuple[float, ...]:
@@ -183,4 +184,12 @@ class Base(Part):
     kind: ClassVar[PartKind] = PartKind.BASE
 
 
-PART_TYPES = (Arm, Gripper, Hand, Head, Torso, Legs, Base)
+@dataclass(frozen=True, kw_only=True)
+class Body(Part):
+    """Joints with no more specific role (what a robot that declares no parts gets
+    when its joints are not one serial chain: a humanoid, a quadruped, a hand)."""
+
+    kind: ClassVar[PartKind] = PartKind.BODY
+
+
+PART_TYPES = (Arm, Gripper, Hand, Head, Torso, Legs, Base, Body)

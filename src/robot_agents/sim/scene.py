@@ -194,8 +194,9 @@ class Scene:
         if len(positions) != len(self.agents):
             raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
         for agent, frame in zip(self.agents, frames, strict=True):
-            if frame is not None and (not isinstance(frame, str) or frame not in agent.keyframes):
-                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", str(frame), agent.keyframes)
+            names = agent.keyframe_names()
+            if frame is not None and (not isinstance(frame, str) or frame not in names):
+                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", str(frame), names)
         self.world.reset_envs(ids, self._initial_state)  # also clears MuJoCo's warning counters
         for agent, frame, position in zip(self.agents, frames, positions, strict=True):
             agent.reset(keyframe=frame, qpos=position, env_ids=ids)

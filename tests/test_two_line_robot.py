@@ -1,0 +1,138 @@
+"""The two-line robot: ``uid`` plus a model file (plus ``fix_root_link=False`` for a
+floating robot) gives a working robot, with parts, a keyframe, drives and control modes
+derived from the model. Checked on gymnasium's MuJoCo models and files written here."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import gymnasium
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.actuators.gains import gains_from_inertia
+from tests.conftest import PENDULUM_MJCF, TWO_LINK_URDF
+
+GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+
+
+def two_line(path: Path, **extra: object) -> type[ra.Agent]:
+    return type(
+        "TwoLine",
+        (ra.Agent,),
+        {"uid": "two_line", "mjcf_path" if path.suffix == ".xml" else "urdf_path": path, **extra},
+    )
+
+
+def scene_of(cls: type[ra.Agent], **kwargs: object) -> ra.Scene:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # files with extra bodies: a one-line note
+        return ra.Scene(cls, **kwargs)  # type: ignore[arg-type]
+
+
+def run_random(scene: ra.Scene, seconds: float, seed: int = 0) -> None:
+    agent = scene.agents[0]
+    rng = np.random.default_rng(seed)
+    space = agent.action_space
+    for _ in range(round(seconds * scene.control_freq)):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+    assert not np.any(scene.world.instability_counts()), "MuJoCo reset an env (instability)"
+    assert np.all(np.isfinite(scene.world.get_state()))
+
+
+def test_urdf_arm_without_actuators_gets_derived_drives_and_holds(tmp_path: Path) -> None:
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF)
+    cls = two_line(path)
+    checked = cls.check()
+    assert checked.part_joints == {"arm": ("joint_a", "joint_b")}  # a serial chain: an arm
+    assert [ee.link for ee in checked.parts[0].end_effectors] == ["tool"]  # type: ignore[attr-defined]
+    assert checked.default_mode == "pd_joint_delta_pos"  # small, safe random actions
+    assert list(checked.keyframes) == ["default"]
+    # Drives: critically damped at 10 Hz from the inertia at the default pose, torques
+    # bounded by the URDF's effort limits (50 and 20 N*m).
+    assert checked.derived_gains is not None
+    assert [d.effort_limit for d in checked.drives] == [50.0, 20.0]
+    scene = scene_of(cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    start = agent.qpos
+    for _ in range(2 * scene.control_freq):  # 2 s of zero deltas
+        agent.set_action(np.zeros(2))
+        scene.step()
+    assert np.max(np.abs(agent.qpos - start)) < 0.01
+    run_random(scene, 5.0)
+
+
+def test_suggested_gains_are_critically_damped_at_the_stated_bandwidth() -> None:
+    # A 2 kg box on a slide: effective inertia 2 kg (+ 0.5 kg armature).
+    model = mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody><body><joint name="s" type="slide" axis="1 0 0" armature="0.5"/>
+        <geom type="box" size="0.1 0.1 0.1" mass="2"/></body></worldbody></mujoco>"""
+    )
+    gains = gains_from_inertia(model, ["s"], bandwidth_hz=5.0)
+    omega = 2 * math.pi * 5.0
+    np.testing.assert_allclose(gains.inertia, [2.5])
+    np.testing.assert_allclose(gains.stiffness, [2.5 * omega**2])
+    np.testing.assert_allclose(gains.damping, [2 * 2.5 * omega])
+    with pytest.raises(ra.ConfigError, match="bandwidth"):
+        gains_from_inertia(model, ["s"], bandwidth_hz=0.0)
+
+
+def test_pendulum_mjcf_two_lines(tmp_path: Path) -> None:
+    path = tmp_path / "pendulum.xml"
+    path.write_text(PENDULUM_MJCF)
+    scene = scene_of(two_line(path))
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.control_mode == "pd_joint_delta_pos"
+    assert list(agent.frames.end_effectors) == ["ee"]
+    assert agent.frames.end_effectors["ee"][0].name.endswith("tip")
+    run_random(scene, 5.0)
+
+
+@pytest.mark.parametrize(("name", "joints", "motors"), [("ant.xml", 8, 8), ("humanoid.xml", 17, 17)])
+def test_gymnasium_floating_robots_two_lines(name: str, joints: int, motors: int) -> None:
+    cls = two_line(GYM / name, fix_root_link=False)
+    scene = scene_of(cls)
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.dof == joints and scene.model.nu == motors  # the file's motors, adopted
+    assert agent.control_mode == "joint_effort"  # motors take efforts
+    # The default keyframe rests the robot on the floor, not inside it: its lowest point
+    # is 1 mm above z = 0 (contacts within the file's geom margins, none penetrating).
+    model, data = scene.model, scene.world.render_sources([0])[0]
+    assert all(data.contact[i].dist > 0 for i in range(data.ncon))
+    floor = model.geom("floor").id
+    robot = [g for g in range(model.ngeom) if model.body_rootid[model.geom_bodyid[g]] != 0 and model.geom_contype[g]]
+    gaps = [mujoco.mj_geomDistance(model, data, floor, g, 1.0, None) for g in robot]
+    assert min(gaps) == pytest.approx(0.001, abs=2e-4)
+    run_random(scene, 3.0)
+
+
+def test_reacher_keeps_the_arm_and_drops_the_target_marker() -> None:
+    cls = two_line(GYM / "reacher.xml")
+    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'body0' as the robot and dropped \['target'\]"):
+        scene = ra.Scene(cls)
+    assert scene.agents[0].joint_names == ("joint0", "joint1")
+    assert scene.model.nu == 2
+    chosen = two_line(GYM / "reacher.xml", root_body="target")
+    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target'"):
+        assert ra.Scene(chosen).agents[0].joint_names == ("target_x", "target_y")
+
+
+def test_ambiguous_top_level_bodies_name_the_fix(tmp_path: Path) -> None:
+    path = tmp_path / "twins.xml"
+    path.write_text(
+        """<mujoco><worldbody>
+        <body name="left"><joint name="a"/><geom size="0.1"/></body>
+        <body name="right" pos="1 0 0"><joint name="b"/><geom size="0.1"/></body>
+        </worldbody></mujoco>"""
+    )
+    with pytest.raises(ra.ModelError, match=r"2 top-level bodies \['left', 'right'\].*set root_body = 'left'"):
+        ra.Scene(two_line(path))

@@ -180,3 +180,48 @@ def test_switching_mode_updates_spaces() -> None:
         obs, *_ = env.step(env.action_space.sample())
         assert env.observation_space.contains(obs), mode
         assert env.action_space.shape == (1, u.agent.controller.action_dim)
+
+
+def test_robot_poses_from_make_env_and_the_robots_own_mount() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", robot_poses=[(0.3, -0.2, 0.5, 1.0, 0.0, 0.0, 0.0)])
+    env.reset(seed=0)
+    np.testing.assert_allclose(env.unwrapped.agent.base_pose[0], [0.3, -0.2, 0.5, 1, 0, 0, 0], atol=1e-12)
+    lifted = type(
+        "LiftedPanda", (ra.get_agent("panda"),), {"uid": "lifted_panda", "mount_pose": (0, 0, 0.8, 1, 0, 0, 0)}
+    )
+    scene = ra.Scene(lifted)
+    scene.reset()
+    assert scene.agents[0].base_pose[0, 2] == pytest.approx(0.8)
+    with pytest.raises(ra.ConfigError, match="unit quaternion"):
+        ra.make_env("Empty-v1", robot_uids="panda", robot_poses=[(0, 0, 0, 0, 0, 0, 0)])
+    with pytest.raises(ra.ConfigError, match="7 finite numbers"):
+        ra.make_env("Empty-v1", robot_uids="panda", robot_poses=[(0, 0, float("nan"), 1, 0, 0, 0)])
+
+
+def robot_pixel_share(env: ra.RobotEnv, camera: object) -> float:
+    """Share of the picture covered by the robot's geoms (segmentation render)."""
+    renderer = mujoco.Renderer(env.model, 120, 160)
+    renderer.enable_segmentation_rendering()
+    renderer.update_scene(env.data, camera=camera)  # type: ignore[arg-type]
+    ids = renderer.render()[:, :, 0]
+    renderer.close()
+    robot = [g for g in range(env.model.ngeom) if env.model.body_rootid[env.model.geom_bodyid[g]] != 0]
+    return float(np.isin(ids, robot).mean())
+
+
+def test_render_frames_the_robot_whatever_its_size() -> None:
+    """The render camera fits the robots' extent: the small floating hand fills about as
+    much of the picture as the whole Panda arm, and far more than the fixed scene camera
+    shows of it."""
+    shares = {}
+    for uid in ("panda", "floating_panda_gripper"):
+        env = ra.make_env("Empty-v1", robot_uids=uid, render_mode="rgb_array", render_size=(160, 120))
+        env.reset(seed=0)
+        assert env.render().shape == (120, 160, 3)
+        u = env.unwrapped
+        shares[uid] = (robot_pixel_share(u, u._render_camera), robot_pixel_share(u, "render_camera"))
+        env.close()
+    framed, fixed = shares["floating_panda_gripper"]
+    assert framed > 3 * fixed
+    for uid, (share, _) in shares.items():
+        assert 0.03 < share < 0.6, (uid, share)

@@ -249,3 +249,32 @@ def test_free_robot_keyframe_base_is_relative_to_its_mount(pendulum_file: Path) 
     scene.reset()
     np.testing.assert_allclose(scene.agents[0].base_pose[0], [0.1, 0, 1, 1, 0, 0, 0], atol=1e-12)
     np.testing.assert_allclose(scene.agents[1].base_pose[0], [2.0, 0.1, 1, *quarter_turn], atol=1e-12)
+
+
+def test_instability_is_in_info_and_can_raise(pendulum_file: Path) -> None:
+    stiff = {
+        "stiff": ra.PDJointPosConfig(
+            joint_names=("shoulder", "elbow"), stiffness=1e9, damping=0.0, effort_limit=1e12, normalize_action=False
+        )
+    }
+    cls = make_pendulum_class(pendulum_file, uid="unstable_pendulum", control_modes=stiff)
+    env = ra.RobotEnv(robot_uids=cls, num_envs=2, robot_init_qpos_noise=0.0)
+    env.reset(seed=0)
+    _, _, _, _, info = env.step(np.zeros((2, 2)))
+    np.testing.assert_array_equal(info["physics_unstable"], [False, False])
+    flags = []
+    for _ in range(5):
+        _, _, _, _, info = env.step(np.array([[2.0, -2.0], [0.0, 0.0]]))  # env 0 blows up, env 1 holds
+        flags.append(info["physics_unstable"].copy())
+    assert any(f[0] for f in flags) and not any(f[1] for f in flags)
+    world = env.scene.world
+    total = world.unstable_steps.copy()
+    assert total[0] > 0 and total[1] == 0
+    env.reset(seed=0)  # MuJoCo's own counters are cleared by a reset; ours keep counting
+    np.testing.assert_array_equal(world.instability_counts(), [0, 0])
+    np.testing.assert_array_equal(world.unstable_steps, total)
+    raising = ra.RobotEnv(robot_uids=cls, raise_on_instability=True)
+    raising.reset(seed=0)
+    with pytest.raises(ra.PhysicsError, match=r"unstable in env\(s\) \[0\].*lower the gains"):
+        for _ in range(5):
+            raising.step(np.array([2.0, -2.0]))

@@ -22,6 +22,7 @@ from robot_agents.agent import Agent
 from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.parts.declaration import Gripper
 from robot_agents.registry import get_agent
+from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sim.scene import Scene
@@ -191,17 +192,10 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
 
 
 def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
-    """A free camera that frames the robot at its first keyframe, seen from the front left."""
-    bodies = [b for b in range(scene.model.nbody) if scene.model.body(b).name.startswith(agent.prefix)]
-    points = scene.world.body_poses(bodies)[0, :, :3]
-    center = (points.min(axis=0) + points.max(axis=0)) / 2
-    size = float(np.max(points.max(axis=0) - points.min(axis=0)))
-    camera = mujoco.MjvCamera()
-    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-    camera.lookat[:] = center
-    camera.distance = max(1.3, 2.2 * size)  # room for the demo motion around the pose
-    camera.azimuth, camera.elevation = 140.0, -22.0
-    return camera
+    """A free camera that frames the robot at its first keyframe, seen from the front
+    left, with room for the demo's motion around that pose."""
+    lower, upper = robot_bounds(scene.world, [agent.prefix])
+    return framing_camera(lower, upper, margin=1.1)
 
 
 def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:

@@ -60,6 +60,10 @@ class ConfigError(RobotAgentsError, ValueError):
     """An invalid robot, controller or environment configuration."""
 
 
+class PhysicsError(RobotAgentsError, RuntimeError):
+    """The simulation became unstable (MuJoCo reset an env) and the env was asked to raise."""
+
+
 class RenderError(RobotAgentsError, RuntimeError):
     """Offscreen rendering is unavailable: no usable OpenGL backend (EGL / OSMesa)."""
 

@@ -57,6 +57,9 @@ class Agent:
         fix_root_link: weld the root to the world (arms) or give it a free joint.
         root_body: which top-level body of the file is the robot, when it has several
             (a target marker beside it); ``None``: the one holding the actuated joints.
+        mount_pose: where a scene puts the robot's root by default, ``(x, y, z, qw, qx,
+            qy, qz)`` (m): a hand or gripper mounted above the floor; ``make_env(...,
+            robot_poses=...)`` overrides it.
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
             model file's own actuators are adopted unless ``replace_file_actuators``.
         parts: arm(s), gripper(s) or hand(s), head, torso, base, legs, with their roles
@@ -79,6 +82,7 @@ class Agent:
     urdf_path: ClassVar[str | Path | None] = None
     fix_root_link: ClassVar[bool] = True
     root_body: ClassVar[str | None] = None
+    mount_pose: ClassVar[tuple[float, ...]] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
     actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
     replace_file_actuators: ClassVar[bool] = False
     parts: ClassVar[tuple[Part, ...]] = ()

@@ -19,9 +19,10 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
-from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
@@ -62,6 +63,10 @@ class RobotEnv(gym.Env[Any, Any]):
         robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
             keyframe, drawn from the env's seeded RNG.
         num_threads: stepping threads for ``num_envs > 1``.
+        robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's mount (one
+            per robot); default: each robot's ``mount_pose``.
+        raise_on_instability: raise :class:`PhysicsError` when MuJoCo resets an env
+            during a step; otherwise ``info["physics_unstable"]`` reports it per env.
         sensor_configs: camera overrides by camera key, e.g.
             ``{"hand_camera": {"width": 256, "height": 256}}``, or ``{"base_camera": None}``
             to drop a camera; unknown keys and fields raise.
@@ -87,6 +92,8 @@ class RobotEnv(gym.Env[Any, Any]):
         robot_init_qpos_noise: float = 0.02,
         num_threads: int | None = None,
         sensor_configs: SensorOverrides | None = None,
+        robot_poses: Sequence[Sequence[float]] | None = None,
+        raise_on_instability: bool = False,
     ) -> None:
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -105,6 +112,7 @@ class RobotEnv(gym.Env[Any, Any]):
             num_threads=num_threads,
             cameras=self._scene_cameras(),
             sensor_configs=sensor_configs,
+            robot_poses=robot_poses,
         )
         self.num_envs = self.scene.num_envs
         self.sim_freq, self.control_freq = self.scene.sim_freq, self.scene.control_freq
@@ -114,9 +122,15 @@ class RobotEnv(gym.Env[Any, Any]):
         self.render_size = (int(render_size[0]), int(render_size[1]))
         self.max_episode_steps = self.default_max_episode_steps if max_episode_steps == -1 else max_episode_steps
         self.robot_init_qpos_noise = float(robot_init_qpos_noise)
+        if not isinstance(raise_on_instability, bool):
+            raise ConfigError(
+                f"{type(self).__name__}: expected raise_on_instability to be a bool, got {raise_on_instability!r}."
+            )
+        self.raise_on_instability = raise_on_instability
         self.metadata = {**self.metadata, "render_fps": self.control_freq}
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
         self._renderer: mujoco.Renderer | None = None
+        self._render_camera: mujoco.MjvCamera | None = None
         self._single = self.num_envs == 1
         self._plain_task = (
             type(self).evaluate is RobotEnv.evaluate and type(self).compute_reward is RobotEnv.compute_reward
@@ -246,6 +260,7 @@ class RobotEnv(gym.Env[Any, Any]):
                 qpos = agent.perturbed_qpos(ids, self.robot_init_qpos_noise, self.np_random)
                 agent.reset(qpos=qpos, env_ids=ids)
         self.elapsed_steps[ids] = 0
+        self._render_camera = None
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
 
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
@@ -257,8 +272,15 @@ class RobotEnv(gym.Env[Any, Any]):
             self._set_multi_action(action)
         self.scene.step()
         self.elapsed_steps += 1
+        unstable = self.scene.world.last_step_unstable
+        if self.raise_on_instability and unstable.any():
+            raise PhysicsError(
+                f"{type(self).__name__}.step: the simulation became unstable in env(s) {np.flatnonzero(unstable).tolist()} "
+                "and MuJoCo reset them; lower the gains, add armature to light joints, or use a smaller time step "
+                "(sim_freq)."
+            )
         if self._plain_task:  # no task hooks: no metrics, zero reward, never terminates
-            info: dict[str, Any] = {"elapsed_steps": self.elapsed_steps.copy()}
+            info: dict[str, Any] = {"elapsed_steps": self.elapsed_steps.copy(), "physics_unstable": unstable.copy()}
             self._add_controller_info(info)
             if self._single:
                 truncated_single = (
@@ -272,6 +294,7 @@ class RobotEnv(gym.Env[Any, Any]):
             reward = self.compute_reward(info)
             terminated = self._terminated(info)
             info["elapsed_steps"] = self.elapsed_steps.copy()
+            info["physics_unstable"] = unstable.copy()
             self._add_controller_info(info)
         truncated: npt.NDArray[np.bool_]
         if self.max_episode_steps is None:
@@ -325,16 +348,20 @@ class RobotEnv(gym.Env[Any, Any]):
             self.elapsed_steps = np.array(state["elapsed_steps"], dtype=np.int64).reshape(self.num_envs)
 
     def render(self) -> Any:
-        """An RGB frame (uint8 ``H x W x 3``) of the scene camera, per env for ``num_envs > 1``."""
+        """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
+        camera that frames the robots from their extent at the last reset."""
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
             return None
         if self._renderer is None:
             width, height = self.render_size
             self._renderer = make_renderer(self.model, width, height)
+        if self._render_camera is None:  # framed once per reset, from the robots' extent
+            lower, upper = robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids])
+            self._render_camera = framing_camera(lower, upper, fovy=float(self.model.vis.global_.fovy))
         frames = []
         for data in self.scene.world.render_sources():
-            self._renderer.update_scene(data, camera="render_camera")
+            self._renderer.update_scene(data, camera=self._render_camera)
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)
 

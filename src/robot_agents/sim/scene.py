@@ -83,7 +83,7 @@ class Scene:
         for cls in classes:
             if not (isinstance(cls, type) and issubclass(cls, Agent)):
                 raise ConfigError(f"Scene: expected a robot uid or an Agent subclass, got {cls!r}.")
-        poses = self._poses(robot_poses, len(classes))
+        poses = self._poses(robot_poses, [cls.mount_pose for cls in classes])
         modes = self._modes(control_modes, len(classes))
         self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
         self.props = tuple(props)
@@ -115,14 +115,29 @@ class Scene:
         self.cameras = CameraRig(self.model, planned, segmentation_id_map(self.model, prefixes))
 
     @staticmethod
-    def _poses(poses: Sequence[Sequence[float]] | None, n: int) -> list[tuple[float, ...]]:
+    def _poses(poses: Sequence[Sequence[float]] | None, mounts: Sequence[Sequence[float]]) -> list[tuple[float, ...]]:
+        """Each robot's world pose: given, or its class's ``mount_pose`` (several robots
+        are set 1 m apart along y)."""
+        n = len(mounts)
         if poses is None:
-            return [(0.0, (i - (n - 1) / 2) * 1.0, 0.0, 1.0, 0.0, 0.0, 0.0) for i in range(n)]
-        result = [tuple(float(v) for v in p) for p in poses]
-        if len(result) != n or any(len(p) != 7 for p in result):
+            return [(m[0], m[1] + (i - (n - 1) / 2) * 1.0, *m[2:]) for i, m in enumerate(mounts)]
+        try:
+            result = [tuple(float(v) for v in p) for p in poses]
+        except (TypeError, ValueError):
             raise ConfigError(
                 f"Scene.robot_poses: expected {n} poses of 7 numbers (x, y, z, qw, qx, qy, qz), got {poses!r}."
+            ) from None
+        if len(result) != n or any(len(p) != 7 for p in result) or not np.all(np.isfinite(result)):
+            raise ConfigError(
+                f"Scene.robot_poses: expected {n} poses of 7 finite numbers (x, y, z, qw, qx, qy, qz), got {poses!r}."
             )
+        for k, pose in enumerate(result):
+            norm = float(np.linalg.norm(pose[3:]))
+            if norm < 1e-9:
+                raise ConfigError(
+                    f"Scene.robot_poses[{k}]: expected a unit quaternion (qw, qx, qy, qz), got {pose[3:]}."
+                )
+            result[k] = (*pose[:3], *(q / norm for q in pose[3:]))
         return result
 
     @staticmethod

@@ -30,6 +30,13 @@ FloatArray = npt.NDArray[np.float64]
 STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
+_INSTABILITY_WARNINGS = (
+    int(mujoco.mjtWarning.mjWARN_BADQACC),
+    int(mujoco.mjtWarning.mjWARN_BADQVEL),
+    int(mujoco.mjtWarning.mjWARN_BADQPOS),
+)
+
+
 class BatchedWorld:
     """A compiled model and ``num_envs`` MjData.
 
@@ -59,6 +66,11 @@ class BatchedWorld:
         bounds = np.linspace(0, self.num_envs, self.num_threads + 1).astype(int)
         self._chunks = [range(bounds[i], bounds[i + 1]) for i in range(self.num_threads)]
         self._cache: dict[str, FloatArray] = {}
+        #: Per env: MuJoCo reset it during the last step (NaN / inf / huge values).
+        self.last_step_unstable = np.zeros(self.num_envs, dtype=bool)
+        #: Per env: how many steps had an instability since the world was made (never cleared).
+        self.unstable_steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._counts = np.zeros(self.num_envs, dtype=np.int64)
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
@@ -98,6 +110,10 @@ class BatchedWorld:
                 self._step_all(1)
                 self._cache.clear()  # the hook reads the state of every substep
         self._cache.clear()
+        counts = self.instability_counts()
+        np.greater(counts, self._counts, out=self.last_step_unstable)
+        self.unstable_steps += self.last_step_unstable
+        self._counts = counts
 
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""
@@ -142,10 +158,12 @@ class BatchedWorld:
 
         MuJoCo does not raise on a blow-up: it warns and resets that env's state. A
         non-zero count means the model or the gains are unstable at this time step.
-        Counts start at zero and are cleared by a full reset of the env.
+        Counts start at zero and are cleared by a full reset of the env (see
+        :attr:`unstable_steps` for a count that is never cleared, and
+        :attr:`last_step_unstable` for the last step).
         """
-        kinds = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQPOS)
-        return np.array([sum(int(d.warning[k].number) for k in kinds) for d in self.datas], dtype=np.int64)
+        kinds = _INSTABILITY_WARNINGS
+        return np.array([sum(d.warning[k].number for k in kinds) for d in self.datas], dtype=np.int64)
 
     # -- reads of derived quantities ---------------------------------------------------
     def body_poses(self, body_ids: int | npt.ArrayLike) -> FloatArray:
@@ -245,6 +263,7 @@ class BatchedWorld:
             mujoco.mj_resetData(self.model, data)
             mujoco.mj_setState(self.model, data, state, STATE_SPEC)
             self.ctrl[env] = data.ctrl
+            self._counts[env] = 0
         self._cache.clear()
 
     def sync_ctrl(self, env_ids: npt.ArrayLike | None = None) -> None:
@@ -284,6 +303,7 @@ class BatchedWorld:
             mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
             self.ctrl[i] = data.ctrl
         self.forward()
+        self._counts = self.instability_counts()
 
     def close(self) -> None:
         if self._pool is not None:

@@ -29,13 +29,17 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
     code, text = run("list")
     assert code == 0
     rows = {line.split()[0]: line.split()[1] for line in text.splitlines()[2:]}
-    assert rows == {
-        "floating_panda_gripper": "8",
-        "panda": "9",
-        "panda_stick": "7",
-        "panda_touch": "9",
-        "panda_wristcam": "9",
-    }
+    assert set(rows) == set(robot_agents.list_agents())
+    assert (
+        rows.items()
+        >= {
+            "floating_panda_gripper": "8",
+            "panda": "9",
+            "panda_stick": "7",
+            "panda_touch": "9",
+            "panda_wristcam": "9",
+        }.items()
+    )
     assert "pd_joint_target_delta_pos" in text
 
 
@@ -180,3 +184,48 @@ def test_bad_arguments_fail_fast_from_the_shell(tmp_path: Path) -> None:
     )
     assert version.returncode == 0
     assert version.stdout == f"robot-agents {robot_agents.__version__}\n"
+
+
+UNSTABLE_MODULE = """
+import robot_agents as ra
+
+class StiffPendulum(ra.Agent):
+    uid = "stiff_pendulum"
+    mjcf_path = {path!r}
+    actuators = (ra.PDActuator(joints=".*", stiffness=1e7, damping=1.0),)
+"""
+
+
+def test_check_passes_for_a_builtin_and_a_model_file(tmp_path: Path) -> None:
+    from tests.conftest import TWO_LINK_URDF
+
+    code, text = run("check", "panda", "--seconds", "0.5")
+    assert code == 0, text
+    assert "5 passed, 0 failed" in text and "total mass: 17.452 kg" in text
+    urdf = tmp_path / "two_link.urdf"
+    urdf.write_text(TWO_LINK_URDF)
+    code, text = run("check", str(urdf), "--seconds", "0.5")
+    assert code == 0, text
+    assert "drive: derived gains" in text and "parts: arm (joint_a, joint_b)" in text
+    code, text = run("info", str(urdf))
+    assert code == 0 and "end effectors: ee" in text
+
+
+def test_check_fails_with_numbers_for_unstable_gains(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from tests.conftest import PENDULUM_MJCF
+
+    model = tmp_path / "pendulum.xml"
+    model.write_text(PENDULUM_MJCF)
+    (tmp_path / "stiff_robot.py").write_text(UNSTABLE_MODULE.format(path=str(model)))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, text = run("check", "stiff_robot:StiffPendulum", "--seconds", "0.5")
+    assert code == 1
+    assert "[FAIL] PD drives stable at the physics step" in text and "at elbow (kp 1e+07" in text
+    assert "unstable: ['pd_joint_" in text
+
+
+def test_robot_forms_are_checked_before_anything_runs() -> None:
+    code = main(["check", "no_such_module:Robot"])
+    assert code == 2
+    code = main(["info", "/nonexistent/robot.urdf"])
+    assert code == 2

@@ -6,34 +6,10 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.agent import Agent
-from robot_agents.controllers import PDEEController
-from robot_agents.kinematics.rotations import quat_to_rotvec
+from robot_agents.checks import hold_action
 
 ROBOTS = ra.list_agents()
 CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).modes()]
-
-
-def hold_action(agent: Agent) -> np.ndarray:
-    """The action that asks the robot to stay where it is, in any mode."""
-    parts = []
-    for controller in agent.controller.parts.values():
-        cfg = controller.config
-        if isinstance(cfg, ra.PDJointPosConfig) and not cfg.use_delta:
-            index = [agent.joint_names.index(j) for j in cfg.joint_names][: controller.action_dim]
-            raw = agent.qpos[0, index]
-            if isinstance(controller, ra.controllers.joint.PDJointPosVelController):
-                raw = np.concatenate([raw, np.zeros(len(index))])
-        elif isinstance(controller, PDEEController) and not cfg.use_delta:
-            pose = controller.target_pose[0]  # the measured tool pose (root frame) since the reset
-            rotation = pose[3:] if controller.quaternion_input else quat_to_rotvec(pose[3:])
-            raw = np.concatenate([pose[:3], rotation]) if controller.rotation else pose[:3]
-        else:
-            raw = np.zeros(controller.action_dim)  # zero delta / zero velocity (symmetric bounds)
-        if cfg.normalize_action and isinstance(cfg, ra.PDJointPosConfig) and not cfg.use_delta:
-            raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
-        parts.append(raw)
-    return np.concatenate(parts) if parts else np.zeros(0)
 
 
 def assert_stable(scene: ra.Scene) -> None:

@@ -1,4 +1,6 @@
-"""``robot-agents`` command line: ``list``, ``info UID``, ``demo UID``, ``--version``."""
+"""``robot-agents`` command line: ``list``, ``info ROBOT``, ``demo ROBOT``, ``check ROBOT``,
+``--version``. ROBOT is a registered uid, a model file path (the two-line robot) or
+``module:Class``."""
 
 from __future__ import annotations
 
@@ -6,6 +8,7 @@ import argparse
 import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TextIO
 
 import robot_agents
@@ -14,6 +17,7 @@ from robot_agents.agent.declaration import composition
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
+from robot_agents.robot_source import resolve_robot
 
 MAX_SECONDS = 60.0
 """Upper bound of ``demo --seconds`` (simulated seconds per pose)."""
@@ -58,10 +62,10 @@ def cmd_list(out: TextIO) -> int:
     return 0
 
 
-def cmd_info(uid: str, out: TextIO) -> int:
+def cmd_info(uid: str, out: TextIO, floating: bool = False) -> int:
     from robot_agents.sim.scene import Scene
 
-    cls = get_agent(uid)
+    cls = resolve_robot(uid, floating)
     scene = Scene(cls)
     agent = scene.agents[0]
     out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
@@ -116,17 +120,34 @@ def _sensor_lines(cls: type[Agent]) -> list[str]:
     return ["sensors:", *lines] if lines else ["sensors: none"]
 
 
-def cmd_demo(uid: str, output: str, seconds: str, out: TextIO) -> int:
+def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = False) -> int:
     """Check the arguments (before anything is simulated), run the demo and print its summary."""
     seconds_per_pose = parse_seconds(seconds)
     output_path = check_output_path(output)
-    get_agent(uid)  # an unknown uid fails here, before the demo's imports
+    cls = resolve_robot(uid, floating)  # an unknown robot fails here, before the demo's imports
+    cls.check()
 
     from robot_agents.demo import run_demo
 
-    summary = run_demo(uid, output=output_path, seconds_per_pose=seconds_per_pose)
+    summary = run_demo(cls, output=output_path, seconds_per_pose=seconds_per_pose)
     out.write("\n".join(summary.lines()) + "\n")
     return 0 if summary.finite else 1
+
+
+def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5.0) -> int:
+    """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a failure."""
+    from robot_agents.checks import run_checks
+
+    cls = resolve_robot(spec, floating)
+    cmd_info(spec, out, floating)
+    model = cls.check().index.model
+    out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n\nchecks:\n")
+    results = run_checks(cls, random_seconds=seconds)
+    for result in results:
+        out.write(result.line() + "\n")
+    failed = [r for r in results if not r.passed]
+    out.write(f"\n{len(results) - len(failed)} passed, {len(failed)} failed\n")
+    return 1 if failed else 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -134,12 +155,19 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
+    robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
     info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
-    info.add_argument("uid")
+    info.add_argument("uid", help=robot_help)
+    info.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
+    check.add_argument("uid", help=robot_help)
+    check.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
-    demo.add_argument("uid", nargs="?", default="panda")
+    demo.add_argument("uid", nargs="?", default="panda", help=robot_help)
+    demo.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
     demo.add_argument(
         "--output",
         "-o",
@@ -161,8 +189,11 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "list":
             return cmd_list(stream)
         if args.command == "info":
-            return cmd_info(args.uid, stream)
-        return cmd_demo(args.uid, args.output or f"{args.uid}_demo.gif", args.seconds, stream)
+            return cmd_info(args.uid, stream, args.floating)
+        if args.command == "check":
+            return cmd_check(args.uid, stream, args.floating, parse_seconds(args.seconds))
+        default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
+        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")
         return 2

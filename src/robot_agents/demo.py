@@ -70,7 +70,7 @@ class DemoSummary:
 
 
 def run_demo(
-    uid: str,
+    uid: str | type[Agent],
     output: str | Path = "robot_agents_demo.gif",
     seconds_per_pose: float = 2.0,
     fps: int = 10,
@@ -79,7 +79,7 @@ def run_demo(
     """Run the demo for robot ``uid`` and write the video to ``output``.
 
     Args:
-        uid: Registered robot uid.
+        uid: Registered robot uid, or a robot class.
         output: Video file; ``.gif`` or ``.mp4`` (needs ``robot-agents[video]``). Its
             directory must exist. Checked before anything is simulated.
         seconds_per_pose: Simulated seconds spent reaching each keyframe.
@@ -94,7 +94,7 @@ def run_demo(
     """
     output = check_output_path(output)
     start = time.perf_counter()
-    cls: type[Agent] = get_agent(uid)
+    cls: type[Agent] = get_agent(uid) if isinstance(uid, str) else uid
     mode = DEMO_MODE if DEMO_MODE in cls.modes() else cls.default_mode()
     scene = Scene(cls, control_modes=mode)
     agent = scene.agents[0]
@@ -164,7 +164,7 @@ def run_demo(
     finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
     path = write_video(output, frames, fps=scene.control_freq / record_every)
     summary = DemoSummary(
-        uid=uid,
+        uid=cls.uid or cls.__name__,
         dof=agent.dof,
         control_mode=mode,
         simulated_seconds=step_count * scene.control_timestep,

@@ -109,6 +109,12 @@ def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None
         for joint in free:
             spec.delete(joint)
     elif not free:
+        moving = [j.name for j in root.joints]
+        if moving:
+            raise ModelError(
+                f"{where}: a floating robot's root body gets a free joint, but root body {root.name!r} already has "
+                f"joint(s) {moving}; keep fix_root_link = True, or give the file a root body without joints."
+            )
         root.add_freejoint(name=ROOT_FREE_JOINT)
 
 

@@ -1,0 +1,197 @@
+"""Physics checks of a robot, for the one someone is writing (``robot-agents check``):
+each check has a number and a pass / fail, and says what to change when it fails."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from robot_agents.actuators.gains import gains_from_inertia
+from robot_agents.actuators.spec import DriveKind
+from robot_agents.agent import Agent
+from robot_agents.controllers.ee import PDEEController
+from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController
+from robot_agents.errors import RobotAgentsError
+from robot_agents.kinematics.rotations import quat_to_rotvec
+from robot_agents.sim.scene import Scene
+
+#: A keyframe is held when no joint drifts more than this over the hold (rad or m).
+HOLD_TOLERANCE = 0.01
+#: Plausible masses of a moving body (kg).
+MASS_RANGE = (1e-4, 1e4)
+#: A PD drive is stable when kp stays below this share of the explicit-stiffness bound 4 I / dt^2.
+STABLE_SHARE = 0.5
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """One check: its name, whether it passed, and what was measured."""
+
+    name: str
+    passed: bool
+    detail: str
+
+    def line(self) -> str:
+        return f"[{'PASS' if self.passed else 'FAIL'}] {self.name}: {self.detail}"
+
+
+def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
+    """The action that asks the robot to stay where it is (env ``env``), in any mode:
+    absolute joint targets at the measured pose, the end effector's current target for
+    absolute end-effector modes, zero deltas, velocities and efforts otherwise."""
+    parts = []
+    for controller in agent.controller.parts.values():
+        config = controller.config
+        if isinstance(config, PDJointPosConfig) and not config.use_delta:
+            index = [agent.joint_names.index(j) for j in config.joint_names][: controller.action_dim]
+            raw = agent.qpos[env, index]
+            if isinstance(controller, PDJointPosVelController):
+                raw = np.concatenate([raw, np.zeros(len(index))])
+        elif isinstance(controller, PDEEController) and not config.use_delta:  # type: ignore[attr-defined]
+            pose = controller.target_pose[env]  # the measured tool pose (command frame) since the reset
+            rotation = pose[3:] if controller.quaternion_input else quat_to_rotvec(pose[3:])
+            raw = np.concatenate([pose[:3], rotation]) if controller.rotation else pose[:3]
+        else:
+            raw = np.zeros(controller.action_dim)  # zero delta / velocity / effort (symmetric bounds)
+        if config.normalize_action and isinstance(config, PDJointPosConfig) and not config.use_delta:
+            raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
+        parts.append(raw)
+    return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def check_keyframes(cls: type[Agent]) -> CheckResult:
+    """Every keyframe within limits (checked with the class) and free of penetrating contacts."""
+    scene = Scene(cls)
+    worst, where = 0.0, ""
+    for name in cls.keyframe_names():
+        scene.reset(keyframes=name)
+        data = scene.world.render_sources([0])[0]
+        for i in range(data.ncon):
+            depth = -float(data.contact[i].dist)
+            if depth > worst:
+                c = data.contact[i]
+                worst, where = depth, f" ({name}: {scene.model.geom(c.geom1).name} / {scene.model.geom(c.geom2).name})"
+    scene.close()
+    count = len(cls.keyframe_names())
+    return CheckResult(
+        "keyframes within limits and free of contacts",
+        worst <= 1e-4,
+        f"{count} keyframe(s), deepest penetration {worst * 1000:.2f} mm{where}",
+    )
+
+
+def check_holds(cls: type[Agent], seconds: float = 2.0) -> CheckResult:
+    """Each keyframe held for ``seconds`` under the default mode."""
+    mode = cls.default_mode()
+    scene = Scene(cls, control_modes=mode)
+    agent = scene.agents[0]
+    if not any(
+        kind in ("position", "velocity") for c in agent.controller.parts.values() for kind in c.config.target_kinds()
+    ):
+        scene.close()
+        return CheckResult(f"keyframes held {seconds:g} s in {mode}", True, "not applicable: the mode commands efforts")
+    drifts = {}
+    for name in cls.keyframe_names():
+        scene.reset(keyframes=name)
+        start = agent.qpos
+        worst = 0.0
+        for _ in range(round(seconds * scene.control_freq)):
+            agent.set_action(hold_action(agent))
+            scene.step()
+            worst = max(worst, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
+        drifts[name] = worst
+    scene.close()
+    name, worst = max(drifts.items(), key=lambda item: item[1])
+    return CheckResult(
+        f"keyframes held {seconds:g} s in {mode}",
+        worst < HOLD_TOLERANCE,
+        f"largest drift {worst:.4f} rad/m ({name}); tolerance {HOLD_TOLERANCE}",
+    )
+
+
+def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) -> CheckResult:
+    """``seconds`` of uniformly random actions in every mode without instability."""
+    failed: list[str] = []
+    for mode in cls.modes():
+        try:
+            scene = Scene(cls, control_modes=mode)
+        except RobotAgentsError as err:
+            failed.append(f"{mode} ({err})")
+            continue
+        scene.reset()
+        agent = scene.agents[0]
+        rng = np.random.default_rng(seed)
+        space = agent.action_space
+        for _ in range(round(seconds * scene.control_freq)):
+            agent.set_action(rng.uniform(space.low, space.high))
+            scene.step()
+        if scene.world.unstable_steps.any() or not np.all(np.isfinite(scene.world.get_state())):
+            failed.append(mode)
+        scene.close()
+    count = len(cls.modes())
+    detail = f"{count - len(failed)}/{count} modes stable"
+    if failed:
+        detail += f"; unstable: {failed} (lower the gains, add armature to light joints, or raise sim_freq)"
+    return CheckResult(f"{seconds:g} s of random actions in every mode", not failed, detail)
+
+
+def check_inertia(cls: type[Agent]) -> CheckResult:
+    """Moving bodies have plausible masses and physically valid inertias."""
+    checked = cls.check()
+    model = checked.index.model
+    bad = []
+    for body in range(1, model.nbody):
+        if model.body_weldid[body] != body:
+            continue  # welded to its parent (a frame, a housing): its mass counts there
+        mass = float(model.body_mass[body])
+        inertia = np.sort(model.body_inertia[body])
+        if not (MASS_RANGE[0] <= mass <= MASS_RANGE[1]):
+            bad.append(f"{model.body(body).name} mass {mass:.3g} kg")
+        elif inertia[0] + inertia[1] < inertia[2] * (1 - 1e-6) or inertia[0] <= 0:
+            bad.append(f"{model.body(body).name} inertia {inertia.round(6).tolist()}")
+    detail = "all moving bodies plausible" if not bad else "; ".join(bad[:5]) + (" ..." if len(bad) > 5 else "")
+    return CheckResult(f"masses in [{MASS_RANGE[0]:g}, {MASS_RANGE[1]:g}] kg and valid inertias", not bad, detail)
+
+
+def check_pd_stability(cls: type[Agent], timestep: float = 0.002) -> CheckResult:
+    """Every PD drive's stiffness below half the explicit bound ``4 I / dt^2`` at the
+    physics step (MuJoCo integrates damping implicitly; stiffness limits the step)."""
+    checked = cls.check()
+    model = checked.index.model
+    affine = [d for d in checked.drives if d.kind in (DriveKind.AFFINE, DriveKind.EXPLICIT)]
+    full = model.qpos0.copy()
+    full[checked.index.qpos_adr] = next(iter(checked.keyframes.values())).qpos
+    gains = gains_from_inertia(model, [d.joint for d in affine], full)
+    stiffness = []
+    for drive in affine:
+        actuator = next(
+            a
+            for a in range(getattr(model, "nactuator", model.nu))
+            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
+            and model.actuator_trnid[a, 0] == mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+        )
+        kp = -float(model.actuator_biasprm[actuator, 1]) * float(model.actuator_gear[actuator, 0]) ** 2
+        stiffness.append(drive.stiffness if drive.stiffness > 0 or drive.kind is DriveKind.EXPLICIT else kp)
+    if not any(k > 0 for k in stiffness):
+        return CheckResult("PD drives stable at the physics step", True, "no PD drives (motors take efforts)")
+    bound = 4.0 * gains.inertia / timestep**2
+    share = np.asarray(stiffness) / bound
+    worst = int(np.argmax(share))
+    detail = (
+        f"largest kp / (4 I / dt^2) = {share[worst]:.3f} at {gains.joints[worst]} "
+        f"(kp {stiffness[worst]:.4g}, largest stable about {bound[worst]:.4g}; dt {timestep:g} s)"
+    )
+    return CheckResult("PD drives stable at the physics step", bool(share[worst] < STABLE_SHARE), detail)
+
+
+def run_checks(cls: type[Agent], random_seconds: float = 5.0) -> list[CheckResult]:
+    """Every check, in order."""
+    return [
+        check_keyframes(cls),
+        check_holds(cls),
+        check_random_actions(cls, random_seconds),
+        check_inertia(cls),
+        check_pd_stability(cls),
+    ]

@@ -192,7 +192,7 @@ def _urdf(joint_type: str = "revolute", mesh: str | None = None, floating_below_
     ("text", "fragment"),
     [
         (_urdf(joint_type="spherical"), "has type 'spherical'; expected one of revolute"),
-        (_urdf(mesh="meshes/base.dae"), "has format '.dae'; MuJoCo reads .stl, .obj, .msh"),
+        (_urdf(mesh="meshes/base.dae"), "mesh 'meshes/base.dae' referenced by"),
         (_urdf(mesh="package://my_robot/meshes/base.stl"), "was not found; looked at"),
         (_urdf(floating_below_root=True), "floating joint 'float'"),
     ],

@@ -59,6 +59,7 @@ from robot_agents.errors import (
 )
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics import IKConfig, IKSolver, Kinematics
+from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
@@ -78,6 +79,7 @@ __all__ = [
     "BatchedWorld",
     "CameraConfig",
     "CommandFrame",
+    "CompilerSettings",
     "ConfigError",
     "DCMotorActuator",
     "EndEffector",

@@ -35,6 +35,7 @@ from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.forward import FrameRef, Kinematics
+from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, Gripper, Part
@@ -60,6 +61,8 @@ class Agent:
         mount_pose: where a scene puts the robot's root by default, ``(x, y, z, qw, qx,
             qy, qz)`` (m): a hand or gripper mounted above the floor; ``make_env(...,
             robot_poses=...)`` overrides it.
+        compiler: MuJoCo compiler settings for the file (angle units, balanceinertia,
+            boundmass, meshdir, package search paths; see :class:`CompilerSettings`).
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
             model file's own actuators are adopted unless ``replace_file_actuators``.
         parts: arm(s), gripper(s) or hand(s), head, torso, base, legs, with their roles
@@ -83,6 +86,7 @@ class Agent:
     fix_root_link: ClassVar[bool] = True
     root_body: ClassVar[str | None] = None
     mount_pose: ClassVar[tuple[float, ...]] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    compiler: ClassVar[CompilerSettings] = CompilerSettings()
     actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
     replace_file_actuators: ClassVar[bool] = False
     parts: ClassVar[tuple[Part, ...]] = ()

@@ -14,6 +14,7 @@ import dataclasses
 import itertools
 import math
 import re
+import warnings
 import weakref
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -28,10 +29,11 @@ from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, DriveKind, apply_actuators
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
-from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.errors import ConfigError, ModelError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
 from robot_agents.kinematics.forward import resolve_frame
 from robot_agents.model import robot_spec
+from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
@@ -183,21 +185,24 @@ def validate_definition(cls: type[Agent]) -> None:
                 seen[joint] = part
 
 
-def _raw_spec(cls: type[Agent], where: str) -> mujoco.MjSpec:
+def _raw_spec(cls: type[Agent], where: str, compiler: CompilerSettings | None = None) -> mujoco.MjSpec:
     """The model file with every mounted piece attached (no options applied yet)."""
-    spec = load_model_spec(model_path(cls))
+    spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
     for attachment in cls.attachments:
         attach(spec, _raw_spec(attachment.piece, where), attachment, where)
     return spec
 
 
 def _build(
-    cls: type[Agent], cameras: Sequence[CameraConfig] | None, derived: DerivedGains | None
+    cls: type[Agent],
+    cameras: Sequence[CameraConfig] | None,
+    derived: DerivedGains | None,
+    compiler: CompilerSettings | None = None,
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
-    spec = _raw_spec(cls, where)
+    spec = _raw_spec(cls, where, compiler)
     robot_spec.isolate_robot(spec, cls.root_body, where)
     robot_spec.set_root_joint(spec, cls.fix_root_link, where)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
@@ -214,7 +219,7 @@ def build_spec(cls: type[Agent], cameras: Sequence[CameraConfig] | None = None) 
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
-    return _build(cls, cameras, checked.derived_gains)[0]
+    return _build(cls, cameras, checked.derived_gains, checked.compiler)[0]
 
 
 @dataclass(frozen=True)
@@ -232,6 +237,8 @@ class CheckedRobot:
         default_mode: the mode a robot starts in.
         derived_gains: gains of drives derived from the model's inertia (``None`` when
             the robot or its file declares drives).
+        compiler: the compiler settings the model compiled with (the declared ones, or
+            those the check fell back to for a known compile failure).
     """
 
     index: RobotIndex
@@ -242,6 +249,7 @@ class CheckedRobot:
     modes: dict[str, ModeConfig]
     default_mode: str
     derived_gains: DerivedGains | None = None
+    compiler: CompilerSettings | None = None
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
@@ -266,8 +274,11 @@ def check(cls: type[Agent]) -> CheckedRobot:
     if cached is not None:
         return cached
     name = cls.__name__
-    spec, drives = _build(cls, None, None)
-    model = compile_spec(spec, name)
+    compiler = cls.compiler
+    spec, drives = _build(cls, None, None, compiler)
+    model, compiler = _compile_with_fallbacks(cls, spec, compiler)
+    if compiler is not cls.compiler:
+        spec, drives = _build(cls, None, None, compiler)
     index = RobotIndex(model, "", name)
     composed = composition(cls)
     parts = composed.parts
@@ -332,9 +343,44 @@ def check(cls: type[Agent]) -> CheckedRobot:
                         f"{name}.control_modes[{mode!r}][{part!r}]: joint {joint!r} has no drive; declare one in "
                         f"actuators. Driven joints: {sorted(driven)}."
                     )
-    checked = CheckedRobot(index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived)
+    checked = CheckedRobot(
+        index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived, compiler
+    )
     _CHECKED[cls] = checked
     return checked
+
+
+#: Known compile failures of files from the wild and the compiler settings that fix them.
+_FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("balanceinertia", {"balanceinertia": True}),
+    ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
+)
+
+
+def _compile_with_fallbacks(
+    cls: type[Agent], spec: mujoco.MjSpec, compiler: CompilerSettings
+) -> tuple[mujoco.MjModel, CompilerSettings]:
+    """Compile; on a known failure (inertia triangle inequality, massless moving body)
+    rebuild with the setting that fixes it and say so in one warning."""
+    name = cls.__name__
+    for _ in range(len(_FALLBACKS) + 1):
+        try:
+            return compile_spec(spec, name), compiler
+        except ModelError as err:
+            fix = next((changes for key, changes in _FALLBACKS if key in str(err)), None)
+            if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
+                raise
+            compiler = dataclasses.replace(compiler, **fix)
+            reason = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()[0]
+            warnings.warn(
+                f"{name}: MuJoCo refused the model ({reason}); compiled with "
+                f"{', '.join(f'{k}={v}' for k, v in fix.items())}: declare compiler = CompilerSettings(...) to make "
+                "this explicit, or fix the file.",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+            spec = _build(cls, None, None, compiler)[0]
+    raise ModelError(f"{name}: the model does not compile.")
 
 
 def _torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:

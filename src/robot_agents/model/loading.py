@@ -1,14 +1,23 @@
-"""Read a robot's URDF or MJCF file into a fresh :class:`mujoco.MjSpec`.
+"""Read a robot's URDF or MJCF file into a fresh :class:`mujoco.MjSpec`, without hand
+edits where the fix is known.
 
-URDF files are checked before MuJoCo sees them, so that pieces MuJoCo cannot use
-(COLLADA meshes, missing mesh files, floating joints below the root) fail with a
-clear :class:`~robot_agents.errors.ModelError` instead of a silent drop. Fixed
-links are kept as bodies (``fusestatic="false"``) so tool frames survive.
+- Meshes MuJoCo cannot read (``.glb``, ``.gltf``, ``.dae``, ``.ply``) are converted once
+  into a cache (:mod:`.meshes`); when no converter is installed a visual-only mesh is
+  dropped with one warning that says what to install, a collision mesh is an error.
+- ``package://`` URIs resolve next to the file, above it, and in the declared search
+  paths (:class:`~robot_agents.model.compiler.CompilerSettings`).
+- URDF pieces MuJoCo cannot use or would misread (unknown joint types, a floating joint
+  below the root, a link with two ``<inertial>``, a zero-size collision shape) fail
+  with a :class:`~robot_agents.errors.ModelError` that names the element, the file,
+  the line and the fix; a zero-size visual shape is dropped with a note.
+- Fixed links are kept as bodies (``fusestatic="false"``) so tool frames survive.
 """
 
 from __future__ import annotations
 
 import os
+import re
+import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -16,13 +25,16 @@ import mujoco
 import numpy as np
 
 from robot_agents.errors import ModelError
+from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, readable_mesh
 
-SUPPORTED_MESH_SUFFIXES = (".stl", ".obj", ".msh")
 _URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_DEFAULT_SETTINGS = CompilerSettings()
 
 
-def load_model_spec(path: str | os.PathLike[str]) -> mujoco.MjSpec:
-    """Parse a ``.urdf`` or ``.xml``/``.mjcf`` file into a new MjSpec.
+def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _DEFAULT_SETTINGS) -> mujoco.MjSpec:
+    """Parse a ``.urdf`` or ``.xml``/``.mjcf`` file into a new MjSpec with the declared
+    ``compiler`` settings applied.
 
     Raises:
         ModelError: the file is missing, is not a file, has an unknown suffix, is not
@@ -35,10 +47,13 @@ def load_model_spec(path: str | os.PathLike[str]) -> mujoco.MjSpec:
         raise ModelError(f"load_model_spec: expected a file, got the directory {str(file)!r}.")
     suffix = file.suffix.lower()
     if suffix == ".urdf":
-        return _load_urdf(file)
-    if suffix in (".xml", ".mjcf"):
-        return _load_mjcf(file)
-    raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
+        spec = _load_urdf(file, compiler)
+    elif suffix in (".xml", ".mjcf"):
+        spec = _load_mjcf(file, compiler)
+    else:
+        raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
+    compiler.apply(spec)
+    return spec
 
 
 def _parse_xml(file: Path, root_tag: str, kind: str) -> ET.Element:
@@ -54,16 +69,102 @@ def _parse_xml(file: Path, root_tag: str, kind: str) -> ET.Element:
     return root
 
 
-def _load_mjcf(file: Path) -> mujoco.MjSpec:
+def _line_of(text: str, pattern: str) -> int:
+    """1-based line of the first match of ``pattern`` in ``text`` (0 when absent)."""
+    match = re.search(pattern, text)
+    return text.count("\n", 0, match.start()) + 1 if match else 0
+
+
+def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     _parse_xml(file, "mujoco", "an MJCF")
     try:
-        return mujoco.MjSpec.from_file(str(file))
+        spec = mujoco.MjSpec.from_file(str(file))
     except ValueError as err:
         raise ModelError(f"load_model_spec: MuJoCo rejected {str(file)!r}: {err}") from None
+    if compiler.meshdir is not None:
+        spec.meshdir = compiler.meshdir
+    base = file.parent / (spec.meshdir or "")
+    dropped: list[str] = []
+    for mesh in list(spec.meshes):
+        if not mesh.file or Path(mesh.file).suffix.lower() in SUPPORTED_MESH_SUFFIXES:
+            continue
+        source = Path(mesh.file) if Path(mesh.file).is_absolute() else base / mesh.file
+        if not source.is_file():
+            raise ModelError(f"load_model_spec: mesh {mesh.file!r} of {str(file)!r} was not found at {str(source)!r}.")
+        try:
+            mesh.file = str(readable_mesh(source))
+        except MeshConversionUnavailable as err:
+            users = [g for g in spec.geoms if g.meshname == mesh.name]
+            if any(g.contype or g.conaffinity for g in users):
+                raise ModelError(f"load_model_spec: collision mesh {mesh.name!r} of {str(file)!r}: {err}") from None
+            for geom in users:
+                spec.delete(geom)
+            spec.delete(mesh)
+            dropped.append(mesh.file)
+    _warn_dropped(file, dropped)
+    return spec
 
 
-def _load_urdf(file: Path) -> mujoco.MjSpec:
+def _warn_dropped(file: Path, dropped: list[str]) -> None:
+    if dropped:
+        from robot_agents.model.meshes import INSTALL_HINT
+
+        warnings.warn(
+            f"{str(file)!r}: dropped {len(dropped)} visual mesh(es) MuJoCo cannot read ({', '.join(dropped[:3])}"
+            f"{' ...' if len(dropped) > 3 else ''}); to keep them: {INSTALL_HINT}.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+
+
+def _check_links(file: Path, root: ET.Element, text: str) -> None:
+    """Duplicate inertials and zero-size shapes, named with their line and fix."""
+    for link in root.findall("link"):
+        name = link.get("name", "?")
+        line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
+        if len(link.findall("inertial")) > 1:
+            raise ModelError(
+                f"load_model_spec: link {name!r} in {str(file)!r} (line {line}) has {len(link.findall('inertial'))} "
+                "<inertial> elements; a link has one: merge them (total mass, combined centre of mass and inertia)."
+            )
+        for kind in ("visual", "collision"):
+            for element in list(link.findall(kind)):
+                geometry = element.find("geometry")
+                shape = geometry[0] if geometry is not None and len(geometry) else None
+                if shape is None or not _zero_size(shape):
+                    continue
+                if kind == "collision":
+                    raise ModelError(
+                        f"load_model_spec: link {name!r} in {str(file)!r} (line {line}) has a zero-size collision "
+                        f"<{shape.tag}> ({dict(shape.attrib)}); give it a size or remove it."
+                    )
+                link.remove(element)
+                warnings.warn(
+                    f"{str(file)!r}: dropped a zero-size visual <{shape.tag}> of link {name!r} (line {line}).",
+                    RuntimeWarning,
+                    stacklevel=4,
+                )
+
+
+def _zero_size(shape: ET.Element) -> bool:
+    def numbers(attribute: str) -> list[float]:
+        try:
+            return [float(v) for v in shape.get(attribute, "1").split()]
+        except ValueError:
+            return [1.0]
+
+    if shape.tag == "box":
+        return any(v <= 0 for v in numbers("size"))
+    if shape.tag == "sphere":
+        return any(v <= 0 for v in numbers("radius"))
+    if shape.tag == "cylinder":
+        return any(v <= 0 for v in numbers("radius") + numbers("length"))
+    return False
+
+
+def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     root = _parse_xml(file, "robot", "a URDF")
+    text = file.read_text(errors="replace")
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")
@@ -76,26 +177,53 @@ def _load_urdf(file: Path) -> mujoco.MjSpec:
             raise ModelError(
                 f"load_model_spec: joint {name!r} in {str(file)!r} has type {jtype!r}; expected one of {', '.join(_URDF_JOINT_TYPES)}."
             )
+        for end in ("parent", "child"):
+            end_element = joint.find(end)
+            link_name = end_element.get("link", "") if end_element is not None else ""
+            if link_name not in links:
+                line = _line_of(text, rf'<joint\s+name\s*=\s*"{re.escape(name)}"')
+                raise ModelError(
+                    f"load_model_spec: joint {name!r} in {str(file)!r} (line {line}) names {end} link {link_name!r}, "
+                    f"which is not in the file; links: {links}."
+                )
         parent = joint.find("parent")
         if jtype == "floating" and parent is not None and parent.get("link") not in roots:
             raise ModelError(
                 f"load_model_spec: floating joint {name!r} in {str(file)!r} is below link {parent.get('link')!r}; "
                 "MuJoCo supports a free joint only on the root link (set fix_root_link=False instead)."
             )
-    for mesh in root.iter("mesh"):
-        filename = mesh.get("filename", "")
-        resolved = _resolve_mesh(file, filename)
-        mesh.set("filename", str(resolved))
+    _check_links(file, root, text)
+    dropped: list[str] = []
+    for link in root.findall("link"):
+        for kind in ("visual", "collision"):
+            for element in list(link.findall(kind)):
+                for mesh in element.iter("mesh"):
+                    filename = mesh.get("filename", "")
+                    resolved = _resolve_mesh(file, filename, compiler)
+                    try:
+                        mesh.set("filename", str(readable_mesh(resolved)))
+                    except MeshConversionUnavailable as err:
+                        if kind == "collision":
+                            raise ModelError(
+                                f"load_model_spec: collision mesh of link {link.get('name')!r} in {str(file)!r}: {err}"
+                            ) from None
+                        link.remove(element)
+                        dropped.append(filename)
+                    except ModelError as err:
+                        raise ModelError(
+                            f"load_model_spec: link {link.get('name')!r} in {str(file)!r}: {err}"
+                        ) from None
+    _warn_dropped(file, dropped)
     # Keep fixed links (tool frames) as bodies, keep visual geoms, use the absolute mesh paths.
     extension = root.find("mujoco")
     if extension is None:
         extension = ET.SubElement(root, "mujoco")
-    compiler = extension.find("compiler")
-    if compiler is None:
-        compiler = ET.SubElement(extension, "compiler")
-    compiler.set("fusestatic", "false")
-    compiler.set("discardvisual", "false")
-    compiler.set("strippath", "false")
+    settings = extension.find("compiler")
+    if settings is None:
+        settings = ET.SubElement(extension, "compiler")
+    settings.set("fusestatic", "false")
+    settings.set("discardvisual", "false")
+    settings.set("strippath", "false")
     try:
         spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
     except ValueError as err:
@@ -123,20 +251,15 @@ def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:
         equality.data = data
 
 
-def _resolve_mesh(urdf: Path, filename: str) -> Path:
+def _resolve_mesh(urdf: Path, filename: str, compiler: CompilerSettings) -> Path:
     if not filename:
         raise ModelError(f"load_model_spec: a <mesh> in {str(urdf)!r} has no filename attribute.")
-    suffix = Path(filename).suffix.lower()
-    if suffix not in SUPPORTED_MESH_SUFFIXES:
-        raise ModelError(
-            f"load_model_spec: mesh {filename!r} in {str(urdf)!r} has format {suffix or '(none)'!r}; "
-            f"MuJoCo reads {', '.join(SUPPORTED_MESH_SUFFIXES)} (convert it, e.g. COLLADA .dae to .obj)."
-        )
     candidates: list[Path] = []
     if filename.startswith("package://"):
         relative = Path(filename[len("package://") :])
-        # package://<pkg>/<rest>: look for <rest> and <pkg>/<rest> next to the URDF and above it.
-        for base in (urdf.parent, *urdf.parent.parents):
+        # package://<pkg>/<rest>: look for <rest> and <pkg>/<rest> next to the URDF, above
+        # it, and in the declared search paths.
+        for base in (urdf.parent, *urdf.parent.parents, *compiler.search_paths()):
             candidates += [base / relative, base / Path(*relative.parts[1:])]
     elif filename.startswith("file://"):
         candidates.append(Path(filename[len("file://") :]))
@@ -148,5 +271,6 @@ def _resolve_mesh(urdf: Path, filename: str) -> Path:
             return candidate.resolve()
     raise ModelError(
         f"load_model_spec: mesh {filename!r} referenced by {str(urdf)!r} was not found; looked at "
-        f"{', '.join(repr(str(c)) for c in candidates[:4])}{' ...' if len(candidates) > 4 else ''}."
+        f"{', '.join(repr(str(c)) for c in candidates[:4])}{' ...' if len(candidates) > 4 else ''} "
+        "(package:// folders can be added with CompilerSettings(package_paths=...) or ROBOT_AGENTS_PACKAGE_PATH)."
     )

@@ -1,0 +1,78 @@
+"""MuJoCo compiler settings a robot declares for its model file.
+
+Files from the wild need compiler flags MuJoCo does not set by default: inertias that
+violate the triangle inequality (``balanceinertia``), massless dummy links of a mobile
+base (``boundmass`` / ``boundinertia``), MJCF files whose angles are in degrees, meshes
+in another folder, ``package://`` URIs. :class:`CompilerSettings` exposes them; the
+library also fixes the two common compile failures by itself, with a one-line note
+that says which setting to declare (see :func:`robot_agents.agent.declaration.check`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+
+from robot_agents.errors import ConfigError
+
+#: Folders searched for ``package://<pkg>/...`` meshes, besides the model's own (os.pathsep-separated).
+PACKAGE_PATH_VARIABLE = "ROBOT_AGENTS_PACKAGE_PATH"
+
+
+@dataclass(frozen=True)
+class CompilerSettings:
+    """How MuJoCo compiles a robot's model file (``None`` keeps the file's own setting).
+
+    Attributes:
+        angle: ``"radian"`` or ``"degree"``: the unit of the file's joint ranges and
+            euler angles (MJCF's default is degree; a URDF is always radian).
+        balanceinertia: make inertias that violate the triangle inequality valid.
+        inertiafromgeom: compute body inertias from their geoms (``True``), never
+            (``False``), or where a body has none (``None``: MuJoCo's "auto").
+        boundmass, boundinertia: lower bounds of every body's mass (kg) and inertia
+            (kg*m^2), for massless links (0: none).
+        meshdir: folder of the file's meshes, relative to the file.
+        package_paths: folders searched for ``package://<pkg>/...`` URIs, after the
+            model's own folder and its parents (also: the ``ROBOT_AGENTS_PACKAGE_PATH``
+            environment variable).
+    """
+
+    angle: str | None = None
+    balanceinertia: bool | None = None
+    inertiafromgeom: bool | None = None
+    boundmass: float = 0.0
+    boundinertia: float = 0.0
+    meshdir: str | None = None
+    package_paths: tuple[str | Path, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.angle not in (None, "radian", "degree"):
+            raise ConfigError(f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}.")
+        for name in ("boundmass", "boundinertia"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ConfigError(f"CompilerSettings.{name}: expected a finite number >= 0, got {value!r}.")
+        object.__setattr__(self, "package_paths", tuple(self.package_paths))
+
+    def search_paths(self) -> list[Path]:
+        """Declared package folders, then those of ``ROBOT_AGENTS_PACKAGE_PATH``."""
+        extra = [p for p in os.environ.get(PACKAGE_PATH_VARIABLE, "").split(os.pathsep) if p]
+        return [Path(p).expanduser() for p in (*self.package_paths, *extra)]
+
+    def apply(self, spec: mujoco.MjSpec) -> None:
+        """Write the declared settings into ``spec`` (after parsing, before compiling)."""
+        compiler = spec.compiler
+        if self.angle is not None:
+            compiler.degree = self.angle == "degree"
+        if self.balanceinertia is not None:
+            compiler.balanceinertia = self.balanceinertia
+        if self.inertiafromgeom is not None:
+            compiler.inertiafromgeom = 1 if self.inertiafromgeom else 0
+        if self.boundmass:
+            compiler.boundmass = self.boundmass
+        if self.boundinertia:
+            compiler.boundinertia = self.boundinertia

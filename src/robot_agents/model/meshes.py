@@ -1,0 +1,74 @@
+"""Meshes MuJoCo cannot read (``.glb``, ``.gltf``, ``.dae``, ``.ply``) converted once
+into ``.obj`` files in a cache, with trimesh (the ``robot-agents[meshes]`` extra:
+trimesh for the formats, pycollada for COLLADA; an extra because most robots ship
+meshes MuJoCo reads, and pycollada pulls in more).
+
+The cache is ``$ROBOT_AGENTS_CACHE/meshes`` (default ``~/.cache/robot_agents/meshes``);
+a converted file is named by a hash of the source's path, size and modification time,
+so an edited mesh is converted again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+from robot_agents.errors import ModelError
+
+#: Formats MuJoCo reads itself.
+SUPPORTED_MESH_SUFFIXES = (".stl", ".obj", ".msh")
+#: Formats converted through trimesh.
+CONVERTIBLE_MESH_SUFFIXES = (".glb", ".gltf", ".dae", ".ply")
+INSTALL_HINT = "pip install 'robot-agents[meshes]' (trimesh; pycollada for .dae)"
+
+
+class MeshConversionUnavailable(ModelError):
+    """A mesh needs converting and the converter (or one of its readers) is missing."""
+
+
+def cache_dir() -> Path:
+    """Where converted meshes are kept."""
+    root = os.environ.get("ROBOT_AGENTS_CACHE")
+    return (Path(root) if root else Path.home() / ".cache" / "robot_agents") / "meshes"
+
+
+def readable_mesh(path: Path) -> Path:
+    """``path`` itself when MuJoCo reads it, else its converted ``.obj`` in the cache.
+
+    Raises:
+        MeshConversionUnavailable: trimesh (or pycollada for ``.dae``) is not installed.
+        ModelError: an unknown format, or a file the converter cannot read.
+    """
+    suffix = path.suffix.lower()
+    if suffix in SUPPORTED_MESH_SUFFIXES:
+        return path
+    if suffix not in CONVERTIBLE_MESH_SUFFIXES:
+        raise ModelError(
+            f"mesh {str(path)!r} has format {suffix or '(none)'!r}; MuJoCo reads {', '.join(SUPPORTED_MESH_SUFFIXES)} "
+            f"and the library converts {', '.join(CONVERTIBLE_MESH_SUFFIXES)}."
+        )
+    stat = path.stat()
+    key = hashlib.sha256(f"{path.resolve()}|{stat.st_size}|{stat.st_mtime_ns}".encode()).hexdigest()[:24]
+    target = cache_dir() / f"{path.stem}-{key}.obj"
+    if target.is_file():
+        return target
+    try:
+        import trimesh
+    except ImportError:
+        raise MeshConversionUnavailable(f"mesh {str(path)!r} ({suffix}) needs converting: {INSTALL_HINT}.") from None
+    try:
+        mesh = trimesh.load(str(path), force="mesh")
+    except ImportError as err:
+        raise MeshConversionUnavailable(
+            f"mesh {str(path)!r} ({suffix}) needs converting: {err}; {INSTALL_HINT}."
+        ) from None
+    except Exception as err:  # trimesh raises many kinds for unreadable files
+        raise ModelError(f"mesh {str(path)!r} could not be read for conversion: {err}") from None
+    if len(getattr(mesh, "faces", ())) == 0:
+        raise ModelError(f"mesh {str(path)!r} has no triangles to convert.")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    partial = target.with_suffix(".tmp")
+    mesh.export(str(partial), file_type="obj")
+    partial.replace(target)
+    return target

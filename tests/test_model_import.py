@@ -1,0 +1,169 @@
+"""Model files from the wild load without hand edits: meshes MuJoCo cannot read are
+converted (or a visual one dropped with a note), known compile failures are fixed with
+a note, and what cannot be fixed names the element, the file, the line and the fix."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.robot_source import robot_from_file
+from tests.conftest import INERTIAL
+
+trimesh = pytest.importorskip("trimesh")  # the test extra installs it (robot-agents[meshes])
+
+
+def urdf(links: str, joints: str) -> str:
+    return f'<?xml version="1.0"?>\n<robot name="r">\n{links}\n{joints}\n</robot>\n'
+
+
+def link(name: str, body: str = "", mass: float = 1.0) -> str:
+    inertial = INERTIAL.format(m=mass) if mass else ""
+    return f'<link name="{name}">{inertial}{body}</link>'
+
+
+def joint(name: str, parent: str, child: str, kind: str = "revolute", z: float = 0.1) -> str:
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="0 0 {z}"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+    )
+
+
+BOX = '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>'
+
+
+@pytest.fixture(autouse=True)
+def mesh_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("ROBOT_AGENTS_CACHE", str(cache))
+    return cache
+
+
+def write_glb(path: Path, size: float = 0.08) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(trimesh.creation.box((size, size, size)).export(file_type="glb"))
+
+
+def test_glb_meshes_are_converted_once_into_the_cache(tmp_path: Path, mesh_cache: Path) -> None:
+    write_glb(tmp_path / "meshes" / "arm.glb")
+    arm = '<visual><geometry><mesh filename="meshes/arm.glb"/></geometry></visual><collision><geometry><mesh filename="meshes/arm.glb"/></geometry></collision>'
+    path = tmp_path / "glb_arm.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", arm), joint("j", "base", "arm")))
+    scene = ra.Scene(robot_from_file(path))
+    model = scene.model
+    assert model.nmesh >= 1
+    vertices = model.mesh_vert[: model.mesh_vertnum[0]]
+    np.testing.assert_allclose(np.ptp(vertices, axis=0), [0.08, 0.08, 0.08], atol=1e-6)  # the box, converted
+    converted = list(mesh_cache.glob("meshes/arm-*.obj"))
+    assert len(converted) == 1
+    stamp = converted[0].stat().st_mtime_ns
+    ra.Scene(robot_from_file(path))  # a second load uses the cache
+    assert converted[0].stat().st_mtime_ns == stamp
+
+
+def test_without_a_converter_visual_meshes_drop_with_one_note(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "trimesh", None)  # as if robot-agents[meshes] were not installed
+    write_glb(tmp_path / "meshes" / "shell.glb")
+    shell = '<visual><geometry><mesh filename="meshes/shell.glb"/></geometry></visual>'
+    path = tmp_path / "visual_only.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX + shell), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"dropped 1 visual mesh.*pip install 'robot-agents\[meshes\]'"):
+        scene = ra.Scene(robot_from_file(path))
+    assert scene.model.nmesh == 0
+    collision = '<collision><geometry><mesh filename="meshes/shell.glb"/></geometry></collision>'
+    path.write_text(urdf(link("base", BOX) + link("arm", collision), joint("j", "base", "arm")))
+    with pytest.raises(ra.ModelError, match=r"collision mesh of link 'arm'.*robot-agents\[meshes\]"):
+        ra.Scene(robot_from_file(path))
+
+
+def test_massless_links_and_unbalanced_inertia_are_fixed_with_a_note(tmp_path: Path) -> None:
+    # A mobile base's virtual x / y joints on massless dummy links, and an arm link whose
+    # inertia violates the triangle inequality (izz > ixx + iyy).
+    bad_inertia = (
+        '<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.05" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
+    links = link("world_anchor", BOX, mass=2.0) + link("dummy_x", mass=0.0) + link("base", BOX, mass=5.0)
+    links += f'<link name="arm">{bad_inertia}{BOX}</link>'
+    joints = joint("x", "world_anchor", "dummy_x", "prismatic", 0.0) + joint("y", "dummy_x", "base", "prismatic", 0.0)
+    joints += joint("j", "base", "arm")
+    path = tmp_path / "wild.urdf"
+    path.write_text(urdf(links, joints))
+    cls = robot_from_file(path)
+    with pytest.warns(RuntimeWarning) as record:
+        checked = cls.check()
+    notes = " ".join(str(w.message) for w in record)
+    assert "balanceinertia=True" in notes and "boundmass=0.001" in notes
+    assert checked.compiler is not None and checked.compiler.balanceinertia and checked.compiler.boundmass == 1e-3
+    scene = ra.Scene(cls)
+    assert scene.agents[0].joint_names == ("x", "y", "j")
+    # Declared, the same settings compile silently.
+    settings = ra.CompilerSettings(balanceinertia=True, boundmass=1e-3, boundinertia=1e-6)
+    explicit = type("Explicit", (cls,), {"compiler": settings})
+    explicit.check()
+
+
+@pytest.mark.parametrize(
+    ("body", "fragment"),
+    [
+        (INERTIAL.format(m=1) + INERTIAL.format(m=2), "has 2 <inertial> elements; a link has one: merge them"),
+        ('<collision><geometry><box size="0 0.1 0.1"/></geometry></collision>', "zero-size collision <box>"),
+    ],
+)
+def test_broken_links_name_the_element_file_line_and_fix(tmp_path: Path, body: str, fragment: str) -> None:
+    path = tmp_path / "broken.urdf"
+    path.write_text(urdf(link("base", BOX) + f'<link name="arm">{body}</link>', joint("j", "base", "arm")))
+    with pytest.raises(ra.ModelError) as err:
+        ra.Scene(robot_from_file(path))
+    assert "link 'arm'" in str(err.value) and "broken.urdf" in str(err.value) and "(line 3)" in str(err.value)
+    assert fragment in str(err.value)
+
+
+def test_zero_size_visual_is_dropped_and_missing_links_are_named(tmp_path: Path) -> None:
+    zero = '<visual><geometry><sphere radius="0"/></geometry></visual>'
+    path = tmp_path / "zero.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX + zero), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"dropped a zero-size visual <sphere> of link 'arm' \(line 3\)"):
+        ra.Scene(robot_from_file(path))
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX), joint("j", "base", "forearm")))
+    with pytest.raises(ra.ModelError, match=r"joint 'j'.*names child link 'forearm'.*links: \['base', 'arm'\]"):
+        ra.Scene(robot_from_file(path))
+
+
+DEGREES_MJCF = """<mujoco><worldbody><body name="base"><geom type="box" size=".1 .1 .1"/>
+<body name="arm" pos="0 0 .2"><joint name="j" axis="0 1 0" range="-90 45"/><geom type="capsule" fromto="0 0 0 .3 0 0" size=".02"/>
+</body></body></worldbody></mujoco>"""
+
+
+def test_angle_units_of_mjcf_files(tmp_path: Path) -> None:
+    path = tmp_path / "degrees.xml"
+    path.write_text(DEGREES_MJCF)  # MJCF without <compiler angle=...>: degrees
+    agent = ra.Scene(robot_from_file(path)).agents[0]
+    np.testing.assert_allclose(agent.qpos_limits, [[-np.pi / 2, np.pi / 4]])  # always radians in the library
+    radians = type("Radians", (robot_from_file(path),), {"compiler": ra.CompilerSettings(angle="radian")})
+    np.testing.assert_allclose(ra.Scene(radians).agents[0].qpos_limits, [[-90.0, 45.0]])
+    with pytest.raises(ra.ConfigError, match="angle"):
+        ra.CompilerSettings(angle="gradian")
+
+
+def test_package_uris_resolve_in_declared_search_paths(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    elsewhere = tmp_path / "installed" / "my_robot" / "meshes"
+    elsewhere.mkdir(parents=True)
+    (elsewhere / "arm.obj").write_text("v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    mesh = '<collision><geometry><mesh filename="package://my_robot/meshes/arm.obj"/></geometry></collision>'
+    path = tmp_path / "robot" / "pkg.urdf"
+    path.parent.mkdir()
+    path.write_text(urdf(link("base", BOX) + link("arm", mesh), joint("j", "base", "arm")))
+    with pytest.raises(ra.ModelError, match="package_paths"):
+        ra.Scene(robot_from_file(path))
+    declared = type(
+        "Declared", (robot_from_file(path),), {"compiler": ra.CompilerSettings(package_paths=(tmp_path / "installed",))}
+    )
+    assert ra.Scene(declared).model.nmesh == 1
+    monkeypatch.setenv("ROBOT_AGENTS_PACKAGE_PATH", str(tmp_path / "installed"))
+    assert ra.Scene(robot_from_file(path)).model.nmesh == 1
+    assert mujoco.mj_name2id(ra.Scene(robot_from_file(path)).model, mujoco.mjtObj.mjOBJ_JOINT, "pkg-0/j") >= 0

@@ -104,7 +104,10 @@ def test_massless_links_and_unbalanced_inertia_are_fixed_with_a_note(tmp_path: P
     # Declared, the same settings compile silently.
     settings = ra.CompilerSettings(balanceinertia=True, boundmass=1e-3, boundinertia=1e-6)
     explicit = type("Explicit", (cls,), {"compiler": settings})
-    explicit.check()
+    # Its overlapping boxes touch at the default pose: those pairs stop colliding, with a note.
+    with pytest.warns(RuntimeWarning, match=r"2 body pair\(s\) touch at the default keyframe"):
+        pairs = explicit.check().derived_exclusions
+    assert pairs == (("base", "world_anchor"), ("arm", "world_anchor"))
 
 
 @pytest.mark.parametrize(

@@ -198,6 +198,7 @@ def _build(
     cameras: Sequence[CameraConfig] | None,
     derived: DerivedGains | None,
     compiler: CompilerSettings | None = None,
+    exclusions: Sequence[tuple[str, str]] = (),
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
@@ -208,7 +209,9 @@ def _build(
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
-    robot_spec.set_self_collisions(spec, cls.disable_self_collisions, parts.self_collision_exclusions, where)
+    robot_spec.set_self_collisions(
+        spec, cls.disable_self_collisions, (*parts.self_collision_exclusions, *exclusions), where
+    )
     drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__)
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
@@ -219,7 +222,7 @@ def build_spec(cls: type[Agent], cameras: Sequence[CameraConfig] | None = None) 
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
-    return _build(cls, cameras, checked.derived_gains, checked.compiler)[0]
+    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions)[0]
 
 
 @dataclass(frozen=True)
@@ -239,6 +242,8 @@ class CheckedRobot:
             the robot or its file declares drives).
         compiler: the compiler settings the model compiled with (the declared ones, or
             those the check fell back to for a known compile failure).
+        derived_exclusions: body pairs in contact at the default keyframe of a robot
+            that declares no self-collision filtering (MoveIt's "default" collisions).
     """
 
     index: RobotIndex
@@ -250,6 +255,7 @@ class CheckedRobot:
     default_mode: str
     derived_gains: DerivedGains | None = None
     compiler: CompilerSettings | None = None
+    derived_exclusions: tuple[tuple[str, str], ...] = ()
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
@@ -293,6 +299,17 @@ def check(cls: type[Agent]) -> CheckedRobot:
     if not cls.keyframes and index.free_joint is not None:
         base = resting_base(model, index, keyframes["default"].qpos)
         keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
+    exclusions: tuple[tuple[str, str], ...] = ()
+    if not cls.disable_self_collisions and not composed.self_collision_exclusions:
+        exclusions = self_contacts(model, index, next(iter(keyframes.values())).qpos)
+        if exclusions:
+            warnings.warn(
+                f"{name}: {len(exclusions)} body pair(s) touch at the default keyframe and will not collide with each "
+                f"other: {list(exclusions)[:4]}{' ...' if len(exclusions) > 4 else ''} (declare "
+                "self_collision_exclusions to choose yourself).",
+                RuntimeWarning,
+                stacklevel=3,
+            )
     derived: DerivedGains | None = None
     if drives and all(d.source.startswith(DERIVED) for d in drives):
         full = model.qpos0.copy()
@@ -344,7 +361,7 @@ def check(cls: type[Agent]) -> CheckedRobot:
                         f"actuators. Driven joints: {sorted(driven)}."
                     )
     checked = CheckedRobot(
-        index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived, compiler
+        index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived, compiler, exclusions
     )
     _CHECKED[cls] = checked
     return checked
@@ -420,6 +437,21 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
         tip = children[0]
     link = model.body(tip).name[len(index.prefix) :]
     return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
+
+
+def self_contacts(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> tuple[tuple[str, str], ...]:
+    """Pairs of the robot's bodies (names) whose geoms touch at joint positions ``qpos``."""
+    data = mujoco.MjData(model)
+    data.qpos[index.qpos_adr] = qpos
+    mujoco.mj_forward(model, data)
+    pairs: dict[tuple[str, str], None] = {}
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        first, second = int(model.geom_bodyid[contact.geom1]), int(model.geom_bodyid[contact.geom2])
+        if first and second and first != second:
+            names = sorted((model.body(first).name, model.body(second).name))
+            pairs[(names[0], names[1])] = None
+    return tuple(pairs)
 
 
 def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float:

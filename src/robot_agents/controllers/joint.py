@@ -26,6 +26,9 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.errors import ConfigError
 
+#: Absolute targets of an unlimited joint are bounded to +-2 pi rad (+-2 pi m for a slide).
+UNBOUNDED_TARGET = 2 * np.pi
+
 
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosConfig(ControllerConfig):
@@ -33,7 +36,8 @@ class PDJointPosConfig(ControllerConfig):
 
     Attributes:
         lower, upper: action bounds (rad or m). For absolute targets ``None`` means the
-            joint limits; delta modes must give them (e.g. ``-0.1``/``0.1``).
+            joint limits (``+-2 pi`` for an unlimited joint); delta modes must give them
+            (e.g. ``-0.1``/``0.1``).
         use_delta: the action is a change of the target, not the target.
         use_target: with ``use_delta``, add the change to the previous *target* instead
             of the measured position (``pd_joint_target_delta_pos``).
@@ -136,7 +140,9 @@ class PDJointPosController(Controller):
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         cfg, name = self.config, type(self.config).__name__
         dim = self._action_joints
-        leader_range = self.binding.qpos_range[:dim]
+        # Unlimited (continuous) joints get one turn either way: an absolute target must
+        # be finite, and a policy's output range must be too.
+        leader_range = np.clip(self.binding.qpos_range[:dim], -UNBOUNDED_TARGET, UNBOUNDED_TARGET)
         low = leader_range[:, 0] if cfg.lower is None else per_joint(name, "lower", cfg.lower, dim)
         high = leader_range[:, 1] if cfg.upper is None else per_joint(name, "upper", cfg.upper, dim)
         return low.copy(), high.copy()

@@ -232,7 +232,12 @@ def test_user_urdf_loads_and_moves(urdf_file: Path) -> None:
         scene.step()
     np.testing.assert_allclose(agent.qpos[0], [0.4, -0.6], atol=2e-3)
     # Forward kinematics of the tool frame: base 0.05 + upper 0.3 up, then 0.2 along the bent lower link.
-    expected = np.array([np.cos(0.4) * 0.2 * np.sin(-0.6), np.sin(0.4) * 0.2 * np.sin(-0.6), 0.35 + 0.2 * np.cos(-0.6)])
+    # Its base box reaches 5 cm into the floor at the origin: the robot is mounted 1 mm above.
+    assert agent.base_pose[0, 2] == pytest.approx(0.051)
+    height = agent.base_pose[0, 2]
+    expected = np.array(
+        [np.cos(0.4) * 0.2 * np.sin(-0.6), np.sin(0.4) * 0.2 * np.sin(-0.6), height + 0.35 + 0.2 * np.cos(-0.6)]
+    )
     np.testing.assert_allclose(agent.tcp_pose[0, :3], expected, atol=2e-3)
 
 

@@ -37,18 +37,22 @@ def test_ee_square_example_traces_the_square() -> None:
 def test_readme_python_blocks_run() -> None:
     readme = (ROOT / "README.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
-    assert len(blocks) >= 3
+    assert len(blocks) >= 4
     namespace: dict[str, object] = {}
     exec(compile(blocks[0], "README block 1", "exec"), namespace)
     assert namespace["obs"].shape == (4, 34)  # type: ignore[attr-defined]
+    two_lines: dict[str, object] = {}
+    exec(compile(blocks[1], "README block 2", "exec"), two_lines)  # a class only: nothing is loaded
+    assert two_lines["MyArm"].urdf_path == "path/to/my_arm.urdf"  # type: ignore[attr-defined]
+    robot = next(b for b in blocks if "class TwoLinkArm" in b)
     try:
-        exec(compile(blocks[1].replace('Path("examples/', f'Path("{ROOT}/examples/'), "README block 2", "exec"), {})
+        exec(compile(robot.replace('Path("examples/', f'Path("{ROOT}/examples/'), "README robot block", "exec"), {})
         scene = ra.Scene("two_link_arm", control_modes="pd_joint_pos")
         scene.reset(keyframes="home")
         np.testing.assert_allclose(scene.agents[0].qpos[0], [0.0, 0.5])
     finally:
         ra.unregister_agent("two_link_arm")
     ee: dict[str, object] = {"ra": ra}
-    exec(compile(blocks[2], "README block 3", "exec"), ee)
+    exec(compile(next(b for b in blocks if "pd_ee" in b and "frame_jacobian" in b), "README EE block", "exec"), ee)
     assert ee["info"]["ik_success"].shape == (4,)  # type: ignore[index]
     assert ee["agent"].frame_jacobian("panda_hand_tcp").shape == (4, 6, 9)  # type: ignore[attr-defined]

@@ -60,7 +60,8 @@ class Agent:
             (a target marker beside it); ``None``: the one holding the actuated joints.
         mount_pose: where a scene puts the robot's root by default, ``(x, y, z, qw, qx,
             qy, qz)`` (m): a hand or gripper mounted above the floor; ``make_env(...,
-            robot_poses=...)`` overrides it.
+            robot_poses=...)`` overrides it. Undeclared, a fixed-base robot that would
+            reach into the floor is raised to rest on it.
         compiler: MuJoCo compiler settings for the file (angle units, balanceinertia,
             boundmass, meshdir, package search paths; see :class:`CompilerSettings`).
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a

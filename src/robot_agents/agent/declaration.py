@@ -244,6 +244,10 @@ class CheckedRobot:
             those the check fell back to for a known compile failure).
         derived_exclusions: body pairs in contact at the default keyframe of a robot
             that declares no self-collision filtering (MoveIt's "default" collisions).
+        mount_pose: where a scene puts the robot by default: the declared
+            ``mount_pose``; for a fixed-base robot that declares none and would reach
+            more than 5 mm into the floor at its default keyframe (a hand, a gripper),
+            raised to rest 1 mm above it.
     """
 
     index: RobotIndex
@@ -256,6 +260,7 @@ class CheckedRobot:
     derived_gains: DerivedGains | None = None
     compiler: CompilerSettings | None = None
     derived_exclusions: tuple[tuple[str, str], ...] = ()
+    mount_pose: tuple[float, ...] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
@@ -299,6 +304,12 @@ def check(cls: type[Agent]) -> CheckedRobot:
     if not cls.keyframes and index.free_joint is not None:
         base = resting_base(model, index, keyframes["default"].qpos)
         keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
+    mount = tuple(float(v) for v in cls.mount_pose)
+    declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__[:-2])
+    if index.free_joint is None and not declared_mount:
+        lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos)[2])
+        if lift > 0.006:
+            mount = (mount[0], mount[1], mount[2] + lift, *mount[3:])
     exclusions: tuple[tuple[str, str], ...] = ()
     if not cls.disable_self_collisions and not composed.self_collision_exclusions:
         exclusions = self_contacts(model, index, next(iter(keyframes.values())).qpos)
@@ -361,7 +372,17 @@ def check(cls: type[Agent]) -> CheckedRobot:
                         f"actuators. Driven joints: {sorted(driven)}."
                     )
     checked = CheckedRobot(
-        index, tuple(drives), keyframes, part_joints, tuple(parts), modes, default_mode, derived, compiler, exclusions
+        index,
+        tuple(drives),
+        keyframes,
+        part_joints,
+        tuple(parts),
+        modes,
+        default_mode,
+        derived,
+        compiler,
+        exclusions,
+        mount,
     )
     _CHECKED[cls] = checked
     return checked

@@ -83,7 +83,7 @@ class Scene:
         for cls in classes:
             if not (isinstance(cls, type) and issubclass(cls, Agent)):
                 raise ConfigError(f"Scene: expected a robot uid or an Agent subclass, got {cls!r}.")
-        poses = self._poses(robot_poses, [cls.mount_pose for cls in classes])
+        poses = self._poses(robot_poses, [cls.check().mount_pose for cls in classes])
         modes = self._modes(control_modes, len(classes))
         self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
         self.props = tuple(props)

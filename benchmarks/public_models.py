@@ -22,6 +22,7 @@ Usage: ``python benchmarks/public_models.py [--wheel mani_skill-3.0.1-py3-none-a
 from __future__ import annotations
 
 import argparse
+import re
 import subprocess
 import sys
 import tempfile
@@ -95,7 +96,12 @@ def evaluate(path: Path, floating: bool) -> list[str]:
     except Exception as err:  # report, do not stop: the point is the table
         first = str(err).splitlines()[0]
         return ["no", "-", "-", "3" if floating else "2", f"{time.perf_counter() - start:.2f}", first[:110]]
-    fixes = sorted({str(n.message).split(": ")[-1][:60] for n in notes if "compiled with" in str(n.message)})
+    fixes = sorted(
+        {"fixed: " + m.group(1) for n in notes if (m := re.search(r"compiled with ([^:]+):", str(n.message)))}
+    )
+    pairs = [n for n in notes if "touch at the default keyframe" in str(n.message)]
+    if pairs:
+        fixes.append(str(pairs[0].message).split(": ")[1].split(" touch")[0] + " excluded at the default pose")
     note = f"{len(checked.drives)} drives ({checked.drives[0].source.split(' (')[0]}), mode {checked.default_mode}"
     return [
         "yes",

@@ -251,7 +251,10 @@ def test_free_robot_keyframe_base_is_relative_to_its_mount(pendulum_file: Path) 
     np.testing.assert_allclose(scene.agents[1].base_pose[0], [2.0, 0.1, 1, *quarter_turn], atol=1e-12)
 
 
-def test_instability_is_in_info_and_can_raise(pendulum_file: Path) -> None:
+def test_instability_is_in_info_and_can_raise(
+    pendulum_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo would write MUJOCO_LOG.TXT here
     stiff = {
         "stiff": ra.PDJointPosConfig(
             joint_names=("shoulder", "elbow"), stiffness=1e9, damping=0.0, effort_limit=1e12, normalize_action=False
@@ -267,6 +270,8 @@ def test_instability_is_in_info_and_can_raise(pendulum_file: Path) -> None:
         _, _, _, _, info = env.step(np.array([[2.0, -2.0], [0.0, 0.0]]))  # env 0 blows up, env 1 holds
         flags.append(info["physics_unstable"].copy())
     assert any(f[0] for f in flags) and not any(f[1] for f in flags)
+    assert "simulation is unstable" in caplog.text  # MuJoCo's warning, through logging
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
     world = env.scene.world
     total = world.unstable_steps.copy()
     assert total[0] > 0 and total[1] == 0

@@ -13,6 +13,7 @@ the exact integration state for save / restore.
 
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -28,6 +29,17 @@ FloatArray = npt.NDArray[np.float64]
 #: Everything needed for a bit-identical continuation: time, qpos, qvel, act, warm-start
 #: accelerations, controls, applied forces, mocap poses, plugin and user data.
 STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
+
+
+_LOG = logging.getLogger("robot_agents.mujoco")
+
+
+def route_mujoco_warnings() -> None:
+    """Send MuJoCo's runtime warnings (e.g. "the simulation is unstable") to the
+    ``robot_agents.mujoco`` logger instead of stdout and ``MUJOCO_LOG.TXT`` in the
+    working directory; a handler someone else installed is left alone."""
+    if hasattr(mujoco, "get_mju_user_warning") and mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_LOG.warning)
 
 
 _INSTABILITY_WARNINGS = (
@@ -53,6 +65,7 @@ class BatchedWorld:
             raise ConfigError(f"BatchedWorld: expected num_envs >= 1, got {num_envs!r}.")
         if not isinstance(substeps, (int, np.integer)) or substeps < 1:
             raise ConfigError(f"BatchedWorld: expected substeps >= 1, got {substeps!r}.")
+        route_mujoco_warnings()
         self.model = model
         self.num_envs = int(num_envs)
         self.substeps = int(substeps)

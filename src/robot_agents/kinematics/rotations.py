@@ -155,3 +155,47 @@ def relative_pose_into(out: FloatArray, pose: FloatArray, reference: FloatArray)
     mujoco.mju_mulQuat(quat, inverse, pose[3:])
     out[:3] = position
     out[3:] = quat
+
+
+# -- cameras ----------------------------------------------------------------------------
+def look_at_axes(
+    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
+) -> FloatArray:
+    """Rotation matrix ``(3, 3)`` of a MuJoCo camera at ``eye`` looking at ``target`` with
+    ``up`` pointing up in the image; its columns are the camera's x (right), y (up) and
+    z axes (MuJoCo cameras look along -z). Raises :class:`ConfigError` for coincident
+    points or a view direction parallel to ``up``."""
+    from robot_agents.errors import ConfigError
+
+    eye_, target_ = np.asarray(eye, dtype=np.float64), np.asarray(target, dtype=np.float64)
+    forward = target_ - eye_
+    norm = float(np.linalg.norm(forward))
+    if forward.shape != (3,) or not math.isfinite(norm) or norm < 1e-9:
+        raise ConfigError(f"{where}: expected distinct finite 3D points eye and target, got {eye!r} and {target!r}.")
+    forward /= norm
+    right = _cross(forward, np.asarray(up, dtype=np.float64))
+    if float(np.linalg.norm(right)) < 1e-9:
+        raise ConfigError(f"{where}: the view direction {forward.round(6).tolist()} is parallel to up {up!r}.")
+    right /= np.linalg.norm(right)
+    camera_up = _cross(right, forward)
+    axes: FloatArray = np.column_stack([right, camera_up, -forward])
+    return axes
+
+
+def look_at_quat(
+    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
+) -> tuple[float, float, float, float]:
+    """Orientation ``(w, x, y, z)``, ``w >= 0``, of a MuJoCo camera at ``eye`` looking at ``target``."""
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, look_at_axes(eye, target, up, where).reshape(-1))
+    if quat[0] < 0:
+        quat = -quat
+    return (float(quat[0]), float(quat[1]), float(quat[2]), float(quat[3]))
+
+
+def look_at_xyaxes(
+    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
+) -> list[float]:
+    """MuJoCo camera ``xyaxes`` (right and up axes, 6 numbers) of a camera at ``eye`` looking at ``target``."""
+    axes = look_at_axes(eye, target, up, where)
+    return [*axes[:, 0].tolist(), *axes[:, 1].tolist()]

@@ -23,7 +23,8 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.sensors.geometry import float_tuple, look_at_quat
+from robot_agents.kinematics.rotations import look_at_quat
+from robot_agents.sensors.geometry import float_tuple
 
 FloatArray = npt.NDArray[np.float64]
 Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]

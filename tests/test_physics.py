@@ -283,3 +283,17 @@ def test_instability_is_in_info_and_can_raise(
     with pytest.raises(ra.PhysicsError, match=r"unstable in env\(s\) \[0\].*lower the gains"):
         for _ in range(5):
             raising.step(np.array([2.0, -2.0]))
+
+
+def test_observed_poses_match_observed_joints_and_survive_a_state_round_trip() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_joint_delta_pos", num_envs=2)
+    env.reset(seed=0)
+    agent = env.unwrapped.agent
+    for _ in range(3):
+        obs, *_ = env.step(np.ones((2, 8)))  # fast motion: a stale pose would lag by millimetres
+    expected = agent.frame_pose("tcp", qpos=agent.qpos)  # forward kinematics at the observed joints
+    np.testing.assert_allclose(agent.tcp_pose, expected, atol=1e-12)
+    u = env.unwrapped
+    before = u._get_obs().copy()
+    u.set_state(u.get_state())
+    np.testing.assert_array_equal(u._get_obs(), before)

@@ -42,6 +42,14 @@ def route_mujoco_warnings() -> None:
         mujoco.set_mju_user_warning(_LOG.warning)
 
 
+def _sync_poses(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Body, geom, site and camera poses at the stepped ``qpos`` (``mj_step`` leaves them
+    at the start of its last substep): observed poses then match observed joints, and a
+    state restore changes no observation (about 2 us for a 9-DoF arm)."""
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_camlight(model, data)
+
+
 _INSTABILITY_WARNINGS = (
     int(mujoco.mjtWarning.mjWARN_BADQACC),
     int(mujoco.mjtWarning.mjWARN_BADQVEL),
@@ -93,12 +101,14 @@ class BatchedWorld:
             data = datas[i]
             data.ctrl[:] = ctrl[i]
             mujoco.mj_step(model, data, nstep)
+            _sync_poses(model, data)
 
     def _step_all(self, nstep: int) -> None:
         if self.num_envs == 1:
             data = self.datas[0]
             data.ctrl[:] = self.ctrl[0]
             mujoco.mj_step(self.model, data, nstep)
+            _sync_poses(self.model, data)
             return
         if self._pool is None:
             self._step_chunk(self._chunks[0], nstep)

@@ -290,7 +290,7 @@ def test_observed_poses_match_observed_joints_and_survive_a_state_round_trip() -
     env.reset(seed=0)
     agent = env.unwrapped.agent
     for _ in range(3):
-        obs, *_ = env.step(np.ones((2, 8)))  # fast motion: a stale pose would lag by millimetres
+        env.step(np.ones((2, 8)))  # fast motion: a stale pose would lag by millimetres
     expected = agent.frame_pose("tcp", qpos=agent.qpos)  # forward kinematics at the observed joints
     np.testing.assert_allclose(agent.tcp_pose, expected, atol=1e-12)
     u = env.unwrapped

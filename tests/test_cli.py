@@ -31,10 +31,12 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
     rows = {line.split()[0]: line.split()[1] for line in text.splitlines()[2:]}
     assert rows == {
         "floating_panda_gripper": "8",
+        "koch-v1.1": "6",
         "panda": "9",
         "panda_stick": "7",
         "panda_touch": "9",
         "panda_wristcam": "9",
+        "so100": "6",
     }
     assert "pd_joint_target_delta_pos" in text
 

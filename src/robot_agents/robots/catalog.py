@@ -10,4 +10,6 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "panda_touch": "robot_agents.robots.panda.panda:PandaTouch",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStick",
     "floating_panda_gripper": "robot_agents.robots.panda.panda:FloatingPandaGripper",
+    "koch-v1.1": "robot_agents.robots.servo_arms.koch:Koch",
+    "so100": "robot_agents.robots.servo_arms.so100:SO100",
 }

@@ -1,0 +1,147 @@
+"""Hobby servos of the low-cost arms, and PD gains derived from them.
+
+A geared servo drives its joint through a reduction of ratio ``N``: the rotor's inertia
+``J`` appears at the joint multiplied by ``N**2`` (the *reflected* inertia, MuJoCo's
+joint ``armature``). With ``N`` around 300 this dwarfs the 3D-printed links of these
+arms: the SO-100's wrist-roll link has 4e-5 kg*m^2 about its joint, its servo's rotor
+reflects 0.026 kg*m^2. A PD drive tuned without it treats the joint as hundreds of
+times lighter than it is.
+
+Sources of the numbers:
+
+- Dynamixel XL430-W250-T (ROBOTIS e-manual): gear ratio 258.5 : 1; stall torque
+  1.5 N*m and no-load speed 61 rev/min at 12 V (the Koch v1.1 follower's supply).
+- Dynamixel XL330-M288-T (ROBOTIS e-manual): gear ratio 288.35 : 1; stall torque
+  0.52 N*m and no-load speed 103 rev/min at 5 V (the follower's step-down converter).
+- Feetech STS3215, 7.4 V version (the SO-100 follower's servo; Feetech / DFRobot
+  ST3215 datasheet): gear ratio 1 : 345; stall torque 19.5 kg*cm = 1.91 N*m and
+  no-load speed 0.192 s / 60 deg (52 rev/min) at 7.4 V.
+- Reflected inertia (armature) and Coulomb friction, identified on pendulum test
+  benches by Rhoban's BAM ("Better Actuator Models", github.com/Rhoban/bam, Apache-2.0),
+  Coulomb-viscous model ``m1``: STS3215 7.4 V armature 0.0261 kg*m^2, friction
+  0.0515 N*m; XL330 armature 0.00199 kg*m^2, friction 0.0182 N*m; MX-64 (200 : 1,
+  6.0 N*m) armature 0.01195 kg*m^2. Divided by ``N**2`` they are rotor-side inertias
+  of 2.2e-7 (STS3215) and 2.4e-8 kg*m^2 (XL330-M288), plausible for 20 mm and 12 mm
+  motors with their first gear stages (BAM does not name the XL330 variant; the M077's
+  77.4 : 1 would put 3.3e-7 kg*m^2 on the small XL330 rotor, so we read it as the M288).
+- XL430-W250: not identified; its rotor-side inertia is interpolated between the
+  XL330-M288 and the MX-64 by motor stall torque (output stall torque / ``N``):
+  ``J = 2.39e-8 * (5.80e-3 / 1.80e-3) ** 0.898 = 6.8e-8`` kg*m^2, the exponent fitted
+  to the two identified servos; times ``258.5**2``: 0.0046 kg*m^2. Its friction is the
+  XL330's share of stall torque (3.5 %): 0.05 N*m.
+
+Gains (:func:`critically_damped_gains`): each joint is treated as a rigid inertia ``I``
+(its armature plus the diagonal of the joint-space mass matrix at the arm's rest pose)
+under a PD drive, ``I q'' = kp (q* - q) - kv q'``. A chosen bandwidth ``w`` (rad/s) and
+damping ratio ``zeta`` give ``kp = I w**2`` and ``kv = 2 zeta I w``. We use
+``w = 40 rad/s`` (6.4 Hz) and ``zeta = 1``: ``w * dt = 0.08`` at the library's 2 ms
+step, well inside the stable range of the explicit stiffness term (MuJoCo's
+``implicitfast`` integrates only the damping implicitly), and a stiffness of the same
+order as the servos' own position loops at their default gains (e.g. an XL430 at
+Position P Gain 640 reaches full PWM, i.e. stall torque, at 0.27 rad of error:
+about 5.5 N*m/rad, against our 8 N*m/rad). Because the armature dominates, the damping
+ratio stays near 1 across poses (it varies as ``sqrt(I_rest / I_pose)``: 0.68 .. 1.004
+over the keyframes).
+
+Not modelled: the servos' torque-speed curve. A real servo's torque falls linearly from
+stall to zero at its no-load speed (back-EMF); the drive here saturates at the stall
+torque at any speed, so a large position step can drive a joint past its no-load
+speed (the SO-100's wrist roll reaches ~20 rad/s on a 5 rad step, the STS3215 tops out
+at 5.45 rad/s). A passive joint damping of stall torque / no-load speed would add the
+curve but slow the velocity and velocity-feed-forward modes by the same damping;
+MuJoCo's ``dcmotor`` (``DCMotorActuator``, MuJoCo >= 3.15) models it fully.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+
+def rpm(value: float) -> float:
+    """Revolutions per minute in rad/s."""
+    return value * 2.0 * math.pi / 60.0
+
+
+@dataclass(frozen=True)
+class Servo:
+    """One servo model as the simulation sees it.
+
+    Attributes:
+        model: the maker's model name (and supply voltage).
+        gear_ratio: motor turns per output turn.
+        stall_torque: output torque at stall, the drive's effort limit (N*m).
+        no_load_speed: output speed without load, the drive's velocity limit (rad/s).
+        armature: reflected rotor inertia at the output (kg*m^2).
+        friction: Coulomb friction at the output (N*m).
+    """
+
+    model: str
+    gear_ratio: float
+    stall_torque: float
+    no_load_speed: float
+    armature: float
+    friction: float
+
+
+#: Dynamixel XL430-W250-T at 12 V (Koch v1.1 joints 1 and 2).
+XL430_W250 = Servo(
+    model="Dynamixel XL430-W250-T (12 V)",
+    gear_ratio=258.5,
+    stall_torque=1.5,
+    no_load_speed=rpm(61.0),
+    armature=0.0046,
+    friction=0.05,
+)
+#: Dynamixel XL330-M288-T at 5 V (Koch v1.1 joints 3 to 6).
+XL330_M288 = Servo(
+    model="Dynamixel XL330-M288-T (5 V)",
+    gear_ratio=288.35,
+    stall_torque=0.52,
+    no_load_speed=rpm(103.0),
+    armature=0.00199,
+    friction=0.0182,
+)
+#: Feetech STS3215, 7.4 V version with the 1 : 345 gear (every SO-100 joint).
+STS3215 = Servo(
+    model="Feetech STS3215 (7.4 V, 1:345)",
+    gear_ratio=345.0,
+    stall_torque=1.91,
+    no_load_speed=math.radians(60.0) / 0.192,
+    armature=0.0261,
+    friction=0.0515,
+)
+
+#: Closed-loop bandwidth of every joint's PD drive (rad/s).
+BANDWIDTH = 40.0
+#: Damping ratio of every joint's PD drive.
+DAMPING_RATIO = 1.0
+
+
+def critically_damped_gains(
+    inertia: Sequence[float], bandwidth: float = BANDWIDTH, damping_ratio: float = DAMPING_RATIO
+) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """PD gains ``(kp, kv)`` per joint for effective inertias ``inertia`` (kg*m^2):
+    ``kp = I w**2`` (N*m/rad) and ``kv = 2 zeta I w`` (N*m*s/rad)."""
+    kp = tuple(i * bandwidth**2 for i in inertia)
+    kv = tuple(2.0 * damping_ratio * i * bandwidth for i in inertia)
+    return kp, kv
+
+
+def servo_values(servos: Sequence[Servo], field: str) -> tuple[float, ...]:
+    """One attribute (``"armature"``, ``"stall_torque"``, ...) of each servo."""
+    return tuple(float(getattr(servo, field)) for servo in servos)
+
+
+__all__ = [
+    "BANDWIDTH",
+    "DAMPING_RATIO",
+    "STS3215",
+    "XL330_M288",
+    "XL430_W250",
+    "Servo",
+    "critically_damped_gains",
+    "rpm",
+    "servo_values",
+]

@@ -1,0 +1,127 @@
+"""SO-100 (SO-ARM100): a 5-DoF low-cost arm with a jaw gripper, six Feetech STS3215.
+
+Sources of the numbers:
+- Kinematics, link masses and inertias, joint names and limits: the public SO-100 URDF
+  (ManiSkill 3.0.1 ``mani_skill/assets/robots/so100/so100.urdf``, from TheRobotStudio's
+  SO-ARM100), read as data into our primitive model ``assets/so100.xml`` (its header
+  lists every joint origin); MuJoCo Menagerie's ``trs_so_arm100`` carries the same
+  inertials. Link and joint names are the URDF's (``shoulder_pan`` ... ``gripper``,
+  ``Base`` ... ``Moving_Jaw``), so the upstream model can be swapped in.
+- Servos: the Feetech STS3215, 7.4 V, 1 : 345 (:data:`~.servos.STS3215`): stall torque
+  1.91 N*m is every joint's effort limit, no-load speed 5.45 rad/s its velocity limit,
+  BAM's identified reflected inertia 0.0261 kg*m^2 its armature, 0.0515 N*m its
+  friction.
+- Gains: critically damped at 40 rad/s for each joint's effective inertia at ``rest``
+  (armature + the joint-space mass matrix diagonal :data:`REST_LINK_INERTIA`), see
+  :func:`~.servos.critically_damped_gains`: kp = 41.8 .. 54.6 N*m/rad, kv = 2.09 .. 2.73
+  N*m*s/rad. ManiSkill's SO-100 uses kp = 1000, kv = 100 (an industrial arm's gains).
+- Keyframes: ManiSkill's ``rest`` (the folded pose, jaw closed) and ``zero``; joint
+  delta actions of 0.05 rad per step, as ManiSkill's (the arm is not precise).
+- Self-collision exclusions: the pairs of the URDF's SRDF that the kinematics keep apart.
+- Gripper: one moving jaw (``Moving_Jaw``, joint ``gripper``) against the fixed jaw of
+  the wrist link; closed at -1.1 rad (the tips meet), open at 1.1 rad. Its fingers for
+  grasp detection are the fixed jaw's finger (``Fixed_Jaw_tip``, a welded body at the
+  URDF's tip frame) and ``Moving_Jaw``.
+- Tool centre point ``tcp``: on ``Fixed_Jaw`` at (0.00705, -0.09548, 0) m, where
+  ManiSkill's SO-100 TCP (the midpoint of the URDF's ``Fixed_Jaw_tip`` and
+  ``Moving_Jaw_tip`` frames) lies with the jaw closed. End-effector modes command its
+  position only (5 DoF): ``pd_ee_delta_pos`` and ``pd_ee_target_delta_pos``, 2 cm per
+  step at most, the held orientation only a soft preference of IK (:mod:`.five_dof`).
+
+The arm faces -y of its root (the URDF's frame); ManiSkill mounts it turned 90 deg
+about z, which ``robot_poses`` reproduces.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.parts.declaration import Arm, EndEffector, Gripper
+from robot_agents.registry import register_agent
+from robot_agents.robots.servo_arms.five_dof import POSITION_IK
+from robot_agents.robots.servo_arms.servos import STS3215, critically_damped_gains
+
+ASSETS = Path(__file__).parent / "assets"
+
+ARM_JOINTS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll")
+GRIPPER_JOINT = "gripper"
+JOINTS = (*ARM_JOINTS, GRIPPER_JOINT)
+
+#: Diagonal of the joint-space mass matrix at ``rest`` without armature (kg*m^2), in
+#: ``JOINTS`` order: what the links add to each servo's reflected inertia.
+REST_LINK_INERTIA = (3.0432e-3, 2.7393e-3, 8.0064e-3, 1.1516e-3, 4.008e-5, 2.769e-5)
+#: Effective inertia of each joint at ``rest``: link inertia plus armature (kg*m^2).
+EFFECTIVE_INERTIA = tuple(i + STS3215.armature for i in REST_LINK_INERTIA)
+STIFFNESS, DAMPING = critically_damped_gains(EFFECTIVE_INERTIA)
+
+#: Every joint is an STS3215 under a critically damped PD drive.
+SO100_DRIVES = PDActuator(
+    joints="|".join(JOINTS),
+    stiffness=STIFFNESS,
+    damping=DAMPING,
+    effort_limit=STS3215.stall_torque,
+    velocity_limit=STS3215.no_load_speed,
+    armature=STS3215.armature,
+    friction=STS3215.friction,
+)
+
+#: The tool centre point between the jaw tips (``Fixed_Jaw`` frame, m).
+TCP_ON_FIXED_JAW = (0.00705, -0.09548, 0.0)
+
+SO100_ARM = Arm(
+    name="arm",
+    joints="|".join(ARM_JOINTS),
+    end_effectors=(EndEffector("Fixed_Jaw", name="tcp", pos=TCP_ON_FIXED_JAW),),
+    # absolute positions: a box around the reach (0.42 m from the shoulder at z = 0.12 m)
+    task_space=TaskSpace(
+        position_bounds=WorkspaceBox(lower=(-0.5, -0.55, -0.3), upper=(0.5, 0.45, 0.6)),
+        max_translation=0.02,
+        ik=POSITION_IK,
+        modes=("pd_ee_delta_pos", "pd_ee_target_delta_pos"),
+    ),
+    max_delta=0.05,
+)
+#: -1 closes 0.3 rad past the closed jaw (squeezes), +1 opens it fully.
+SO100_GRIPPER = Gripper(
+    name="gripper",
+    joints=GRIPPER_JOINT,
+    open=1.1,
+    closed=-1.1,
+    squeeze=0.3,
+    fingers=("Fixed_Jaw_tip", "Moving_Jaw"),
+)
+
+REST = (0.0, -1.5708, 1.5708, 0.66, 0.0, -1.1)
+
+
+@register_agent()
+class SO100(Agent):
+    """SO-100: five STS3215 joints and a jaw gripper.
+
+    qpos order: ``shoulder_pan``, ``shoulder_lift``, ``elbow_flex``, ``wrist_flex``,
+    ``wrist_roll``, ``gripper``.
+    """
+
+    uid = "so100"
+    mjcf_path = ASSETS / "so100.xml"
+    actuators = (SO100_DRIVES,)
+    parts = (SO100_ARM, SO100_GRIPPER)
+    self_collision_exclusions = (
+        ("Rotation_Pitch", "Lower_Arm"),
+        ("Rotation_Pitch", "Wrist_Pitch_Roll"),
+        ("Upper_Arm", "Wrist_Pitch_Roll"),
+        ("Upper_Arm", "Base"),
+        ("Moving_Jaw", "Wrist_Pitch_Roll"),
+    )
+    keyframes = {
+        "rest": Keyframe(qpos={"|".join(JOINTS): REST}),
+        "zero": Keyframe(qpos={".*": 0.0}),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+__all__ = ["ARM_JOINTS", "EFFECTIVE_INERTIA", "GRIPPER_JOINT", "REST_LINK_INERTIA", "SO100", "TCP_ON_FIXED_JAW"]

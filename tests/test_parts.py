@@ -3,6 +3,7 @@ generated from parts, end-effector commands in a frame that moves (a torso)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -167,3 +168,31 @@ def test_gripper_opening_and_part_errors() -> None:
         ra.Gripper(name="g", joints="a", open=1.0, closed=0.0, fingers=("one",))
     with pytest.raises(ra.ConfigError, match="part name without '/'"):
         ra.Arm(name="a/b", joints="x")
+
+
+def test_position_modes_of_a_short_arm_solve_for_position_alone(torso_file: Path) -> None:
+    """A 3-joint arm cannot hold its tool's orientation while it moves sideways: with
+    ``hold_orientation=False`` its position modes solve for the position and succeed."""
+    results = {}
+    for hold in (True, False):
+        base = torso_robot(torso_file, command_frame=None)
+        arm = base.parts[0]
+        task = dataclasses.replace(arm.task_space, hold_orientation=hold, modes=("pd_ee_delta_pos",))  # type: ignore[attr-defined]
+        parts = (dataclasses.replace(arm, task_space=task), base.parts[1])
+        cls = type("Short", (base,), {"parts": parts, "default_control_mode": "pd_ee_delta_pos"})
+        scene = ra.Scene(cls, control_modes="pd_ee_delta_pos")
+        scene.reset()
+        agent = scene.agents[0]
+        start = agent.tcp_pose[0, :3]
+        successes = []
+        for _ in range(5):
+            agent.set_action([0.0, 0.2, 0.0, 0.0])  # +2 cm along y (0.2 of the 0.1 m bound)
+            scene.step()
+            successes.append(bool(agent.controller.step_info()["ik_success"][0]))
+        for _ in range(10):
+            agent.set_action([0.0, 0.0, 0.0, 0.0])
+            scene.step()
+        results[hold] = (successes, agent.tcp_pose[0, :3] - start)
+    assert not all(results[True][0])  # orientation cannot be held: IK reports failure
+    assert all(results[False][0])
+    np.testing.assert_allclose(results[False][1], [0.0, 0.1, 0.0], atol=5e-3)

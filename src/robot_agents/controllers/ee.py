@@ -97,6 +97,7 @@ class PDEEController(Controller):
         )
         self.control_timestep = context.control_timestep
         self._columns = binding.column_sel
+        self._position_only = not self.rotation and not config.hold_orientation
         self._workspace = (
             (np.asarray(config.workspace.lower, dtype=np.float64), np.asarray(config.workspace.upper, dtype=np.float64))
             if config.workspace is not None
@@ -223,7 +224,9 @@ class PDEEController(Controller):
             self._set_target(raw[env], base, target)
             compose_into(world_target, self._root, target)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.
-            self.solver.solve_one(configuration, world_target, start[env], result, env, loaded=True)
+            self.solver.solve_one(
+                configuration, world_target, start[env], result, env, position_only=self._position_only, loaded=True
+            )
             self.target_pose[env] = target
         solution = result.qpos
         # With feed-forward: the mean position and the velocity of the straight joint

@@ -64,6 +64,8 @@ class PDEEPosConfig(ControllerConfig):
         ee_link: a body or site to control instead of a declared end effector
             (commands in the robot's root frame).
         workspace: optional box in the command frame the target position is clipped to.
+        hold_orientation: position modes keep the tool's orientation (6-DoF IK); ``False``
+            solves for the position alone, for arms with fewer than 6 joints.
         velocity_feedforward: drive the joints with the IK path's velocity as well as
             its position; default on for delta modes, off for absolute ones.
         ik: solver settings.
@@ -79,6 +81,7 @@ class PDEEPosConfig(ControllerConfig):
     ee_link: str | None = None
     workspace: WorkspaceBox | None = None
     velocity_feedforward: bool | None = None
+    hold_orientation: bool = True
     ik: IKConfig = field(default_factory=IKConfig)
     rest_qpos: tuple[float, ...] | None = None
 

@@ -120,6 +120,7 @@ def ee_control_modes(
         joint_names=tuple(group.joint_names),
         end_effector=task.end_effector,
         workspace=task.workspace,
+        hold_orientation=task.hold_orientation,
         ik=task.ik,
         rest_qpos=task.rest_qpos,
         pos_lower=-step,

@@ -41,6 +41,8 @@ class TaskSpace:
         ik: solver settings.
         rest_qpos: posture of the IK null-space pull.
         modes: which end-effector modes the arm offers (ManiSkill names).
+        hold_orientation: position modes keep the tool's orientation; ``False`` for arms
+            with fewer than 6 joints (IK then solves for the position alone).
     """
 
     position_bounds: WorkspaceBox
@@ -57,3 +59,4 @@ class TaskSpace:
         "pd_ee_target_delta_pos",
         "pd_ee_target_delta_pose",
     )
+    hold_orientation: bool = True

@@ -267,7 +267,7 @@ def test_scene_argument_errors() -> None:
         ra.Scene("panda", sim_freq=500, control_freq=30)
     with pytest.raises(ra.ConfigError, match="positive integer"):
         ra.Scene("panda", sim_freq=0)
-    with pytest.raises(ra.ConfigError, match="num_envs >= 1"):
+    with pytest.raises(ra.ConfigError, match="num_envs to be a whole number >= 1, got 0"):
         ra.Scene("panda", num_envs=0)
     with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda'"):
         ra.Scene("pand")

@@ -12,6 +12,7 @@ checked in :mod:`.declaration`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -32,7 +33,7 @@ from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
 from robot_agents.controllers.base import ControllerConfig, ControllerContext
 from robot_agents.controllers.combined import CombinedController
-from robot_agents.errors import StateError, UnknownNameError
+from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.forward import FrameRef, Kinematics
 from robot_agents.model.compiler import CompilerSettings
@@ -414,7 +415,8 @@ class Agent:
     # ------------------------------------------------------------------ part helpers
     def is_static(self, threshold: float = 0.2) -> BoolArray:
         """Per env: every joint except grippers' moves slower than ``threshold`` (rad/s or m/s)."""
-        return self.grippers.is_static(threshold)
+        _check_threshold(f"{type(self).__name__}.is_static", "threshold", threshold)
+        return self.grippers.is_static(float(threshold))
 
     def gripper(self, name: str | None = None) -> Gripper:
         """The gripper or hand part ``name`` (default: the first)."""
@@ -426,8 +428,18 @@ class Agent:
         """Per env: two fingers of the gripper (or hand) press on scene body ``body`` from
         opposing sides, each with at least ``min_force`` (N); forces within ``max_angle``
         degrees of directly opposite count (see :mod:`robot_agents.parts.grasp`)."""
-        return self.grippers.is_grasping(body, min_force, max_angle, gripper)
+        where = f"{type(self).__name__}.is_grasping"
+        _check_threshold(where, "min_force", min_force)
+        _check_threshold(where, "max_angle", max_angle, upper=180.0)
+        return self.grippers.is_grasping(body, float(min_force), float(max_angle), gripper)
 
     def gripper_opening(self, gripper: str | None = None) -> FloatArray:
         """Per env, how open the gripper is: 0 at ``closed``, 1 at ``open`` (its first joint)."""
         return self.grippers.opening(gripper)
+
+
+def _check_threshold(where: str, name: str, value: Any, upper: float = math.inf) -> None:
+    if not (isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)):
+        raise ConfigError(f"{where}: expected {name} to be a number, got {value!r}.")
+    if not (math.isfinite(float(value)) and 0.0 <= float(value) <= upper):
+        raise ConfigError(f"{where}: expected {name} in [0, {upper:g}], got {value!r}.")

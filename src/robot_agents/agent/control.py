@@ -123,6 +123,11 @@ class ControlModes:
             raise ActionError(
                 f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
             ) from None
+        if array.dtype == object:
+            raise ActionError(
+                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: "
+                f"{action!r:.60}."
+            )
         if array.dtype.kind not in "fiu":
             raise ActionError(f"{where}: expected a float (or integer) array, got dtype {array.dtype}.")
         if array.shape == (dim,):

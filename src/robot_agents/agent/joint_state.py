@@ -25,6 +25,10 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 
+#: How far a restored state's joints may lie beyond their limits (rad or m): contacts
+#: and limit constraints are soft, so a simulated state can be slightly outside.
+STATE_LIMIT_MARGIN = 0.05
+
 
 class JointState:
     """Joint reads and writes of one robot (``index``) in ``world``.
@@ -54,6 +58,8 @@ class JointState:
             raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {env_ids!r}.") from None
         if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= self.num_envs):
             raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {ids.tolist()}.")
+        if len(np.unique(ids)) != len(ids):
+            raise StateError(f"{where}: expected distinct env ids, got {ids.tolist()}.")
         return ids.astype(np.int64)
 
     def batch(self, value: Any, n_envs: int, size: int, what: str, where: str) -> FloatArray:
@@ -174,6 +180,14 @@ class JointState:
         if missing:
             raise StateError(f"{where}: expected keys qpos, qvel, control_mode, controller; missing {missing}.")
         qpos = self.batch(state["qpos"], self.num_envs, self.index.nq, "qpos", where)
+        low, high = self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1]
+        far = (qpos < low - STATE_LIMIT_MARGIN) | (qpos > high + STATE_LIMIT_MARGIN)
+        if np.any(far):
+            env, entry = np.argwhere(far)[0]
+            raise StateError(
+                f"{where}: qpos entry {entry} of env {env} is {qpos[env, entry]:.6g}, more than {STATE_LIMIT_MARGIN} "
+                f"beyond its limits [{low[entry]:.6g}, {high[entry]:.6g}] (a state get_state() cannot have given)."
+            )
         qvel = self.batch(state["qvel"], self.num_envs, self.index.nv, "qvel", where)
         base = self.batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None
         return qpos, qvel, base

@@ -9,6 +9,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -19,7 +20,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
-from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError
+from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -98,9 +99,15 @@ class RobotEnv(gym.Env[Any, Any]):
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
-        if not (isinstance(robot_init_qpos_noise, (int, float)) and robot_init_qpos_noise >= 0):
+        if not (
+            isinstance(robot_init_qpos_noise, (int, float))
+            and not isinstance(robot_init_qpos_noise, bool)
+            and math.isfinite(robot_init_qpos_noise)
+            and robot_init_qpos_noise >= 0
+        ):
             raise ConfigError(
-                f"{type(self).__name__}: expected robot_init_qpos_noise >= 0, got {robot_init_qpos_noise!r}."
+                f"{type(self).__name__}: expected robot_init_qpos_noise to be a finite number >= 0 (rad or m), "
+                f"got {robot_init_qpos_noise!r}."
             )
         self.scene = Scene(
             robot_uids,
@@ -129,6 +136,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.raise_on_instability = raise_on_instability
         self.metadata = {**self.metadata, "render_fps": self.control_freq}
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._closed = False
         self._renderer: mujoco.Renderer | None = None
         self._render_camera: mujoco.MjvCamera | None = None
         self._single = self.num_envs == 1
@@ -201,6 +209,10 @@ class RobotEnv(gym.Env[Any, Any]):
     def set_control_mode(self, mode: str, robot: int = 0) -> None:
         """Switch a robot's control mode (its gains are applied again) and update the
         action and observation spaces (the controller's targets are observed)."""
+        where = f"{type(self).__name__}.set_control_mode"
+        self._check_open(where)
+        if not (isinstance(robot, (int, np.integer)) and not isinstance(robot, bool) and 0 <= robot < len(self.agents)):
+            raise ConfigError(f"{where}: expected robot to be an index in [0, {len(self.agents)}), got {robot!r}.")
         self.agents[robot].set_control_mode(mode)
         self.action_space = self._build_action_space()
         self.observation_space = self._build_observation_space()  # controller targets differ per mode
@@ -245,15 +257,21 @@ class RobotEnv(gym.Env[Any, Any]):
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         """Reset every env (or ``options["env_ids"]``) to each robot's keyframe
         (``options["keyframe"]``, default the first) plus seeded noise."""
-        super().reset(seed=seed)
+        where = f"{type(self).__name__}.reset"
+        self._check_open(where)
+        # Everything is checked before the RNG is re-seeded or any env is touched.
+        if seed is not None and not (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
+            raise ConfigError(f"{where}: expected seed to be an int >= 0 or None, got {seed!r}.")
+        if options is not None and not isinstance(options, Mapping):
+            raise ConfigError(f"{where}: expected options to be a dict (keys 'env_ids', 'keyframe'), got {options!r}.")
         options = dict(options or {})
         env_ids = options.pop("env_ids", None)
         keyframe = options.pop("keyframe", None)
         if options:
-            raise ConfigError(
-                f"{type(self).__name__}.reset: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'."
-            )
-        ids = self.agent.state.env_ids(env_ids, f"{type(self).__name__}.reset")
+            raise ConfigError(f"{where}: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'.")
+        ids = self.agent.state.env_ids(env_ids, where)
+        self.scene.check_keyframes(keyframe, where)
+        super().reset(seed=seed)
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
             for agent in self.agents:
@@ -266,6 +284,7 @@ class RobotEnv(gym.Env[Any, Any]):
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several
         robots), advance one control step, and return Gymnasium's five values."""
+        self._check_open(f"{type(self).__name__}.step")
         if len(self.agents) == 1:
             self.agent.set_action(action)
         else:
@@ -342,10 +361,29 @@ class RobotEnv(gym.Env[Any, Any]):
         return {**self.scene.get_state(), "elapsed_steps": self.elapsed_steps.copy()}
 
     def set_state(self, state: Mapping[str, Any]) -> None:
-        """Restore :meth:`get_state`; continuing with the same actions is bit-identical."""
+        """Restore :meth:`get_state`; continuing with the same actions is bit-identical.
+        Everything is checked before anything is written."""
+        where = f"{type(self).__name__}.set_state"
+        self._check_open(where)
+        steps = None
+        if isinstance(state, Mapping) and "elapsed_steps" in state:
+            try:
+                raw = np.asarray(state["elapsed_steps"], dtype=np.float64).reshape(-1)
+            except (TypeError, ValueError):
+                raw = np.array([np.nan])
+            if (
+                raw.shape != (self.num_envs,)
+                or not np.all(np.isfinite(raw))
+                or np.any(raw < 0)
+                or np.any(raw != np.round(raw))
+            ):
+                raise StateError(
+                    f"{where}: expected elapsed_steps as {self.num_envs} whole numbers >= 0, got {state['elapsed_steps']!r}."
+                )
+            steps = raw.astype(np.int64)
         self.scene.set_state(state)
-        if "elapsed_steps" in state:
-            self.elapsed_steps = np.array(state["elapsed_steps"], dtype=np.int64).reshape(self.num_envs)
+        if steps is not None:
+            self.elapsed_steps = steps
 
     def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
@@ -365,8 +403,13 @@ class RobotEnv(gym.Env[Any, Any]):
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)
 
+    def _check_open(self, where: str) -> None:
+        if self._closed:
+            raise StateError(f"{where}: this env is closed; make a new one.")
+
     def close(self) -> None:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
         self.scene.close()
+        self._closed = True

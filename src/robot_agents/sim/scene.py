@@ -76,7 +76,12 @@ class Scene:
             raise ConfigError(
                 f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
             )
-        specifiers = [robots] if isinstance(robots, (str, type)) else list(robots)
+        if isinstance(robots, (str, type)):
+            specifiers: list[Any] = [robots]
+        elif isinstance(robots, Sequence):
+            specifiers = list(robots)
+        else:
+            raise ConfigError(f"Scene: expected a robot uid, an Agent subclass, or a sequence of them, got {robots!r}.")
         if not specifiers:
             raise ConfigError("Scene: expected at least one robot, got none.")
         classes = [get_agent(r) if isinstance(r, str) else r for r in specifiers]
@@ -144,6 +149,10 @@ class Scene:
     def _modes(modes: str | Sequence[str | None] | None, n: int) -> list[str | None]:
         if modes is None or isinstance(modes, str):
             return [modes] * n
+        if not isinstance(modes, Sequence) or not all(m is None or isinstance(m, str) for m in modes):
+            raise ConfigError(
+                f"Scene.control_modes: expected a mode name, None, or one per robot ({n}), got {modes!r}."
+            )
         result = list(modes)
         if len(result) != n:
             raise ConfigError(f"Scene.control_modes: expected one mode per robot ({n}), got {len(result)}: {result}.")
@@ -200,21 +209,29 @@ class Scene:
         """Reset the envs (all by default): props and time to their initial state, each
         robot to a keyframe (default: its first) or to the given ``qpos``."""
         ids = self.agents[0].state.env_ids(env_ids, "Scene.reset")
-        frames = (
-            self._modes(keyframes, len(self.agents))
-            if not isinstance(keyframes, str)
-            else [keyframes] * len(self.agents)
-        )
+        frames = self.check_keyframes(keyframes, "Scene.reset")
         positions = list(qpos) if qpos is not None else [None] * len(self.agents)
         if len(positions) != len(self.agents):
             raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
-        for agent, frame in zip(self.agents, frames, strict=True):
-            names = agent.keyframe_names()
-            if frame is not None and (not isinstance(frame, str) or frame not in names):
-                raise UnknownNameError(f"Scene.reset ({type(agent).__name__})", "keyframe", str(frame), names)
         self.world.reset_envs(ids, self._initial_state)  # also clears MuJoCo's warning counters
         for agent, frame, position in zip(self.agents, frames, positions, strict=True):
             agent.reset(keyframe=frame, qpos=position, env_ids=ids)
+
+    def check_keyframes(self, keyframes: Any, where: str) -> list[str | None]:
+        """One keyframe name (or ``None``: the default) per robot, checked."""
+        if keyframes is None or isinstance(keyframes, str):
+            frames: list[Any] = [keyframes] * len(self.agents)
+        elif isinstance(keyframes, Sequence) and len(keyframes) == len(self.agents):
+            frames = list(keyframes)
+        else:
+            raise StateError(
+                f"{where}: expected a keyframe name, None, or one per robot ({len(self.agents)}), got {keyframes!r}."
+            )
+        for agent, frame in zip(self.agents, frames, strict=True):
+            names = agent.keyframe_names()
+            if frame is not None and (not isinstance(frame, str) or frame not in names):
+                raise UnknownNameError(f"{where} ({type(agent).__name__})", "keyframe", str(frame), names)
+        return frames
 
     # ------------------------------------------------------------------ state
     def get_state(self) -> dict[str, Any]:

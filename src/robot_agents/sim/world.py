@@ -69,10 +69,16 @@ class BatchedWorld:
     """
 
     def __init__(self, model: mujoco.MjModel, num_envs: int, substeps: int, num_threads: int | None = None) -> None:
-        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
-            raise ConfigError(f"BatchedWorld: expected num_envs >= 1, got {num_envs!r}.")
-        if not isinstance(substeps, (int, np.integer)) or substeps < 1:
-            raise ConfigError(f"BatchedWorld: expected substeps >= 1, got {substeps!r}.")
+        if not isinstance(num_envs, (int, np.integer)) or isinstance(num_envs, bool) or num_envs < 1:
+            raise ConfigError(f"BatchedWorld: expected num_envs to be a whole number >= 1, got {num_envs!r}.")
+        if not isinstance(substeps, (int, np.integer)) or isinstance(substeps, bool) or substeps < 1:
+            raise ConfigError(f"BatchedWorld: expected substeps to be a whole number >= 1, got {substeps!r}.")
+        if num_threads is not None and (
+            not isinstance(num_threads, (int, np.integer)) or isinstance(num_threads, bool) or num_threads < 1
+        ):
+            raise ConfigError(
+                f"BatchedWorld: expected num_threads to be a whole number >= 1 or None, got {num_threads!r}."
+            )
         route_mujoco_warnings()
         self.model = model
         self.num_envs = int(num_envs)

@@ -35,6 +35,9 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
         "panda_stick": "7",
         "panda_touch": "9",
         "panda_wristcam": "9",
+        "ur_10e": "6",
+        "xarm6_nogripper": "6",
+        "xarm6_nogripper_wristcam": "6",
     }
     assert "pd_joint_target_delta_pos" in text
 

@@ -10,4 +10,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "panda_touch": "robot_agents.robots.panda.panda:PandaTouch",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStick",
     "floating_panda_gripper": "robot_agents.robots.panda.panda:FloatingPandaGripper",
+    "ur_10e": "robot_agents.robots.universal_robots.ur10e:UR10e",
+    "xarm6_nogripper": "robot_agents.robots.ufactory.xarm6:XArm6NoGripper",
+    "xarm6_nogripper_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6NoGripperWristCam",
 }

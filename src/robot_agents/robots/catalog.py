@@ -12,4 +12,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "floating_panda_gripper": "robot_agents.robots.panda.panda:FloatingPandaGripper",
     "koch-v1.1": "robot_agents.robots.servo_arms.koch:Koch",
     "so100": "robot_agents.robots.servo_arms.so100:SO100",
+    "ur_10e": "robot_agents.robots.universal_robots.ur10e:UR10e",
+    "xarm6_nogripper": "robot_agents.robots.ufactory.xarm6:XArm6NoGripper",
+    "xarm6_nogripper_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6NoGripperWristCam",
 }

@@ -1,0 +1,1 @@
+"""UFactory xArm family (see :mod:`robot_agents.robots.ufactory.xarm6`)."""

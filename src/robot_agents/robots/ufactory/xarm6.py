@@ -1,0 +1,176 @@
+"""UFactory xArm6 robots.
+
+Sources of the numbers:
+- Kinematics: UFactory's published standard DH table of the xArm6 (d1 0.267, a2
+  0.28948866 with the -1.3849179 rad / +1.3849179 rad joint 2 / joint 3 offsets, a3
+  0.0775, d4 0.3425, a5 0.076, d6 0.097 m), written as the joint origins of UFactory's
+  public ``xarm_description`` (joint1..joint6, link_base, link1..link6, link_eef).
+- Joint ranges: the xArm6 datasheet (J1, J4, J6 +-360 deg; J2 -118..120 deg; J3
+  -225..11 deg; J5 -97..180 deg); maximum joint speed 180 deg/s (3.14 rad/s, also the
+  URDF's velocity limit).
+- Torques: the effort limits of ``xarm_description`` (50, 50, 32, 32, 32, 20 N*m).
+- Inertials: ``xarm_description``'s default link parameters of the xArm6
+  (``xarm6_type6_HT_BR2.yaml``: 2.3814, 2.2675, 1.875, 1.3192, 1.33854, 0.17 kg, with
+  centres of mass and inertia tensors; base 2.7 kg), read as data: 12.05 kg in all
+  (datasheet: 12.2 kg).
+- Armature: 0.1 kg*m^2 per joint, the value MuJoCo Menagerie's xArm7 model gives the
+  same UFactory joint modules (UFactory publishes no gear ratios or rotor inertias).
+- Gains (our choice, by joint size as in Menagerie's xArm7): kp = 1500 / 1000 / 800
+  N*m/rad on joints 1-2 / 3-5 / 6, kv = kp / 10, on top of exact gravity compensation.
+  They hold every keyframe to < 1e-6 rad and settle a 0.1 rad step within ~0.25 s
+  (tests/test_ur_xarm.py). ManiSkill's xarm6_nogripper uses kp 1000, kv 50.
+- Keyframes: ManiSkill's ``rest``, ``zeros``, ``stretch_j1`` and ``stretch_j6``. Its
+  ``stretch_j3`` (joint 3 at +pi/2) lies outside joint 3's range (-225..11 deg), and its
+  ``stretch_j2``, ``stretch_j4`` and ``stretch_j5`` put the arm into itself (the folded
+  forearm or the flange against the base column); they are left out.
+- Wrist camera (``xarm6_nogripper_wristcam``): placed as ManiSkill's public
+  ``xarm6_nogripper.urdf`` does: ``camera_link`` 0.05 m along the flange's x axis, turned
+  (roll pi, yaw pi/2), the camera 0.05 m in front of it, looking out of the flange (link6
+  +z) with the image's up along link6 +y. The housing is an Intel RealSense D435 (90 x 25
+  x 25 mm, 72 g; Intel D400 datasheet) around that camera as its colour camera
+  (realsense2_description: 32.5 mm from the housing's centre, 4.3 mm behind its front),
+  on a bracket of our own (30 g, an estimate) on the flange face.
+- Composition: :class:`XArm6` is the arm up to its flange body ``link_eef`` (= link6: the
+  flange face, z out of it). A tool is attached there and the arm part re-pointed to the
+  tool's TCP with :func:`with_tool` (see :class:`XArm6NoGripperWristCam` for a piece on
+  the flange).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import ClassVar
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.compose import Attachment
+from robot_agents.parts.declaration import Arm, EndEffector
+from robot_agents.registry import register_agent
+from robot_agents.sensors import CameraConfig
+
+ASSETS = Path(__file__).parent / "assets"
+
+ARM_JOINTS = tuple(f"joint{i}" for i in range(1, 7))
+#: The flange body: tools are attached here (z out of the flange face).
+FLANGE = "link_eef"
+
+#: PD servos by joint size (kp N*m/rad, kv N*m*s/rad), the URDF's torque limits, 180 deg/s.
+XARM6_DRIVES = PDActuator(
+    joints="joint[1-6]",
+    stiffness=(1500.0, 1500.0, 1000.0, 1000.0, 1000.0, 800.0),
+    damping=(150.0, 150.0, 100.0, 100.0, 100.0, 80.0),
+    effort_limit=(50.0, 50.0, 32.0, 32.0, 32.0, 20.0),
+    velocity_limit=math.pi,
+    armature=0.1,
+)
+
+#: End-effector commands: ManiSkill's delta bounds (10 cm, 0.1 rad per step); absolute
+#: positions bounded by a box around the flange's reach (0.76 m from joint 2 at
+#: z = 0.267 m; datasheet reach 700 mm).
+XARM6_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-0.8, -0.8, -0.5), upper=(0.8, 0.8, 1.1)),
+    max_translation=0.1,
+    max_rotation=0.1,
+)
+#: The arm part; its end effector is the flange until a tool is attached.
+XARM6_ARM = Arm(
+    name="arm",
+    joints="joint[1-6]",
+    end_effectors=(EndEffector(FLANGE, name="flange"),),
+    task_space=XARM6_TASK_SPACE,
+    max_delta=0.1,
+)
+
+#: ManiSkill's keyframes (radians), less those outside the joint ranges or in self-contact.
+XARM6_KEYFRAMES = {
+    "rest": Keyframe(
+        qpos={"joint[1-6]": (1.56280772e-03, -1.10912404, -9.71343926e-02, 1.52969832e-04, 1.20606723, 1.66234924e-03)}
+    ),
+    "zeros": Keyframe(qpos={"joint[1-6]": 0.0}),
+    "stretch_j1": Keyframe(qpos={"joint[1-6]": (math.pi / 2, 0.0, 0.0, 0.0, 0.0, 0.0)}),
+    "stretch_j6": Keyframe(qpos={"joint[1-6]": (0.0, 0.0, 0.0, 0.0, 0.0, math.pi / 2)}),
+}
+
+
+def with_tool(tcp: str, pos: Sequence[float] = (0.0, 0.0, 0.0)) -> tuple[Arm]:
+    """The arm part with its end effector moved to a tool's TCP (a body or site of the
+    tool, with an optional offset ``pos`` in its frame, m)."""
+    tool = EndEffector(tcp, name="tcp", pos=(float(pos[0]), float(pos[1]), float(pos[2])))
+    return (dataclasses.replace(XARM6_ARM, end_effectors=(tool,)),)
+
+
+class XArm6(Agent):
+    """The xArm6 arm up to its flange ``link_eef`` (a piece to mount tools on).
+
+    qpos order: ``joint1``..``joint6`` (base to wrist).
+    """
+
+    mjcf_path = ASSETS / "xarm6.xml"
+    actuators = (XARM6_DRIVES,)
+    parts = (XARM6_ARM,)
+    keyframes = XARM6_KEYFRAMES
+    default_control_mode = "pd_joint_delta_pos"
+
+
+@register_agent()
+class XArm6NoGripper(XArm6):
+    """UFactory xArm6 with a bare flange; its end effector ``flange`` is ``link_eef``."""
+
+    uid = "xarm6_nogripper"
+
+
+class RealSenseD435OnStand(Agent):
+    """An Intel RealSense D435 housing on a bracket (a piece; its root body is
+    ``camera_link``, its camera is declared by the robot)."""
+
+    mjcf_path = ASSETS / "realsense_d435_stand.xml"
+
+
+#: ``camera_link`` on the flange (ManiSkill's xarm6 URDF: xyz (0.05, 0, 0), rpy (pi, 0, pi/2)).
+CAMERA_LINK_POS = (0.05, 0.0, 0.0)
+CAMERA_LINK_QUAT = (0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0)
+#: The camera in ``camera_link`` (ManiSkill: p (0, 0, -0.05), a quarter turn about y in
+#: SAPIEN's x-forward camera axes), in MuJoCo's camera axes (looks along -z, y up): a
+#: quarter turn about -z. It looks along link6 +z with the image's up along link6 +y.
+WRIST_CAMERA_POS = (0.0, 0.0, -0.05)
+WRIST_CAMERA_QUAT = (math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5))
+
+HAND_CAMERA = CameraConfig(
+    uid="hand_camera",
+    mount="camera_link",
+    pos=WRIST_CAMERA_POS,
+    quat=WRIST_CAMERA_QUAT,
+    width=128,
+    height=128,
+    fovy=90.0,
+    near=0.01,
+    far=100.0,
+)
+
+
+@register_agent()
+class XArm6NoGripperWristCam(XArm6NoGripper):
+    """The xArm6 with a RealSense D435 on its flange: camera ``hand_camera`` (128 x 128,
+    90 deg vertical field of view) looking out of the flange."""
+
+    uid = "xarm6_nogripper_wristcam"
+    attachments: ClassVar[Sequence[Attachment]] = (
+        Attachment(RealSenseD435OnStand, at=FLANGE, pos=CAMERA_LINK_POS, quat=CAMERA_LINK_QUAT),
+    )
+    cameras = (HAND_CAMERA,)
+
+
+__all__ = [
+    "FLANGE",
+    "HAND_CAMERA",
+    "RealSenseD435OnStand",
+    "XArm6",
+    "XArm6NoGripper",
+    "XArm6NoGripperWristCam",
+    "with_tool",
+]

@@ -1,0 +1,107 @@
+"""Universal Robots UR10e.
+
+Sources of the numbers:
+- Kinematics: Universal Robots' published DH parameters of the UR10e (d1 0.1807, a2
+  -0.6127, a3 -0.57155, d4 0.17415, d5 0.11985, d6 0.11655 m; alpha pi/2, 0, 0, pi/2,
+  -pi/2, 0), in the body frames and with the joint and body names of MuJoCo Menagerie's
+  ``universal_robots_ur10e`` model (read as data; its lengths are rounded to the mm and
+  its flange sits at 0.1 instead of 0.11655 m). ``base`` is the UR controller's base
+  frame; ``tool0`` is DH frame 6, the flange (z out of it), as in ``ur_description``.
+- Joint ranges: UR10e user manual (+-360 deg; elbow +-180 deg as in ``ur_description``).
+  Maximum joint speeds: 120 deg/s (base, shoulder), 180 deg/s (elbow, wrists).
+  Maximum joint torques (UR article "Max. joint torques"): 330, 330, 150, 56, 56, 56 N*m.
+- Link masses: UR's published dynamics parameters (7.369, 13.051, 3.989, 2.1, 1.98,
+  0.615 kg; base 4.0 kg), 33.1 kg in all (datasheet: 33.5 kg).
+- Armature: 0.1 kg*m^2 per joint, as in Menagerie's UR10e (UR publishes no gear ratios
+  or rotor inertias).
+- Gains (our choice, Menagerie's UR10e position servos: kp 5000, kv 500 on every
+  joint): hold every keyframe to < 1e-6 rad with exact gravity compensation and settle a
+  0.1 rad step within ~0.25 s (tests/test_ur_xarm.py). ManiSkill's ur_10e uses kp 1000,
+  kv 100 (absolute targets) and kp 1e4, kv 1e3 (delta targets).
+- Keyframe ``rest``: ManiSkill's (and Menagerie's ``home``) (-pi/2, -pi/2, pi/2, -pi/2,
+  -pi/2, 0): upper arm up, forearm level, flange facing down.
+- Composition: :class:`UR10e` ends at its flange body ``tool0``; a tool is attached there
+  and the arm part re-pointed to its TCP with :func:`with_tool`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.parts.declaration import Arm, EndEffector
+from robot_agents.registry import register_agent
+
+ASSETS = Path(__file__).parent / "assets"
+
+ARM_JOINTS = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+)
+ARM_PATTERN = "|".join(ARM_JOINTS)
+#: The flange body: tools are attached here (DH frame 6, z out of the flange face).
+FLANGE = "tool0"
+
+#: PD servos (kp N*m/rad, kv N*m*s/rad) with the published torque and speed limits.
+UR10E_DRIVES = PDActuator(
+    joints=ARM_PATTERN,
+    stiffness=5000.0,
+    damping=500.0,
+    effort_limit=(330.0, 330.0, 150.0, 56.0, 56.0, 56.0),
+    velocity_limit=tuple(math.radians(v) for v in (120.0, 120.0, 180.0, 180.0, 180.0, 180.0)),
+    armature=0.1,
+)
+
+#: End-effector commands: ManiSkill's delta bounds (10 cm, 0.1 rad per step); absolute
+#: positions bounded by a box around the flange's reach (1.36 m from the shoulder at
+#: z = 0.1807 m; datasheet reach 1300 mm).
+UR10E_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-1.4, -1.4, -1.2), upper=(1.4, 1.4, 1.6)),
+    max_translation=0.1,
+    max_rotation=0.1,
+)
+#: The arm part; its end effector is the flange until a tool is attached.
+UR10E_ARM = Arm(
+    name="arm",
+    joints=ARM_PATTERN,
+    end_effectors=(EndEffector(FLANGE, name="flange"),),
+    task_space=UR10E_TASK_SPACE,
+    max_delta=0.1,
+)
+
+REST = (-math.pi / 2, -math.pi / 2, math.pi / 2, -math.pi / 2, -math.pi / 2, 0.0)
+
+
+def with_tool(tcp: str, pos: Sequence[float] = (0.0, 0.0, 0.0)) -> tuple[Arm]:
+    """The arm part with its end effector moved to a tool's TCP (a body or site of the
+    tool, with an optional offset ``pos`` in its frame, m)."""
+    tool = EndEffector(tcp, name="tcp", pos=(float(pos[0]), float(pos[1]), float(pos[2])))
+    return (dataclasses.replace(UR10E_ARM, end_effectors=(tool,)),)
+
+
+@register_agent()
+class UR10e(Agent):
+    """Universal Robots UR10e with a bare flange; its end effector ``flange`` is ``tool0``.
+
+    qpos order: shoulder pan, shoulder lift, elbow, wrist 1, wrist 2, wrist 3.
+    """
+
+    uid = "ur_10e"
+    mjcf_path = ASSETS / "ur10e.xml"
+    actuators = (UR10E_DRIVES,)
+    parts = (UR10E_ARM,)
+    keyframes = {"rest": Keyframe(qpos={ARM_PATTERN: REST})}
+    default_control_mode = "pd_joint_delta_pos"
+
+
+__all__ = ["ARM_JOINTS", "FLANGE", "UR10e", "with_tool"]

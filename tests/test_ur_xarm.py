@@ -14,9 +14,8 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import rotation_error
+from robot_agents.kinematics.rotations import quat_to_matrix, rotation_error
 from robot_agents.robots.ufactory.xarm6 import HAND_CAMERA, XArm6, with_tool
-from robot_agents.sensors.geometry import quat_to_mat
 
 # Standard DH rows (a, d, alpha, theta offset), base to flange.
 UR10E_DH = [
@@ -240,7 +239,7 @@ def test_xarm6_wrist_camera_follows_the_flange_and_sees_the_floor() -> None:
         obs, *_ = env.step(action)
     pose = obs["sensor_param"]["hand_camera"]["cam2world_gl"][0].astype(np.float64)
     offset = np.eye(4)
-    offset[:3, :3], offset[:3, 3] = quat_to_mat(HAND_CAMERA.quat), HAND_CAMERA.pos
+    offset[:3, :3], offset[:3, 3] = quat_to_matrix(np.asarray(HAND_CAMERA.quat, dtype=np.float64)), HAND_CAMERA.pos
     np.testing.assert_allclose(pose, body_matrix(env, "camera_link") @ offset, atol=1e-6)
     assert np.linalg.norm(pose[:3, 3] - start[:3, 3]) > 0.05  # it really moved
     # camera_link on link6: ManiSkill's xyz (0.05, 0, 0), rpy (pi, 0, pi/2).

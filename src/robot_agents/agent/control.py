@@ -119,7 +119,7 @@ class ControlModes:
         where = f"{self.owner}.set_action (mode {self.mode!r})"
         try:
             array = np.asarray(action)
-        except (TypeError, ValueError) as err:
+        except Exception as err:  # whatever the input's own __array__ raises
             raise ActionError(
                 f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
             ) from None

@@ -66,7 +66,7 @@ class JointState:
         """``value`` as finite float64 ``(n_envs, size)`` (a ``(size,)`` row applies to all)."""
         try:
             array = np.asarray(value)
-        except (TypeError, ValueError):
+        except Exception:  # whatever the input's own __array__ raises
             raise StateError(f"{where}: expected numeric {what}, got {type(value).__name__}.") from None
         if array.dtype.kind not in "fiu":
             raise StateError(f"{where}: expected numeric {what}, got dtype {array.dtype}.")

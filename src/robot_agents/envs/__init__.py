@@ -27,13 +27,21 @@ def register_envs() -> None:
 def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     """Make a robot_agents task, e.g. ``make_env("Empty-v1", robot_uids="panda")``.
 
-    Keyword arguments go to the task (see :class:`RobotEnv`).
+    Keyword arguments go to the task (see :class:`RobotEnv`). ``max_episode_steps`` is
+    the task's own limit (truncation per env, ``(num_envs,)``, at any batch size), not
+    Gymnasium's ``TimeLimit`` wrapper.
     """
     register_envs()
+    if not isinstance(env_id, str):
+        raise UnknownNameError("make_env", "env id", str(env_id), TASKS)
     name = env_id.split("/", 1)[1] if env_id.startswith(NAMESPACE + "/") else env_id
     if name not in TASKS:
         raise UnknownNameError("make_env", "env id", env_id, TASKS)
-    return gym.make(f"{NAMESPACE}/{name}", **kwargs)
+    steps = kwargs.pop("max_episode_steps", -1)
+    env = gym.make(f"{NAMESPACE}/{name}", **kwargs)
+    if steps != -1:
+        env.unwrapped.set_max_episode_steps(steps)  # type: ignore[attr-defined]
+    return env
 
 
 register_envs()

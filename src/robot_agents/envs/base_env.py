@@ -127,7 +127,8 @@ class RobotEnv(gym.Env[Any, Any]):
         self._sensor_obs = SensorObservation(self.scene.cameras, mode, type(self).__name__) if mode.visual else None
         self.render_mode = render_mode
         self.render_size = (int(render_size[0]), int(render_size[1]))
-        self.max_episode_steps = self.default_max_episode_steps if max_episode_steps == -1 else max_episode_steps
+        self.max_episode_steps = self.default_max_episode_steps
+        self.set_max_episode_steps(max_episode_steps)
         self.robot_init_qpos_noise = float(robot_init_qpos_noise)
         if not isinstance(raise_on_instability, bool):
             raise ConfigError(
@@ -402,6 +403,14 @@ class RobotEnv(gym.Env[Any, Any]):
             self._renderer.update_scene(data, camera=self._render_camera)
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)
+
+    def set_max_episode_steps(self, steps: int | None) -> None:
+        """Truncate episodes after ``steps`` steps (``None``: never; ``-1``: the task's default)."""
+        if steps is not None and not (isinstance(steps, (int, np.integer)) and not isinstance(steps, bool)):
+            raise ConfigError(f"{type(self).__name__}: expected max_episode_steps to be an int or None, got {steps!r}.")
+        if steps is not None and steps != -1 and steps < 1:
+            raise ConfigError(f"{type(self).__name__}: expected max_episode_steps >= 1, got {steps!r}.")
+        self.max_episode_steps = self.default_max_episode_steps if steps == -1 else steps
 
     def _check_open(self, where: str) -> None:
         if self._closed:

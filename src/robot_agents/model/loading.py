@@ -238,9 +238,15 @@ def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:
     (``follower = multiplier * leader + offset``) where MuJoCo's URDF parser did not
     (4.0.0's parser does; 3.3.7's drops the tag)."""
     existing = {(eq.name1, eq.name2) for eq in spec.equalities if eq.type == mujoco.mjtEq.mjEQ_JOINT}
+    names = [j.get("name", "") for j in root.findall("joint")]
     for joint in root.findall("joint"):
         mimic = joint.find("mimic")
         follower = joint.get("name", "")
+        if mimic is not None and mimic.get("joint", "") not in names:
+            raise ModelError(
+                f"load_model_spec: joint {follower!r} mimics joint {mimic.get('joint', '')!r}, which is not in the "
+                f"URDF; joints: {names}."
+            )
         if mimic is None or (follower, mimic.get("joint", "")) in existing:
             continue
         equality = spec.add_equality()

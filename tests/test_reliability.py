@@ -1,0 +1,187 @@
+"""Promises under bad input and misuse, one test per promise (docs/reliability.md):
+a rejected call raises a library error and leaves the complete state bit-identical;
+configs reject non-finite numbers when built; unbounded joints get finite bounds; a
+closed env refuses use; episodes truncate per env at any batch size."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from tests.conftest import INERTIAL
+
+
+def snapshot(env: Any) -> tuple[Any, ...]:
+    u = env.unwrapped
+    state = u.get_state()
+    targets = [(a.drives.targets.position.copy(), a.drives.targets.velocity.copy()) for a in u.agents]
+    return (
+        state["physics"].copy(),
+        repr(state["agents"]),
+        u.elapsed_steps.copy(),
+        repr(u.np_random.bit_generator.state),
+        [a.control_mode for a in u.agents],
+        targets,
+        u.scene.world.ctrl.copy(),
+    )
+
+
+def assert_same(a: tuple[Any, ...], b: tuple[Any, ...]) -> None:
+    np.testing.assert_array_equal(a[0], b[0])
+    assert a[1] == b[1] and a[3] == b[3] and a[4] == b[4]
+    np.testing.assert_array_equal(a[2], b[2])
+    for (p1, v1), (p2, v2) in zip(a[5], b[5], strict=True):
+        np.testing.assert_array_equal(p1, p2)
+        np.testing.assert_array_equal(v1, v2)
+    np.testing.assert_array_equal(a[6], b[6])
+
+
+class RaisesOnArray:
+    def __array__(self, *args: object, **kwargs: object) -> np.ndarray:
+        raise RuntimeError("no array for you")
+
+
+def bad_calls(env: Any, rng: np.random.Generator) -> list[tuple[str, Any]]:
+    u = env.unwrapped
+    agent = u.agent
+    dim = agent.controller.action_dim
+    state = u.get_state()
+    n = u.num_envs
+    calls = [
+        ("step(None)", lambda: env.step(None)),
+        ("step(dict)", lambda: env.step({"a": 1})),
+        ("step(wrong shape)", lambda: env.step(np.zeros(dim + 1))),
+        ("step(nan)", lambda: env.step(np.full(dim, np.nan))),
+        ("step(str)", lambda: env.step("up")),
+        ("step(__array__ raises)", lambda: env.step(RaisesOnArray())),
+        ("reset(options='x')", lambda: env.reset(seed=5, options="x")),
+        ("reset(keyframe=5)", lambda: env.reset(seed=5, options={"keyframe": 5})),
+        ("reset(keyframe='nope')", lambda: env.reset(seed=5, options={"keyframe": "nope"})),
+        ("reset(env_ids dup)", lambda: env.reset(seed=5, options={"env_ids": [0, 0]})),
+        ("reset(env_ids out)", lambda: env.reset(seed=5, options={"env_ids": [n]})),
+        ("reset(unknown option)", lambda: env.reset(seed=5, options={"keyframes": "rest"})),
+        ("reset(seed=-1)", lambda: env.reset(seed=-1)),
+        ("set_state(elapsed nan)", lambda: u.set_state({**state, "elapsed_steps": np.full(n, np.nan)})),
+        ("set_state(elapsed -5)", lambda: u.set_state({**state, "elapsed_steps": np.full(n, -5)})),
+        ("set_state(elapsed 1.7)", lambda: u.set_state({**state, "elapsed_steps": np.full(n, 1.7)})),
+        ("set_state(physics shape)", lambda: u.set_state({**state, "physics": state["physics"][:, :-1]})),
+        ("set_state(1)", lambda: u.set_state(1)),
+        ("set_control_mode(list)", lambda: u.set_control_mode(["pd_joint_pos"])),
+        ("set_control_mode(robot=1)", lambda: u.set_control_mode(agent.control_mode, robot=1)),
+        ("set_control_mode(nope)", lambda: u.set_control_mode("nope")),
+        ("agent.reset(keyframe list)", lambda: agent.reset(keyframe=["rest"])),
+        ("agent.reset(qpos nan)", lambda: agent.reset(qpos=np.full(agent.nq, np.nan))),
+        ("agent.reset(qpos far)", lambda: agent.reset(qpos=np.full(agent.nq, 1e3))),
+        ("agent.set_state(far)", lambda: agent.set_state({**agent.get_state(), "qpos": np.full((n, agent.nq), 1e3)})),
+        ("frame_pose(5)", lambda: agent.frame_pose(5)),
+        ("frame_pose(nope)", lambda: agent.frame_pose("nope")),
+        ("is_static('x')", lambda: agent.is_static("x")),
+        ("is_static(nan)", lambda: agent.is_static(math.nan)),
+        ("is_grasping(5)", lambda: agent.is_grasping(5) if agent.grippers.parts else agent.is_static(-1.0)),
+        ("is_grasping(nan)", lambda: agent.is_grasping("world", min_force=math.nan)),
+    ]
+    order = rng.permutation(len(calls))
+    return [calls[i] for i in order]
+
+
+@pytest.mark.parametrize("uid", ra.list_agents())
+def test_fuzz_rejected_calls_leave_everything_bit_identical(uid: str) -> None:
+    """Seeded random bad calls over the public entry points, for every registered robot:
+    each raises a library error, and physics, controllers, RNG, episode counters,
+    targets and controls are bit-identical afterwards."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, num_envs=2)
+    env.reset(seed=1)
+    env.step(env.action_space.sample())
+    rng = np.random.default_rng(abs(hash(uid)) % 2**32)
+    for name, call in bad_calls(env, rng):
+        before = snapshot(env)
+        with pytest.raises(ra.RobotAgentsError):
+            call()
+        try:
+            assert_same(before, snapshot(env))
+        except AssertionError as err:
+            raise AssertionError(f"{uid}: {name} changed the state") from err
+    env.close()
+
+
+@pytest.mark.parametrize(
+    ("make", "fragment"),
+    [
+        (lambda: ra.PDActuator(joints=".*", stiffness=math.nan), "stiffness"),
+        (lambda: ra.PDActuator(joints=".*", stiffness=1.0, effort_limit=-1.0), "effort_limit"),
+        (lambda: ra.PDJointPosConfig(joint_names=("a",), stiffness=math.inf), "stiffness"),
+        (lambda: ra.PDJointPosConfig(joint_names=("a",), effort_limit=-5.0), "effort_limit"),
+        (lambda: ra.Keyframe(qpos=("a", 0.0)), "expected numbers"),
+        (lambda: ra.Keyframe(qpos={"j": math.inf}), "finite"),
+        (lambda: ra.CompilerSettings(boundmass=math.nan), "boundmass"),
+        (lambda: ra.make_env("Empty-v1", robot_uids="panda", robot_init_qpos_noise=math.inf), "robot_init_qpos_noise"),
+        (lambda: ra.make_env("Empty-v1", robot_uids=None), "robot uid"),
+        (lambda: ra.make_env("Empty-v1", robot_uids="panda", control_mode=5), "control_modes"),
+        (lambda: ra.make_env("Empty-v1", robot_uids="panda", num_threads="x"), "num_threads"),
+        (lambda: ra.make_env("Empty-v1", robot_uids="panda", num_envs=2.5), "whole number"),
+        (lambda: ra.make_env("Empty-v1", robot_uids="panda", max_episode_steps=0), "max_episode_steps"),
+    ],
+)
+def test_configs_reject_bad_numbers_when_built(make: Any, fragment: str) -> None:
+    with pytest.raises(ra.RobotAgentsError, match=fragment):
+        make()
+
+
+def test_unbounded_joints_get_finite_bounds_and_cannot_disable_others(tmp_path: Path) -> None:
+    urdf = f"""<robot name="wheel"><link name="base">{INERTIAL.format(m=2)}</link>
+    <link name="wheel">{INERTIAL.format(m=0.5)}<collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+    <link name="arm">{INERTIAL.format(m=0.5)}</link>
+    <joint name="spin" type="continuous"><parent link="base"/><child link="wheel"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/></joint>
+    <joint name="lift" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.6"/><axis xyz="1 0 0"/>
+      <limit lower="-1" upper="1" effort="20" velocity="1"/></joint></robot>"""
+    path = tmp_path / "wheel.urdf"
+    path.write_text(urdf)
+    cls = type("Wheel", (ra.Agent,), {"uid": "wheel", "urdf_path": path})
+    scene = ra.Scene(cls, control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    space = agent.single_action_space
+    np.testing.assert_allclose(space.low, [-2 * np.pi, -1.0])
+    np.testing.assert_allclose(space.high, [2 * np.pi, 1.0])
+    for _ in range(10):
+        agent.set_action([1e30, 0.5])  # clipped to 2 pi; the other joint keeps its control
+        scene.step()
+    assert np.all(np.isfinite(scene.world.ctrl))
+    assert agent.qpos[0, 1] == pytest.approx(0.5, abs=0.02)
+
+
+def test_a_closed_env_refuses_use() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=4)
+    env.reset(seed=0)
+    env.close()
+    for call in (lambda: env.step(np.zeros((4, 8))), lambda: env.reset(seed=0), lambda: env.unwrapped.set_state({})):
+        with pytest.raises(ra.StateError, match="closed"):
+            call()
+
+
+@pytest.mark.parametrize("num_envs", [1, 3])
+def test_max_episode_steps_truncates_per_env(num_envs: int) -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=num_envs, max_episode_steps=3)
+    env.reset(seed=0)
+    flags = [env.step(env.action_space.sample())[3] for _ in range(3)]
+    assert np.shape(flags[-1]) == (() if num_envs == 1 else (num_envs,))
+    assert not np.any(flags[0]) and not np.any(flags[1]) and np.all(flags[2])
+    env.reset(seed=0, options={"env_ids": [0]})
+    if num_envs > 1:
+        truncated = env.step(env.action_space.sample())[3]
+        np.testing.assert_array_equal(truncated, [False] + [True] * (num_envs - 1))
+
+
+def test_a_mimic_of_a_missing_joint_is_an_error(tmp_path: Path) -> None:
+    urdf = f"""<robot name="m"><link name="a">{INERTIAL.format(m=1)}</link><link name="b">{INERTIAL.format(m=1)}</link>
+    <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="k"/></joint></robot>"""
+    path = tmp_path / "m.urdf"
+    path.write_text(urdf)
+    with pytest.raises(ra.ModelError, match=r"joint 'j' mimics joint 'k', which is not in the URDF; joints: \['j'\]"):
+        ra.Scene(type("M", (ra.Agent,), {"uid": "m", "urdf_path": path}))

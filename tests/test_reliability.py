@@ -185,3 +185,15 @@ def test_a_mimic_of_a_missing_joint_is_an_error(tmp_path: Path) -> None:
     path.write_text(urdf)
     with pytest.raises(ra.ModelError, match=r"joint 'j' mimics joint 'k', which is not in the URDF; joints: \['j'\]"):
         ra.Scene(type("M", (ra.Agent,), {"uid": "m", "urdf_path": path}))
+
+
+def test_diverging_motion_is_reported_and_absurd_speeds_refused(tmp_path: Path) -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, robot_init_qpos_noise=0.0)
+    env.reset(seed=0)
+    agent = env.unwrapped.agent
+    with pytest.raises(ra.StateError, match="joint speeds below 10000"):
+        agent.reset(qvel=np.full(agent.dof, 1e12))
+    # A speed MuJoCo does not reset yet (its guard is 1e10) still marks the step.
+    agent.reset(qvel=np.full(agent.dof, 9e3), env_ids=[1])
+    info = env.step(np.zeros((2, 8)))[4]
+    np.testing.assert_array_equal(info["physics_unstable"], [False, True])

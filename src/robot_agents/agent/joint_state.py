@@ -17,6 +17,7 @@ import numpy.typing as npt
 
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.errors import StateError
+from robot_agents.limits import MAX_SPEED
 
 if TYPE_CHECKING:
     from robot_agents.keyframe import ResolvedKeyframe
@@ -145,6 +146,10 @@ class JointState:
         new_qpos = self.checked_qpos(source_qpos, n, where)
         if qvel is not None:
             new_qvel = self.batch(qvel, n, self.index.nv, "qvel", where)
+            if np.any(np.abs(new_qvel) > MAX_SPEED):
+                raise StateError(
+                    f"{where}: expected joint speeds below {MAX_SPEED:g} (rad/s or m/s), got up to {np.abs(new_qvel).max():.3g}."
+                )
         else:
             row = frame.qvel if frame is not None else np.zeros(self.index.nv)
             new_qvel = np.broadcast_to(row, (n, self.index.nv))

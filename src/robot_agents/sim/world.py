@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.limits import MAX_SPEED
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -93,7 +94,8 @@ class BatchedWorld:
         bounds = np.linspace(0, self.num_envs, self.num_threads + 1).astype(int)
         self._chunks = [range(bounds[i], bounds[i + 1]) for i in range(self.num_threads)]
         self._cache: dict[str, FloatArray] = {}
-        #: Per env: MuJoCo reset it during the last step (NaN / inf / huge values).
+        #: Per env: MuJoCo reset it during the last step (NaN / inf / huge values), or a
+        #: joint moved faster than :data:`MAX_SPEED`.
         self.last_step_unstable = np.zeros(self.num_envs, dtype=bool)
         #: Per env: how many steps had an instability since the world was made (never cleared).
         self.unstable_steps = np.zeros(self.num_envs, dtype=np.int64)
@@ -141,6 +143,9 @@ class BatchedWorld:
         self._cache.clear()
         counts = self.instability_counts()
         np.greater(counts, self._counts, out=self.last_step_unstable)
+        for env, data in enumerate(self.datas):  # diverging without a reset (yet)
+            if np.abs(data.qvel).max(initial=0.0) > MAX_SPEED:
+                self.last_step_unstable[env] = True
         self.unstable_steps += self.last_step_unstable
         self._counts = counts
 

@@ -99,7 +99,6 @@ class BatchedWorld:
         self.last_step_unstable = np.zeros(self.num_envs, dtype=bool)
         #: Per env: how many steps had an instability since the world was made (never cleared).
         self.unstable_steps = np.zeros(self.num_envs, dtype=np.int64)
-        self._counts = np.zeros(self.num_envs, dtype=np.int64)
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
@@ -133,6 +132,7 @@ class BatchedWorld:
         change ``self.ctrl`` (e.g. interpolated targets); without it all substeps run in
         one ``mj_step`` call per env.
         """
+        started = [data.time for data in self.datas]
         if before_substep is None:
             self._step_all(self.substeps)
         else:
@@ -141,13 +141,17 @@ class BatchedWorld:
                 self._step_all(1)
                 self._cache.clear()  # the hook reads the state of every substep
         self._cache.clear()
-        counts = self.instability_counts()
-        np.greater(counts, self._counts, out=self.last_step_unstable)
-        for env, data in enumerate(self.datas):  # diverging without a reset (yet)
-            if np.abs(data.qvel).max(initial=0.0) > MAX_SPEED:
-                self.last_step_unstable[env] = True
-        self.unstable_steps += self.last_step_unstable
-        self._counts = counts
+        # MuJoCo's reset after a blow-up sets time back to 0, so a step that did not
+        # advance time by all its substeps was reset (a cheap test; instability_counts()
+        # reads the warnings). A joint speed above MAX_SPEED is flagged before MuJoCo's
+        # own guard would reset the env.
+        timestep = float(self.model.opt.timestep)
+        advance = (self.substeps - 0.5) * timestep
+        flags = self.last_step_unstable
+        for env, data in enumerate(self.datas):
+            flags[env] = data.time < started[env] + advance
+        flags |= np.abs(self.qvel).max(axis=1, initial=0.0) > MAX_SPEED
+        self.unstable_steps += flags
 
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""
@@ -297,7 +301,6 @@ class BatchedWorld:
             mujoco.mj_resetData(self.model, data)
             mujoco.mj_setState(self.model, data, state, STATE_SPEC)
             self.ctrl[env] = data.ctrl
-            self._counts[env] = 0
         self._cache.clear()
 
     def sync_ctrl(self, env_ids: npt.ArrayLike | None = None) -> None:
@@ -337,7 +340,6 @@ class BatchedWorld:
             mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
             self.ctrl[i] = data.ctrl
         self.forward()
-        self._counts = self.instability_counts()
 
     def close(self) -> None:
         if self._pool is not None:

@@ -422,7 +422,7 @@ def _compile_with_fallbacks(
 
 
 def _torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
-    """Driven joints whose drive is an affine actuator without stiffness (a motor)."""
+    """Driven joints whose drive is an affine actuator without stiffness or damping (a motor)."""
     out = []
     for drive in drives:
         if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED):
@@ -433,7 +433,8 @@ def _torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> l
             for a in range(getattr(model, "nactuator", model.nu))
             if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT) and model.actuator_trnid[a, 0] == joint
         ]
-        if actuators and model.actuator_biasprm[actuators[0], 1] == 0.0:
+        bias = model.actuator_biasprm[actuators[0]] if actuators else None
+        if bias is not None and bias[1] == 0.0 and bias[2] == 0.0:  # no stiffness, no damping: a motor
             out.append(drive.joint)
     return out
 

@@ -1,6 +1,7 @@
 """Controllers: frozen configs a robot declares, and the small objects they build."""
 
 from robot_agents.controllers.base import Controller, ControllerConfig, ControllerContext, JointBinding
+from robot_agents.controllers.base_vel import PDBaseVelConfig
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.controllers.ee import (
     CommandFrame,
@@ -38,6 +39,7 @@ __all__ = [
     "JointBinding",
     "JointEffortConfig",
     "JointGroup",
+    "PDBaseVelConfig",
     "PDEEController",
     "PDEEPosConfig",
     "PDEEPoseConfig",

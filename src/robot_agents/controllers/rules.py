@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from robot_agents.controllers.base import ControllerConfig, PerJoint
+from robot_agents.controllers.base_vel import base_modes
 from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (
     JointEffortConfig,
@@ -28,7 +29,7 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.parts.declaration import Arm, Gripper, Hand, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Part
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
@@ -256,6 +257,12 @@ def modes_from_parts(
         names = part_joints[part.name]
         if isinstance(part, Gripper) and not isinstance(part, Hand):
             others[part.name] = gripper_config(part, names, driven)
+        elif isinstance(part, Base):
+            if len(names) != 3:
+                raise ConfigError(f"Base {part.name!r}: expected 3 joints (x, y, yaw), got {list(names)}.")
+            others[part.name] = base_modes(
+                (names[0], names[1], names[2]), part.holonomic, part.max_speed, part.max_turn
+            )
         else:
             moving = tuple(j for j in names if j in driven)
             if moving:

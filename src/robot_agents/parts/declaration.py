@@ -181,7 +181,15 @@ class Legs(Part):
 
 @dataclass(frozen=True, kw_only=True)
 class Base(Part):
+    """A mobile base on planar joints: ``joints`` match the x slide, the y slide and the
+    yaw hinge (in that model order). Every control mode gets its velocity action:
+    ``(vx, vy, wz)`` for a ``holonomic`` base, ``(v, wz)`` for a differential drive,
+    bounded by ``max_speed`` (m/s) and ``max_turn`` (rad/s)."""
+
     kind: ClassVar[PartKind] = PartKind.BASE
+    holonomic: bool = True
+    max_speed: float = 1.0
+    max_turn: float = 1.0
 
 
 @dataclass(frozen=True, kw_only=True)

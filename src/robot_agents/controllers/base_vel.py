@@ -1,0 +1,109 @@
+"""Mobile-base velocity control (ManiSkill's names): commands in the robot's own frame,
+turned into velocity targets of the base's planar joints (x and y slides, a yaw hinge
+about +z, in the frame the robot is mounted in).
+
+- ``pd_base_vel`` (holonomic): action ``(vx, vy, wz)``: forward and lateral speed (m/s)
+  and yaw rate (rad/s), in the robot's heading frame.
+- ``pd_base_forward_vel`` (differential drive): action ``(v, wz)``: forward speed and
+  yaw rate; the base cannot move sideways.
+
+The base joints' drives track the velocity targets (a velocity servo, or a PD servo
+with its stiffness relaxed by the mode), so the base pushes and is pushed by the world.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from robot_agents.controllers.base import (
+    Controller,
+    ControllerConfig,
+    ControllerContext,
+    FloatArray,
+    IntArray,
+    JointBinding,
+    PerJoint,
+    SimView,
+    per_joint,
+)
+from robot_agents.errors import ConfigError
+
+
+@dataclass(frozen=True, kw_only=True)
+class PDBaseVelConfig(ControllerConfig):
+    """Velocity control of a planar base.
+
+    Attributes:
+        joint_names: the x slide, the y slide and the yaw hinge, in that order.
+        holonomic: ``(vx, vy, wz)`` actions; ``False``: differential drive, ``(v, wz)``.
+        lower, upper: action bounds per entry (m/s and rad/s).
+    """
+
+    writes: ClassVar[tuple[str, ...]] = ("velocity",)
+    holonomic: bool = True
+    lower: PerJoint = -1.0
+    upper: PerJoint = 1.0
+    stiffness: PerJoint | None = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if len(self.joint_names) != 3:
+            raise ConfigError(
+                f"{type(self).__name__}: expected the x slide, y slide and yaw hinge joints, got {self.joint_names}."
+            )
+
+    def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
+        return PDBaseVelController(self, binding, context)
+
+
+class PDBaseVelController(Controller):
+    """Robot-frame base velocities to world-frame (mount-frame) joint velocity targets."""
+
+    config: PDBaseVelConfig
+
+    def __init__(self, config: PDBaseVelConfig, binding: JointBinding, context: ControllerContext) -> None:
+        super().__init__(config, binding, context)
+        self.target_qvel: FloatArray = np.zeros((context.num_envs, 3))
+        self._yaw_adr = int(binding.qpos_adr[2])
+
+    def action_bounds(self) -> tuple[FloatArray, FloatArray]:
+        name = type(self.config).__name__
+        n = 3 if self.config.holonomic else 2
+        return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
+
+    def reset(self, env_ids: IntArray, sim: SimView) -> None:
+        self.target_qvel[env_ids] = 0.0
+
+    def apply(self, raw: FloatArray, sim: SimView) -> None:
+        yaw = sim.qpos[:, self._yaw_adr]
+        cos, sin = np.cos(yaw), np.sin(yaw)
+        forward = raw[:, 0]
+        lateral = raw[:, 1] if self.config.holonomic else 0.0
+        turn = raw[:, -1]
+        self.target_qvel = np.stack((cos * forward - sin * lateral, sin * forward + cos * lateral, turn), axis=1)
+        self.targets.velocity[:, self.binding.column_sel] = self.target_qvel
+
+    def observe(self) -> dict[str, FloatArray]:
+        return {"target_qvel": self.target_qvel}
+
+    def get_state(self) -> dict[str, FloatArray]:
+        return {"target_qvel": self.target_qvel.copy()}
+
+    def set_state(self, state: dict[str, FloatArray]) -> None:
+        self.target_qvel = np.array(state["target_qvel"], dtype=np.float64)
+
+    def describe(self) -> str:
+        kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"
+        return f"base velocity, {kind}{' (normalized)' if self.config.normalize_action else ''}"
+
+
+def base_modes(joints: tuple[str, str, str], holonomic: bool, max_speed: float, max_turn: float) -> PDBaseVelConfig:
+    """The base part of every mode: ``pd_base_vel`` or ``pd_base_forward_vel`` bounds."""
+    if not (math.isfinite(max_speed) and max_speed > 0 and math.isfinite(max_turn) and max_turn > 0):
+        raise ConfigError(f"Base: expected finite max_speed and max_turn > 0, got {max_speed!r}, {max_turn!r}.")
+    bounds = (max_speed, max_speed, max_turn) if holonomic else (max_speed, max_turn)
+    return PDBaseVelConfig(joint_names=joints, holonomic=holonomic, lower=tuple(-b for b in bounds), upper=bounds)

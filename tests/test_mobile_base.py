@@ -1,0 +1,100 @@
+"""Mobile-base velocity control: commands in the robot's frame move the base by the
+commanded distance in the commanded direction (odometry against numbers)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+
+# A 20 kg chassis on planar joints (x, y slides; yaw hinge), floating 2 cm above the
+# floor (no wheel contact: the drives move it), with a 2-joint arm on top.
+MOBILE_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base_link" pos="0 0 0.12">
+      <joint name="root_x" type="slide" axis="1 0 0"/>
+      <joint name="root_y" type="slide" axis="0 1 0"/>
+      <joint name="root_yaw" type="hinge" axis="0 0 1"/>
+      <geom type="box" size="0.3 0.25 0.1" mass="20"/>
+      <body name="upper_arm" pos="0 0 0.15">
+        <joint name="shoulder" axis="0 1 0" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" axis="0 1 0" range="-2 2"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0 0" size="0.025" mass="0.5"/>
+          <site name="tool" pos="0.25 0 0"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def mobile_robot(path: Path, holonomic: bool) -> type[ra.Agent]:
+    return type(
+        "MobileArm",
+        (ra.Agent,),
+        {
+            "uid": "mobile_arm",
+            "mjcf_path": path,
+            "actuators": (
+                ra.VelocityActuator(joints="root_.*", damping=(4000.0, 4000.0, 400.0)),
+                ra.PDActuator(joints="shoulder|elbow", stiffness=300.0, damping=30.0),
+            ),
+            "parts": (
+                ra.Arm(name="arm", joints="shoulder|elbow", end_effectors=(ra.EndEffector("tool"),)),
+                ra.Base(name="base", joints="root_.*", holonomic=holonomic, max_speed=0.5, max_turn=1.0),
+            ),
+            "keyframes": {"facing_y": ra.Keyframe(qpos={"root_yaw": math.pi / 2, "shoulder": -0.3})},
+        },
+    )
+
+
+@pytest.fixture
+def mobile_file(tmp_path: Path) -> Path:
+    path = tmp_path / "mobile.xml"
+    path.write_text(MOBILE_MJCF)
+    return path
+
+
+def drive(cls: type[ra.Agent], base_action: list[float], seconds: float = 2.0) -> ra.Agent:
+    scene = ra.Scene(cls, control_modes="pd_joint_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    for _ in range(round(seconds * scene.control_freq)):
+        agent.set_action([0.0, 0.0, *base_action])  # arm holds, base moves
+        scene.step()
+    return agent
+
+
+def base_state(agent: ra.Agent) -> np.ndarray:
+    return agent.qpos[0, :3]  # x, y (m), yaw (rad)
+
+
+def test_holonomic_base_moves_in_the_robot_frame(mobile_file: Path) -> None:
+    cls = mobile_robot(mobile_file, holonomic=True)
+    agent = drive(cls, [0.4, 0.0, 0.0])  # 0.4 of 0.5 m/s = 0.2 m/s forward, robot facing +y
+    x, y, yaw = base_state(agent)
+    assert y == pytest.approx(0.4, rel=0.05) and abs(x) < 0.01 and yaw == pytest.approx(math.pi / 2, abs=1e-3)
+    agent = drive(cls, [0.0, 0.4, 0.0])  # 0.2 m/s to the robot's left: world -x
+    x, y, _ = base_state(agent)
+    assert x == pytest.approx(-0.4, rel=0.05) and abs(y) < 0.01
+    assert agent.controller.slices["base"] == slice(2, 5)
+
+
+def test_differential_base_drives_forward_and_turns(mobile_file: Path) -> None:
+    cls = mobile_robot(mobile_file, holonomic=False)
+    agent = drive(cls, [0.4, 0.0])
+    x, y, _ = base_state(agent)
+    assert y == pytest.approx(0.4, rel=0.05) and abs(x) < 0.01
+    agent = drive(cls, [0.0, 0.5])  # 0.5 rad/s for 2 s
+    _, _, yaw = base_state(agent)
+    assert yaw - math.pi / 2 == pytest.approx(1.0, rel=0.05)
+    assert agent.single_action_space.shape == (4,)  # arm 2 + (v, wz)

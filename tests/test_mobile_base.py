@@ -98,3 +98,41 @@ def test_differential_base_drives_forward_and_turns(mobile_file: Path) -> None:
     _, _, yaw = base_state(agent)
     assert yaw - math.pi / 2 == pytest.approx(1.0, rel=0.05)
     assert agent.single_action_space.shape == (4,)  # arm 2 + (v, wz)
+
+
+def test_base_pos_and_rot_round_trip_and_wrap(mobile_file: Path) -> None:
+    """Habitat's base_pos / base_rot: exact round trips, yaw in (-pi, pi], incremental turns wrap."""
+    lifted = (1.0, -2.0, 0.0, math.cos(0.3), 0.0, 0.0, math.sin(0.3))  # mounted turned 0.6 rad
+    scene = ra.Scene(mobile_robot(mobile_file, holonomic=True), num_envs=2, robot_poses=[lifted])
+    scene.reset()
+    agent = scene.agents[0]
+    np.testing.assert_allclose(agent.base_rot, wrap(math.pi / 2 + 0.6), atol=1e-9)
+    np.testing.assert_allclose(agent.base_pos[:, :2], [[1.0, -2.0]] * 2, atol=1e-12)
+    for yaw in np.linspace(-math.pi, math.pi, 8):
+        agent.set_base_pose(xy=[0.25, -0.5], yaw=yaw, env_ids=[1])
+        np.testing.assert_allclose(agent.base_pos[1], [0.25, -0.5, 0.0], atol=1e-12)
+        assert abs(wrap(agent.base_rot[1] - yaw)) < 1e-6
+        assert -math.pi < agent.base_rot[1] <= math.pi
+    np.testing.assert_allclose(agent.base_pos[0, :2], [1.0, -2.0], atol=1e-12)  # env 0 untouched
+    agent.set_base_pose(yaw=math.pi - 0.1)
+    agent.set_base_pose(yaw=agent.base_rot + 0.2)  # crosses pi
+    np.testing.assert_allclose(agent.base_rot, -math.pi + 0.1, atol=1e-9)
+    with pytest.raises(ra.StateError, match="base position"):
+        agent.set_base_pose(xy=[0.0, 0.0, 0.0])
+
+
+def wrap(angle: float | np.ndarray) -> np.ndarray:
+    return np.pi - np.mod(np.pi - np.asarray(angle), 2 * np.pi)
+
+
+def test_gripper_open_and_closed_states() -> None:
+    scene = ra.Scene("panda", control_modes="pd_joint_pos")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    assert agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
+    scene.reset(keyframes="closed_rest")
+    assert agent.is_gripper_closed()[0] and not agent.is_gripper_open()[0]
+    agent.reset(qpos=np.concatenate([agent.keyframe_qpos("rest")[:7], [0.02, 0.02]]))
+    assert not agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
+    with pytest.raises(ra.ConfigError, match="no mobile base"):
+        agent.base_rot  # noqa: B018

@@ -31,6 +31,7 @@ from robot_agents.agent.frames import RobotFrames
 from robot_agents.agent.grippers import GripperParts
 from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
+from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerConfig, ControllerContext
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
@@ -39,7 +40,7 @@ from robot_agents.kinematics.forward import FrameRef, Kinematics
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.parts.declaration import Arm, Gripper, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Part
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.touch import TouchReader, TouchSensorConfig
 
@@ -192,6 +193,8 @@ class Agent:
         )
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
         self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
+        base = next((p for p in checked.parts if isinstance(p, Base)), None)
+        self.mobile = MobileBase(world, self.index, self.state, checked.part_joints[base.name] if base else None, name)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -432,6 +435,43 @@ class Agent:
         _check_threshold(where, "min_force", min_force)
         _check_threshold(where, "max_angle", max_angle, upper=180.0)
         return self.grippers.is_grasping(body, float(min_force), float(max_angle), gripper)
+
+    # ------------------------------------------------------------------ mobile base (Habitat's names)
+    @property
+    def base_pos(self) -> FloatArray:
+        """Ground point under the base, ``(num_envs, 3)`` (m, world)."""
+        return self.mobile.position
+
+    @property
+    def base_rot(self) -> FloatArray:
+        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``)."""
+        return self.mobile.yaw
+
+    def set_base_pose(
+        self, xy: npt.ArrayLike | None = None, yaw: npt.ArrayLike | None = None, env_ids: npt.ArrayLike | None = None
+    ) -> None:
+        """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
+        where = f"{type(self).__name__}.set_base_pose"
+        self.mobile.set(xy, yaw, env_ids, where)
+        self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
+
+    def is_gripper_open(self, gripper: str | None = None) -> npt.NDArray[np.bool_]:
+        """Per env: the gripper within its tolerance of ``open``."""
+        part = self.grippers.part(gripper)
+        span = abs(
+            float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
+            - float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        )
+        return np.asarray(self.gripper_opening(gripper) >= 1.0 - part.tolerance / span)
+
+    def is_gripper_closed(self, gripper: str | None = None) -> npt.NDArray[np.bool_]:
+        """Per env: the gripper within its tolerance of ``closed``."""
+        part = self.grippers.part(gripper)
+        span = abs(
+            float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
+            - float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        )
+        return np.asarray(self.gripper_opening(gripper) <= part.tolerance / span)
 
     def gripper_opening(self, gripper: str | None = None) -> FloatArray:
         """Per env, how open the gripper is: 0 at ``closed``, 1 at ``open`` (its first joint)."""

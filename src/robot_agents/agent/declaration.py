@@ -11,8 +11,6 @@ end effectors, fingers, keyframes (names, sizes, limits, quaternions) and contro
 from __future__ import annotations
 
 import dataclasses
-import itertools
-import math
 import re
 import warnings
 import weakref
@@ -26,7 +24,8 @@ import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import gains_from_inertia
-from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, DriveKind, apply_actuators
+from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
+from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
@@ -38,14 +37,14 @@ from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
+from robot_agents.parts.declaration import EndEffector, Gripper, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
 from robot_agents.sensors.touch import TouchSensorConfig
 
 if TYPE_CHECKING:
-    from robot_agents.agent.agent import Agent
+    from robot_agents.agent.definition import AgentDefinition
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 #: Part name used when a control mode is a single config rather than a dict of parts.
@@ -63,7 +62,7 @@ class Composition:
     cameras: tuple[CameraConfig, ...]
     touch_sensors: tuple[TouchSensorConfig, ...]
     #: (prefix, piece class) of every mounted piece, outermost first.
-    pieces: tuple[tuple[str, type[Agent]], ...]
+    pieces: tuple[tuple[str, type[AgentDefinition]], ...]
 
 
 def _prefix_part(part: Part, prefix: str) -> Part:
@@ -88,7 +87,7 @@ def _prefix_part(part: Part, prefix: str) -> Part:
     return dataclasses.replace(part, **changes)
 
 
-def composition(cls: type[Agent]) -> Composition:
+def composition(cls: type[AgentDefinition]) -> Composition:
     """The robot's declarations merged with those of every mounted piece."""
     actuators = list(cls.actuators)
     parts = list(cls.parts)
@@ -96,7 +95,7 @@ def composition(cls: type[Agent]) -> Composition:
     exclusions = list(cls.self_collision_exclusions)
     cameras = list(cls.cameras)
     touch = list(cls.touch_sensors)
-    pieces: list[tuple[str, type[Agent]]] = []
+    pieces: list[tuple[str, type[AgentDefinition]]] = []
     for attachment in cls.attachments:
         if not isinstance(attachment, Attachment):
             raise ConfigError(f"{cls.__name__}.attachments: expected Attachment entries, got {attachment!r}.")
@@ -120,7 +119,7 @@ def composition(cls: type[Agent]) -> Composition:
     )
 
 
-def model_path(cls: type[Agent]) -> Path:
+def model_path(cls: type[AgentDefinition]) -> Path:
     """The declared model file (not checked for existence)."""
     paths = [p for p in (cls.mjcf_path, cls.urdf_path) if p is not None]
     if len(paths) != 1:
@@ -131,7 +130,7 @@ def model_path(cls: type[Agent]) -> Path:
     return Path(paths[0])
 
 
-def mode_parts(cls: type[Agent], modes: Mapping[str, ModeConfig], mode: str) -> dict[str, ControllerConfig]:
+def mode_parts(cls: type[AgentDefinition], modes: Mapping[str, ModeConfig], mode: str) -> dict[str, ControllerConfig]:
     """The per-part configs of a control mode (a single config becomes part ``"main"``)."""
     if mode not in modes:
         raise UnknownNameError(f"{cls.__name__}", "control mode", str(mode), modes)
@@ -139,7 +138,7 @@ def mode_parts(cls: type[Agent], modes: Mapping[str, ModeConfig], mode: str) -> 
     return {SINGLE_PART: entry} if isinstance(entry, ControllerConfig) else dict(entry)
 
 
-def validate_definition(cls: type[Agent]) -> None:
+def validate_definition(cls: type[AgentDefinition]) -> None:
     """Check the declaration's types and internal consistency without loading a model."""
     name = cls.__name__
     model_path(cls)
@@ -185,7 +184,7 @@ def validate_definition(cls: type[Agent]) -> None:
                 seen[joint] = part
 
 
-def _raw_spec(cls: type[Agent], where: str, compiler: CompilerSettings | None = None) -> mujoco.MjSpec:
+def _raw_spec(cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None) -> mujoco.MjSpec:
     """The model file with every mounted piece attached (no options applied yet)."""
     spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
     for attachment in cls.attachments:
@@ -194,7 +193,7 @@ def _raw_spec(cls: type[Agent], where: str, compiler: CompilerSettings | None = 
 
 
 def _build(
-    cls: type[Agent],
+    cls: type[AgentDefinition],
     cameras: Sequence[CameraConfig] | None,
     derived: DerivedGains | None,
     compiler: CompilerSettings | None = None,
@@ -218,7 +217,7 @@ def _build(
     return spec, drives
 
 
-def build_spec(cls: type[Agent], cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
@@ -264,11 +263,9 @@ class CheckedRobot:
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
-#: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
-DERIVED = "derived gains"
 
 
-def check(cls: type[Agent]) -> CheckedRobot:
+def check(cls: type[AgentDefinition]) -> CheckedRobot:
     """Compile the robot alone and check its whole declaration against it (cached per class).
 
     What a robot does not declare is derived here: parts (a serial chain becomes an
@@ -322,7 +319,7 @@ def check(cls: type[Agent]) -> CheckedRobot:
                 stacklevel=3,
             )
     derived: DerivedGains | None = None
-    if drives and all(d.source.startswith(DERIVED) for d in drives):
+    if drives and all(d.source.startswith(DERIVED_SOURCE) for d in drives):
         full = model.qpos0.copy()
         full[index.qpos_adr] = next(iter(keyframes.values())).qpos
         gains = gains_from_inertia(model, [d.joint for d in drives], full)
@@ -345,7 +342,7 @@ def check(cls: type[Agent]) -> CheckedRobot:
             parts,
             part_joints,
             {d.joint: d.velocity_limit for d in drives},
-            torque_only=_torque_only(model, drives),
+            torque_only=torque_only(model, drives),
         )
     )
     if not modes:
@@ -396,7 +393,7 @@ _FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
 
 
 def _compile_with_fallbacks(
-    cls: type[Agent], spec: mujoco.MjSpec, compiler: CompilerSettings
+    cls: type[AgentDefinition], spec: mujoco.MjSpec, compiler: CompilerSettings
 ) -> tuple[mujoco.MjModel, CompilerSettings]:
     """Compile; on a known failure (inertia triangle inequality, massless moving body)
     rebuild with the setting that fixes it and say so in one warning."""
@@ -421,112 +418,8 @@ def _compile_with_fallbacks(
     raise ModelError(f"{name}: the model does not compile.")
 
 
-def _torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
-    """Driven joints whose drive is an affine actuator without stiffness or damping (a motor)."""
-    out = []
-    for drive in drives:
-        if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED):
-            continue
-        joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
-        actuators = [
-            a
-            for a in range(getattr(model, "nactuator", model.nu))
-            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT) and model.actuator_trnid[a, 0] == joint
-        ]
-        bias = model.actuator_biasprm[actuators[0]] if actuators else None
-        if bias is not None and bias[1] == 0.0 and bias[2] == 0.0:  # no stiffness, no damping: a motor
-            out.append(drive.joint)
-    return out
-
-
-def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
-    """Parts of a robot that declares none: its driven joints as one arm when they form
-    a serial chain (each joint's body below the previous one's), with the chain's last
-    body as the end effector; otherwise one ``Body`` part over all of them."""
-    if not driven:
-        return ()
-    joints = [index.joint(j, "infer_parts") for j in driven]
-    bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
-    serial = all(b in index.subtree_bodies(a) for a, b in itertools.pairwise(bodies))
-    patterns = tuple(re.escape(j) for j in driven)
-    if not serial:
-        return (Body(name="body", joints=patterns),)
-    tip = bodies[-1]
-    while True:
-        children = [b for b in range(tip + 1, model.nbody) if int(model.body_parentid[b]) == tip]
-        if len(children) != 1:
-            break
-        tip = children[0]
-    link = model.body(tip).name[len(index.prefix) :]
-    return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
-
-
-def self_contacts(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> tuple[tuple[str, str], ...]:
-    """Pairs of the robot's bodies (names) whose geoms touch at joint positions ``qpos``."""
-    data = mujoco.MjData(model)
-    data.qpos[index.qpos_adr] = qpos
-    mujoco.mj_forward(model, data)
-    pairs: dict[tuple[str, str], None] = {}
-    for i in range(data.ncon):
-        contact = data.contact[i]
-        first, second = int(model.geom_bodyid[contact.geom1]), int(model.geom_bodyid[contact.geom2])
-        if first and second and first != second:
-            names = sorted((model.body(first).name, model.body(second).name))
-            pairs[(names[0], names[1])] = None
-    return tuple(pairs)
-
-
-def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float:
-    """World z (m) of the lowest point of ``geom`` after kinematics (exact for spheres,
-    capsules, cylinders, boxes, ellipsoids and meshes; the bounding box otherwise)."""
-    kind = int(model.geom_type[geom])
-    z = float(data.geom_xpos[geom, 2])
-    rotation = data.geom_xmat[geom].reshape(3, 3)
-    size = model.geom_size[geom]
-    axis_z = abs(float(rotation[2, 2]))
-    if kind == int(mujoco.mjtGeom.mjGEOM_SPHERE):
-        return z - float(size[0])
-    if kind == int(mujoco.mjtGeom.mjGEOM_CAPSULE):
-        return z - axis_z * float(size[1]) - float(size[0])
-    if kind == int(mujoco.mjtGeom.mjGEOM_CYLINDER):
-        return z - axis_z * float(size[1]) - float(size[0]) * math.sqrt(max(0.0, 1.0 - axis_z**2))
-    if kind == int(mujoco.mjtGeom.mjGEOM_BOX):
-        return z - float(np.abs(rotation[2]) @ size)
-    if kind == int(mujoco.mjtGeom.mjGEOM_ELLIPSOID):
-        return z - float(np.linalg.norm(rotation[2] * size))
-    if kind == int(mujoco.mjtGeom.mjGEOM_MESH):
-        mesh = int(model.geom_dataid[geom])
-        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
-        vertices = model.mesh_vert[start : start + count]
-        return z + float(np.min(vertices @ rotation[2]))
-    center, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
-    return z + float(rotation[2] @ center) - float(np.abs(rotation[2]) @ half)
-
-
-def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> np.ndarray:
-    """A floating robot's base pose ``(7,)`` at ``qpos`` that puts its lowest colliding
-    geom 1 mm above the floor (z = 0), upright, at the origin."""
-    data = mujoco.MjData(model)
-    data.qpos[index.qpos_adr] = qpos
-    free = index.free_joint
-    if free is not None:
-        data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
-    mujoco.mj_kinematics(model, data)
-    lowest = min(
-        (
-            lowest_point(model, data, g)
-            for g in range(model.ngeom)
-            if (model.geom_contype[g] or model.geom_conaffinity[g])
-            and int(model.geom_type[g]) != int(mujoco.mjtGeom.mjGEOM_PLANE)
-        ),
-        default=np.inf,
-    )
-    height = 0.0 if not np.isfinite(lowest) else 0.001 - lowest
-    return np.array([0.0, 0.0, height, 1.0, 0.0, 0.0, 0.0])
-
-
 def _resolve_parts(
-    cls: type[Agent], parts: Sequence[Part], index: RobotIndex, model: mujoco.MjModel
+    cls: type[AgentDefinition], parts: Sequence[Part], index: RobotIndex, model: mujoco.MjModel
 ) -> dict[str, tuple[str, ...]]:
     where = f"{cls.__name__}.parts"
     names = [p.name for p in parts]
@@ -560,7 +453,7 @@ def assert_frame(model: mujoco.MjModel, ee: EndEffector, where: str) -> None:
         resolve_frame(model, ee.command_frame, "", where + " command_frame")
 
 
-def _composed_default(cls: type[Agent], index: RobotIndex) -> np.ndarray:
+def _composed_default(cls: type[AgentDefinition], index: RobotIndex) -> np.ndarray:
     """The default pose: the model's, with each mounted piece's first keyframe on its joints."""
     default = default_qpos(index)
     for prefix, piece in composition(cls).pieces:

@@ -75,6 +75,13 @@ class GripperParts:
         ]
         return grasped(self.world.contact_forces(groups, target), min_force, max_angle)
 
+    def within(self, gripper: str | None, opening: float) -> BoolArray:
+        """Per env: the opening within the part's tolerance of ``opening`` (0 closed, 1 open)."""
+        part = self.part(gripper)
+        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
+        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        return np.asarray(np.abs(self.opening(gripper) - opening) <= part.tolerance / abs(opened - closed))
+
     def opening(self, gripper: str | None) -> FloatArray:
         """Per env, 0 at ``closed`` and 1 at ``open`` (the part's first joint)."""
         part = self.part(gripper)

@@ -1,0 +1,126 @@
+"""The declaration half of a robot class: the class attributes a robot sets and the
+class-level questions about them (its model file, its checked declaration, its modes
+and keyframes). :class:`~robot_agents.agent.Agent` adds the bound, per-instance half."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import ClassVar
+
+import mujoco
+
+from robot_agents.actuators.config import ActuatorConfig
+from robot_agents.agent import declaration
+from robot_agents.agent.declaration import CheckedRobot, ModeConfig
+from robot_agents.controllers.base import ControllerConfig
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.compose import Attachment
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Part
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.touch import TouchSensorConfig
+
+
+class AgentDefinition:
+    """Base class of every robot. Subclass it, set the class attributes, register it.
+
+    Declaration (class attributes):
+        uid: registry id, e.g. ``"panda"``.
+        mjcf_path / urdf_path: the model file (exactly one).
+        fix_root_link: weld the root to the world (arms) or give it a free joint.
+        root_body: which top-level body of the file is the robot, when it has several
+            (a target marker beside it); ``None``: the one holding the actuated joints.
+        mount_pose: where a scene puts the robot's root by default, ``(x, y, z, qw, qx,
+            qy, qz)`` (m): a hand or gripper mounted above the floor; ``make_env(...,
+            robot_poses=...)`` overrides it. Undeclared, a fixed-base robot that would
+            reach into the floor is raised to rest on it.
+        compiler: MuJoCo compiler settings for the file (angle units, balanceinertia,
+            boundmass, meshdir, package search paths; see :class:`CompilerSettings`).
+        actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
+            model file's own actuators are adopted unless ``replace_file_actuators``.
+        parts: arm(s), gripper(s) or hand(s), head, torso, base, legs, with their roles
+            (end effectors, gripper open / closed, fingers).
+        attachments: pieces (other Agent classes) mounted at a body or site; their
+            actuators, parts, sensors and default keyframe come along.
+        keyframes: name -> :class:`Keyframe` (joints by name); the first is the default.
+        control_modes: name -> controller config, or ``{part: config}``; empty:
+            generated from the parts.
+        default_control_mode: defaults to the first control mode.
+        disable_self_collisions / self_collision_exclusions: contact filtering.
+        gravity_compensation: ``True`` (every body), ``False``, or body names; ``None``
+            means ``fix_root_link`` (on for fixed-base arms, off for free robots).
+        link_materials / default_material: friction per body / for every other geom.
+        cameras / touch_sensors: sensors that travel with the robot.
+    """
+
+    uid: ClassVar[str] = ""
+    mjcf_path: ClassVar[str | Path | None] = None
+    urdf_path: ClassVar[str | Path | None] = None
+    fix_root_link: ClassVar[bool] = True
+    root_body: ClassVar[str | None] = None
+    mount_pose: ClassVar[tuple[float, ...]] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    compiler: ClassVar[CompilerSettings] = CompilerSettings()
+    actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
+    replace_file_actuators: ClassVar[bool] = False
+    parts: ClassVar[tuple[Part, ...]] = ()
+    attachments: ClassVar[Sequence[Attachment]] = ()
+    keyframes: ClassVar[Mapping[str, Keyframe]] = {}
+    control_modes: ClassVar[Mapping[str, ModeConfig]] = {}
+    default_control_mode: ClassVar[str | None] = None
+    disable_self_collisions: ClassVar[bool] = False
+    self_collision_exclusions: ClassVar[tuple[tuple[str, str], ...]] = ()
+    gravity_compensation: ClassVar[bool | tuple[str, ...] | None] = None
+    link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {}
+    default_material: ClassVar[FrictionMaterial | None] = None
+    cameras: ClassVar[tuple[CameraConfig, ...]] = ()
+    touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
+
+    # ------------------------------------------------------------------ declaration
+    @classmethod
+    def model_path(cls) -> Path:
+        """The declared model file (not checked for existence)."""
+        return declaration.model_path(cls)
+
+    @classmethod
+    def validate_definition(cls) -> None:
+        """Check the declaration's types without loading the model (see :meth:`check`)."""
+        declaration.validate_definition(cls)
+
+    @classmethod
+    def check(cls) -> CheckedRobot:
+        """Compile the robot alone and check its whole declaration (parts, drives,
+        keyframes, control modes) against it; cached per class. Run at registration."""
+        return declaration.check(cls)
+
+    @classmethod
+    def build_spec(cls, cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
+        """A fresh MjSpec of the composed robot with every declared (or derived) option
+        applied; ``cameras`` replaces the declared cameras (an env's overrides)."""
+        return declaration.build_spec(cls, cameras)
+
+    @classmethod
+    def modes(cls) -> dict[str, ModeConfig]:
+        """The control-mode table: ``control_modes``, or generated from the parts."""
+        return cls.check().modes
+
+    @classmethod
+    def mode_parts(cls, mode: str) -> dict[str, ControllerConfig]:
+        """The per-part configs of a control mode (a single config becomes part ``"main"``)."""
+        return declaration.mode_parts(cls, cls.modes(), mode)
+
+    @classmethod
+    def default_mode(cls) -> str:
+        """The declared default mode; for a generated table a delta mode (random actions
+        are then small), else the first mode."""
+        return cls.check().default_mode
+
+    @classmethod
+    def keyframe_names(cls) -> list[str]:
+        """Keyframe names, the default first (``["default"]`` for a robot that declares none)."""
+        return list(cls.check().keyframes)
+
+    @classmethod
+    def default_keyframe(cls) -> str | None:
+        return next(iter(cls.check().keyframes), None)

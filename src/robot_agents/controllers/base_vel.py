@@ -24,12 +24,12 @@ from robot_agents.controllers.base import (
     ControllerConfig,
     ControllerContext,
     FloatArray,
-    IntArray,
     JointBinding,
     PerJoint,
     SimView,
     per_joint,
 )
+from robot_agents.controllers.joint import PDJointVelController
 from robot_agents.errors import ConfigError
 
 
@@ -60,23 +60,20 @@ class PDBaseVelConfig(ControllerConfig):
         return PDBaseVelController(self, binding, context)
 
 
-class PDBaseVelController(Controller):
-    """Robot-frame base velocities to world-frame (mount-frame) joint velocity targets."""
+class PDBaseVelController(PDJointVelController):
+    """Robot-frame base velocities to mount-frame joint velocity targets (the velocity
+    controller's targets and state, with the base's action layout)."""
 
-    config: PDBaseVelConfig
+    config: PDBaseVelConfig  # type: ignore[assignment]
 
     def __init__(self, config: PDBaseVelConfig, binding: JointBinding, context: ControllerContext) -> None:
-        super().__init__(config, binding, context)
-        self.target_qvel: FloatArray = np.zeros((context.num_envs, 3))
+        super().__init__(config, binding, context)  # type: ignore[arg-type]
         self._yaw_adr = int(binding.qpos_adr[2])
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         name = type(self.config).__name__
         n = 3 if self.config.holonomic else 2
         return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
-
-    def reset(self, env_ids: IntArray, sim: SimView) -> None:
-        self.target_qvel[env_ids] = 0.0
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         yaw = sim.qpos[:, self._yaw_adr]
@@ -86,15 +83,6 @@ class PDBaseVelController(Controller):
         turn = raw[:, -1]
         self.target_qvel = np.stack((cos * forward - sin * lateral, sin * forward + cos * lateral, turn), axis=1)
         self.targets.velocity[:, self.binding.column_sel] = self.target_qvel
-
-    def observe(self) -> dict[str, FloatArray]:
-        return {"target_qvel": self.target_qvel}
-
-    def get_state(self) -> dict[str, FloatArray]:
-        return {"target_qvel": self.target_qvel.copy()}
-
-    def set_state(self, state: dict[str, FloatArray]) -> None:
-        self.target_qvel = np.array(state["target_qvel"], dtype=np.float64)
 
     def describe(self) -> str:
         kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"

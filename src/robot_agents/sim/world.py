@@ -51,6 +51,8 @@ def _sync_poses(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     mujoco.mj_camlight(model, data)
 
 
+_MAX_SPEED_SQUARED = MAX_SPEED**2
+
 _INSTABILITY_WARNINGS = (
     int(mujoco.mjtWarning.mjWARN_BADQACC),
     int(mujoco.mjtWarning.mjWARN_BADQVEL),
@@ -143,15 +145,15 @@ class BatchedWorld:
         self._cache.clear()
         # MuJoCo's reset after a blow-up sets time back to 0, so a step that did not
         # advance time by all its substeps was reset (a cheap test; instability_counts()
-        # reads the warnings). A joint speed above MAX_SPEED is flagged before MuJoCo's
-        # own guard would reset the env.
-        timestep = float(self.model.opt.timestep)
-        advance = (self.substeps - 0.5) * timestep
+        # reads the warnings). Joint speeds whose norm passes MAX_SPEED are flagged
+        # before MuJoCo's own guard would reset the env.
+        advance = (self.substeps - 0.5) * float(self.model.opt.timestep)
         flags = self.last_step_unstable
         for env, data in enumerate(self.datas):
-            flags[env] = data.time < started[env] + advance
-        flags |= np.abs(self.qvel).max(axis=1, initial=0.0) > MAX_SPEED
-        self.unstable_steps += flags
+            qvel = data.qvel
+            flags[env] = data.time < started[env] + advance or qvel @ qvel > _MAX_SPEED_SQUARED
+        if flags.any():
+            self.unstable_steps += flags
 
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""

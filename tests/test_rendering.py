@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.sensors.geometry import quat_to_mat
+from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sensors.pointcloud import pixel_rays, world_points
 
 BOX_POS = np.array([0.6, 0.4, 0.1])
@@ -36,7 +36,7 @@ class BoxEnv(ra.RobotEnv):
 
 def box_distance(points: np.ndarray) -> np.ndarray:
     """Unsigned distance (m) of world points ``(P, 3)`` to the box's surface."""
-    local = (points - BOX_POS) @ quat_to_mat(BOX_QUAT)  # rows: R^T (p - c)
+    local = (points - BOX_POS) @ quat_to_matrix(BOX_QUAT)  # rows: R^T (p - c)
     q = np.abs(local) - BOX_HALF
     outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
     inside = np.minimum(q.max(axis=1), 0.0)

@@ -10,9 +10,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import mujoco
-import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError
+from robot_agents.kinematics.rotations import look_at_xyaxes
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_camera
@@ -86,22 +86,6 @@ class SceneOptions:
 #: Where the scene's render camera stands and what it looks at (m, world frame).
 RENDER_CAMERA_POS = (1.25, -1.0, 0.9)
 RENDER_CAMERA_TARGET = (0.25, 0.0, 0.35)
-
-
-def look_at_xyaxes(eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0)) -> list[float]:
-    """MuJoCo camera ``xyaxes`` (right and up axes, 6 numbers) of a camera at ``eye``
-    looking at ``target``; MuJoCo cameras look along their -z axis."""
-    forward = np.asarray(target, dtype=np.float64) - np.asarray(eye, dtype=np.float64)
-    norm = np.linalg.norm(forward)
-    if norm < 1e-9:
-        raise ConfigError(f"look_at_xyaxes: eye and target coincide at {list(eye)}.")
-    forward /= norm
-    right = np.cross(forward, np.asarray(up, dtype=np.float64))
-    if np.linalg.norm(right) < 1e-9:
-        raise ConfigError(f"look_at_xyaxes: the view direction {forward.tolist()} is parallel to up {list(up)}.")
-    right /= np.linalg.norm(right)
-    camera_up = np.cross(right, forward)
-    return [*right.tolist(), *camera_up.tolist()]
 
 
 def compose_scene(

@@ -14,12 +14,6 @@ import robot_agents as ra
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.robots.panda.panda import HAND_CAMERA, Panda
 
-
-def rotation_of(quat: object) -> np.ndarray:
-    """3x3 rotation matrix of a quaternion (w, x, y, z)."""
-    return quat_to_matrix(np.asarray(quat, dtype=np.float64))
-
-
 SMALL = {"hand_camera": {"width": 32, "height": 32}, "base_camera": None}
 
 
@@ -72,7 +66,7 @@ def test_intrinsics_from_field_of_view_and_resizing() -> None:
 def test_look_at_points_the_camera_at_the_target() -> None:
     eye, target = np.array([1.0, -0.5, 0.8]), np.array([0.2, 0.1, 0.3])
     camera = ra.CameraConfig.look_at("cam", eye=eye, target=target)
-    rot = rotation_of(camera.quat)
+    rot = quat_to_matrix(camera.quat)
     view = (target - eye) / np.linalg.norm(target - eye)
     np.testing.assert_allclose(rot @ [0, 0, -1], view, atol=1e-12)  # looks along its -z
     assert (rot @ [0, 1, 0])[2] > 0 and abs((rot @ [1, 0, 0])[2]) < 1e-12  # image up is world up; horizon level
@@ -93,7 +87,7 @@ def test_wrist_camera_pose_follows_its_link() -> None:
     link = np.eye(4)
     link[:3, :3], link[:3, 3] = data.xmat[hand].reshape(3, 3), data.xpos[hand]
     offset = np.eye(4)
-    offset[:3, :3], offset[:3, 3] = rotation_of(HAND_CAMERA.quat), HAND_CAMERA.pos
+    offset[:3, :3], offset[:3, 3] = quat_to_matrix(HAND_CAMERA.quat), HAND_CAMERA.pos
     expected = link @ offset
     pose = obs["sensor_param"]["hand_camera"]["cam2world_gl"][0].astype(np.float64)
     np.testing.assert_allclose(pose, expected, atol=1e-6)

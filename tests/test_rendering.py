@@ -14,12 +14,6 @@ import robot_agents as ra
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sensors.pointcloud import pixel_rays, world_points
 
-
-def rotation_of(quat: object) -> np.ndarray:
-    """3x3 rotation matrix of a quaternion (w, x, y, z)."""
-    return quat_to_matrix(np.asarray(quat, dtype=np.float64))
-
-
 BOX_POS = np.array([0.6, 0.4, 0.1])
 BOX_HALF = np.array([0.05, 0.08, 0.1])
 BOX_QUAT = (math.cos(math.pi / 12), 0.0, 0.0, math.sin(math.pi / 12))  # 30 deg about z
@@ -42,7 +36,7 @@ class BoxEnv(ra.RobotEnv):
 
 def box_distance(points: np.ndarray) -> np.ndarray:
     """Unsigned distance (m) of world points ``(P, 3)`` to the box's surface."""
-    local = (points - BOX_POS) @ rotation_of(BOX_QUAT)  # rows: R^T (p - c)
+    local = (points - BOX_POS) @ quat_to_matrix(BOX_QUAT)  # rows: R^T (p - c)
     q = np.abs(local) - BOX_HALF
     outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
     inside = np.minimum(q.max(axis=1), 0.0)

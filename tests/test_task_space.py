@@ -22,7 +22,6 @@ from robot_agents.kinematics import IKConfig, IKSolver, resolve_frame
 from robot_agents.kinematics.rotations import (
     quat_multiply,
     quat_rotate,
-    quat_to_rotvec,
     rotation_error,
     rotvec_to_quat,
 )
@@ -46,27 +45,6 @@ def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
     for _ in range(steps):
         agent.set_action(action)
         scene.step()
-
-
-# ---------------------------------------------------------------------------- rotations
-def test_rotation_helpers_round_trip() -> None:
-    rng = np.random.default_rng(0)
-    vectors = rng.normal(size=(200, 3))
-    vectors *= (rng.uniform(0, math.pi, 200) / np.linalg.norm(vectors, axis=1))[:, None]
-    vectors[0] = 0.0
-    vectors[1] = [1e-9, 0, 0]
-    np.testing.assert_allclose(quat_to_rotvec(rotvec_to_quat(vectors)), vectors, atol=1e-12)
-    # Agrees with MuJoCo's own quaternion product and vector rotation.
-    a, b = rotvec_to_quat(vectors[: 2 + 10]), rotvec_to_quat(vectors[20:32])
-    for qa, qb, product in zip(a, b, quat_multiply(a, b), strict=True):
-        expected = np.empty(4)
-        mujoco.mju_mulQuat(expected, qa, qb)
-        np.testing.assert_allclose(product, expected, atol=1e-14)
-    point = np.array([0.3, -0.1, 0.7])
-    for quat in a:
-        expected = np.empty(3)
-        mujoco.mju_rotVecQuat(expected, point, quat)
-        np.testing.assert_allclose(quat_rotate(quat, point), expected, atol=1e-14)
 
 
 # ---------------------------------------------------------------------------- kinematics

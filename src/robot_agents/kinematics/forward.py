@@ -16,6 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import StateError, UnknownNameError
+from robot_agents.kinematics.rotations import compose_into
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -97,12 +98,7 @@ class Kinematics:
             out[:3] = data.site_xpos[frame.id]
             mujoco.mju_mat2Quat(out[3:], data.site_xmat[frame.id])
         if frame.offset is not None:
-            offset = np.asarray(frame.offset)
-            position, quat = np.empty(3), np.empty(4)
-            mujoco.mju_rotVecQuat(position, offset[:3], out[3:])
-            mujoco.mju_mulQuat(quat, out[3:], offset[3:])
-            out[:3] += position
-            out[3:] = quat
+            compose_into(out, out, np.asarray(frame.offset, dtype=np.float64))
 
     def loaded_jacobian(self, frame: FrameRef) -> tuple[FloatArray, FloatArray]:
         """Translational and rotational Jacobians ``(3, nv)`` each of ``frame``'s origin at

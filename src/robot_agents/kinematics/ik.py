@@ -34,6 +34,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics
+from robot_agents.kinematics.rotations import quat_angle, rotation_error_into
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -163,8 +164,6 @@ class IKSolver:
         self._damping = {rows: self.config.damping**2 * np.eye(rows) for rows in (3, 6)}
         self._solution = np.empty(6)
         self._jacobian = np.empty((6, n))
-        self._conjugate = np.empty(4)
-        self._difference = np.empty(4)
 
     @property
     def size(self) -> int:
@@ -257,7 +256,6 @@ class IKSolver:
         pose, error = self._pose, self._error
         system, solution = self._systems[rows], self._solution[:rows]
         jacobian, task = self._jacobian[:rows], error[:rows]
-        conjugate, difference = self._conjugate, self._difference
         target_position, target_quat = target[:3], target[3:]
         weight, damping, max_task = cfg.rotation_weight, self._damping[rows], cfg.max_task_step
         tol_position, tol_rotation = cfg.position_tolerance, cfg.rotation_tolerance
@@ -273,9 +271,7 @@ class IKSolver:
             if position_only:
                 rotation_norm = 0.0
             else:
-                mujoco.mju_negQuat(conjugate, pose[3:])
-                mujoco.mju_mulQuat(difference, target_quat, conjugate)
-                mujoco.mju_quat2Vel(error[3:], difference, 1.0)
+                rotation_error_into(error[3:], target_quat, pose[3:])
                 rotation_norm = math.sqrt(error[3:] @ error[3:])
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
             if iteration == 0:
@@ -339,11 +335,11 @@ class IKSolver:
         their position / rotation errors (m, rad)."""
         cfg = self.config
         asked_position = _distance(target[:3], start_pose[:3]) + cfg.position_tolerance
-        asked_rotation = _angle(target[3:], start_pose[3:]) + cfg.rotation_tolerance
+        asked_rotation = float(quat_angle(target[3:], start_pose[3:])) + cfg.rotation_tolerance
 
         def within(pose: FloatArray) -> bool:
             return _distance(pose[:3], start_pose[:3]) <= asked_position and (
-                position_only or _angle(pose[3:], start_pose[3:]) <= asked_rotation
+                position_only or float(quat_angle(pose[3:], start_pose[3:])) <= asked_rotation
             )
 
         if within(best_pose):
@@ -357,15 +353,10 @@ class IKSolver:
             mujoco.mj_kinematics(kinematics.model, data)
             kinematics.loaded_pose(self.frame, pose)
             if within(pose):
-                return q, _distance(target[:3], pose[:3]), _angle(target[3:], pose[3:])
-        return start_q, _distance(target[:3], start_pose[:3]), _angle(target[3:], start_pose[3:])
+                return q, _distance(target[:3], pose[:3]), float(quat_angle(target[3:], pose[3:]))
+        return start_q, _distance(target[:3], start_pose[:3]), float(quat_angle(target[3:], start_pose[3:]))
 
 
 def _distance(a: FloatArray, b: FloatArray) -> float:
     difference = a - b
     return math.sqrt(difference @ difference)
-
-
-def _angle(a: FloatArray, b: FloatArray) -> float:
-    """Rotation angle (rad) between unit quaternions ``a`` and ``b``."""
-    return 2.0 * math.acos(min(1.0, abs(float(a @ b))))

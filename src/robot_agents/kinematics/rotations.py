@@ -1,27 +1,64 @@
-"""Batched rotation and pose arithmetic (numpy, any leading batch shape).
+"""Rotation and pose arithmetic: the package's one home for quaternions, rotation
+matrices, rotation vectors, poses and camera look-at orientations.
 
 Conventions, the same as MuJoCo's:
-- quaternions are ``(w, x, y, z)``, unit norm, shape ``(..., 4)``;
-- a rotation vector (axis-angle) is ``angle * axis`` in radians, shape ``(..., 3)``;
-- a pose is ``(x, y, z, qw, qx, qy, qz)``, shape ``(..., 7)``, mapping points of its
-  own frame into the frame it is expressed in.
+
+- a quaternion is ``(w, x, y, z)``, unit norm, shape ``(..., 4)``; ``q`` and ``-q`` are
+  the same rotation;
+- a rotation matrix acts on column vectors (``v_outer = R @ v_local``): its columns
+  are the rotated frame's axes, shape ``(..., 3, 3)``; MuJoCo's ``xmat`` is one
+  flattened row by row;
+- a rotation vector (axis-angle) is ``angle * axis``, angle in radians, shape ``(..., 3)``;
+- a pose is ``(x, y, z, qw, qx, qy, qz)`` (position in metres, then a quaternion),
+  shape ``(..., 7)``; it maps points of its own frame into the frame it is expressed in.
+
+Two kinds of functions:
+
+- **Batched** (numpy, vectorized over any leading batch shape, return new arrays):
+  :func:`quat_multiply`, :func:`quat_conjugate`, :func:`quat_normalize`,
+  :func:`quat_rotate`, :func:`quat_to_matrix`, :func:`rotvec_to_quat`,
+  :func:`quat_to_rotvec`, :func:`quat_angle`, :func:`rotation_error`,
+  :func:`pose_multiply`, :func:`pose_inverse`, :func:`relative_pose`. They also take a
+  single ``(4,)`` / ``(3,)`` / ``(7,)`` value, but pay numpy's per-call overhead.
+- **Single, with MuJoCo's C helpers** (one value at a time; ``*_into`` write into
+  ``out`` and allocate at most a few scratch values; for the IK and controller hot
+  paths): :func:`matrix_to_quat` (``mju_mat2Quat``, looped over a batch),
+  :func:`rotvec_to_quat_into` (``mju_axisAngle2Quat``), :func:`rotation_error_into`
+  (``mju_negQuat``, ``mju_mulQuat``, ``mju_quat2Vel``), :func:`compose_into`
+  (``mju_mulPose``), :func:`relative_pose_into` (``mju_negPose``, ``mju_mulPose``).
+  ``compose_into`` is the single-pose :func:`pose_multiply`, ``relative_pose_into``
+  the single-pose :func:`relative_pose`, ``rotation_error_into`` the single-pose
+  :func:`rotation_error`.
+
+Cameras (MuJoCo / OpenGL camera axes: x right, y up, looking along -z):
+:func:`look_at_quat`, :func:`look_at_xyaxes` and :data:`GL_TO_CV`.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.errors import ConfigError
+
 FloatArray = npt.NDArray[np.float64]
 
 _TINY = 1e-12
 
+#: OpenGL / MuJoCo camera axes (x right, y up, looking along -z) to OpenCV camera axes
+#: (x right, y down, looking along +z): flip y and z. ``R_cv = R_gl @ GL_TO_CV`` for
+#: camera-to-world rotations ``(..., 3, 3)``.
+GL_TO_CV = np.diag([1.0, -1.0, -1.0])
 
-def quat_multiply(a: FloatArray, b: FloatArray) -> FloatArray:
+
+# -- batched (numpy) -----------------------------------------------------------------------
+def quat_multiply(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:
     """Hamilton product ``a * b`` (apply ``b`` first, then ``a``), shape ``(..., 4)``."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     aw, ax, ay, az = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
     bw, bx, by, bz = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
     return np.stack(
@@ -35,17 +72,17 @@ def quat_multiply(a: FloatArray, b: FloatArray) -> FloatArray:
     )
 
 
-def quat_conjugate(q: FloatArray) -> FloatArray:
-    """The inverse of a unit quaternion, shape ``(..., 4)``."""
-    out: FloatArray = q * np.array([1.0, -1.0, -1.0, -1.0])
+def quat_conjugate(q: npt.ArrayLike) -> FloatArray:
+    """Conjugate ``(w, -x, -y, -z)``: the inverse of a unit quaternion, shape ``(..., 4)``."""
+    out: FloatArray = np.asarray(q, dtype=np.float64) * np.array([1.0, -1.0, -1.0, -1.0])
     return out
 
 
-def quat_normalize(q: FloatArray) -> FloatArray:
-    """Unit quaternion with ``w >= 0`` (one canonical sign per rotation), shape ``(..., 4)``."""
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
-    unit = q / np.maximum(norm, _TINY)
-    out: FloatArray = np.where(unit[..., :1] < 0.0, -unit, unit)
+def quat_normalize(q: npt.ArrayLike) -> FloatArray:
+    """``q / |q|``, shape ``(..., 4)``; the sign is kept and a zero quaternion stays zero
+    (check the norm first where zero is an error)."""
+    q = np.asarray(q, dtype=np.float64)
+    out: FloatArray = q / np.maximum(np.linalg.norm(q, axis=-1, keepdims=True), _TINY)
     return out
 
 
@@ -56,8 +93,9 @@ def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
 
 
-def quat_rotate(q: FloatArray, v: FloatArray) -> FloatArray:
-    """Rotate vectors ``v`` ``(..., 3)`` by unit quaternions ``q`` ``(..., 4)``."""
+def quat_rotate(q: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
+    """Vectors ``v`` ``(..., 3)`` rotated by unit quaternions ``q`` ``(..., 4)``."""
+    q, v = np.asarray(q, dtype=np.float64), np.asarray(v, dtype=np.float64)
     w = q[..., :1]
     u = q[..., 1:]
     t = 2.0 * _cross(u, v)
@@ -65,8 +103,9 @@ def quat_rotate(q: FloatArray, v: FloatArray) -> FloatArray:
     return out
 
 
-def quat_to_matrix(q: FloatArray) -> FloatArray:
+def quat_to_matrix(q: npt.ArrayLike) -> FloatArray:
     """Rotation matrices ``(..., 3, 3)`` of unit quaternions ``(..., 4)``."""
+    q = np.asarray(q, dtype=np.float64)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     return np.stack(
         (
@@ -78,8 +117,9 @@ def quat_to_matrix(q: FloatArray) -> FloatArray:
     )
 
 
-def rotvec_to_quat(r: FloatArray) -> FloatArray:
-    """Unit quaternions ``(..., 4)`` of rotation vectors ``(..., 3)`` (radians)."""
+def rotvec_to_quat(r: npt.ArrayLike) -> FloatArray:
+    """Unit quaternions ``(..., 4)`` of rotation vectors ``(..., 3)`` (rad)."""
+    r = np.asarray(r, dtype=np.float64)
     angle = np.linalg.norm(r, axis=-1, keepdims=True)
     half = 0.5 * angle
     # sin(half) / angle, with its limit 1/2 - angle^2/48 near zero.
@@ -88,8 +128,10 @@ def rotvec_to_quat(r: FloatArray) -> FloatArray:
     return np.concatenate((np.cos(half), r * scale), axis=-1)
 
 
-def quat_to_rotvec(q: FloatArray) -> FloatArray:
-    """Rotation vectors ``(..., 3)`` of unit quaternions, angles in ``[0, pi]``."""
+def quat_to_rotvec(q: npt.ArrayLike) -> FloatArray:
+    """Rotation vectors ``(..., 3)`` (rad) of unit quaternions ``(..., 4)``, angles in
+    ``[0, pi]`` (``q`` and ``-q`` give the same vector)."""
+    q = np.asarray(q, dtype=np.float64)
     q = np.where(q[..., :1] < 0.0, -q, q)
     w = q[..., :1]
     v = q[..., 1:]
@@ -102,30 +144,60 @@ def quat_to_rotvec(q: FloatArray) -> FloatArray:
     return out
 
 
-def rotation_error(target: FloatArray, current: FloatArray) -> FloatArray:
-    """Rotation vector ``(..., 3)`` that turns ``current`` into ``target`` about axes of
-    the frame both are expressed in (``target = exp(error) * current``)."""
+def quat_angle(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:
+    """Angle (rad, in ``[0, pi]``) of the rotation between unit quaternions ``a`` and
+    ``b`` ``(..., 4)``, shape ``(...)``: the norm of :func:`rotation_error`, accurate
+    for small angles too."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    b = np.where(np.sum(a * b, axis=-1, keepdims=True) < 0.0, -b, b)
+    # With phi the angle between a and b as 4-vectors: |a - b| = 2 sin(phi/2),
+    # |a + b| = 2 cos(phi/2), and the rotation angle is 2 phi.
+    out: FloatArray = 4.0 * np.arctan2(np.linalg.norm(a - b, axis=-1), np.linalg.norm(a + b, axis=-1))
+    return out
+
+
+def rotation_error(target: npt.ArrayLike, current: npt.ArrayLike) -> FloatArray:
+    """Rotation vector ``(..., 3)`` (rad) that turns ``current`` into ``target`` about axes
+    of the frame both are expressed in (``target = exp(error) * current``), the shorter
+    way round."""
     return quat_to_rotvec(quat_multiply(target, quat_conjugate(current)))
 
 
-def pose_multiply(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Compose poses ``a * b`` (``b`` expressed in ``a``'s frame), shape ``(..., 7)``."""
+def pose_multiply(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:
+    """Composed poses ``a * b`` (``b`` expressed in ``a``'s frame), shape ``(..., 7)``."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     position = a[..., :3] + quat_rotate(a[..., 3:], b[..., :3])
     return np.concatenate((position, quat_multiply(a[..., 3:], b[..., 3:])), axis=-1)
 
 
-def pose_inverse(a: FloatArray) -> FloatArray:
-    """The inverse pose, shape ``(..., 7)``."""
+def pose_inverse(a: npt.ArrayLike) -> FloatArray:
+    """Inverse poses (``pose_multiply(a, pose_inverse(a))`` is the identity), shape ``(..., 7)``."""
+    a = np.asarray(a, dtype=np.float64)
     inverse = quat_conjugate(a[..., 3:])
     return np.concatenate((-quat_rotate(inverse, a[..., :3]), inverse), axis=-1)
 
 
-def relative_pose(pose: FloatArray, reference: FloatArray) -> FloatArray:
-    """``pose`` expressed in the frame ``reference`` (both in the same outer frame)."""
+def relative_pose(pose: npt.ArrayLike, reference: npt.ArrayLike) -> FloatArray:
+    """``pose`` expressed in the frame ``reference`` (both ``(..., 7)`` in the same outer
+    frame): ``reference^-1 * pose``."""
     return pose_multiply(pose_inverse(reference), pose)
 
 
-# -- one pose at a time, with MuJoCo's C helpers (no numpy per-call overhead) ---------------
+# -- single values, with MuJoCo's C helpers (no numpy per-call overhead) -------------------
+def matrix_to_quat(matrix: npt.ArrayLike) -> FloatArray:
+    """Unit quaternions ``(..., 4)`` with ``w >= 0`` of rotation matrices ``(..., 3, 3)``,
+    one ``mju_mat2Quat`` per matrix."""
+    matrices = np.asarray(matrix, dtype=np.float64)
+    if matrices.shape[-2:] != (3, 3):
+        raise ValueError(f"matrix_to_quat: expected rotation matrices (..., 3, 3), got shape {matrices.shape}.")
+    flat = np.ascontiguousarray(matrices.reshape(-1, 9))
+    out = np.empty((flat.shape[0], 4))
+    for row, quat in zip(flat, out, strict=True):
+        mujoco.mju_mat2Quat(quat, row)
+    out[out[:, 0] < 0.0] *= -1.0
+    return out.reshape((*matrices.shape[:-2], 4))
+
+
 def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray) -> None:
     """Unit quaternion ``(4,)`` of one rotation vector ``(3,)`` (rad), written into ``out``."""
     angle = math.sqrt(float(rotvec @ rotvec))
@@ -135,67 +207,76 @@ def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray) -> None:
     mujoco.mju_axisAngle2Quat(out, rotvec / angle, angle)
 
 
+def rotation_error_into(out: FloatArray, target: FloatArray, current: FloatArray) -> None:
+    """Rotation vector ``(3,)`` (rad) turning unit quaternion ``current`` into ``target``
+    (both ``(4,)``) about the outer frame's axes, the shorter way round, into ``out``."""
+    difference = np.empty(4)
+    mujoco.mju_negQuat(difference, current)
+    mujoco.mju_mulQuat(difference, target, difference)
+    mujoco.mju_quat2Vel(out, difference, 1.0)
+
+
 def compose_into(out: FloatArray, a: FloatArray, b: FloatArray) -> None:
-    """``out = a * b`` for single poses ``(7,)`` (``b`` expressed in ``a``'s frame)."""
-    position = np.empty(3)
-    mujoco.mju_rotVecQuat(position, b[:3], a[3:])
-    quat = np.empty(4)
-    mujoco.mju_mulQuat(quat, a[3:], b[3:])
-    out[:3] = a[:3] + position
-    out[3:] = quat
-
-
-def relative_pose_into(out: FloatArray, pose: FloatArray, reference: FloatArray) -> None:
-    """``out = reference^-1 * pose`` for single poses ``(7,)``."""
-    inverse = np.empty(4)
-    mujoco.mju_negQuat(inverse, reference[3:])
-    position = np.empty(3)
-    mujoco.mju_rotVecQuat(position, pose[:3] - reference[:3], inverse)
-    quat = np.empty(4)
-    mujoco.mju_mulQuat(quat, inverse, pose[3:])
+    """``out = a * b`` for single poses ``(7,)`` (``b`` expressed in ``a``'s frame); the
+    quaternion is renormalized. ``out`` may be ``a`` or ``b``."""
+    position, quat = np.empty(3), np.empty(4)
+    mujoco.mju_mulPose(position, quat, a[:3], a[3:], b[:3], b[3:])
     out[:3] = position
     out[3:] = quat
 
 
-# -- cameras ----------------------------------------------------------------------------
-def look_at_axes(
-    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
-) -> FloatArray:
-    """Rotation matrix ``(3, 3)`` of a MuJoCo camera at ``eye`` looking at ``target`` with
-    ``up`` pointing up in the image; its columns are the camera's x (right), y (up) and
-    z axes (MuJoCo cameras look along -z). Raises :class:`ConfigError` for coincident
-    points or a view direction parallel to ``up``."""
-    from robot_agents.errors import ConfigError
+def relative_pose_into(out: FloatArray, pose: FloatArray, reference: FloatArray) -> None:
+    """``out = reference^-1 * pose`` for single poses ``(7,)``: ``pose`` expressed in the
+    frame ``reference``. ``out`` may be ``pose`` or ``reference``."""
+    inverse = np.empty(7)
+    mujoco.mju_negPose(inverse[:3], inverse[3:], reference[:3], reference[3:])
+    compose_into(out, inverse, pose)
 
-    eye_, target_ = np.asarray(eye, dtype=np.float64), np.asarray(target, dtype=np.float64)
-    forward = target_ - eye_
+
+# -- cameras -------------------------------------------------------------------------------
+def _look_at_axes(
+    eye: Sequence[float], target: Sequence[float], up: Sequence[float], where: str
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Camera right, up and viewing direction (unit vectors) of a camera at ``eye``
+    looking at ``target`` with ``up`` up in the image."""
+    try:
+        points = [np.asarray(value, dtype=np.float64) for value in (eye, target, up)]
+    except (TypeError, ValueError):
+        points = []
+    if len(points) != 3 or any(p.shape != (3,) or not np.all(np.isfinite(p)) for p in points):
+        raise ConfigError(
+            f"{where}: expected eye, target and up as 3 finite numbers each, got {eye!r}, {target!r}, {up!r}."
+        )
+    forward = points[1] - points[0]
     norm = float(np.linalg.norm(forward))
-    if forward.shape != (3,) or not math.isfinite(norm) or norm < 1e-9:
-        raise ConfigError(f"{where}: expected distinct finite 3D points eye and target, got {eye!r} and {target!r}.")
+    if norm < 1e-9:
+        raise ConfigError(f"{where}: expected distinct points eye and target, got {list(eye)} and {list(target)}.")
     forward /= norm
-    right = _cross(forward, np.asarray(up, dtype=np.float64))
-    if float(np.linalg.norm(right)) < 1e-9:
-        raise ConfigError(f"{where}: the view direction {forward.round(6).tolist()} is parallel to up {up!r}.")
-    right /= np.linalg.norm(right)
-    camera_up = _cross(right, forward)
-    axes: FloatArray = np.column_stack([right, camera_up, -forward])
-    return axes
+    right = _cross(forward, points[2])
+    length = float(np.linalg.norm(right))
+    if length < 1e-9:
+        raise ConfigError(f"{where}: the view direction {forward.round(6).tolist()} is parallel to up {list(up)}.")
+    right /= length
+    return right, _cross(right, forward), forward
 
 
 def look_at_quat(
-    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
+    eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0), where: str = "look_at_quat"
 ) -> tuple[float, float, float, float]:
-    """Orientation ``(w, x, y, z)``, ``w >= 0``, of a MuJoCo camera at ``eye`` looking at ``target``."""
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, look_at_axes(eye, target, up, where).reshape(-1))
-    if quat[0] < 0:
-        quat = -quat
-    return (float(quat[0]), float(quat[1]), float(quat[2]), float(quat[3]))
+    """Orientation ``(w, x, y, z)`` (``w >= 0``) of a MuJoCo camera at ``eye`` looking at
+    ``target`` (its -z axis points at it) with ``up`` pointing up in the image (points and
+    direction in the mount's frame, metres). ConfigError naming ``where`` if eye and
+    target coincide or the view is parallel to ``up``."""
+    right, camera_up, forward = _look_at_axes(eye, target, up, where)
+    # Columns: camera x (right), y (up), z (backwards: the camera looks along -z).
+    w, x, y, z = matrix_to_quat(np.column_stack((right, camera_up, -forward)))
+    return (float(w), float(x), float(y), float(z))
 
 
 def look_at_xyaxes(
-    eye: npt.ArrayLike, target: npt.ArrayLike, up: npt.ArrayLike = (0.0, 0.0, 1.0), where: str = "look_at"
+    eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0), where: str = "look_at_xyaxes"
 ) -> list[float]:
-    """MuJoCo camera ``xyaxes`` (right and up axes, 6 numbers) of a camera at ``eye`` looking at ``target``."""
-    axes = look_at_axes(eye, target, up, where)
-    return [*axes[:, 0].tolist(), *axes[:, 1].tolist()]
+    """MuJoCo camera ``xyaxes`` (its x / right and y / up axes, 6 numbers) of the same
+    camera as :func:`look_at_quat`, for an MJCF / MjSpec ``camera`` element."""
+    right, camera_up, _ = _look_at_axes(eye, target, up, where)
+    return [*right.tolist(), *camera_up.tolist()]

@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.rotations import look_at_quat
-from robot_agents.sensors.geometry import float_tuple
+from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 
 FloatArray = npt.NDArray[np.float64]
 Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
@@ -81,11 +81,7 @@ class CameraConfig:
         if not isinstance(self.mount, str) or not self.mount:
             raise ConfigError(f"{where}: expected mount to be a body name or 'world', got {self.mount!r}.")
         object.__setattr__(self, "pos", float_tuple(self.pos, 3, "pos (m)", where))
-        quat = np.array(float_tuple(self.quat, 4, "quat (w, x, y, z)", where))
-        norm = float(np.linalg.norm(quat))
-        if norm < 1e-9:
-            raise ConfigError(f"{where}: expected a non-zero quaternion, got {self.quat!r}.")
-        object.__setattr__(self, "quat", tuple(float(q) for q in quat / norm))
+        object.__setattr__(self, "quat", unit_quat_tuple(self.quat, where))
         for name in ("width", "height"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_SIZE:

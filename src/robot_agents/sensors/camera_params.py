@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.sensors.geometry import GL_TO_CV
+from robot_agents.kinematics.rotations import GL_TO_CV
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend

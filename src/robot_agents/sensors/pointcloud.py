@@ -14,7 +14,7 @@ from collections.abc import Mapping
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.sensors.geometry import GL_TO_CV
+from robot_agents.kinematics.rotations import GL_TO_CV
 
 FloatArray = npt.NDArray[np.float64]
 

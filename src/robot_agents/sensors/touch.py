@@ -19,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, ModelError
-from robot_agents.sensors.geometry import float_tuple
+from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -69,10 +69,7 @@ class TouchSensorConfig:
             raise ConfigError(f"{where}: expected positive sizes (m), got {self.size!r}.")
         object.__setattr__(self, "size", size)
         object.__setattr__(self, "pos", float_tuple(self.pos, 3, "pos (m)", where))
-        quat = np.array(float_tuple(self.quat, 4, "quat (w, x, y, z)", where))
-        if np.linalg.norm(quat) < 1e-9:
-            raise ConfigError(f"{where}: expected a non-zero quaternion, got {self.quat!r}.")
-        object.__setattr__(self, "quat", tuple(float(q) for q in quat / np.linalg.norm(quat)))
+        object.__setattr__(self, "quat", unit_quat_tuple(self.quat, where))
 
 
 class TouchReader:

@@ -1,21 +1,13 @@
-"""Camera conventions and input parsing for sensor declarations (rotations live in
-:mod:`robot_agents.kinematics.rotations`)."""
+"""Checks of sensor declarations' numeric fields (``ConfigError`` naming where)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
-
-FloatArray = npt.NDArray[np.float64]
-
-#: OpenGL / MuJoCo camera axes (x right, y up, looking along -z) to OpenCV camera axes
-#: (x right, y down, looking along +z): flip y and z.
-GL_TO_CV = np.diag([1.0, -1.0, -1.0])
+from robot_agents.kinematics.rotations import quat_normalize
 
 
 def float_tuple(value: Any, size: int, what: str, where: str) -> tuple[float, ...]:
@@ -29,9 +21,11 @@ def float_tuple(value: Any, size: int, what: str, where: str) -> tuple[float, ..
     return tuple(float(v) for v in array)
 
 
-def pose_matrix(pos: Sequence[float] | FloatArray, rot: FloatArray) -> FloatArray:
-    """4x4 homogeneous transform from a position and a 3x3 rotation."""
-    out = np.eye(4)
-    out[:3, :3] = rot
-    out[:3, 3] = pos
-    return out
+def unit_quat_tuple(value: Any, where: str) -> tuple[float, float, float, float]:
+    """``value`` (4 finite numbers, not all zero) as a unit quaternion ``(w, x, y, z)``
+    with its sign kept, or a ConfigError naming ``where``."""
+    quat = np.array(float_tuple(value, 4, "quat (w, x, y, z)", where))
+    if np.linalg.norm(quat) < 1e-9:
+        raise ConfigError(f"{where}: expected a non-zero quaternion, got {value!r}.")
+    w, x, y, z = (float(q) for q in quat_normalize(quat))
+    return (w, x, y, z)

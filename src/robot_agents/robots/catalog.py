@@ -10,4 +10,9 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "panda_touch": "robot_agents.robots.panda.panda:PandaTouch",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStick",
     "floating_panda_gripper": "robot_agents.robots.panda.panda:FloatingPandaGripper",
+    "widowx250s": "robot_agents.robots.widowx.widowx250s:WidowX250S",
+    "widowx250s_bridgedataset_flat_table": "robot_agents.robots.widowx.widowx250s:WidowX250SBridgeDatasetFlatTable",
+    "widowx250s_bridgedataset_sink": "robot_agents.robots.widowx.widowx250s:WidowX250SBridgeDatasetSink",
+    "widowxai": "robot_agents.robots.widowx.widowxai:WidowXAI",
+    "widowxai_wristcam": "robot_agents.robots.widowx.widowxai:WidowXAIWristCam",
 }

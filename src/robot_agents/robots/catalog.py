@@ -15,4 +15,9 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "ur_10e": "robot_agents.robots.universal_robots.ur10e:UR10e",
     "xarm6_nogripper": "robot_agents.robots.ufactory.xarm6:XArm6NoGripper",
     "xarm6_nogripper_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6NoGripperWristCam",
+    "widowx250s": "robot_agents.robots.widowx.widowx250s:WidowX250S",
+    "widowx250s_bridgedataset_flat_table": "robot_agents.robots.widowx.widowx250s:WidowX250SBridgeDatasetFlatTable",
+    "widowx250s_bridgedataset_sink": "robot_agents.robots.widowx.widowx250s:WidowX250SBridgeDatasetSink",
+    "widowxai": "robot_agents.robots.widowx.widowxai:WidowXAI",
+    "widowxai_wristcam": "robot_agents.robots.widowx.widowxai:WidowXAIWristCam",
 }

@@ -1,0 +1,373 @@
+"""Trossen Robotics / Interbotix WidowX 250 S (``widowx250s``) and its BridgeData V2 setups.
+
+Sources of the numbers:
+- Kinematics, joint names, link names, joint ranges, masses, centres of mass and
+  inertias: Interbotix's ``interbotix_xsarm_descriptions/urdf/wx250s.urdf.xacro``
+  (github Interbotix/interbotix_ros_manipulators), cross-checked against MuJoCo
+  Menagerie's ``trossen_wx250s/wx250s.xml`` (same joint origins and link masses) and
+  against Trossen's product-of-exponentials model of the arm (interbotix_xsarms_docs,
+  ``specifications/wx250s.rst``: ``M`` = ``ee_gripper_link`` at (0.458325, 0, 0.36065) m
+  with every joint at zero). See ``assets/wx250s_arm.xml`` and ``wx250s_gripper.xml``.
+- Servos (Trossen's wx250s servo table, ``_data/servos_wx250s.csv``): DYNAMIXEL
+  XM430-W350 on waist, shoulder (two, master + shadow), elbow (two), forearm roll and
+  wrist angle; XL430-W250 on wrist rotate and the gripper. (Not XM540-W270: those drive
+  the larger ViperX 300 S.)
+- Torque and speed limits (ROBOTIS e-Manual, at the arm's 12 V supply): XM430-W350
+  4.1 N*m stall, 46 rev/min (4.82 rad/s) no load, gear ratio 353.5:1; XL430-W250
+  1.5 N*m, 61 rev/min (6.39 rad/s), 258.5:1. Shoulder and elbow have two servos each:
+  8.2 N*m.
+- Servo loop (the drives' stiffness and damping), from the same datasheets and the
+  servos' factory position P gain (XM430: 800, XL430: 640; ROBOTIS control tables): the
+  firmware's P-only position loop commands PWM = (P / 128) * error [pulses] out of a
+  885 PWM limit (4096 pulses per turn), so the full stall torque is reached at
+  885 / (P / 128) pulses: kp = stall torque / that error (XM430 18.9 N*m/rad, XL430
+  5.5 N*m/rad). The damping is the motor's back-EMF under voltage (PWM) control,
+  stall torque / no-load speed (XM430 0.85, XL430 0.23 N*m*s/rad); the XL430's factory
+  position D gain (4000) is left out, so its damping is a lower bound. Paired servos add.
+  An estimate of the real loop (which also limits acceleration through its profile
+  settings), not an identification.
+- Armature (reflected rotor inertia; ROBOTIS does not publish rotor inertias): the
+  identified armatures of three other DYNAMIXELs (Rhoban's BAM, ``params/mx64``,
+  ``mx106``, ``xl330`` ``m1.json``: 0.01195, 0.02661, 0.00173 kg*m^2 at 200:1, 225:1,
+  288.35:1) give rotor inertias of 1.0e-5 .. 1.4e-5 kg*m^2 per N*m of motor-side stall
+  torque (stall torque / gear ratio); with their mean (1.18e-5) the XM430-W350's rotor is
+  1.37e-7 kg*m^2, 0.0172 kg*m^2 at the joint (x 353.5^2), and the XL430-W250's 6.9e-8,
+  0.0046 kg*m^2 (an estimate, +-30 %). Paired servos add.
+- Gripper: one XL430-W250 turns a horn (radius 0.014 m, links 0.024 m; Interbotix
+  ``interbotix_xsarm_control/config/wx250s.yaml``) that slides both fingers, 0.015 ..
+  0.037 m each (30 .. 74 mm between the pads, Trossen's specification). Per finger, at
+  the horn's mid stroke: force limit 1.5 / (2 * 0.014) = 54 N, speed 6.39 * 0.014 =
+  0.089 m/s, stiffness 5.5 / (2 * 0.014^2) = 14100 N/m, damping 600 N*s/m, armature
+  0.0046 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
+- Keyframes: ``home`` is Menagerie's keyframe of the wx250s; ``zero`` is Interbotix's
+  home pose (every joint at 0, the arm stretched out); ``sleep`` is Interbotix's sleep
+  pose (``sleep_positions`` of the same config file).
+- BridgeData V2 setups (``widowx250s_bridgedataset_flat_table`` / ``_sink``, read from
+  ManiSkill 3.0.1's ``bridge_dataset_eval/base_env.py``): the real-to-sim tuned drive
+  gains and force limits, the 3rd-view camera on ``base_link`` (a Logitech C920,
+  640 x 480, fx = fy = 623.588 px), the measured start poses of the arm and the
+  robot's pose on the table (:data:`BRIDGE_FLAT_TABLE_ROBOT_POSE`,
+  :data:`BRIDGE_SINK_ROBOT_POSE`), and the control mode
+  ``arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import ClassVar
+
+import mujoco
+import numpy as np
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.agent.declaration import ModeConfig
+from robot_agents.controllers.ee_config import CommandFrame, PDEEPoseConfig
+from robot_agents.controllers.joint import PDJointPosMimicConfig
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.compose import Attachment
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Arm, EndEffector, Gripper
+from robot_agents.registry import register_agent
+from robot_agents.sensors import CameraConfig
+
+ASSETS = Path(__file__).parent / "assets"
+
+ARM_JOINTS = ("waist", "shoulder", "elbow", "forearm_roll", "wrist_angle", "wrist_rotate")
+FINGER_JOINTS = ("left_finger", "right_finger")
+ARM_PATTERN = "|".join(ARM_JOINTS)
+FINGER_PATTERN = "left_finger|right_finger"
+
+# --------------------------------------------------------------------------- servos
+#: DYNAMIXEL datasheet numbers at 12 V: stall torque (N*m), no-load speed (rad/s), gear ratio.
+XM430_W350 = (4.1, 46.0 * 2.0 * math.pi / 60.0, 353.5)
+XL430_W250 = (1.5, 61.0 * 2.0 * math.pi / 60.0, 258.5)
+#: Factory position P gains (control-table units) of the XM430 and the XL430.
+XM430_P_GAIN, XL430_P_GAIN = 800.0, 640.0
+#: Rotor inertia per N*m of motor-side stall torque (kg*m^2 / (N*m)), the mean over
+#: Rhoban BAM's identified MX-64, MX-106 and XL330-M288 (see the module docstring).
+ROTOR_INERTIA_PER_TORQUE = 1.18e-5
+#: Gripper horn radius (m), Interbotix's wx250s control config.
+HORN_RADIUS = 0.014
+
+
+def servo_stiffness(stall_torque: float, p_gain: float) -> float:
+    """Position stiffness (N*m/rad) of a DYNAMIXEL's P-only position loop: stall torque
+    at the error where PWM = (P / 128) * error [pulses] reaches its 885 limit."""
+    saturating_error = 885.0 / (p_gain / 128.0) * (2.0 * math.pi / 4096.0)
+    return stall_torque / saturating_error
+
+
+def servo_armature(stall_torque: float, gear_ratio: float) -> float:
+    """Reflected rotor inertia (kg*m^2) estimated from the motor-side stall torque."""
+    return ROTOR_INERTIA_PER_TORQUE * (stall_torque / gear_ratio) * gear_ratio**2
+
+
+#: Servos per arm joint (waist .. wrist_rotate): (datasheet, P gain, count).
+_ARM_SERVOS = (
+    (XM430_W350, XM430_P_GAIN, 1),
+    (XM430_W350, XM430_P_GAIN, 2),
+    (XM430_W350, XM430_P_GAIN, 2),
+    (XM430_W350, XM430_P_GAIN, 1),
+    (XM430_W350, XM430_P_GAIN, 1),
+    (XL430_W250, XL430_P_GAIN, 1),
+)
+ARM_EFFORT = tuple(n * s[0] for s, _, n in _ARM_SERVOS)
+ARM_VELOCITY = tuple(s[1] for s, _, _ in _ARM_SERVOS)
+ARM_STIFFNESS = tuple(n * servo_stiffness(s[0], p) for s, p, n in _ARM_SERVOS)
+ARM_DAMPING = tuple(n * s[0] / s[1] for s, _, n in _ARM_SERVOS)
+ARM_ARMATURE = tuple(n * servo_armature(s[0], s[2]) for s, _, n in _ARM_SERVOS)
+
+#: Per finger: the gripper servo's torque, speed, gains and rotor inertia through the horn
+#: (each finger takes half of the horn's torque and inertia).
+_LEVER = 2.0 * HORN_RADIUS**2
+FINGER_EFFORT = XL430_W250[0] / (2.0 * HORN_RADIUS)
+FINGER_VELOCITY = XL430_W250[1] * HORN_RADIUS
+FINGER_STIFFNESS = servo_stiffness(XL430_W250[0], XL430_P_GAIN) / _LEVER
+FINGER_DAMPING = XL430_W250[0] / XL430_W250[1] / _LEVER
+FINGER_ARMATURE = servo_armature(XL430_W250[0], XL430_W250[2]) / _LEVER
+
+#: The arm's drives: DYNAMIXEL position loops (see the module docstring).
+WX250S_ARM_DRIVES = PDActuator(
+    joints=ARM_PATTERN,
+    stiffness=ARM_STIFFNESS,
+    damping=ARM_DAMPING,
+    effort_limit=ARM_EFFORT,
+    velocity_limit=ARM_VELOCITY,
+    armature=ARM_ARMATURE,
+)
+#: The fingers' drive (the gripper servo through its horn), both fingers.
+WX250S_FINGER_DRIVES = PDActuator(
+    joints=FINGER_PATTERN,
+    stiffness=FINGER_STIFFNESS,
+    damping=FINGER_DAMPING,
+    effort_limit=FINGER_EFFORT,
+    velocity_limit=FINGER_VELOCITY,
+    armature=FINGER_ARMATURE,
+)
+
+#: The gripper: one action; -1 closes 2 mm past the 30 mm stop (squeezes), +1 opens to 74 mm.
+WX250S_GRIPPER = Gripper(
+    name="gripper",
+    joints=FINGER_PATTERN,
+    open=(0.037, -0.037),
+    closed=(0.015, -0.015),
+    squeeze=0.002,
+    fingers=("left_finger_link", "right_finger_link"),
+)
+#: High-friction finger pads (ManiSkill's gripper material for the WidowX AI: 2.0).
+FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
+
+#: End-effector commands: 5 cm and 0.1 rad per step; absolute positions within a box
+#: around the reach (0.65 m, Trossen) from the shoulder at z = 0.11 m.
+WX250S_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-0.7, -0.7, -0.4), upper=(0.7, 0.7, 0.8)),
+    max_translation=0.05,
+    max_rotation=0.1,
+)
+WX250S_ARM = Arm(
+    name="arm",
+    joints=ARM_PATTERN,
+    end_effectors=(EndEffector("ee_gripper_link", name="tcp"),),
+    task_space=WX250S_TASK_SPACE,
+)
+
+ARM_HOME = (0.0, -0.96, 1.16, 0.0, -0.3, 0.0)
+ARM_SLEEP = (0.0, -1.80, 1.55, 0.0, 0.8, 0.0)
+
+
+class WidowX250SGripper(Agent):
+    """The WidowX 250 S gripper bar and fingers alone (a piece; mounted at ``ee_arm_link``)."""
+
+    mjcf_path = ASSETS / "wx250s_gripper.xml"
+    actuators = (WX250S_FINGER_DRIVES,)
+    parts = (WX250S_GRIPPER,)
+    link_materials = {"left_finger_link": FINGER_PAD, "right_finger_link": FINGER_PAD}
+    # The fingers slide along the bar they ride on; the pair never needs a contact.
+    self_collision_exclusions = (("gripper_bar_link", "left_finger_link"), ("gripper_bar_link", "right_finger_link"))
+    keyframes = {"open": Keyframe(qpos={"left_finger": 0.037})}
+
+
+@register_agent()
+class WidowX250S(Agent):
+    """Trossen Robotics / Interbotix WidowX 250 S: 6-DoF arm of DYNAMIXEL servos and a
+    parallel gripper.
+
+    qpos order: ``waist``, ``shoulder``, ``elbow``, ``forearm_roll``, ``wrist_angle``,
+    ``wrist_rotate``, ``left_finger``, ``right_finger`` (the right finger mirrors the left).
+    """
+
+    uid = "widowx250s"
+    mjcf_path = ASSETS / "wx250s_arm.xml"
+    actuators = (WX250S_ARM_DRIVES,)
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(WidowX250SGripper, at="ee_arm_link"),)
+    parts = (WX250S_ARM,)
+    keyframes = {
+        "home": Keyframe(qpos={ARM_PATTERN: ARM_HOME}),
+        "zero": Keyframe(qpos={ARM_PATTERN: 0.0}),
+        "sleep": Keyframe(qpos={ARM_PATTERN: ARM_SLEEP}),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+# --------------------------------------------------------------------------- BridgeData V2
+def sapien_camera_quat(quat: Sequence[float]) -> tuple[float, float, float, float]:
+    """A camera orientation given in SAPIEN's camera axes (x forward, y left, z up) as
+    MuJoCo's (x right, y up, looking along -z), both ``(w, x, y, z)`` in the mount frame."""
+    rotation = np.zeros(9)
+    mujoco.mju_quat2Mat(rotation, np.asarray(quat, dtype=np.float64))
+    # MuJoCo's camera axes (columns) in SAPIEN's: right = -y, up = z, backward = -x.
+    axes = rotation.reshape(3, 3) @ np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    result = np.zeros(4)
+    mujoco.mju_mat2Quat(result, axes.reshape(-1))
+    return (float(result[0]), float(result[1]), float(result[2]), float(result[3]))
+
+
+#: The BridgeData V2 3rd-view camera (Logitech C920), pixels.
+BRIDGE_CAMERA_INTRINSIC = ((623.588, 0.0, 319.501), (0.0, 623.588, 239.545), (0.0, 0.0, 1.0))
+BRIDGE_FLAT_TABLE_CAMERA = CameraConfig(
+    uid="3rd_view_camera",
+    mount="base_link",
+    pos=(0.0, -0.16, 0.36),
+    quat=sapien_camera_quat((0.8992917, -0.09263245, 0.35892478, 0.23209205)),
+    width=640,
+    height=480,
+    intrinsic=BRIDGE_CAMERA_INTRINSIC,
+    near=0.01,
+    far=100.0,
+)
+BRIDGE_SINK_CAMERA = CameraConfig(
+    uid="3rd_view_camera",
+    mount="base_link",
+    pos=(-0.00300001, -0.21, 0.39),
+    quat=sapien_camera_quat((-0.907313, 0.0782, -0.36434, -0.194741)),
+    width=640,
+    height=480,
+    intrinsic=BRIDGE_CAMERA_INTRINSIC,
+    near=0.01,
+    far=10.0,
+)
+#: Where the robot stands in the two scenes: (x, y, z, qw, qx, qy, qz), m; turned half
+#: a turn about z (pass as ``robot_poses``).
+BRIDGE_FLAT_TABLE_ROBOT_POSE = (0.147, 0.028, 0.870, 0.0, 0.0, 0.0, 1.0)
+BRIDGE_SINK_ROBOT_POSE = (0.127, 0.060, 0.85, 0.0, 0.0, 0.0, 1.0)
+
+#: ManiSkill's real-to-sim tuned drives for the Bridge setups (their SAPIEN model).
+BRIDGE_ARM_DRIVES = PDActuator(
+    joints=ARM_PATTERN,
+    stiffness=(
+        1169.7891719504198,
+        730.0,
+        808.4601346394447,
+        1229.1299089624076,
+        1272.2760456418862,
+        1056.3326605132252,
+    ),
+    damping=(330.0, 180.0, 152.12036565582588, 309.6215302722146, 201.04998711007383, 269.51458932695414),
+    effort_limit=(200.0, 200.0, 100.0, 100.0, 100.0, 100.0),
+    velocity_limit=ARM_VELOCITY,
+    armature=ARM_ARMATURE,
+)
+BRIDGE_FINGER_DRIVES = PDActuator(
+    joints=FINGER_PATTERN,
+    stiffness=1000.0,
+    damping=200.0,
+    effort_limit=60.0,
+    velocity_limit=FINGER_VELOCITY,
+    armature=FINGER_ARMATURE,
+)
+BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"
+
+
+def bridge_control_modes() -> dict[str, ModeConfig]:
+    """The WidowX 250 S's modes plus the Bridge mode: raw end-effector pose deltas on the
+    previous target (translation in the root frame, rotation about root-aligned axes
+    through the tool point; +-pi/2 rad), and the gripper from 0.014 to 0.038 m per
+    finger (1 mm beyond either stop, so a grasp keeps pressing)."""
+    arm = PDEEPoseConfig(
+        joint_names=ARM_JOINTS,
+        end_effector="tcp",
+        use_delta=True,
+        use_target=True,
+        normalize_action=False,
+        pos_lower=-1.0,
+        pos_upper=1.0,
+        rot_lower=-math.pi / 2,
+        rot_upper=math.pi / 2,
+        translation_frame=CommandFrame.ROOT,
+        rotation_frame=CommandFrame.ROOT,
+    )
+    gripper = PDJointPosMimicConfig(
+        joint_names=FINGER_JOINTS,
+        lower=0.015 - 0.001,
+        upper=0.037 + 0.001,
+        multipliers=(1.0, -1.0),
+        clip_target=False,
+    )
+    modes: dict[str, ModeConfig] = {BRIDGE_MODE: {"arm": arm, "gripper": gripper}}
+    modes.update(WidowX250S.modes())
+    return modes
+
+
+class WidowX250SBridgeGripper(WidowX250SGripper):
+    """The gripper with the Bridge setups' tuned finger drive (a piece)."""
+
+    actuators = (BRIDGE_FINGER_DRIVES,)
+
+
+class _BridgeWidowX250S(WidowX250S):
+    """Shared by the two Bridge setups (not registered)."""
+
+    actuators = (BRIDGE_ARM_DRIVES,)
+    attachments = (Attachment(WidowX250SBridgeGripper, at="ee_arm_link"),)
+    control_modes: ClassVar[Mapping[str, ModeConfig]] = bridge_control_modes()
+    default_control_mode = BRIDGE_MODE
+
+
+@register_agent()
+class WidowX250SBridgeDatasetFlatTable(_BridgeWidowX250S):
+    """The WidowX 250 S of the BridgeData V2 flat-table setup: tuned drives, the dataset's
+    3rd-view camera, its measured start pose (``bridge``) and control mode."""
+
+    uid = "widowx250s_bridgedataset_flat_table"
+    cameras = (BRIDGE_FLAT_TABLE_CAMERA,)
+    keyframes = {
+        "bridge": Keyframe(
+            qpos={
+                ARM_PATTERN: (-0.01840777, 0.0398835, 0.22242722, -0.00460194, 1.36524296, 0.00153398),
+                "left_finger": 0.037,
+            }
+        ),
+        **WidowX250S.keyframes,
+    }
+
+
+@register_agent()
+class WidowX250SBridgeDatasetSink(_BridgeWidowX250S):
+    """The WidowX 250 S of the BridgeData V2 sink setup (see the flat-table variant)."""
+
+    uid = "widowx250s_bridgedataset_sink"
+    cameras = (BRIDGE_SINK_CAMERA,)
+    keyframes = {
+        "bridge": Keyframe(
+            qpos={
+                ARM_PATTERN: (-0.2600599, -0.12875618, 0.04461369, -0.00652761, 1.7033415, -0.26983038),
+                "left_finger": 0.037,
+            }
+        ),
+        **WidowX250S.keyframes,
+    }
+
+
+__all__ = [
+    "BRIDGE_FLAT_TABLE_ROBOT_POSE",
+    "BRIDGE_MODE",
+    "BRIDGE_SINK_ROBOT_POSE",
+    "WidowX250S",
+    "WidowX250SBridgeDatasetFlatTable",
+    "WidowX250SBridgeDatasetSink",
+    "WidowX250SGripper",
+]

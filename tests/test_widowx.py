@@ -1,0 +1,402 @@
+"""The WidowX family checked against numbers: forward kinematics against Trossen's
+product-of-exponentials model (WidowX 250 S) and the public joint origins (WidowX AI),
+datasheet limits, grasps that lift a cube, IK, keyframes, the wrist and Bridge cameras."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.kinematics import IKSolver, resolve_frame
+from robot_agents.kinematics.rotations import rotation_error
+from robot_agents.robots.widowx.widowx250s import BRIDGE_FLAT_TABLE_ROBOT_POSE, BRIDGE_SINK_ROBOT_POSE
+from tests.test_robot_suite import hold_action
+
+WIDOWX_UIDS = [
+    "widowx250s",
+    "widowx250s_bridgedataset_flat_table",
+    "widowx250s_bridgedataset_sink",
+    "widowxai",
+    "widowxai_wristcam",
+]
+
+# ---------------------------------------------------------------- independent kinematics
+# Trossen's product-of-exponentials model of the WidowX 250 S (interbotix_xsarms_docs,
+# specifications/wx250s.rst): space-frame screw axes (omega, v) and the home pose M of
+# ee_gripper_link.
+WX250S_SLIST = np.array(
+    [
+        [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, -0.11065, 0.0, 0.0],
+        [0.0, 1.0, 0.0, -0.36065, 0.0, 0.04975],
+        [1.0, 0.0, 0.0, 0.0, 0.36065, 0.0],
+        [0.0, 1.0, 0.0, -0.36065, 0.0, 0.29975],
+        [1.0, 0.0, 0.0, 0.0, 0.36065, 0.0],
+    ]
+)
+WX250S_M = np.array([[1.0, 0, 0, 0.458325], [0, 1.0, 0, 0.0], [0, 0, 1.0, 0.36065], [0, 0, 0, 1.0]])
+
+# The WidowX AI's joint origins and axes (Menagerie trossen_wxai/wxai_follower.xml,
+# Trossen's wxai_base.xml): (position in the parent, axis), then the tool point.
+WXAI_JOINTS = [
+    ((0.0, 0.0, 0.05725), (0.0, 0.0, 1.0)),
+    ((0.02, 0.0, 0.04625), (0.0, 1.0, 0.0)),
+    ((-0.264, 0.0, 0.0), (0.0, -1.0, 0.0)),
+    ((0.245, 0.0, 0.06), (0.0, -1.0, 0.0)),
+    ((0.06775, 0.0, 0.0455), (0.0, 0.0, -1.0)),
+    ((0.02895, 0.0, -0.0455), (1.0, 0.0, 0.0)),
+]
+WXAI_TCP = (0.156062, 0.0, 0.0)
+# D405: mount 0.012 m along link_6's x, camera_link at (0.04665, 0.009, 0.054272) from the
+# mount, pitched 20 deg about y.
+WXAI_CAMERA_LINK = ((0.012 + 0.04665, 0.009, 0.054272), math.radians(20.0))
+
+
+def skew(w: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+
+
+def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    k = skew(np.asarray(axis, dtype=np.float64))
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
+
+
+def screw_exp(screw: np.ndarray, theta: float) -> np.ndarray:
+    """exp([S] theta) for a unit rotation axis (Modern Robotics, eq. 3.88)."""
+    w, v = screw[:3], screw[3:]
+    k = skew(w)
+    out = np.eye(4)
+    out[:3, :3] = axis_rotation(w, theta)
+    out[:3, 3] = (np.eye(3) * theta + (1 - math.cos(theta)) * k + (theta - math.sin(theta)) * k @ k) @ v
+    return out
+
+
+def wx250s_poe(q: np.ndarray) -> np.ndarray:
+    pose = np.eye(4)
+    for screw, theta in zip(WX250S_SLIST, q, strict=True):
+        pose = pose @ screw_exp(screw, theta)
+    return pose @ WX250S_M
+
+
+def wxai_chain(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """link_6 and the tool point, chained from the joint origins."""
+    pose = np.eye(4)
+    for (pos, axis), theta in zip(WXAI_JOINTS, q, strict=True):
+        step = np.eye(4)
+        step[:3, 3] = pos
+        step[:3, :3] = axis_rotation(np.array(axis), theta)
+        pose = pose @ step
+    tool = pose.copy()
+    tool[:3, 3] = pose[:3, :3] @ WXAI_TCP + pose[:3, 3]
+    return pose, tool
+
+
+def rotation_matrix(quat: np.ndarray) -> np.ndarray:
+    out = np.zeros(9)
+    mujoco.mju_quat2Mat(out, np.asarray(quat, dtype=np.float64))
+    return out.reshape(3, 3)
+
+
+def angle_between(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.arccos(np.clip((np.trace(a.T @ b) - 1) / 2, -1.0, 1.0)))
+
+
+def assert_pose_close(pose: np.ndarray, expected: np.ndarray) -> None:
+    """1 mm and 1 deg, as the accuracy claim."""
+    assert np.linalg.norm(pose[:3] - expected[:3, 3]) < 1e-3
+    assert angle_between(rotation_matrix(pose[3:]), expected[:3, :3]) < math.radians(1.0)
+
+
+@pytest.mark.parametrize("uid", ["widowx250s", "widowx250s_bridgedataset_sink"])
+def test_widowx250s_forward_kinematics_match_trossen_product_of_exponentials(uid: str) -> None:
+    scene = ra.Scene(uid)
+    agent = scene.agents[0]
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        expected = wx250s_poe(q[:6])
+        tcp = agent.frame_pose("tcp", relative_to="root")[0]
+        assert_pose_close(tcp, expected)
+        np.testing.assert_allclose(tcp[:3], expected[:3, 3], atol=1e-9)  # exact, in fact
+    scene.close()
+
+
+@pytest.mark.parametrize("uid", ["widowxai", "widowxai_wristcam"])
+def test_widowxai_forward_kinematics_match_joint_origins(uid: str) -> None:
+    scene = ra.Scene(uid)
+    agent = scene.agents[0]
+    rng = np.random.default_rng(1)
+    arm = [agent.joint_names.index(f"joint_{i}") for i in range(6)]
+    for _ in range(20):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        link6, tool = wxai_chain(q[arm])
+        assert_pose_close(agent.frame_pose("tcp", relative_to="root")[0], tool)
+        assert_pose_close(agent.frame_pose("link_6", relative_to="root")[0], link6)
+    scene.close()
+
+
+def test_widowx250s_limits_masses_and_drives_from_the_data() -> None:
+    scene = ra.Scene("widowx250s")
+    agent = scene.agents[0]
+    model = scene.model
+    np.testing.assert_allclose(
+        np.degrees(agent.qpos_limits[1:3]), [[-108.0, 114.0], [-123.0, 92.0]], atol=1e-3
+    )  # Trossen's default joint limits
+    np.testing.assert_allclose(np.degrees(agent.qpos_limits[4]), [-100.0, 123.0], atol=1e-3)
+    np.testing.assert_allclose(agent.qpos_limits[6:], [[0.015, 0.037], [-0.037, -0.015]])
+    ids = agent.drives.actuator_ids[agent.drives.columns(agent.part_joints["arm"], "test")]
+    # XM430-W350: 4.1 N*m at 12 V (two on shoulder and elbow); XL430-W250: 1.5 N*m.
+    np.testing.assert_allclose(model.actuator_forcerange[ids, 1], [4.1, 8.2, 8.2, 4.1, 4.1, 1.5])
+    dofs = [model.joint(agent.prefix + j).dofadr[0] for j in agent.joint_names]
+    # Reflected rotor inertia: 1.18e-5 * (T / N) * N^2 per servo; the fingers through the horn.
+    np.testing.assert_allclose(
+        model.dof_armature[dofs[:6]], [0.0171, 0.0342, 0.0342, 0.0171, 0.0171, 0.00458], rtol=2e-3
+    )
+    np.testing.assert_allclose(model.dof_armature[dofs[6:]], 0.00458 / (2 * 0.014**2), rtol=2e-3)
+    links = ("base_link", "shoulder_link", "upper_arm_link", "upper_forearm_link", "lower_forearm_link")
+    links += ("wrist_link", "gripper_link", "gripper_prop_link", "gripper_bar_link", "left_finger_link")
+    links += ("right_finger_link",)
+    mass = sum(model.body_mass[model.body(agent.prefix + name).id] for name in links)
+    assert mass == pytest.approx(2.134879, abs=1e-6)  # the URDF's link masses (dummy frames excluded)
+
+
+def test_widowxai_limits_and_drives_from_the_data() -> None:
+    scene = ra.Scene("widowxai")
+    agent = scene.agents[0]
+    model = scene.model
+    np.testing.assert_allclose(
+        agent.qpos_limits[:6],
+        [[-3.05433, 3.05433], [0, 3.14159], [0, 2.35619], [-1.5708, 1.5708], [-1.5708, 1.5708], [-3.14159, 3.14159]],
+    )
+    np.testing.assert_allclose(agent.qpos_limits[6:], [[0, 0.044], [0, 0.044]])
+    ids = agent.drives.actuator_ids[agent.drives.columns(agent.part_joints["arm"], "test")]
+    np.testing.assert_allclose(model.actuator_forcerange[ids, 1], [27, 27, 27, 7, 7, 7])
+    assert agent.part_joints["gripper"] == ("right_carriage_joint", "left_carriage_joint")
+    mass = sum(model.body_mass[b] for b in range(model.nbody) if model.body(b).name.startswith(agent.prefix))
+    assert mass == pytest.approx(3.994302, abs=1e-5)  # Menagerie's links, without the camera mount
+
+
+# ---------------------------------------------------------------- IK
+ARM_CASES = [("widowx250s", "home", "ee_gripper_link"), ("widowxai", "ready_to_grasp", "ee_gripper_link")]
+
+
+def arm_solver(scene: ra.Scene, frame_name: str) -> IKSolver:
+    agent = scene.agents[0]
+    arm = np.arange(6)
+    frame = resolve_frame(scene.model, frame_name, agent.prefix)
+    return IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], agent.qpos_limits[arm])
+
+
+@pytest.mark.parametrize(("uid", "keyframe", "frame_name"), ARM_CASES)
+def test_ik_solves_100_random_reachable_targets(uid: str, keyframe: str, frame_name: str) -> None:
+    """Targets are FK of random joint configurations; IK starts at the keyframe and lands
+    within 1 mm and 1 deg (97-99 of them within 100 iterations and 20 random restarts,
+    the rest, near joint limits or wrist singularities, need more of both)."""
+    scene = ra.Scene(uid, robot_poses=[(0.2, -0.1, 0.3, math.cos(0.3), 0.0, 0.0, math.sin(0.3))])
+    agent = scene.agents[0]
+    scene.reset(keyframes=keyframe)
+    solver = arm_solver(scene, frame_name)
+    rng = np.random.default_rng(2)
+    limits = agent.qpos_limits[:6]
+    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 6))
+    context = np.repeat(scene.world.qpos, 100, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:6]] = goals
+    targets = agent.kinematics.pose(configurations, solver.frame)
+    seed = np.repeat(agent.qpos[:, :6], 100, axis=0)
+    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
+    assert result.success.all(), np.flatnonzero(~result.success)
+    configurations[:, agent.qpos_adr[:6]] = result.qpos
+    reached = agent.kinematics.pose(configurations, solver.frame)
+    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
+    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
+    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    scene.close()
+
+
+# ---------------------------------------------------------------- grasp
+#: A 4 cm, 100 g cube under each robot's pads, the tool pointing straight down. The pad
+#: centre lies this far from the tool point, back along the approach axis (m).
+GRASP_CASES = [
+    ("widowx250s", "home", -0.0024),
+    ("widowx250s_bridgedataset_flat_table", "home", -0.0024),
+    ("widowxai", "ready_to_grasp", 0.008),
+    ("widowxai_wristcam", "ready_to_grasp", 0.008),
+]
+FINGERS = {
+    "widowx250s": (("left_finger_link",), ("right_finger_link",)),
+    "widowxai": (("carriage_left", "gripper_left"), ("carriage_right", "gripper_right")),
+}
+DOWN = np.array([math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0])  # tool x axis along -z
+CUBE_MASS, CUBE_HALF = 0.1, 0.02
+
+
+def solve_down(scene: ra.Scene, position: tuple[float, float, float], seed: np.ndarray) -> np.ndarray:
+    solver = arm_solver(scene, "ee_gripper_link")
+    target = np.concatenate([position, DOWN])[None]
+    result = solver.solve(scene.world.qpos, target, seed[None], max_iterations=200, restarts=10)
+    assert result.success[0], (result.position_error, result.rotation_error)
+    return result.qpos[0]
+
+
+@pytest.mark.parametrize(("uid", "keyframe", "pad_offset"), GRASP_CASES)
+def test_gripper_grasps_lifts_and_holds_a_cube(uid: str, keyframe: str, pad_offset: float) -> None:
+    tool = (0.26, 0.0, 0.06)
+    cube_z = tool[2] + pad_offset
+    props = [
+        ra.Prop(
+            name="pedestal",
+            shape="box",
+            size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
+            pos=(0.26, 0.0, (cube_z - CUBE_HALF) / 2),
+            mass=None,
+        ),
+        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(0.26, 0.0, cube_z + 1e-4), mass=CUBE_MASS),
+    ]
+    scene = ra.Scene(uid, props=props, control_modes="pd_joint_pos")
+    scene.reset(keyframes=keyframe)
+    agent = scene.agents[0]
+    grasp = solve_down(scene, tool, agent.qpos[0, :6])
+    lift = solve_down(scene, (tool[0], tool[1], tool[2] + 0.1), grasp)
+    qpos = agent.qpos[0].copy()
+    qpos[:6] = grasp
+    agent.reset(qpos=qpos)  # fingers open around the cube
+    for _ in range(10):
+        agent.set_action(np.concatenate([grasp, [1.0]]))
+        scene.step()
+    assert not agent.is_grasping("cube")[0]
+    for _ in range(20):  # close for 1 s
+        agent.set_action(np.concatenate([grasp, [-1.0]]))
+        scene.step()
+    assert agent.is_grasping("cube")[0]
+
+    family = "widowxai" if uid.startswith("widowxai") else "widowx250s"
+    body = lambda name: scene.model.body(name).id  # noqa: E731
+    fingers = [[body(agent.prefix + link) for link in finger] for finger in FINGERS[family]]
+    cube = body("cube")
+    left, right, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
+    assert np.linalg.norm(left) > 1.0 and np.linalg.norm(left) == pytest.approx(np.linalg.norm(right), rel=0.1)
+    np.testing.assert_allclose(left + right + pedestal, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)
+    start = scene.body_pose("cube")[0, :3]
+
+    for i in range(60):  # lift 10 cm over 1 s, hold 2 s
+        blend = min(1.0, (i + 1) / 20)
+        agent.set_action(np.concatenate([grasp + blend * (lift - grasp), [-1.0]]))
+        scene.step()
+    cube_pose = scene.body_pose("cube")[0]
+    assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
+    tcp = agent.tcp_pose[0]
+    assert np.linalg.norm(cube_pose[:3] - tcp[:3]) < abs(pad_offset) + 0.005  # still between the pads
+    assert agent.is_grasping("cube")[0]
+    left, right, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
+    assert not np.any(pedestal)
+    np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)  # the pads carry it
+
+    for _ in range(10):  # open: the cube drops
+        agent.set_action(np.concatenate([lift, [1.0]]))
+        scene.step()
+    assert not agent.is_grasping("cube")[0]
+    scene.close()
+
+
+# ---------------------------------------------------------------- keyframes
+@pytest.mark.parametrize("uid", WIDOWX_UIDS)
+def test_every_keyframe_is_held_for_five_seconds(uid: str) -> None:
+    scene = ra.Scene(uid, control_modes="pd_joint_delta_pos")
+    agent = scene.agents[0]
+    for name in agent.keyframes:
+        scene.reset(keyframes=name)
+        start = agent.qpos
+        worst = 0.0
+        for _ in range(5 * scene.control_freq):
+            agent.set_action(hold_action(agent))
+            scene.step()
+            worst = max(worst, float(np.max(np.abs(agent.qpos - start))))
+        assert worst < 0.01, (name, worst)
+    scene.close()
+
+
+# ---------------------------------------------------------------- cameras
+def test_wrist_camera_follows_camera_link() -> None:
+    """At random configurations the camera sits on camera_link (chained independently
+    from the public mount numbers), looks along its x axis with z up, and sees the
+    fingertips in the lower half of its image."""
+    scene = ra.Scene("widowxai_wristcam")
+    agent = scene.agents[0]
+    model = scene.model
+    camera = model.camera(agent.prefix + "wrist_camera").id
+    housing = model.body(agent.prefix + "camera_mount_d405").id
+    assert model.body_parentid[housing] == model.body(agent.prefix + "link_6").id
+    assert model.body_mass[housing] + model.body_mass[model.body(agent.prefix + "camera_link").id] == pytest.approx(
+        0.1171801
+    )
+    rng = np.random.default_rng(3)
+    arm = [agent.joint_names.index(f"joint_{i}") for i in range(6)]
+    for _ in range(5):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        link6, tool = wxai_chain(q[arm])
+        offset, pitch = WXAI_CAMERA_LINK
+        expected_pos = link6[:3, :3] @ np.array(offset) + link6[:3, 3]
+        expected_rot = link6[:3, :3] @ axis_rotation(np.array([0.0, 1.0, 0.0]), pitch)
+        pose = scene.world.camera_poses(camera)[0]
+        np.testing.assert_allclose(pose[:3, 3], expected_pos, atol=1e-6)
+        # view = camera_link x, image up = camera_link z (to the 6 digits of the mount's quaternion)
+        np.testing.assert_allclose(-pose[:3, 2], expected_rot[:, 0], atol=1e-6)
+        np.testing.assert_allclose(pose[:3, 1], expected_rot[:, 2], atol=1e-6)
+        # The tool point projects into the image, below its centre (90 deg, square).
+        local = pose[:3, :3].T @ (tool[:3, 3] - pose[:3, 3])
+        assert local[2] < 0 and abs(local[0] / local[2]) < 1 and 0 < local[1] / local[2] < 1
+    scene.close()
+
+
+@pytest.mark.parametrize(
+    ("uid", "pos", "sapien_quat", "robot_pose"),
+    [
+        (
+            "widowx250s_bridgedataset_flat_table",
+            (0.0, -0.16, 0.36),
+            (0.8992917, -0.09263245, 0.35892478, 0.23209205),
+            BRIDGE_FLAT_TABLE_ROBOT_POSE,
+        ),
+        (
+            "widowx250s_bridgedataset_sink",
+            (-0.00300001, -0.21, 0.39),
+            (-0.907313, 0.0782, -0.36434, -0.194741),
+            BRIDGE_SINK_ROBOT_POSE,
+        ),
+    ],
+)
+def test_bridge_camera_is_the_datasets_camera(
+    uid: str, pos: tuple[float, ...], sapien_quat: tuple[float, ...], robot_pose: tuple[float, ...]
+) -> None:
+    """ManiSkill's 3rd-view camera pose on base_link (SAPIEN camera axes: x forward,
+    z up), the C920 intrinsics, and the robot placed as on the Bridge table."""
+    scene = ra.Scene(uid, robot_poses=[robot_pose])
+    scene.reset()
+    agent = scene.agents[0]
+    camera = scene.model.camera(agent.prefix + "3rd_view_camera").id
+    pose = scene.world.camera_poses(camera)[0]
+    base = scene.body_pose(agent.prefix + "base_link")[0]
+    base_rot = rotation_matrix(base[3:])
+    sapien = base_rot @ rotation_matrix(np.array(sapien_quat))
+    np.testing.assert_allclose(pose[:3, 3], base_rot @ np.array(pos) + base[:3], atol=1e-9)
+    np.testing.assert_allclose(-pose[:3, 2], sapien[:, 0], atol=1e-6)  # looks along SAPIEN's x
+    np.testing.assert_allclose(pose[:3, 1], sapien[:, 2], atol=1e-6)  # image up = SAPIEN's z
+    config = next(c for c in type(agent).cameras if c.uid == "3rd_view_camera")
+    assert (config.width, config.height) == (640, 480)
+    np.testing.assert_allclose(
+        np.array(config.intrinsic)[[0, 1, 0, 1], [0, 1, 2, 2]], [623.588, 623.588, 319.501, 239.545]
+    )
+    # The camera looks at the workspace in front of the robot: the start pose's tool point is in view.
+    local = pose[:3, :3].T @ (agent.tcp_pose[0, :3] - pose[:3, 3])
+    fx, cx, cy = 623.588, 319.501, 239.545
+    u, v = cx + fx * local[0] / -local[2], cy - fx * local[1] / -local[2]
+    assert local[2] < 0 and 0 <= u < 640 and 0 <= v < 480
+    scene.close()

@@ -31,6 +31,7 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
     rows = {line.split()[0]: line.split()[1] for line in text.splitlines()[2:]}
     assert rows == {
         "floating_panda_gripper": "8",
+        "floating_robotiq_2f_85_gripper": "12",
         "panda": "9",
         "panda_stick": "7",
         "panda_touch": "9",

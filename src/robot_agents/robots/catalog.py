@@ -10,4 +10,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "panda_touch": "robot_agents.robots.panda.panda:PandaTouch",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStick",
     "floating_panda_gripper": "robot_agents.robots.panda.panda:FloatingPandaGripper",
+    "floating_robotiq_2f_85_gripper": "robot_agents.robots.robotiq.robotiq:FloatingRobotiq2F85Gripper",
 }

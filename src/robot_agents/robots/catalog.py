@@ -20,4 +20,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "widowx250s_bridgedataset_sink": "robot_agents.robots.widowx.widowx250s:WidowX250SBridgeDatasetSink",
     "widowxai": "robot_agents.robots.widowx.widowxai:WidowXAI",
     "widowxai_wristcam": "robot_agents.robots.widowx.widowxai:WidowXAIWristCam",
+    "floating_robotiq_2f_85_gripper": "robot_agents.robots.robotiq.robotiq:FloatingRobotiq2F85Gripper",
 }

@@ -13,7 +13,12 @@ from robot_agents.errors import UnknownNameError
 
 NAMESPACE = "robot_agents"
 #: Task name -> entry point, registered with Gymnasium as ``robot_agents/<name>``.
-TASKS = {"Empty-v1": "robot_agents.envs.empty:EmptyEnv"}
+TASKS = {
+    "Empty-v1": "robot_agents.envs.empty:EmptyEnv",
+    "ReachPose-v1": "robot_agents.envs.tasks.reach_pose:ReachPoseEnv",
+    "PickCube-v1": "robot_agents.envs.tasks.pick_cube:PickCubeEnv",
+    "PushCube-v1": "robot_agents.envs.tasks.push_cube:PushCubeEnv",
+}
 
 
 def register_envs() -> None:

@@ -339,3 +339,11 @@ def test_readme_tasks_block_runs() -> None:
     exec(compile(block, "README tasks block", "exec"), namespace)
     assert namespace["info"]["success"].shape == (4,)
     assert np.all((namespace["reward"] >= 0) & (namespace["reward"] <= 1))
+
+
+def test_task_classes_take_num_envs_second_like_every_env() -> None:
+    from robot_agents.envs.tasks import PickCubeEnv
+
+    env = PickCubeEnv("panda", 3, reward_mode="sparse")
+    assert env.num_envs == 3 and env.reward_mode == "sparse"
+    env.close()

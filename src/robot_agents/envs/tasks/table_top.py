@@ -345,6 +345,7 @@ class TableTopEnv(RobotEnv):
     def __init__(
         self,
         robot_uids: RobotSpecifier | Sequence[RobotSpecifier] = "panda",
+        num_envs: int = 1,
         reward_mode: str = "normalized_dense",
         **kwargs: Any,
     ) -> None:
@@ -358,7 +359,7 @@ class TableTopEnv(RobotEnv):
         if kwargs.get("robot_poses") is None:
             kwargs["robot_poses"] = [self.layout.robot_pose]
         self._task_ready = False
-        super().__init__(robot_uids=cls, **kwargs)
+        super().__init__(robot_uids=cls, num_envs=num_envs, **kwargs)
 
     # -- hooks for the tasks --------------------------------------------------------------
     def _check_robot(self, cls: type[Agent]) -> None:

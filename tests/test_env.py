@@ -225,3 +225,23 @@ def test_render_frames_the_robot_whatever_its_size() -> None:
     assert framed > 3 * fixed
     for uid, (share, _) in shares.items():
         assert 0.03 < share < 0.6, (uid, share)
+
+
+def test_each_env_has_its_own_seeded_stream() -> None:
+    """reset(seed=s) seeds env i with s + i: env i of a batch starts as a single env
+    reset with seed s + i; a list gives each env its own seed (None: keep its stream)."""
+    batch = ra.make_env("Empty-v1", robot_uids="panda", num_envs=3)
+    single = ra.make_env("Empty-v1", robot_uids="panda")
+    batch.reset(seed=11)
+    rows = batch.unwrapped.agent.qpos
+    for i in range(3):
+        single.reset(seed=11 + i)
+        np.testing.assert_array_equal(single.unwrapped.agent.qpos[0], rows[i])
+    batch.reset(seed=[13, None, 11])
+    after = batch.unwrapped.agent.qpos
+    single.reset(seed=13)
+    np.testing.assert_array_equal(after[0], single.unwrapped.agent.qpos[0])
+    np.testing.assert_array_equal(after[2], rows[0])
+    assert not np.array_equal(after[1], rows[1])  # env 1 went on with its stream
+    with pytest.raises(ra.ConfigError, match="one per env"):
+        batch.reset(seed=[1, 2])

@@ -24,7 +24,7 @@ def snapshot(env: Any) -> tuple[Any, ...]:
         state["physics"].copy(),
         repr(state["agents"]),
         u.elapsed_steps.copy(),
-        repr(u.np_random.bit_generator.state),
+        repr([u.np_random.bit_generator.state, *(u.env_rng(i).bit_generator.state for i in range(u.num_envs))]),
         [a.control_mode for a in u.agents],
         targets,
         u.scene.world.ctrl.copy(),

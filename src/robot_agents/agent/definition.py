@@ -53,6 +53,8 @@ class AgentDefinition:
             means ``fix_root_link`` (on for fixed-base arms, off for free robots).
         link_materials / default_material: friction per body / for every other geom.
         cameras / touch_sensors: sensors that travel with the robot.
+        task_limits: task id -> why this robot cannot do it although it has the parts
+            the task asks for (read by the tests of the tasks' scripted solvers).
     """
 
     uid: ClassVar[str] = ""
@@ -76,6 +78,7 @@ class AgentDefinition:
     default_material: ClassVar[FrictionMaterial | None] = None
     cameras: ClassVar[tuple[CameraConfig, ...]] = ()
     touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
+    task_limits: ClassVar[Mapping[str, str]] = {}
 
     # ------------------------------------------------------------------ declaration
     @classmethod

@@ -1,5 +1,7 @@
 """Gymnasium environments. ``make_env("Empty-v1", robot_uids="panda")`` or
-``gymnasium.make("robot_agents/Empty-v1", robot_uids="panda")``."""
+``gymnasium.make("robot_agents/Empty-v1", robot_uids="panda")``; the vector API:
+``gymnasium.make_vec("robot_agents/PickCube-v1", num_envs=64,
+vectorization_mode="vector_entry_point", robot_uids="panda")``."""
 
 from __future__ import annotations
 
@@ -9,19 +11,33 @@ import gymnasium as gym
 
 from robot_agents.envs.base_env import RobotEnv
 from robot_agents.envs.empty import EmptyEnv
+from robot_agents.envs.vector import RobotVectorEnv, vector_entry_point
 from robot_agents.errors import UnknownNameError
 
 NAMESPACE = "robot_agents"
 #: Task name -> entry point, registered with Gymnasium as ``robot_agents/<name>``.
-TASKS = {"Empty-v1": "robot_agents.envs.empty:EmptyEnv"}
+TASKS = {
+    "Empty-v1": "robot_agents.envs.empty:EmptyEnv",
+    "ReachPose-v1": "robot_agents.envs.tasks.reach_pose:ReachPoseEnv",
+    "PickCube-v1": "robot_agents.envs.tasks.pick_cube:PickCubeEnv",
+    "PushCube-v1": "robot_agents.envs.tasks.push_cube:PushCubeEnv",
+}
 
 
 def register_envs() -> None:
-    """Register the tasks with Gymnasium (idempotent)."""
+    """Register the tasks with Gymnasium (idempotent): ``gymnasium.make`` gives the
+    batched env, ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")`` a
+    :class:`RobotVectorEnv` over it."""
     for name, entry_point in TASKS.items():
         env_id = f"{NAMESPACE}/{name}"
         if env_id not in gym.registry:
-            gym.register(id=env_id, entry_point=entry_point, disable_env_checker=True, order_enforce=False)
+            gym.register(
+                id=env_id,
+                entry_point=entry_point,
+                vector_entry_point=vector_entry_point(name),
+                disable_env_checker=True,
+                order_enforce=False,
+            )
 
 
 def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
@@ -46,4 +62,4 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
 
 register_envs()
 
-__all__ = ["NAMESPACE", "TASKS", "EmptyEnv", "RobotEnv", "make_env", "register_envs"]
+__all__ = ["NAMESPACE", "TASKS", "EmptyEnv", "RobotEnv", "RobotVectorEnv", "make_env", "register_envs"]

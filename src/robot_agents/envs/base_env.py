@@ -17,6 +17,7 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 import numpy.typing as npt
+from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
@@ -72,8 +73,14 @@ class RobotEnv(gym.Env[Any, Any]):
             ``{"hand_camera": {"width": 256, "height": 256}}``, or ``{"base_camera": None}``
             to drop a camera; unknown keys and fields raise.
 
+    Randomness: every env has its own random stream, :meth:`env_rng`; ``reset(seed=s)``
+    seeds env ``i`` with ``s + i`` (Gymnasium's rule for vector envs), so env ``i`` of a
+    batch draws exactly what a single env reset with seed ``s + i`` draws. The reset
+    noise of the robots and a task's randomization come from these streams.
+
     Subclasses override :meth:`_scene_props`, :meth:`_scene_cameras`,
-    :meth:`compute_reward`, :meth:`evaluate` and :meth:`_extra_obs`.
+    :meth:`_initialize_episode`, :meth:`compute_reward`, :meth:`evaluate`,
+    :meth:`_extra_obs` and :meth:`_render_bounds`.
     """
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
@@ -137,6 +144,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.raise_on_instability = raise_on_instability
         self.metadata = {**self.metadata, "render_fps": self.control_freq}
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._env_rngs: list[np.random.Generator | None] = [None] * self.num_envs
         self._closed = False
         self._renderer: mujoco.Renderer | None = None
         self._render_camera: mujoco.MjvCamera | None = None
@@ -167,6 +175,23 @@ class RobotEnv(gym.Env[Any, Any]):
     def _extra_obs(self) -> dict[str, FloatArray]:
         """Task observations beyond proprioception (each ``(num_envs, ...)``)."""
         return {}
+
+    def _initialize_episode(self, env_ids: npt.NDArray[np.int64]) -> None:
+        """Randomize the task in ``env_ids`` at a reset, after the robots were reset
+        (draw from :meth:`env_rng` of each env, one env after the other)."""
+
+    def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
+        """World box ``(lower, upper)`` the render camera frames: the robots' extent."""
+        return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids])
+
+    def env_rng(self, env: int) -> np.random.Generator:
+        """The random stream of env ``env`` (seeded by :meth:`reset`; unseeded: from
+        fresh entropy on first use)."""
+        rng = self._env_rngs[env]
+        if rng is None:
+            rng, _ = seeding.np_random(None)
+            self._env_rngs[env] = rng
+        return rng
 
     # ------------------------------------------------------------------ access
     @property
@@ -255,14 +280,20 @@ class RobotEnv(gym.Env[Any, Any]):
         return dict(_to_float32({"agent": agent_obs, "extra": extra}))
 
     # ------------------------------------------------------------------ gym API
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+    def reset(
+        self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[Any, dict[str, Any]]:
         """Reset every env (or ``options["env_ids"]``) to each robot's keyframe
-        (``options["keyframe"]``, default the first) plus seeded noise."""
+        (``options["keyframe"]``, default the first) plus seeded noise, then the task's
+        randomization.
+
+        ``seed``: ``None`` continues each env's random stream; an int ``s`` re-seeds env
+        ``i`` (of those reset) with ``s + i``; a list of ``num_envs`` ints or ``None``
+        gives each env its own seed (``None``: not re-seeded)."""
         where = f"{type(self).__name__}.reset"
         self._check_open(where)
         # Everything is checked before the RNG is re-seeded or any env is touched.
-        if seed is not None and not (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
-            raise ConfigError(f"{where}: expected seed to be an int >= 0 or None, got {seed!r}.")
+        seeds = self._check_seed(seed, where)
         if options is not None and not isinstance(options, Mapping):
             raise ConfigError(f"{where}: expected options to be a dict (keys 'env_ids', 'keyframe'), got {options!r}.")
         options = dict(options or {})
@@ -272,15 +303,45 @@ class RobotEnv(gym.Env[Any, Any]):
             raise ConfigError(f"{where}: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'.")
         ids = self.agent.state.env_ids(env_ids, where)
         self.scene.check_keyframes(keyframe, where)
-        super().reset(seed=seed)
+        if isinstance(seed, (int, np.integer)):
+            super().reset(seed=int(seed))
+        for env in ids:
+            if seeds[env] is not None:
+                self._env_rngs[env] = seeding.np_random(seeds[env])[0]
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
             for agent in self.agents:
-                qpos = agent.perturbed_qpos(ids, self.robot_init_qpos_noise, self.np_random)
-                agent.reset(qpos=qpos, env_ids=ids)
+                rows = [
+                    agent.perturbed_qpos(ids[k : k + 1], self.robot_init_qpos_noise, self.env_rng(int(env)))
+                    for k, env in enumerate(ids)
+                ]
+                agent.reset(qpos=np.concatenate(rows), env_ids=ids)
+        self._initialize_episode(ids)
         self.elapsed_steps[ids] = 0
         self._render_camera = None
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
+
+    def _check_seed(self, seed: Any, where: str) -> list[int | None]:
+        """The seed of each env (``None``: keep its stream)."""
+
+        def valid(value: Any) -> bool:
+            return bool(isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 0)
+
+        if seed is None:
+            return [None] * self.num_envs
+        if valid(seed):
+            return [int(seed) + i for i in range(self.num_envs)]
+        if (
+            isinstance(seed, Sequence)
+            and not isinstance(seed, str)
+            and len(seed) == self.num_envs
+            and all(s is None or valid(s) for s in seed)
+        ):
+            return [None if s is None else int(s) for s in seed]
+        raise ConfigError(
+            f"{where}: expected seed to be an int >= 0, None, or a list of {self.num_envs} ints >= 0 or None "
+            f"(one per env), got {seed!r}."
+        )
 
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several
@@ -395,8 +456,8 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._renderer is None:
             width, height = self.render_size
             self._renderer = make_renderer(self.model, width, height)
-        if self._render_camera is None:  # framed once per reset, from the robots' extent
-            lower, upper = robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids])
+        if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
+            lower, upper = self._render_bounds()
             self._render_camera = framing_camera(lower, upper, fovy=float(self.model.vis.global_.fovy))
         frames = []
         for data in self.scene.world.render_sources():

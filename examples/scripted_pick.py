@@ -1,0 +1,362 @@
+"""Scripted solvers for ``PickCube-v1`` and ``ReachPose-v1``, written once for every robot
+with the parts a task needs, through the agent interface and the task's layout only.
+
+PickCube, per env (all envs of a batch at once):
+
+1. *Turn*: joint-position mode. Damped-least-squares IK on ``agent.frame_pose`` /
+   ``agent.frame_jacobian`` finds the arm pose that holds the gripper's grasp point
+   above the cube, fingers pointing down, closing across two faces of the cube (the
+   gripper's geometry comes from ``env.layout.gripper``); the joints are driven there
+   along a smooth 1.5 s ramp with the gripper open. (A 5-joint arm's default keyframe
+   need not point its jaw down, and its end-effector modes cannot turn the tool.)
+2. End-effector delta mode, position only (``pd_ee_target_delta_pos``, else
+   ``pd_ee_delta_pos``, else the pose modes with the turned orientation held):
+   *approach* above the cube, *descend* until the grasp point is a fifth of an edge
+   below the cube's centre (the fingers reach past its middle), *close* the gripper,
+   *raise* the cube straight up (to the goal's height, at least one edge above the
+   table), *carry* it to the goal and stop commanding once it is there; the tool moves
+   at most 0.05 reach per step.
+
+ReachPose: the same turn straight to the goal pose (position only on arms of fewer
+than 6 joints), then end-effector deltas towards it (``pd_ee_target_delta_pose`` on arms
+of 6 or more joints) for the rest of the episode.
+
+Every action goes through ``Arm.action``: the arm's raw command and the gripper's
+open / closed state become one action vector of the active mode, each part's slice
+normalized the way its controller expects.
+
+Run it to measure success over seeds for every registered robot that can do a task::
+
+    python examples/scripted_pick.py                       # both tasks, 20 seeds each
+    python examples/scripted_pick.py --task PickCube-v1 --robots so100 panda --seeds 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import mujoco
+import numpy as np
+
+import robot_agents as ra
+from robot_agents.envs.tasks.table_top import tool_arm
+from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
+
+TASKS = ("PickCube-v1", "ReachPose-v1")
+
+
+# -- the interface, in a few helpers -----------------------------------------------------------
+def action_for(controller: Any, raw: np.ndarray) -> np.ndarray:
+    """A part's action from raw values (clipped to its bounds, normalized if it is)."""
+    low, high = controller.raw_low, controller.raw_high
+    raw = np.clip(raw, low, high)
+    if controller.config.normalize_action:
+        return 2.0 * (raw - low) / (high - low) - 1.0
+    return raw
+
+
+def shorten(vectors: np.ndarray, bound: np.ndarray) -> np.ndarray:
+    """``vectors`` ``(n, 3)`` scaled down, keeping their direction, into ``[-bound, bound]``."""
+    scale = np.max(np.abs(vectors) / bound, axis=1, keepdims=True)
+    out: np.ndarray = vectors / np.maximum(scale, 1.0)
+    return out
+
+
+def end_effector_mode(agent: ra.Agent, rotation: bool) -> str:
+    """The end-effector delta mode to use: one that turns the tool when ``rotation`` is
+    wanted, position-only otherwise when the robot has one; target-delta modes first
+    (commands accumulate on the controller's target, so a zero command holds the
+    target exactly; measured-delta modes re-solve from the measured joints every step,
+    which can keep a light wrist joint dithering while the tool holds still)."""
+    modes = agent.modes()
+    ranked = (
+        ("pd_ee_target_delta_pose", "pd_ee_delta_pose")
+        if rotation
+        else ("pd_ee_target_delta_pos", "pd_ee_delta_pos", "pd_ee_target_delta_pose", "pd_ee_delta_pose")
+    )
+    for mode in ranked:
+        if mode in modes:
+            return mode
+    raise ra.ConfigError(f"scripted_pick: {type(agent).__name__} has no end-effector delta mode.")
+
+
+def world_to_root(agent: ra.Agent, ee: str) -> np.ndarray:
+    """Rotation matrices ``(num_envs, 3, 3)`` from world axes to the axes end-effector
+    commands are expressed in (the robot's root frame)."""
+    root = pose_multiply(agent.frame_pose(ee), pose_inverse(agent.frame_pose(ee, relative_to="root")))
+    return np.swapaxes(quat_to_matrix(root[:, 3:]), 1, 2)
+
+
+class Arm:
+    """The robot's arm and gripper as the solvers use them."""
+
+    def __init__(self, env: Any) -> None:
+        self.env = env
+        self.agent: ra.Agent = env.agent
+        arm = tool_arm(self.agent, "scripted_pick")
+        self.ee = arm.end_effectors[0].name
+        joints = [self.agent.index.joint(j, "scripted_pick") for j in self.agent.part_joints[arm.name]]
+        self.q_index = np.array([j.qpos_start for j in joints])
+        self.v_index = np.array([j.dof_start for j in joints])
+        self.limits = self.agent.qpos_limits[self.q_index]
+        self.arm_joint = self.agent.part_joints[arm.name][0]
+        gripper = self.agent.gripper().name if self.agent.grippers.parts else None
+        self.gripper_joint = self.agent.part_joints[gripper][0] if gripper else None
+
+    def set_mode(self, mode: str) -> None:
+        """Switch the control mode and find which of its controllers drives the arm and
+        which the gripper (a mode names its parts as it likes)."""
+        self.env.set_control_mode(mode)
+        self.controller = self.agent.controller
+        self.from_target = "target" in mode
+        self.arm_name = self.gripper = None
+        for name, controller in self.controller.parts.items():
+            joints = controller.config.joint_names
+            if self.arm_joint in joints:
+                self.arm_name = name
+            if self.gripper_joint is not None and self.gripper_joint in joints:
+                self.gripper = name
+
+    def action(self, arm_raw: np.ndarray, gripper_open: np.ndarray | None = None) -> np.ndarray:
+        """The whole action from the arm's raw command ``(num_envs, k)`` and the
+        gripper's state (``True``: open); other parts hold still."""
+        n = self.env.num_envs
+        action = np.zeros((n, self.controller.action_dim))
+        for name, controller in self.controller.parts.items():
+            slot = self.controller.slices[name]
+            if name == self.arm_name:
+                action[:, slot] = action_for(controller, arm_raw)
+            elif name == self.gripper and gripper_open is not None:
+                raw = np.where(gripper_open[:, None], controller.raw_high, controller.raw_low)
+                action[:, slot] = action_for(controller, raw)
+        return action
+
+    def tool(self) -> np.ndarray:
+        return self.agent.frame_pose(self.ee)
+
+    def ee_command(self, position: np.ndarray, quat: np.ndarray | None, speed: float = np.inf) -> np.ndarray:
+        """Raw end-effector delta towards tool ``position`` (and orientation ``quat``,
+        world frame): the difference from the controller's target (``target_ee_pose``)
+        in target-delta modes, from the measured tool otherwise, in the command frame,
+        shortened (not clipped per axis, which would bend the path) to at most ``speed``
+        (m per step) and what one action may command."""
+        tool = self.agent.frame_pose(self.ee)
+        tool_in_root = self.agent.frame_pose(self.ee, relative_to="root")
+        root = pose_multiply(tool, pose_inverse(tool_in_root))
+        wanted = pose_multiply(pose_inverse(root), np.concatenate([position, tool[:, 3:] if quat is None else quat], 1))
+        controller = self.controller.parts[self.arm_name]
+        base = controller.observe()["target_ee_pose"] if self.from_target else tool_in_root
+        high = controller.raw_high
+        step = shorten(wanted[:, :3] - base[:, :3], np.minimum(high[:3], speed))
+        if controller.action_dim == 3:
+            return step
+        turn = np.zeros_like(step) if quat is None else rotation_error(wanted[:, 3:], base[:, 3:])
+        return np.concatenate([step, shorten(turn, high[3:6])], axis=1)
+
+    def solve(self, position: np.ndarray, quat: np.ndarray | None, iterations: int = 200) -> np.ndarray:
+        """Arm joints ``(num_envs, k)`` that put the tool at ``position`` (and ``quat``):
+        damped least squares on the agent's frame pose and Jacobian, from the measured
+        joints; a joint at a limit that the step would push past it is left out of
+        that step (so the others take over)."""
+        q = self.agent.qpos
+        rows = 3 if quat is None else 6
+        weight, damping = 0.3, 0.05
+        low, high = self.limits[:, 0], self.limits[:, 1]
+        for _ in range(iterations):
+            pose = self.agent.frame_pose(self.ee, qpos=q)
+            jacobian = self.agent.frame_jacobian(self.ee, qpos=q)[:, :rows, self.v_index]
+            error = position - pose[:, :3]
+            if quat is not None:
+                error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
+                jacobian[:, 3:] *= weight
+            arm = q[:, self.q_index]
+            free = np.ones_like(arm, dtype=bool)
+            for _ in range(3):
+                masked = jacobian * free[:, None, :]
+                system = masked @ np.swapaxes(masked, 1, 2) + damping**2 * np.eye(rows)
+                step = (np.swapaxes(masked, 1, 2) @ np.linalg.solve(system, error[:, :, None]))[:, :, 0]
+                blocked = ((arm <= low + 1e-9) & (step < 0)) | ((arm >= high - 1e-9) & (step > 0))
+                if not (blocked & free).any():
+                    break
+                free &= ~blocked
+            q[:, self.q_index] = np.clip(arm + np.clip(step, -0.2, 0.2), low, high)
+        solution: np.ndarray = q[:, self.q_index]
+        return solution
+
+    def ramp(self, step: Any, goal_q: np.ndarray, steps: int, gripper_open: np.ndarray | None) -> None:
+        """Drive the arm joints to ``goal_q`` along a smooth ramp (joint-position mode),
+        the last 5 steps holding the goal."""
+        self.set_mode("pd_joint_pos")
+        start = self.agent.qpos[:, self.q_index]
+        for k in range(steps):
+            blend = 0.5 - 0.5 * math.cos(math.pi * min(1.0, (k + 1) / max(1, steps - 5)))
+            step(self.action(start + blend * (goal_q - start), gripper_open))
+
+
+def grasp_orientation(
+    tool_quat: np.ndarray, cube_quat: np.ndarray, approach: np.ndarray, closing: np.ndarray
+) -> np.ndarray:
+    """Tool orientations ``(n, 4)`` with the fingers pointing down and closing across the
+    pair of cube faces nearest to the way they close now."""
+    down = np.array([0.0, 0.0, -1.0])
+    tool_basis = np.stack([approach, closing, np.cross(approach, closing)], axis=1)  # columns
+    out = np.empty((len(tool_quat), 4))
+    for env, (now, cube) in enumerate(zip(quat_to_matrix(tool_quat), quat_to_matrix(cube_quat), strict=True)):
+        closing_now = now @ closing
+        faces = [sign * cube[:, k] for k in (0, 1) for sign in (1.0, -1.0)]
+        faces = [f - f[2] * np.array([0.0, 0.0, 1.0]) for f in faces]
+        across = max(faces, key=lambda f: float(f @ closing_now))
+        across /= np.linalg.norm(across)
+        world_basis = np.stack([down, across, np.cross(down, across)], axis=1)
+        rotation = world_basis @ tool_basis.T
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, rotation.reshape(-1))
+        out[env] = quat
+    return out
+
+
+# -- PickCube ---------------------------------------------------------------------------------
+APPROACH, DESCEND, CLOSE, RAISE, CARRY = range(5)
+#: Largest tool speed of the end-effector stages, in reaches per step (0.95 m/s for the Panda).
+SPEED = 0.05
+#: How far below the cube's centre the grasp point goes, in cube edges.
+DEPTH = 0.2
+
+
+def solve_pick(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
+    """Run one episode in every env of ``env`` (a ``PickCube-v1`` env, reset with
+    ``seed``); per env, whether it succeeded."""
+    env.reset(seed=seed)
+    arm = Arm(env)
+    layout, geometry = env.layout, env.layout.gripper
+    approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
+    grasp_point = np.array(geometry.grasp_point)
+    n, edge = env.num_envs, 2.0 * layout.cube_half_size
+    above = np.array([0.0, 0.0, 0.1 * layout.reach + edge])
+    success = np.zeros(n, dtype=bool)
+    steps = 0
+    limit = env.max_episode_steps or 100
+
+    def step(action: np.ndarray) -> None:
+        nonlocal steps, success
+        info = env.step(action)[4]
+        success |= np.asarray(info["success"], dtype=bool).reshape(n)
+        steps += 1
+
+    def tool_target(grasp_at: np.ndarray, quat: np.ndarray) -> np.ndarray:
+        return grasp_at - np.einsum("nij,j->ni", quat_to_matrix(quat), grasp_point)
+
+    # 1. Turn: joint positions along a ramp to the IK solution above the cube.
+    cube = env.body_pose("cube")
+    quat = grasp_orientation(arm.tool()[:, 3:], cube[:, 3:], approach, closing)
+    arm.ramp(step, arm.solve(tool_target(cube[:, :3] + above, quat), quat), turn_steps, np.ones(n, dtype=bool))
+    # 2. End-effector deltas.
+    arm.set_mode(end_effector_mode(arm.agent, rotation=False))
+    stage = np.full(n, APPROACH)
+    in_stage = np.zeros(n, dtype=int)
+    grasp_at = np.zeros((n, 3))
+    rest_z = layout.table_height + layout.cube_half_size
+    while steps < limit:
+        cube = env.body_pose("cube")[:, :3]
+        tool = arm.tool()
+        point = tool[:, :3] + np.einsum("nij,j->ni", quat_to_matrix(tool[:, 3:]), grasp_point)
+        lifted = cube.copy()
+        lifted[:, 2] = np.maximum(env.goal_pos[:, 2], rest_z + edge)
+        deeper = cube - DEPTH * edge * np.array([0.0, 0.0, 1.0])
+        cube_at = np.where((stage == RAISE)[:, None], lifted, env.goal_pos)  # where the cube goes next
+        target = np.where((stage == APPROACH)[:, None], cube + above, deeper)
+        target = np.where((stage == CLOSE)[:, None], grasp_at, target)
+        target = np.where((stage >= RAISE)[:, None], point + cube_at - cube, target)  # carry the cube
+        error = np.linalg.norm(target - point, axis=1)
+        command = arm.ee_command(tool[:, :3] + target - point, quat, speed=SPEED * layout.reach)
+        # Near the goal, stop commanding: in a target-delta mode the arm then holds still.
+        arrived = (stage == CARRY) & (np.linalg.norm(env.goal_pos - cube, axis=1) < 0.25 * env.goal_threshold)
+        command[arrived] = 0.0
+        step(arm.action(command, stage < CLOSE))
+        in_stage += 1
+        advance = (
+            ((stage == APPROACH) & ((error < 0.25 * edge) | (in_stage > 15)))
+            | ((stage == DESCEND) & ((error < 0.1 * edge) | (in_stage > 20)))
+            | ((stage == CLOSE) & (in_stage > 10))
+            | ((stage == RAISE) & ((error < 0.25 * edge) | (in_stage > 15)))
+        )
+        grasp_at = np.where(((stage == DESCEND) & advance)[:, None], target, grasp_at)
+        stage = np.where(advance, np.minimum(stage + 1, CARRY), stage)
+        in_stage[advance] = 0
+    return success
+
+
+# -- ReachPose --------------------------------------------------------------------------------
+def solve_reach(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
+    """Run one episode in every env of ``env`` (a ``ReachPose-v1`` env, reset with
+    ``seed``); per env, whether it succeeded."""
+    env.reset(seed=seed)
+    arm = Arm(env)
+    n = env.num_envs
+    success = np.zeros(n, dtype=bool)
+    steps = 0
+
+    def step(action: np.ndarray) -> None:
+        nonlocal steps, success
+        info = env.step(action)[4]
+        success |= np.asarray(info["success"], dtype=bool).reshape(n)
+        steps += 1
+
+    position, quat = env.goal_pose[:, :3], env.goal_pose[:, 3:] if env.with_orientation else None
+    opened = np.ones(n, dtype=bool) if arm.gripper_joint else None
+    # 1. Joint positions along a ramp to the IK solution; 2. end-effector deltas.
+    arm.ramp(step, arm.solve(position, quat), turn_steps, opened)
+    arm.set_mode(end_effector_mode(arm.agent, rotation=env.with_orientation))
+    while steps < (env.max_episode_steps or 100):
+        step(arm.action(arm.ee_command(position, quat), opened))
+    return success
+
+
+SOLVERS = {"PickCube-v1": solve_pick, "ReachPose-v1": solve_reach}
+
+
+def robots_for(task: str) -> list[str]:
+    """Registered robots with the parts ``task`` needs (others say why when made)."""
+    out = []
+    for uid in ra.list_agents():
+        try:
+            ra.make_env(task, robot_uids=uid).close()
+        except ra.ConfigError:
+            continue
+        out.append(uid)
+    return out
+
+
+def success_rate(task: str, uid: str, seeds: int, seed: int = 0) -> tuple[int, float]:
+    """Successes over ``seeds`` envs seeded ``seed, seed + 1, ...`` (one batch), and the
+    wall time in seconds."""
+    start = time.perf_counter()
+    env = ra.make_env(task, robot_uids=uid, num_envs=seeds).unwrapped
+    try:
+        successes = int(SOLVERS[task](env, seed).sum())
+    finally:
+        env.close()
+    return successes, time.perf_counter() - start
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--task", choices=TASKS, action="append", help="default: both")
+    parser.add_argument("--robots", nargs="*", help="uids (default: every registered robot the task takes)")
+    parser.add_argument("--seeds", type=int, default=20, help="envs (seeds 0 .. N-1) per robot")
+    args = parser.parse_args(argv)
+    print("| task | robot | successes | time |\n|---|---|---|---|")
+    for task in args.task or TASKS:
+        for uid in args.robots or robots_for(task):
+            successes, seconds = success_rate(task, uid, args.seeds)
+            print(f"| {task} | {uid} | {successes}/{args.seeds} | {seconds:.1f} s |", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,445 @@
+"""The table-top scene every manipulation task shares, laid out from the robot's own
+definition (no per-robot numbers anywhere).
+
+The layout (:func:`table_top_layout`, computed once per robot class on a probe scene):
+
+- **Reach** ``R``: how far the first end effector gets from the anchor of the arm's
+  first joint (its *shoulder*), the largest distance over the default keyframe and
+  1024 configurations drawn (with a fixed seed) uniformly within the arm joints'
+  limits: 0.95 m for the Panda, 1.36 m for the UR10e, 0.51 m for the SO-100.
+- **Facing**: the robot is turned about the vertical so that its default keyframe's
+  tool lies straight ahead of its shoulder, along world +x (a robot whose tool is
+  above its shoulder keeps its heading).
+- **Placement**: the robot stands on the table top, at its own ``mount_pose`` above
+  it, moved so that its default keyframe's tool is above the world origin: the
+  *workspace centre*, where cubes and goals are drawn around. The table top is at
+  ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
+  ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
+- **Cube**: its edge is half the opening of the gripper (the distances from the tool
+  point to each finger's colliding geoms, gripper open, summed), 4 cm for the Panda;
+  for a robot without a gripper, ``0.04 R``. Density 1000 kg/m^3 (water).
+- **Randomization scale**: cubes and goals are drawn within ``0.1 R`` of the
+  workspace centre (the Panda's: 0.095 m; ManiSkill's PickCube uses 0.1 m).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent import Agent
+from robot_agents.envs.base_env import RobotEnv
+from robot_agents.errors import ConfigError
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.scene import Prop
+from robot_agents.parts.declaration import Arm
+from robot_agents.registry import get_agent
+from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sim.scene import RobotSpecifier, Scene
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+#: Configurations drawn to measure the reach (fixed seed: the layout is deterministic).
+REACH_SAMPLES = 1024
+#: Table-top height above the floor, as a share of the reach.
+TABLE_HEIGHT = 0.75
+#: Cubes and goals are drawn within this share of the reach of the workspace centre.
+SPAWN_HALF_SIZE = 0.1
+#: Cube edge as a share of the gripper's opening, and of the reach without a gripper.
+CUBE_PER_OPENING = 0.5
+CUBE_PER_REACH = 0.04
+#: Cube density (kg/m^3).
+CUBE_DENSITY = 1000.0
+#: Smallest cube edge (m).
+MIN_CUBE_EDGE = 0.01
+
+
+@dataclass(frozen=True)
+class GripperGeometry:
+    """The open gripper as seen from its tool point (vectors in the tool frame).
+
+    Attributes:
+        opening: gap between the open fingers at the tool point (m).
+        grasp_point: the middle of the gap on the closing axis through the tool point
+            (m): where an object's centre goes for a grasp.
+        closing_axis: unit vector from the first finger towards the second, square to
+            the approach axis.
+        approach_axis: unit vector from the arm's last joint to the tool point: the way
+            the fingers point.
+    """
+
+    opening: float
+    grasp_point: tuple[float, float, float]
+    closing_axis: tuple[float, float, float]
+    approach_axis: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class TableTopLayout:
+    """Where a robot, its table and its workspace are (m, world frame).
+
+    Attributes:
+        reach: how far the tool gets from the shoulder (see the module doc).
+        robot_pose: world pose of the robot's root ``(x, y, z, qw, qx, qy, qz)``.
+        table_height: z of the table top; the workspace centre is ``(0, 0, table_height)``.
+        table_center, table_half_size: the table box (a static prop from the floor up).
+        rest_tcp: the default keyframe's tool position in this layout.
+        gripper: the open gripper's geometry (``None`` without a gripper).
+        cube_half_size: half the cube's edge.
+        spawn_half_size: cubes and goals are drawn in ``[-s, s]`` of the centre.
+        dof: joints of the arm that carries the end effector.
+    """
+
+    reach: float
+    robot_pose: tuple[float, ...]
+    table_height: float
+    table_center: tuple[float, float, float]
+    table_half_size: tuple[float, float, float]
+    rest_tcp: tuple[float, float, float]
+    gripper: GripperGeometry | None
+    cube_half_size: float
+    spawn_half_size: float
+    dof: int
+
+    @property
+    def center(self) -> FloatArray:
+        """The workspace centre on the table top."""
+        return np.array([0.0, 0.0, self.table_height])
+
+
+_LAYOUTS: weakref.WeakKeyDictionary[type, TableTopLayout] = weakref.WeakKeyDictionary()
+
+
+def robot_class(robot_uids: Any, where: str) -> type[Agent]:
+    """The one robot class a table-top task takes."""
+    specifier = robot_uids
+    if isinstance(robot_uids, Sequence) and not isinstance(robot_uids, str):
+        if len(robot_uids) != 1:
+            raise ConfigError(f"{where}: expected one robot, got {robot_uids!r}.")
+        specifier = robot_uids[0]
+    cls = get_agent(specifier) if isinstance(specifier, str) else specifier
+    if not (isinstance(cls, type) and issubclass(cls, Agent)):
+        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot_uids!r}.")
+    return cls
+
+
+def tool_arm(agent: Agent, where: str) -> Arm:
+    """The arm part that carries the robot's first end effector."""
+    for part in agent.parts_by_name.values():
+        if isinstance(part, Arm) and part.end_effectors:
+            return part
+    raise ConfigError(f"{where}: {type(agent).__name__} declares no end effector (an Arm part's end_effectors).")
+
+
+def table_top_layout(cls: type[Agent]) -> TableTopLayout:
+    """The layout of ``cls`` (see the module doc); computed once per class."""
+    cached = _LAYOUTS.get(cls)
+    if cached is None:
+        cached = _measure_layout(cls)
+        _LAYOUTS[cls] = cached
+    return cached
+
+
+def _yaw_quat(yaw: float) -> FloatArray:
+    return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+
+def _measure_layout(cls: type[Agent]) -> TableTopLayout:
+    where = f"table_top_layout({cls.__name__})"
+    probe = Scene(cls, props=[Prop("layout_probe", "sphere", (1e-4,), mass=1e-3)])
+    try:
+        probe.reset()
+        agent = probe.agents[0]
+        arm = tool_arm(agent, where)
+        model = probe.model
+        data = mujoco.MjData(model)
+        joints = [agent.index.joint(name, where) for name in agent.part_joints[arm.name]]
+        keyframe = agent.keyframe_qpos(agent.keyframe_names()[0])
+        data.qpos[:] = probe.world.qpos[0]
+        data.qpos[agent.qpos_adr] = keyframe
+        mujoco.mj_kinematics(model, data)
+        shoulder = data.xanchor[joints[0].id].copy()
+        tool = agent.frames.end_effector(None, where)
+        rest_tcp = agent.kinematics.pose(data.qpos.copy(), tool)[0, :3]
+        # Reach: the farthest tool position from the shoulder over sampled configurations.
+        rng = np.random.default_rng(0)
+        configs = np.tile(data.qpos, (REACH_SAMPLES, 1))
+        for joint in joints:
+            if joint.nq != 1:
+                continue
+            low, high = joint.range if joint.limited else (-math.pi, math.pi)
+            configs[:, joint.qpos_adr] = rng.uniform(low, high, REACH_SAMPLES)
+        tips = agent.kinematics.pose(configs, tool)[:, :3]
+        reach = float(max(np.max(np.linalg.norm(tips - shoulder, axis=1)), np.linalg.norm(rest_tcp - shoulder)))
+        if not reach > 1e-3:
+            raise ConfigError(f"{where}: the end effector does not move away from the arm's first joint.")
+        ahead = (rest_tcp - shoulder)[:2]
+        yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
+        gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
+    finally:
+        probe.close()
+    turn = _yaw_quat(yaw)
+    mount = np.asarray(cls.check().mount_pose, dtype=np.float64)
+    table_height = TABLE_HEIGHT * reach
+    # Turn the probe's world (robot at its mount pose) about z, then shift it so that the
+    # rest tool lies above the origin and the mount's floor is the table top.
+    rest_turned = np.empty(3)
+    mujoco.mju_rotVecQuat(rest_turned, rest_tcp, turn)
+    shift = np.array([-rest_turned[0], -rest_turned[1], table_height])
+    root = np.empty(3)
+    mujoco.mju_rotVecQuat(root, mount[:3], turn)
+    root += shift
+    quat = np.empty(4)
+    mujoco.mju_mulQuat(quat, turn, mount[3:])
+    cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
+    cube_edge = max(cube_edge, MIN_CUBE_EDGE)
+    back, front = min(root[0], 0.0) - 0.35 * reach, 0.55 * reach
+    return TableTopLayout(
+        reach=reach,
+        robot_pose=(*root.tolist(), *quat.tolist()),
+        table_height=table_height,
+        table_center=(0.5 * (back + front), 0.0, 0.5 * table_height),
+        table_half_size=(0.5 * (front - back), 0.6 * reach, 0.5 * table_height),
+        rest_tcp=(float(rest_turned[0] + shift[0]), float(rest_turned[1] + shift[1]), float(rest_turned[2] + shift[2])),
+        gripper=gripper,
+        cube_half_size=0.5 * cube_edge,
+        spawn_half_size=SPAWN_HALF_SIZE * reach,
+        dof=sum(j.nv for j in joints),
+    )
+
+
+def _gripper_geometry(
+    agent: Agent, probe: Scene, data: mujoco.MjData, keyframe: FloatArray, tool: Any, wrist: int, where: str
+) -> GripperGeometry | None:
+    """The open gripper measured at the tool point: the nearest point of each finger's
+    colliding geoms to it (MuJoCo's signed geom distances from a probe sphere there)."""
+    parts = agent.grippers.parts
+    if not parts:
+        return None
+    gripper = next(iter(parts.values()))
+    if len(gripper.finger_links) < 2:
+        return None
+    model = probe.model
+    qpos = keyframe.copy()
+    names = agent.part_joints[gripper.name]
+    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, opened, strict=True):
+        qpos[agent.index.joint(name, where).qpos_start] = value
+    data.qpos[agent.qpos_adr] = qpos
+    mujoco.mj_kinematics(model, data)
+    point = np.empty(7)
+    agent.kinematics.load(data.qpos.copy())
+    agent.kinematics.loaded_pose(tool, point)
+    probe_body = model.body("layout_probe")
+    adr = int(model.jnt_qposadr[probe_body.jntadr[0]])
+    data.qpos[adr : adr + 3] = point[:3]
+    mujoco.mj_kinematics(model, data)
+    probe_geom = model.geom("layout_probe").id
+    radius = float(model.geom_size[probe_geom, 0])
+    nearest_points, gaps = [], []
+    for finger in gripper.finger_links[:2]:
+        bodies = {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, where))}
+        geoms = [
+            g
+            for g in range(model.ngeom)
+            if int(model.geom_bodyid[g]) in bodies and (model.geom_contype[g] or model.geom_conaffinity[g])
+        ]
+        if not geoms:
+            return None
+        best, best_point = np.inf, np.zeros(3)
+        fromto = np.zeros(6)
+        for g in geoms:
+            distance = mujoco.mj_geomDistance(model, data, probe_geom, g, 1.0, fromto)
+            if distance < best:
+                best, best_point = float(distance), fromto[3:].copy()
+        nearest_points.append(best_point)
+        gaps.append(max(0.0, best - radius))
+    opening = sum(gaps)
+    if not opening > 0.0:
+        return None
+    # Into the tool frame: the closing axis (first finger's nearest point to the
+    # second's), the approach axis (wrist joint to tool point), the grasp point.
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, point[3:])
+    to_tool = rotation.reshape(3, 3).T
+    closing = to_tool @ (nearest_points[1] - nearest_points[0])
+    approach = to_tool @ (point[:3] - data.xanchor[wrist])
+    approach /= max(float(np.linalg.norm(approach)), 1e-9)
+    closing -= approach * float(closing @ approach)
+    closing /= max(float(np.linalg.norm(closing)), 1e-9)
+    grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
+    return GripperGeometry(
+        opening=opening,
+        grasp_point=tuple(grasp.tolist()),
+        closing_axis=tuple(closing.tolist()),
+        approach_axis=tuple(approach.tolist()),
+    )
+
+
+def cube_prop(name: str, layout: TableTopLayout, rgba: tuple[float, float, float, float]) -> Prop:
+    """A free cube of ``CUBE_DENSITY`` on the table at the workspace centre (a reset
+    places it)."""
+    half_size = layout.cube_half_size
+    mass = CUBE_DENSITY * (2.0 * half_size) ** 3
+    return Prop(
+        name,
+        "box",
+        (half_size,) * 3,
+        pos=(0.0, 0.0, layout.table_height + half_size),
+        mass=mass,
+        rgba=rgba,
+        friction=FrictionMaterial(sliding=1.0, torsional=0.005, rolling=0.0001),
+    )
+
+
+def table_prop(layout: TableTopLayout) -> Prop:
+    """The table: a static box from the floor to the table top."""
+    return Prop(
+        "table",
+        "box",
+        layout.table_half_size,
+        pos=layout.table_center,
+        mass=None,
+        rgba=(0.62, 0.5, 0.38, 1.0),
+    )
+
+
+def base_camera(layout: TableTopLayout) -> CameraConfig:
+    """A 128 x 128, 90 deg task camera in front of the workspace looking back at the
+    robot and the table (ManiSkill's PickCube camera, scaled by the reach)."""
+    r, h = layout.reach, layout.table_height
+    return CameraConfig.look_at(
+        "base_camera",
+        eye=(0.32 * r, 0.0, h + 0.63 * r),
+        target=(-0.1 * r, 0.0, h + 0.1 * r),
+        fovy=90.0,
+        far=10.0 * r,
+    )
+
+
+class TableTopEnv(RobotEnv):
+    """A robot on a table (see the module doc for the layout). One robot; its pose
+    comes from :func:`table_top_layout` unless ``robot_poses`` is given.
+
+    Task modules add their props (:meth:`_task_props`), randomize them in
+    :meth:`_initialize_episode`, and report metrics, rewards and observations.
+
+    Args:
+        reward_mode: ``"normalized_dense"`` (default, in ``[0, 1]``), ``"dense"``
+            (in ``[0, max_reward]``) or ``"sparse"`` (1.0 on success, else 0.0).
+        **kwargs: see :class:`~robot_agents.envs.RobotEnv`.
+    """
+
+    reward_modes = ("normalized_dense", "dense", "sparse")
+    #: The largest dense reward (what a success earns).
+    max_reward: float = 1.0
+
+    def __init__(
+        self,
+        robot_uids: RobotSpecifier | Sequence[RobotSpecifier] = "panda",
+        num_envs: int = 1,
+        reward_mode: str = "normalized_dense",
+        **kwargs: Any,
+    ) -> None:
+        name = type(self).__name__
+        if reward_mode not in self.reward_modes:
+            raise ConfigError(f"{name}: expected reward_mode in {list(self.reward_modes)}, got {reward_mode!r}.")
+        self.reward_mode = reward_mode
+        cls = robot_class(robot_uids, name)
+        self._check_robot(cls)
+        self.layout = table_top_layout(cls)
+        if kwargs.get("robot_poses") is None:
+            kwargs["robot_poses"] = [self.layout.robot_pose]
+        self._task_ready = False
+        super().__init__(robot_uids=cls, num_envs=num_envs, **kwargs)
+
+    # -- hooks for the tasks --------------------------------------------------------------
+    def _check_robot(self, cls: type[Agent]) -> None:
+        """Raise :class:`ConfigError` when the robot lacks a part the task needs."""
+
+    def _task_props(self) -> list[Prop]:
+        return []
+
+    def _setup_task(self) -> None:
+        """After the scene is built (before the observation space is): the task's
+        bodies and per-env state."""
+
+    def _build_observation_space(self) -> Any:
+        if not self._task_ready:
+            arm = tool_arm(self.agent, type(self).__name__)
+            joints = [self.agent.index.joint(j, type(self).__name__) for j in self.agent.part_joints[arm.name]]
+            #: The arm's entries in the robot's ``qvel`` (the joints that carry the tool).
+            self.arm_dofs = np.array([j.dof_start + k for j in joints for k in range(j.nv)], dtype=np.int64)
+            #: Distances in rewards are measured in this unit: 0.2 R (0.19 m for the Panda).
+            self.length_scale = 0.2 * self.layout.reach
+            self._setup_task()
+            self._task_ready = True
+        return super()._build_observation_space()
+
+    def arm_speed(self) -> FloatArray:
+        """Per env, the fastest arm joint's speed (rad/s or m/s)."""
+        speed: FloatArray = np.max(np.abs(self.agent.qvel[:, self.arm_dofs]), axis=1)
+        return speed
+
+    @property
+    def privileged_obs(self) -> bool:
+        """State observation modes see object poses; camera modes see only the goal."""
+        return self._sensor_obs is None
+
+    # -- scene --------------------------------------------------------------------------
+    def _scene_props(self) -> Sequence[Prop]:
+        return [table_prop(self.layout), *self._task_props()]
+
+    def _scene_cameras(self) -> Sequence[CameraConfig]:
+        return (base_camera(self.layout),)
+
+    def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
+        lower, upper = super()._render_bounds()
+        s = self.layout.spawn_half_size * 2.0
+        box = np.array([[-s, -s, self.layout.table_height], [s, s, self.layout.table_height + s]])
+        return np.minimum(lower, box[0]), np.maximum(upper, box[1])
+
+    # -- helpers ------------------------------------------------------------------------
+    def free_body(self, name: str) -> tuple[int, IntArray, IntArray]:
+        """A free prop's body id and the model addresses of its joint's qpos (7) and qvel (6)."""
+        model = self.model
+        body = model.body(name)
+        joint = int(body.jntadr[0])
+        qpos = np.arange(7, dtype=np.int64) + int(model.jnt_qposadr[joint])
+        qvel = np.arange(6, dtype=np.int64) + int(model.jnt_dofadr[joint])
+        return int(body.id), qpos, qvel
+
+    def place_body(self, name: str, poses: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
+        """Put free prop ``name`` at world ``poses`` ``(k, 7)`` at rest in ``env_ids``
+        (default: every env)."""
+        ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids, dtype=np.int64).reshape(-1)
+        rows = np.asarray(poses, dtype=np.float64).reshape(len(ids), 7)
+        _, qpos_adr, qvel_adr = self.free_body(name)
+        self.scene.world.write_joint_state(ids, qpos_adr, rows, qvel_adr, np.zeros((len(ids), 6)))
+
+    def body_pose(self, name: str) -> FloatArray:
+        """World pose ``(num_envs, 7)`` of a scene body."""
+        return self.scene.body_pose(name)
+
+    def reward(self, dense: FloatArray, success: npt.NDArray[np.bool_]) -> FloatArray:
+        """The reward of the env's ``reward_mode`` from the dense reward and success."""
+        if self.reward_mode == "sparse":
+            return success.astype(np.float64)
+        dense = np.where(success, self.max_reward, dense)
+        if self.reward_mode == "dense":
+            return dense
+        return dense / self.max_reward
+
+
+def random_yaw_quats(rng: np.random.Generator, count: int) -> FloatArray:
+    """``count`` rotations about z, uniform over a quarter turn (a cube's symmetry)."""
+    yaw = rng.uniform(-math.pi / 4, math.pi / 4, count)
+    return np.stack([np.cos(yaw / 2), np.zeros(count), np.zeros(count), np.sin(yaw / 2)], axis=1)

@@ -1,0 +1,81 @@
+"""The scripted solvers of examples/scripted_pick.py solve PickCube-v1 and ReachPose-v1
+for every registered robot that has the parts (20 seeds each, at least 18 successes),
+unless the robot declares why it cannot (``task_limits``)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+import robot_agents as ra
+
+ROOT = Path(__file__).resolve().parents[1]
+SEEDS, REQUIRED = 20, 18
+
+
+def load_solver() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("scripted_pick", ROOT / "examples" / "scripted_pick.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["scripted_pick"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+solver = load_solver()
+CASES = [(task, uid) for task in solver.TASKS for uid in solver.robots_for(task)]
+
+
+def test_every_robot_with_the_parts_is_covered() -> None:
+    covered = {(task, uid) for task, uid in CASES}
+    for uid in ("panda", "panda_wristcam", "panda_touch", "floating_panda_gripper", "so100", "koch-v1.1"):
+        assert ("PickCube-v1", uid) in covered
+    for uid in ra.list_agents():  # every registered robot has an end effector
+        assert ("ReachPose-v1", uid) in covered
+    assert ("PickCube-v1", "ur_10e") not in covered  # no gripper: the task refuses it
+
+
+@pytest.mark.parametrize(("task", "uid"), CASES)
+def test_scripted_solver_succeeds(task: str, uid: str) -> None:
+    reason = ra.get_agent(uid).task_limits.get(task)
+    if reason:
+        pytest.skip(f"{uid} declares it cannot do {task}: {reason}")
+    successes, _ = solver.success_rate(task, uid, SEEDS)
+    assert successes >= REQUIRED, f"{uid}: {successes}/{SEEDS} {task} episodes succeeded (need {REQUIRED})"
+
+
+def test_batched_solver_runs_match_single_runs() -> None:
+    """Env i of a batch seeded s behaves as a single env seeded s + i, so success over a
+    batch is success over seeds."""
+    batch = ra.make_env("PickCube-v1", robot_uids="so100", num_envs=3).unwrapped
+    together = solver.solve_pick(batch, 4)
+    alone = [
+        bool(solver.solve_pick(ra.make_env("PickCube-v1", robot_uids="so100").unwrapped, 4 + i)[0]) for i in range(3)
+    ]
+    assert together.tolist() == alone
+
+
+def test_measurement_script_prints_the_table() -> None:
+    import subprocess
+
+    result = subprocess.run(
+        [
+            sys.executable,
+            str(ROOT / "examples" / "scripted_pick.py"),
+            "--task",
+            "ReachPose-v1",
+            "--robots",
+            "panda",
+            "--seeds",
+            "2",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines()[-1].startswith("| ReachPose-v1 | panda | 2/2 |")

@@ -1,0 +1,349 @@
+"""The manipulation tasks (ReachPose-v1, PickCube-v1, PushCube-v1): one definition for
+every robot, laid out from the robot's own model; seeded randomization with one
+random stream per env; success, rewards and observations checked against numbers."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Any
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import robot_agents as ra
+from robot_agents.envs.tasks import table_top_layout
+from robot_agents.kinematics.rotations import rotvec_to_quat
+
+TASKS = ("ReachPose-v1", "PickCube-v1", "PushCube-v1")
+GRIPPER_ROBOTS = ("panda", "floating_panda_gripper", "so100", "koch-v1.1")
+
+
+def robots_for(task: str) -> list[str]:
+    """Registered robots the task takes (PickCube needs a gripper with fingers)."""
+    uids = ra.list_agents()
+    return [u for u in uids if _has_gripper(u)] if task == "PickCube-v1" else uids
+
+
+def _has_gripper(uid: str) -> bool:
+    return any(isinstance(p, ra.Gripper) and len(p.fingers) >= 2 for p in ra.get_agent(uid).check().parts)
+
+
+def robot_table_contacts(env: Any) -> float:
+    """Deepest penetration (m) between the robot and the table or the cube in env 0."""
+    model, data = env.model, env.data
+    prefix = env.agent.prefix
+    deepest = 0.0
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        names = {model.body(int(model.geom_bodyid[g])).name for g in (contact.geom1, contact.geom2)}
+        if any(n.startswith(prefix) for n in names) and names & {"table", "cube"}:
+            deepest = max(deepest, -float(contact.dist))
+    return deepest
+
+
+# -- layout -------------------------------------------------------------------------------------
+def test_layout_numbers_for_the_panda() -> None:
+    layout = table_top_layout(ra.get_agent("panda"))
+    # Reach: the Panda's datasheet says 855 mm to the flange; + 0.21 m of hand and TCP,
+    # measured from the shoulder (z = 0.333 m), sampled: within a few cm below 1.07 m.
+    assert 0.9 < layout.reach < 1.07
+    # The rest TCP (0.615 m ahead of the base) is above the workspace centre: the robot
+    # stands 0.615 m behind it, unturned, on the table top.
+    np.testing.assert_allclose(layout.robot_pose, [-0.615, 0.0, layout.table_height, 1, 0, 0, 0], atol=1e-3)
+    np.testing.assert_allclose(layout.rest_tcp[:2], [0.0, 0.0], atol=1e-9)
+    assert layout.table_height == pytest.approx(0.75 * layout.reach)
+    # Cube: half the 8 cm opening (fingers 0.04 m each, pads 0.3 mm proud) -> 4 cm.
+    assert layout.gripper is not None
+    assert layout.gripper.opening == pytest.approx(0.0806, abs=1e-3)
+    assert 2 * layout.cube_half_size == pytest.approx(0.0403, abs=5e-4)
+    np.testing.assert_allclose(layout.gripper.approach_axis, [0, 0, 1], atol=1e-6)  # hand z
+    np.testing.assert_allclose(layout.gripper.grasp_point, [0, 0, 0], atol=1e-6)  # between the pads
+    assert layout.spawn_half_size == pytest.approx(0.1 * layout.reach)
+
+
+@pytest.mark.parametrize("uid", ra.list_agents())
+def test_every_robot_faces_its_workspace_from_its_own_definition(uid: str) -> None:
+    """The robot is turned so its rest tool lies ahead (+x) of its shoulder, moved so the
+    rest tool is above the workspace centre, and stands on the table without touching it."""
+    env = ra.make_env("PushCube-v1", robot_uids=uid, robot_init_qpos_noise=0.0).unwrapped
+    layout = env.layout
+    env.reset(seed=0)
+    tcp = env.agent.tcp_pose[0, :3]
+    np.testing.assert_allclose(tcp, layout.rest_tcp, atol=1e-6)
+    np.testing.assert_allclose(tcp[:2], [0.0, 0.0], atol=1e-6)
+    assert tcp[2] > layout.table_height  # above the table
+    assert layout.robot_pose[0] <= 1e-9  # the robot stands behind (or under) the centre
+    # table: covers the robot's root and the workspace, top at table_height
+    center, half = np.array(layout.table_center), np.array(layout.table_half_size)
+    assert center[2] + half[2] == pytest.approx(layout.table_height)
+    for point in (
+        np.array(layout.robot_pose[:2]),
+        np.array([layout.spawn_half_size + 0.3 * layout.reach, layout.spawn_half_size]),
+    ):
+        assert np.all(np.abs(point - center[:2]) <= half[:2])
+    assert robot_table_contacts(env) < 1e-3
+    # cube edge: half the gripper's opening, else 4 % of the reach
+    expected = 0.5 * layout.gripper.opening if layout.gripper else 0.04 * layout.reach
+    assert 2 * layout.cube_half_size == pytest.approx(max(expected, 0.01))
+    env.close()
+
+
+def test_small_servo_arm_and_big_arm_get_scaled_scenes() -> None:
+    small, big = table_top_layout(ra.get_agent("koch-v1.1")), table_top_layout(ra.get_agent("ur_10e"))
+    assert small.reach < 0.4 < 1.2 < big.reach
+    assert small.table_half_size[1] / small.reach == pytest.approx(big.table_half_size[1] / big.reach)
+    assert 2 * small.cube_half_size < 0.025 < 0.05 < 2 * big.cube_half_size
+    # The Koch faces -y of its root: the layout turns it 90 deg about z.
+    yaw = 2 * math.atan2(small.robot_pose[6], small.robot_pose[3])
+    assert abs(abs(yaw) - math.pi / 2) < 0.05
+
+
+# -- randomization ------------------------------------------------------------------------------
+def cube_and_goal(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    u = env.unwrapped
+    return u.body_pose("cube").copy(), u.goal_pos.copy()
+
+
+@pytest.mark.parametrize("task", ["PickCube-v1", "PushCube-v1"])
+def test_same_seed_same_cube_and_goal_and_each_env_its_own_stream(task: str) -> None:
+    env = ra.make_env(task, robot_uids="panda", num_envs=3)
+    env.reset(seed=5)
+    first = cube_and_goal(env)
+    qpos = env.unwrapped.agent.qpos
+    env.reset(seed=5)
+    second = cube_and_goal(env)
+    np.testing.assert_array_equal(first[0], second[0])
+    np.testing.assert_array_equal(first[1], second[1])
+    env.reset(seed=6)
+    assert not np.array_equal(first[0], cube_and_goal(env)[0])
+    assert len({tuple(row) for row in first[0][:, :2]}) == 3  # envs differ
+    # env i of the batch draws what a single env seeded 5 + i draws
+    single = ra.make_env(task, robot_uids="panda")
+    for i in range(3):
+        single.reset(seed=5 + i)
+        cube, goal = cube_and_goal(single)
+        np.testing.assert_array_equal(cube[0], first[0][i])
+        np.testing.assert_array_equal(goal[0], first[1][i])
+        np.testing.assert_array_equal(single.unwrapped.agent.qpos[0], qpos[i])
+    # a partial reset redraws only the envs it resets
+    env.reset(seed=5)
+    env.reset(options={"env_ids": [1]})
+    third = cube_and_goal(env)
+    np.testing.assert_array_equal(third[0][[0, 2]], first[0][[0, 2]])
+    assert not np.array_equal(third[0][1], first[0][1])
+
+
+def test_pick_cube_draws_within_its_bounds() -> None:
+    env = ra.make_env("PickCube-v1", robot_uids="so100", num_envs=64).unwrapped
+    env.reset(seed=0)
+    layout, half = env.layout, env.layout.cube_half_size
+    cube, goal = env.body_pose("cube"), env.goal_pos
+    s = layout.spawn_half_size
+    assert np.all(np.abs(cube[:, :2]) <= s) and np.all(np.abs(goal[:, :2]) <= s)
+    np.testing.assert_allclose(cube[:, 2], layout.table_height + half, atol=1e-9)  # resting on the table
+    lift = goal[:, 2] - (layout.table_height + half)
+    assert np.all(lift >= 0) and np.all(lift <= 0.2 * layout.reach)
+    assert np.all(np.linalg.norm(goal - cube[:, :3], axis=1) > 2 * env.goal_threshold)
+    assert np.ptp(cube[:, 0]) > s  # spread over the area
+    yaw = 2 * np.arctan2(cube[:, 6], cube[:, 3])
+    assert np.all(np.abs(yaw) <= math.pi / 4 + 1e-9) and np.ptp(yaw) > 1.0
+
+
+def test_push_cube_goal_lies_ahead_of_the_cube() -> None:
+    env = ra.make_env("PushCube-v1", robot_uids="ur_10e", num_envs=32).unwrapped
+    env.reset(seed=1)
+    r = env.layout.reach
+    offset = env.goal_pos[:, :2] - env.body_pose("cube")[:, :2]
+    assert np.all((offset[:, 0] >= 0.15 * r) & (offset[:, 0] <= 0.25 * r))
+    assert np.all(np.abs(offset[:, 1]) <= 0.05 * r)
+    np.testing.assert_allclose(env.goal_pos[:, 2], env.layout.table_height)
+
+
+def test_reach_goals_are_reachable_poses_away_from_the_table() -> None:
+    env = ra.make_env("ReachPose-v1", robot_uids="panda", num_envs=16).unwrapped
+    env.reset(seed=3)
+    goal = env.goal_pose
+    np.testing.assert_allclose(np.linalg.norm(goal[:, 3:], axis=1), 1.0)
+    assert np.all(goal[:, 2] >= env.layout.table_height + 0.05 * env.layout.reach)
+    distance = np.linalg.norm(goal[:, :3] - env.agent.tcp_pose[:, :3], axis=1)
+    assert np.all(distance < env.layout.reach) and np.median(distance) > 0.05
+    assert env.with_orientation and not ra.make_env("ReachPose-v1", robot_uids="so100").unwrapped.with_orientation
+
+
+# -- success ------------------------------------------------------------------------------------
+def test_pick_cube_success_by_hand() -> None:
+    env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=3, robot_init_qpos_noise=0.0).unwrapped
+    env.reset(seed=2)
+    threshold = env.goal_threshold
+    assert threshold == pytest.approx(1.25 * env.layout.cube_half_size)
+    poses = np.tile([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], (3, 1))
+    poses[:, :3] = env.goal_pos
+    poses[1, 0] += 0.9 * threshold  # near enough
+    poses[2, 0] += 1.1 * threshold  # next to it
+    env.place_body("cube", poses)
+    info = env.evaluate()
+    assert info["success"].dtype == bool and info["success"].shape == (3,)
+    np.testing.assert_array_equal(info["success"], [True, True, False])
+    np.testing.assert_array_equal(info["is_obj_placed"], [True, True, False])
+    np.testing.assert_allclose(info["obj_to_goal_dist"], [0.0, 0.9 * threshold, 1.1 * threshold], atol=1e-12)
+    assert not info["is_grasped"].any()
+    # a moving arm is not done
+    env.place_body("cube", np.tile(poses[0], (3, 1)))
+    env.agent.reset(qpos=env.agent.qpos, qvel=np.full((3, env.agent.dof), 0.5))
+    assert not env.evaluate()["success"].any()
+
+
+def test_push_cube_success_by_hand() -> None:
+    env = ra.make_env("PushCube-v1", robot_uids="xarm6_nogripper", num_envs=4).unwrapped
+    env.reset(seed=4)
+    half, radius = env.layout.cube_half_size, env.goal_radius
+    assert radius == pytest.approx(0.1 * env.layout.reach)
+    poses = np.tile([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], (4, 1))
+    poses[:, :3] = env.goal_pos + np.array([0.0, 0.0, half])
+    poses[1, 1] += 0.9 * radius  # inside the disc
+    poses[2, 1] += 1.1 * radius  # outside
+    poses[3, 2] += 3 * half  # above the goal, off the table
+    env.place_body("cube", poses)
+    np.testing.assert_array_equal(env.evaluate()["success"], [True, True, False, False])
+
+
+def test_reach_pose_success_by_hand() -> None:
+    for uid, orientation in (("panda", True), ("so100", False)):
+        env = ra.make_env("ReachPose-v1", robot_uids=uid, num_envs=4).unwrapped
+        env.reset(seed=0)
+        tcp = env.agent.tcp_pose
+        threshold = env.position_threshold
+        assert threshold == pytest.approx(0.02 * env.layout.reach)
+        goal = np.tile(tcp[0], (4, 1))
+        goal[:] = tcp
+        goal[1, 2] += 0.9 * threshold
+        goal[2, 2] += 1.1 * threshold
+        turn = rotvec_to_quat(np.array([0.15, 0.0, 0.0]))
+        quat = np.empty(4)
+        mujoco.mju_mulQuat(quat, turn, tcp[3, 3:])
+        goal[3, 3:] = quat  # turned 0.15 rad: fails only where orientation counts
+        env.goal_pose[:] = goal
+        info = env.evaluate()
+        np.testing.assert_array_equal(info["success"], [True, True, False, not orientation])
+        np.testing.assert_allclose(info["rotation_error"][3], 0.15, atol=1e-9)
+
+
+# -- rewards ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("task", TASKS)
+def test_rewards_finite_and_bounded_in_every_mode(task: str) -> None:
+    rng = np.random.default_rng(0)
+    for mode, high in (("normalized_dense", 1.0), ("dense", None), ("sparse", 1.0)):
+        env = ra.make_env(task, robot_uids="panda", num_envs=4, reward_mode=mode)
+        u = env.unwrapped
+        env.reset(seed=1)
+        top = high if high is not None else u.max_reward
+        for _ in range(10):
+            reward = env.step(rng.uniform(-1, 1, env.action_space.shape))[1]
+            assert reward.shape == (4,) and np.all(np.isfinite(reward))
+            assert np.all(reward >= 0.0) and np.all(reward <= top)
+            if mode == "sparse":
+                assert set(np.unique(reward)) <= {0.0, 1.0}
+        env.close()
+    with pytest.raises(ra.ConfigError, match="reward_mode"):
+        ra.make_env(task, robot_uids="panda", reward_mode="shaped")
+
+
+def test_success_earns_the_largest_reward() -> None:
+    env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=2, robot_init_qpos_noise=0.0, reward_mode="dense")
+    u = env.unwrapped
+    env.reset(seed=0)
+    poses = np.tile([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0], (2, 1))
+    poses[:, :3] = u.goal_pos
+    u.place_body("cube", poses)
+    info = u.evaluate()
+    np.testing.assert_allclose(u.compute_reward(info), [5.0, 5.0])
+    # Away from everything, the dense reward is the reaching term alone: 1 - tanh(d / 0.2 R).
+    poses[1, :3] = [0.0, 0.0, u.layout.table_height + u.layout.cube_half_size]
+    u.place_body("cube", poses[1:], [1])
+    info = u.evaluate()
+    d = np.linalg.norm(u.agent.tcp_pose[1, :3] - u.body_pose("cube")[1, :3])
+    assert u.compute_reward(info)[1] == pytest.approx(1.0 - math.tanh(d / (0.2 * u.layout.reach)))
+
+
+# -- API ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("task", TASKS)
+def test_check_env_and_every_obs_mode(task: str) -> None:
+    env = ra.make_env(task, robot_uids="panda_wristcam", render_mode="rgb_array", render_size=(64, 48))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+    for mode in ("state_dict", "sensor_data", "rgb", "depth", "rgbd", "segmentation", "pointcloud"):
+        env = ra.make_env(task, robot_uids="panda_wristcam", obs_mode=mode, num_envs=2)
+        obs, _ = env.reset(seed=0)
+        assert env.observation_space.contains(obs), mode
+        obs, _, _, _, info = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs), mode
+        assert info["success"].shape == (2,) and info["success"].dtype == bool
+        if mode not in ("state_dict", "pointcloud"):
+            assert "base_camera" in obs["sensor_data"]
+        if mode != "state_dict":
+            assert "obj_pose" not in obs["extra"]  # camera modes see the goal, not the object
+        env.close()
+
+
+def test_task_observations() -> None:
+    env = ra.make_env("PickCube-v1", robot_uids="so100", obs_mode="state_dict", num_envs=2)
+    obs, _ = env.reset(seed=0)
+    u = env.unwrapped
+    extra = obs["extra"]
+    np.testing.assert_allclose(extra["goal_pos"], u.goal_pos, rtol=1e-6)
+    np.testing.assert_allclose(extra["obj_pose"], u.body_pose("cube"), rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(extra["tcp_to_obj_pos"], u.body_pose("cube")[:, :3] - u.agent.tcp_pose[:, :3], atol=1e-6)
+    flat = ra.make_env("PickCube-v1", robot_uids="so100").reset(seed=0)[0]
+    assert flat.shape == (1, int(sum(np.prod(v.shape[1:]) for v in _leaves(obs))))  # the same values, flat
+
+
+def _leaves(tree: Any) -> list[np.ndarray]:
+    if isinstance(tree, dict):
+        return [leaf for value in tree.values() for leaf in _leaves(value)]
+    return [np.asarray(tree)]
+
+
+def test_tasks_are_registered_with_gymnasium_and_say_what_a_robot_lacks() -> None:
+    for task in TASKS:
+        env = gym.make(f"robot_agents/{task}", robot_uids="panda")
+        assert isinstance(env.unwrapped, ra.RobotEnv)
+        env.close()
+    assert set(GRIPPER_ROBOTS) <= set(robots_for("PickCube-v1"))
+    for uid in set(ra.list_agents()) - set(robots_for("PickCube-v1")):
+        with pytest.raises(ra.ConfigError, match="no Gripper or Hand part"):
+            ra.make_env("PickCube-v1", robot_uids=uid)
+    with pytest.raises(ra.ConfigError, match="one robot"):
+        ra.make_env("PickCube-v1", robot_uids=("panda", "panda"))
+
+
+def test_default_episode_lengths() -> None:
+    for task in TASKS:
+        env = ra.make_env(task, robot_uids="panda")
+        assert env.unwrapped.max_episode_steps == 100
+        env.close()
+
+
+def test_readme_tasks_block_runs() -> None:
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    block = next(b for b in re.findall(r"```python\n(.*?)```", readme, flags=re.S) if "PickCube-v1" in b)
+    namespace: dict[str, Any] = {}
+    exec(compile(block, "README tasks block", "exec"), namespace)
+    assert namespace["info"]["success"].shape == (4,)
+    assert np.all((namespace["reward"] >= 0) & (namespace["reward"] <= 1))
+
+
+def test_task_classes_take_num_envs_second_like_every_env() -> None:
+    from robot_agents.envs.tasks import PickCubeEnv
+
+    env = PickCubeEnv("panda", 3, reward_mode="sparse")
+    assert env.num_envs == 3 and env.reward_mode == "sparse"
+    env.close()

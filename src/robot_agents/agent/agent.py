@@ -30,6 +30,7 @@ from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
 from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerContext
+from robot_agents.controllers.base_vel import PDBaseVelController
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.kinematics.forward import FrameRef, Kinematics
@@ -89,7 +90,9 @@ class Agent(AgentDefinition):
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
         self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
         base = next((p for p in checked.parts if isinstance(p, Base)), None)
-        self.mobile = MobileBase(world, self.index, self.state, checked.part_joints[base.name] if base else None, name)
+        self.mobile = MobileBase(
+            world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
+        )
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -231,6 +234,26 @@ class Agent(AgentDefinition):
     def before_substep(self, substep: int, substeps: int) -> None:
         """Per-substep hook: interpolated targets, explicit PD loops."""
         self.control.active.before_substep(substep, substeps, self.world)
+
+    def before_step(self) -> None:
+        """Before a control step's physics: the base remembers its pose (kinematic
+        bases and wheels)."""
+        self.mobile.before_step()
+
+    def after_step(self) -> None:
+        """After a control step's physics: a kinematic base moves by the commanded
+        velocity (or refuses a colliding move); wheels turn with the base."""
+        if not self.mobile.moves_each_step:
+            return
+        commanded = None
+        for controller in self.control.active.parts.values():
+            if isinstance(controller, PDBaseVelController):
+                commanded = controller.target_qvel
+        self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
+
+    def set_base_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
+        """Run this robot's base ``"dynamic"`` or ``"kinematic"`` (overrides ``Base.dynamics``)."""
+        self.mobile.set_dynamics(dynamics, refuse_collisions)
 
     # ------------------------------------------------------------------ reset / state
     def keyframe_qpos(self, name: str) -> FloatArray:

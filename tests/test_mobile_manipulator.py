@@ -1,0 +1,206 @@
+"""Habitat's mobile-manipulator API on a small test robot (planar base with wheels,
+torso slide, 6-joint arm, parallel gripper): params derived from the parts, FK with no
+side effects that matches the simulation, IK to random reachable targets."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.kinematics.rotations import quat_angle
+
+MM_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base_link" pos="0 0 0.12">
+      <joint name="root_x_axis_joint" type="slide" axis="1 0 0"/>
+      <joint name="root_y_axis_joint" type="slide" axis="0 1 0"/>
+      <joint name="root_z_rotation_joint" type="hinge" axis="0 0 1"/>
+      <geom type="box" size="0.3 0.15 0.1" mass="20"/>
+      <body name="l_wheel_link" pos="0 0.2 -0.02">
+        <joint name="l_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="r_wheel_link" pos="0 -0.2 -0.02">
+        <joint name="r_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="torso_lift_link" pos="0 0 0.1">
+        <joint name="torso_lift_joint" type="slide" axis="0 0 1" range="0 0.3"/>
+        <geom type="box" size="0.08 0.08 0.2" pos="0 0 0.2" mass="5"/>
+        <body name="shoulder_link" pos="0.1 0 0.35">
+          <joint name="j1" axis="0 0 1" range="-3 3"/>
+          <geom type="capsule" fromto="0 0 0 0 0 0.08" size="0.04" mass="1"/>
+          <body name="upper_arm_link" pos="0 0 0.08">
+            <joint name="j2" axis="0 1 0" range="-2 2"/>
+            <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.035" mass="1"/>
+            <body name="forearm_link" pos="0.3 0 0">
+              <joint name="j3" axis="0 1 0" range="-2.5 2.5"/>
+              <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.03" mass="0.8"/>
+              <body name="wrist_1_link" pos="0.25 0 0">
+                <joint name="j4" axis="1 0 0" range="-3 3"/>
+                <geom type="capsule" fromto="0.01 0 0 0.05 0 0" size="0.025" mass="0.3"/>
+                <body name="wrist_2_link" pos="0.06 0 0">
+                  <joint name="j5" axis="0 1 0" range="-2 2"/>
+                  <geom type="capsule" fromto="0.01 0 0 0.05 0 0" size="0.025" mass="0.3"/>
+                  <body name="gripper_link" pos="0.06 0 0">
+                    <joint name="j6" axis="1 0 0" range="-3 3"/>
+                    <geom type="box" size="0.02 0.05 0.02" pos="0.02 0 0" mass="0.2"/>
+                    <site name="grip_site" pos="0.1 0 0"/>
+                    <body name="l_finger_link" pos="0.06 0.02 0">
+                      <joint name="l_finger_joint" type="slide" axis="0 1 0" range="0 0.04"/>
+                      <geom type="box" size="0.03 0.005 0.01" pos="0.03 0 0" mass="0.05"/>
+                    </body>
+                    <body name="r_finger_link" pos="0.06 -0.02 0">
+                      <joint name="r_finger_joint" type="slide" axis="0 -1 0" range="0 0.04"/>
+                      <geom type="box" size="0.03 0.005 0.01" pos="0.03 0 0" mass="0.05"/>
+                    </body>
+                  </body>
+                </body>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+ARM = "j[1-6]"
+
+
+def manipulator(path: Path) -> type[ra.Agent]:
+    return type(
+        "TestMobileManipulator",
+        (ra.Agent,),
+        {
+            "uid": "test_mobile_manipulator",
+            "mjcf_path": path,
+            "actuators": (
+                ra.VelocityActuator(joints="root_.*", damping=(4000.0, 4000.0, 400.0)),
+                ra.PDActuator(joints="torso_lift_joint", stiffness=20000.0, damping=2000.0),
+                ra.PDActuator(joints=ARM, stiffness=400.0, damping=40.0),
+                ra.PDActuator(joints=".*_finger_joint", stiffness=200.0, damping=10.0),
+            ),
+            "parts": (
+                ra.Arm(
+                    name="arm",
+                    joints=ARM,
+                    end_effectors=(
+                        ra.EndEffector("gripper_link", pos=(0.1, 0.0, 0.0), command_frame="torso_lift_link"),
+                    ),
+                ),
+                ra.Gripper(name="gripper", joints=".*_finger_joint", open=0.04, closed=0.0),
+                ra.Torso(name="torso", joints="torso_lift_joint"),
+                ra.Base(
+                    name="base",
+                    joints="root_.*",
+                    holonomic=False,
+                    wheels=("l_wheel_joint", "r_wheel_joint"),
+                    wheel_radius=0.1,
+                    wheel_separation=0.4,
+                ),
+            ),
+            "keyframes": {"home": ra.Keyframe(qpos={"torso_lift_joint": 0.1, "j2": -0.5, "j3": 1.0, "j5": 0.5})},
+        },
+    )
+
+
+@pytest.fixture
+def mm_cls(tmp_path: Path) -> type[ra.Agent]:
+    path = tmp_path / "mm.xml"
+    path.write_text(MM_MJCF)
+    return manipulator(path)
+
+
+def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    p = agent.params
+    assert p.arm_joints == tuple(f"j{k}" for k in range(1, 7))
+    assert p.gripper_joints == ("l_finger_joint", "r_finger_joint")
+    assert p.wheel_joints == ("l_wheel_joint", "r_wheel_joint")
+    assert p.arm_init_params == (0.0, -0.5, 1.0, 0.0, 0.5, 0.0)
+    assert p.gripper_open_state == (0.04, 0.04) and p.gripper_closed_state == (0.0, 0.0)
+    assert p.ee_links == ("gripper_link",) and p.ee_offsets == ((0.1, 0.0, 0.0),)
+    assert p.base_link.endswith("base_link") and p.base_dynamics == "dynamic"
+    box = np.array(p.ee_constraint[0])
+    assert box.shape == (3, 2) and np.all(box[:, 1] - box[:, 0] > 0.3)  # reach ~0.77 m
+    np.testing.assert_allclose(agent.ee_local_offset(0), [0.1, 0.0, 0.0])
+    inside = agent.clip_ee_to_workspace([[10.0, 0.0, -10.0]] * 2)
+    np.testing.assert_allclose(inside[0], [box[0, 1], 0.0, box[2, 0]])
+    with pytest.raises(ra.ConfigError, match="end-effector index"):
+        agent.ee_transform(3)
+    with pytest.raises(AttributeError):
+        p.arm_joints = ()  # type: ignore[misc]
+
+
+def test_forward_kinematics_has_no_side_effects_and_matches_the_simulation(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    agent.set_base_pose(xy=[0.3, -0.2], yaw=0.7)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q = rng.uniform(-1.0, 1.0, (2, 6))
+        before = scene.get_state()
+        fk = agent.calculate_ee_forward_kinematics(q)
+        after = scene.get_state()
+        assert np.array_equal(before["physics"], after["physics"])  # bit-identical
+        agent.arm_joint_pos = q
+        np.testing.assert_allclose(agent.arm_joint_pos, q, atol=0)
+        np.testing.assert_allclose(fk, agent.ee_transform(0), atol=1e-9)
+
+
+def test_inverse_kinematics_reaches_random_reachable_targets(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=50)
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(7)
+    limits = np.array([[-3, 3], [-2, 2], [-2.5, 2.5], [-3, 3], [-2, 2], [-3, 3]]) * 0.8
+    goal_q = rng.uniform(limits[:, 0], limits[:, 1], (50, 6))
+    goal = agent.calculate_ee_forward_kinematics(goal_q)
+    pose = np.concatenate([goal[:, :3, 3], matrix_to_quat(goal[:, :3, :3])], axis=1)
+    state = scene.get_state()["physics"].copy()
+    q, ok = agent.calculate_ee_inverse_kinematics(pose)
+    assert np.array_equal(state, scene.get_state()["physics"])
+    reached = agent.calculate_ee_forward_kinematics(q)
+    got = np.concatenate([reached[:, :3, 3], matrix_to_quat(reached[:, :3, :3])], axis=1)
+    position = np.linalg.norm(got[:, :3] - pose[:, :3], axis=1)
+    angle = quat_angle(got[:, 3:], pose[:, 3:])
+    assert ok.all(), f"{(~ok).sum()} targets missed"
+    assert position.max() < 1e-3 and np.degrees(angle).max() < 1.0
+
+
+def matrix_to_quat(rotations: np.ndarray) -> np.ndarray:
+    import mujoco
+
+    out = np.empty((len(rotations), 4))
+    for row, rotation in enumerate(rotations):
+        mujoco.mju_mat2Quat(out[row], rotation.reshape(-1))
+    return out
+
+
+def test_gripper_open_close_and_targets(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    agent.close_gripper()
+    np.testing.assert_allclose(agent.gripper_joint_pos, 0.0, atol=1e-12)
+    assert agent.is_gripper_closed().all()
+    agent.open_gripper(env_ids=[1])
+    assert agent.is_gripper_open()[1] and agent.is_gripper_closed()[0]
+    agent.set_gripper_target_state([0.0, 0.5])
+    for _ in range(20):
+        scene.step()
+    np.testing.assert_allclose(agent.gripper_joint_pos[:, 0], [0.04, 0.02], atol=2e-3)
+    assert not agent.is_gripper_open()[1] and not agent.is_gripper_closed()[1]
+    np.testing.assert_allclose(agent.arm_motor_pos, agent.arm_joint_pos, atol=0.02)
+    with pytest.raises(ra.StateError, match=r"\[0, 1\]"):
+        agent.set_gripper_target_state(2.0)

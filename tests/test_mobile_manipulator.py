@@ -84,7 +84,7 @@ def manipulator(path: Path) -> type[ra.Agent]:
             "actuators": (
                 ra.VelocityActuator(joints="root_.*", damping=(4000.0, 4000.0, 400.0)),
                 ra.PDActuator(joints="torso_lift_joint", stiffness=20000.0, damping=2000.0),
-                ra.PDActuator(joints=ARM, stiffness=400.0, damping=40.0),
+                ra.PDActuator(joints=ARM, stiffness=5000.0, damping=300.0),
                 ra.PDActuator(joints=".*_finger_joint", stiffness=200.0, damping=10.0),
             ),
             "parts": (
@@ -92,7 +92,13 @@ def manipulator(path: Path) -> type[ra.Agent]:
                     name="arm",
                     joints=ARM,
                     end_effectors=(
-                        ra.EndEffector("gripper_link", pos=(0.1, 0.0, 0.0), command_frame="torso_lift_link"),
+                        ra.EndEffector(
+                            "gripper_link", name="tool", pos=(0.1, 0.0, 0.0), command_frame="torso_lift_link"
+                        ),
+                    ),
+                    task_space=ra.TaskSpace(
+                        position_bounds=ra.WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)),
+                        max_translation=0.01,
                     ),
                 ),
                 ra.Gripper(name="gripper", joints=".*_finger_joint", open=0.04, closed=0.0),
@@ -204,3 +210,70 @@ def test_gripper_open_close_and_targets(mm_cls: type[ra.Agent]) -> None:
     np.testing.assert_allclose(agent.arm_motor_pos, agent.arm_joint_pos, atol=0.02)
     with pytest.raises(ra.StateError, match=r"\[0, 1\]"):
         agent.set_gripper_target_state(2.0)
+
+
+def tool_in_torso(agent: ra.Agent) -> np.ndarray:
+    return agent.frame_pose("tool", relative_to="torso_lift_link")[0, :3]
+
+
+def test_ee_delta_commands_move_the_tool_in_the_turning_base_frame(mm_cls: type[ra.Agent]) -> None:
+    """A constant pd_ee_delta_pos command while the base turns at 0.5 rad/s: the tool
+    moves by the commanded displacement in the torso frame (which turns with the base)."""
+    scene = ra.Scene(mm_cls, control_modes="pd_ee_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    start, start_yaw = tool_in_torso(agent), agent.base_rot[0]
+    steps = 20
+    command = np.array([-0.5, 0.5, 0.3])  # normalized: 5 mm back, 5 mm left, 3 mm up per step
+    for _ in range(steps):
+        agent.set_action([*command, 0.0, 0.0, 0.0, 1.0])  # arm, gripper, torso, base (v, wz)
+        scene.step()
+    turned = agent.base_rot[0] - start_yaw
+    for _ in range(10):  # settle with zero commands, base still
+        agent.set_action(np.zeros(7))
+        scene.step()
+    moved = tool_in_torso(agent) - start
+    expected = steps * 0.01 * command
+    assert turned == pytest.approx(steps * scene.control_timestep, rel=0.05)  # 1 rad/s
+    np.testing.assert_allclose(moved, expected, atol=0.05 * np.linalg.norm(expected))
+
+
+#: ManiSkill 3.0.1's Fetch control modes (mani_skill/agents/robots/fetch/fetch.py, read
+#: as data): each is (arm, gripper, body, base).
+MANISKILL_FETCH_MODES = {
+    "pd_joint_delta_pos",
+    "pd_joint_pos",
+    "pd_ee_delta_pos",
+    "pd_ee_delta_pose",
+    "pd_ee_delta_pose_align",
+    "pd_joint_target_delta_pos",
+    "pd_ee_target_delta_pos",
+    "pd_ee_target_delta_pose",
+    "pd_joint_vel",
+    "pd_joint_pos_vel",
+    "pd_joint_delta_pos_vel",
+    "pd_joint_delta_pos_stiff_body",
+}
+
+
+def test_rules_generate_the_fetch_mode_table_and_action_layout(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls)
+    scene.reset()
+    agent = scene.agents[0]
+    modes = set(agent.modes())
+    # Not generated: ManiSkill's pd_ee_delta_pose_align (rotation about the tool with a
+    # root-aligned frame); extra: pd_ee_pose (absolute pose in the command frame).
+    assert MANISKILL_FETCH_MODES - modes == {"pd_ee_delta_pose_align"}
+    assert modes - MANISKILL_FETCH_MODES == {"pd_ee_pose"}
+    for mode in modes:
+        controller = agent.controller_for(mode)
+        assert list(controller.slices) == ["arm", "gripper", "torso", "base"], mode
+        assert controller.slices["gripper"].stop - controller.slices["gripper"].start == 1
+        assert controller.slices["base"].stop - controller.slices["base"].start == 2  # (v, wz)
+    stiff = agent.controller_for("pd_joint_delta_pos_stiff_body")
+    assert not stiff.parts["torso"].config.use_delta and stiff.parts["arm"].config.use_delta
+    agent.set_control_mode("pd_joint_delta_pos_stiff_body")
+    for _ in range(20):
+        agent.set_action([0.0] * 6 + [0.0, 0.25, 0.0, 0.0])  # torso to 0.25 m (absolute)
+        scene.step()
+    assert agent.qpos[0, agent.joint_names.index("torso_lift_joint")] == pytest.approx(0.25, abs=5e-3)

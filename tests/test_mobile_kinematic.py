@@ -166,3 +166,23 @@ def test_base_dynamics_can_be_switched_per_robot(wheeled_file: Path) -> None:
         ra.Base(name="b", joints="root_.*", dynamics="teleport")
     with pytest.raises(ra.ConfigError, match="wheels"):
         ra.Base(name="b", joints="root_.*", wheels=("l",), wheel_radius=0.1, wheel_separation=0.4)
+
+
+def test_make_env_overrides_the_base_dynamics(wheeled_file: Path) -> None:
+    cls = wheeled_robot(wheeled_file, "dynamic")
+    env = ra.make_env(
+        "Empty-v1",
+        robot_uids=cls,
+        base_dynamics="kinematic",
+        control_mode="pd_joint_delta_pos",
+        robot_init_qpos_noise=0.0,
+    )
+    env.reset(seed=0)
+    agent = env.unwrapped.agent if hasattr(env.unwrapped, "agent") else env.unwrapped.scene.agents[0]
+    assert agent.mobile.dynamics == "kinematic"
+    start = agent.qpos[0, 0]
+    for _ in range(20):
+        env.step(np.array([[0.0, 0.0, 0.4, 0.0]]))
+    assert agent.qpos[0, 0] - start == pytest.approx(0.2, abs=1e-9)  # 0.2 m/s for 1 s, exactly
+    with pytest.raises(ra.ConfigError, match="Base part"):
+        ra.make_env("Empty-v1", robot_uids="panda", base_dynamics="kinematic")

@@ -112,6 +112,11 @@ def manipulator(path: Path) -> type[ra.Agent]:
                     wheel_separation=0.4,
                 ),
             ),
+            "cameras": (
+                ra.CameraConfig.look_at(
+                    "head_camera", eye=(0.1, 0.0, 0.5), target=(0.8, 0.0, 0.1), mount="torso_lift_link"
+                ),
+            ),
             "keyframes": {"home": ra.Keyframe(qpos={"torso_lift_joint": 0.1, "j2": -0.5, "j3": 1.0, "j5": 0.5})},
         },
     )
@@ -277,3 +282,28 @@ def test_rules_generate_the_fetch_mode_table_and_action_layout(mm_cls: type[ra.A
         agent.set_action([0.0] * 6 + [0.0, 0.25, 0.0, 0.0])  # torso to 0.25 m (absolute)
         scene.step()
     assert agent.qpos[0, agent.joint_names.index("torso_lift_joint")] == pytest.approx(0.25, abs=5e-3)
+
+
+def test_a_camera_placement_follows_its_link(mm_cls: type[ra.Agent]) -> None:
+    import mujoco
+
+    scene = ra.Scene(mm_cls, control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    camera = next(c for c in range(scene.model.ncam) if scene.model.camera(c).name.endswith("head_camera"))
+    config = mm_cls.cameras[0]
+    for yaw, lift in ((0.0, 0.0), (2.5, 0.2), (-3.0, 0.3)):
+        agent.set_base_pose(xy=[yaw, -lift], yaw=yaw)
+        q = agent.qpos[0].copy()
+        q[agent.joint_names.index("torso_lift_joint")] = lift
+        agent.reset(qpos=q)
+        link = agent.frame_pose("torso_lift_link")[0]
+        expected = np.empty(3)
+        mujoco.mju_rotVecQuat(expected, np.array(config.pos), link[3:])
+        pose = scene.world.camera_poses(camera)[0]
+        np.testing.assert_allclose(pose[:3, 3], link[:3] + expected, atol=1e-6)
+        turned = np.empty(4)
+        mujoco.mju_mulQuat(turned, link[3:], np.array(config.quat))
+        rotation = np.empty(9)
+        mujoco.mju_quat2Mat(rotation, turned)
+        np.testing.assert_allclose(pose[:3, :3], rotation.reshape(3, 3), atol=1e-6)

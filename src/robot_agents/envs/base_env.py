@@ -72,6 +72,9 @@ class RobotEnv(gym.Env[Any, Any]):
         sensor_configs: camera overrides by camera key, e.g.
             ``{"hand_camera": {"width": 256, "height": 256}}``, or ``{"base_camera": None}``
             to drop a camera; unknown keys and fields raise.
+        base_dynamics: ``"dynamic"`` or ``"kinematic"`` for every robot with a ``Base``
+            part (overrides ``Base.dynamics``; see docs/mobile-manipulators.md);
+            ``None``: as declared.
 
     Randomness: every env has its own random stream, :meth:`env_rng`; ``reset(seed=s)``
     seeds env ``i`` with ``s + i`` (Gymnasium's rule for vector envs), so env ``i`` of a
@@ -102,6 +105,7 @@ class RobotEnv(gym.Env[Any, Any]):
         sensor_configs: SensorOverrides | None = None,
         robot_poses: Sequence[Sequence[float]] | None = None,
         raise_on_instability: bool = False,
+        base_dynamics: str | None = None,
     ) -> None:
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -128,6 +132,8 @@ class RobotEnv(gym.Env[Any, Any]):
             sensor_configs=sensor_configs,
             robot_poses=robot_poses,
         )
+        if base_dynamics is not None:
+            self._override_base_dynamics(base_dynamics)
         self.num_envs = self.scene.num_envs
         self.sim_freq, self.control_freq = self.scene.sim_freq, self.scene.control_freq
         self.obs_mode = obs_mode
@@ -342,6 +348,18 @@ class RobotEnv(gym.Env[Any, Any]):
             f"{where}: expected seed to be an int >= 0, None, or a list of {self.num_envs} ints >= 0 or None "
             f"(one per env), got {seed!r}."
         )
+
+    def _override_base_dynamics(self, dynamics: str) -> None:
+        """``base_dynamics=``: every robot with a planar ``Base`` runs ``"dynamic"`` or
+        ``"kinematic"`` (its ``refuse_collisions`` setting is kept)."""
+        mobile = [a for a in self.scene.agents if a.mobile.kind == "planar"]
+        if not mobile:
+            raise ConfigError(
+                f"{type(self).__name__}: base_dynamics={dynamics!r} needs a robot with a Base part; "
+                f"got {[type(a).__name__ for a in self.scene.agents]}."
+            )
+        for agent in mobile:
+            agent.set_base_dynamics(dynamics)
 
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several

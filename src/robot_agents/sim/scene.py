@@ -189,16 +189,20 @@ class Scene:
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
         """One control step: every robot's substep hooks, then the physics substeps."""
+        for agent in self.agents:
+            agent.before_step()
         hooked = [a for a in self.agents if a.needs_substep]
         if not hooked:
             self.world.step()
-            return
+        else:
 
-        def before_substep(i: int, n: int) -> None:
-            for agent in hooked:
-                agent.before_substep(i, n)
+            def before_substep(i: int, n: int) -> None:
+                for agent in hooked:
+                    agent.before_substep(i, n)
 
-        self.world.step(before_substep)
+            self.world.step(before_substep)
+        for agent in self.agents:
+            agent.after_step()
 
     def reset(
         self,

@@ -34,11 +34,10 @@ RobotSpecifier = str | type[Agent]
 
 
 def default_sim_freq(classes: Sequence[type[Agent]]) -> int:
-    """The physics rate a scene of these robots runs at unless told: the highest
-    ``sim_freq`` they declare (the smallest step any of them needs), else
-    :data:`DEFAULT_SIM_FREQ`."""
-    declared = [int(cls.sim_freq) for cls in classes if cls.sim_freq is not None]
-    return max(declared, default=DEFAULT_SIM_FREQ)
+    """The physics rate a scene of these robots runs at unless told: the highest of
+    their ``sim_freq`` (the smallest step any of them needs; :data:`DEFAULT_SIM_FREQ`
+    for one that declares none)."""
+    return max((int(cls.sim_freq or DEFAULT_SIM_FREQ) for cls in classes), default=DEFAULT_SIM_FREQ)
 
 
 class Scene:

@@ -10,15 +10,15 @@ measures, at each step, every claim the robot makes:
 - ``random``: :data:`RANDOM_SECONDS` of uniformly random actions in every mode without
   instability (MuJoCo warnings, non-finite state) and without a joint passing its limit
   by more than :data:`OVERSHOOT_BOUND`;
-- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of the hold action (modes
-  that command positions or velocities) leaves every joint slower than
+- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of the hold action (joint
+  modes that command positions or velocities) leaves every joint slower than
   :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
   torque limits every physics step);
 - ``ee_tracking``: where the robot has an end effector, a commanded 2 cm move of the
   tool (``pd_ee_target_delta_pos``, else an absolute end-effector mode) reached within
   :data:`EE_TOLERANCE` of the commanded distance after :data:`EE_SECONDS`;
-- ``penetration``: the deepest contact seen in all of the above at most
-  :data:`PENETRATION_BOUND`.
+- ``penetration``: the deepest contact while holding and tracking at most
+  :data:`PENETRATION_BOUND` (the depth random actions press is reported beside it).
 
 Grasp holding (no slip of a grasped cube) is measured by the scripted PickCube solver's
 tests (``tests/test_scripted_solvers.py``), which run at each robot's default step.
@@ -58,9 +58,10 @@ EE_MOVE = 0.02
 EE_SECONDS = 1.0
 #: Largest end-effector tracking error, as a share of the commanded move.
 EE_TOLERANCE = 0.05
-#: Deepest contact penetration allowed (m). Random actions press links into the floor
-#: with the drives' full torque: 18.8 mm for the Panda, 8.1 mm for the SO-100 at 500 Hz.
-PENETRATION_BOUND = 0.025
+#: Deepest contact penetration allowed (m) while holding keyframes and tracking the
+#: end-effector move. (Random actions press links into the floor with the drives' full
+#: torque, 1-8 cm at any step; that depth is reported, not judged.)
+PENETRATION_BOUND = 0.005
 #: Substeps per control step tried by default (control period / n), large steps first.
 DEFAULT_SUBSTEPS = (2, 4, 5, 8, 10, 16, 20, 25, 40, 50)
 #: The claims, in the order they are reported.
@@ -84,6 +85,8 @@ class StepResult:
 
     sim_freq: int
     claims: tuple[ClaimResult, ...]
+    #: Deepest contact under random actions (m), for information (see :func:`_random`).
+    random_press_depth: float = 0.0
 
     @property
     def passed(self) -> bool:
@@ -115,8 +118,8 @@ class SweepResult:
 
     def table(self) -> str:
         """A markdown table: one row per step, one column per claim (value, pass)."""
-        header = "| sim_freq (Hz) | step (ms) | " + " | ".join(CLAIMS) + " | all |"
-        rows = [header, "|" + "---|" * (len(CLAIMS) + 3)]
+        header = "| sim_freq (Hz) | step (ms) | " + " | ".join(CLAIMS) + " | all | random-action press (m) |"
+        rows = [header, "|" + "---|" * (len(CLAIMS) + 4)]
         for step in self.steps:
             cells = []
             for name in CLAIMS:
@@ -126,7 +129,11 @@ class SweepResult:
                 else:
                     cells.append(f"{claim.value:.3g}{'' if claim.passed else ' FAIL'}")
             ok = "yes" if step.passed else "no"
-            rows.append(f"| {step.sim_freq} | {1000 / step.sim_freq:.3g} | " + " | ".join(cells) + f" | {ok} |")
+            rows.append(
+                f"| {step.sim_freq} | {1000 / step.sim_freq:.3g} | "
+                + " | ".join(cells)
+                + f" | {ok} | {step.random_press_depth:.3g} |"
+            )
         return "\n".join(rows)
 
 
@@ -179,6 +186,9 @@ def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetratio
 def _random(
     cls: type[Agent], sim_freq: int, control_freq: int, seed: int, depth: _Penetration
 ) -> tuple[ClaimResult, ClaimResult]:
+    """Random actions in every mode; ``depth`` collects how deep they press links into
+    the floor or each other (reported, not judged: that depth is set by the drives'
+    torque against MuJoCo's soft contacts, not by the step)."""
     unstable: list[str] = []
     overshoot, over_where = 0.0, ""
     speed, speed_where = 0.0, ""
@@ -202,7 +212,7 @@ def _random(
             past = float(np.max(beyond, initial=0.0))
             if past > overshoot:
                 overshoot, over_where = past, f"{mode}: {agent.joint_names[int(np.argmax(beyond))]}"
-        if _commands_motion(agent):
+        if _commands_motion(agent) and not any(isinstance(c, PDEEController) for c in agent.controller.parts.values()):
             for _ in range(round(SETTLE_SECONDS * control_freq)):
                 agent.set_action(hold_action(agent))
                 scene.step()
@@ -289,15 +299,15 @@ def measure_step(
     cls: type[Agent], sim_freq: int, control_freq: int = DEFAULT_CONTROL_FREQ, seed: int = 0
 ) -> StepResult:
     """Every claim of ``cls`` at ``sim_freq``."""
-    depth = _Penetration()
-    claims = [_hold(cls, sim_freq, control_freq, depth), *_random(cls, sim_freq, control_freq, seed, depth)]
+    depth, pressed = _Penetration(), _Penetration()
+    claims = [_hold(cls, sim_freq, control_freq, depth), *_random(cls, sim_freq, control_freq, seed, pressed)]
     tracking = _ee_tracking(cls, sim_freq, control_freq, depth)
     if tracking is not None:
         claims.append(tracking)
     claims.append(
         ClaimResult("penetration", depth.depth <= PENETRATION_BOUND, depth.depth, PENETRATION_BOUND, depth.where)
     )
-    return StepResult(sim_freq, tuple(claims))
+    return StepResult(sim_freq, tuple(claims), pressed.depth)
 
 
 def sweep_timestep(

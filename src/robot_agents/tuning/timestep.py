@@ -45,10 +45,12 @@ HOLD_SECONDS = 2.0
 RANDOM_SECONDS = 10.0
 #: How far (rad or m) a joint may pass its limit under random actions. MuJoCo's joint
 #: limits are soft constraints (time constant 0.02 s, whatever the step), so a joint
-#: driven into its limit at speed passes it by about speed x 0.02 s x a few: the
-#: Panda's velocity-feedforward modes push joint 1 0.07-0.12 rad past at every step
-#: from 1 ms to 10 ms, the SO-100's wrist 0.06-0.08 rad.
-OVERSHOOT_BOUND = 0.15
+#: driven into its limit at speed passes it by about speed x 0.02 s x a few, at any
+#: step: at every step from 1 ms to 10 ms the Panda's velocity-feedforward modes push
+#: joint 1 0.08-0.16 rad past, the WidowX 250 S's elbow 0.15-0.23 rad, the Koch's
+#: joints 0.08-0.19 rad (2026-11-23 sweep). This bound catches a step too coarse to
+#: stop a joint at all (0.3-2 rad at 25 ms).
+OVERSHOOT_BOUND = 0.25
 #: Seconds of the hold action after the random actions.
 SETTLE_SECONDS = 1.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.

@@ -204,7 +204,7 @@ class WidowX250S(Agent):
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control): every
     #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.15-0.23 rad
     #: at every step, 0.28 rad at 80 Hz); default one divisor finer, 160 Hz.
-    sim_freq = 160
+    sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(WidowX250SGripper, at="ee_arm_link"),)

@@ -38,6 +38,9 @@ import numpy as np
 
 import robot_agents as ra
 
+#: The robot of the joint-mode table (``--robot``); the end-effector section is the Panda's.
+ROBOT = "panda"
+
 JOINT_MODES = (
     "pd_joint_pos",
     "pd_joint_delta_pos",
@@ -71,7 +74,7 @@ def small_actions(env: ra.RobotEnv, count: int, rng: np.random.Generator) -> lis
 
 
 def make(mode: str, num_envs: int) -> ra.RobotEnv:
-    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode=mode, num_envs=num_envs, max_episode_steps=None)
+    env = ra.make_env("Empty-v1", robot_uids=ROBOT, control_mode=mode, num_envs=num_envs, max_episode_steps=None)
     env.reset(seed=0)
     return env.unwrapped  # type: ignore[return-value]
 
@@ -207,14 +210,17 @@ def main() -> None:
     parser.add_argument("--num-envs", type=int, default=64)
     parser.add_argument("--no-joint", action="store_true", help="skip the joint-mode table")
     parser.add_argument("--no-ee", action="store_true", help="skip the end-effector comparison")
+    parser.add_argument("--robot", default="panda", help="robot of the joint-mode table (at its default sim_freq)")
     args = parser.parse_args()
+    global ROBOT
+    ROBOT = args.robot
     probe = make("pd_joint_pos", 1)
     scene = probe.scene
     print(
         f"robot_agents {ra.__version__}, mujoco {mujoco.__version__}, python {platform.python_version()}, {os.cpu_count()} cores"
     )
     print(
-        f"panda, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n"
+        f"{ROBOT}, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n"
     )
     probe.close()
     n = args.num_envs

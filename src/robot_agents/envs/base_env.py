@@ -28,7 +28,7 @@ from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
-from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, DEFAULT_SIM_FREQ, RobotSpecifier, Scene
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -58,7 +58,8 @@ class RobotEnv(gym.Env[Any, Any]):
         obs_mode: ``"state"`` (flat float32 array ``(num_envs, D)``), ``"state_dict"``, or
             a camera mode: ``"sensor_data"``, ``"rgb"``, ``"depth"``, ``"rgbd"``,
             ``"segmentation"``, ``"pointcloud"`` (see ``docs/sensors.md``).
-        sim_freq / control_freq: physics / control rates in Hz.
+        sim_freq / control_freq: physics / control rates in Hz; ``sim_freq=None``: the
+            robots' declared default step (``AgentDefinition.sim_freq``), else 500 Hz.
         render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
         render_size: ``(width, height)`` of rendered frames in pixels.
         max_episode_steps: episodes are truncated after this many steps (``None``: never).
@@ -95,7 +96,7 @@ class RobotEnv(gym.Env[Any, Any]):
         num_envs: int = 1,
         control_mode: str | Sequence[str | None] | None = None,
         obs_mode: str = "state",
-        sim_freq: int = DEFAULT_SIM_FREQ,
+        sim_freq: int | None = None,
         control_freq: int = DEFAULT_CONTROL_FREQ,
         render_mode: str | None = None,
         render_size: tuple[int, int] = (480, 360),

@@ -106,7 +106,9 @@ class Arm:
         self.limits = self.agent.qpos_limits[self.q_index]
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
-        self.gripper_joint = self.agent.part_joints[gripper][0] if gripper else None
+        # all of the gripper's joints: its controller may drive any one of them (a
+        # leader the others follow through an equality), not necessarily the first
+        self.gripper_joints = set(self.agent.part_joints[gripper]) if gripper else set()
 
     def set_mode(self, mode: str) -> None:
         """Switch the control mode and find which of its controllers drives the arm and
@@ -119,7 +121,7 @@ class Arm:
             joints = controller.config.joint_names
             if self.arm_joint in joints:
                 self.arm_name = name
-            if self.gripper_joint is not None and self.gripper_joint in joints:
+            if self.gripper_joints & set(joints):
                 self.gripper = name
 
     def action(self, arm_raw: np.ndarray, gripper_open: np.ndarray | None = None) -> np.ndarray:
@@ -308,7 +310,7 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
         steps += 1
 
     position, quat = env.goal_pose[:, :3], env.goal_pose[:, 3:] if env.with_orientation else None
-    opened = np.ones(n, dtype=bool) if arm.gripper_joint else None
+    opened = np.ones(n, dtype=bool) if arm.gripper_joints else None
     # 1. Joint positions along a ramp to the IK solution; 2. end-effector deltas.
     arm.ramp(step, arm.solve(position, quat), turn_steps, opened)
     arm.set_mode(end_effector_mode(arm.agent, rotation=env.with_orientation))

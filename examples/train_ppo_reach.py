@@ -113,26 +113,38 @@ def make_venv(num_envs: int, control_mode: str, autoreset_mode: str) -> RobotVec
     return venv
 
 
-def evaluate(model: PPO, norm: VecNormalize, venv: RobotVectorEnv, seed: int) -> tuple[float, float]:
-    """Mean return and success rate of the deterministic policy, one episode per env (seeds ``seed + i``)."""
+def evaluate(model: PPO, norm: VecNormalize, venv: RobotVectorEnv, seed: int) -> tuple[float, float, float]:
+    """Mean return, success rate and mean episode length of the deterministic policy, one episode per
+    env (seeds ``seed + i``)."""
     obs, _ = venv.reset(seed=seed)
     n = venv.num_envs
     done = np.zeros(n, dtype=bool)
     success = np.zeros(n, dtype=bool)
     ret = np.zeros(n)
+    length = np.zeros(n)
     while not done.all():
         action, _ = model.predict(norm.normalize_obs(np.asarray(obs)), deterministic=True)
         obs, reward, terminated, truncated, _ = venv.step(action)
         ret += np.where(done, 0.0, reward)
+        length += ~done
         success |= terminated & ~done
         done |= terminated | truncated
-    return float(ret.mean()), float(success.mean())
+    return float(ret.mean()), float(success.mean()), float(length.mean())
 
 
 class Curve(BaseCallback):
     """Stops after the wall-time budget; logs training episodes and evaluates every ``eval_every`` steps."""
 
-    FIELDS = ("steps", "wall_s", "train_return", "train_success", "eval_return", "eval_success")
+    FIELDS = (
+        "steps",
+        "wall_s",
+        "train_return",
+        "train_success",
+        "train_length",
+        "eval_return",
+        "eval_success",
+        "eval_length",
+    )
 
     def __init__(self, seconds: float, eval_every: int, eval_venv: RobotVectorEnv, csv_path: Path) -> None:
         super().__init__()
@@ -140,6 +152,7 @@ class Curve(BaseCallback):
         self.rows: list[dict[str, float]] = []
         self.returns: list[float] = []
         self.successes: list[float] = []
+        self.lengths: list[float] = []
         self.next_eval = 0
         self.start = time.perf_counter()
         self.eval_seconds = 0.0
@@ -149,6 +162,7 @@ class Curve(BaseCallback):
             if done:
                 self.returns.append(info["episode"]["r"])
                 self.successes.append(float(info["is_success"]))
+                self.lengths.append(info["episode"]["l"])
         return time.perf_counter() - self.start < self.seconds
 
     def _on_rollout_end(self) -> None:
@@ -158,21 +172,24 @@ class Curve(BaseCallback):
         t = time.perf_counter()
         norm = self.model.get_vec_normalize_env()
         assert norm is not None
-        eval_return, eval_success = evaluate(self.model, norm, self.eval_venv, seed=10_000)
+        eval_return, eval_success, eval_length = evaluate(self.model, norm, self.eval_venv, seed=10_000)
         self.eval_seconds += time.perf_counter() - t
         row = {
             "steps": self.num_timesteps,
             "wall_s": time.perf_counter() - self.start,
             "train_return": float(np.mean(self.returns)) if self.returns else float("nan"),
             "train_success": float(np.mean(self.successes)) if self.successes else float("nan"),
+            "train_length": float(np.mean(self.lengths)) if self.lengths else float("nan"),
             "eval_return": eval_return,
             "eval_success": eval_success,
+            "eval_length": eval_length,
         }
-        self.returns, self.successes = [], []
+        self.returns, self.successes, self.lengths = [], [], []
         self.rows.append(row)
         print(
             f"steps {row['steps']:>8}  wall {row['wall_s']:6.0f} s  train return {row['train_return']:6.2f}"
-            f"  success {row['train_success']:.2f}  |  eval return {eval_return:6.2f}  success {eval_success:.2f}",
+            f"  success {row['train_success']:.2f}  length {row['train_length']:5.1f}  |  eval return {eval_return:6.2f}"
+            f"  success {eval_success:.2f}  length {eval_length:5.1f}",
             flush=True,
         )
         with self.csv_path.open("w", newline="") as f:
@@ -188,16 +205,19 @@ def plot(rows: list[dict[str, float]], path: Path, title: str) -> None:
     import matplotlib.pyplot as plt
 
     steps = np.array([r["steps"] for r in rows]) / 1e3
-    fig, (ax_r, ax_s) = plt.subplots(1, 2, figsize=(10, 3.8))
-    ax_r.plot(steps, [r["train_return"] for r in rows], label="training episodes")
-    ax_r.plot(steps, [r["eval_return"] for r in rows], "o-", label="evaluation (deterministic)")
-    ax_r.set(xlabel="env steps (thousands)", ylabel="episode return (normalized dense)", title="return")
-    ax_s.plot(steps, [r["train_success"] for r in rows], label="training episodes")
-    ax_s.plot(steps, [r["eval_success"] for r in rows], "o-", label="evaluation (deterministic)")
-    ax_s.set(xlabel="env steps (thousands)", ylabel="success rate", ylim=(-0.02, 1.02), title="success")
-    for ax in (ax_r, ax_s):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 3.9))
+    panels = (
+        ("success", "success rate", "success (episode ends at a success)"),
+        ("length", "episode length (steps)", "steps to success (100: time limit)"),
+        ("return", "episode return (normalized dense)", "return (shorter episodes earn less)"),
+    )
+    for ax, (key, ylabel, title_) in zip(axes, panels, strict=True):
+        ax.plot(steps, [r[f"train_{key}"] for r in rows], label="training episodes (stochastic)")
+        ax.plot(steps, [r[f"eval_{key}"] for r in rows], "o-", ms=3, label="evaluation (deterministic, fixed seeds)")
+        ax.set(xlabel="env steps (thousands)", ylabel=ylabel, title=title_)
         ax.grid(alpha=0.3)
-        ax.legend(loc="upper left")
+    axes[0].set_ylim(-0.02, 1.02)
+    axes[0].legend(loc="lower right")
     fig.suptitle(title)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)

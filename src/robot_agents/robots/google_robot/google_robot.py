@@ -28,8 +28,12 @@ Sources of the numbers:
 - Drives: SimplerEnv's real-to-sim tuned gains for the arm in "force" drive mode
   (``GoogleRobotDefaultConfig``: stiffness 2000, 1800, 1200, 1000, 650, 500, 500;
   damping 850, 810, 500, 480, 460, 190, 250; force limits 400, 400, 300, 300, 200, 200,
-  100), the head (2000 / 900, 100 N*m) and the fingers (200 / 80, 60 N*m). The URDF's
-  joint speed limits (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
+  100) and the head (2000 / 900, 100 N*m). The fingers take Menagerie's drive (kp 20,
+  joint damping 2, armature 0.1, +-30 N*m): SimplerEnv's finger gains (200 / 80, tuned
+  for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
+  (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
+  (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
+- Gripper action: -1 open (0 rad), +1 closed (1.3 rad), as ManiSkill's mimic gripper.
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
   fingers, head pan -0.00286 and tilt 0.785 looking down at the table); ManiSkill 3.0.1
   has no keyframe for this robot. ``stow`` folds the arm (all arm joints at 0: upright).
@@ -93,13 +97,16 @@ GOOGLE_ROBOT_DRIVES = (
         velocity_limit=ARM_VELOCITY,
     ),
     PDActuator(joints=HEAD_PATTERN, stiffness=2000.0, damping=900.0, effort_limit=100.0, velocity_limit=2.0),
-    PDActuator(joints=FINGER_PATTERN, stiffness=200.0, damping=80.0, effort_limit=60.0, velocity_limit=1.3),
+    PDActuator(
+        joints=FINGER_PATTERN, stiffness=20.0, damping=2.0, effort_limit=30.0, velocity_limit=1.3, armature=0.1
+    ),
 )
 
-#: End-effector commands in the torso's frame (it turns with the base); 5 cm and 0.1 rad
-#: per step; absolute targets within the arm's reach around the torso.
+#: End-effector commands in ``link_base``'s frame (it moves and turns with the base); 5 cm
+#: and 0.1 rad per step; absolute targets within the arm's reach (about 1.03 m from the
+#: shoulder, 0.71 m above link_base) down to the floor.
 GOOGLE_ROBOT_TASK_SPACE = TaskSpace(
-    position_bounds=WorkspaceBox(lower=(-1.0, -1.0, -0.7), upper=(1.0, 1.0, 0.9)),
+    position_bounds=WorkspaceBox(lower=(-1.1, -1.1, -0.1), upper=(1.1, 1.1, 1.75)),
     max_translation=0.05,
     max_rotation=0.1,
 )
@@ -170,7 +177,6 @@ class GoogleRobot(Agent):
     actuators = GOOGLE_ROBOT_DRIVES
     parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)
     disable_self_collisions = True
-    gravity_compensation = False
     link_materials = {"link_finger_tip_right": FINGER_PAD, "link_finger_tip_left": FINGER_PAD}
     cameras = (OVERHEAD_CAMERA,)
     keyframes: ClassVar[Mapping[str, Keyframe]] = {

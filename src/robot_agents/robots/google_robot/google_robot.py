@@ -27,8 +27,11 @@ Sources of the numbers:
   places the robot), separation 2 x 0.18333 m.
 - Drives: SimplerEnv's real-to-sim tuned gains for the arm in "force" drive mode
   (``GoogleRobotDefaultConfig``: stiffness 2000, 1800, 1200, 1000, 650, 500, 500;
-  damping 850, 810, 500, 480, 460, 190, 250; force limits 400, 400, 300, 300, 200, 200,
-  100) and the head (2000 / 900, 100 N*m). The fingers take Menagerie's drive (kp 20,
+  force limits 400, 400, 300, 300, 200, 200, 100) and the head (2000 / 900, 100 N*m).
+  The arm's damping is a fifth of SimplerEnv's (850, 810, 500, 480, 460, 190, 250):
+  with the full values our end-effector delta modes (whose joint targets carry a
+  velocity feed-forward through the damping) let the tool drift 19 cm in 2 s after a
+  zero command (measured at ``rest``); with a fifth it holds within 0.1 mm. The fingers take Menagerie's drive (kp 20,
   joint damping 2, armature 0.1, +-30 N*m): SimplerEnv's finger gains (200 / 80, tuned
   for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
   (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
@@ -83,7 +86,7 @@ WHEEL_SEPARATION = 2 * 0.18333
 
 #: SimplerEnv's real-to-sim arm gains ("force" drive mode) and the URDF's speed limits.
 ARM_STIFFNESS = (2000.0, 1800.0, 1200.0, 1000.0, 650.0, 500.0, 500.0)
-ARM_DAMPING = (850.0, 810.0, 500.0, 480.0, 460.0, 190.0, 250.0)
+ARM_DAMPING = (170.0, 162.0, 100.0, 96.0, 92.0, 38.0, 50.0)
 ARM_EFFORT = (400.0, 400.0, 300.0, 300.0, 200.0, 200.0, 100.0)
 ARM_VELOCITY = (2.0, 2.0, 2.0, 2.5, 3.0, 3.0, 3.0)
 

@@ -107,6 +107,14 @@ class Arm:
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
         self.gripper_joint = self.agent.part_joints[gripper][0] if gripper else None
+        # Whether the gripper opens towards its action's upper bound (the leader's open
+        # position above its closed one); the Google Robot's fingers open at 0 rad.
+        self.opens_high = True
+        if gripper:
+            part = self.agent.gripper()
+            leader_open = part.open if isinstance(part.open, float | int) else part.open[0]
+            leader_closed = part.closed if isinstance(part.closed, float | int) else part.closed[0]
+            self.opens_high = leader_open >= leader_closed
 
     def set_mode(self, mode: str) -> None:
         """Switch the control mode and find which of its controllers drives the arm and
@@ -132,7 +140,8 @@ class Arm:
             if name == self.arm_name:
                 action[:, slot] = action_for(controller, arm_raw)
             elif name == self.gripper and gripper_open is not None:
-                raw = np.where(gripper_open[:, None], controller.raw_high, controller.raw_low)
+                opens = gripper_open[:, None] == self.opens_high
+                raw = np.where(opens, controller.raw_high, controller.raw_low)
                 action[:, slot] = action_for(controller, raw)
         return action
 

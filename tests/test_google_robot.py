@@ -98,7 +98,9 @@ def test_limits_masses_and_drives_from_the_data() -> None:
         limits,
         [[-4.49, 1.35], [-2.66, 3.18], [-2.13, 3.71], [-2.05, 3.79], [-2.92, 2.92], [-1.79, 1.79], [-4.49, 1.35]],
     )
-    np.testing.assert_allclose(agent.qpos_limits[index(agent, ["joint_head_pan", "joint_head_tilt"])], [[-3.79, 2.22], [-1.17, 1.17]])
+    np.testing.assert_allclose(
+        agent.qpos_limits[index(agent, ["joint_head_pan", "joint_head_tilt"])], [[-3.79, 2.22], [-1.17, 1.17]]
+    )
     model = scene.model
     masses = [model.body_mass[model.body(agent.prefix + n.replace("joint_", "link_")).id] for n in ARM]
     np.testing.assert_allclose(masses, [2.46883, 2.08054, 1.3989, 0.788999, 0.819369, 0.543658, 0.41474], rtol=1e-5)

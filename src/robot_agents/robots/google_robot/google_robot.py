@@ -100,9 +100,7 @@ GOOGLE_ROBOT_DRIVES = (
         velocity_limit=ARM_VELOCITY,
     ),
     PDActuator(joints=HEAD_PATTERN, stiffness=2000.0, damping=900.0, effort_limit=100.0, velocity_limit=2.0),
-    PDActuator(
-        joints=FINGER_PATTERN, stiffness=20.0, damping=2.0, effort_limit=30.0, velocity_limit=1.3, armature=0.1
-    ),
+    PDActuator(joints=FINGER_PATTERN, stiffness=20.0, damping=2.0, effort_limit=30.0, velocity_limit=1.3, armature=0.1),
 )
 
 #: End-effector commands in ``link_base``'s frame (it moves and turns with the base); 5 cm
@@ -182,6 +180,13 @@ class GoogleRobot(Agent):
     disable_self_collisions = True
     link_materials = {"link_finger_tip_right": FINGER_PAD, "link_finger_tip_left": FINGER_PAD}
     cameras = (OVERHEAD_CAMERA,)
+    task_limits: ClassVar[Mapping[str, str]] = {
+        "PickCube-v1": (
+            "the generic scripted solver succeeds in 17 of 20 seeds (ReachPose-v1: 20 of 20 pass "
+            "the test); in the 3 failures the grasp point stops 4-6 cm beside the cube at the end "
+            "of the descent and the fingers close beside it (cause not yet isolated)"
+        )
+    }
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "rest": Keyframe(qpos={ARM_PATTERN: REST_ARM, FINGER_PATTERN: 0.0, HEAD_PATTERN: REST_HEAD}),
         "stow": Keyframe(qpos={ARM_PATTERN: 0.0, FINGER_PATTERN: 0.0, HEAD_PATTERN: 0.0}),

@@ -100,6 +100,9 @@ class Arm:
         self.agent: ra.Agent = env.agent
         arm = tool_arm(self.agent, "scripted_pick")
         self.ee = arm.end_effectors[0].name
+        # The frame end-effector commands are expressed in: the tool's command frame (a
+        # body that may move with a mobile base), else the robot's root.
+        self.command_frame = arm.end_effectors[0].command_frame or "root"
         joints = [self.agent.index.joint(j, "scripted_pick") for j in self.agent.part_joints[arm.name]]
         self.q_index = np.array([j.qpos_start for j in joints])
         self.v_index = np.array([j.dof_start for j in joints])
@@ -155,7 +158,7 @@ class Arm:
         shortened (not clipped per axis, which would bend the path) to at most ``speed``
         (m per step) and what one action may command."""
         tool = self.agent.frame_pose(self.ee)
-        tool_in_root = self.agent.frame_pose(self.ee, relative_to="root")
+        tool_in_root = self.agent.frame_pose(self.ee, relative_to=self.command_frame)
         root = pose_multiply(tool, pose_inverse(tool_in_root))
         wanted = pose_multiply(pose_inverse(root), np.concatenate([position, tool[:, 3:] if quat is None else quat], 1))
         controller = self.controller.parts[self.arm_name]

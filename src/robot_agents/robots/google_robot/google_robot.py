@@ -180,13 +180,6 @@ class GoogleRobot(Agent):
     disable_self_collisions = True
     link_materials = {"link_finger_tip_right": FINGER_PAD, "link_finger_tip_left": FINGER_PAD}
     cameras = (OVERHEAD_CAMERA,)
-    task_limits: ClassVar[Mapping[str, str]] = {
-        "PickCube-v1": (
-            "the generic scripted solver succeeds in 17 of 20 seeds (ReachPose-v1: 20 of 20 pass "
-            "the test); in the 3 failures the grasp point stops 4-6 cm beside the cube at the end "
-            "of the descent and the fingers close beside it (cause not yet isolated)"
-        )
-    }
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "rest": Keyframe(qpos={ARM_PATTERN: REST_ARM, FINGER_PATTERN: 0.0, HEAD_PATTERN: REST_HEAD}),
         "stow": Keyframe(qpos={ARM_PATTERN: 0.0, FINGER_PATTERN: 0.0, HEAD_PATTERN: 0.0}),

@@ -23,4 +23,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "floating_robotiq_2f_85_gripper": "robot_agents.robots.robotiq.robotiq:FloatingRobotiq2F85Gripper",
     "xarm6_robotiq": "robot_agents.robots.ufactory.xarm6:XArm6Robotiq",
     "xarm6_robotiq_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6RobotiqWristCam",
+    "google_robot": "robot_agents.robots.google_robot.google_robot:GoogleRobot",
 }

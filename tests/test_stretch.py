@@ -261,3 +261,38 @@ def test_base_drives_0_4_m_in_2_s() -> None:
     x, y, yaw = agent.qpos[0, :3]
     assert x == pytest.approx(0.4, rel=0.05) and abs(y) < 0.01 and abs(yaw) < 1e-3
     scene.close()
+
+
+@pytest.mark.parametrize("mode", ["pd_ee_target_delta_pos", "pd_ee_delta_pos"])
+def test_ee_delta_moves_the_tool_in_the_base_frame_while_the_base_turns(mode: str) -> None:
+    """A constant end-effector delta (1 cm per step up and 0.5 cm per step outwards, in
+    base_link's axes) for 1 s while the base turns at 0.5 rad/s: the tool moves by the
+    commanded displacement in the turning base's frame (5 %)."""
+    scene = ra.Scene("stretch", control_modes=mode)
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    step = np.array([0.0, -0.005, 0.01])  # base_link: -y is where the arm points
+
+    def in_base() -> np.ndarray:
+        x, y, yaw = agent.qpos[0, :3]
+        tool = agent.tcp_pose[0, :3] - np.array([x, y, 0.0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([c * tool[0] + s * tool[1], -s * tool[0] + c * tool[1], tool[2]])
+
+    start = in_base()
+    action = np.zeros(agent.single_action_space.shape)
+    action[:3] = step / 0.025
+    action[-1] = 0.5  # yaw rate 0.5 rad/s
+    for _ in range(20):
+        agent.set_action(action)
+        scene.step()
+    for _ in range(10):  # let the tool settle, base still
+        action[:3] = 0.0 if mode == "pd_ee_target_delta_pos" else action[:3]
+        action[-1] = 0.0
+        if mode == "pd_ee_target_delta_pos":
+            agent.set_action(action)
+            scene.step()
+    moved = in_base() - start
+    assert agent.qpos[0, 2] > 0.4  # the base turned
+    np.testing.assert_allclose(moved, 20 * step, rtol=0.05, atol=0.05 * np.linalg.norm(20 * step))
+    scene.close()

@@ -222,9 +222,7 @@ def test_gripper_open_closed_and_half() -> None:
 
 # ------------------------------------------------------------------------ camera
 def test_head_camera_follows_its_link_and_pans() -> None:
-    env = ra.make_env(
-        "Empty-v1", robot_uids="stretch", obs_mode="rgb", control_mode="pd_joint_delta_pos"
-    ).unwrapped
+    env = ra.make_env("Empty-v1", robot_uids="stretch", obs_mode="rgb", control_mode="pd_joint_delta_pos").unwrapped
     obs, _ = env.reset(seed=0)
     start = obs["sensor_param"]["head_camera"]["cam2world_gl"][0].astype(np.float64)
     pan_joint = env.agent.joint_names.index("joint_head_pan")

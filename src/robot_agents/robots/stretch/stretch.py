@@ -28,7 +28,9 @@ Sources of the numbers:
   3.14 rad and pitched -0.4 rad); ``home`` is Menagerie's ``home`` (lift 0.6 m, arm
   extended 0.1 m = 0.025 m per segment).
 - Head camera: the D435i's colour camera on the ``realsense`` body of the head tilt link,
-  0.015 m along its y axis, with Menagerie's orientation and 58 deg vertical field of view.
+  0.015 m along its y axis, with Menagerie's orientation and 58 deg vertical field of view:
+  at zero pan and tilt it looks along +x with the image in portrait (the D435i is mounted
+  turned 90 deg on the robot).
 
 Our model: primitive shapes written for this library (no meshes); the planar base joints
 carry ManiSkill's names (``root_x_axis_joint``, ``root_y_axis_joint``,
@@ -175,4 +177,4 @@ class Stretch(Agent):
     default_control_mode = "pd_joint_delta_pos"
 
 
-__all__ = ["HEAD_CAMERA", "TELESCOPE", "WHEEL_RADIUS", "WHEEL_SEPARATION", "WHEELS", "Stretch"]
+__all__ = ["HEAD_CAMERA", "TELESCOPE", "WHEELS", "WHEEL_RADIUS", "WHEEL_SEPARATION", "Stretch"]

@@ -20,9 +20,9 @@ Only the chain's joints move; every other joint (fingers, other robots, objects)
 stays at the value given in ``context_qpos``, except followers of a chain joint through
 linear joint equalities (``follower = c0 + c1 * leader``, possibly through a chain of
 them, e.g. the telescoping segments of Stretch's arm): they move with their leader, and
-the leader's Jacobian column includes ``c1`` times theirs. The solver keeps the best iterate, so a
-target it cannot reach still yields the closest configuration it found, and it
-reports per env whether the tolerances were met.
+the leader's Jacobian column includes ``c1`` times theirs. The solver keeps the best
+iterate, so a target it cannot reach still yields the closest configuration it found,
+and it reports per env whether the tolerances were met.
 """
 
 from __future__ import annotations
@@ -295,11 +295,11 @@ class IKSolver:
             jacobian[:3] = jacp[:, dof_sel]
             if not position_only:
                 np.multiply(jacr[:, dof_sel], weight, out=jacobian[3:])
-            for _, dof, column, _, slope in self._followers:
+                error[3:] *= weight
+            for _, dof, column, _, slope in self._followers:  # coupled joints move with their leader
                 jacobian[:3, column] += slope * jacp[:, dof]
                 if not position_only:
                     jacobian[3:, column] += (slope * weight) * jacr[:, dof]
-                error[3:] *= weight
             size = math.sqrt(task @ task)
             if size > max_task:
                 task *= max_task / size

@@ -21,4 +21,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "widowxai": "robot_agents.robots.widowx.widowxai:WidowXAI",
     "widowxai_wristcam": "robot_agents.robots.widowx.widowxai:WidowXAIWristCam",
     "floating_robotiq_2f_85_gripper": "robot_agents.robots.robotiq.robotiq:FloatingRobotiq2F85Gripper",
+    "spot": "robot_agents.robots.spot.spot:Spot",
 }

@@ -6,9 +6,13 @@ Sources of the numbers:
   ``{fl,fr,hl,hr}_hip / _uleg / _lleg`` with joints ``_hx`` (about x, +-45 deg), ``_hy``
   (about y) and ``_kn`` (about y); the arm ``arm_link_sh0 .. arm_link_wr1`` with joints
   ``arm_sh0, arm_sh1, arm_el0, arm_el1, arm_wr0, arm_wr1`` and the jaw ``arm_link_fngr``
-  on ``arm_f1x`` (-1.57..0 rad). These are Boston Dynamics' URDF names (``fl.hx``,
+  on ``arm_f1x``. These are Boston Dynamics' URDF names (``fl.hx``,
   ``arm0.sh0``, ``arm0.f1x``; Habitat's ``hab_spot_arm.urdf``) with the dots written
   as underscores, as Menagerie does; see ``assets/spot_arm.xml`` for the joint origins.
+  One sign differs: our ``arm_f1x`` turns about -y (0..1.57 rad, open positive) where the
+  public models turn about +y (-1.57..0, open negative), because the library's gripper
+  action (-1 closes, +1 opens) takes a gripper whose open position lies above its closed
+  one; a user of the upstream model negates that one joint.
 - Joint limits agree with Boston Dynamics' SDK documentation ("About Spot": HX +-45 deg,
   HY +-91 deg about a 50 deg bias, knee 14..160 deg of flexion).
 - Masses: Boston Dynamics' specification (dev.bostondynamics.com, "About Spot"): net
@@ -23,8 +27,8 @@ Sources of the numbers:
   from the hinge) is our choice.
 - Keyframes: Habitat-lab's ``SpotRobot`` parameters: ``leg_init_params`` (hx 0, hy 0.7,
   kn -1.5 rad on every leg: its standing pose) and ``arm_init_params`` (sh0 0, sh1
-  -3.14, el0 3.0, the rest 0: the stowed arm); gripper open -1.56 rad / closed 0.0 rad
-  within 0.01 rad (``gripper_open_state``, ``gripper_closed_state``,
+  -3.14, el0 3.0, the rest 0: the stowed arm); gripper open -1.56 rad (+1.56 here) / closed
+  0.0 rad within 0.01 rad (``gripper_open_state``, ``gripper_closed_state``,
   ``gripper_state_eps``). ``standing``: legs standing, arm stowed, jaw closed;
   ``rest``: legs standing, the arm ready (forward and down in front of the body, jaw
   open) for table-top work.
@@ -73,7 +77,9 @@ STOWED_ARM = (0.0, -3.14, 3.0, 0.0, 0.0, 0.0)
 #: The arm forward and down over a table in front of the body (ours): the gripper points
 #: down 0.95 m ahead of the body's centre.
 READY_ARM = (0.0, -0.9, 1.9, 0.0, 0.6, 0.0)
-GRIPPER_OPEN = -1.56
+#: Habitat's gripper_open_state is -1.56 rad; our arm_f1x turns the other way (see the
+#: module doc), so open is +1.56 here.
+GRIPPER_OPEN = 1.56
 GRIPPER_CLOSED = 0.0
 #: The body's height above the floor on the standing legs (m): feet 2 mm clear.
 BODY_HEIGHT = 0.5333
@@ -88,7 +94,7 @@ SPOT_ARM_DRIVES = PDActuator(
     effort_limit=1000.0,
     armature=(0.1, 0.1, 0.1, 0.05, 0.05, 0.05),
 )
-SPOT_GRIPPER_DRIVE = PDActuator(joints=GRIPPER_JOINT, stiffness=20.0, damping=1.0, effort_limit=8.0, armature=0.01)
+SPOT_GRIPPER_DRIVE = PDActuator(joints=GRIPPER_JOINT, stiffness=10.0, damping=0.5, effort_limit=3.0, armature=0.01)
 #: The base's velocity drives (N*s/m, N*m*s/rad) on the 40.5 kg robot: a 10 ms time
 #: constant in x and y.
 SPOT_BASE_DRIVES = VelocityActuator(joints=BASE_PATTERN, damping=(4000.0, 4000.0, 400.0))
@@ -102,7 +108,7 @@ SPOT_TASK_SPACE = TaskSpace(
     max_rotation=0.1,
 )
 #: The grasp point: 2 cm above the lower jaw's face (a 4 cm cube's centre when it rests
-#: on the jaw), 5 cm inside its tip.
+#: on the jaw), its far face 2 mm short of the jaw's tooth.
 SPOT_ARM = Arm(
     name="arm",
     joints=ARM_PATTERN,
@@ -114,7 +120,7 @@ SPOT_GRIPPER = Gripper(
     joints=GRIPPER_JOINT,
     open=GRIPPER_OPEN,
     closed=GRIPPER_CLOSED,
-    fingers=("arm_link_wr1", "arm_link_fngr"),
+    fingers=("arm_link_jaw", "arm_link_fngr"),
     tolerance=0.01,
 )
 SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN)
@@ -154,7 +160,7 @@ class Spot(Agent):
     mjcf_path = ASSETS / "spot_arm.xml"
     actuators = (SPOT_BASE_DRIVES, SPOT_LEG_DRIVES, SPOT_ARM_DRIVES, SPOT_GRIPPER_DRIVE)
     parts = (SPOT_ARM, SPOT_GRIPPER, SPOT_LEGS, SPOT_BASE)
-    link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {"arm_link_wr1": JAW_PAD, "arm_link_fngr": JAW_PAD}
+    link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {"arm_link_jaw": JAW_PAD, "arm_link_fngr": JAW_PAD}
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "standing": _keyframe(STOWED_ARM, GRIPPER_CLOSED),
         "rest": _keyframe(READY_ARM, GRIPPER_OPEN),

@@ -84,9 +84,7 @@ GRIPPER_CLOSED = 0.0
 #: The body's height above the floor on the standing legs (m): feet 2 mm clear.
 BODY_HEIGHT = 0.5333
 
-SPOT_LEG_DRIVES = PDActuator(
-    joints=LEG_PATTERN, stiffness=500.0, damping=40.0, effort_limit=1000.0, armature=0.1
-)
+SPOT_LEG_DRIVES = PDActuator(joints=LEG_PATTERN, stiffness=500.0, damping=40.0, effort_limit=1000.0, armature=0.1)
 SPOT_ARM_DRIVES = PDActuator(
     joints=ARM_PATTERN,
     stiffness=500.0,

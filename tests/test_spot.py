@@ -292,3 +292,46 @@ def test_mass_matches_the_specification() -> None:
     assert float(np.sum(model.body_mass[robot])) == pytest.approx(40.5, abs=0.01)
     assert float(np.sum(model.body_mass[arm])) + 2.0 == pytest.approx(8.0, abs=0.02)
     scene.close()
+
+
+def test_leg_base_turns_at_the_commanded_rate() -> None:
+    """0.5 rad/s for 2 s turns the body 1.0 rad +-5 % in place."""
+    scene = ra.Scene("spot", control_modes="pd_joint_delta_pos")
+    scene.reset(keyframes="standing")
+    agent = scene.agents[0]
+    action = hold_action(agent)
+    action[agent.controller.slices["base"]] = [0.0, 0.0, 0.5]  # of max_turn 1 rad/s
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(action)
+        scene.step()
+    assert agent.base_rot[0] == pytest.approx(1.0, rel=0.05)
+    np.testing.assert_allclose(agent.base_pos[0, :2], [0.0, 0.0], atol=1e-3)
+    scene.close()
+
+
+def test_ee_delta_moves_the_tool_in_the_turning_body_frame() -> None:
+    """A constant pd_ee_delta_pos command of 1 cm per step along the body's x for 10 steps
+    moves the tool 10 cm +-5 % along the body's x while the base turns at 0.5 rad/s."""
+    scene = ra.Scene("spot", control_modes="pd_ee_delta_pos")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    slices = agent.controller.slices
+    start = agent.frame_pose("tcp", relative_to="body")[0, :3].copy()
+    action = np.zeros(agent.controller.action_dim)
+    action[slices["arm"]] = [0.2, 0.0, 0.0]  # of 0.05 m per step
+    action[slices["gripper"]] = 1.0  # open, as at rest
+    action[slices["base"]] = [0.0, 0.0, 0.5]
+    for _ in range(10):
+        agent.set_action(action)
+        scene.step()
+    action[slices["arm"]] = 0.0
+    for _ in range(5):  # settle; the base keeps turning
+        agent.set_action(action)
+        scene.step()
+    moved = agent.frame_pose("tcp", relative_to="body")[0, :3] - start
+    assert moved[0] == pytest.approx(0.1, rel=0.05)
+    # off the commanded axis: 5.2 mm measured, the drives' lag behind the turn (the tool
+    # swings at 0.35 m/s 0.7 m from the yaw axis) and the settling of z
+    assert np.linalg.norm(moved[1:]) < 0.008
+    assert agent.base_rot[0] == pytest.approx(0.375, rel=0.05)  # it did turn
+    scene.close()

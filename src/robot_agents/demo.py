@@ -20,6 +20,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.agent.index import JointKind
+from robot_agents.controllers.joint import PDJointPosConfig
 from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.parts.declaration import Gripper
 from robot_agents.registry import get_agent
@@ -210,11 +211,19 @@ def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
 
 
 def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """The ``pd_joint_pos`` action (per part) that commands ``qpos_target`` (shape ``(dof,)``)."""
+    """The ``pd_joint_pos`` action (per part) that commands ``qpos_target`` (shape ``(dof,)``):
+    absolute targets; a part with delta targets (legs) steps towards it; a velocity part (a
+    mobile base) holds still."""
     parts = []
     for controller in agent.controller.parts.values():
-        index = [agent.joint_names.index(j) for j in controller.config.joint_names]
-        raw = qpos_target[index][: controller.action_dim]
+        config = controller.config
+        index = [agent.joint_names.index(j) for j in config.joint_names]
+        if not isinstance(config, PDJointPosConfig):
+            raw = np.zeros(controller.action_dim)
+        elif config.use_delta:
+            raw = (qpos_target[index] - agent.qpos[0, index])[: controller.action_dim]
+        else:
+            raw = qpos_target[index][: controller.action_dim]
         if controller.config.normalize_action:
             raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
         parts.append(raw)

@@ -25,4 +25,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "xarm6_robotiq_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6RobotiqWristCam",
     "google_robot": "robot_agents.robots.google_robot.google_robot:GoogleRobot",
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
+    "spot": "robot_agents.robots.spot.spot:Spot",
 }

@@ -131,7 +131,16 @@ GOOGLE_ROBOT_GRIPPER = Gripper(
     tolerance=0.02,
 )
 GOOGLE_ROBOT_HEAD = Head(name="head", joints=HEAD_PATTERN)
-GOOGLE_ROBOT_BASE = Base(name="base", joints=BASE_PATTERN, holonomic=False, max_speed=0.5, max_turn=1.0)
+GOOGLE_ROBOT_BASE = Base(
+    name="base",
+    joints=BASE_PATTERN,
+    holonomic=False,
+    max_speed=0.5,
+    max_turn=1.0,
+    wheels=WHEELS,
+    wheel_radius=WHEEL_RADIUS,
+    wheel_separation=WHEEL_SEPARATION,
+)
 
 #: Finger tips (SimplerEnv: static and dynamic friction 1.0 on the fingers and tips).
 FINGER_PAD = FrictionMaterial(sliding=1.0, torsional=0.01, rolling=0.0001)

@@ -124,7 +124,9 @@ SPOT_GRIPPER = Gripper(
     tolerance=0.01,
 )
 SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN)
-SPOT_BASE = Base(name="base", joints=BASE_PATTERN, holonomic=True, max_speed=1.6, max_turn=1.0)
+SPOT_BASE = Base(
+    name="base", joints=BASE_PATTERN, holonomic=True, max_speed=1.6, max_turn=1.0, dynamics="kinematic"
+)  # Habitat's leg base: the body is moved, the legs hold their pose
 #: The jaws' rubber-like grip.
 JAW_PAD = FrictionMaterial(sliding=1.5, torsional=0.01, rolling=0.0001)
 

@@ -111,7 +111,16 @@ STRETCH_GRIPPER = Gripper(
     tolerance=0.01,
 )
 STRETCH_HEAD = Head(name="head", joints=HEAD_PATTERN)
-STRETCH_BASE = Base(name="base", joints=BASE_PATTERN, holonomic=False, max_speed=0.3, max_turn=1.0)
+STRETCH_BASE = Base(
+    name="base",
+    joints=BASE_PATTERN,
+    holonomic=False,
+    max_speed=0.3,
+    max_turn=1.0,
+    wheels=WHEELS,
+    wheel_radius=WHEEL_RADIUS,
+    wheel_separation=WHEEL_SEPARATION,
+)
 
 RUBBER_TIP = FrictionMaterial(sliding=1.5, torsional=0.02, rolling=0.001)
 

@@ -12,7 +12,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import rotation_error
+from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_robot_suite import hold_action
 
 ARM = (
@@ -123,22 +123,7 @@ def test_ik_reaches_50_random_reachable_targets() -> None:
     agent = scene.agents[0]
     scene.reset(keyframes="rest")
     agent.set_base_pose(xy=[0.3, -0.2], yaw=0.7)
-    solver = arm_solver(scene)
-    arm = np.array(index(agent, ARM))
-    rng = np.random.default_rng(2)
-    limits = agent.qpos_limits[arm]
-    goals = rng.uniform(limits[:, 0], limits[:, 1], (50, 7))
-    context = np.repeat(scene.world.qpos, 50, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[arm]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, arm], 50, axis=0)
-    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
-    assert result.success.all(), np.flatnonzero(~result.success)
-    configurations[:, agent.qpos_adr[arm]] = result.qpos
-    reached = agent.kinematics.pose(configurations, solver.frame)
-    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
-    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
+    assert_ik_reaches_random_targets(scene, ARM, "link_gripper_tcp", 50, seed=2)
     scene.close()
 
 

@@ -12,7 +12,6 @@ import pytest
 import robot_agents as ra
 from robot_agents.checks import hold_action
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import rotation_error
 from robot_agents.robots.spot.spot import (
     ARM_JOINTS,
     BODY_HEIGHT,
@@ -21,6 +20,7 @@ from robot_agents.robots.spot.spot import (
     LEG_JOINTS,
     STANDING_LEGS,
 )
+from tests.ik_check import assert_ik_reaches_random_targets
 
 # The arm's joint origins and axes, chained independently (Menagerie's spot_arm.xml,
 # Boston Dynamics' URDF): the shoulder on the body, then (offset in the parent, axis).
@@ -136,25 +136,8 @@ def test_ik_reaches_50_random_targets_within_1_mm_and_1_deg() -> None:
     folded straight back, is missed after 100 restarts: the solver lands on the other
     wrist branch with arm_wr1 at its limit); IK starts at ``rest``."""
     scene = ra.Scene("spot", robot_poses=[(0.2, -0.1, 0.0, math.cos(0.3), 0.0, 0.0, math.sin(0.3))])
-    agent = scene.agents[0]
     scene.reset(keyframes="rest")
-    solver = arm_solver(scene)
-    arm = np.array(indices(agent, ARM_JOINTS))
-    rng = np.random.default_rng(2)
-    limits = agent.qpos_limits[arm]
-    goals = rng.uniform(limits[:, 0] + 0.1, limits[:, 1] - 0.1, (50, 6))
-    context = np.repeat(scene.world.qpos, 50, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[arm]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, arm], 50, axis=0)
-    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
-    assert result.success.all(), np.flatnonzero(~result.success)
-    configurations[:, agent.qpos_adr[arm]] = result.qpos
-    reached = agent.kinematics.pose(configurations, solver.frame)
-    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
-    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
-    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    assert_ik_reaches_random_targets(scene, ARM_JOINTS, "grasp_point", 50, seed=2, margin=0.1)
     scene.close()
 
 

@@ -12,8 +12,8 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import rotation_error
 from robot_agents.robots.widowx.widowx250s import BRIDGE_FLAT_TABLE_ROBOT_POSE, BRIDGE_SINK_ROBOT_POSE
+from tests.ik_check import assert_ik_reaches_random_targets
 
 WIDOWX_UIDS = [
     "widowx250s",
@@ -200,22 +200,7 @@ def test_ik_solves_100_random_reachable_targets(uid: str, keyframe: str, frame_n
     scene = ra.Scene(uid, robot_poses=[(0.2, -0.1, 0.3, math.cos(0.3), 0.0, 0.0, math.sin(0.3))])
     agent = scene.agents[0]
     scene.reset(keyframes=keyframe)
-    solver = arm_solver(scene, frame_name)
-    rng = np.random.default_rng(2)
-    limits = agent.qpos_limits[:6]
-    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 6))
-    context = np.repeat(scene.world.qpos, 100, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:6]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, :6], 100, axis=0)
-    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
-    assert result.success.all(), np.flatnonzero(~result.success)
-    configurations[:, agent.qpos_adr[:6]] = result.qpos
-    reached = agent.kinematics.pose(configurations, solver.frame)
-    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
-    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
-    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    assert_ik_reaches_random_targets(scene, agent.joint_names[:6], frame_name, 100, seed=2)
     scene.close()
 
 

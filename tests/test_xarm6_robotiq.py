@@ -5,17 +5,16 @@ control mode, and the wrist camera sits on UFactory's camera stand."""
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import quat_to_matrix, rotation_error
+from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.robots.robotiq.robotiq import CLOSED, SQUEEZE, TCP
 from robot_agents.robots.ufactory.xarm6 import UFACTORY_STAND_CAMERA
+from tests.ik_check import assert_ik_reaches_random_targets
 
 UIDS = ("xarm6_robotiq", "xarm6_robotiq_wristcam")
 CUBE_MASS, CUBE_HALF = 0.15, 0.02
@@ -88,23 +87,7 @@ def test_ik_solves_100_random_reachable_targets() -> None:
     scene = ra.Scene("xarm6_robotiq")
     agent = scene.agents[0]
     scene.reset(keyframes="rest")
-    solver = arm_solver(scene)
-    frame = resolve_frame(scene.model, TCP, agent.prefix)
-    arm = agent.qpos_adr[:6]
-    limits = agent.qpos_limits[:6]
-    rng = np.random.default_rng(5)
-    context = np.repeat(scene.world.qpos, 100, axis=0)
-    configurations = context.copy()
-    configurations[:, arm] = rng.uniform(limits[:, 0], limits[:, 1], (100, 6))
-    targets = agent.kinematics.pose(configurations, frame)
-    seed = np.repeat(agent.qpos[:, :6], 100, axis=0)
-    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
-    assert result.success.all(), np.flatnonzero(~result.success)
-    configurations[:, arm] = result.qpos
-    reached = agent.kinematics.pose(configurations, frame)
-    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
-    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
-    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    assert_ik_reaches_random_targets(scene, agent.joint_names[:6], TCP, 100, seed=5)
     scene.close()
 
 

@@ -54,6 +54,7 @@ from robot_agents.actuators.config import PDActuator, VelocityActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Legs
 from robot_agents.registry import register_agent
@@ -134,8 +135,7 @@ HAND_CAMERA = CameraConfig(
     uid="hand_camera",
     mount="arm_link_wr1",
     pos=(0.101, 0.0, -0.03),
-    # camera -z along the link's +x, camera y along its +z
-    quat=(0.5, 0.5, -0.5, -0.5),
+    quat=FORWARD_X_UP_Z_CAMERA_QUAT,
     width=128,
     height=128,
     fovy=60.0,

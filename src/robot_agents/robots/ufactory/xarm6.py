@@ -65,6 +65,7 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.model.compose import Attachment
 from robot_agents.parts.declaration import Arm, EndEffector
 from robot_agents.registry import register_agent
@@ -235,7 +236,7 @@ class RealSenseD435OnUFactoryStand(Agent):
 UFACTORY_STAND_CAMERA = CameraConfig(
     uid="hand_camera",
     mount="camera_link",
-    quat=(0.5, 0.5, -0.5, -0.5),
+    quat=FORWARD_X_UP_Z_CAMERA_QUAT,
     width=128,
     height=128,
     fovy=90.0,

@@ -36,6 +36,7 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
@@ -128,7 +129,7 @@ class RealSenseD405Mount(Agent):
 WRIST_CAMERA = CameraConfig(
     uid="wrist_camera",
     mount="camera_link",
-    quat=(0.5, 0.5, -0.5, -0.5),
+    quat=FORWARD_X_UP_Z_CAMERA_QUAT,
     width=128,
     height=128,
     fovy=90.0,

@@ -21,8 +21,19 @@ against ``pd_joint_delta_pos`` on the same robot, timed in alternating blocks, a
 the IK success rate of ``pd_ee_delta_pose`` on 1000 random deltas over its whole
 action range (up to 10 cm and 0.1 rad per axis) applied from the ``rest`` keyframe.
 
+Other robots (``--robots``, default ``xarm6_robotiq so100``): env steps/s at
+``num_envs=1`` in ``pd_joint_delta_pos`` and in ``pd_ee_delta_pose`` (``pd_ee_delta_pos``
+where the robot has no pose mode), the modes timed in alternating blocks. With
+``--peer-python`` (default: ``~/.venvs/maniskill/bin/python`` when it exists; made by
+``setup_maniskill.sh``) the same robot and mode of ManiSkill 3 (CPU, ``Empty-v1``,
+state observations, its own 20 Hz control) is timed in a worker process in the same
+alternating blocks (the worker times its own ``env.step`` loop, so pipe traffic is not
+counted); a robot or mode the peer lacks, or cannot load, is reported and skipped.
+Nothing here imports ManiSkill.
+
 Env and raw loops run in alternating blocks so that machine noise hits both alike.
-Usage: ``python benchmarks/step_throughput.py [--rounds 20] [--block 50] [--num-envs 64] [--no-joint]``.
+Usage: ``python benchmarks/step_throughput.py [--rounds 20] [--block 50] [--num-envs 64] [--no-joint]
+[--no-ee] [--robots UID ...] [--peer-python PATH]``.
 """
 
 from __future__ import annotations
@@ -30,13 +41,18 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import subprocess
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 import mujoco
 import numpy as np
 
 import robot_agents as ra
+
+#: The robot of the joint-mode table (``--robot``); the end-effector section is the Panda's.
+ROBOT = "panda"
 
 JOINT_MODES = (
     "pd_joint_pos",
@@ -71,7 +87,7 @@ def small_actions(env: ra.RobotEnv, count: int, rng: np.random.Generator) -> lis
 
 
 def make(mode: str, num_envs: int) -> ra.RobotEnv:
-    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode=mode, num_envs=num_envs, max_episode_steps=None)
+    env = ra.make_env("Empty-v1", robot_uids=ROBOT, control_mode=mode, num_envs=num_envs, max_episode_steps=None)
     env.reset(seed=0)
     return env.unwrapped  # type: ignore[return-value]
 
@@ -200,6 +216,150 @@ def ik_success_rate(count: int = 1000) -> tuple[float, float, float, float]:
     )
 
 
+#: The peer's worker, run by the peer's own Python: makes ``Empty-v1`` with the robot
+#: and mode given on the command line, then for every line ``N`` it reads, steps N
+#: small actions of alternating sign and answers with the seconds the steps took.
+#: SAPIEN builds render materials and visual meshes even with render_backend="none";
+#: on a machine without a GPU they are replaced by inert stand-ins (visuals only: the
+#: physics is untouched).
+PEER_WORKER = """
+import sys, time
+import numpy as np
+try:
+    import sapien.render, sapien.wrapper.urdf_loader as urdf_loader, sapien.wrapper.actor_builder as builder
+    class Inert:
+        def __init__(self, *a, **k): pass
+        def __getattr__(self, name): return Inert()
+        def __call__(self, *a, **k): return Inert()
+        def __getitem__(self, k): return [1.0, 1.0, 1.0, 1.0][k]
+        def __iter__(self): return iter([1.0, 1.0, 1.0, 1.0])
+        def __len__(self): return 4
+    for module in (sapien.render, urdf_loader):
+        for name in ("RenderMaterial", "RenderTexture2D"):
+            if hasattr(module, name):
+                setattr(module, name, Inert)
+    for name in dir(builder.ActorBuilder):
+        if name.startswith("add_") and "visual" in name:
+            setattr(builder.ActorBuilder, name, lambda self, *a, **k: self)
+    import builtins
+    builtins.input = lambda *a: "n"  # asset downloads ask; never download here
+    import gymnasium as gym, mani_skill, mani_skill.envs
+    env = gym.make("Empty-v1", robot_uids=sys.argv[1], obs_mode="state", control_mode=sys.argv[2],
+                   sim_backend="cpu", render_backend="none")
+    env.reset(seed=0)
+except BaseException as error:
+    print("unavailable", type(error).__name__, str(error).replace(chr(10), " ")[:160], flush=True)
+    sys.exit(0)
+space = env.action_space
+mid, half = (space.low + space.high) / 2, (space.high - space.low) / 2
+rng = np.random.default_rng(0)
+actions = [(mid + (-1) ** i * 0.1 * half * rng.uniform(0, 1, space.shape)).astype(np.float32) for i in range(64)]
+u = env.unwrapped
+print("ready", mani_skill.__version__, u.control_freq, u.sim_freq, flush=True)
+count = 0
+for line in sys.stdin:
+    n = int(line)
+    start = time.perf_counter()
+    for _ in range(n):
+        env.step(actions[count % 64])
+        count += 1
+    print(time.perf_counter() - start, flush=True)
+"""
+
+
+class Peer:
+    """The peer library's env in a worker process (see ``PEER_WORKER``)."""
+
+    def __init__(self, python: str, uid: str, mode: str) -> None:
+        self.process = subprocess.Popen(
+            [python, "-c", PEER_WORKER, uid, mode],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+        assert self.process.stdout is not None
+        words = self.process.stdout.readline().split()
+        self.ready = bool(words) and words[0] == "ready"
+        self.status = " ".join(words) if words else "no answer"
+        self.blocks: list[float] = []
+        if not self.ready:
+            self.close()
+
+    def loop(self, count: int) -> None:
+        """Step ``count`` times in the worker; records the worker's own timing of them."""
+        assert self.process.stdin is not None and self.process.stdout is not None
+        self.process.stdin.write(f"{count}\n")
+        self.process.stdin.flush()
+        self.blocks.append(float(self.process.stdout.readline()))
+
+    def close(self) -> None:
+        if self.process.stdin is not None:
+            self.process.stdin.close()
+        self.process.wait(timeout=60)
+
+
+def ee_mode(uid: str) -> str:
+    modes = ra.get_agent(uid).modes()
+    return "pd_ee_delta_pose" if "pd_ee_delta_pose" in modes else "pd_ee_delta_pos"
+
+
+def robot_rates(
+    uids: Sequence[str], rounds: int, block: int, peer_python: str | None, rng: np.random.Generator
+) -> None:
+    """Env steps/s of each robot in a joint and an end-effector delta mode (num_envs=1),
+    and of the peer's same robot and mode where it has them: per robot, all its loops
+    (ours and the peer's) timed in one set of alternating blocks."""
+    print("\nother robots, num_envs=1, control_freq 20 Hz (env steps/s, interleaved; higher is better)")
+    print(f"{'robot':<16} {'mode':<20} {'ours':>6} {'peer':>6} {'ours/peer':>9}  notes")
+    for uid in uids:
+        modes = ("pd_joint_delta_pos", ee_mode(uid))
+        envs, actions, peers = [], [], []
+        loops: list[Callable[[int], None]] = []
+        for mode in modes:
+            env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
+            env.reset(seed=0)
+            # Pairs of opposite small actions: target variants oscillate instead of drifting.
+            pairs = [action for action in small_actions(env, 32, rng) for action in (action, -action)]
+            counter = [0]
+
+            def ours(
+                count: int, env: ra.RobotEnv = env, pairs: list[np.ndarray] = pairs, counter: list[int] = counter
+            ) -> None:
+                for _ in range(count):
+                    env.step(pairs[counter[0] % len(pairs)])
+                    counter[0] += 1
+
+            envs.append(env)
+            actions.append(pairs)
+            loops.append(ours)
+            peer = Peer(peer_python, uid, mode) if peer_python else None
+            peers.append(peer)
+            if peer is not None and peer.ready:
+                loops.append(peer.loop)
+        rates = iter(interleaved(loops, rounds, block))
+        for mode, env, pairs, peer in zip(modes, envs, actions, peers, strict=True):
+            ours_rate = next(rates)
+            solved = []  # untimed: how often IK met these actions' targets (EE modes)
+            for action in pairs:
+                env.step(action)
+                solved.append(bool(np.all(env.agent.controller.step_info().get("ik_success", True))))
+            env.close()
+            note = "" if mode.startswith("pd_joint") else f"IK {100 * np.mean(solved):.0f}% of steps; "
+            if peer is not None and peer.ready:
+                next(rates)
+                peer_rate = rounds * block / sum(peer.blocks[1:])  # the timed rounds, after the warm-up block
+                peer.close()
+                print(
+                    f"{uid:<16} {mode:<20} {ours_rate:>6.0f} {peer_rate:>6.0f} {ours_rate / peer_rate:>8.2f}x  "
+                    f"{note}peer: ManiSkill {peer.status.split()[1]} (its own {peer.status.split()[3]} Hz physics)",
+                    flush=True,
+                )
+            else:
+                status = peer.status if peer is not None else "no peer python"
+                print(f"{uid:<16} {mode:<20} {ours_rate:>6.0f} {'-':>6} {'-':>9}  {note}peer: {status}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--rounds", type=int, default=20)
@@ -207,14 +367,24 @@ def main() -> None:
     parser.add_argument("--num-envs", type=int, default=64)
     parser.add_argument("--no-joint", action="store_true", help="skip the joint-mode table")
     parser.add_argument("--no-ee", action="store_true", help="skip the end-effector comparison")
+    parser.add_argument("--robot", default="panda", help="robot of the joint-mode table (at its default sim_freq)")
+    parser.add_argument("--robots", nargs="*", default=["xarm6_robotiq", "so100"], help="other robots to time")
+    default_peer = Path.home() / ".venvs" / "maniskill" / "bin" / "python"
+    parser.add_argument(
+        "--peer-python",
+        default=str(default_peer) if default_peer.exists() else None,
+        help="a Python with ManiSkill 3 installed (default: ~/.venvs/maniskill/bin/python if present)",
+    )
     args = parser.parse_args()
+    global ROBOT
+    ROBOT = args.robot
     probe = make("pd_joint_pos", 1)
     scene = probe.scene
     print(
         f"robot_agents {ra.__version__}, mujoco {mujoco.__version__}, python {platform.python_version()}, {os.cpu_count()} cores"
     )
     print(
-        f"panda, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n"
+        f"{ROBOT}, Empty-v1, sim_freq {scene.sim_freq} Hz, control_freq {scene.control_freq} Hz, {scene.substeps} substeps/step\n"
     )
     probe.close()
     n = args.num_envs
@@ -235,6 +405,8 @@ def main() -> None:
             f" {batch:>9.0f} {batch / const_b:>8.2f}x",
             flush=True,
         )
+    if args.robots:
+        robot_rates(args.robots, args.rounds, args.block, args.peer_python, rng)
     if args.no_ee:
         return
     rates = ee_against_joint(args.rounds, args.block, rng)

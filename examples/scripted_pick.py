@@ -100,13 +100,26 @@ class Arm:
         self.agent: ra.Agent = env.agent
         arm = tool_arm(self.agent, "scripted_pick")
         self.ee = arm.end_effectors[0].name
+        # The frame end-effector commands are expressed in: the tool's command frame (a
+        # body that may move with a mobile base), else the robot's root.
+        self.command_frame = arm.end_effectors[0].command_frame or "root"
         joints = [self.agent.index.joint(j, "scripted_pick") for j in self.agent.part_joints[arm.name]]
         self.q_index = np.array([j.qpos_start for j in joints])
         self.v_index = np.array([j.dof_start for j in joints])
         self.limits = self.agent.qpos_limits[self.q_index]
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
-        self.gripper_joint = self.agent.part_joints[gripper][0] if gripper else None
+        # all of the gripper's joints: its controller may drive any one of them (a
+        # leader the others follow through an equality), not necessarily the first
+        self.gripper_joints = set(self.agent.part_joints[gripper]) if gripper else set()
+        # Whether the gripper opens towards its action's upper bound (the leader's open
+        # position above its closed one); the Google Robot's fingers open at 0 rad.
+        self.opens_high = True
+        if gripper:
+            part = self.agent.gripper()
+            leader_open = part.open if isinstance(part.open, float | int) else part.open[0]
+            leader_closed = part.closed if isinstance(part.closed, float | int) else part.closed[0]
+            self.opens_high = leader_open >= leader_closed
 
     def set_mode(self, mode: str) -> None:
         """Switch the control mode and find which of its controllers drives the arm and
@@ -119,7 +132,7 @@ class Arm:
             joints = controller.config.joint_names
             if self.arm_joint in joints:
                 self.arm_name = name
-            if self.gripper_joint is not None and self.gripper_joint in joints:
+            if self.gripper_joints & set(joints):
                 self.gripper = name
 
     def action(self, arm_raw: np.ndarray, gripper_open: np.ndarray | None = None) -> np.ndarray:
@@ -132,7 +145,8 @@ class Arm:
             if name == self.arm_name:
                 action[:, slot] = action_for(controller, arm_raw)
             elif name == self.gripper and gripper_open is not None:
-                raw = np.where(gripper_open[:, None], controller.raw_high, controller.raw_low)
+                opens = gripper_open[:, None] == self.opens_high
+                raw = np.where(opens, controller.raw_high, controller.raw_low)
                 action[:, slot] = action_for(controller, raw)
         return action
 
@@ -146,7 +160,7 @@ class Arm:
         shortened (not clipped per axis, which would bend the path) to at most ``speed``
         (m per step) and what one action may command."""
         tool = self.agent.frame_pose(self.ee)
-        tool_in_root = self.agent.frame_pose(self.ee, relative_to="root")
+        tool_in_root = self.agent.frame_pose(self.ee, relative_to=self.command_frame)
         root = pose_multiply(tool, pose_inverse(tool_in_root))
         wanted = pose_multiply(pose_inverse(root), np.concatenate([position, tool[:, 3:] if quat is None else quat], 1))
         controller = self.controller.parts[self.arm_name]
@@ -308,7 +322,7 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
         steps += 1
 
     position, quat = env.goal_pose[:, :3], env.goal_pose[:, 3:] if env.with_orientation else None
-    opened = np.ones(n, dtype=bool) if arm.gripper_joint else None
+    opened = np.ones(n, dtype=bool) if arm.gripper_joints else None
     # 1. Joint positions along a ramp to the IK solution; 2. end-effector deltas.
     arm.ramp(step, arm.solve(position, quat), turn_steps, opened)
     arm.set_mode(end_effector_mode(arm.agent, rotation=env.with_orientation))

@@ -125,17 +125,17 @@ def test_every_mode(uid: str, mode: str) -> None:
     scene.close()
 
 
-@pytest.mark.parametrize("uid", ROBOTS)
-def test_default_mode_holds_keyframe_for_five_seconds(uid: str) -> None:
+@pytest.mark.parametrize(("uid", "keyframe"), [(u, k) for u in ROBOTS for k in ra.get_agent(u).keyframes])
+def test_default_mode_holds_every_keyframe_for_five_seconds(uid: str, keyframe: str) -> None:
     scene = ra.Scene(uid)
     agent = scene.agents[0]
-    scene.reset()
+    scene.reset(keyframes=keyframe)
     start = agent.qpos
     worst = 0.0
     for _ in range(5 * scene.control_freq):
         agent.set_action(hold_action(agent))
         scene.step()
         worst = max(worst, float(np.max(np.abs(agent.qpos - start))))
-    assert worst < 0.01, f"{uid} drifted {worst:.4f} rad/m from its rest keyframe"
+    assert worst < 0.01, f"{uid} drifted {worst:.4f} rad/m from keyframe {keyframe!r}"
     assert np.all(agent.is_static())
     scene.close()

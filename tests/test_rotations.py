@@ -11,6 +11,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics.rotations import (
+    FORWARD_X_UP_Z_CAMERA_QUAT,
     GL_TO_CV,
     compose_into,
     look_at_quat,
@@ -285,3 +286,9 @@ def test_look_at_rejects_degenerate_views() -> None:
             look((0, 0), (1, 0, 0))
         with pytest.raises(ra.ConfigError, match="3 finite numbers"):
             look((0, 0, math.nan), (1, 0, 0))
+
+
+def test_forward_x_up_z_camera_looks_along_link_x_with_image_up_along_link_z() -> None:
+    rotation = quat_to_matrix(FORWARD_X_UP_Z_CAMERA_QUAT)  # camera axes in the link frame
+    np.testing.assert_allclose(rotation @ [0.0, 0.0, -1.0], [1.0, 0.0, 0.0], atol=1e-12)  # view direction
+    np.testing.assert_allclose(rotation @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-12)  # image up

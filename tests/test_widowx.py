@@ -12,9 +12,8 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import rotation_error
 from robot_agents.robots.widowx.widowx250s import BRIDGE_FLAT_TABLE_ROBOT_POSE, BRIDGE_SINK_ROBOT_POSE
-from tests.test_robot_suite import hold_action
+from tests.ik_check import assert_ik_reaches_random_targets
 
 WIDOWX_UIDS = [
     "widowx250s",
@@ -201,22 +200,7 @@ def test_ik_solves_100_random_reachable_targets(uid: str, keyframe: str, frame_n
     scene = ra.Scene(uid, robot_poses=[(0.2, -0.1, 0.3, math.cos(0.3), 0.0, 0.0, math.sin(0.3))])
     agent = scene.agents[0]
     scene.reset(keyframes=keyframe)
-    solver = arm_solver(scene, frame_name)
-    rng = np.random.default_rng(2)
-    limits = agent.qpos_limits[:6]
-    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 6))
-    context = np.repeat(scene.world.qpos, 100, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:6]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, :6], 100, axis=0)
-    result = solver.solve(context, targets, seed, max_iterations=200, restarts=50)
-    assert result.success.all(), np.flatnonzero(~result.success)
-    configurations[:, agent.qpos_adr[:6]] = result.qpos
-    reached = agent.kinematics.pose(configurations, solver.frame)
-    assert np.max(np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1)) < 1e-3
-    assert np.max(np.linalg.norm(rotation_error(reached[:, 3:], targets[:, 3:]), axis=1)) < math.radians(1)
-    assert np.all(result.qpos >= limits[:, 0]) and np.all(result.qpos <= limits[:, 1])
+    assert_ik_reaches_random_targets(scene, agent.joint_names[:6], frame_name, 100, seed=2)
     scene.close()
 
 
@@ -306,20 +290,6 @@ def test_gripper_grasps_lifts_and_holds_a_cube(uid: str, keyframe: str, pad_offs
 
 
 # ---------------------------------------------------------------- keyframes
-@pytest.mark.parametrize("uid", WIDOWX_UIDS)
-def test_every_keyframe_is_held_for_five_seconds(uid: str) -> None:
-    scene = ra.Scene(uid, control_modes="pd_joint_delta_pos")
-    agent = scene.agents[0]
-    for name in agent.keyframes:
-        scene.reset(keyframes=name)
-        start = agent.qpos
-        worst = 0.0
-        for _ in range(5 * scene.control_freq):
-            agent.set_action(hold_action(agent))
-            scene.step()
-            worst = max(worst, float(np.max(np.abs(agent.qpos - start))))
-        assert worst < 0.01, (name, worst)
-    scene.close()
 
 
 # ---------------------------------------------------------------- cameras

@@ -134,12 +134,25 @@ def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = 
     return 0 if summary.finite else 1
 
 
-def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5.0) -> int:
-    """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a failure."""
+def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5.0, sweep: bool = False) -> int:
+    """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a
+    failure. ``sweep``: instead, the time-step sweep's table (exit 1 when no step passes)."""
     from robot_agents.checks import run_checks
 
     cls = resolve_robot(spec, floating)
     cmd_info(spec, out, floating)
+    if sweep:
+        from robot_agents.tuning.timestep import sweep_timestep
+
+        swept = sweep_timestep(cls, stop_after=None)
+        best = swept.largest_passing
+        out.write(f"\ntime-step sweep (control at {swept.control_freq} Hz):\n{swept.table()}\n\n")
+        out.write(
+            f"largest step at which every claim holds: {1000 / best:.3g} ms (sim_freq {best} Hz)\n"
+            if best is not None
+            else "no step tried passes every claim\n"
+        )
+        return 0 if best is not None else 1
     model = cls.check().index.model
     out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n\nchecks:\n")
     results = run_checks(cls, random_seconds=seconds)
@@ -163,6 +176,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("uid", help=robot_help)
     check.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
     check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
+    check.add_argument(
+        "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
+    )
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
@@ -191,7 +207,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating)
         if args.command == "check":
-            return cmd_check(args.uid, stream, args.floating, parse_seconds(args.seconds))
+            return cmd_check(args.uid, stream, args.floating, parse_seconds(args.seconds), args.sweep)
         default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
         return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating)
     except (RobotAgentsError, UsageError) as err:

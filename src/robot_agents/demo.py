@@ -19,6 +19,8 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.agent.index import JointKind
+from robot_agents.controllers.joint import PDJointPosConfig
 from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.parts.declaration import Gripper
 from robot_agents.registry import get_agent
@@ -151,7 +153,9 @@ def run_demo(
         }
         movable = [i for i, n in enumerate(agent.joint_names) if n not in gripping]
         span = agent.qpos_limits[movable, 1] - agent.qpos_limits[movable, 0]
-        amplitude = np.minimum(0.35, 0.15 * np.where(np.isfinite(span), span, 2.0))
+        # Up to 0.35 rad for a hinge, 5 cm for a slide (a floating mount stays in view).
+        slides = np.array([j.kind is JointKind.SLIDE for j in agent.index.joints])[movable]
+        amplitude = np.minimum(np.where(slides, 0.05, 0.35), 0.15 * np.where(np.isfinite(span), span, 2.0))
         for i in range(steps_per_pose * 2):
             phase = 2 * np.pi * i / (steps_per_pose * 2)
             target = base.copy()
@@ -192,18 +196,34 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
 
 
 def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
-    """A free camera that frames the robot at its first keyframe, seen from the front
-    left, with room for the demo's motion around that pose."""
+    """A free camera that frames the robot at every keyframe (the demo visits each),
+    seen from the front left, with room for the motion around them. Leaves the scene
+    reset to its first keyframe."""
+    names = agent.keyframe_names()
     lower, upper = robot_bounds(scene.world, [agent.prefix])
+    for name in names[1:]:
+        scene.reset(keyframes=name)
+        low, high = robot_bounds(scene.world, [agent.prefix])
+        lower, upper = np.minimum(lower, low), np.maximum(upper, high)
+    if len(names) > 1:
+        scene.reset(keyframes=names[0])
     return framing_camera(lower, upper, margin=1.1)
 
 
 def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """The ``pd_joint_pos`` action (per part) that commands ``qpos_target`` (shape ``(dof,)``)."""
+    """The ``pd_joint_pos`` action (per part) that commands ``qpos_target`` (shape ``(dof,)``):
+    absolute targets; a part with delta targets (legs) steps towards it; a velocity part (a
+    mobile base) holds still."""
     parts = []
     for controller in agent.controller.parts.values():
-        index = [agent.joint_names.index(j) for j in controller.config.joint_names]
-        raw = qpos_target[index][: controller.action_dim]
+        config = controller.config
+        index = [agent.joint_names.index(j) for j in config.joint_names]
+        if not isinstance(config, PDJointPosConfig):
+            raw = np.zeros(controller.action_dim)
+        elif config.use_delta:
+            raw = (qpos_target[index] - agent.qpos[0, index])[: controller.action_dim]
+        else:
+            raw = qpos_target[index][: controller.action_dim]
         if controller.config.normalize_action:
             raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
         parts.append(raw)

@@ -28,8 +28,10 @@ from robot_agents.agent.frames import RobotFrames
 from robot_agents.agent.grippers import GripperParts
 from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
+from robot_agents.agent.manipulator import ManipulatorView, MobileManipulatorParams
 from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerContext
+from robot_agents.controllers.base_vel import PDBaseVelController
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.kinematics.forward import FrameRef, Kinematics
@@ -89,7 +91,10 @@ class Agent(AgentDefinition):
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
         self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
         base = next((p for p in checked.parts if isinstance(p, Base)), None)
-        self.mobile = MobileBase(world, self.index, self.state, checked.part_joints[base.name] if base else None, name)
+        self.mobile = MobileBase(
+            world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
+        )
+        self._manipulator: ManipulatorView | None = None
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -232,6 +237,26 @@ class Agent(AgentDefinition):
         """Per-substep hook: interpolated targets, explicit PD loops."""
         self.control.active.before_substep(substep, substeps, self.world)
 
+    def before_step(self) -> None:
+        """Before a control step's physics: the base remembers its pose (kinematic
+        bases and wheels)."""
+        self.mobile.before_step()
+
+    def after_step(self) -> None:
+        """After a control step's physics: a kinematic base moves by the commanded
+        velocity (or refuses a colliding move); wheels turn with the base."""
+        if not self.mobile.moves_each_step:
+            return
+        commanded = None
+        for controller in self.control.active.parts.values():
+            if isinstance(controller, PDBaseVelController):
+                commanded = controller.target_qvel
+        self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
+
+    def set_base_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
+        """Run this robot's base ``"dynamic"`` or ``"kinematic"`` (overrides ``Base.dynamics``)."""
+        self.mobile.set_dynamics(dynamics, refuse_collisions)
+
     # ------------------------------------------------------------------ reset / state
     def keyframe_qpos(self, name: str) -> FloatArray:
         """Keyframe ``name`` as the robot's ``qpos`` vector ``(nq,)`` (a copy)."""
@@ -349,6 +374,77 @@ class Agent(AgentDefinition):
         where = f"{type(self).__name__}.set_base_pose"
         self.mobile.set(xy, yaw, env_ids, where)
         self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
+
+    # ------------------------------------------------------------------ Habitat's manipulator API
+    @property
+    def manipulator(self) -> ManipulatorView:
+        """The Habitat-named arm / gripper / end-effector API (built on first use)."""
+        if self._manipulator is None:
+            self._manipulator = ManipulatorView(self)
+        return self._manipulator
+
+    @property
+    def params(self) -> MobileManipulatorParams:
+        """Habitat's ``MobileManipulatorParams``, derived from the parts (names, SI units)."""
+        return self.manipulator.params
+
+    @property
+    def arm_joint_pos(self) -> FloatArray:
+        """Arm joint positions ``(num_envs, n)`` (rad / m)."""
+        return self.manipulator.arm_joint_pos
+
+    @arm_joint_pos.setter
+    def arm_joint_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_arm_joint_pos(values)
+
+    @property
+    def arm_motor_pos(self) -> FloatArray:
+        """Arm drive position targets ``(num_envs, n)``."""
+        return self.manipulator.arm_motor_pos
+
+    @property
+    def arm_velocity(self) -> FloatArray:
+        """Arm joint velocities ``(num_envs, n)`` (rad/s, m/s)."""
+        return self.manipulator.arm_velocity
+
+    @property
+    def gripper_joint_pos(self) -> FloatArray:
+        """Gripper joint positions ``(num_envs, n)``."""
+        return self.manipulator.gripper_joint_pos
+
+    def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
+        """Put the gripper joints at the open state (teleport) and hold them there."""
+        self.manipulator.open_gripper(env_ids)
+
+    def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
+        """Put the gripper joints at the closed state (teleport) and hold them there."""
+        self.manipulator.close_gripper(env_ids)
+
+    def set_gripper_target_state(self, state: npt.ArrayLike) -> None:
+        """Gripper drive targets at ``state`` (0 open ... 1 closed) until the next action."""
+        self.manipulator.set_gripper_target_state(state)
+
+    def ee_transform(self, i: int = 0) -> FloatArray:
+        """World transform ``(num_envs, 4, 4)`` of end effector ``i``."""
+        return self.manipulator.ee_transform(i)
+
+    def ee_local_offset(self, i: int = 0) -> FloatArray:
+        """End effector ``i``'s position in its link frame ``(3,)`` (m)."""
+        return self.manipulator.ee_local_offset(i)
+
+    def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
+        """Base-frame positions ``(num_envs, 3)`` clipped into the sampled workspace box."""
+        return self.manipulator.clip_ee_to_workspace(pos, i)
+
+    def calculate_ee_forward_kinematics(self, q: npt.ArrayLike, i: int = 0) -> FloatArray:
+        """World transform ``(num_envs, 4, 4)`` of end effector ``i`` at arm joints ``q``; no side effects."""
+        return self.manipulator.calculate_ee_forward_kinematics(q, i)
+
+    def calculate_ee_inverse_kinematics(
+        self, pose: npt.ArrayLike, i: int = 0, position_only: bool = False, restarts: int = 20
+    ) -> tuple[FloatArray, BoolArray]:
+        """Arm joints ``(num_envs, n)`` reaching world ``pose`` and per-env success; no side effects."""
+        return self.manipulator.calculate_ee_inverse_kinematics(pose, i, position_only, restarts)
 
     def is_gripper_open(self, gripper: str | None = None) -> BoolArray:
         """Per env: the gripper within its tolerance of ``open``."""

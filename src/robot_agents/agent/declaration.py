@@ -142,6 +142,9 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     """Check the declaration's types and internal consistency without loading a model."""
     name = cls.__name__
     model_path(cls)
+    freq = cls.sim_freq
+    if freq is not None and (isinstance(freq, bool) or not isinstance(freq, int) or freq <= 0):
+        raise ConfigError(f"{name}.sim_freq: expected a positive integer (Hz) or None, got {freq!r}.")
     for attr, kind in (
         ("actuators", ActuatorConfig),
         ("parts", Part),

@@ -53,6 +53,10 @@ class AgentDefinition:
             means ``fix_root_link`` (on for fixed-base arms, off for free robots).
         link_materials / default_material: friction per body / for every other geom.
         cameras / touch_sensors: sensors that travel with the robot.
+        sim_freq: the physics rate (Hz) this robot is simulated at unless a user passes
+            one: the largest step at which all its physics claims hold, found by the
+            time-step sweep (:mod:`robot_agents.tuning.timestep`), with a margin;
+            ``None``: the library's default (500 Hz).
         task_limits: task id -> why this robot cannot do it although it has the parts
             the task asks for (read by the tests of the tasks' scripted solvers).
     """
@@ -79,6 +83,7 @@ class AgentDefinition:
     cameras: ClassVar[tuple[CameraConfig, ...]] = ()
     touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
     task_limits: ClassVar[Mapping[str, str]] = {}
+    sim_freq: ClassVar[int | None] = None
 
     # ------------------------------------------------------------------ declaration
     @classmethod

@@ -17,6 +17,7 @@ from robot_agents.errors import ConfigError, StateError
 
 if TYPE_CHECKING:
     from robot_agents.agent.joint_state import JointState
+    from robot_agents.parts.declaration import Base
     from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
@@ -34,13 +35,37 @@ class MobileBase:
     to where the scene mounted the robot."""
 
     def __init__(
-        self, world: SimBackend, index: RobotIndex, state: JointState, planar: tuple[str, ...] | None, owner: str
+        self,
+        world: SimBackend,
+        index: RobotIndex,
+        state: JointState,
+        planar: tuple[str, ...] | None,
+        owner: str,
+        part: Base | None = None,
     ) -> None:
         self.world = world
         self.index = index
         self.state = state
         self.owner = owner
         self.planar = tuple(index.joint(j, owner) for j in planar) if planar else None
+        self.dynamics = part.dynamics if part is not None else "dynamic"
+        self.refuse_collisions = part.refuse_collisions if part is not None else False
+        self.wheels = tuple(index.joint(j, owner) for j in part.wheels) if part is not None else ()
+        self.wheel_radius = part.wheel_radius if part is not None else 0.0
+        self.wheel_separation = part.wheel_separation if part is not None else 0.0
+        n = world.num_envs
+        #: Kinematic moves refused because they would collide, per env (a running count).
+        self.refused_moves = np.zeros(n, dtype=np.int64)
+        #: Whether the last control step's kinematic move was refused, per env.
+        self.last_refused = np.zeros(n, dtype=bool)
+        self._start: FloatArray | None = None
+        self._base_geoms = self._rigid_geoms() if self.planar is not None else np.zeros(0, dtype=np.int64)
+        robot_bodies = index.subtree_bodies(index.root_body_id)
+        # contacts with these never refuse a move: the robot itself and the ground (planes)
+        self._ignored_geoms = np.flatnonzero(
+            np.isin(index.model.geom_bodyid, robot_bodies) | (index.model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE)
+        )
+        self._wheel_start: FloatArray | None = None
         if self.planar is None and index.free_joint is None:
             self.kind = "fixed"
         else:
@@ -126,3 +151,119 @@ class MobileBase:
         qpos_adr = list(range(free.qpos_adr, free.qpos_adr + 7))
         dof_adr = list(range(free.dof_adr, free.dof_adr + 6))
         self.world.write_joint_state(ids, qpos_adr, values, dof_adr, np.zeros((n, 6)))
+
+    # ------------------------------------------------------------------ per-step motion
+    def set_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
+        """Switch this robot's base to ``"dynamic"`` or ``"kinematic"`` (and optionally
+        turn the collision check of kinematic moves on or off)."""
+        if dynamics not in ("dynamic", "kinematic"):
+            raise ConfigError(f"{self.owner}.set_base_dynamics: expected 'dynamic' or 'kinematic', got {dynamics!r}.")
+        if dynamics == "kinematic" and self.planar is None:
+            raise ConfigError(f"{self.owner}.set_base_dynamics: a kinematic base needs a Base part on planar joints.")
+        self.dynamics = dynamics
+        if refuse_collisions is not None:
+            self.refuse_collisions = bool(refuse_collisions)
+
+    @property
+    def moves_each_step(self) -> bool:
+        """True when :meth:`before_step` / :meth:`after_step` have work to do."""
+        return self.planar is not None and (self.dynamics == "kinematic" or bool(self.wheels))
+
+    def _rigid_geoms(self) -> npt.NDArray[np.int64]:
+        """Geoms of the base body and of the bodies attached to it with no joint or a
+        wheel joint only (what a kinematic move must not push into the world)."""
+        model = self.index.model
+        planar = self.planar
+        if planar is None:
+            return np.zeros(0, dtype=np.int64)
+        base = int(model.jnt_bodyid[planar[-1].id])
+        wheel_ids = {w.id for w in self.wheels}
+        bodies = [base]
+        for body in self.index.subtree_bodies(base):
+            if body == base:
+                continue
+            joints = range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body])
+            parent = int(model.body_parentid[body])
+            if parent in bodies and all(j in wheel_ids for j in joints):
+                bodies.append(body)
+        return np.flatnonzero(np.isin(model.geom_bodyid, bodies))
+
+    def _planar_qpos(self) -> FloatArray:
+        if self.planar is None:
+            raise StateError(f"{self.owner}: no planar base joints.")
+        adr = [j.qpos_adr for j in self.planar]
+        values: FloatArray = self.world.qpos[:, adr].copy()
+        return values
+
+    def before_step(self) -> None:
+        """Remember the planar pose at the start of a control step."""
+        if self.moves_each_step:
+            self._start = self._planar_qpos()
+            self._wheel_start = self.world.qpos[:, [w.qpos_adr for w in self.wheels]].copy()
+
+    def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
+        """After the physics substeps: a kinematic base is put at the start pose plus
+        ``commanded`` (mount-frame joint velocities ``(num_envs, 3)``) times
+        ``control_dt`` (a refused move leaves it at the start pose); wheels turn by the
+        base's actual motion."""
+        if not self.moves_each_step or self._start is None or self.planar is None:
+            return
+        start = self._start
+        n = start.shape[0]
+        adr = [j.qpos_adr for j in self.planar]
+        dofs = [j.dof_adr for j in self.planar]
+        ids = np.arange(n)
+        if self.dynamics == "kinematic":
+            velocity = np.zeros((n, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
+            end = start + velocity * control_dt
+            self.world.write_joint_state(ids, adr, end, dofs, velocity)
+            self.last_refused[:] = False
+            if self.refuse_collisions:
+                hit = self._touching_world()
+                if hit.any():
+                    back = np.flatnonzero(hit)
+                    self.world.write_joint_state(back, adr, start[back], dofs, np.zeros((len(back), 3)))
+                    self.last_refused[back] = True
+                    self.refused_moves[back] += 1
+        if self.wheels and self._wheel_start is not None:
+            self._turn_wheels(start, self._planar_qpos(), self._wheel_start, control_dt)
+
+    def _touching_world(self) -> npt.NDArray[np.bool_]:
+        """Per env: does a base geom touch a geom outside the robot (not the ground)?"""
+        datas = self.world.render_sources()
+        base, robot = self._base_geoms, self._ignored_geoms
+        hit = np.zeros(len(datas), dtype=bool)
+        for env, data in enumerate(datas):
+            if data.ncon == 0:
+                continue
+            g1, g2 = data.contact.geom1, data.contact.geom2
+            touching = data.contact.dist < 0
+            one = np.isin(g1, base) & ~np.isin(g2, robot)
+            two = np.isin(g2, base) & ~np.isin(g1, robot)
+            hit[env] = bool(np.any(touching & (one | two)))
+        return hit
+
+    def _turn_wheels(self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float) -> None:
+        """Differential kinematics: left wheels roll ``v - w b / 2``, right wheels
+        ``v + w b / 2`` (``v`` forward travel, ``w`` yaw change, ``b`` separation),
+        from the angles at the step's start (physics does not turn passive wheels)."""
+        n = start.shape[0]
+        turn = wrap_angle(end[:, 2] - start[:, 2])
+        heading = start[:, 2] + self._mount_yaw + 0.5 * turn
+        # the slides move along the mount frame's axes; the heading is world yaw
+        c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
+        dx = c * (end[:, 0] - start[:, 0]) - s * (end[:, 1] - start[:, 1])
+        dy = s * (end[:, 0] - start[:, 0]) + c * (end[:, 1] - start[:, 1])
+        forward = np.cos(heading) * dx + np.sin(heading) * dy
+        half = len(self.wheels) // 2
+        travel = np.concatenate(
+            [
+                np.repeat((forward - 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
+                np.repeat((forward + 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
+            ],
+            axis=1,
+        )
+        qadr = [w.qpos_adr for w in self.wheels]
+        dadr = [w.dof_adr for w in self.wheels]
+        angles = wheel_start + travel / self.wheel_radius  # what physics did to the wheels is overwritten
+        self.world.write_joint_state(np.arange(n), qadr, angles, dadr, travel / self.wheel_radius / control_dt)

@@ -217,7 +217,9 @@ def modes_from_parts(
     The main part (the first arm; else the first hand; else the first part that is not
     a gripper) gets the six joint modes and, for an arm with a task space, the five
     end-effector modes; a gripper adds one normalized open/close action to every mode;
-    every other part adds delta joint-position actions. ``velocity_limits`` holds the
+    every other part adds delta joint-position actions (a mobile manipulator with a
+    torso or head also gets ``pd_joint_delta_pos_stiff_body``: the arm's deltas with the
+    body at absolute joint targets). ``velocity_limits`` holds the
     driven joints (rad/s or m/s; ``inf`` where unknown). When any of the main part's
     drives is in ``torque_only`` (motors that cannot follow position targets), the
     table is one mode, ``joint_effort``: normalized efforts within the drives' limits
@@ -269,11 +271,29 @@ def modes_from_parts(
                 others[part.name] = PDJointPosConfig(
                     joint_names=moving, use_delta=True, lower=-part.max_delta, upper=part.max_delta
                 )
-    return combine_parts(main.name, table, **others)
+    combined = combine_parts(main.name, table, **others)
+    # A mobile manipulator's body (torso, head) held at absolute targets while the arm
+    # takes delta commands: ManiSkill's Fetch mode of that name.
+    body = {
+        part.name: PDJointPosConfig(joint_names=others[part.name].joint_names, normalize_action=False)
+        for part in parts
+        if part is not main and part.name in others and not isinstance(part, (Gripper, Base))
+    }
+    if body and any(isinstance(p, Base) for p in parts) and "pd_joint_delta_pos" in table and others:
+        combined[STIFF_BODY_MODE] = {
+            main.name: table["pd_joint_delta_pos"],
+            **{name: body.get(name, config) for name, config in others.items()},
+        }
+    return combined
+
+
+#: Mobile manipulators with a torso / head: arm deltas, body at absolute targets.
+STIFF_BODY_MODE = "pd_joint_delta_pos_stiff_body"
 
 
 __all__ = [
     "EE_MODES",
+    "STIFF_BODY_MODE",
     "JointGroup",
     "TaskSpace",
     "WorkspaceBox",

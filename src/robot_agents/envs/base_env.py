@@ -28,7 +28,7 @@ from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
-from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, DEFAULT_SIM_FREQ, RobotSpecifier, Scene
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -58,7 +58,8 @@ class RobotEnv(gym.Env[Any, Any]):
         obs_mode: ``"state"`` (flat float32 array ``(num_envs, D)``), ``"state_dict"``, or
             a camera mode: ``"sensor_data"``, ``"rgb"``, ``"depth"``, ``"rgbd"``,
             ``"segmentation"``, ``"pointcloud"`` (see ``docs/sensors.md``).
-        sim_freq / control_freq: physics / control rates in Hz.
+        sim_freq / control_freq: physics / control rates in Hz; ``sim_freq=None``: the
+            robots' declared default step (``AgentDefinition.sim_freq``), else 500 Hz.
         render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
         render_size: ``(width, height)`` of rendered frames in pixels.
         max_episode_steps: episodes are truncated after this many steps (``None``: never).
@@ -72,6 +73,9 @@ class RobotEnv(gym.Env[Any, Any]):
         sensor_configs: camera overrides by camera key, e.g.
             ``{"hand_camera": {"width": 256, "height": 256}}``, or ``{"base_camera": None}``
             to drop a camera; unknown keys and fields raise.
+        base_dynamics: ``"dynamic"`` or ``"kinematic"`` for every robot with a ``Base``
+            part (overrides ``Base.dynamics``; see docs/mobile-manipulators.md);
+            ``None``: as declared.
 
     Randomness: every env has its own random stream, :meth:`env_rng`; ``reset(seed=s)``
     seeds env ``i`` with ``s + i`` (Gymnasium's rule for vector envs), so env ``i`` of a
@@ -92,7 +96,7 @@ class RobotEnv(gym.Env[Any, Any]):
         num_envs: int = 1,
         control_mode: str | Sequence[str | None] | None = None,
         obs_mode: str = "state",
-        sim_freq: int = DEFAULT_SIM_FREQ,
+        sim_freq: int | None = None,
         control_freq: int = DEFAULT_CONTROL_FREQ,
         render_mode: str | None = None,
         render_size: tuple[int, int] = (480, 360),
@@ -102,6 +106,7 @@ class RobotEnv(gym.Env[Any, Any]):
         sensor_configs: SensorOverrides | None = None,
         robot_poses: Sequence[Sequence[float]] | None = None,
         raise_on_instability: bool = False,
+        base_dynamics: str | None = None,
     ) -> None:
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -128,6 +133,8 @@ class RobotEnv(gym.Env[Any, Any]):
             sensor_configs=sensor_configs,
             robot_poses=robot_poses,
         )
+        if base_dynamics is not None:
+            self._override_base_dynamics(base_dynamics)
         self.num_envs = self.scene.num_envs
         self.sim_freq, self.control_freq = self.scene.sim_freq, self.scene.control_freq
         self.obs_mode = obs_mode
@@ -342,6 +349,18 @@ class RobotEnv(gym.Env[Any, Any]):
             f"{where}: expected seed to be an int >= 0, None, or a list of {self.num_envs} ints >= 0 or None "
             f"(one per env), got {seed!r}."
         )
+
+    def _override_base_dynamics(self, dynamics: str) -> None:
+        """``base_dynamics=``: every robot with a planar ``Base`` runs ``"dynamic"`` or
+        ``"kinematic"`` (its ``refuse_collisions`` setting is kept)."""
+        mobile = [a for a in self.scene.agents if a.mobile.kind == "planar"]
+        if not mobile:
+            raise ConfigError(
+                f"{type(self).__name__}: base_dynamics={dynamics!r} needs a robot with a Base part; "
+                f"got {[type(a).__name__ for a in self.scene.agents]}."
+            )
+        for agent in mobile:
+            agent.set_base_dynamics(dynamics)
 
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several

@@ -17,9 +17,12 @@ the null space of the task, ``(I - J^+ J) k (q_rest - q)``, which changes joint
 positions without moving the end effector (to first order).
 
 Only the chain's joints move; every other joint (fingers, other robots, objects)
-stays at the value given in ``context_qpos``. The solver keeps the best iterate, so a
-target it cannot reach still yields the closest configuration it found, and it
-reports per env whether the tolerances were met.
+stays at the value given in ``context_qpos``, except followers of a chain joint through
+linear joint equalities (``follower = c0 + c1 * leader``, possibly through a chain of
+them, e.g. the telescoping segments of Stretch's arm): they move with their leader, and
+the leader's Jacobian column includes ``c1`` times theirs. The solver keeps the best
+iterate, so a target it cannot reach still yields the closest configuration it found,
+and it reports per env whether the tolerances were met.
 """
 
 from __future__ import annotations
@@ -157,6 +160,7 @@ class IKSolver:
                 )
         self._qpos_sel = index_selector(self.qpos_adr)
         self._dof_sel = index_selector(self.dof_adr)
+        self._followers = _linear_followers(model, self.dof_adr)
         # Scratch buffers of the per-env descent.
         self._pose = np.empty(7)
         self._error = np.empty(6)
@@ -168,6 +172,11 @@ class IKSolver:
     @property
     def size(self) -> int:
         return len(self.qpos_adr)
+
+    def _move_followers(self, qpos: FloatArray, q: FloatArray) -> None:
+        """Followers of chain joints take ``c0 + c1 * leader`` (linear joint couplings)."""
+        for qadr, _, column, offset, slope in self._followers:
+            qpos[qadr] = offset + slope * q[column]
 
     def solve(
         self,
@@ -263,6 +272,7 @@ class IKSolver:
         for iteration in range(iterations + 1):
             if iteration or not loaded:
                 data.qpos[self._qpos_sel] = q
+                self._move_followers(data.qpos, q)
                 mujoco.mj_kinematics(model, data)
                 mujoco.mj_comPos(model, data)
             kinematics.loaded_pose(frame, pose)
@@ -286,6 +296,10 @@ class IKSolver:
             if not position_only:
                 np.multiply(jacr[:, dof_sel], weight, out=jacobian[3:])
                 error[3:] *= weight
+            for _, dof, column, _, slope in self._followers:  # coupled joints move with their leader
+                jacobian[:3, column] += slope * jacp[:, dof]
+                if not position_only:
+                    jacobian[3:, column] += (slope * weight) * jacr[:, dof]
             size = math.sqrt(task @ task)
             if size > max_task:
                 task *= max_task / size
@@ -350,11 +364,43 @@ class IKSolver:
             fraction *= 0.5
             q = start_q + fraction * (best_q - start_q)
             data.qpos[self._qpos_sel] = q
+            self._move_followers(data.qpos, q)
             mujoco.mj_kinematics(kinematics.model, data)
             kinematics.loaded_pose(self.frame, pose)
             if within(pose):
                 return q, _distance(target[:3], pose[:3]), float(quat_angle(target[3:], pose[3:]))
         return start_q, _distance(target[:3], start_pose[:3]), float(quat_angle(target[3:], start_pose[3:]))
+
+
+def _linear_followers(model: mujoco.MjModel, chain_dofs: IntArray) -> list[tuple[int, int, int, float, float]]:
+    """Joints outside the chain that follow a chain joint through active linear joint
+    equalities (directly or through other followers): ``(qpos adr, dof adr, chain
+    column, c0, c1)`` with ``follower = c0 + c1 * chain joint``. Nonlinear couplings are
+    left out (the follower then keeps its context value)."""
+    column_of = {int(model.dof_jntid[dof]): k for k, dof in enumerate(chain_dofs)}
+    leader_of: dict[int, tuple[int, float, float]] = {}
+    for eq in range(model.neq):
+        if int(model.eq_type[eq]) != int(mujoco.mjtEq.mjEQ_JOINT) or not bool(model.eq_active0[eq]):
+            continue
+        follower, leader = int(model.eq_obj1id[eq]), int(model.eq_obj2id[eq])
+        coef = model.eq_data[eq, :5]
+        if leader < 0 or np.any(coef[2:] != 0.0) or follower in column_of:
+            continue
+        leader_of[follower] = (leader, float(coef[0]), float(coef[1]))
+    out = []
+    for follower in leader_of:
+        offset, slope, joint = 0.0, 1.0, follower
+        for _ in range(len(leader_of)):
+            if joint not in leader_of:
+                break
+            leader, c0, c1 = leader_of[joint]
+            offset, slope, joint = offset + slope * c0, slope * c1, leader
+            if joint in column_of:
+                out.append(
+                    (int(model.jnt_qposadr[follower]), int(model.jnt_dofadr[follower]), column_of[joint], offset, slope)
+                )
+                break
+    return out
 
 
 def _distance(a: FloatArray, b: FloatArray) -> float:

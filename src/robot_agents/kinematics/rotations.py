@@ -54,6 +54,11 @@ _TINY = 1e-12
 #: camera-to-world rotations ``(..., 3, 3)``.
 GL_TO_CV = np.diag([1.0, -1.0, -1.0])
 
+#: A MuJoCo camera's orientation ``(w, x, y, z)`` in a link with ROS's body axes (x
+#: forward, z up): the camera looks along the link's +x (its -z on the link's +x) with
+#: image up along the link's +z. How a camera is mounted on a ROS ``camera_link``.
+FORWARD_X_UP_Z_CAMERA_QUAT = (0.5, 0.5, -0.5, -0.5)
+
 
 # -- batched (numpy) -----------------------------------------------------------------------
 def quat_multiply(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:

@@ -190,6 +190,29 @@ class Base(Part):
     holonomic: bool = True
     max_speed: float = 1.0
     max_turn: float = 1.0
+    #: ``"dynamic"``: the base joints' drives track the commanded velocity (the base
+    #: pushes and is pushed); ``"kinematic"``: after every control step the base pose is
+    #: set to the pose at the step's start plus the commanded mount-frame velocity times
+    #: the control timestep (Habitat's navmesh-style base: nothing pushes it).
+    dynamics: str = "dynamic"
+    #: Kinematic bases only: a move that puts the base's geoms (its body, rigidly
+    #: attached bodies and wheels) in contact with anything outside the robot is refused.
+    refuse_collisions: bool = False
+    #: Passive wheel hinge joints, left wheel(s) then right, turned with the base's
+    #: actual motion (differential kinematics), for both dynamics.
+    wheels: tuple[str, ...] = ()
+    wheel_radius: float = 0.0
+    wheel_separation: float = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.dynamics not in ("dynamic", "kinematic"):
+            raise ConfigError(f"Base {self.name!r}: dynamics must be 'dynamic' or 'kinematic', got {self.dynamics!r}.")
+        if self.wheels and (len(self.wheels) % 2 or not self.wheel_radius > 0 or not self.wheel_separation > 0):
+            raise ConfigError(
+                f"Base {self.name!r}: wheels need an even count (left then right) and wheel_radius, "
+                f"wheel_separation > 0; got {self.wheels!r}, {self.wheel_radius!r}, {self.wheel_separation!r}."
+            )
 
 
 @dataclass(frozen=True, kw_only=True)

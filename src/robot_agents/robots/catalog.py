@@ -21,4 +21,9 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "widowxai": "robot_agents.robots.widowx.widowxai:WidowXAI",
     "widowxai_wristcam": "robot_agents.robots.widowx.widowxai:WidowXAIWristCam",
     "floating_robotiq_2f_85_gripper": "robot_agents.robots.robotiq.robotiq:FloatingRobotiq2F85Gripper",
+    "xarm6_robotiq": "robot_agents.robots.ufactory.xarm6:XArm6Robotiq",
+    "xarm6_robotiq_wristcam": "robot_agents.robots.ufactory.xarm6:XArm6RobotiqWristCam",
+    "google_robot": "robot_agents.robots.google_robot.google_robot:GoogleRobot",
+    "stretch": "robot_agents.robots.stretch.stretch:Stretch",
+    "spot": "robot_agents.robots.spot.spot:Spot",
 }

@@ -33,6 +33,13 @@ DEFAULT_CONTROL_FREQ = 20
 RobotSpecifier = str | type[Agent]
 
 
+def default_sim_freq(classes: Sequence[type[Agent]]) -> int:
+    """The physics rate a scene of these robots runs at unless told: the highest of
+    their ``sim_freq`` (the smallest step any of them needs; :data:`DEFAULT_SIM_FREQ`
+    for one that declares none)."""
+    return max((int(cls.sim_freq or DEFAULT_SIM_FREQ) for cls in classes), default=DEFAULT_SIM_FREQ)
+
+
 class Scene:
     """One or more robots, props and a floor, simulated in ``num_envs`` copies.
 
@@ -40,7 +47,8 @@ class Scene:
         robots: a robot uid or Agent class, or a sequence of them (several robots).
         num_envs: independent copies, stepped together.
         sim_freq / control_freq: physics and control rates in Hz; ``sim_freq`` must be
-            a multiple of ``control_freq``.
+            a multiple of ``control_freq``. ``None``: the robots' own default step (the
+            highest ``sim_freq`` they declare, see :func:`default_sim_freq`).
         props: primitive objects to add.
         robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's root;
             defaults place robots 1 m apart along y.
@@ -59,7 +67,7 @@ class Scene:
         self,
         robots: RobotSpecifier | Sequence[RobotSpecifier],
         num_envs: int = 1,
-        sim_freq: int = DEFAULT_SIM_FREQ,
+        sim_freq: int | None = None,
         control_freq: int = DEFAULT_CONTROL_FREQ,
         props: Sequence[Prop] = (),
         robot_poses: Sequence[Sequence[float]] | None = None,
@@ -69,13 +77,6 @@ class Scene:
         cameras: Sequence[CameraConfig] = (),
         sensor_configs: SensorOverrides | None = None,
     ) -> None:
-        for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
-            if not isinstance(value, (int, np.integer)) or value <= 0:
-                raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
-        if sim_freq % control_freq:
-            raise ConfigError(
-                f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
-            )
         if isinstance(robots, (str, type)):
             specifiers: list[Any] = [robots]
         elif isinstance(robots, Sequence):
@@ -88,6 +89,15 @@ class Scene:
         for cls in classes:
             if not (isinstance(cls, type) and issubclass(cls, Agent)):
                 raise ConfigError(f"Scene: expected a robot uid or an Agent subclass, got {cls!r}.")
+        if sim_freq is None:
+            sim_freq = default_sim_freq(classes)
+        for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
+            if not isinstance(value, (int, np.integer)) or value <= 0:
+                raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
+        if sim_freq % control_freq:
+            raise ConfigError(
+                f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
+            )
         poses = self._poses(robot_poses, [cls.check().mount_pose for cls in classes])
         modes = self._modes(control_modes, len(classes))
         self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
@@ -189,16 +199,20 @@ class Scene:
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
         """One control step: every robot's substep hooks, then the physics substeps."""
+        for agent in self.agents:
+            agent.before_step()
         hooked = [a for a in self.agents if a.needs_substep]
         if not hooked:
             self.world.step()
-            return
+        else:
 
-        def before_substep(i: int, n: int) -> None:
-            for agent in hooked:
-                agent.before_substep(i, n)
+            def before_substep(i: int, n: int) -> None:
+                for agent in hooked:
+                    agent.before_substep(i, n)
 
-        self.world.step(before_substep)
+            self.world.step(before_substep)
+        for agent in self.agents:
+            agent.after_step()
 
     def reset(
         self,

@@ -7,6 +7,14 @@ Sources of the numbers:
   (joints 1-4: 87 N*m, 2.175 rad/s; joints 5-7: 12 N*m, 2.61 rad/s).
 - Franka Hand: 0-0.04 m per finger, 70 N continuous grasping force.
 - Link masses: the publicly identified dynamic parameters of the Panda.
+- Armature (reflected rotor inertia) 0.1 kg*m^2 on every arm joint: the value of the
+  public MuJoCo Menagerie Panda model (``franka_emika_panda/panda.xml``, read as data).
+  Without it the wrist joints (about 0.05 kg*m^2 of link inertia, 12 N*m limit,
+  kv = 100) fall into a bang-bang cycle between their torque limits at 500 Hz: once a
+  drive's force is clamped MuJoCo no longer integrates its damping implicitly, and
+  kv * dt / I = 3.8 > 2 makes the explicit damping unstable (joint 7 left at 0.26 rad/s
+  after random actions and 1 s of holding still; 0.013 rad/s with the armature; see
+  ``tests/test_timestep.py``).
 - Gains: kp = 1000, kv = 100 on the arm (the ManiSkill defaults, so ported policies
   see the same response), on top of exact gravity compensation of every link.
 - ``ready`` is Franka's own default pose; ``rest`` is the ManiSkill rest pose.
@@ -49,13 +57,14 @@ ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
 
 #: The arm's drives: PD servos (kp = 1000 N*m/rad, kv = 100 N*m*s/rad) with the
-#: datasheet's torque and speed limits.
+#: datasheet's torque and speed limits and the motors' reflected inertia (armature).
 PANDA_ARM_DRIVES = PDActuator(
     joints="panda_joint[1-7]",
     stiffness=1e3,
     damping=1e2,
     effort_limit=(87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0),
     velocity_limit=(2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61),
+    armature=0.1,
 )
 #: The hand's drive (both fingers; 70 N continuous grasping force).
 PANDA_HAND_DRIVES = PDActuator(joints="panda_finger_joint[12]", stiffness=1e3, damping=1e2, effort_limit=70.0)

@@ -30,6 +30,23 @@ Sources of the numbers:
   x 25 mm, 72 g; Intel D400 datasheet) around that camera as its colour camera
   (realsense2_description: 32.5 mm from the housing's centre, 4.3 mm behind its front),
   on a bracket of our own (30 g, an estimate) on the flange face.
+- ``xarm6_robotiq``: ManiSkill's ``xarm6_robotiq`` (uid, ``rest`` keyframe, 11 modes) with
+  our Robotiq 2F-85 piece (robot_agents/robots/robotiq/robotiq.py, its sources there)
+  composed at load. Flange adapter: the 2F-85's own coupling plate (the piece's root
+  ``base_mount``) on the flange face, as UFactory's ``xarm_description`` mounts tools:
+  every end tool's root on ``link_eef`` = ``link6`` with no offset
+  (``xarm_device_macro.xacro``, ``joint_eef`` origin 0); the xArm's tool flange is an
+  ISO 9409-1-50-4-M6 pattern, which Robotiq's 2F-85 coupling for that pattern fits with
+  no further plate. The fingers close along the flange's y axis (our choice: UFactory's
+  camera stand holds the camera on the flange's x axis, which then sees both fingers). ManiSkill's
+  ``zeros``, ``stretch_j1`` and ``stretch_j6`` are left out: the gripper would stand
+  43 mm into the floor.
+- Wrist camera (``xarm6_robotiq_wristcam``): UFactory's RealSense D435i on the xArm camera
+  stand (``xarm_description/urdf/camera/realsense_d435i.urdf.xacro``, read as data):
+  ``camera_link`` at (0.06746, -0.0175, 0.0237) m on ``link_eef``, rpy (pi, -pi/2, 0), the
+  colour frame on it; the camera itself as ManiSkill's xarm6_robotiq_wristcam
+  (``hand_camera``, 128 x 128, 90 deg field of view, near 0.01, far 100). Housing layout
+  from realsense2_description; the stand's shape and 40 g are our estimate.
 - Composition: :class:`XArm6` is the arm up to its flange body ``link_eef`` (= link6: the
   flange face, z out of it). A tool is attached there and the arm part re-pointed to the
   tool's TCP with :func:`with_tool` (see :class:`XArm6NoGripperWristCam` for a piece on
@@ -48,9 +65,11 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.model.compose import Attachment
 from robot_agents.parts.declaration import Arm, EndEffector
 from robot_agents.registry import register_agent
+from robot_agents.robots.robotiq import robotiq
 from robot_agents.sensors import CameraConfig
 
 ASSETS = Path(__file__).parent / "assets"
@@ -165,12 +184,89 @@ class XArm6NoGripperWristCam(XArm6NoGripper):
     cameras = (HAND_CAMERA,)
 
 
+#: ManiSkill's xarm6_robotiq ``rest`` (arm joints, rad; the gripper open).
+ROBOTIQ_REST = (0.0, 0.22, -1.23, 0.0, 1.01, 0.0)
+
+
+def robotiq_keyframe(arm: Sequence[float], driver: float = robotiq.OPEN) -> Keyframe:
+    """The arm at ``arm`` (rad) and the gripper's drivers at ``driver`` (rad; closing is
+    negative), every linkage joint filled in (the loops are closed by equalities)."""
+    return Keyframe(qpos={"joint[1-6]": tuple(float(v) for v in arm), **robotiq.linkage_qpos(driver)})
+
+
+#: ManiSkill's xarm6_robotiq ``rest`` (which differs from xarm6_nogripper's) and ``rest``
+#: with the gripper closed. Its ``zeros``, ``stretch_j1`` and ``stretch_j6`` hold the
+#: flange 0.112 m above the base's floor, facing down: the 2F-85 reaches 0.155 m past the
+#: flange, so the fingers would stand 43 mm into the floor; the other stretches are left
+#: out as for the bare arm.
+XARM6_ROBOTIQ_KEYFRAMES = {
+    "rest": robotiq_keyframe(ROBOTIQ_REST),
+    "closed_rest": robotiq_keyframe(ROBOTIQ_REST, robotiq.CLOSED),
+}
+
+
+@register_agent()
+class XArm6Robotiq(XArm6):
+    """The xArm6 with a Robotiq 2F-85 on its flange, composed at load: the gripper's
+    coupling plate on the flange face, fingers closing along the flange's y axis; end
+    effector ``tcp`` = ``robotiq_tcp`` (0.1553 m out of the flange face).
+
+    qpos order: ``joint1``..``joint6``, then the gripper's linkage hinges
+    (``right_driver_joint``, ``right_spring_link_joint``, ``right_follower_joint``, then
+    the left ones). The gripper action is absolute in every control mode (-1 closes and
+    squeezes, +1 opens); only the arm's slice changes with the mode.
+    """
+
+    uid = "xarm6_robotiq"
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(robotiq.Robotiq2F85, at=FLANGE),)
+    parts = with_tool(robotiq.TCP)
+    keyframes = XARM6_ROBOTIQ_KEYFRAMES
+
+
+class RealSenseD435OnUFactoryStand(Agent):
+    """An Intel RealSense D435 on UFactory's xArm camera stand (a piece; root body
+    ``camera_stand`` on the flange, camera frame ``camera_link``)."""
+
+    mjcf_path = ASSETS / "realsense_d435_ufactory_stand.xml"
+
+
+#: The colour camera on ``camera_link`` (ROS axes: x forward, y left, z up) in MuJoCo's
+#: camera axes (looks along -z, y up): view = camera_link +x (the flange's +z), image up =
+#: camera_link +z (the flange's +x, away from the gripper's axis).
+UFACTORY_STAND_CAMERA = CameraConfig(
+    uid="hand_camera",
+    mount="camera_link",
+    quat=FORWARD_X_UP_Z_CAMERA_QUAT,
+    width=128,
+    height=128,
+    fovy=90.0,
+    near=0.01,
+    far=100.0,
+)
+
+
+@register_agent()
+class XArm6RobotiqWristCam(XArm6Robotiq):
+    """``xarm6_robotiq`` with a RealSense D435 on UFactory's camera stand: camera
+    ``hand_camera`` (128 x 128, 90 deg vertical field of view) 67 mm off the flange's
+    axis, looking along the gripper's approach axis at the fingers."""
+
+    uid = "xarm6_robotiq_wristcam"
+    attachments = (*XArm6Robotiq.attachments, Attachment(RealSenseD435OnUFactoryStand, at=FLANGE))
+    cameras = (UFACTORY_STAND_CAMERA,)
+
+
 __all__ = [
     "FLANGE",
     "HAND_CAMERA",
+    "UFACTORY_STAND_CAMERA",
+    "XARM6_ROBOTIQ_KEYFRAMES",
     "RealSenseD435OnStand",
+    "RealSenseD435OnUFactoryStand",
     "XArm6",
     "XArm6NoGripper",
     "XArm6NoGripperWristCam",
+    "XArm6Robotiq",
+    "XArm6RobotiqWristCam",
     "with_tool",
 ]

@@ -28,7 +28,7 @@ Sources of the numbers:
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import ClassVar
 
@@ -36,6 +36,7 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
@@ -110,12 +111,6 @@ class WidowXAI(Agent):
     actuators = (WXAI_ARM_DRIVES, WXAI_GRIPPER_DRIVE)
     parts = (WXAI_ARM, WXAI_GRIPPER)
     link_materials = {"gripper_left": FINGER_PAD, "gripper_right": FINGER_PAD}
-    task_limits: ClassVar[Mapping[str, str]] = {
-        "PickCube-v1": (
-            "the generic scripted solver succeeds in 8-10 of 20 seeds: most cubes are not lifted "
-            "(joint_3 reaches its -pi/2 limit on top-down lifts from ready_to_grasp)"
-        )
-    }
     keyframes = {
         "ready_to_grasp": Keyframe(qpos={ARM_PATTERN: READY_TO_GRASP, "left_carriage_joint": 0.026}),
         "home": Keyframe(qpos={ARM_PATTERN: 0.0, "left_carriage_joint": 0.044}),
@@ -134,7 +129,7 @@ class RealSenseD405Mount(Agent):
 WRIST_CAMERA = CameraConfig(
     uid="wrist_camera",
     mount="camera_link",
-    quat=(0.5, 0.5, -0.5, -0.5),
+    quat=FORWARD_X_UP_Z_CAMERA_QUAT,
     width=128,
     height=128,
     fovy=90.0,

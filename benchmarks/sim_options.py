@@ -1,0 +1,124 @@
+"""What MuJoCo's physics options cost per robot: raw ``mj_step`` throughput of a
+robot's scene with one option changed, as a ratio to the scene as the library builds
+it, timed in alternating blocks within one run (machine noise hits all alike).
+
+    python benchmarks/sim_options.py                # panda so100 ur_10e
+    python benchmarks/sim_options.py widowxai --blocks 10
+
+The arm replays the same recorded control sequence (random pd_joint_delta_pos actions
+from the library's own controller) in every variant. Not run in CI.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+from collections.abc import Callable, Sequence
+
+import mujoco
+import numpy as np
+
+from robot_agents.sim.scene import Scene
+
+Variant = Callable[[mujoco.MjModel], None]
+
+
+def _set(field: str, value: object) -> Variant:
+    def apply(model: mujoco.MjModel) -> None:
+        setattr(model.opt, field, value)
+
+    return apply
+
+
+def _flag(flag: int, enable: bool) -> Variant:
+    def apply(model: mujoco.MjModel) -> None:
+        if enable:
+            model.opt.enableflags |= flag
+        else:
+            model.opt.disableflags |= flag
+
+    return apply
+
+
+VARIANTS: dict[str, Variant | None] = {
+    "as built": None,
+    "integrator implicit": _set("integrator", int(mujoco.mjtIntegrator.mjINT_IMPLICIT)),
+    "integrator euler": _set("integrator", int(mujoco.mjtIntegrator.mjINT_EULER)),
+    "solver iterations 20": _set("iterations", 20),
+    "solver tolerance 1e-6": _set("tolerance", 1e-6),
+    "cone elliptic": _set("cone", int(mujoco.mjtCone.mjCONE_ELLIPTIC)),
+    "jacobian dense": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_DENSE)),
+    "jacobian sparse": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_SPARSE)),
+    "warmstart off": _flag(int(mujoco.mjtDisableBit.mjDSBL_WARMSTART), False),
+}
+
+
+def controls(uid: str, steps: int, seed: int = 0) -> tuple[mujoco.MjModel, np.ndarray, np.ndarray]:
+    """The scene's model, its start state (qpos) and the ctrl sequence the library's
+    controller produced for random delta actions."""
+    scene = Scene(uid, control_modes="pd_joint_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    data = scene.world.render_sources([0])[0]
+    start = data.qpos.copy()
+    rng = np.random.default_rng(seed)
+    space = agent.action_space
+    sequence = []
+    for _ in range(steps):
+        agent.set_action(rng.uniform(space.low, space.high) * 0.3)
+        scene.step()
+        sequence.append(scene.world.render_sources([0])[0].ctrl.copy())
+    model = scene.model
+    scene.close()
+    return model, start, np.array(sequence)
+
+
+def copy_model(model: mujoco.MjModel) -> mujoco.MjModel:
+    import copy
+
+    return copy.copy(model)
+
+
+def run(uid: str, blocks: int, steps: int) -> str:
+    base, start, ctrl = controls(uid, steps)
+    substeps = round(1.0 / (base.opt.timestep * 20))
+    models = {}
+    for name, variant in VARIANTS.items():
+        copy = copy_model(base)
+        if variant is not None:
+            variant(copy)
+        models[name] = copy
+    rates: dict[str, list[float]] = {name: [] for name in models}
+    for _ in range(blocks):
+        for name, model in models.items():
+            data = mujoco.MjData(model)
+            data.qpos[:] = start
+            begin = time.perf_counter()
+            for row in ctrl:
+                data.ctrl[:] = row
+                mujoco.mj_step(model, data, nstep=substeps)
+            rates[name].append(len(ctrl) / (time.perf_counter() - begin))
+    reference = float(np.median(rates["as built"]))
+    lines = [f"### `{uid}` ({1 / base.opt.timestep:.0f} Hz, {substeps} substeps per control step)", ""]
+    lines += ["| variant | control steps/s (median) | ratio to as built |", "|---|---|---|"]
+    for name, values in rates.items():
+        median = float(np.median(values))
+        lines.append(f"| {name} | {median:.0f} | {median / reference:.2f} |")
+    return "\n".join(lines)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("uids", nargs="*", default=["panda", "so100", "ur_10e"])
+    parser.add_argument("--blocks", type=int, default=5)
+    parser.add_argument("--steps", type=int, default=100)
+    args = parser.parse_args(argv)
+    print(f"load average {os.getloadavg()[0]:.2f}\n")
+    for uid in args.uids:
+        print(run(uid, args.blocks, args.steps) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

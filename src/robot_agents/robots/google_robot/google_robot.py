@@ -1,0 +1,199 @@
+"""Google Robot (``google_robot``): Everyday Robots' mobile manipulator, the robot of
+RT-1 and of SimplerEnv's ``google_robot_static``.
+
+Sources of the numbers:
+- Kinematics (every joint origin, axis and range), link and joint names, the drive wheels
+  (``joint_wheel_left`` / ``_right`` at y = +-0.18333 m), the rear casters (at
+  x = -0.338 m, 0.0293 m below the drive axle), the head (``joint_head_pan`` 1.169 m
+  above the base link, range -3.79 .. 2.22 rad; ``joint_head_tilt`` 0.0718 m forward and
+  0.1185 m above it, +-1.17 rad) and the head camera's mount (``link_camera``, 0.10488 m
+  forward of the tilt link, OpenCV axes) and the grasp frame ``link_gripper_tcp``
+  (0.15 m along the gripper's axis): ManiSkill2_real2sim's
+  ``googlerobot_description/google_robot_meta_sim_fix_fingertip.urdf``
+  (github simpler-env/ManiSkill2_real2sim), the model of SimplerEnv's Google Robot.
+  The arm's joint names, origins and ranges agree with MuJoCo Menagerie's
+  ``google_robot/robot.xml`` (which fixes the head and wheels to the base).
+- Masses, centres of mass and inertias: Menagerie's ``robot.xml`` (torso, shoulder,
+  bicep, gripper; elbow, forearm and wrist masses) and the URDF (base 52.9 kg, wheels,
+  head, fingers; the elbow, forearm and wrist centres of mass and inertias).
+- Base: a differential drive. The real robot drives on two wheels with rear casters;
+  ManiSkill2_real2sim's mobile Google Robot config drives ``joint_wheel_left`` /
+  ``joint_wheel_right`` through ``PDBaseVelControllerConfig`` with bounds +-0.5
+  (``base_pd_joint_vel``); ManiSkill 3.0.1's ``googlerobot`` agent has no base controller
+  (its TODO: "Add mobile base"). Here the base moves on ManiSkill's planar joints
+  (``root_x_axis_joint``, ``root_y_axis_joint``, ``root_z_rotation_joint``) under
+  ``pd_base_forward_vel`` (forward speed, yaw rate), at most 0.5 m/s as in that config.
+  Wheel radius 0.06205 m (the base link's height above the floor, on which SimplerEnv
+  places the robot), separation 2 x 0.18333 m.
+- Drives: SimplerEnv's real-to-sim tuned gains for the arm in "force" drive mode
+  (``GoogleRobotDefaultConfig``: stiffness 2000, 1800, 1200, 1000, 650, 500, 500;
+  force limits 400, 400, 300, 300, 200, 200, 100) and the head (2000 / 900, 100 N*m).
+  The arm's damping is a fifth of SimplerEnv's (850, 810, 500, 480, 460, 190, 250):
+  with the full values our end-effector delta modes (whose joint targets carry a
+  velocity feed-forward through the damping) let the tool drift 19 cm in 2 s after a
+  zero command (measured at ``rest``); with a fifth it holds within 0.1 mm. The fingers take Menagerie's drive (kp 20,
+  joint damping 2, armature 0.1, +-30 N*m): SimplerEnv's finger gains (200 / 80, tuned
+  for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
+  (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
+  (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
+- Gripper action: -1 open (0 rad), +1 closed (1.3 rad), as ManiSkill's mimic gripper.
+- Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
+  fingers, head pan -0.00286 and tilt 0.785 looking down at the table); ManiSkill 3.0.1
+  has no keyframe for this robot. ``stow`` folds the arm (all arm joints at 0: upright).
+- Camera: ManiSkill's ``overhead_camera`` on ``link_camera`` (640 x 512, fx 425,
+  fy 413.1, cx 305, cy 233 px) at a quarter of the resolution, same field of view.
+
+Geometry is primitive shapes of about the real robot's size (white chassis and column,
+head with a dark face, white arm, two-finger gripper). The chassis rides 3 cm above the
+floor on the planar joints; the drive wheels are passive hinges turned for show.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import ClassVar
+
+from robot_agents.actuators.config import PDActuator, VelocityActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Head
+from robot_agents.registry import register_agent
+from robot_agents.sensors import CameraConfig
+
+ASSETS = Path(__file__).parent / "assets"
+
+ARM_JOINTS = (
+    "joint_torso",
+    "joint_shoulder",
+    "joint_bicep",
+    "joint_elbow",
+    "joint_forearm",
+    "joint_wrist",
+    "joint_gripper",
+)
+ARM_PATTERN = "|".join(ARM_JOINTS)
+FINGER_JOINTS = ("joint_finger_right", "joint_finger_left")
+FINGER_PATTERN = "|".join(FINGER_JOINTS)
+HEAD_PATTERN = "joint_head_pan|joint_head_tilt"
+BASE_PATTERN = "root_x_axis_joint|root_y_axis_joint|root_z_rotation_joint"
+WHEELS = ("joint_wheel_left", "joint_wheel_right")
+#: Drive-wheel radius (m) and the distance between the wheels' contact points (m).
+WHEEL_RADIUS = 0.06205
+WHEEL_SEPARATION = 2 * 0.18333
+
+#: SimplerEnv's real-to-sim arm gains ("force" drive mode) and the URDF's speed limits.
+ARM_STIFFNESS = (2000.0, 1800.0, 1200.0, 1000.0, 650.0, 500.0, 500.0)
+ARM_DAMPING = (170.0, 162.0, 100.0, 96.0, 92.0, 38.0, 50.0)
+ARM_EFFORT = (400.0, 400.0, 300.0, 300.0, 200.0, 200.0, 100.0)
+ARM_VELOCITY = (2.0, 2.0, 2.0, 2.5, 3.0, 3.0, 3.0)
+
+GOOGLE_ROBOT_DRIVES = (
+    VelocityActuator(joints=BASE_PATTERN, damping=(8000.0, 8000.0, 2000.0)),
+    PDActuator(
+        joints=ARM_PATTERN,
+        stiffness=ARM_STIFFNESS,
+        damping=ARM_DAMPING,
+        effort_limit=ARM_EFFORT,
+        velocity_limit=ARM_VELOCITY,
+    ),
+    PDActuator(joints=HEAD_PATTERN, stiffness=2000.0, damping=900.0, effort_limit=100.0, velocity_limit=2.0),
+    PDActuator(joints=FINGER_PATTERN, stiffness=20.0, damping=2.0, effort_limit=30.0, velocity_limit=1.3, armature=0.1),
+)
+
+#: End-effector commands in ``link_base``'s frame (it moves and turns with the base); 5 cm
+#: and 0.1 rad per step; absolute targets within the arm's reach (about 1.03 m from the
+#: shoulder, 0.71 m above link_base) down to the floor.
+GOOGLE_ROBOT_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-1.1, -1.1, -0.1), upper=(1.1, 1.1, 1.75)),
+    max_translation=0.05,
+    max_rotation=0.1,
+)
+GOOGLE_ROBOT_ARM = Arm(
+    name="arm",
+    joints=ARM_PATTERN,
+    end_effectors=(EndEffector("link_gripper_tcp", name="tcp", command_frame="link_base"),),
+    task_space=GOOGLE_ROBOT_TASK_SPACE,
+)
+#: Open at the URDF's lower stop (tips 18 cm apart); the tips meet at about 1.15 rad and
+#: the closed state is the URDF's upper stop (1.3 rad).
+GOOGLE_ROBOT_GRIPPER = Gripper(
+    name="gripper",
+    joints=FINGER_PATTERN,
+    open=0.0,
+    closed=1.3,
+    fingers=(
+        ("link_finger_right", "link_finger_tip_right"),
+        ("link_finger_left", "link_finger_tip_left"),
+    ),
+    tolerance=0.02,
+)
+GOOGLE_ROBOT_HEAD = Head(name="head", joints=HEAD_PATTERN)
+GOOGLE_ROBOT_BASE = Base(
+    name="base",
+    joints=BASE_PATTERN,
+    holonomic=False,
+    max_speed=0.5,
+    max_turn=1.0,
+    wheels=WHEELS,
+    wheel_radius=WHEEL_RADIUS,
+    wheel_separation=WHEEL_SEPARATION,
+)
+
+#: Finger tips (SimplerEnv: static and dynamic friction 1.0 on the fingers and tips).
+FINGER_PAD = FrictionMaterial(sliding=1.0, torsional=0.01, rolling=0.0001)
+
+#: ManiSkill's ``overhead_camera`` on ``link_camera`` (OpenCV axes: the MuJoCo camera is
+#: turned 180 degrees about x), at a quarter of its 640 x 512 resolution.
+OVERHEAD_CAMERA = CameraConfig(
+    uid="overhead_camera",
+    mount="link_camera",
+    pos=(0.0, 0.0, 0.0),
+    quat=(0.0, 1.0, 0.0, 0.0),
+    width=160,
+    height=128,
+    intrinsic=((425.0 / 4, 0.0, 305.0 / 4), (0.0, 413.1 / 4, 233.0 / 4), (0.0, 0.0, 1.0)),
+    near=0.01,
+    far=10.0,
+)
+
+#: SimplerEnv's google_robot_static start pose: arm (7), head pan and tilt.
+REST_ARM = (
+    -0.2639457174606611,
+    0.0831913360274175,
+    0.5017611504652179,
+    1.156859026208673,
+    0.028583671314766423,
+    1.592598203487462,
+    -1.080652960128774,
+)
+REST_HEAD = (-0.00285961, 0.7851361)
+
+
+@register_agent()
+class GoogleRobot(Agent):
+    """Google Robot (Everyday Robots) on a differential base.
+
+    Action of every mode: arm (7 joints, or the end-effector command), gripper (1), head
+    (pan, tilt), base (forward speed, yaw rate). qpos order: the three planar base
+    joints, the two passive drive wheels, head pan and tilt, the arm's seven joints,
+    ``joint_finger_right``, ``joint_finger_left``.
+    """
+
+    uid = "google_robot"
+    mjcf_path = ASSETS / "google_robot.xml"
+    actuators = GOOGLE_ROBOT_DRIVES
+    parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)
+    disable_self_collisions = True
+    link_materials = {"link_finger_tip_right": FINGER_PAD, "link_finger_tip_left": FINGER_PAD}
+    cameras = (OVERHEAD_CAMERA,)
+    keyframes: ClassVar[Mapping[str, Keyframe]] = {
+        "rest": Keyframe(qpos={ARM_PATTERN: REST_ARM, FINGER_PATTERN: 0.0, HEAD_PATTERN: REST_HEAD}),
+        "stow": Keyframe(qpos={ARM_PATTERN: 0.0, FINGER_PATTERN: 0.0, HEAD_PATTERN: 0.0}),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+__all__ = ["OVERHEAD_CAMERA", "WHEELS", "WHEEL_RADIUS", "WHEEL_SEPARATION", "GoogleRobot"]

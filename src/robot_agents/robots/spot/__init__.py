@@ -1,0 +1,1 @@
+"""Boston Dynamics Spot with the Spot Arm."""

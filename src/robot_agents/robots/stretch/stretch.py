@@ -1,0 +1,190 @@
+"""Hello Robot Stretch 3 (``stretch``): differential base, lift, telescoping arm, dexterous
+wrist (yaw / pitch / roll), two-finger gripper and a pan-tilt head with a RealSense D435i.
+
+Sources of the numbers:
+- Kinematics (every body frame and joint axis), joint and body names, joint ranges and
+  link masses: MuJoCo Menagerie's ``hello_robot_stretch_3/stretch.xml`` (read as data;
+  derived from Hello Robot's ``stretch_description`` URDF, whose joint names it keeps:
+  ``joint_lift``, ``joint_arm_l3`` .. ``joint_arm_l0``, ``joint_wrist_yaw`` /
+  ``_pitch`` / ``_roll``, ``joint_head_pan`` / ``_tilt``, ``joint_left_wheel`` /
+  ``joint_right_wheel``, ``link_grasp_center``). Lift 0 .. 1.1 m; four telescoping
+  segments of 0 .. 0.13 m each (0.52 m of extension); wrist yaw -1.39 .. 4.42 rad, pitch
+  -1.57 .. 0.56 rad, roll -3.14 .. 3.14 rad; head pan -4.04 .. 1.73 rad, tilt -1.53 ..
+  0.79 rad. The segments are coupled by joint equalities (``l1 = l0``, ``l2 = l1``,
+  ``l3 = l2``; Menagerie couples them the same way and drives their sum): one action on
+  ``joint_arm_l0`` extends all four, so the arm's extension is 4 x ``joint_arm_l0``.
+- Drive wheels 4 inch (0.1016 m) in diameter and a passive omniwheel caster (Hello
+  Robot's Stretch 3 hardware guide, docs.hello-robot.com); wheel axles 0.17035 m either
+  side of ``base_link`` (Menagerie), so :data:`WHEEL_SEPARATION` is 0.3407 m. Base mass
+  15 kg, total 23.5 kg (Menagerie's link masses; Hello Robot quotes 23 kg for Stretch).
+- Drives: lift force limit 70 N and telescope 56 N (Menagerie's ``forcerange``); the
+  head's position servos kp = 10 N*m/rad with 1 N*m*s/rad of damping, the wrist's
+  kp = 20 / 50 / 20 N*m/rad (yaw / pitch / roll) with 0.01 kg*m^2 of armature (Menagerie).
+  The lift and telescope PD gains (10000 N/m with 400 N*s/m; 5000 N/m with 150 N*s/m, near
+  critical damping of the moving masses) and the gripper's drive are our
+  choices (Menagerie's values belong to its slider-driven finger mechanism). The base's
+  bounds, 0.3 m/s and 1 rad/s, are our choices too.
+- Keyframes: ``home`` (the default reset) is Menagerie's ``home`` (lift 0.6 m, arm
+  extended 0.1 m = 0.025 m per segment); ``rest`` is Menagerie's ``stow`` (lift 0.23 m,
+  arm retracted, wrist yawed 3.14 rad and pitched -0.4 rad: the gripper folded over the
+  base). ``home`` comes first because the table-top tasks lay out their workspace from
+  the first keyframe's tool, which must lie ahead of the arm.
+- Head camera: the D435i's colour camera on the ``realsense`` body of the head tilt link,
+  0.015 m along its y axis, with Menagerie's orientation and 58 deg vertical field of view:
+  at zero pan and tilt it looks along +x with the image in portrait (the D435i is mounted
+  turned 90 deg on the robot).
+
+Our model: primitive shapes written for this library (no meshes); the planar base joints
+carry ManiSkill's names (``root_x_axis_joint``, ``root_y_axis_joint``,
+``root_z_rotation_joint``), the wheels are passive hinges. The gripper is two hinged
+fingers with rubber tips (``joint_gripper_finger_left`` / ``_right``, the URDF's names):
+the left one is driven and the right one follows through a joint equality, a rigid
+stand-in for Stretch's compliant gripper. Self-collisions are off (the telescoping
+segments overlap by design; Menagerie excludes most of the same pairs).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import ClassVar
+
+from robot_agents.actuators.config import PDActuator, VelocityActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Head
+from robot_agents.registry import register_agent
+from robot_agents.sensors import CameraConfig
+
+ASSETS = Path(__file__).parent / "assets"
+
+#: Drive wheel radius (m): 4 inch wheels (Hello Robot's hardware guide).
+WHEEL_RADIUS = 0.0508
+#: Distance between the drive wheels' contact points (m; Menagerie's axle positions).
+WHEEL_SEPARATION = 0.3407
+#: Passive wheel hinges, left then right.
+WHEELS = ("joint_left_wheel", "joint_right_wheel")
+
+BASE_PATTERN = "root_x_axis_joint|root_y_axis_joint|root_z_rotation_joint"
+#: The telescoping segments, outermost first; ``joint_arm_l0`` leads, the others follow.
+TELESCOPE = ("joint_arm_l3", "joint_arm_l2", "joint_arm_l1", "joint_arm_l0")
+WRIST = ("joint_wrist_yaw", "joint_wrist_pitch", "joint_wrist_roll")
+#: The arm part's joints in model order: lift, the driven segment, the wrist.
+ARM_JOINTS = ("joint_lift", "joint_arm_l0", *WRIST)
+ARM_PATTERN = "|".join(ARM_JOINTS)
+FINGER_PATTERN = "joint_gripper_finger_left|joint_gripper_finger_right"
+HEAD_PATTERN = "joint_head_pan|joint_head_tilt"
+
+STRETCH_DRIVES = (
+    VelocityActuator(joints=BASE_PATTERN, damping=(5000.0, 5000.0, 500.0)),
+    PDActuator(joints="joint_lift", stiffness=10000.0, damping=400.0, effort_limit=70.0),
+    PDActuator(joints="joint_arm_l0", stiffness=5000.0, damping=150.0, effort_limit=56.0),
+    PDActuator(joints="joint_wrist_.*", stiffness=(20.0, 50.0, 20.0), damping=(2.0, 3.0, 1.0), effort_limit=5.0),
+    PDActuator(joints="joint_gripper_finger_left", stiffness=20.0, damping=0.5, effort_limit=3.0),
+    PDActuator(joints=HEAD_PATTERN, stiffness=10.0, damping=1.0, effort_limit=5.0),
+)
+
+#: End-effector commands in ``base_link``'s axes (they move with the base): 2.5 cm and
+#: 0.1 rad per step.
+STRETCH_TASK_SPACE = TaskSpace(
+    position_bounds=WorkspaceBox(lower=(-0.6, -1.2, -0.2), upper=(0.4, 0.2, 1.4)),
+    max_translation=0.025,
+    max_rotation=0.1,
+)
+STRETCH_ARM = Arm(
+    name="arm",
+    joints=ARM_PATTERN,
+    end_effectors=(EndEffector("link_grasp_center", name="tcp", command_frame="base_link"),),
+    task_space=STRETCH_TASK_SPACE,
+)
+#: The fingers open 0.4 rad (about 15 cm between the rubber tips) and meet at -0.05 rad;
+#: the action may squeeze 0.05 rad past that.
+STRETCH_GRIPPER = Gripper(
+    name="gripper",
+    joints=FINGER_PATTERN,
+    open=0.4,
+    closed=-0.05,
+    squeeze=0.05,
+    fingers=("link_gripper_finger_left", "link_gripper_finger_right"),
+    tolerance=0.01,
+)
+STRETCH_HEAD = Head(name="head", joints=HEAD_PATTERN)
+STRETCH_BASE = Base(
+    name="base",
+    joints=BASE_PATTERN,
+    holonomic=False,
+    max_speed=0.3,
+    max_turn=1.0,
+    wheels=WHEELS,
+    wheel_radius=WHEEL_RADIUS,
+    wheel_separation=WHEEL_SEPARATION,
+)
+
+RUBBER_TIP = FrictionMaterial(sliding=1.5, torsional=0.02, rolling=0.001)
+
+#: The head's RealSense D435i colour camera (Menagerie's mount and field of view).
+HEAD_CAMERA = CameraConfig(
+    uid="head_camera",
+    mount="realsense",
+    pos=(0.0, 0.015, 0.0),
+    quat=(0.5, -0.5, -0.5, 0.5),
+    width=128,
+    height=128,
+    fovy=58.0,
+    near=0.01,
+    far=100.0,
+)
+
+
+@register_agent()
+class Stretch(Agent):
+    """Hello Robot Stretch 3 on a differential base.
+
+    Action of every mode: arm (lift, ``joint_arm_l0`` (each segment's extension), wrist
+    yaw / pitch / roll, or the end-effector command), gripper (1), head (pan, tilt),
+    base (forward speed, yaw rate).
+    """
+
+    uid = "stretch"
+    mjcf_path = ASSETS / "stretch.xml"
+    actuators = STRETCH_DRIVES
+    parts = (STRETCH_ARM, STRETCH_GRIPPER, STRETCH_HEAD, STRETCH_BASE)
+    disable_self_collisions = True
+    link_materials = {"link_gripper_finger_left": RUBBER_TIP, "link_gripper_finger_right": RUBBER_TIP}
+    cameras = (HEAD_CAMERA,)
+    task_limits: ClassVar[Mapping[str, str]] = {
+        "PickCube-v1": (
+            "with the fingers pointing down the arm moves the grasp centre only along base_link's y "
+            "(telescope) and z (lift); across that plane the wrist reaches 4.7 cm (x from -0.045 to "
+            "0.002 m), while the task spreads cubes and goals 12 cm either side and the generic solver "
+            "does not drive the base: 4/20 seeds"
+        )
+    }
+    keyframes: ClassVar[Mapping[str, Keyframe]] = {
+        "home": Keyframe(
+            qpos={
+                "joint_lift": 0.6,
+                "joint_arm_l0": 0.025,
+                "joint_wrist_.*": 0.0,
+                "joint_gripper_finger_left": 0.0,
+                HEAD_PATTERN: 0.0,
+            }
+        ),
+        "rest": Keyframe(
+            qpos={
+                "joint_lift": 0.23,
+                "joint_arm_l0": 0.0,
+                "joint_wrist_yaw": 3.14,
+                "joint_wrist_pitch": -0.4,
+                "joint_wrist_roll": 0.0,
+                "joint_gripper_finger_left": 0.0,
+                HEAD_PATTERN: 0.0,
+            }
+        ),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+__all__ = ["HEAD_CAMERA", "TELESCOPE", "WHEELS", "WHEEL_RADIUS", "WHEEL_SEPARATION", "Stretch"]

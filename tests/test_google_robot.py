@@ -1,0 +1,276 @@
+"""The Google Robot checked against numbers: forward kinematics against the URDF's joint
+origins chained independently, grasp + lift + hold with contact forces, gripper states,
+IK accuracy, the head camera on its link, and base odometry."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.kinematics import IKSolver, resolve_frame
+from tests.ik_check import assert_ik_reaches_random_targets
+from tests.test_robot_suite import hold_action
+
+ARM = (
+    "joint_torso",
+    "joint_shoulder",
+    "joint_bicep",
+    "joint_elbow",
+    "joint_forearm",
+    "joint_wrist",
+    "joint_gripper",
+)
+X, Y, Z = np.eye(3)
+# ManiSkill2_real2sim google_robot_meta_sim_fix_fingertip.urdf: joint origins (in the
+# parent link) and axes, from link_base (0.06205 m above the floor) to link_gripper, then
+# link_gripper_tcp; the head chain to link_camera.
+ARM_ORIGINS = [
+    ((0.0, 0.0, 0.5945), Z),
+    ((0.0, -0.16728852885, 0.113), Y),
+    ((0.0, 0.002289, 0.21502852885), Z),
+    ((0.0, -0.064, 0.1849715), Y),
+    ((0.0, -0.101, 0.0915), Z),
+    ((0.0, -0.00604, 0.2735), Y),
+    ((0.0, 0.0060384, 0.10911), Z),
+]
+TCP = (0.0, 0.0, 0.15)
+HEAD_ORIGINS = [((0.0, 0.0, 1.16902), Z), ((0.07181, 0.0, 0.11848), Y)]
+CAMERA_MOUNT = (0.10488, 0.0, 0.0)
+BASE_HEIGHT = 0.06205
+
+
+def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def transform(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
+    result = np.eye(4)
+    result[:3, :3], result[:3, 3] = rotation, position
+    return result
+
+
+def chain(base: np.ndarray, joints: list[tuple[tuple[float, float, float], np.ndarray]], q: np.ndarray) -> np.ndarray:
+    """link_base pose (x, y, yaw) through the joints' origins and axes."""
+    pose = transform(axis_rotation(Z, base[2]), np.array([base[0], base[1], BASE_HEIGHT]))
+    for (origin, axis), angle in zip(joints, q, strict=True):
+        pose = pose @ transform(axis_rotation(axis, float(angle)), np.array(origin))
+    return pose
+
+
+def index(agent: ra.Agent, names: tuple[str, ...] | list[str]) -> list[int]:
+    return [agent.joint_names.index(n) for n in names]
+
+
+def test_forward_kinematics_match_the_urdf_joint_origins() -> None:
+    scene = ra.Scene("google_robot")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    base = index(agent, ["root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint"])
+    arm = index(agent, ARM)
+    frame = resolve_frame(scene.model, "link_gripper_tcp", agent.prefix)
+    rng = np.random.default_rng(0)
+    limits = agent.qpos_limits.copy()
+    limits = np.where(np.isfinite(limits), limits, np.sign(limits) * math.pi)  # the wheels turn freely
+    limits[base] = [[-2.0, 2.0], [-2.0, 2.0], [-math.pi, math.pi]]
+    q = rng.uniform(limits[:, 0], limits[:, 1], (20, len(agent.joint_names)))
+    configurations = np.repeat(scene.world.qpos, 20, axis=0)
+    configurations[:, agent.qpos_adr] = q
+    poses = agent.kinematics.pose(configurations, frame)
+    for i in range(20):
+        expected = chain(q[i, base], ARM_ORIGINS, q[i, arm]) @ transform(np.eye(3), np.array(TCP))
+        np.testing.assert_allclose(poses[i, :3], expected[:3, 3], atol=1e-6)
+        rotation = np.zeros(9)
+        mujoco.mju_quat2Mat(rotation, poses[i, 3:])
+        np.testing.assert_allclose(rotation.reshape(3, 3), expected[:3, :3], atol=1e-6)
+    scene.close()
+
+
+def test_limits_masses_and_drives_from_the_data() -> None:
+    scene = ra.Scene("google_robot")
+    agent = scene.agents[0]
+    limits = agent.qpos_limits[index(agent, ARM)]
+    np.testing.assert_allclose(
+        limits,
+        [[-4.49, 1.35], [-2.66, 3.18], [-2.13, 3.71], [-2.05, 3.79], [-2.92, 2.92], [-1.79, 1.79], [-4.49, 1.35]],
+    )
+    np.testing.assert_allclose(
+        agent.qpos_limits[index(agent, ["joint_head_pan", "joint_head_tilt"])], [[-3.79, 2.22], [-1.17, 1.17]]
+    )
+    model = scene.model
+    masses = [model.body_mass[model.body(agent.prefix + n.replace("joint_", "link_")).id] for n in ARM]
+    np.testing.assert_allclose(masses, [2.46883, 2.08054, 1.3989, 0.788999, 0.819369, 0.543658, 0.41474], rtol=1e-5)
+    assert model.body_mass[model.body(agent.prefix + "link_base").id] == pytest.approx(52.9101, rel=1e-5)
+    scene.close()
+
+
+# ---------------------------------------------------------------- IK
+def arm_solver(scene: ra.Scene) -> IKSolver:
+    agent = scene.agents[0]
+    arm = np.array(index(agent, ARM))
+    frame = resolve_frame(scene.model, "link_gripper_tcp", agent.prefix)
+    return IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], agent.qpos_limits[arm])
+
+
+def test_ik_reaches_50_random_reachable_targets() -> None:
+    """Targets are FK of random arm configurations, the base turned and moved; IK starts
+    at ``rest`` and lands within 1 mm and 1 deg."""
+    scene = ra.Scene("google_robot")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    agent.set_base_pose(xy=[0.3, -0.2], yaw=0.7)
+    assert_ik_reaches_random_targets(scene, ARM, "link_gripper_tcp", 50, seed=2)
+    scene.close()
+
+
+# ---------------------------------------------------------------- gripper
+def test_gripper_open_closed_and_half() -> None:
+    scene = ra.Scene("google_robot")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    fingers = index(agent, ["joint_finger_right", "joint_finger_left"])
+    assert agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
+    for value, is_open, is_closed in ((1.3, False, True), (0.65, False, False), (0.0, True, False)):
+        q = agent.qpos[0].copy()
+        q[fingers] = value
+        agent.reset(qpos=q)
+        assert bool(agent.is_gripper_open()[0]) is is_open and bool(agent.is_gripper_closed()[0]) is is_closed
+    scene.close()
+
+
+#: A 4 cm, 100 g cube on a pedestal in front of the robot, grasped from above.
+DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # tool z along world -z
+CUBE_MASS, CUBE_HALF = 0.1, 0.02
+TOOL = (0.6, -0.2, 0.45)
+PAD_OFFSET = 0.0
+
+
+def solve_down(scene: ra.Scene, position: tuple[float, float, float], seed: np.ndarray) -> np.ndarray:
+    target = np.concatenate([position, DOWN])[None]
+    result = arm_solver(scene).solve(scene.world.qpos, target, seed[None], max_iterations=200, restarts=10)
+    assert result.success[0], (result.position_error, result.rotation_error)
+    return result.qpos[0]
+
+
+def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
+    cube_z = TOOL[2] + PAD_OFFSET
+    props = [
+        ra.Prop(
+            name="pedestal",
+            shape="box",
+            size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
+            pos=(TOOL[0], TOOL[1], (cube_z - CUBE_HALF) / 2),
+            mass=None,
+        ),
+        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(TOOL[0], TOOL[1], cube_z + 1e-4), mass=CUBE_MASS),
+    ]
+    scene = ra.Scene("google_robot", props=props, control_modes="pd_joint_pos")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    arm = index(agent, ARM)
+    grasp = solve_down(scene, TOOL, agent.qpos[0, arm])
+    lift = solve_down(scene, (TOOL[0], TOOL[1], TOOL[2] + 0.1), grasp)
+    qpos = agent.qpos[0].copy()
+    qpos[arm] = grasp
+    agent.reset(qpos=qpos)  # fingers open around the cube
+    head = agent.qpos[0, index(agent, ["joint_head_pan", "joint_head_tilt"])]
+
+    def act(arm_target: np.ndarray, gripper: float) -> None:
+        agent.set_action(np.concatenate([arm_target, [gripper], head, [0.0, 0.0]]))
+        scene.step()
+
+    # The gripper action runs from open (-1, 0 rad) to closed (+1, 1.3 rad), as ManiSkill's.
+    for _ in range(10):
+        act(grasp, -1.0)
+    assert not agent.is_grasping("cube")[0]
+    for _ in range(20):  # close for 1 s
+        act(grasp, 1.0)
+    assert agent.is_grasping("cube")[0]
+
+    body = lambda name: scene.model.body(name).id  # noqa: E731
+    fingers = [
+        [body(agent.prefix + "link_finger_right"), body(agent.prefix + "link_finger_tip_right")],
+        [body(agent.prefix + "link_finger_left"), body(agent.prefix + "link_finger_tip_left")],
+    ]
+    cube = body("cube")
+    right, left, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
+    assert np.linalg.norm(left) > 1.0 and np.linalg.norm(left) == pytest.approx(np.linalg.norm(right), rel=0.1)
+    np.testing.assert_allclose(left + right + pedestal, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)
+    start = scene.body_pose("cube")[0, :3]
+
+    for i in range(60):  # lift 10 cm over 1 s, hold 2 s
+        blend = min(1.0, (i + 1) / 20)
+        act(grasp + blend * (lift - grasp), 1.0)
+    cube_pose = scene.body_pose("cube")[0]
+    assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
+    assert np.linalg.norm(cube_pose[:3] - agent.tcp_pose[0, :3]) < 0.01  # still between the tips
+    assert agent.is_grasping("cube")[0]
+    right, left, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
+    assert not np.any(pedestal)
+    np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)  # the fingers carry it
+
+    for _ in range(10):  # open: the cube drops
+        act(lift, -1.0)
+    assert not agent.is_grasping("cube")[0]
+    scene.close()
+
+
+# ---------------------------------------------------------------- head camera
+def test_head_camera_follows_its_link_and_pans() -> None:
+    """The camera sits on link_camera (chained from the URDF's head joints), looks along
+    the tilt link's x with z up, and turns with head pan."""
+    scene = ra.Scene("google_robot")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    camera = scene.model.camera(agent.prefix + "overhead_camera").id
+    base = index(agent, ["root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint"])
+    head = index(agent, ["joint_head_pan", "joint_head_tilt"])
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        q = agent.qpos[0].copy()
+        q[base] = rng.uniform([-1.0, -1.0, -math.pi], [1.0, 1.0, math.pi])
+        q[head] = rng.uniform(agent.qpos_limits[head, 0], agent.qpos_limits[head, 1])
+        agent.reset(qpos=q)
+        tilt = chain(q[base], HEAD_ORIGINS, q[head])
+        pose = scene.world.camera_poses(camera)[0]
+        np.testing.assert_allclose(pose[:3, 3], tilt[:3, :3] @ np.array(CAMERA_MOUNT) + tilt[:3, 3], atol=1e-6)
+        np.testing.assert_allclose(-pose[:3, 2], tilt[:3, 0], atol=1e-6)  # view along x
+        np.testing.assert_allclose(pose[:3, 1], tilt[:3, 2], atol=1e-6)  # image up along z
+    # Pan turns the view direction about world z by the pan angle.
+    q = agent.qpos[0].copy()
+    q[base], q[head] = 0.0, [0.0, 0.0]
+    agent.reset(qpos=q)
+    before = -scene.world.camera_poses(camera)[0][:3, 2]
+    q[head[0]] = 0.8
+    agent.reset(qpos=q)
+    after = -scene.world.camera_poses(camera)[0][:3, 2]
+    np.testing.assert_allclose(after, axis_rotation(Z, 0.8) @ before, atol=1e-9)
+    scene.close()
+
+
+# ---------------------------------------------------------------- base
+def test_differential_base_odometry() -> None:
+    """pd_base_forward_vel: 0.2 m/s for 2 s travels 0.4 m (+-5 %) along the robot's
+    heading; 0.5 rad/s for 2 s turns 1 rad (+-5 %); the arm holds meanwhile."""
+    scene = ra.Scene("google_robot", control_modes="pd_joint_delta_pos")
+    agent = scene.agents[0]
+    assert agent.controller.slices["base"] == slice(10, 12)
+    scene.reset(keyframes="rest")
+    agent.set_base_pose(xy=[0.0, 0.0], yaw=math.pi / 2)
+    for _ in range(2 * scene.control_freq):
+        action = hold_action(agent)
+        action[..., 10:12] = [0.4, 0.0]  # 0.4 of 0.5 m/s
+        agent.set_action(action)
+        scene.step()
+    assert agent.base_pos[0, 1] == pytest.approx(0.4, rel=0.05) and abs(agent.base_pos[0, 0]) < 0.01
+    for _ in range(2 * scene.control_freq):
+        action = hold_action(agent)
+        action[..., 10:12] = [0.0, 0.5]
+        agent.set_action(action)
+        scene.step()
+    assert agent.base_rot[0] - math.pi / 2 == pytest.approx(1.0, rel=0.05)
+    scene.close()

@@ -1,0 +1,188 @@
+"""Kinematic bases (Habitat's navmesh-style base), refused colliding moves, and wheels
+that turn with the base's actual motion (differential kinematics)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+
+WHEEL_RADIUS = 0.1
+WHEEL_SEPARATION = 0.4
+
+# A wheeled chassis on planar joints with two passive wheels (hinges about the robot's
+# left, +y, so positive turns roll forward) that touch the floor, and a 2-joint arm.
+WHEELED_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base_link" pos="0 0 0.12">
+      <joint name="root_x" type="slide" axis="1 0 0"/>
+      <joint name="root_y" type="slide" axis="0 1 0"/>
+      <joint name="root_yaw" type="hinge" axis="0 0 1"/>
+      <geom type="box" size="0.3 0.15 0.1" mass="20"/>
+      <body name="l_wheel_link" pos="0 0.2 -0.02">
+        <joint name="l_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="r_wheel_link" pos="0 -0.2 -0.02">
+        <joint name="r_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="upper_arm" pos="0 0 0.15">
+        <joint name="shoulder" axis="0 1 0" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" axis="0 1 0" range="-2 2"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0 0" size="0.025" mass="0.5"/>
+          <site name="tool" pos="0.25 0 0"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def wheeled_robot(path: Path, dynamics: str, refuse: bool = False, holonomic: bool = False) -> type[ra.Agent]:
+    return type(
+        "WheeledArm",
+        (ra.Agent,),
+        {
+            "uid": "wheeled_arm",
+            "mjcf_path": path,
+            "actuators": (
+                ra.VelocityActuator(joints="root_.*", damping=(4000.0, 4000.0, 400.0)),
+                ra.PDActuator(joints="shoulder|elbow", stiffness=300.0, damping=30.0),
+            ),
+            "parts": (
+                ra.Arm(name="arm", joints="shoulder|elbow", end_effectors=(ra.EndEffector("tool"),)),
+                ra.Base(
+                    name="base",
+                    joints="root_.*",
+                    holonomic=holonomic,
+                    max_speed=0.5,
+                    max_turn=1.0,
+                    dynamics=dynamics,
+                    refuse_collisions=refuse,
+                    wheels=("l_wheel_joint", "r_wheel_joint"),
+                    wheel_radius=WHEEL_RADIUS,
+                    wheel_separation=WHEEL_SEPARATION,
+                ),
+            ),
+            "keyframes": {"home": ra.Keyframe(qpos={"shoulder": -0.3})},
+        },
+    )
+
+
+@pytest.fixture
+def wheeled_file(tmp_path: Path) -> Path:
+    path = tmp_path / "wheeled.xml"
+    path.write_text(WHEELED_MJCF)
+    return path
+
+
+def run(agent: ra.Agent, scene: ra.Scene, action: list[float], seconds: float) -> None:
+    for _ in range(round(seconds * scene.control_freq)):
+        agent.set_action(action)
+        scene.step()
+
+
+def planar(agent: ra.Agent) -> np.ndarray:
+    return agent.qpos[0, :3].copy()
+
+
+def wheels(agent: ra.Agent) -> np.ndarray:
+    return agent.qpos[0, 3:5].copy()
+
+
+#: A static wall whose near face is at x = 1.15 m.
+WALL = ra.Prop("wall", "box", (0.05, 2.0, 0.3), pos=(1.2, 0.0, 0.3), mass=None)
+
+
+def make(path: Path, dynamics: str, refuse: bool = False) -> tuple[ra.Scene, ra.Agent]:
+    scene = ra.Scene(wheeled_robot(path, dynamics, refuse), control_modes="pd_joint_delta_pos", props=[WALL])
+    scene.reset()
+    return scene, scene.agents[0]
+
+
+def test_kinematic_base_holds_while_the_arm_moves(wheeled_file: Path) -> None:
+    scene, agent = make(wheeled_file, "kinematic")
+    before = planar(agent)
+    tool = agent.tcp_pose[0, :3].copy()
+    run(agent, scene, [0.5, 0.0, 0.0, 0.0], 1.0)  # arm swings, base commanded still
+    assert np.array_equal(planar(agent), before)
+    assert np.linalg.norm(agent.tcp_pose[0, :3] - tool) > 0.05  # the arm's dynamics ran
+    np.testing.assert_array_equal(wheels(agent), [0.0, 0.0])
+
+
+def test_kinematic_base_integrates_the_commanded_velocity(wheeled_file: Path) -> None:
+    scene, agent = make(wheeled_file, "kinematic")
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 2.0)  # 0.2 m/s forward (+x) for 2 s
+    x, y, yaw = planar(agent)
+    assert x == pytest.approx(0.4, abs=1e-9) and abs(y) < 1e-12 and abs(yaw) < 1e-12
+    np.testing.assert_allclose(wheels(agent), [0.4 / WHEEL_RADIUS] * 2, atol=1e-9)  # distance / radius
+    start = planar(agent)
+    run(agent, scene, [0.0, 0.0, 0.0, 0.5], 2.0)  # 0.5 rad/s in place
+    assert planar(agent)[2] - start[2] == pytest.approx(1.0, abs=1e-9)
+    np.testing.assert_allclose(planar(agent)[:2], start[:2], atol=1e-12)
+    # in place, the left wheel rolls back and the right forward by w b / 2 / r
+    turned = 1.0 * WHEEL_SEPARATION / 2 / WHEEL_RADIUS
+    np.testing.assert_allclose(wheels(agent) - 4.0, [-turned, turned], atol=1e-9)
+
+
+def test_kinematic_move_into_a_wall_is_refused(wheeled_file: Path) -> None:
+    scene, agent = make(wheeled_file, "kinematic", refuse=True)
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 6.0)  # 1.2 m of commands toward a wall 0.85 m ahead
+    x = planar(agent)[0]
+    # base front face at x + 0.3 (and the wheels' rims) stop at the wall's face, 1.15 m
+    assert 1.15 - 0.3 - 0.2 * scene.control_timestep <= x + 1e-9 and x + 0.3 < 1.15
+    assert agent.mobile.refused_moves[0] > 0 and agent.mobile.last_refused[0]
+    # without the check the base goes through the wall
+    scene, agent = make(wheeled_file, "kinematic", refuse=False)
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 6.0)
+    assert planar(agent)[0] == pytest.approx(1.2, abs=1e-9) and agent.mobile.refused_moves[0] == 0
+
+
+def test_dynamic_base_turns_its_wheels_with_its_motion(wheeled_file: Path) -> None:
+    scene, agent = make(wheeled_file, "dynamic")
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 2.0)
+    x, y, _ = planar(agent)
+    assert x == pytest.approx(0.4, rel=0.05) and abs(y) < 0.01
+    np.testing.assert_allclose(wheels(agent), [x / WHEEL_RADIUS] * 2, rtol=1e-3)
+
+
+def test_base_dynamics_can_be_switched_per_robot(wheeled_file: Path) -> None:
+    scene, agent = make(wheeled_file, "dynamic")
+    agent.set_base_dynamics("kinematic", refuse_collisions=True)
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 2.0)
+    assert planar(agent)[0] == pytest.approx(0.4, abs=1e-9)
+    with pytest.raises(ra.ConfigError, match="dynamic"):
+        agent.set_base_dynamics("floating")
+    with pytest.raises(ra.ConfigError, match="dynamics"):
+        ra.Base(name="b", joints="root_.*", dynamics="teleport")
+    with pytest.raises(ra.ConfigError, match="wheels"):
+        ra.Base(name="b", joints="root_.*", wheels=("l",), wheel_radius=0.1, wheel_separation=0.4)
+
+
+def test_make_env_overrides_the_base_dynamics(wheeled_file: Path) -> None:
+    cls = wheeled_robot(wheeled_file, "dynamic")
+    env = ra.make_env(
+        "Empty-v1",
+        robot_uids=cls,
+        base_dynamics="kinematic",
+        control_mode="pd_joint_delta_pos",
+        robot_init_qpos_noise=0.0,
+    )
+    env.reset(seed=0)
+    agent = env.unwrapped.agent if hasattr(env.unwrapped, "agent") else env.unwrapped.scene.agents[0]
+    assert agent.mobile.dynamics == "kinematic"
+    start = agent.qpos[0, 0]
+    for _ in range(20):
+        env.step(np.array([[0.0, 0.0, 0.4, 0.0]]))
+    assert agent.qpos[0, 0] - start == pytest.approx(0.2, abs=1e-9)  # 0.2 m/s for 1 s, exactly
+    with pytest.raises(ra.ConfigError, match="Base part"):
+        ra.make_env("Empty-v1", robot_uids="panda", base_dynamics="kinematic")

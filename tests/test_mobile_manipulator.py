@@ -1,0 +1,309 @@
+"""Habitat's mobile-manipulator API on a small test robot (planar base with wheels,
+torso slide, 6-joint arm, parallel gripper): params derived from the parts, FK with no
+side effects that matches the simulation, IK to random reachable targets."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.kinematics.rotations import quat_angle
+
+MM_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base_link" pos="0 0 0.12">
+      <joint name="root_x_axis_joint" type="slide" axis="1 0 0"/>
+      <joint name="root_y_axis_joint" type="slide" axis="0 1 0"/>
+      <joint name="root_z_rotation_joint" type="hinge" axis="0 0 1"/>
+      <geom type="box" size="0.3 0.15 0.1" mass="20"/>
+      <body name="l_wheel_link" pos="0 0.2 -0.02">
+        <joint name="l_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="r_wheel_link" pos="0 -0.2 -0.02">
+        <joint name="r_wheel_joint" axis="0 1 0" damping="0.01"/>
+        <geom type="cylinder" size="0.1 0.02" euler="1.5708 0 0" mass="1"/>
+      </body>
+      <body name="torso_lift_link" pos="0 0 0.1">
+        <joint name="torso_lift_joint" type="slide" axis="0 0 1" range="0 0.3"/>
+        <geom type="box" size="0.08 0.08 0.2" pos="0 0 0.2" mass="5"/>
+        <body name="shoulder_link" pos="0.1 0 0.35">
+          <joint name="j1" axis="0 0 1" range="-3 3"/>
+          <geom type="capsule" fromto="0 0 0 0 0 0.08" size="0.04" mass="1"/>
+          <body name="upper_arm_link" pos="0 0 0.08">
+            <joint name="j2" axis="0 1 0" range="-2 2"/>
+            <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.035" mass="1"/>
+            <body name="forearm_link" pos="0.3 0 0">
+              <joint name="j3" axis="0 1 0" range="-2.5 2.5"/>
+              <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.03" mass="0.8"/>
+              <body name="wrist_1_link" pos="0.25 0 0">
+                <joint name="j4" axis="1 0 0" range="-3 3"/>
+                <geom type="capsule" fromto="0.01 0 0 0.05 0 0" size="0.025" mass="0.3"/>
+                <body name="wrist_2_link" pos="0.06 0 0">
+                  <joint name="j5" axis="0 1 0" range="-2 2"/>
+                  <geom type="capsule" fromto="0.01 0 0 0.05 0 0" size="0.025" mass="0.3"/>
+                  <body name="gripper_link" pos="0.06 0 0">
+                    <joint name="j6" axis="1 0 0" range="-3 3"/>
+                    <geom type="box" size="0.02 0.05 0.02" pos="0.02 0 0" mass="0.2"/>
+                    <site name="grip_site" pos="0.1 0 0"/>
+                    <body name="l_finger_link" pos="0.06 0.02 0">
+                      <joint name="l_finger_joint" type="slide" axis="0 1 0" range="0 0.04"/>
+                      <geom type="box" size="0.03 0.005 0.01" pos="0.03 0 0" mass="0.05"/>
+                    </body>
+                    <body name="r_finger_link" pos="0.06 -0.02 0">
+                      <joint name="r_finger_joint" type="slide" axis="0 -1 0" range="0 0.04"/>
+                      <geom type="box" size="0.03 0.005 0.01" pos="0.03 0 0" mass="0.05"/>
+                    </body>
+                  </body>
+                </body>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+ARM = "j[1-6]"
+
+
+def manipulator(path: Path) -> type[ra.Agent]:
+    return type(
+        "TestMobileManipulator",
+        (ra.Agent,),
+        {
+            "uid": "test_mobile_manipulator",
+            "mjcf_path": path,
+            "actuators": (
+                ra.VelocityActuator(joints="root_.*", damping=(4000.0, 4000.0, 400.0)),
+                ra.PDActuator(joints="torso_lift_joint", stiffness=20000.0, damping=2000.0),
+                ra.PDActuator(joints=ARM, stiffness=5000.0, damping=300.0),
+                ra.PDActuator(joints=".*_finger_joint", stiffness=200.0, damping=10.0),
+            ),
+            "parts": (
+                ra.Arm(
+                    name="arm",
+                    joints=ARM,
+                    end_effectors=(
+                        ra.EndEffector(
+                            "gripper_link", name="tool", pos=(0.1, 0.0, 0.0), command_frame="torso_lift_link"
+                        ),
+                    ),
+                    task_space=ra.TaskSpace(
+                        position_bounds=ra.WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)),
+                        max_translation=0.01,
+                    ),
+                ),
+                ra.Gripper(name="gripper", joints=".*_finger_joint", open=0.04, closed=0.0),
+                ra.Torso(name="torso", joints="torso_lift_joint"),
+                ra.Base(
+                    name="base",
+                    joints="root_.*",
+                    holonomic=False,
+                    wheels=("l_wheel_joint", "r_wheel_joint"),
+                    wheel_radius=0.1,
+                    wheel_separation=0.4,
+                ),
+            ),
+            "cameras": (
+                ra.CameraConfig.look_at(
+                    "head_camera", eye=(0.1, 0.0, 0.5), target=(0.8, 0.0, 0.1), mount="torso_lift_link"
+                ),
+            ),
+            "keyframes": {"home": ra.Keyframe(qpos={"torso_lift_joint": 0.1, "j2": -0.5, "j3": 1.0, "j5": 0.5})},
+        },
+    )
+
+
+@pytest.fixture
+def mm_cls(tmp_path: Path) -> type[ra.Agent]:
+    path = tmp_path / "mm.xml"
+    path.write_text(MM_MJCF)
+    return manipulator(path)
+
+
+def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    p = agent.params
+    assert p.arm_joints == tuple(f"j{k}" for k in range(1, 7))
+    assert p.gripper_joints == ("l_finger_joint", "r_finger_joint")
+    assert p.wheel_joints == ("l_wheel_joint", "r_wheel_joint")
+    assert p.arm_init_params == (0.0, -0.5, 1.0, 0.0, 0.5, 0.0)
+    assert p.gripper_open_state == (0.04, 0.04) and p.gripper_closed_state == (0.0, 0.0)
+    assert p.ee_links == ("gripper_link",) and p.ee_offsets == ((0.1, 0.0, 0.0),)
+    assert p.base_link.endswith("base_link") and p.base_dynamics == "dynamic"
+    box = np.array(p.ee_constraint[0])
+    assert box.shape == (3, 2) and np.all(box[:, 1] - box[:, 0] > 0.3)  # reach ~0.77 m
+    np.testing.assert_allclose(agent.ee_local_offset(0), [0.1, 0.0, 0.0])
+    inside = agent.clip_ee_to_workspace([[10.0, 0.0, -10.0]] * 2)
+    np.testing.assert_allclose(inside[0], [box[0, 1], 0.0, box[2, 0]])
+    with pytest.raises(ra.ConfigError, match="end-effector index"):
+        agent.ee_transform(3)
+    with pytest.raises(AttributeError):
+        p.arm_joints = ()  # type: ignore[misc]
+
+
+def test_forward_kinematics_has_no_side_effects_and_matches_the_simulation(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    agent.set_base_pose(xy=[0.3, -0.2], yaw=0.7)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q = rng.uniform(-1.0, 1.0, (2, 6))
+        before = scene.get_state()
+        fk = agent.calculate_ee_forward_kinematics(q)
+        after = scene.get_state()
+        assert np.array_equal(before["physics"], after["physics"])  # bit-identical
+        agent.arm_joint_pos = q
+        np.testing.assert_allclose(agent.arm_joint_pos, q, atol=0)
+        np.testing.assert_allclose(fk, agent.ee_transform(0), atol=1e-9)
+
+
+def test_inverse_kinematics_reaches_random_reachable_targets(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=50)
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(7)
+    limits = np.array([[-3, 3], [-2, 2], [-2.5, 2.5], [-3, 3], [-2, 2], [-3, 3]]) * 0.8
+    goal_q = rng.uniform(limits[:, 0], limits[:, 1], (50, 6))
+    goal = agent.calculate_ee_forward_kinematics(goal_q)
+    pose = np.concatenate([goal[:, :3, 3], matrix_to_quat(goal[:, :3, :3])], axis=1)
+    state = scene.get_state()["physics"].copy()
+    q, ok = agent.calculate_ee_inverse_kinematics(pose)
+    assert np.array_equal(state, scene.get_state()["physics"])
+    reached = agent.calculate_ee_forward_kinematics(q)
+    got = np.concatenate([reached[:, :3, 3], matrix_to_quat(reached[:, :3, :3])], axis=1)
+    position = np.linalg.norm(got[:, :3] - pose[:, :3], axis=1)
+    angle = quat_angle(got[:, 3:], pose[:, 3:])
+    assert ok.all(), f"{(~ok).sum()} targets missed"
+    assert position.max() < 1e-3 and np.degrees(angle).max() < 1.0
+
+
+def matrix_to_quat(rotations: np.ndarray) -> np.ndarray:
+    import mujoco
+
+    out = np.empty((len(rotations), 4))
+    for row, rotation in enumerate(rotations):
+        mujoco.mju_mat2Quat(out[row], rotation.reshape(-1))
+    return out
+
+
+def test_gripper_open_close_and_targets(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    agent.close_gripper()
+    np.testing.assert_allclose(agent.gripper_joint_pos, 0.0, atol=1e-12)
+    assert agent.is_gripper_closed().all()
+    agent.open_gripper(env_ids=[1])
+    assert agent.is_gripper_open()[1] and agent.is_gripper_closed()[0]
+    agent.set_gripper_target_state([0.0, 0.5])
+    for _ in range(20):
+        scene.step()
+    np.testing.assert_allclose(agent.gripper_joint_pos[:, 0], [0.04, 0.02], atol=2e-3)
+    assert not agent.is_gripper_open()[1] and not agent.is_gripper_closed()[1]
+    np.testing.assert_allclose(agent.arm_motor_pos, agent.arm_joint_pos, atol=0.02)
+    with pytest.raises(ra.StateError, match=r"\[0, 1\]"):
+        agent.set_gripper_target_state(2.0)
+
+
+def tool_in_torso(agent: ra.Agent) -> np.ndarray:
+    return agent.frame_pose("tool", relative_to="torso_lift_link")[0, :3]
+
+
+def test_ee_delta_commands_move_the_tool_in_the_turning_base_frame(mm_cls: type[ra.Agent]) -> None:
+    """A constant pd_ee_delta_pos command while the base turns at 0.5 rad/s: the tool
+    moves by the commanded displacement in the torso frame (which turns with the base)."""
+    scene = ra.Scene(mm_cls, control_modes="pd_ee_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    start, start_yaw = tool_in_torso(agent), agent.base_rot[0]
+    steps = 20
+    command = np.array([-0.5, 0.5, 0.3])  # normalized: 5 mm back, 5 mm left, 3 mm up per step
+    for _ in range(steps):
+        agent.set_action([*command, 0.0, 0.0, 0.0, 1.0])  # arm, gripper, torso, base (v, wz)
+        scene.step()
+    turned = agent.base_rot[0] - start_yaw
+    for _ in range(10):  # settle with zero commands, base still
+        agent.set_action(np.zeros(7))
+        scene.step()
+    moved = tool_in_torso(agent) - start
+    expected = steps * 0.01 * command
+    assert turned == pytest.approx(steps * scene.control_timestep, rel=0.05)  # 1 rad/s
+    np.testing.assert_allclose(moved, expected, atol=0.05 * np.linalg.norm(expected))
+
+
+#: ManiSkill 3.0.1's Fetch control modes (mani_skill/agents/robots/fetch/fetch.py, read
+#: as data): each is (arm, gripper, body, base).
+MANISKILL_FETCH_MODES = {
+    "pd_joint_delta_pos",
+    "pd_joint_pos",
+    "pd_ee_delta_pos",
+    "pd_ee_delta_pose",
+    "pd_ee_delta_pose_align",
+    "pd_joint_target_delta_pos",
+    "pd_ee_target_delta_pos",
+    "pd_ee_target_delta_pose",
+    "pd_joint_vel",
+    "pd_joint_pos_vel",
+    "pd_joint_delta_pos_vel",
+    "pd_joint_delta_pos_stiff_body",
+}
+
+
+def test_rules_generate_the_fetch_mode_table_and_action_layout(mm_cls: type[ra.Agent]) -> None:
+    scene = ra.Scene(mm_cls)
+    scene.reset()
+    agent = scene.agents[0]
+    modes = set(agent.modes())
+    # Not generated: ManiSkill's pd_ee_delta_pose_align (rotation about the tool with a
+    # root-aligned frame); extra: pd_ee_pose (absolute pose in the command frame).
+    assert MANISKILL_FETCH_MODES - modes == {"pd_ee_delta_pose_align"}
+    assert modes - MANISKILL_FETCH_MODES == {"pd_ee_pose"}
+    for mode in modes:
+        controller = agent.controller_for(mode)
+        assert list(controller.slices) == ["arm", "gripper", "torso", "base"], mode
+        assert controller.slices["gripper"].stop - controller.slices["gripper"].start == 1
+        assert controller.slices["base"].stop - controller.slices["base"].start == 2  # (v, wz)
+    stiff = agent.controller_for("pd_joint_delta_pos_stiff_body")
+    assert not stiff.parts["torso"].config.use_delta and stiff.parts["arm"].config.use_delta
+    agent.set_control_mode("pd_joint_delta_pos_stiff_body")
+    for _ in range(20):
+        agent.set_action([0.0] * 6 + [0.0, 0.25, 0.0, 0.0])  # torso to 0.25 m (absolute)
+        scene.step()
+    assert agent.qpos[0, agent.joint_names.index("torso_lift_joint")] == pytest.approx(0.25, abs=5e-3)
+
+
+def test_a_camera_placement_follows_its_link(mm_cls: type[ra.Agent]) -> None:
+    import mujoco
+
+    scene = ra.Scene(mm_cls, control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    camera = next(c for c in range(scene.model.ncam) if scene.model.camera(c).name.endswith("head_camera"))
+    config = mm_cls.cameras[0]
+    for yaw, lift in ((0.0, 0.0), (2.5, 0.2), (-3.0, 0.3)):
+        agent.set_base_pose(xy=[yaw, -lift], yaw=yaw)
+        q = agent.qpos[0].copy()
+        q[agent.joint_names.index("torso_lift_joint")] = lift
+        agent.reset(qpos=q)
+        link = agent.frame_pose("torso_lift_link")[0]
+        expected = np.empty(3)
+        mujoco.mju_rotVecQuat(expected, np.array(config.pos), link[3:])
+        pose = scene.world.camera_poses(camera)[0]
+        np.testing.assert_allclose(pose[:3, 3], link[:3] + expected, atol=1e-6)
+        turned = np.empty(4)
+        mujoco.mju_mulQuat(turned, link[3:], np.array(config.quat))
+        rotation = np.empty(9)
+        mujoco.mju_quat2Mat(rotation, turned)
+        np.testing.assert_allclose(pose[:3, :3], rotation.reshape(3, 3), atol=1e-6)

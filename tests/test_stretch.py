@@ -1,0 +1,296 @@
+"""Hello Robot Stretch 3 (``stretch``): the telescoping arm's coupled segments, forward
+kinematics against Menagerie's joint origins chained by hand, IK, grasping, the gripper
+states, the head camera and base odometry, each against numbers."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.kinematics import IKSolver, resolve_frame
+from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.robots.stretch.stretch import ARM_JOINTS, HEAD_CAMERA, TELESCOPE
+
+CUBE_HALF = 0.02
+CUBE_MASS = 0.1
+
+
+def joint_ids(agent: ra.Agent, names: tuple[str, ...]) -> np.ndarray:
+    return np.array([agent.joint_names.index(n) for n in names])
+
+
+def configuration(agent: ra.Agent, arm: np.ndarray) -> np.ndarray:
+    """The robot's qpos from the arm part's values (lift, l0, yaw, pitch, roll): every
+    segment at the driven one's value."""
+    qpos = agent.qpos[0].copy()
+    qpos[joint_ids(agent, ARM_JOINTS)] = arm
+    qpos[joint_ids(agent, TELESCOPE)] = arm[1]
+    return qpos
+
+
+# --------------------------------------------------------------- forward kinematics
+def _quat(w: float, x: float, y: float, z: float) -> np.ndarray:
+    q = np.array([w, x, y, z], dtype=np.float64)
+    return q / np.linalg.norm(q)
+
+
+def _euler(x: float, y: float, z: float) -> np.ndarray:
+    q = np.empty(4)
+    mujoco.mju_euler2Quat(q, np.array([x, y, z]), "xyz")  # MJCF's default sequence
+    return q
+
+
+#: base_link -> link_grasp_center as Menagerie's hello_robot_stretch_3/stretch.xml lists it:
+#: (child body, position in the parent, orientation in the parent, joint axis, slide?).
+PUBLIC_CHAIN = (
+    ("joint_lift", (-0.104385, 0.134999, 0.2), _quat(1, 0, 0, 1), (0, 0, 1), True),
+    ("link_arm_l4", (0, 0, 0), _quat(1, 0, 0, 0), None, False),
+    ("joint_arm_l3", (-0.2677, 0, 0), _quat(0.5, 0.5, -0.5, -0.5), (0, 0, 1), True),
+    ("joint_arm_l2", (0, 0, 0.013), _quat(1, 0, 0, 0), (0, 0, 1), True),
+    ("joint_arm_l1", (0, 0, 0.013), _quat(1, 0, 0, 0), (0, 0, 1), True),
+    ("joint_arm_l0", (0, 0, -0.01375), _quat(1, 0, 0, 0), (0, 0, 1), True),
+    ("joint_wrist_yaw", (0.083, -0.03075, 0), _quat(-1, -1, 0, 0), (0, 0, -1), False),
+    ("joint_wrist_pitch", (-0.01946, 0, 0.0305), _euler(0, 1.57, -1.57), (0, 0, -1), False),
+    ("joint_wrist_roll", (-0.0399, -0.024, 0.0196), _quat(1, 0, -1, 0), (0, 0, 1), False),
+    ("link_grasp_center", (0, 0, 0.23), _euler(-1.5707963267949, -1.5707963267948, 0), None, False),
+)
+
+
+def public_fk(values: dict[str, float]) -> np.ndarray:
+    """4x4 pose of link_grasp_center in base_link from the public joint origins."""
+    pose = np.eye(4)
+    for name, pos, quat, axis, slide in PUBLIC_CHAIN:
+        step = np.eye(4)
+        step[:3, :3], step[:3, 3] = quat_to_matrix(quat), pos
+        pose = pose @ step
+        if axis is not None:
+            motion = np.eye(4)
+            if slide:
+                motion[:3, 3] = values[name] * np.asarray(axis, dtype=np.float64)
+            else:
+                rotation = np.empty(4)
+                mujoco.mju_axisAngle2Quat(rotation, np.asarray(axis, dtype=np.float64), values[name])
+                motion[:3, :3] = quat_to_matrix(rotation)
+            pose = pose @ motion
+    return pose
+
+
+def test_forward_kinematics_matches_the_public_joint_origins() -> None:
+    """At 20 random configurations the grasp centre sits where Menagerie's joint origins
+    chained by hand put it (1e-6 m, 1e-6 rad)."""
+    scene = ra.Scene("stretch")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    arm = joint_ids(agent, ARM_JOINTS)
+    limits = agent.qpos_limits[arm]
+    rng = np.random.default_rng(0)
+    frame = resolve_frame(scene.model, "link_grasp_center", agent.prefix)
+    for _ in range(20):
+        values = rng.uniform(limits[:, 0], limits[:, 1])
+        agent.reset(qpos=configuration(agent, values))
+        world = agent.kinematics.pose(scene.world.qpos, frame)[0]
+        named = dict(zip(ARM_JOINTS, values, strict=True)) | {j: values[1] for j in TELESCOPE}
+        expected = public_fk(named)
+        np.testing.assert_allclose(world[:3], expected[:3, 3], atol=1e-6)
+        np.testing.assert_allclose(quat_to_matrix(world[3:]), expected[:3, :3], atol=1e-6)
+    scene.close()
+
+
+# --------------------------------------------------------------------- telescope
+def test_one_action_extends_every_segment() -> None:
+    """pd_joint_pos on joint_arm_l0 drives all four segments: each reaches the target
+    and the arm's extension (their sum) is 4 x the target, within 1 mm, from retracted
+    to fully out and back."""
+    scene = ra.Scene("stretch", control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    arm, segments = joint_ids(agent, ARM_JOINTS), joint_ids(agent, TELESCOPE)
+    hold = agent.qpos[0, arm].copy()
+    for target in (0.13, 0.05, 0.0, 0.1):
+        command = hold.copy()
+        command[1] = target
+        for _ in range(40):  # 2 s
+            agent.set_action(np.concatenate([command, [0.0], [0.0, 0.0], [0.0, 0.0]]))
+            scene.step()
+        extension = agent.qpos[0, segments]
+        np.testing.assert_allclose(extension, target, atol=1e-3)
+        assert extension.sum() == pytest.approx(4 * target, abs=1e-3)
+    scene.close()
+
+
+# ---------------------------------------------------------------------------- IK
+def test_ik_reaches_50_random_reachable_targets() -> None:
+    """The arm part has 5 DoF (lift, extension, wrist yaw / pitch / roll): position-only
+    IK reaches 50 grasp-centre positions of random configurations within 1 mm; the
+    solver moves the coupled segments with the driven one."""
+    scene = ra.Scene("stretch")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    arm = joint_ids(agent, ARM_JOINTS)
+    frame = resolve_frame(scene.model, "link_grasp_center", agent.prefix)
+    limits = agent.qpos_limits[arm]
+    solver = IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], limits)
+    rng = np.random.default_rng(5)
+    goals = np.stack([configuration(agent, rng.uniform(limits[:, 0], limits[:, 1])) for _ in range(50)])
+    context = np.repeat(scene.world.qpos, 50, axis=0)
+    full = context.copy()
+    full[:, agent.qpos_adr] = goals
+    targets = agent.kinematics.pose(full, frame)
+    seed = np.repeat(agent.qpos[:, arm], 50, axis=0)
+    result = solver.solve(context, targets, seed, position_only=True, max_iterations=200, restarts=20)
+    assert result.success.all(), np.flatnonzero(~result.success)
+    reached = np.stack([configuration(agent, q) for q in result.qpos])
+    full[:, agent.qpos_adr] = reached
+    error = np.linalg.norm(agent.kinematics.pose(full, frame)[:, :3] - targets[:, :3], axis=1)
+    assert error.max() < 1e-3
+    scene.close()
+
+
+# --------------------------------------------------------------------- grasping
+def grasp_scene() -> tuple[ra.Scene, ra.Agent, np.ndarray, np.ndarray]:
+    """The gripper pointing down with the arm out 0.2 m; the cube on the floor between
+    the open fingers. Returns the scene, the agent, the arm command and the cube's place."""
+    scene = ra.Scene("stretch", control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    command = np.array([0.3, 0.05, 0.0, -1.57, 0.0])
+    frame = resolve_frame(scene.model, "link_grasp_center", agent.prefix)
+    full = scene.world.qpos.copy()
+    full[0, agent.qpos_adr] = configuration(agent, command)
+    centre = agent.kinematics.pose(full, frame)[0, :3]
+    command[0] -= centre[2] - (CUBE_HALF + 0.002)  # lower the lift: the pads at the cube's middle
+    full[0, agent.qpos_adr] = configuration(agent, command)
+    centre = agent.kinematics.pose(full, frame)[0, :3]
+    scene.close()
+    cube = ra.Prop("cube", "box", (CUBE_HALF,) * 3, pos=(centre[0], centre[1], CUBE_HALF + 1e-4), mass=CUBE_MASS)
+    scene = ra.Scene("stretch", props=[cube], control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    qpos = configuration(agent, command)
+    qpos[joint_ids(agent, ("joint_gripper_finger_left", "joint_gripper_finger_right"))] = 0.4
+    agent.reset(qpos=qpos)
+    return scene, agent, command, centre
+
+
+def test_grasps_lifts_and_holds_a_cube() -> None:
+    """Close on a 100 g cube, lift it 10 cm with the lift and hold it 2 s: the fingers'
+    contact forces carry its weight."""
+    scene, agent, command, _ = grasp_scene()
+    still = [0.0, 0.0, 0.0, 0.0]  # head, base
+    for _ in range(10):
+        agent.set_action(np.concatenate([command, [1.0], still]))
+        scene.step()
+    assert not agent.is_grasping("cube")[0]
+    for _ in range(20):  # close for 1 s
+        agent.set_action(np.concatenate([command, [-1.0], still]))
+        scene.step()
+    assert agent.is_grasping("cube")[0]
+    start = scene.body_pose("cube")[0, :3]
+    lifted = command.copy()
+    lifted[0] += 0.1
+    for i in range(60):  # lift 10 cm over 1 s, hold 2 s
+        blend = min(1.0, (i + 1) / 20)
+        agent.set_action(np.concatenate([command + blend * (lifted - command), [-1.0], still]))
+        scene.step()
+    cube = scene.body_pose("cube")[0, :3]
+    assert cube[2] - start[2] == pytest.approx(0.1, abs=0.01)
+    assert agent.is_grasping("cube")[0]
+    body = lambda name: scene.model.body(name).id  # noqa: E731
+    fingers = [[body(agent.prefix + "link_gripper_finger_left")], [body(agent.prefix + "link_gripper_finger_right")]]
+    left, right = scene.world.contact_forces(fingers, body("cube"))[0]
+    assert np.linalg.norm(left) > 1.0 and np.linalg.norm(right) > 1.0
+    np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)
+    scene.close()
+
+
+def test_gripper_open_closed_and_half() -> None:
+    scene = ra.Scene("stretch", control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    fingers = joint_ids(agent, ("joint_gripper_finger_left", "joint_gripper_finger_right"))
+    for value, is_open, is_closed in ((0.4, True, False), (-0.05, False, True), (0.17, False, False)):
+        qpos = agent.qpos[0].copy()
+        qpos[fingers] = value
+        agent.reset(qpos=qpos)
+        assert agent.is_gripper_open()[0] == is_open and agent.is_gripper_closed()[0] == is_closed
+    scene.close()
+
+
+# ------------------------------------------------------------------------ camera
+def test_head_camera_follows_its_link_and_pans() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="stretch", obs_mode="rgb", control_mode="pd_joint_delta_pos").unwrapped
+    obs, _ = env.reset(seed=0)
+    start = obs["sensor_param"]["head_camera"]["cam2world_gl"][0].astype(np.float64)
+    pan_joint = env.agent.joint_names.index("joint_head_pan")
+    start_pan = env.agent.qpos[0, pan_joint]
+    action = np.zeros(env.single_action_space.shape)
+    action[6] = 1.0  # head pan
+    for _ in range(20):
+        obs, *_ = env.step(action)
+    data, mount = env.data, env.agent.index.body_id("realsense", "test")
+    link = np.eye(4)
+    link[:3, :3], link[:3, 3] = data.xmat[mount].reshape(3, 3), data.xpos[mount]
+    offset = np.eye(4)
+    offset[:3, :3], offset[:3, 3] = quat_to_matrix(HEAD_CAMERA.quat), HEAD_CAMERA.pos
+    pose = obs["sensor_param"]["head_camera"]["cam2world_gl"][0].astype(np.float64)
+    np.testing.assert_allclose(pose, link @ offset, atol=1e-6)
+    view, before = pose[:3, :3] @ [0, 0, -1], start[:3, :3] @ [0, 0, -1]
+    turned = math.atan2(view[1], view[0]) - math.atan2(before[1], before[0])
+    pan = env.agent.qpos[0, pan_joint] - start_pan
+    assert pan > 0.3 and turned == pytest.approx(pan, abs=1e-3)  # it pans with the joint
+    env.close()
+
+
+# -------------------------------------------------------------------------- base
+def test_base_drives_0_4_m_in_2_s() -> None:
+    """(v, wz) = (0.2 m/s, 0) for 2 s: 0.4 m along the robot's heading (+-5 %)."""
+    scene = ra.Scene("stretch", control_modes="pd_joint_delta_pos")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    action = np.zeros(agent.single_action_space.shape)
+    action[-2] = 0.2 / 0.3
+    for _ in range(round(2 * scene.control_freq)):
+        agent.set_action(action)
+        scene.step()
+    x, y, yaw = agent.qpos[0, :3]
+    assert x == pytest.approx(0.4, rel=0.05) and abs(y) < 0.01 and abs(yaw) < 1e-3
+    scene.close()
+
+
+@pytest.mark.parametrize("mode", ["pd_ee_target_delta_pos", "pd_ee_delta_pos"])
+def test_ee_delta_moves_the_tool_in_the_base_frame_while_the_base_turns(mode: str) -> None:
+    """A constant end-effector delta (1 cm per step up and 0.5 cm per step outwards, in
+    base_link's axes) for 1 s while the base turns at 0.5 rad/s: the tool moves by the
+    commanded displacement in the turning base's frame (5 %)."""
+    scene = ra.Scene("stretch", control_modes=mode)
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    step = np.array([0.0, -0.005, 0.01])  # base_link: -y is where the arm points
+
+    def in_base() -> np.ndarray:
+        x, y, yaw = agent.qpos[0, :3]
+        tool = agent.tcp_pose[0, :3] - np.array([x, y, 0.0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([c * tool[0] + s * tool[1], -s * tool[0] + c * tool[1], tool[2]])
+
+    start = in_base()
+    action = np.zeros(agent.single_action_space.shape)
+    action[:3] = step / 0.025
+    action[-1] = 0.5  # yaw rate 0.5 rad/s
+    for _ in range(20):
+        agent.set_action(action)
+        scene.step()
+    for _ in range(10):  # let the tool settle, base still
+        action[:3] = 0.0 if mode == "pd_ee_target_delta_pos" else action[:3]
+        action[-1] = 0.0
+        if mode == "pd_ee_target_delta_pos":
+            agent.set_action(action)
+            scene.step()
+    moved = in_base() - start
+    assert agent.qpos[0, 2] > 0.4  # the base turned
+    np.testing.assert_allclose(moved, 20 * step, rtol=0.05, atol=0.05 * np.linalg.norm(20 * step))
+    scene.close()

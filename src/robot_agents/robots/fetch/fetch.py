@@ -105,7 +105,10 @@ FETCH_DRIVES = (
     # translation so the 118 kg robot follows a speed command within 2 % (time constant
     # 15 ms instead of 0.12 s).
     VelocityActuator(joints=BASE_PATTERN, damping=(8000.0, 8000.0, 2000.0)),
-    PDActuator(joints="torso_lift_joint", stiffness=1e3, damping=1e2, effort_limit=450.0, velocity_limit=0.1),
+    # The torso is a lead screw that does not back-drive: ManiSkill's 1e3 N/m let a loaded
+    # torso sink under delta commands (measured: 1.9 cm in 4.5 s of a grasp and lift with a
+    # 150 g cube); 1e5 N/m with 5e3 N*s/m (near critical on the 30 kg it carries) holds it.
+    PDActuator(joints="torso_lift_joint", stiffness=1e5, damping=5e3, effort_limit=450.0, velocity_limit=0.1),
     PDActuator(
         joints="head_pan_joint|head_tilt_joint",
         stiffness=1e3,

@@ -13,7 +13,6 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import quat_angle
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_robot_suite import hold_action
 
@@ -112,7 +111,9 @@ def test_limits_masses_and_wheels_from_the_urdf() -> None:
         [[-1.6056, 1.6056], [-1.221, 1.518], [-2.251, 2.251]],
     )
     np.testing.assert_allclose(agent.qpos_limits[index(agent, ["wrist_flex_joint"])], [[-2.16, 2.16]])
-    np.testing.assert_allclose(agent.qpos_limits[index(agent, [*HEAD, "torso_lift_joint"])], [[-1.57, 1.57], [-0.76, 1.45], [0.0, 0.38615]])
+    np.testing.assert_allclose(
+        agent.qpos_limits[index(agent, [*HEAD, "torso_lift_joint"])], [[-1.57, 1.57], [-0.76, 1.45], [0.0, 0.38615]]
+    )
     np.testing.assert_allclose(agent.qpos_limits[index(agent, FINGERS)], [[0.0, 0.05]] * 2)
     model = scene.model
     links = [n.replace("_joint", "_link") for n in ARM]
@@ -288,7 +289,9 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
             pos=(TOOL[0], TOOL[1], (TOOL[2] - CUBE_HALF) / 2),
             mass=None,
         ),
-        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(TOOL[0], TOOL[1], TOOL[2] + 1e-4), mass=CUBE_MASS),
+        ra.Prop(
+            name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(TOOL[0], TOOL[1], TOOL[2] + 1e-4), mass=CUBE_MASS
+        ),
     ]
     scene = ra.Scene("fetch", props=props, control_modes="pd_joint_pos")
     scene.reset(keyframes="rest")

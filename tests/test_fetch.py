@@ -412,3 +412,22 @@ def test_differential_base_odometry_and_wheels() -> None:
     assert (turned[1] - turned[0]) / 2 == pytest.approx(arc, rel=0.01)  # opposite ways, by the arc
     assert np.max(np.abs(agent.qpos[0, arm] - arm_start)) < 0.01
     scene.close()
+
+
+def test_align_is_an_optional_rule_mode() -> None:
+    """Not generated unless a TaskSpace lists it; then pd_ee_delta_pose with rotations
+    about the tool's own axes (translation still in the command frame's axes); an
+    unknown name lists it among the choices."""
+    from robot_agents.controllers.ee import CommandFrame
+    from robot_agents.controllers.rules import JointGroup, ee_control_modes
+    from robot_agents.errors import UnknownNameError
+
+    group = JointGroup(ARM)
+    task = ra.TaskSpace(position_bounds=ra.WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)))
+    assert "pd_ee_delta_pose_align" not in ee_control_modes(group, task)
+    modes = ee_control_modes(group, task, ("pd_ee_delta_pose", "pd_ee_delta_pose_align"))
+    align, pose = modes["pd_ee_delta_pose_align"], modes["pd_ee_delta_pose"]
+    assert align.rotation_frame is CommandFrame.EE and pose.rotation_frame is CommandFrame.ROOT
+    assert align.translation_frame is CommandFrame.ROOT
+    with pytest.raises(UnknownNameError, match="pd_ee_delta_pose_align"):
+        ee_control_modes(group, task, ("pd_ee_align",))

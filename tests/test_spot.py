@@ -124,7 +124,7 @@ def test_arm_forward_kinematics_matches_the_public_joint_origins() -> None:
         wr1 = body_pose(scene, "arm_link_wr1")
         np.testing.assert_allclose(wr1, expected, atol=1e-9)
         jaw = expected @ np.block(
-            [[axis_rotation((0.0, -1.0, 0.0), q[-1]), np.c_[JAW_HINGE].reshape(3, 1)], [0, 0, 0, 1]]
+            [[axis_rotation((0.0, 1.0, 0.0), q[-1]), np.c_[JAW_HINGE].reshape(3, 1)], [0, 0, 0, 1]]
         )
         np.testing.assert_allclose(body_pose(scene, "arm_link_fngr"), jaw, atol=1e-9)
     scene.close()
@@ -151,10 +151,10 @@ def test_gripper_open_closed_and_half() -> None:
     assert agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
     q = agent.keyframe_qpos("rest")
     for value, is_open, is_closed in (
-        (GRIPPER_OPEN - 0.009, True, False),
-        (GRIPPER_CLOSED + 0.009, False, True),
+        (GRIPPER_OPEN + 0.009, True, False),  # the jaw opens towards negative angles
+        (GRIPPER_CLOSED - 0.009, False, True),
         ((GRIPPER_OPEN + GRIPPER_CLOSED) / 2, False, False),
-        (GRIPPER_CLOSED + 0.02, False, False),
+        (GRIPPER_CLOSED - 0.02, False, False),
     ):
         q[-1] = value
         agent.reset(qpos=q)

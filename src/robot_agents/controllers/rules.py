@@ -188,8 +188,12 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
         raise ConfigError(f"Gripper {part.name!r}: open and closed positions of {names[0]!r} are equal.")
     squeeze = part.squeeze if span > 0 else -part.squeeze
     low, high = sorted((c[0] - squeeze, o[0]))
+    # -1 closes: when the leader closes towards its upper end, -1 maps onto the upper bound
+    reverse = bool(span < 0)
     if len(names) == 1:
-        return PDJointPosConfig(joint_names=tuple(names), lower=low, upper=high, clip_target=False)
+        return PDJointPosConfig(
+            joint_names=tuple(names), lower=low, upper=high, clip_target=False, reverse_normalization=reverse
+        )
     multipliers = (o - c) / span
     offsets = c - multipliers * c[0]
     return PDJointPosMimicConfig(
@@ -199,6 +203,7 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
         multipliers=tuple(float(m) for m in multipliers),
         offsets=tuple(float(v) for v in offsets),
         clip_target=False,
+        reverse_normalization=reverse,
     )
 
 

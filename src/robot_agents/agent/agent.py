@@ -253,6 +253,16 @@ class Agent(AgentDefinition):
                 commanded = controller.target_qvel
         self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
 
+    def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        """What the last control step reports, per env (``(num_envs,)`` arrays): the
+        controllers' (``ik_success`` ... in end-effector modes) and, for a robot with a
+        planar base, ``base_move_refused`` (a kinematic move refused because it would
+        collide; always ``False`` for a dynamic base or without the check)."""
+        info = self.controller.step_info()
+        if self.mobile.planar is not None:
+            info["base_move_refused"] = self.mobile.last_refused.copy()
+        return info
+
     def set_base_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
         """Run this robot's base ``"dynamic"`` or ``"kinematic"`` (overrides ``Base.dynamics``)."""
         self.mobile.set_dynamics(dynamics, refuse_collisions)

@@ -53,11 +53,7 @@ TASKS = ("PickCube-v1", "ReachPose-v1")
 # -- the interface, in a few helpers -----------------------------------------------------------
 def action_for(controller: Any, raw: np.ndarray) -> np.ndarray:
     """A part's action from raw values (clipped to its bounds, normalized if it is)."""
-    low, high = controller.raw_low, controller.raw_high
-    raw = np.clip(raw, low, high)
-    if controller.config.normalize_action:
-        return 2.0 * (raw - low) / (high - low) - 1.0
-    return raw
+    return np.asarray(controller.from_raw(raw))
 
 
 def shorten(vectors: np.ndarray, bound: np.ndarray) -> np.ndarray:
@@ -112,14 +108,6 @@ class Arm:
         # all of the gripper's joints: its controller may drive any one of them (a
         # leader the others follow through an equality), not necessarily the first
         self.gripper_joints = set(self.agent.part_joints[gripper]) if gripper else set()
-        # Whether the gripper opens towards its action's upper bound (the leader's open
-        # position above its closed one); the Google Robot's fingers open at 0 rad.
-        self.opens_high = True
-        if gripper:
-            part = self.agent.gripper()
-            leader_open = part.open if isinstance(part.open, float | int) else part.open[0]
-            leader_closed = part.closed if isinstance(part.closed, float | int) else part.closed[0]
-            self.opens_high = leader_open >= leader_closed
 
     def set_mode(self, mode: str) -> None:
         """Switch the control mode and find which of its controllers drives the arm and
@@ -145,8 +133,8 @@ class Arm:
             if name == self.arm_name:
                 action[:, slot] = action_for(controller, arm_raw)
             elif name == self.gripper and gripper_open is not None:
-                opens = gripper_open[:, None] == self.opens_high
-                raw = np.where(opens, controller.raw_high, controller.raw_low)
+                # every gripper: +1 opens, -1 closes (unit_high / unit_low in raw units)
+                raw = np.where(gripper_open[:, None], controller.unit_high, controller.unit_low)
                 action[:, slot] = action_for(controller, raw)
         return action
 

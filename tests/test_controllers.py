@@ -63,6 +63,28 @@ def test_normalized_delta_maps_and_clips(pendulum_cls: type[ra.Agent]) -> None:
     np.testing.assert_allclose(target, q + np.array([0.05, 0.1]), atol=1e-12)
 
 
+def test_reverse_normalization_maps_minus_one_to_upper_and_inverts(pendulum_file: object) -> None:
+    from tests.conftest import make_pendulum_class
+
+    reverse = ra.PDJointPosConfig(joint_names=("shoulder",), lower=0.0, upper=0.9, reverse_normalization=True)
+    plain = ra.PDJointPosConfig(joint_names=("elbow",), lower=0.0, upper=0.9)
+    cls = make_pendulum_class(pendulum_file, control_modes={"m": {"a": reverse, "b": plain}})  # type: ignore[arg-type]
+    scene = ra.Scene(cls)
+    parts = scene.agents[0].controller.parts
+    units = np.array([[-1.0], [1.0], [0.0], [7.0]])
+    np.testing.assert_allclose(parts["a"].to_raw(units)[:, 0], [0.9, 0.0, 0.45, 0.0])
+    np.testing.assert_allclose(parts["b"].to_raw(units)[:, 0], [0.0, 0.9, 0.45, 0.9])
+    raw = np.array([[0.0], [0.2], [0.9]])
+    for part in parts.values():  # from_raw inverts to_raw
+        np.testing.assert_allclose(part.to_raw(part.from_raw(raw)), raw, atol=1e-15)
+    np.testing.assert_allclose(parts["a"].from_raw(np.array([[-5.0]])), [[1.0]])  # clipped to lower: +1
+    # the fused path of the whole mode maps the same way
+    scene.agents[0].set_action([-1.0, -1.0])
+    targets = [p.get_state()["target_qpos"][0, 0] for p in parts.values()]
+    np.testing.assert_allclose(targets, [0.9, 0.0])
+    scene.close()
+
+
 def test_velocity_mode_tracks_velocity(pendulum_cls: type[ra.Agent]) -> None:
     scene, agent = make_scene(pendulum_cls, "pd_joint_vel")
     run(scene, agent, [0.5, 0.0], 10)  # normalized: 0.5 of 1 rad/s

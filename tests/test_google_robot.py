@@ -183,12 +183,13 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
         agent.set_action(np.concatenate([arm_target, [gripper], head, [0.0, 0.0]]))
         scene.step()
 
-    # The gripper action runs from open (-1, 0 rad) to closed (+1, 1.3 rad), as ManiSkill's.
+    # -1 closes (1.3 rad), +1 opens (0 rad), as every built-in gripper (ManiSkill's Google
+    # Robot has the opposite sign).
     for _ in range(10):
-        act(grasp, -1.0)
+        act(grasp, 1.0)
     assert not agent.is_grasping("cube")[0]
     for _ in range(20):  # close for 1 s
-        act(grasp, 1.0)
+        act(grasp, -1.0)
     assert agent.is_grasping("cube")[0]
 
     body = lambda name: scene.model.body(name).id  # noqa: E731
@@ -204,7 +205,7 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
 
     for i in range(60):  # lift 10 cm over 1 s, hold 2 s
         blend = min(1.0, (i + 1) / 20)
-        act(grasp + blend * (lift - grasp), 1.0)
+        act(grasp + blend * (lift - grasp), -1.0)
     cube_pose = scene.body_pose("cube")[0]
     assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
     assert np.linalg.norm(cube_pose[:3] - agent.tcp_pose[0, :3]) < 0.01  # still between the tips
@@ -214,7 +215,7 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
     np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)  # the fingers carry it
 
     for _ in range(10):  # open: the cube drops
-        act(lift, -1.0)
+        act(lift, 1.0)
     assert not agent.is_grasping("cube")[0]
     scene.close()
 

@@ -74,6 +74,26 @@ def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
         )
 
 
+def assert_gripper_action_closes_at_minus_one(agent: ra.Agent) -> None:
+    """Every gripper, in every mode: a normalized -1 commands its leader joint to (or past)
+    the closed position, +1 to (or past) the open one, whichever way its joints close."""
+    for part in agent.grippers.parts.values():
+        if isinstance(part, ra.Hand):
+            continue
+        joints = list(agent.part_joints[part.name])
+        opened = np.broadcast_to(np.asarray(part.open, dtype=float).reshape(-1), (len(joints),))
+        closed = np.broadcast_to(np.asarray(part.closed, dtype=float).reshape(-1), (len(joints),))
+        for controller in agent.controller.parts.values():
+            leader = controller.config.joint_names[0]
+            if leader not in joints or not controller.config.normalize_action:
+                continue
+            k = joints.index(leader)
+            at_minus, at_plus = controller.to_raw(np.array([[-1.0], [1.0]]))[:, 0]
+            closing = np.sign(closed[k] - opened[k])
+            assert closing * (at_minus - closed[k]) >= -1e-12, f"{part.name}: -1 -> {at_minus}, closed {closed[k]}"
+            assert closing * (at_plus - opened[k]) <= 1e-12, f"{part.name}: +1 -> {at_plus}, open {opened[k]}"
+
+
 @pytest.mark.parametrize(("uid", "mode"), CASES)
 def test_every_mode(uid: str, mode: str) -> None:
     """Action space matches the controller; random actions keep the state finite;
@@ -96,6 +116,8 @@ def test_every_mode(uid: str, mode: str) -> None:
             n = len(cfg.joint_names) if not isinstance(cfg, ra.PDJointPosMimicConfig) else 1
             np.testing.assert_allclose(space.low[0, sl.start : sl.start + n], limits[:n, 0].astype(np.float32))
             np.testing.assert_allclose(space.high[0, sl.start : sl.start + n], limits[:n, 1].astype(np.float32))
+
+    assert_gripper_action_closes_at_minus_one(agent)
 
     # Hold: the robot stays at its rest keyframe for 1 s (5 s for the default mode: see below).
     scene.reset()

@@ -40,14 +40,14 @@ def rotate(v: np.ndarray, angle: float) -> np.ndarray:
 
 def follower_origin(driver: float) -> np.ndarray:
     """Where the right follower's origin is (y, z in the base frame) with the driver at
-    ``driver`` (our sign: the hinge turns about -x, closing is negative)."""
+    ``driver`` (the hinge turns about +x, closing is positive)."""
     e0 = B + E_ON_SPRING
-    return A + rotate(e0 - A, -driver)
+    return A + rotate(e0 - A, driver)
 
 
 def action_for(driver: float) -> np.ndarray:
-    """The normalized gripper action whose target is ``driver`` (-1: closed - 0.1 rad, +1: open)."""
-    return np.array([2.0 * (driver + 0.9) / 0.9 - 1.0])
+    """The normalized gripper action whose target is ``driver`` (-1: closed + 0.1 rad, +1: open)."""
+    return np.array([1.0 - 2.0 * driver / 0.9])
 
 
 def pad_faces(agent: ra.Agent, prefix: str = "") -> tuple[np.ndarray, np.ndarray]:
@@ -90,8 +90,8 @@ def test_linkage_follows_the_public_geometry_with_parallel_pads_and_an_85_mm_str
     agent = scene.agents[0]
     scene.reset()
     gaps = []
-    for target in np.linspace(0.0, -0.8, 10):
-        settle(scene, action_for(-0.9) if target == -0.8 else action_for(target), 8)
+    for target in np.linspace(0.0, 0.8, 10):
+        settle(scene, action_for(0.9) if target == 0.8 else action_for(target), 8)
         driver = agent.qpos[0, 0]
         assert driver == pytest.approx(target, abs=0.01)
         right, left = pad_faces(agent)
@@ -117,10 +117,10 @@ def test_one_action_drives_the_whole_linkage() -> None:
     assert driven == {"right_driver_joint", "left_driver_joint"}
     assert agent.single_action_space.shape == (1,)
     scene.reset()
-    settle(scene, action_for(-0.45), 10)
+    settle(scene, action_for(0.45), 10)
     q = dict(zip(agent.joint_names, agent.qpos[0], strict=True))
     for side in ("right", "left"):
-        assert q[f"{side}_driver_joint"] == pytest.approx(-0.45, abs=0.01)
+        assert q[f"{side}_driver_joint"] == pytest.approx(0.45, abs=0.01)
         # the parallelogram: the spring link turns with the driver, the follower back
         assert q[f"{side}_spring_link_joint"] == pytest.approx(q[f"{side}_driver_joint"], abs=1e-3)
         assert q[f"{side}_follower_joint"] == pytest.approx(-q[f"{side}_driver_joint"], abs=1e-3)
@@ -279,7 +279,7 @@ def test_the_piece_mounts_on_a_flange(tmp_path: Path) -> None:
         parts = (ra.Arm(name="arm", joints="wrist", end_effectors=(ra.EndEffector("rq/robotiq_tcp", name="tcp"),)),)
         keyframes = {
             "home": ra.Keyframe(qpos={"wrist": 0.3}),
-            "closed": ra.Keyframe(qpos={"wrist": 0.3, **linkage_qpos(-0.8, prefix="rq/")}),
+            "closed": ra.Keyframe(qpos={"wrist": 0.3, **linkage_qpos(0.8, prefix="rq/")}),
         }
 
     scene = ra.Scene(Wrist)
@@ -290,7 +290,7 @@ def test_the_piece_mounts_on_a_flange(tmp_path: Path) -> None:
     robotiq = [b for b in range(model.nbody) if model.body(b).name.startswith(f"{agent.prefix}rq/")]
     assert sum(model.body_mass[b] for b in robotiq) == pytest.approx(MASS, abs=1e-4)
     flange = model.body(f"{agent.prefix}flange").id
-    for keyframe, driver, gap in (("home", 0.0, 0.0854), ("closed", -0.8, 0.0002)):
+    for keyframe, driver, gap in (("home", 0.0, 0.0854), ("closed", 0.8, 0.0002)):
         scene.reset(keyframes=keyframe)
         np.testing.assert_allclose(agent.qpos[0, 1:], [driver, driver, -driver] * 2, atol=1e-12)
         assert max(loop_gap(scene, agent, side) for side in ("rq/right", "rq/left")) < 1e-6

@@ -84,6 +84,34 @@ def arm_solver(scene: ra.Scene) -> IKSolver:
 
 
 # ---------------------------------------------------------------- standing
+@pytest.mark.parametrize("mode", ["pd_joint_pos", "pd_ee_delta_pose"])
+def test_held_legs_take_no_action_and_keep_their_pose_under_random_actions(mode: str) -> None:
+    """Habitat's leg base: the action is arm, jaw and base; the legs keep the reset pose
+    exactly while the kinematic base moves, and stand under their PD in a dynamic one."""
+    scene = ra.Scene("spot", control_modes=mode)
+    scene.reset(keyframes="standing")
+    agent = scene.agents[0]
+    assert set(agent.controller.parts) == {"arm", "gripper", "base"}
+    legs = indices(agent, LEG_JOINTS)
+    rng = np.random.default_rng(0)
+    space = agent.single_action_space
+    worst = 0.0
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        worst = max(worst, float(np.max(np.abs(agent.qpos[0, legs] - np.tile(STANDING_LEGS, 4)))))
+    assert worst == 0.0  # pinned
+    agent.set_base_dynamics("dynamic")
+    scene.reset(keyframes="standing")
+    worst = 0.0
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        worst = max(worst, float(np.max(np.abs(agent.qpos[0, legs] - np.tile(STANDING_LEGS, 4)))))
+    assert 0.0 < worst < 0.05  # held by their PD drives alone
+    scene.close()
+
+
 def test_stands_at_the_standing_keyframe_for_5_s() -> None:
     """Body height within 1 cm, legs at Habitat's pose, feet within 5 mm above the floor."""
     scene = ra.Scene("spot", control_modes="pd_joint_delta_pos")
@@ -124,7 +152,7 @@ def test_arm_forward_kinematics_matches_the_public_joint_origins() -> None:
         wr1 = body_pose(scene, "arm_link_wr1")
         np.testing.assert_allclose(wr1, expected, atol=1e-9)
         jaw = expected @ np.block(
-            [[axis_rotation((0.0, -1.0, 0.0), q[-1]), np.c_[JAW_HINGE].reshape(3, 1)], [0, 0, 0, 1]]
+            [[axis_rotation((0.0, 1.0, 0.0), q[-1]), np.c_[JAW_HINGE].reshape(3, 1)], [0, 0, 0, 1]]
         )
         np.testing.assert_allclose(body_pose(scene, "arm_link_fngr"), jaw, atol=1e-9)
     scene.close()
@@ -151,10 +179,10 @@ def test_gripper_open_closed_and_half() -> None:
     assert agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
     q = agent.keyframe_qpos("rest")
     for value, is_open, is_closed in (
-        (GRIPPER_OPEN - 0.009, True, False),
-        (GRIPPER_CLOSED + 0.009, False, True),
+        (GRIPPER_OPEN + 0.009, True, False),  # the jaw opens towards negative angles
+        (GRIPPER_CLOSED - 0.009, False, True),
         ((GRIPPER_OPEN + GRIPPER_CLOSED) / 2, False, False),
-        (GRIPPER_CLOSED + 0.02, False, False),
+        (GRIPPER_CLOSED - 0.02, False, False),
     ):
         q[-1] = value
         agent.reset(qpos=q)
@@ -190,7 +218,7 @@ def test_jaw_grasps_lifts_and_holds_a_cube() -> None:
     qpos = agent.qpos[0].copy()
     qpos[arm] = grasp
     agent.reset(qpos=qpos)  # jaw open around the cube
-    n_other = agent.single_action_space.shape[0] - 7  # legs (deltas) and base (velocities)
+    n_other = agent.single_action_space.shape[0] - 7  # base (velocities)
 
     def act(q: np.ndarray, gripper: float) -> None:
         agent.set_action(np.concatenate([q, [gripper], np.zeros(n_other)]))

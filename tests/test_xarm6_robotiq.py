@@ -101,7 +101,7 @@ def test_the_gripper_keeps_one_convention_in_every_mode() -> None:
     assert len(cls.modes()) == 11
     for mode in cls.modes():
         assert cls.mode_parts(mode)["gripper"] == reference, mode
-    middle = (CLOSED - SQUEEZE) / 2
+    middle = (CLOSED + SQUEEZE) / 2
     for mode, arm_dim in (("pd_ee_delta_pos", 3), ("pd_ee_delta_pose", 6), ("pd_joint_delta_pos", 6)):
         scene = ra.Scene("xarm6_robotiq", control_modes=mode)
         agent = scene.agents[0]

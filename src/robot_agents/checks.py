@@ -56,7 +56,7 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
         else:
             raw = np.zeros(controller.action_dim)  # zero delta / velocity / effort (symmetric bounds)
         if config.normalize_action and isinstance(config, PDJointPosConfig) and not config.use_delta:
-            raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
+            raw = controller.from_raw(raw)
         parts.append(raw)
     return np.concatenate(parts) if parts else np.zeros(0)
 

@@ -224,7 +224,5 @@ def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArr
             raw = (qpos_target[index] - agent.qpos[0, index])[: controller.action_dim]
         else:
             raw = qpos_target[index][: controller.action_dim]
-        if controller.config.normalize_action:
-            raw = 2 * (raw - controller.raw_low) / (controller.raw_high - controller.raw_low) - 1
-        parts.append(raw)
+        parts.append(controller.from_raw(raw))
     return np.concatenate(parts)

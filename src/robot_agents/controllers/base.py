@@ -130,6 +130,9 @@ class ControllerConfig(abc.ABC):
         joint_names: the joints this controller drives, in action order (unprefixed).
         normalize_action: take actions in ``[-1, 1]`` and map them linearly onto
             ``[lower, upper]``; otherwise take raw values. Both are clipped.
+        reverse_normalization: map ``-1`` onto ``upper`` and ``+1`` onto ``lower``
+            instead (raw actions keep ``lower <= upper``); grippers use it so that ``-1``
+            closes whichever way their joints close.
         stiffness, damping, effort_limit: drive settings this mode imposes on its
             joints while it is active (N*m/rad, N*m*s/rad, N*m; per joint or one for
             all); ``None`` keeps the robot's declared actuators'.
@@ -140,6 +143,7 @@ class ControllerConfig(abc.ABC):
 
     joint_names: tuple[str, ...]
     normalize_action: bool = True
+    reverse_normalization: bool = False
     stiffness: PerJoint | None = None
     damping: PerJoint | None = None
     effort_limit: PerJoint | None = None
@@ -189,6 +193,8 @@ class Controller(abc.ABC):
                 f"got lower={low.tolist()}, upper={high.tolist()}."
             )
         self.raw_low, self.raw_high = low, high
+        #: The raw values a normalized action of -1 and +1 map onto.
+        self.unit_low, self.unit_high = (high, low) if config.reverse_normalization else (low, high)
         if config.normalize_action and not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
             raise ConfigError(
                 f"{type(config).__name__}({', '.join(config.joint_names)}): normalized actions need finite bounds, "
@@ -217,8 +223,19 @@ class Controller(abc.ABC):
         """Clip an action of shape ``(num_envs, action_dim)`` and undo normalization."""
         if self.config.normalize_action:
             unit = np.clip(action, -1.0, 1.0)
-            return self.raw_low + (unit + 1.0) * 0.5 * (self.raw_high - self.raw_low)
+            return self.unit_low + (unit + 1.0) * 0.5 * (self.unit_high - self.unit_low)
         return np.clip(action, self.raw_low, self.raw_high)
+
+    def from_raw(self, raw: FloatArray) -> FloatArray:
+        """The action (normalized if this controller's is) that commands ``raw``, clipped
+        to the bounds; the inverse of :meth:`to_raw`. Shape ``(..., action_dim)``."""
+        clipped = np.clip(raw, self.raw_low, self.raw_high)
+        if not self.config.normalize_action:
+            return clipped
+        span = self.unit_high - self.unit_low
+        with np.errstate(invalid="ignore", divide="ignore"):
+            unit = np.where(span != 0, 2.0 * (clipped - self.unit_low) / np.where(span != 0, span, 1.0) - 1.0, 0.0)
+        return unit
 
     # -- lifecycle --------------------------------------------------------------------
     @abc.abstractmethod

@@ -61,11 +61,14 @@ class CombinedController:
         )
         raw_low = np.concatenate([c.raw_low for c in controllers]) if controllers else np.zeros(0)
         raw_high = np.concatenate([c.raw_high for c in controllers]) if controllers else np.zeros(0)
+        # the raw values -1 and +1 map onto (swapped for reverse-normalized parts)
+        unit_low = np.concatenate([c.unit_low for c in controllers]) if controllers else np.zeros(0)
+        unit_high = np.concatenate([c.unit_high for c in controllers]) if controllers else np.zeros(0)
         self._clip_low = np.where(normalized, -1.0, raw_low)
         self._clip_high = np.where(normalized, 1.0, raw_high)
         with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
-            self._scale = np.where(normalized, (raw_high - raw_low) / 2, 1.0)
-            self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
+            self._scale = np.where(normalized, (unit_high - unit_low) / 2, 1.0)
+            self._offset = np.where(normalized, (unit_high + unit_low) / 2, 0.0)
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
         self._checked = [(name, c) for name, c in self.parts.items() if c.checks_actions]
         self._reporting = [c for c in controllers if type(c).step_info is not Controller.step_info]

@@ -29,7 +29,7 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
@@ -199,8 +199,12 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
         raise ConfigError(f"Gripper {part.name!r}: open and closed positions of {names[0]!r} are equal.")
     squeeze = part.squeeze if span > 0 else -part.squeeze
     low, high = sorted((c[0] - squeeze, o[0]))
+    # -1 closes: when the leader closes towards its upper end, -1 maps onto the upper bound
+    reverse = bool(span < 0)
     if len(names) == 1:
-        return PDJointPosConfig(joint_names=tuple(names), lower=low, upper=high, clip_target=False)
+        return PDJointPosConfig(
+            joint_names=tuple(names), lower=low, upper=high, clip_target=False, reverse_normalization=reverse
+        )
     multipliers = (o - c) / span
     offsets = c - multipliers * c[0]
     return PDJointPosMimicConfig(
@@ -210,6 +214,7 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
         multipliers=tuple(float(m) for m in multipliers),
         offsets=tuple(float(v) for v in offsets),
         clip_target=False,
+        reverse_normalization=reverse,
     )
 
 
@@ -265,8 +270,8 @@ def modes_from_parts(
             table.update(ee_control_modes(group, task, task.modes))
     others: dict[str, ControllerConfig] = {}
     for part in parts:
-        if part is main:
-            continue
+        if part is main or (isinstance(part, Legs) and part.held):
+            continue  # held legs: no action, their drives keep the reset pose
         names = part_joints[part.name]
         if isinstance(part, Gripper) and not isinstance(part, Hand):
             others[part.name] = gripper_config(part, names, driven)

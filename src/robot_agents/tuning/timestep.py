@@ -264,11 +264,7 @@ def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Pen
         if isinstance(controller, PDEEController):
             raw = hold.copy() if not controller.config.use_delta else np.zeros(controller.action_dim)
             raw[0] += EE_MOVE
-            low, high = controller.raw_low, controller.raw_high
-            raw = np.clip(raw, low, high)
-            if controller.config.normalize_action:
-                raw = 2.0 * (raw - low) / (high - low) - 1.0
-            first.append(raw)
+            first.append(controller.from_raw(raw))
         else:
             first.append(hold)
     ee = next(c for c in controllers if isinstance(c, PDEEController))

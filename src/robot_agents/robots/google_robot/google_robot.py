@@ -36,7 +36,8 @@ Sources of the numbers:
   for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
   (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
   (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
-- Gripper action: -1 open (0 rad), +1 closed (1.3 rad), as ManiSkill's mimic gripper.
+- Gripper action: -1 closed (1.3 rad), +1 open (0 rad), as every built-in gripper;
+  ManiSkill's mimic gripper has the opposite sign (negate that action to port a policy).
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
   fingers, head pan -0.00286 and tilt 0.785 looking down at the table); ManiSkill 3.0.1
   has no keyframe for this robot. ``stow`` folds the arm (all arm joints at 0: upright).

@@ -14,7 +14,7 @@ Sources of the numbers:
   link hinge at (0, +-0.0132, 0.0609), follower at (0, 0.055, 0.0375) on the spring
   link, pad at (0, -0.0189, 0.01352) on the follower; pad faces 85.4 mm apart open.
   Driver range 0-0.8 rad; spring link -0.2967..0.8; follower +-0.8727 (Menagerie's
-  signs; ours are negated, see below). Masses: base 0.777 kg; driver 9.0 g, coupler
+  signs, ours too). Masses: base 0.777 kg; driver 9.0 g, coupler
   14.1 g, spring link 22.2 g, follower 12.5 g, pad 3.5 g per side; the coupling plate
   takes the rest of the datasheet's 925 g (25.0 g).
 - Link shapes: boxes and cylinders fitted to the extents of the ROS description's
@@ -42,11 +42,9 @@ and followers are passive and follow through the loop. The real gripper's couple
 leaves its spring-loaded stop when an object meets the proximal phalanges first
 (encompassing grip); here the coupler is fixed on that stop (the parallel grip).
 
-Sign: all linkage hinges turn about -x, so our joint angles are Menagerie's negated
-and closing is negative (driver 0 open .. -0.8 rad closed). The library's gripper
-action maps -1 to the lower end of the leader's range, so a gripper whose leader
-closed upwards would open on -1; with the negated angles -1 closes, as for every
-other gripper.
+Sign: all linkage hinges turn about +x as in Menagerie and the ROS description, so
+closing is positive (driver 0 open .. 0.8 rad closed); the gripper action's -1 still
+closes (the generated gripper control maps -1 onto the closed end, whichever it is).
 
 The drive (one position servo with a force limit, split over the two drivers):
 - effort_limit 6 N*m per driver: grip force 6 / (0.0575 m * sin(49.16 deg + |q|))
@@ -94,9 +92,9 @@ DRIVER_JOINTS = "(right|left)_driver_joint"
 #: mounting face, where the pad centres meet when the gripper is closed.
 TCP = "robotiq_tcp"
 
-#: Driver angle when open and when closed (rad; Menagerie's 0..0.8 negated).
+#: Driver angle when open and when closed (rad; Menagerie's 0..0.8).
 OPEN = 0.0
-CLOSED = -0.8
+CLOSED = 0.8
 #: How far past closed the gripper action commands the drivers (rad).
 SQUEEZE = 0.1
 

@@ -9,10 +9,7 @@ Sources of the numbers:
   on ``arm_f1x``. These are Boston Dynamics' URDF names (``fl.hx``,
   ``arm0.sh0``, ``arm0.f1x``; Habitat's ``hab_spot_arm.urdf``) with the dots written
   as underscores, as Menagerie does; see ``assets/spot_arm.xml`` for the joint origins.
-  One sign differs: our ``arm_f1x`` turns about -y (0..1.57 rad, open positive) where the
-  public models turn about +y (-1.57..0, open negative), because the library's gripper
-  action (-1 closes, +1 opens) takes a gripper whose open position lies above its closed
-  one; a user of the upstream model negates that one joint.
+  ``arm_f1x`` turns about +y (-1.57..0 rad, open negative) as in the public models.
 - Joint limits agree with Boston Dynamics' SDK documentation ("About Spot": HX +-45 deg,
   HY +-91 deg about a 50 deg bias, knee 14..160 deg of flexion).
 - Masses: Boston Dynamics' specification (dev.bostondynamics.com, "About Spot"): net
@@ -27,7 +24,7 @@ Sources of the numbers:
   from the hinge) is our choice.
 - Keyframes: Habitat-lab's ``SpotRobot`` parameters: ``leg_init_params`` (hx 0, hy 0.7,
   kn -1.5 rad on every leg: its standing pose) and ``arm_init_params`` (sh0 0, sh1
-  -3.14, el0 3.0, the rest 0: the stowed arm); gripper open -1.56 rad (+1.56 here) / closed
+  -3.14, el0 3.0, the rest 0: the stowed arm); gripper open -1.56 rad / closed
   0.0 rad within 0.01 rad (``gripper_open_state``, ``gripper_closed_state``,
   ``gripper_state_eps``). ``standing``: legs standing, arm stowed, jaw closed;
   ``rest`` (the default, first): legs standing, the arm ready (forward and down in
@@ -36,8 +33,9 @@ Sources of the numbers:
   robots' names ``root_x_axis_joint``, ``root_y_axis_joint``, ``root_z_rotation_joint``)
   driven by the base velocity action, at the height the standing legs give it (0.5333 m:
   the feet 2 mm above the floor; Habitat's ``base_offset`` is 0.48 m for its model). The
-  legs are a ``Legs`` part held at the keyframe by their PD drives; their feet do not
-  carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
+  legs are a held ``Legs`` part: they take no action (the action is arm, jaw, base, as
+  Habitat's Spot) and their PD drives keep the pose of the last reset; their feet do
+  not carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
 - Hand camera: in the gripper's palm, in front of the housing below the jaw line,
   looking out along the gripper (``arm_link_wr1`` +x) with the image's up along its
   +z (the finger side). Habitat places its arm cameras on the same link 0.166 m out,
@@ -80,9 +78,8 @@ STOWED_ARM = (0.0, -3.14, 3.0, 0.0, 0.0, 0.0)
 #: poses tried (0.65-0.8 m ahead, 0.15-0.3 m up) the one the generic pick solver does best
 #: from.
 READY_ARM = (0.0, -0.536, 2.042, 0.0, 0.065, 0.0)
-#: Habitat's gripper_open_state is -1.56 rad; our arm_f1x turns the other way (see the
-#: module doc), so open is +1.56 here.
-GRIPPER_OPEN = 1.56
+#: Habitat's gripper_open_state (rad): the jaw opens towards negative angles.
+GRIPPER_OPEN = -1.56
 GRIPPER_CLOSED = 0.0
 #: The body's height above the floor on the standing legs (m): feet 2 mm clear.
 BODY_HEIGHT = 0.5333
@@ -124,7 +121,7 @@ SPOT_GRIPPER = Gripper(
     fingers=("arm_link_jaw", "arm_link_fngr"),
     tolerance=0.01,
 )
-SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN)
+SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN, held=True)  # no action: Habitat's leg base
 SPOT_BASE = Base(
     name="base", joints=BASE_PATTERN, holonomic=True, max_speed=1.6, max_turn=1.0, dynamics="kinematic"
 )  # Habitat's leg base: the body is moved, the legs hold their pose

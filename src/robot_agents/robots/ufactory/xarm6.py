@@ -190,7 +190,7 @@ ROBOTIQ_REST = (0.0, 0.22, -1.23, 0.0, 1.01, 0.0)
 
 def robotiq_keyframe(arm: Sequence[float], driver: float = robotiq.OPEN) -> Keyframe:
     """The arm at ``arm`` (rad) and the gripper's drivers at ``driver`` (rad; closing is
-    negative), every linkage joint filled in (the loops are closed by equalities)."""
+    positive), every linkage joint filled in (the loops are closed by equalities)."""
     return Keyframe(qpos={"joint[1-6]": tuple(float(v) for v in arm), **robotiq.linkage_qpos(driver)})
 
 

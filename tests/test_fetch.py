@@ -314,6 +314,8 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
     for _ in range(20):  # close for 1 s
         act(grasp, -1.0)
     assert agent.is_grasping("cube")[0]
+    # The pads (inner faces at +-q from the grasp point) press less than 1.5 mm into it.
+    assert np.all(agent.qpos[0, index(agent, FINGERS)] > CUBE_HALF - 0.0015)
 
     def bid(name: str) -> int:
         return int(scene.model.body(name).id)

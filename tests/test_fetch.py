@@ -433,3 +433,40 @@ def test_align_is_an_optional_rule_mode() -> None:
     assert align.translation_frame is CommandFrame.ROOT
     with pytest.raises(UnknownNameError, match="pd_ee_delta_pose_align"):
         ee_control_modes(group, task, ("pd_ee_align",))
+
+
+@pytest.mark.parametrize("mode", ["pd_ee_target_delta_pos", "pd_ee_delta_pos"])
+def test_ee_delta_moves_the_tool_in_the_torso_frame_while_the_base_turns(mode: str) -> None:
+    """A constant end-effector delta (0.5 cm per step forward and left, 1 cm per step
+    down, in torso_lift_link's axes) for 1 s from rest while the base turns at 0.5 rad/s:
+    the tool moves by the commanded displacement in the turning torso frame (5 %).
+    (Straight forward from rest, wrist_flex_joint reaches its limit after ~7 cm.)"""
+    scene = ra.Scene("fetch", control_modes=mode)
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    step = np.array([0.005, 0.005, -0.01])
+
+    def in_torso() -> np.ndarray:
+        torso = agent.frame_pose("torso_lift_link")[0]
+        rotation = np.zeros(9)
+        mujoco.mju_quat2Mat(rotation, torso[3:])
+        return rotation.reshape(3, 3).T @ (agent.tcp_pose[0, :3] - torso[:3])
+
+    start = in_torso()
+    action = np.zeros(agent.single_action_space.shape)
+    action[:3] = step / 0.1
+    base = agent.controller.slices["base"]
+    action[base.start + 1] = 0.5 / 3.14  # yaw rate 0.5 rad/s
+    for _ in range(20):
+        agent.set_action(action)
+        scene.step()
+    action[base.start + 1] = 0.0
+    if mode == "pd_ee_target_delta_pos":  # let the tool reach the last target, base still
+        action[:3] = 0.0
+        for _ in range(10):
+            agent.set_action(action)
+            scene.step()
+    moved = in_torso() - start
+    assert agent.base_rot[0] > 0.4  # the base turned
+    np.testing.assert_allclose(moved, 20 * step, atol=0.05 * np.linalg.norm(20 * step))
+    scene.close()

@@ -224,6 +224,15 @@ def test_check_fails_with_numbers_for_unstable_gains(tmp_path: Path, monkeypatch
     assert "unstable: ['pd_joint_" in text
 
 
+def test_pd_stability_is_checked_at_the_robots_own_step() -> None:
+    from robot_agents.checks import check_pd_stability
+
+    assert robot_agents.get_agent("fetch").sim_freq == 200
+    assert "dt 0.005 s" in check_pd_stability(robot_agents.get_agent("fetch")).detail
+    assert "dt 0.002 s" in check_pd_stability(robot_agents.get_agent("panda")).detail  # the library's 500 Hz
+    assert "dt 0.001 s" in check_pd_stability(robot_agents.get_agent("panda"), timestep=0.001).detail
+
+
 def test_robot_forms_are_checked_before_anything_runs() -> None:
     code = main(["check", "no_such_module:Robot"])
     assert code == 2

@@ -15,7 +15,7 @@ from robot_agents.controllers.ee import PDEEController
 from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController
 from robot_agents.errors import RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_rotvec
-from robot_agents.sim.scene import Scene
+from robot_agents.sim.scene import Scene, default_sim_freq
 
 #: A keyframe is held when no joint drifts more than this over the hold (rad or m).
 HOLD_TOLERANCE = 0.01
@@ -155,9 +155,12 @@ def check_inertia(cls: type[Agent]) -> CheckResult:
     return CheckResult(f"masses in [{MASS_RANGE[0]:g}, {MASS_RANGE[1]:g}] kg and valid inertias", not bad, detail)
 
 
-def check_pd_stability(cls: type[Agent], timestep: float = 0.002) -> CheckResult:
+def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> CheckResult:
     """Every PD drive's stiffness below half the explicit bound ``4 I / dt^2`` at the
-    physics step (MuJoCo integrates damping implicitly; stiffness limits the step)."""
+    physics step ``timestep`` (s; default: the robot's own, ``1 / sim_freq``). MuJoCo
+    integrates damping implicitly; stiffness limits the step."""
+    if timestep is None:
+        timestep = 1.0 / default_sim_freq([cls])
     checked = cls.check()
     model = checked.index.model
     affine = [d for d in checked.drives if d.kind in (DriveKind.AFFINE, DriveKind.EXPLICIT)]

@@ -168,10 +168,10 @@ def test_maniskill_mode_table_and_action_layout() -> None:
         base = controller.parts["base"]
         np.testing.assert_allclose([base.raw_low, base.raw_high], [[-1.0, -3.14], [1.0, 3.14]])
     assert agent.controller_for("pd_joint_delta_pos").parts["body"].config.joint_names == (
-        "torso_lift_joint",
         "head_pan_joint",
         "head_tilt_joint",
-    )
+        "torso_lift_joint",
+    )  # ManiSkill's body order, though the model has the torso first
     ee = agent.controller_for("pd_ee_delta_pose").parts["arm"]
     assert scene.model.body(ee.root_frame.id).name == agent.prefix + "torso_lift_link"
     np.testing.assert_allclose([ee.raw_low, ee.raw_high], [[-0.1] * 6, [0.1] * 6])

@@ -196,3 +196,20 @@ def test_position_modes_of_a_short_arm_solve_for_position_alone(torso_file: Path
     assert not all(results[True][0])  # orientation cannot be held: IK reports failure
     assert all(results[False][0])
     np.testing.assert_allclose(results[False][1], [0.0, 0.1, 0.0], atol=5e-3)
+
+
+def test_a_part_takes_its_joints_in_the_order_of_its_patterns(pendulum_file: Path) -> None:
+    from tests.conftest import make_pendulum_class
+
+    reversed_arm = ra.Arm(name="arm", joints=("elbow", "shoulder"))
+    cls = make_pendulum_class(pendulum_file, parts=(reversed_arm,), control_modes={})
+    scene = ra.Scene(cls, control_modes="pd_joint_pos")
+    agent = scene.agents[0]
+    assert agent.part_joints["arm"] == ("elbow", "shoulder")
+    assert agent.joint_names == ("shoulder", "elbow")  # qpos keeps the model's order
+    agent.set_action([0.3, -0.2])  # elbow first
+    np.testing.assert_allclose(agent.controller.parts["main"].target_qpos[0], [0.3, -0.2])
+    assert agent.controller.parts["main"].config.joint_names == ("elbow", "shoulder")
+    # one pattern matching both keeps the model's order
+    cls = make_pendulum_class(pendulum_file, parts=(ra.Arm(name="arm", joints="elbow|shoulder"),), control_modes={})
+    assert ra.Scene(cls).agents[0].part_joints["arm"] == ("shoulder", "elbow")

@@ -430,7 +430,9 @@ def _resolve_parts(
         if names.count(duplicate) > 1:
             raise ConfigError(f"{where}: two parts are named {duplicate!r} (a mounted piece brings one; rename it).")
     hits = claim([(f"part {p.name!r}", p.joints) for p in parts], index.joint_names, where)
-    resolved = {p.name: tuple(index.joint_names[i] for i in h) for p, h in zip(parts, hits, strict=True)}
+    resolved = {
+        p.name: _in_pattern_order([index.joint_names[i] for i in h], p.joints) for p, h in zip(parts, hits, strict=True)
+    }
     for part in parts:
         for ee in getattr(part, "end_effectors", ()):
             assert_frame(model, ee, f"{where} {part.name!r} end effector {ee.name!r}")
@@ -447,6 +449,15 @@ def _resolve_parts(
                         f"{', '.join(resolved[part.name])}), got {value.size}."
                     )
     return resolved
+
+
+def _in_pattern_order(names: Sequence[str], patterns: Sequence[str]) -> tuple[str, ...]:
+    """``names`` (model order) reordered by the first of ``patterns`` each matches: a
+    part's joints (and its actions) follow the order its patterns are listed in, model
+    order within one pattern."""
+    compiled = [re.compile(p) for p in patterns]
+    rank = {n: next(k for k, c in enumerate(compiled) if c.fullmatch(n)) for n in names}
+    return tuple(sorted(names, key=lambda n: rank[n]))  # stable: model order within a pattern
 
 
 def assert_frame(model: mujoco.MjModel, ee: EndEffector, where: str) -> None:

@@ -81,7 +81,9 @@ class Part:
     Attributes:
         name: the part's name in control modes (``"arm"``, ``"gripper"``, ...).
         joints: joint name pattern(s); every pattern must match, and no joint may
-            belong to two parts.
+            belong to two parts. The part's joints, and its actions, follow the order
+            of the patterns (model order within one pattern): ``("head_pan_joint",
+            "torso_lift_joint")`` puts the head first whatever the model's order.
         max_delta: largest joint change one delta action commands (rad or m).
         max_velocity: velocity bound of velocity modes (rad/s or m/s); ``None``: the
             drives' velocity limits, else 1.
@@ -127,7 +129,7 @@ class Gripper(Part):
 
     Attributes:
         open, closed: the positions of the part's joints when open and closed (a
-            scalar for every joint, or one per matched joint in model order).
+            scalar for every joint, or one per matched joint in the part's order).
         squeeze: how far past ``closed`` the action may command the leader (rad or m),
             so that a grasp keeps pressing when the fingers stop on an object.
         fingers: the links of each finger (a link name, or a tuple of them); a grasp

@@ -15,7 +15,7 @@ for every part (arm: tool displacement; gripper: -1 closes, +1 opens; base: velo
    holds its pose: a zero end-effector displacement in the frame that moves with the base.
 2. **Pick.** Along the way the fingers point at rest (``env.layout.gripper``: from
    above for Spot and the Google Robot, from the side for Stretch): the grasp point to
-   a stand-off short of the cube, onto the cube, close the gripper, lift 8 cm.
+   a stand-off short of the cube, onto the cube, close the gripper, lift 10 cm.
 3. **Report**: success as the task scores it (the cube grasped, 5 cm up).
 
 Run it::
@@ -44,14 +44,14 @@ MODE = "pd_ee_target_delta_pos"
 #: Go-to-pose gains (1/s) and when the base has arrived (m, rad).
 DRIVE_GAIN, TURN_GAIN = 2.0, 3.0
 POSITION_TOLERANCE, HEADING_TOLERANCE = 0.005, 0.005
-#: The tool moves at most this far per step (m; 0.3 m/s at 20 Hz).
-TOOL_STEP = 0.015
+#: The tool moves at most this far per step (m): 0.3 m/s at 20 Hz, 0.1 m/s near the cube.
+TOOL_STEP, SLOW_STEP = 0.015, 0.005
 #: The grasp point stops this far short of the cube (in cube edges + m), then goes onto
 #: its centre, lower by up to this much (cube edges, for fingers coming from above), and
 #: lifts it by LIFT (m).
 STANDOFF_EDGES, STANDOFF = 1.0, 0.06
 DEPTH_EDGES = 0.2
-LIFT = 0.08
+LIFT = 0.1
 
 
 @dataclass(frozen=True)
@@ -64,6 +64,7 @@ class PickResult:
     lifted: float  # how far above its resting height the cube ends
     start_distance: float  # from the base's start to where it stood to pick
     driven: float  # length of the path the base drove
+    base_error: float  # from where the base stopped to the picking pose
     drive_steps: int
     steps: int
     seconds: float
@@ -194,6 +195,7 @@ def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
         for _ in range(5):
             step(robot.action(np.zeros(3)))
         drive_steps = steps
+        base_error = float(np.linalg.norm(goal_xy - agent.base_pos[0, :2]))
 
         # 2. Pick: the grasp point's way points, each held until reached (or for a while).
         tool = agent.tcp_pose[0]
@@ -204,20 +206,21 @@ def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
         # from above the fingers reach past the middle; from the side they close on the
         # centre, so that the cube does not turn about the line between the fingers
         grasp_at = cube + approach * DEPTH_EDGES * edge * max(0.0, -float(approach[2]))
-        stages = (  # (grasp point goal, gripper open, tolerance (m), at most steps)
-            (cube - approach * standoff, True, 0.01, 80),
-            (grasp_at, True, 0.005, 40),
-            (grasp_at, False, 0.0, 15),
-            (grasp_at + np.array([0.0, 0.0, LIFT]), False, 0.01, 40),
-            (grasp_at + np.array([0.0, 0.0, LIFT]), False, 0.0, 10),
+        lifted_to = grasp_at + np.array([0.0, 0.0, LIFT])
+        stages = (  # (grasp point goal, gripper open, tolerance (m), at most steps, tool speed)
+            (cube - approach * standoff, True, 0.01, 80, TOOL_STEP),
+            (grasp_at, True, 0.005, 40, SLOW_STEP),
+            (grasp_at, False, 0.0, 15, TOOL_STEP),
+            (lifted_to, False, 0.01, 40, SLOW_STEP),
+            (lifted_to, False, 0.0, 10, SLOW_STEP),
         )
         target = tool[:3].copy()  # the controller's tool target: the sum of the commands
-        for goal, gripper_open, tolerance, budget in stages:
+        for goal, gripper_open, tolerance, budget, speed in stages:
             for _ in range(budget):
                 if tolerance and np.linalg.norm(agent.tcp_pose[0, :3] + grasp_offset - goal) < tolerance:
                     break
                 move = goal - grasp_offset - target
-                move *= min(1.0, TOOL_STEP / max(float(np.linalg.norm(move)), 1e-9))
+                move *= min(1.0, speed / max(float(np.linalg.norm(move)), 1e-9))
                 target += move
                 step(robot.action(move, gripper_open))
         lifted = float(env.body_pose("cube")[0, 2] - env.cube_rest_z)
@@ -228,6 +231,7 @@ def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
             lifted=lifted,
             start_distance=float(np.linalg.norm(goal_xy - start_xy)),
             driven=driven,
+            base_error=base_error,
             drive_steps=drive_steps,
             steps=steps,
             seconds=time.perf_counter() - start_time,

@@ -1,0 +1,99 @@
+"""examples/mobile_pick.py drives every registered mobile manipulator (Base + Arm with an
+end effector + Gripper) to the table of MobilePickCube-v1 and lifts the cube, over a few
+seeds each; the task's start, refusals and scoring are checked against numbers. A robot
+that cannot do it says why in ``task_limits["MobilePickCube-v1"]``."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.envs.tasks.mobile_pick_cube import LIFT_HEIGHT, START_DISTANCE
+
+ROOT = Path(__file__).resolve().parents[1]
+TASK = "MobilePickCube-v1"
+SEEDS = (0, 1, 2, 3, 4)
+
+
+def load_example() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("mobile_pick", ROOT / "examples" / "mobile_pick.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["mobile_pick"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+example = load_example()
+ROBOTS = example.mobile_manipulators()
+
+
+def test_every_mobile_manipulator_is_covered() -> None:
+    assert {"stretch", "google_robot", "spot"} <= set(ROBOTS)
+    for uid in ra.list_agents():
+        parts = ra.get_agent(uid).check().parts
+        has_base = any(isinstance(p, ra.Base) for p in parts)
+        assert (uid in ROBOTS) == (has_base and any(isinstance(p, ra.Gripper) for p in parts))
+    assert "panda" not in ROBOTS
+
+
+@pytest.mark.parametrize("uid", ROBOTS)
+@pytest.mark.parametrize("seed", SEEDS)
+def test_drives_to_the_table_and_lifts_the_cube(uid: str, seed: int) -> None:
+    reason = ra.get_agent(uid).task_limits.get(TASK)
+    if reason:
+        pytest.skip(f"{uid} declares it cannot do {TASK}: {reason}")
+    result = example.pick(uid, seed)
+    assert result.success, result
+    # the cube: grasped 5 cm up or more, and not higher than the 10 cm the tool was raised
+    assert LIFT_HEIGHT <= result.lifted <= example.LIFT + 0.005, result
+    # the base: from 1.0-1.5 m away (the picking pose lies within 0.35 m of the stance),
+    # to within 5 mm of the picking pose, along a path at most 25 % longer than straight
+    assert START_DISTANCE[0] - 0.35 <= result.start_distance <= START_DISTANCE[1] + 0.35, result
+    assert result.base_error < example.POSITION_TOLERANCE + 1e-3, result
+    assert result.start_distance - result.base_error - 1e-6 <= result.driven <= 1.25 * result.start_distance, result
+    assert result.steps < ra.make_env(TASK, robot_uids=uid).unwrapped.max_episode_steps
+
+
+def test_same_seed_same_episode() -> None:
+    first, second = example.pick("spot", 4), example.pick("spot", 4)
+    assert (first.lifted, first.driven, first.steps) == (second.lifted, second.driven, second.steps)
+
+
+def test_task_starts_away_from_the_stance_and_scores_a_lift() -> None:
+    env = ra.make_env(TASK, robot_uids="stretch", num_envs=8).unwrapped
+    env.reset(seed=0)
+    offset = env.agent.base_pos[:, :2] - env.stance_xy
+    distance = np.linalg.norm(offset, axis=1)
+    assert np.all((distance >= START_DISTANCE[0]) & (distance <= START_DISTANCE[1]))
+    bearing = np.arctan2(offset[:, 1], -offset[:, 0])  # 0: straight away from the table (-x)
+    assert np.all(np.abs(bearing) <= math.pi / 4 + 1e-9)
+    turn = np.angle(np.exp(1j * (env.agent.base_rot - env.stance_yaw)))
+    assert np.all(np.abs(turn) <= math.pi / 4 + 1e-9) and np.ptp(turn) > 0.1
+    info = env.evaluate()
+    assert not info["success"].any() and np.allclose(info["lift"], 0.0, atol=1e-3)
+    # a cube 6 cm up but not held is no success
+    cube = env.body_pose("cube")
+    cube[:, 2] += 0.06
+    env.place_body("cube", cube)
+    info = env.evaluate()
+    assert np.allclose(info["lift"], 0.06) and not info["success"].any()
+    env.close()
+
+
+def test_task_refuses_a_robot_without_a_base() -> None:
+    with pytest.raises(ra.ConfigError, match="declares no Base part"):
+        ra.make_env(TASK, robot_uids="panda")
+
+
+def test_command_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert example.main(["--robot", "spot", "--seed", "0"]) == 0
+    line = capsys.readouterr().out.strip()
+    assert line.startswith("spot seed 0: success; drove ")

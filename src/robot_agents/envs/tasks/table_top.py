@@ -229,8 +229,14 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         shift = np.array([-centre[0], -centre[1], table_height])
     else:
         table_height = float(rest_turned[2]) - TOOL_ABOVE_TABLE * reach
-        low = [(lo, hi) for lo, hi in boxes if lo[2] < table_height + LOW_GEOM_MARGIN]
-        corners = [np.array([x, y]) for lo, hi in low for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+        if not table_height >= MIN_CUBE_EDGE:
+            raise ConfigError(
+                f"{where}: a mobile robot's table top lies {TOOL_ABOVE_TABLE} reach ({TOOL_ABOVE_TABLE * reach:.3f} m) "
+                f"below its default keyframe's tool, which is {rest_turned[2]:.3f} m above the floor; expected the "
+                f"tool higher (the table top at least {MIN_CUBE_EDGE} m up)."
+            )
+        sweeping = [(lo, hi) for lo, hi in boxes if lo[2] < table_height + LOW_GEOM_MARGIN]
+        corners = [np.array([x, y]) for lo, hi in sweeping for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
         turning_radius = max((float(np.linalg.norm(c - axis[:2])) for c in corners), default=0.0)
         axis_turned = np.empty(3)
         mujoco.mju_rotVecQuat(axis_turned, axis, turn)

@@ -104,6 +104,7 @@ class MobileManipulator:
             frame = quat_to_matrix(self.agent.frame_pose(self.command_frame)[0, 3:])
             arm = controller.parts[self.arm.name]
             action[controller.slices[self.arm.name]] = arm.from_raw((frame.T @ tool_step)[None])[0]
+        # the gripper's action is normalized in every generated mode: +1 opens, -1 closes
         action[controller.slices[self.gripper.name]] = 1.0 if gripper_open else -1.0
         if base is not None:
             velocity = controller.parts[self.base.name].from_raw(base[None])[0]
@@ -135,23 +136,22 @@ class MobileManipulator:
         return np.array([forward, lateral, turn] if self.base.holonomic else [forward, turn])
 
 
-def standing_pose(robot: MobileManipulator, env: Any, cube: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
-    """Where the base stands to pick (x, y), its heading, and the approach direction
-    (world) the fingers will have there: the stance, shifted so that the resting grasp
-    point lies above the stand-off point, never closer to the table (along +x)."""
-    agent, layout = robot.agent, env.layout
+def standing_pose(robot: MobileManipulator, env: Any, cube: np.ndarray) -> tuple[np.ndarray, float]:
+    """Where the base stands to pick (x, y) and its heading: the task's stance, shifted
+    so that the resting grasp point lies above the stand-off point short of the cube,
+    but never closer to the table (which lies along +x)."""
+    agent, gripper = robot.agent, env.layout.gripper
     yaw_now, base_now = float(agent.base_rot[0]), agent.base_pos[0, :2]
     tool = agent.tcp_pose[0]
     rotation = quat_to_matrix(tool[3:])
-    grasp = tool[:3] + rotation @ np.array(layout.gripper.grasp_point)
-    # the grasp point and the approach axis relative to the base, then at the stance
-    grasp_in_base = rotate_z(grasp[:2] - base_now, -yaw_now)
-    approach = rotation @ np.array(layout.gripper.approach_axis)
-    approach[:2] = rotate_z(rotate_z(approach[:2], -yaw_now), env.stance_yaw)
-    standoff = STANDOFF_EDGES * 2.0 * layout.cube_half_size + STANDOFF
-    goal = cube[:2] - approach[:2] * standoff - rotate_z(grasp_in_base, env.stance_yaw)
+    # the resting grasp point and the way the fingers point, in the base's frame ...
+    grasp_in_base = rotate_z((tool[:3] + rotation @ np.array(gripper.grasp_point))[:2] - base_now, -yaw_now)
+    approach_in_base = rotate_z(rotation @ np.array(gripper.approach_axis), -yaw_now)
+    # ... and in the world once the base stands at the stance's heading
+    standoff = STANDOFF_EDGES * 2.0 * env.layout.cube_half_size + STANDOFF
+    goal = cube[:2] - rotate_z(approach_in_base, env.stance_yaw) * standoff - rotate_z(grasp_in_base, env.stance_yaw)
     goal[0] = min(goal[0], env.stance_xy[0])
-    return goal, float(env.stance_yaw), approach
+    return goal, float(env.stance_yaw)
 
 
 def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
@@ -175,7 +175,7 @@ def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
         robot = MobileManipulator(env)
         agent, layout = robot.agent, env.layout
         cube = env.body_pose("cube")[0, :3]
-        goal_xy, goal_yaw, approach = standing_pose(robot, env, cube)
+        goal_xy, goal_yaw = standing_pose(robot, env, cube)
         start_xy = agent.base_pos[0, :2].copy()
 
         # 1. Drive: to the goal position, then to the goal heading, then let it settle.

@@ -8,11 +8,13 @@ from __future__ import annotations
 import importlib.util
 import math
 import sys
+import warnings
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 import pytest
+from gymnasium.utils.env_checker import check_env
 
 import robot_agents as ra
 from robot_agents.envs.tasks.mobile_pick_cube import LIFT_HEIGHT, START_DISTANCE
@@ -85,6 +87,23 @@ def test_task_starts_away_from_the_stance_and_scores_a_lift() -> None:
     env.place_body("cube", cube)
     info = env.evaluate()
     assert np.allclose(info["lift"], 0.06) and not info["success"].any()
+    # the reward then is the reaching term alone (normalized by the maximum, 3)
+    reach = 1.0 - np.tanh(np.linalg.norm(env.agent.tcp_pose[:, :3] - cube[:, :3], axis=1) / (0.2 * env.layout.reach))
+    np.testing.assert_allclose(env.compute_reward(info), reach / 3.0, rtol=1e-9)
+    env.close()
+
+
+def test_check_env_and_camera_observations() -> None:
+    env = ra.make_env(TASK, robot_uids="spot", render_mode="rgb_array", render_size=(64, 48))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+    env = ra.make_env(TASK, robot_uids="google_robot", obs_mode="rgbd", num_envs=2)
+    obs, _ = env.reset(seed=0)
+    assert env.observation_space.contains(obs) and "obj_pose" not in obs["extra"]
+    obs, _, _, _, info = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs) and info["success"].shape == (2,)
     env.close()
 
 

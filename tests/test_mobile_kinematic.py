@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.envs.empty import EmptyEnv
 
 WHEEL_RADIUS = 0.1
 WHEEL_SEPARATION = 0.4
@@ -145,6 +146,26 @@ def test_kinematic_move_into_a_wall_is_refused(wheeled_file: Path) -> None:
     scene, agent = make(wheeled_file, "kinematic", refuse=False)
     run(agent, scene, [0.0, 0.0, 0.4, 0.0], 6.0)
     assert planar(agent)[0] == pytest.approx(1.2, abs=1e-9) and agent.mobile.refused_moves[0] == 0
+
+
+def test_env_info_reports_refused_moves(wheeled_file: Path) -> None:
+    class WalledEmpty(EmptyEnv):
+        def _scene_props(self) -> list[ra.Prop]:
+            return [WALL]
+
+    env = WalledEmpty(
+        robot_uids=wheeled_robot(wheeled_file, "kinematic", True),
+        control_mode="pd_joint_delta_pos",
+        robot_init_qpos_noise=0.0,
+    )
+    env.reset(seed=0)
+    refused = []
+    for _ in range(6 * 20):  # 0.2 m/s toward the wall 0.85 m ahead for 6 s
+        refused.append(bool(env.step(np.array([0.0, 0.0, 0.4, 0.0]))[4]["base_move_refused"][0]))
+    first = refused.index(True)
+    assert 0 < first < len(refused) and all(refused[first:])  # once at the wall, every move is refused
+    assert env.agent.mobile.refused_moves[0] == len(refused) - first
+    env.close()
 
 
 def test_dynamic_base_turns_its_wheels_with_its_motion(wheeled_file: Path) -> None:

@@ -150,6 +150,17 @@ def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
         agent.ee_transform(3)
     with pytest.raises(AttributeError):
         p.arm_joints = ()  # type: ignore[misc]
+    # The params do not depend on the state the robot is in when they are first read.
+    other = ra.Scene(mm_cls, num_envs=2)
+    other.reset()
+    moved = other.agents[0]
+    moved.set_base_pose(xy=[1.0, 2.0], yaw=2.0)
+    q = moved.keyframe_qpos(moved.default_keyframe())
+    q[moved.joint_names.index("torso_lift_joint")] += 0.2  # the torso lifts the arm's workspace
+    moved.reset(qpos=q)
+    assert moved.params == p
+    other.close()
+    scene.close()
 
 
 def test_forward_kinematics_has_no_side_effects_and_matches_the_simulation(mm_cls: type[ra.Agent]) -> None:

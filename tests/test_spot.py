@@ -84,6 +84,34 @@ def arm_solver(scene: ra.Scene) -> IKSolver:
 
 
 # ---------------------------------------------------------------- standing
+@pytest.mark.parametrize("mode", ["pd_joint_pos", "pd_ee_delta_pose"])
+def test_held_legs_take_no_action_and_keep_their_pose_under_random_actions(mode: str) -> None:
+    """Habitat's leg base: the action is arm, jaw and base; the legs keep the reset pose
+    exactly while the kinematic base moves, and stand under their PD in a dynamic one."""
+    scene = ra.Scene("spot", control_modes=mode)
+    scene.reset(keyframes="standing")
+    agent = scene.agents[0]
+    assert set(agent.controller.parts) == {"arm", "gripper", "base"}
+    legs = indices(agent, LEG_JOINTS)
+    rng = np.random.default_rng(0)
+    space = agent.single_action_space
+    worst = 0.0
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        worst = max(worst, float(np.max(np.abs(agent.qpos[0, legs] - np.tile(STANDING_LEGS, 4)))))
+    assert worst == 0.0  # pinned
+    agent.set_base_dynamics("dynamic")
+    scene.reset(keyframes="standing")
+    worst = 0.0
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        worst = max(worst, float(np.max(np.abs(agent.qpos[0, legs] - np.tile(STANDING_LEGS, 4)))))
+    assert 0.0 < worst < 0.05  # held by their PD drives alone
+    scene.close()
+
+
 def test_stands_at_the_standing_keyframe_for_5_s() -> None:
     """Body height within 1 cm, legs at Habitat's pose, feet within 5 mm above the floor."""
     scene = ra.Scene("spot", control_modes="pd_joint_delta_pos")
@@ -190,7 +218,7 @@ def test_jaw_grasps_lifts_and_holds_a_cube() -> None:
     qpos = agent.qpos[0].copy()
     qpos[arm] = grasp
     agent.reset(qpos=qpos)  # jaw open around the cube
-    n_other = agent.single_action_space.shape[0] - 7  # legs (deltas) and base (velocities)
+    n_other = agent.single_action_space.shape[0] - 7  # base (velocities)
 
     def act(q: np.ndarray, gripper: float) -> None:
         agent.set_action(np.concatenate([q, [gripper], np.zeros(n_other)]))

@@ -35,7 +35,7 @@ from robot_agents.controllers.base_vel import PDBaseVelController
 from robot_agents.controllers.combined import CombinedController
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.kinematics.forward import FrameRef, Kinematics
-from robot_agents.parts.declaration import Arm, Base, Gripper, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Legs, Part
 from robot_agents.sensors.touch import TouchReader
 
 if TYPE_CHECKING:
@@ -95,6 +95,13 @@ class Agent(AgentDefinition):
             world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
         )
         self._manipulator: ManipulatorView | None = None
+        # Held legs (Habitat's leg base): pinned at their drives' reset targets while a
+        # kinematic base moves the body.
+        held = [j for p in checked.parts if isinstance(p, Legs) and p.held for j in checked.part_joints[p.name]]
+        held_info = [self.index.joint(j, name) for j in held]
+        self._held_qpos = np.array([j.qpos_adr for j in held_info], dtype=np.int64)
+        self._held_dof = np.array([j.dof_adr for j in held_info], dtype=np.int64)
+        self._held_columns = self.drives.columns(held, name) if held else np.zeros(0, dtype=np.int64)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -244,7 +251,8 @@ class Agent(AgentDefinition):
 
     def after_step(self) -> None:
         """After a control step's physics: a kinematic base moves by the commanded
-        velocity (or refuses a colliding move); wheels turn with the base."""
+        velocity (or refuses a colliding move) and held legs are put back at their
+        reset pose (Habitat's leg base); wheels turn with the base."""
         if not self.mobile.moves_each_step:
             return
         commanded = None
@@ -252,6 +260,22 @@ class Agent(AgentDefinition):
             if isinstance(controller, PDBaseVelController):
                 commanded = controller.target_qvel
         self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
+        if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
+            n = self.num_envs
+            pose = self.drives.targets.position[:, self._held_columns]
+            self.world.write_joint_state(
+                np.arange(n), self._held_qpos, pose, self._held_dof, np.zeros((n, len(self._held_dof)))
+            )
+
+    def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        """What the last control step reports, per env (``(num_envs,)`` arrays): the
+        controllers' (``ik_success`` ... in end-effector modes) and, for a robot with a
+        planar base, ``base_move_refused`` (a kinematic move refused because it would
+        collide; always ``False`` for a dynamic base or without the check)."""
+        info = self.controller.step_info()
+        if self.mobile.planar is not None:
+            info["base_move_refused"] = self.mobile.last_refused.copy()
+        return info
 
     def set_base_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
         """Run this robot's base ``"dynamic"`` or ``"kinematic"`` (overrides ``Base.dynamics``)."""

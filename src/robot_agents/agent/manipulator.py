@@ -57,7 +57,8 @@ class MobileManipulatorParams:
         ee_links: the body or site each end effector is fixed to.
         ee_offsets: each end effector's position in its link's frame (m).
         ee_constraint: per end effector, the box ``(3, 2)`` (min, max per axis, m) of
-            its positions in the base frame over the arm's joint ranges (sampled).
+            its positions in the base frame over the arm's joint ranges (512 samples,
+            fixed seed; the other joints at the first keyframe).
         base_link: the body the base joints move (``""`` for a fixed robot).
         base_dynamics: ``"dynamic"`` or ``"kinematic"``.
     """
@@ -137,6 +138,11 @@ class ManipulatorView:
         first = agent.default_keyframe()
         keyframe = agent.keyframe_qpos(first) if first is not None else None
         robot_adr = {int(a): k for k, a in enumerate(index.qpos_adr)}
+        # The workspace is sampled about the first keyframe (torso, head, ... as there),
+        # never about the state the robot happens to be in when the params are first read.
+        self._reference_qpos = np.array(agent.world.model.qpos0, dtype=np.float64)[None]
+        if keyframe is not None:
+            self._reference_qpos[0, index.qpos_adr] = keyframe
 
         def start(adrs: npt.NDArray[np.int64]) -> tuple[float, ...]:
             if keyframe is None:
@@ -184,8 +190,7 @@ class ManipulatorView:
         if not len(self._arm_qpos) or not self._ee_frames:
             return ()
         rng = np.random.default_rng(0)
-        base = np.array(self.agent.world.qpos[:1], dtype=np.float64)
-        configurations = np.repeat(base, WORKSPACE_SAMPLES, axis=0)
+        configurations = np.repeat(self._reference_qpos, WORKSPACE_SAMPLES, axis=0)
         configurations[:, self._arm_qpos] = rng.uniform(
             self._arm_limits[:, 0], self._arm_limits[:, 1], (WORKSPACE_SAMPLES, len(self._arm_qpos))
         )

@@ -29,7 +29,7 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
@@ -259,8 +259,8 @@ def modes_from_parts(
             table.update(ee_control_modes(group, task, task.modes))
     others: dict[str, ControllerConfig] = {}
     for part in parts:
-        if part is main:
-            continue
+        if part is main or (isinstance(part, Legs) and part.held):
+            continue  # held legs: no action, their drives keep the reset pose
         names = part_joints[part.name]
         if isinstance(part, Gripper) and not isinstance(part, Hand):
             others[part.name] = gripper_config(part, names, driven)

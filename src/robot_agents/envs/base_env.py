@@ -407,15 +407,16 @@ class RobotEnv(gym.Env[Any, Any]):
         return obs, reward, terminated, truncated, info
 
     def _add_controller_info(self, info: dict[str, Any]) -> None:
-        """What the controllers report about the last action, per env (``(num_envs,)``
-        arrays even for one env), e.g. ``ik_success``, ``ik_position_error`` (m) and
-        ``ik_rotation_error`` (rad) in end-effector modes; keyed ``"<robot id>/<key>"``
-        when the scene has several robots."""
+        """What the robots report about the last action, per env (``(num_envs,)``
+        arrays even for one env; :meth:`Agent.step_info`), e.g. ``ik_success``,
+        ``ik_position_error`` (m) and ``ik_rotation_error`` (rad) in end-effector modes,
+        ``base_move_refused`` for mobile bases; keyed ``"<robot id>/<key>"`` when the
+        scene has several robots."""
         if len(self.agents) == 1:
-            info.update(self.agent.controller.step_info())
+            info.update(self.agent.step_info())
             return
         for rid, agent in zip(self.scene.robot_ids, self.agents, strict=True):
-            info.update({f"{rid}/{key}": value for key, value in agent.controller.step_info().items()})
+            info.update({f"{rid}/{key}": value for key, value in agent.step_info().items()})
 
     def _terminated(self, info: Mapping[str, Any]) -> npt.NDArray[np.bool_]:
         """``success | fail`` per env (all false when the task reports neither)."""

@@ -176,7 +176,17 @@ class Torso(Part):
 
 @dataclass(frozen=True, kw_only=True)
 class Legs(Part):
+    """Legs: by default they take delta joint-position actions in every mode, like any
+    body part.
+
+    Attributes:
+        held: the legs take no action; their drives hold the pose of the last reset
+            (a keyframe) in every mode: Habitat's "leg" base, where the body is moved
+            by the base action and the legs keep ``leg_init_params``.
+    """
+
     kind: ClassVar[PartKind] = PartKind.LEGS
+    held: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -33,8 +33,9 @@ Sources of the numbers:
   robots' names ``root_x_axis_joint``, ``root_y_axis_joint``, ``root_z_rotation_joint``)
   driven by the base velocity action, at the height the standing legs give it (0.5333 m:
   the feet 2 mm above the floor; Habitat's ``base_offset`` is 0.48 m for its model). The
-  legs are a ``Legs`` part held at the keyframe by their PD drives; their feet do not
-  carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
+  legs are a held ``Legs`` part: they take no action (the action is arm, jaw, base, as
+  Habitat's Spot) and their PD drives keep the pose of the last reset; their feet do
+  not carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
 - Hand camera: in the gripper's palm, in front of the housing below the jaw line,
   looking out along the gripper (``arm_link_wr1`` +x) with the image's up along its
   +z (the finger side). Habitat places its arm cameras on the same link 0.166 m out,
@@ -120,7 +121,7 @@ SPOT_GRIPPER = Gripper(
     fingers=("arm_link_jaw", "arm_link_fngr"),
     tolerance=0.01,
 )
-SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN)
+SPOT_LEGS = Legs(name="legs", joints=LEG_PATTERN, held=True)  # no action: Habitat's leg base
 SPOT_BASE = Base(
     name="base", joints=BASE_PATTERN, holonomic=True, max_speed=1.6, max_turn=1.0, dynamics="kinematic"
 )  # Habitat's leg base: the body is moved, the legs hold their pose

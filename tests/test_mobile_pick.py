@@ -116,3 +116,26 @@ def test_command_line(capsys: pytest.CaptureFixture[str]) -> None:
     assert example.main(["--robot", "spot", "--seed", "0"]) == 0
     line = capsys.readouterr().out.strip()
     assert line.startswith("spot seed 0: success; drove ")
+
+
+def test_held_legs_start_at_their_keyframe() -> None:
+    """Reset noise perturbs the arm but not Spot's held legs (pinned at the reset pose
+    while the base is kinematic): their feet stay out of the floor."""
+    env = ra.make_env(TASK, robot_uids="spot", num_envs=4, robot_init_qpos_noise=0.02).unwrapped
+    env.reset(seed=0)
+    agent = env.agent
+    keyframe = agent.keyframe_qpos("rest")
+    legs = [agent.joint_names.index(j) for j in agent.part_joints["legs"]]
+    arm = [agent.joint_names.index(j) for j in agent.part_joints["arm"]]
+    np.testing.assert_array_equal(agent.qpos[:, legs], np.tile(keyframe[legs], (4, 1)))
+    assert np.all(np.abs(agent.qpos[:, arm] - keyframe[arm]).max(axis=1) > 1e-3)
+    for _ in range(10):
+        env.step(np.zeros(env.action_space.shape))
+    model, deepest = env.model, 0.0
+    for data in env.scene.world.render_sources():
+        for contact in data.contact[: data.ncon]:
+            names = {model.geom(int(g)).name for g in (contact.geom1, contact.geom2)}
+            if "floor" in names:
+                deepest = max(deepest, -float(contact.dist))
+    assert deepest < 1e-4
+    env.close()

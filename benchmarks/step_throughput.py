@@ -21,7 +21,7 @@ against ``pd_joint_delta_pos`` on the same robot, timed in alternating blocks, a
 the IK success rate of ``pd_ee_delta_pose`` on 1000 random deltas over its whole
 action range (up to 10 cm and 0.1 rad per axis) applied from the ``rest`` keyframe.
 
-Other robots (``--robots``, default ``xarm6_robotiq so100``): env steps/s at
+Other robots (``--robots``, default ``xarm6_robotiq so100 fetch spot``): env steps/s at
 ``num_envs=1`` in ``pd_joint_delta_pos`` and in ``pd_ee_delta_pose`` (``pd_ee_delta_pos``
 where the robot has no pose mode), the modes timed in alternating blocks. With
 ``--peer-python`` (default: ``~/.venvs/maniskill/bin/python`` when it exists; made by
@@ -368,7 +368,9 @@ def main() -> None:
     parser.add_argument("--no-joint", action="store_true", help="skip the joint-mode table")
     parser.add_argument("--no-ee", action="store_true", help="skip the end-effector comparison")
     parser.add_argument("--robot", default="panda", help="robot of the joint-mode table (at its default sim_freq)")
-    parser.add_argument("--robots", nargs="*", default=["xarm6_robotiq", "so100"], help="other robots to time")
+    parser.add_argument(
+        "--robots", nargs="*", default=["xarm6_robotiq", "so100", "fetch", "spot"], help="other robots to time"
+    )
     default_peer = Path.home() / ".venvs" / "maniskill" / "bin" / "python"
     parser.add_argument(
         "--peer-python",

@@ -19,7 +19,7 @@ import numpy as np
 
 from robot_agents.controllers.base import ControllerConfig, PerJoint
 from robot_agents.controllers.base_vel import base_modes
-from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
+from robot_agents.controllers.ee import CommandFrame, PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (
     JointEffortConfig,
     PDJointPosConfig,
@@ -96,6 +96,10 @@ EE_MODES = (
     "pd_ee_target_delta_pose",
 )
 
+#: End-effector modes a :class:`TaskSpace` may list but that are not generated unless it
+#: does: ``pd_ee_delta_pose_align`` (ManiSkill 2's ``ee_align`` frame, ManiSkill's Fetch).
+OPTIONAL_EE_MODES = ("pd_ee_delta_pose_align",)
+
 
 def ee_control_modes(
     group: JointGroup, task: TaskSpace, modes: Sequence[str] = EE_MODES
@@ -110,11 +114,17 @@ def ee_control_modes(
     ``pd_ee_pose``               ``[x, y, z, rx, ry, rz]`` absolute, root frame   no
     ``pd_ee_target_delta_pos``   ``[dx, dy, dz]`` on the previous target          yes
     ``pd_ee_target_delta_pose``  ``[dx, dy, dz, rx, ry, rz]`` on the previous one yes
+    ``pd_ee_delta_pose_align``   as ``pd_ee_delta_pose``, rotations about the tool yes
     ===========================  ===============================================  ==========
 
     Translations are in the command frame (the robot's root unless the end effector
     names another) and rotations (rotation vectors, rad) turn about its axes through
-    the tool point; position modes hold the orientation.
+    the tool point; position modes hold the orientation. ``pd_ee_delta_pose_align``
+    (only when listed: see :data:`OPTIONAL_EE_MODES`) is ManiSkill 2's ``ee_align``
+    frame: the translation is along the command frame's axes as in
+    ``pd_ee_delta_pose``, the rotation vector is in the tool's own axes at the start of
+    the step (``R' = R exp(r)``), so ``[0, 0, 0, 0, 0, a]`` rolls the tool about its own z
+    whatever its orientation.
     """
     step, turn = task.max_translation, task.max_rotation
     position = PDEEPosConfig(
@@ -143,10 +153,11 @@ def ee_control_modes(
         ),
         "pd_ee_target_delta_pos": replace(position, use_target=True),
         "pd_ee_target_delta_pose": replace(pose, use_target=True),
+        "pd_ee_delta_pose_align": replace(pose, rotation_frame=CommandFrame.EE),
     }
     for mode in modes:
         if mode not in table:
-            raise UnknownNameError("ee_control_modes", "end-effector mode", mode, EE_MODES)
+            raise UnknownNameError("ee_control_modes", "end-effector mode", mode, (*EE_MODES, *OPTIONAL_EE_MODES))
     return {mode: table[mode] for mode in modes}
 
 
@@ -298,6 +309,7 @@ STIFF_BODY_MODE = "pd_joint_delta_pos_stiff_body"
 
 __all__ = [
     "EE_MODES",
+    "OPTIONAL_EE_MODES",
     "STIFF_BODY_MODE",
     "JointGroup",
     "TaskSpace",

@@ -40,7 +40,9 @@ class TaskSpace:
         end_effector: which of the arm's end effectors (default: its first).
         ik: solver settings.
         rest_qpos: posture of the IK null-space pull.
-        modes: which end-effector modes the arm offers (ManiSkill names).
+        modes: which end-effector modes the arm offers (ManiSkill names): any of
+            ``rules.EE_MODES`` (the default) and ``rules.OPTIONAL_EE_MODES``
+            (``pd_ee_delta_pose_align``: rotations about the tool's own axes).
         hold_orientation: position modes keep the tool's orientation; ``False`` for arms
             with fewer than 6 joints (IK then solves for the position alone).
     """

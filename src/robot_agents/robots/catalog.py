@@ -26,4 +26,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "google_robot": "robot_agents.robots.google_robot.google_robot:GoogleRobot",
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
     "spot": "robot_agents.robots.spot.spot:Spot",
+    "fetch": "robot_agents.robots.fetch.fetch:Fetch",
 }

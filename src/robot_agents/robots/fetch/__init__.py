@@ -1,0 +1,1 @@
+"""Fetch (Fetch Robotics' mobile manipulator): :mod:`robot_agents.robots.fetch.fetch`."""

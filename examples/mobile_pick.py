@@ -1,7 +1,7 @@
 """Drive a mobile manipulator to a table and pick up a cube (``MobilePickCube-v1``).
 
 Works for every registered robot with a ``Base``, an ``Arm`` with an end effector and a
-``Gripper`` (today ``stretch``, ``google_robot``, ``spot``). The task starts the robot
+``Gripper`` (``stretch``, ``google_robot``, ``spot``, ``fetch``). The task starts the robot
 1.0-1.5 m from the table, at an angle; the script uses only the robot's public
 interface and one control mode, ``pd_ee_target_delta_pos``, whose action holds a slice
 for every part (arm: tool displacement; gripper: -1 closes, +1 opens; base: velocity):

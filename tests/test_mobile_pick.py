@@ -38,7 +38,7 @@ ROBOTS = example.mobile_manipulators()
 
 
 def test_every_mobile_manipulator_is_covered() -> None:
-    assert {"stretch", "google_robot", "spot"} <= set(ROBOTS)
+    assert {"stretch", "google_robot", "spot", "fetch"} <= set(ROBOTS)
     for uid in ra.list_agents():
         parts = ra.get_agent(uid).check().parts
         has_base = any(isinstance(p, ra.Base) for p in parts)

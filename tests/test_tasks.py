@@ -32,6 +32,14 @@ def _has_gripper(uid: str) -> bool:
     return any(isinstance(p, ra.Gripper) and len(p.fingers) >= 2 for p in ra.get_agent(uid).check().parts)
 
 
+def _is_mobile(uid: str) -> bool:
+    return any(isinstance(p, ra.Base) for p in ra.get_agent(uid).check().parts)
+
+
+FIXED = [u for u in ra.list_agents() if not _is_mobile(u)]
+MOBILE = [u for u in ra.list_agents() if _is_mobile(u)]
+
+
 def robot_table_contacts(env: Any) -> float:
     """Deepest penetration (m) between the robot and the table or the cube in env 0."""
     model, data = env.model, env.data
@@ -65,7 +73,7 @@ def test_layout_numbers_for_the_panda() -> None:
     assert layout.spawn_half_size == pytest.approx(0.1 * layout.reach)
 
 
-@pytest.mark.parametrize("uid", ra.list_agents())
+@pytest.mark.parametrize("uid", FIXED)
 def test_every_robot_faces_its_workspace_from_its_own_definition(uid: str) -> None:
     """The robot is turned so its rest tool lies ahead (+x) of its shoulder, moved so the
     rest tool is above the workspace centre, and stands on the table without touching it."""
@@ -89,6 +97,39 @@ def test_every_robot_faces_its_workspace_from_its_own_definition(uid: str) -> No
     # cube edge: half the gripper's opening, else 4 % of the reach
     expected = 0.5 * layout.gripper.opening if layout.gripper else 0.04 * layout.reach
     assert 2 * layout.cube_half_size == pytest.approx(max(expected, 0.01))
+    assert not layout.mobile
+    env.close()
+
+
+@pytest.mark.parametrize("uid", MOBILE)
+def test_mobile_robots_stand_on_the_floor_next_to_the_table(uid: str) -> None:
+    """A robot with a Base stands on the floor at its mount, facing the table: the table
+    top 0.25 R below its rest tool, the workspace centre under the rest tool or further
+    ahead, the table's near edge 0.02 R clear of the circle its low geoms sweep when it
+    turns in place, and every cube drawn on the table. Turning the base through a full
+    circle at its stance never touches the table."""
+    env = ra.make_env("PickCube-v1", robot_uids=uid, robot_init_qpos_noise=0.0).unwrapped
+    layout, agent = env.layout, env.agent
+    env.reset(seed=0)
+    assert layout.mobile and layout.turning_radius > 0.1
+    assert layout.robot_pose[2] == pytest.approx(agent.check().mount_pose[2])  # on the floor
+    tcp = agent.tcp_pose[0, :3]
+    np.testing.assert_allclose(tcp, layout.rest_tcp, atol=1e-6)
+    assert layout.table_height == pytest.approx(tcp[2] - 0.25 * layout.reach)
+    assert tcp[1] == pytest.approx(0.0, abs=1e-6) and tcp[0] <= 1e-9  # under or behind the centre
+    center, half = np.array(layout.table_center), np.array(layout.table_half_size)
+    assert center[2] + half[2] == pytest.approx(layout.table_height)
+    near_edge = center[0] - half[0]
+    axis = agent.base_pos[0, :2]
+    assert near_edge - axis[0] == pytest.approx(layout.turning_radius + 0.02 * layout.reach, abs=1e-9)
+    nearest_cube = -layout.spawn_half_size - math.sqrt(2.0) * layout.cube_half_size
+    assert nearest_cube >= near_edge + 0.02 * layout.reach - 1e-9
+    assert abs(center[1]) + layout.spawn_half_size + math.sqrt(2.0) * layout.cube_half_size <= half[1]
+    assert robot_table_contacts(env) < 1e-3
+    for yaw in np.linspace(-math.pi, math.pi, 73):
+        agent.set_base_pose(yaw=yaw)
+        mujoco.mj_forward(env.model, env.data)
+        assert robot_table_contacts(env) == 0.0, f"{uid} touches the table turned to {yaw:.2f} rad"
     env.close()
 
 

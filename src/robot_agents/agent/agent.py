@@ -101,6 +101,7 @@ class Agent(AgentDefinition):
         held_info = [self.index.joint(j, name) for j in held]
         self._held_qpos = np.array([j.qpos_adr for j in held_info], dtype=np.int64)
         self._held_dof = np.array([j.dof_adr for j in held_info], dtype=np.int64)
+        self._held_start = np.array([j.qpos_start for j in held_info], dtype=np.int64)
         self._held_columns = self.drives.columns(held, name) if held else np.zeros(0, dtype=np.int64)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
@@ -316,8 +317,14 @@ class Agent(AgentDefinition):
 
     def perturbed_qpos(self, env_ids: npt.NDArray[np.int64], std: float, rng: np.random.Generator) -> FloatArray:
         """The measured ``qpos`` of ``env_ids`` plus Gaussian noise of ``std`` (rad / m;
-        ball joints turn by a random rotation vector), clipped into the limits."""
-        return self.state.perturbed(env_ids, std, rng)
+        ball joints turn by a random rotation vector), clipped into the limits. Held legs
+        (Habitat's leg base) keep the measured pose: they are pinned at the reset pose
+        while a kinematic base moves the body, and a perturbed stance would pin their
+        feet into the floor (0.02 rad put Spot's up to 9 mm deep)."""
+        qpos = self.state.perturbed(env_ids, std, rng)
+        if len(self._held_start):
+            qpos[:, self._held_start] = self.state.qpos[env_ids][:, self._held_start]
+        return qpos
 
     def get_proprioception(self) -> dict[str, Any]:
         """``qpos`` and ``qvel``, per part what the controller exposes (its current

@@ -21,6 +21,7 @@ TASKS = {
     "ReachPose-v1": "robot_agents.envs.tasks.reach_pose:ReachPoseEnv",
     "PickCube-v1": "robot_agents.envs.tasks.pick_cube:PickCubeEnv",
     "PushCube-v1": "robot_agents.envs.tasks.push_cube:PushCubeEnv",
+    "MobilePickCube-v1": "robot_agents.envs.tasks.mobile_pick_cube:MobilePickCubeEnv",
 }
 
 

@@ -15,6 +15,14 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   *workspace centre*, where cubes and goals are drawn around. The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
+- **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
+  instead, next to the table, facing it as above. The table top is ``0.15 R`` below
+  the default keyframe's tool (0.18 R for the Panda on its table). The table's near
+  edge clears, by ``0.02 R``, the circle that the robot's geoms lower than the table
+  top (plus 1 cm) sweep when the base turns in place about its yaw axis, so the robot
+  can turn at the table. The workspace centre lies under the rest tool, or further
+  ahead when a cube drawn near the centre's robot side could overhang that edge.
+  ``robot_pose`` is this stance (where a mobile task docks the base).
 - **Cube**: its edge is half the opening of the gripper (the distances from the tool
   point to each finger's colliding geoms, gripper open, summed), 4 cm for the Panda;
   for a robot without a gripper, ``0.04 R``. Density 1000 kg/m^3 (water).
@@ -39,7 +47,7 @@ from robot_agents.envs.base_env import RobotEnv
 from robot_agents.errors import ConfigError
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
-from robot_agents.parts.declaration import Arm
+from robot_agents.parts.declaration import Arm, Base
 from robot_agents.registry import get_agent
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sim.scene import RobotSpecifier, Scene
@@ -60,6 +68,14 @@ CUBE_PER_REACH = 0.04
 CUBE_DENSITY = 1000.0
 #: Smallest cube edge (m).
 MIN_CUBE_EDGE = 0.01
+#: Mobile robots: the table top lies this share of the reach below the default
+#: keyframe's tool (the Panda's rest tool is 0.18 R above its table).
+TOOL_ABOVE_TABLE = 0.25
+#: Mobile robots: clearance between the base's turning circle and the table, and
+#: between a cube drawn nearest the robot and the table's edge, as shares of the reach.
+TABLE_CLEARANCE = 0.02
+#: Geoms lower than the table top plus this (m) sweep the floor around the table.
+LOW_GEOM_MARGIN = 0.01
 
 
 @dataclass(frozen=True)
@@ -96,6 +112,9 @@ class TableTopLayout:
         cube_half_size: half the cube's edge.
         spawn_half_size: cubes and goals are drawn in ``[-s, s]`` of the centre.
         dof: joints of the arm that carries the end effector.
+        mobile: the robot has a ``Base`` part and stands on the floor next to the table.
+        turning_radius: (mobile robots) the radius of the circle swept by the robot's
+            geoms below the table top when the base turns in place (m); 0 otherwise.
     """
 
     reach: float
@@ -108,6 +127,8 @@ class TableTopLayout:
     cube_half_size: float
     spawn_half_size: float
     dof: int
+    mobile: bool = False
+    turning_radius: float = 0.0
 
     @property
     def center(self) -> FloatArray:
@@ -183,25 +204,54 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             raise ConfigError(f"{where}: the end effector does not move away from the arm's first joint.")
         ahead = (rest_tcp - shoulder)[:2]
         yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
+        base = next((p for p in agent.parts_by_name.values() if isinstance(p, Base)), None)
+        if base is not None:
+            turn_joint = agent.index.joint(agent.part_joints[base.name][-1], where)
+            axis = data.xanchor[turn_joint.id].copy()
+            boxes = _robot_geom_boxes(agent, model, data)
         gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
     finally:
         probe.close()
     turn = _yaw_quat(yaw)
     mount = np.asarray(cls.check().mount_pose, dtype=np.float64)
-    table_height = TABLE_HEIGHT * reach
+    cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
+    cube_edge = max(cube_edge, MIN_CUBE_EDGE)
+    spawn = SPAWN_HALF_SIZE * reach
     # Turn the probe's world (robot at its mount pose) about z, then shift it so that the
-    # rest tool lies above the origin and the mount's floor is the table top.
+    # workspace centre lies at the origin: a fixed robot's mount floor becomes the table
+    # top; a mobile robot stays on the floor next to the table.
     rest_turned = np.empty(3)
     mujoco.mju_rotVecQuat(rest_turned, rest_tcp, turn)
-    shift = np.array([-rest_turned[0], -rest_turned[1], table_height])
+    centre = rest_turned.copy()
+    turning_radius = 0.0
+    if base is None:
+        table_height = TABLE_HEIGHT * reach
+        shift = np.array([-centre[0], -centre[1], table_height])
+    else:
+        table_height = float(rest_turned[2]) - TOOL_ABOVE_TABLE * reach
+        if not table_height >= MIN_CUBE_EDGE:
+            raise ConfigError(
+                f"{where}: a mobile robot's table top lies {TOOL_ABOVE_TABLE} reach ({TOOL_ABOVE_TABLE * reach:.3f} m) "
+                f"below its default keyframe's tool, which is {rest_turned[2]:.3f} m above the floor; expected the "
+                f"tool higher (the table top at least {MIN_CUBE_EDGE} m up)."
+            )
+        sweeping = [(lo, hi) for lo, hi in boxes if lo[2] < table_height + LOW_GEOM_MARGIN]
+        corners = [np.array([x, y]) for lo, hi in sweeping for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+        turning_radius = max((float(np.linalg.norm(c - axis[:2])) for c in corners), default=0.0)
+        axis_turned = np.empty(3)
+        mujoco.mju_rotVecQuat(axis_turned, axis, turn)
+        edge = axis_turned[0] + turning_radius + TABLE_CLEARANCE * reach
+        # every cube drawn (turned any way) must lie on the table, clear of its edge
+        nearest_cube = edge + TABLE_CLEARANCE * reach + math.sqrt(2.0) * 0.5 * cube_edge + spawn
+        centre[0] = max(centre[0], nearest_cube)
+        shift = np.array([-centre[0], -centre[1], 0.0])
     root = np.empty(3)
     mujoco.mju_rotVecQuat(root, mount[:3], turn)
     root += shift
     quat = np.empty(4)
     mujoco.mju_mulQuat(quat, turn, mount[3:])
-    cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
-    cube_edge = max(cube_edge, MIN_CUBE_EDGE)
-    back, front = min(root[0], 0.0) - 0.35 * reach, 0.55 * reach
+    front = 0.55 * reach
+    back = min(root[0], 0.0) - 0.35 * reach if base is None else edge - centre[0]
     return TableTopLayout(
         reach=reach,
         robot_pose=(*root.tolist(), *quat.tolist()),
@@ -211,9 +261,26 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         rest_tcp=(float(rest_turned[0] + shift[0]), float(rest_turned[1] + shift[1]), float(rest_turned[2] + shift[2])),
         gripper=gripper,
         cube_half_size=0.5 * cube_edge,
-        spawn_half_size=SPAWN_HALF_SIZE * reach,
+        spawn_half_size=spawn,
         dof=sum(j.nv for j in joints),
+        mobile=base is not None,
+        turning_radius=turning_radius,
     )
+
+
+def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[FloatArray, FloatArray]]:
+    """World axis-aligned boxes (lower, upper corners) of the robot's colliding geoms
+    in ``data``'s configuration."""
+    bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
+    boxes = []
+    for g in range(model.ngeom):
+        if int(model.geom_bodyid[g]) not in bodies or not (model.geom_contype[g] or model.geom_conaffinity[g]):
+            continue
+        rotation = data.geom_xmat[g].reshape(3, 3)
+        centre = data.geom_xpos[g] + rotation @ model.geom_aabb[g, :3]
+        half = np.abs(rotation) @ model.geom_aabb[g, 3:]
+        boxes.append((centre - half, centre + half))
+    return boxes
 
 
 def _gripper_geometry(

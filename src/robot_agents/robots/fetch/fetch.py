@@ -248,16 +248,6 @@ class Fetch(Agent):
     disable_self_collisions = True
     link_materials = {"l_gripper_finger_link": FINGER_PAD, "r_gripper_finger_link": FINGER_PAD}
     cameras = (HEAD_CAMERA, HAND_CAMERA)
-    task_limits: ClassVar[Mapping[str, str]] = {
-        "PickCube-v1": (
-            "the table-top layout puts the cube on the surface the robot stands on, 1.25 m below the tool "
-            "at ManiSkill's rest (torso up 0.386 m), and the generic solver moves the arm only: with the "
-            "torso up a fingers-down grasp misses the spawn square's centre and corners by 0.20-0.27 m "
-            "(IK, 30 restarts; the shoulder is 1.17 m above the floor, the arm's upper and fore links "
-            "span 0.67 m); with the torso down every one of those 9 positions is reachable, which the "
-            "generic solver does not do"
-        )
-    }
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "rest": _keyframe(REST_ARM, REST_FINGERS),
         "habitat_arm_init": _keyframe(HABITAT_ARM_INIT, HABITAT_GRIPPER_INIT),

@@ -165,16 +165,6 @@ class Spot(Agent):
         "standing": _keyframe(STOWED_ARM, GRIPPER_CLOSED),
     }
     cameras = (HAND_CAMERA,)
-    task_limits: ClassVar[Mapping[str, str]] = {
-        "PickCube-v1": (
-            "the generic scripted solver succeeds in 14 of 20 seeds: the table-top layout puts the cube at "
-            "the feet's level and the body stays at its standing height (no crouch or pitch, as the real "
-            "Spot does to pick from the floor), so the arm reaches down with its forearm pointing down and "
-            "arm_wr0 near 0, arm_el1's roll in line with arm_wr1's (a wrist singularity): in 3 seeds the "
-            "solver's damped-least-squares turn lands on joint limits (arm_el1 / arm_wr0 / arm_wr1), in 3 "
-            "the cube is held but carried to 3.4-4.6 cm of the goal (threshold 3.1 cm)"
-        )
-    }
     default_control_mode = "pd_joint_delta_pos"
 
 

@@ -128,7 +128,7 @@ def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
         attachments: ClassVar = (Attachment(WeakHand, at="panda_link8", quat=HAND_ON_FLANGE),)
 
     weak = _grasp(WeakPanda, 500, 20, _Penetration())
-    assert weak is not None and not weak.passed and weak.value > 0.05
+    assert weak is not None and not weak.passed and "cube lost" in weak.detail  # moved more than its edge
     strong = _grasp(Panda, 500, 20, _Penetration())
     assert strong is not None and strong.passed and strong.value < 0.001
 

@@ -141,7 +141,7 @@ class Panda(PandaArm):
 
     uid = "panda"
     #: Time-step sweep (robot_agents.tuning.timestep, 2026-11-23, 20 Hz control; the
-    #: wrist camera, touch and stick variants alike): every claim (grasp: 0.76-0.82 mm
+    #: wrist camera, touch and stick variants alike): every claim (grasp: 0.68-0.78 mm
     #: of slip in the 2 s hold) holds from 2.5 ms (400 Hz) down to 1 ms; at 320 Hz the
     #: wrist is left in a torque-limit cycle (settle). Default one tried step finer,
     #: 500 Hz (margin: step 2 ms against the largest passing 2.5 ms).

@@ -133,6 +133,13 @@ def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
     assert strong is not None and strong.passed and strong.value < 0.001
 
 
+def test_grasp_claim_tries_the_cube_deeper_between_the_fingers() -> None:
+    """The Koch's jaw loses the cube a fifth of an edge in from its grasp point (near the
+    tips) and holds it 0.4 edge deeper: the claim reports where it held."""
+    result = _grasp(ra.get_agent("koch-v1.1"), 400, 20, _Penetration())
+    assert result is not None and result.passed and "0.4 edge in" in result.detail
+
+
 def step_result(sim_freq: int, failing: tuple[str, ...]) -> StepResult:
     claims = tuple(ClaimResult(name, name not in failing, 0.0, 1.0) for name in CLAIMS)
     return StepResult(sim_freq, claims)

@@ -22,7 +22,8 @@ measures, at each step, every claim the robot makes:
   the table-top tasks' size for that gripper (half its opening, water's density; see
   :mod:`robot_agents.envs.tasks.table_top`) is placed between the open fingers where the
   scripted PickCube solver grasps it (the gripper's grasp point, a fifth of an edge
-  towards the wrist, faces square to the closing axis), weightless while the fingers
+  towards the wrist; 0.4 and 0.6 edges deeper when it does not hold there; faces square
+  to the closing axis), weightless while the fingers
   close for :data:`CLOSE_SECONDS` (no floor: the cube meets only the robot); then its weight is on, the tool is lifted
   :data:`LIFT_EDGES` cube edges in :data:`LIFT_SECONDS` (the end-effector mode) and
   held for :data:`GRASP_HOLD_SECONDS`: the cube may move at most :data:`SLIP_BOUND`
@@ -88,8 +89,10 @@ GRASP_HOLD_SECONDS = 2.0
 #: Largest movement of the grasped cube relative to the tool frame over the hold (m).
 SLIP_BOUND = 0.002
 #: How far towards the wrist from the grasp point the cube's centre sits, in cube
-#: edges (the scripted PickCube solver's grasp depth: the fingers reach past its middle).
-GRASP_DEPTH = 0.2
+#: edges, tried in order until the cube holds: first the scripted PickCube solver's
+#: grasp depth (the fingers reach past its middle), then deeper (a jaw whose grasp
+#: point lies near its tips, the Koch's, holds the cube only deeper in).
+GRASP_DEPTHS = (0.2, 0.4, 0.6)
 #: A finger that travels less than this share of the other's when the gripper closes
 #: counts as fixed (the SO-100's and Koch's jaws).
 FIXED_FINGER_SHARE = 0.25
@@ -370,17 +373,39 @@ def _part_action(controller: object, raw: np.ndarray) -> np.ndarray:
 def _grasp(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetration) -> ClaimResult | None:
     """Close the gripper on a weightless cube between its open fingers, give the cube its
     weight, lift it and hold it (see the module doc); the cube's largest movement
-    relative to the tool frame over the hold. ``None``: the robot has no gripper with
-    two fingers (or no end effector)."""
-    from robot_agents.envs.tasks.table_top import cube_prop, table_top_layout, tool_arm
+    relative to the tool frame over the hold, at the first of :data:`GRASP_DEPTHS` where
+    it holds (else the least). ``None``: the robot has no gripper with two fingers (or
+    no end effector)."""
+    from robot_agents.envs.tasks.table_top import table_top_layout
 
     mode = _ee_mode(cls)
     if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
         return None
+    if table_top_layout(cls).gripper is None:
+        return None
+    attempts: list[tuple[float, str, _Penetration]] = []
+    for edges in GRASP_DEPTHS:
+        held = _Penetration()
+        attempts.append((*_grasp_at(cls, sim_freq, control_freq, mode, edges, held), held))
+        if attempts[-1][0] <= SLIP_BOUND:
+            break
+    slip, detail, held = min(attempts, key=lambda attempt: attempt[0])
+    if held.depth > depth.depth:
+        depth.depth, depth.where = held.depth, held.where
+    return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)
+
+
+def _grasp_at(
+    cls: type[Agent], sim_freq: int, control_freq: int, mode: str, edges: float, depth: _Penetration
+) -> tuple[float, str]:
+    """One grasp with the cube's centre ``edges`` cube edges from the grasp point towards
+    the wrist: the slip over the hold (m) and a description."""
+    from robot_agents.envs.tasks.table_top import cube_prop, table_top_layout, tool_arm
+
     layout = table_top_layout(cls)
     geometry = layout.gripper
     if geometry is None:
-        return None
+        raise ConfigError(f"sweep_timestep: {cls.__name__}'s gripper geometry could not be measured.")
     cube = cube_prop("sweep_cube", layout, (0.8, 0.2, 0.2, 1.0))
     scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode, props=[cube], floor=False)
     scene.reset()
@@ -399,7 +424,7 @@ def _grasp(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetrati
     # finger would push a weightless cube out otherwise).
     approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
     edge = 2.0 * layout.cube_half_size
-    centre = np.array(geometry.grasp_point) - GRASP_DEPTH * edge * approach
+    centre = np.array(geometry.grasp_point) - edges * edge * approach
     closed_q = qpos.copy()
     shut = np.broadcast_to(np.asarray(gripper.closed, dtype=np.float64).reshape(-1), (len(names),))
     for name, value in zip(names, shut, strict=True):
@@ -472,10 +497,10 @@ def _grasp(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetrati
     # whether the finger forces also pass ``is_grasping``'s opposing-force test is reported.)
     opposed = bool(agent.is_grasping("sweep_cube")[0])
     scene.close()
-    detail = f"{edge * 1000:.1f} mm cube, {mode}" + ("" if opposed else ", finger forces not opposed")
+    detail = f"{edge * 1000:.1f} mm cube {edges:g} edge in, {mode}" + ("" if opposed else ", finger forces not opposed")
     if slip > edge:  # farther than its own edge: the cube has left the grasp (however far it fell)
         slip, detail = edge, detail + ", cube lost"
-    return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)
+    return slip, detail
 
 
 def hold_action_of(agent: Agent, controller: object) -> np.ndarray:

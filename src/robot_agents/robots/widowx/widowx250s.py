@@ -349,7 +349,7 @@ class _BridgeWidowX250S(WidowX250S):
     default_control_mode = BRIDGE_MODE
     #: Time-step sweep (2026-11-23, 20 Hz control, both setups; docs/timestep.md): with the
     #: tuned drives unclamped (BRIDGE_FORCE_LIMITS) every claim but the random-action
-    #: one holds at 800 Hz and 1 kHz; at 500 Hz the sweep's cube slips 2.2-2.3 mm in the
+    #: one holds at 800 Hz and 1 kHz; at 500 Hz the sweep's cube slips 2.1-2.3 mm in the
     #: 2 s hold under the tuned finger drive (bound 2 mm) and, on the flat table, the
     #: shoulder is still at 0.053 rad/s after 1 s of holding (bound 0.05). The
     #: random-action claim fails at every step (0.44-0.59 rad past a joint limit, the

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import io
 from typing import ClassVar
 
@@ -13,10 +14,22 @@ import robot_agents as ra
 from robot_agents.checks import hold_action
 from robot_agents.cli import cmd_check
 from robot_agents.errors import ConfigError
-from robot_agents.robots.panda.panda import Panda
+from robot_agents.model.compose import Attachment
+from robot_agents.robots.panda.panda import HAND_ON_FLANGE, PANDA_HAND_DRIVES, Panda, PandaHand
 from robot_agents.robots.servo_arms.so100 import SO100
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ, Scene
-from robot_agents.tuning.timestep import CLAIMS, SETTLE_SPEED, measure_step, sweep_timestep
+from robot_agents.tuning.timestep import (
+    CLAIMS,
+    SETTLE_SPEED,
+    SLIP_BOUND,
+    ClaimResult,
+    StepResult,
+    SweepResult,
+    _grasp,
+    _Penetration,
+    measure_step,
+    sweep_timestep,
+)
 
 
 def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float = 10.0) -> tuple[float, str]:
@@ -59,21 +72,125 @@ def test_panda_wrist_oscillates_without_armature() -> None:
     assert speed > 0.1 and joint.endswith("panda_joint7")
 
 
+@pytest.mark.parametrize(
+    ("uid", "mode"),
+    [
+        ("ur_10e", "pd_joint_vel"),
+        ("widowxai", "pd_joint_pos_vel"),
+        ("widowx250s_bridgedataset_flat_table", "pd_joint_pos"),
+    ],
+)
+def test_drives_that_cycled_between_their_torque_limits_settle_at_their_default_step(uid: str, mode: str) -> None:
+    """The UR10e (Menagerie's gains), the WidowX AI (at 1 kHz) and the Bridge WidowX
+    (unclamped tuned drives) settle after 10 s of random actions and 1 s of holding."""
+    cls = ra.get_agent(uid)
+    speed, joint = settled_speed(cls, mode, cls.sim_freq or DEFAULT_SIM_FREQ)
+    assert speed < SETTLE_SPEED, f"{joint} still moves at {speed:.3f} rad/s"
+
+
+def test_ur10e_wrists_cycle_with_the_former_gains() -> None:
+    """kp 5000, kv 500 on the wrists (56 N*m, 0.1 kg*m^2 armature: kv * dt / I = 10 at
+    2 ms) leaves a wrist in a torque-limit cycle: the test above can fail."""
+    ur = ra.get_agent("ur_10e")
+
+    class FormerUR10e(ur):  # type: ignore[valid-type,misc]
+        uid = ""
+        actuators = (dataclasses.replace(ur.actuators[0], stiffness=5000.0, damping=500.0),)
+
+    speed, joint = settled_speed(FormerUR10e, "pd_joint_vel", 500)
+    assert speed > 0.1 and "wrist" in joint
+
+
 def test_measure_step_reports_every_claim() -> None:
-    result = measure_step(SO100, 500)
+    result = measure_step(Panda, 500)
     assert [c.name for c in result.claims] == list(CLAIMS)
     assert result.passed, result.claims
     tracking = result.claim("ee_tracking")
     assert tracking is not None and tracking.value < 0.05
+    grasp = result.claim("grasp")
+    assert grasp is not None and grasp.value < SLIP_BOUND and "40.3 mm cube" in grasp.detail
+
+
+def test_robots_without_a_gripper_make_no_grasp_claim() -> None:
+    assert _grasp(ra.get_agent("ur_10e"), 500, 20, _Penetration()) is None
+    assert _grasp(ra.get_agent("panda_stick"), 500, 20, _Penetration()) is None
+
+
+def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
+    """The Panda's hand at 0.1 N instead of 70 N: the 64 g cube slides out once it has
+    its weight (the claim can fail); at 70 N it moves less than 1 mm in the 2 s hold."""
+
+    class WeakHand(PandaHand):
+        actuators = (dataclasses.replace(PANDA_HAND_DRIVES, effort_limit=0.1),)
+
+    class WeakPanda(Panda):
+        uid = ""
+        attachments: ClassVar = (Attachment(WeakHand, at="panda_link8", quat=HAND_ON_FLANGE),)
+
+    weak = _grasp(WeakPanda, 500, 20, _Penetration())
+    assert weak is not None and not weak.passed and "cube lost" in weak.detail  # moved more than its edge
+    strong = _grasp(Panda, 500, 20, _Penetration())
+    assert strong is not None and strong.passed and strong.value < 0.001
+
+
+def test_grasp_claim_tries_the_cube_deeper_between_the_fingers() -> None:
+    """The Koch's jaw loses the cube a fifth of an edge in from its grasp point (near the
+    tips) and holds it 0.4 edge deeper: the claim reports where it held."""
+    result = _grasp(ra.get_agent("koch-v1.1"), 400, 20, _Penetration())
+    assert result is not None and result.passed and "0.4 edge in" in result.detail
+
+
+def step_result(sim_freq: int, failing: tuple[str, ...]) -> StepResult:
+    claims = tuple(ClaimResult(name, name not in failing, 0.0, 1.0) for name in CLAIMS)
+    return StepResult(sim_freq, claims)
+
+
+def test_a_claim_failing_at_every_step_does_not_limit_the_step() -> None:
+    """A claim that fails even at the finest step is the robot's to fix: it is reported
+    as failing everywhere and the largest step is then judged by the other claims."""
+    result = SweepResult(
+        "x",
+        20,
+        (
+            step_result(40, ("grasp", "settle")),
+            step_result(100, ("grasp", "settle")),
+            step_result(200, ("grasp",)),
+            step_result(1000, ("grasp",)),
+        ),
+    )
+    assert result.largest_passing is None
+    assert result.failing_everywhere == ("grasp",)
+    assert result.largest_passing_other_claims == 200
+    # a failure that grows with the step does depend on it
+    worse = SweepResult(
+        "x",
+        20,
+        (
+            StepResult(200, tuple(ClaimResult(n, n != "settle", 3.0 if n == "settle" else 0.0, 1.0) for n in CLAIMS)),
+            StepResult(500, tuple(ClaimResult(n, n != "settle", 1.8 if n == "settle" else 0.0, 1.0) for n in CLAIMS)),
+            StepResult(1000, tuple(ClaimResult(n, n != "settle", 1.0 if n == "settle" else 0.0, 0.5) for n in CLAIMS)),
+        ),
+    )
+    assert worse.failing_everywhere == ("settle",) and worse.largest_passing_other_claims == 500
+    clean = SweepResult("x", 20, (step_result(100, ("settle",)), step_result(200, ()), step_result(1000, ())))
+    assert clean.failing_everywhere == () and clean.largest_passing == clean.largest_passing_other_claims == 200
+
+
+def test_sweep_measures_the_finest_step_first_and_stops_after_two_passes() -> None:
+    seen: list[int] = []
+    result = sweep_timestep("panda", substeps=(2, 20, 25, 50), progress=lambda s: seen.append(s.sim_freq))
+    assert seen == [1000, 40, 400, 500]
+    assert [s.sim_freq for s in result.steps] == [40, 400, 500, 1000]
+    assert result.largest_passing == 400
 
 
 def test_sweep_finds_a_failing_coarse_step_and_a_passing_fine_one() -> None:
-    """At 40 Hz (two substeps per 20 Hz action) the SO-100's claims fail; at 500 Hz they hold."""
-    result = sweep_timestep("so100", substeps=(2, 25), stop_after=None)
+    """At 40 Hz (two substeps per 20 Hz action) the WidowX 250 S's claims fail; at 160 Hz they hold."""
+    result = sweep_timestep("widowx250s", substeps=(2, 8), stop_after=None)
     by_freq = {s.sim_freq: s for s in result.steps}
     assert not by_freq[40].passed
-    assert by_freq[500].passed
-    assert result.largest_passing == 500
+    assert by_freq[160].passed
+    assert result.largest_passing == 160
     assert "| 40 | 25 |" in result.table()
 
 
@@ -91,7 +208,7 @@ def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
     real = timestep.sweep_timestep
     monkeypatch.setattr(timestep, "sweep_timestep", lambda cls, stop_after=None: real(cls, substeps=(25,)))
     out = io.StringIO()
-    code = cmd_check("so100", out, sweep=True)
+    code = cmd_check("widowx250s", out, sweep=True)
     text = out.getvalue()
     assert code == 0 and "| 500 | 2 |" in text and "sim_freq 500 Hz" in text
 

@@ -152,6 +152,13 @@ def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5
             if best is not None
             else "no step tried passes every claim\n"
         )
+        if swept.failing_everywhere:
+            others = swept.largest_passing_other_claims
+            out.write(
+                f"failing at every step tried (the robot's to fix, not the step's): "
+                f"{', '.join(swept.failing_everywhere)}; the other claims hold at "
+                + (f"{1000 / others:.3g} ms (sim_freq {others} Hz)\n" if others is not None else "no step\n")
+            )
         return 0 if best is not None else 1
     model = cls.check().index.model
     out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n\nchecks:\n")

@@ -184,6 +184,16 @@ class GoogleRobot(Agent):
     """
 
     uid = "google_robot"
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
+    #: step; docs/timestep.md): hold, random actions, end-effector tracking and
+    #: penetration hold from 160 Hz down to 1 kHz, but two claims fail at every step:
+    #: settle (after random actions and 1 s of holding the head tilt still turns at
+    #: 0.47 rad/s at 1 kHz, 0.94 at 500 Hz, 1.5 at 320 Hz, and the forearm at 4-22 rad/s
+    #: from 200 Hz coarser: a torque-limit cycle that grows with the step) and grasp (the
+    #: 83 mm cube, held at the rest pose's tool, creeps 4.9-6.4 mm along the fingertips in
+    #: the 2 s hold at 160 Hz-1 kHz, 5.2 mm at 500 Hz). With settle depending on the step, nothing
+    #: supports a coarser one: the library's 500 Hz, declared.
+    sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES
     parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)

@@ -141,6 +141,13 @@ class XArm6NoGripper(XArm6):
     """UFactory xArm6 with a bare flange; its end effector ``flange`` is ``link_eef``."""
 
     uid = "xarm6_nogripper"
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
+    #: step; docs/timestep.md): every claim holds from 2 ms (500 Hz) down to 1 ms (the
+    #: wrist-camera variant from 400 Hz); at 400 Hz a wrist drive (kv 100, 32 N*m, 0.1
+    #: kg*m^2 armature: kv * dt / I 1.6-1.8 at 2 ms) is left in a torque-limit cycle
+    #: (settle 0.34 rad/s). 500 Hz has no margin: default one tried step finer, 800 Hz
+    #: (margin: 1.25 ms against 2 ms), for both variants.
+    sim_freq: ClassVar[int | None] = 800
 
 
 class RealSenseD435OnStand(Agent):
@@ -218,6 +225,13 @@ class XArm6Robotiq(XArm6):
     """
 
     uid = "xarm6_robotiq"
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
+    #: step; docs/timestep.md): every claim holds at 800 Hz and 1 kHz (grasp slip 0.6 mm);
+    #: at 500 Hz the gripper's spring link is still at 0.10 rad/s after random actions
+    #: and 1 s of holding (bound 0.05), at 400 Hz 0.053 (the wrist-camera variant passes
+    #: from 400 Hz). Default one tried step finer than 800 Hz, 1 kHz (margin: 1 ms
+    #: against 1.25 ms), for both variants.
+    sim_freq: ClassVar[int | None] = 1000
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(robotiq.Robotiq2F85, at=FLANGE),)
     parts = with_tool(robotiq.TCP)
     keyframes = XARM6_ROBOTIQ_KEYFRAMES

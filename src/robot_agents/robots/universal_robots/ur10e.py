@@ -14,10 +14,17 @@ Sources of the numbers:
   0.615 kg; base 4.0 kg), 33.1 kg in all (datasheet: 33.5 kg).
 - Armature: 0.1 kg*m^2 per joint, as in Menagerie's UR10e (UR publishes no gear ratios
   or rotor inertias).
-- Gains (our choice, Menagerie's UR10e position servos: kp 5000, kv 500 on every
-  joint): hold every keyframe to < 1e-6 rad with exact gravity compensation and settle a
-  0.1 rad step within ~0.25 s (tests/test_ur_xarm.py). ManiSkill's ur_10e uses kp 1000,
-  kv 100 (absolute targets) and kp 1e4, kv 1e3 (delta targets).
+- Gains: MuJoCo Menagerie's ``universal_robots_ur10e/ur10e.xml`` per joint size (read
+  as data): size 4 (shoulder pan and lift) kp 4000, damping 350; size 3 (elbow) kp 3500,
+  damping 200; size 2 (wrists) kp 3200, damping 30 (N*m/rad, N*m*s/rad), Menagerie's
+  joint damping taken as the drives' kv. They hold every keyframe to < 1e-6 rad with
+  exact gravity compensation and settle a 0.1 rad step within 0.3 s without overshoot
+  (tests/test_ur_xarm.py). ManiSkill's ur_10e uses kp 1000, kv 100 (absolute targets) and
+  kp 1e4, kv 1e3 (delta targets). (Before 2026-11-23 every joint had kp 5000, kv 500:
+  with the wrists' 56 N*m limit and 0.1 kg*m^2 armature, kv * dt / I was 10 at 2 ms, so
+  a wrist drive clamped at its limit overshot its damping band every step and was left
+  in a bang-bang cycle after random actions, at every step down to 1 ms; at kv 30 it is
+  0.6 at 2 ms. See docs/timestep.md.)
 - Keyframe ``rest``: ManiSkill's (and Menagerie's ``home``) (-pi/2, -pi/2, pi/2, -pi/2,
   -pi/2, 0): upper arm up, forearm level, flange facing down.
 - Composition: :class:`UR10e` ends at its flange body ``tool0``; a tool is attached there
@@ -30,6 +37,7 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import ClassVar
 
 from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
@@ -55,8 +63,8 @@ FLANGE = "tool0"
 #: PD servos (kp N*m/rad, kv N*m*s/rad) with the published torque and speed limits.
 UR10E_DRIVES = PDActuator(
     joints=ARM_PATTERN,
-    stiffness=5000.0,
-    damping=500.0,
+    stiffness=(4000.0, 4000.0, 3500.0, 3200.0, 3200.0, 3200.0),
+    damping=(350.0, 350.0, 200.0, 30.0, 30.0, 30.0),
     effort_limit=(330.0, 330.0, 150.0, 56.0, 56.0, 56.0),
     velocity_limit=tuple(math.radians(v) for v in (120.0, 120.0, 180.0, 180.0, 180.0, 180.0)),
     armature=0.1,
@@ -97,6 +105,15 @@ class UR10e(Agent):
     """
 
     uid = "ur_10e"
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control; see
+    #: docs/timestep.md): with Menagerie's gains every claim but the random-action one
+    #: holds from 5 ms (200 Hz) down to 1 ms; at 160 Hz wrist 1 is still at 0.07 rad/s
+    #: after 1 s of holding (bound 0.05). The random-action claim fails at every step
+    #: (the wrists driven 0.42-0.69 rad past their +-2 pi limits in the velocity-
+    #: feedforward and absolute end-effector modes: 56 N*m against MuJoCo's soft joint
+    #: limit on a 0.1 kg*m^2 armature), not the step's doing. Default one tried step
+    #: finer than 200 Hz: 320 Hz (margin: 3.125 ms against 5 ms).
+    sim_freq: ClassVar[int | None] = 320
     mjcf_path = ASSETS / "ur10e.xml"
     actuators = (UR10E_DRIVES,)
     parts = (UR10E_ARM,)

@@ -44,7 +44,8 @@ Sources of the numbers:
   pose (``sleep_positions`` of the same config file).
 - BridgeData V2 setups (``widowx250s_bridgedataset_flat_table`` / ``_sink``, read from
   ManiSkill 3.0.1's ``bridge_dataset_eval/base_env.py``): the real-to-sim tuned drive
-  gains and force limits, the 3rd-view camera on ``base_link`` (a Logitech C920,
+  gains (their force limits are recorded but not applied: MuJoCo cannot integrate a
+  clamped damper implicitly, see :data:`BRIDGE_FORCE_LIMITS`), the 3rd-view camera on ``base_link`` (a Logitech C920,
   640 x 480, fx = fy = 623.588 px), the measured start poses of the arm and the
   robot's pose on the table (:data:`BRIDGE_FLAT_TABLE_ROBOT_POSE`,
   :data:`BRIDGE_SINK_ROBOT_POSE`), and the control mode
@@ -203,7 +204,8 @@ class WidowX250S(Agent):
     uid = "widowx250s"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control): every
     #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.15-0.23 rad
-    #: at every step, 0.28 rad at 80 Hz); default one divisor finer, 160 Hz.
+    #: at every step, 0.28 rad at 80 Hz; grasp slip 1.2 mm at 100 Hz, 0.8 mm at 160 Hz);
+    #: default one tried step finer, 160 Hz (margin: 6.25 ms against 10 ms).
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)
@@ -259,6 +261,20 @@ BRIDGE_SINK_CAMERA = CameraConfig(
 BRIDGE_FLAT_TABLE_ROBOT_POSE = (0.147, 0.028, 0.870, 0.0, 0.0, 0.0, 1.0)
 BRIDGE_SINK_ROBOT_POSE = (0.127, 0.060, 0.85, 0.0, 0.0, 0.0, 1.0)
 
+#: ManiSkill's force limits of the tuned Bridge arm drives (N*m), not applied here.
+#: PhysX integrates a drive's damping implicitly even while its force is clamped; MuJoCo
+#: integrates it implicitly only inside the force range. With these dampings (150-330
+#: N*m*s/rad) on joints of 0.005-0.04 kg*m^2, a clamped drive's explicit damping
+#: overshoots by kv * dt / I = 4-116 at 2 ms (stable needs < 2: a 0.04 ms step), and the
+#: joints were left in a bang-bang cycle between the limits after random actions at
+#: every step (5-260 rad/s). Unclamped, the whole PD is implicit and stable at every
+#: step. What is lost is small: the limits bind while kp * error - kv * speed exceeds
+#: them, and with these gains a joint's speed follows its error within I / kv = 20-140
+#: microseconds, so the force is above the limits only for such a moment after a jump
+#: of the target (and while a link is pushed into an obstacle, where the drive now
+#: presses harder than in ManiSkill).
+BRIDGE_FORCE_LIMITS = (200.0, 200.0, 100.0, 100.0, 100.0, 100.0)
+
 #: ManiSkill's real-to-sim tuned drives for the Bridge setups (their SAPIEN model).
 BRIDGE_ARM_DRIVES = PDActuator(
     joints=ARM_PATTERN,
@@ -271,7 +287,9 @@ BRIDGE_ARM_DRIVES = PDActuator(
         1056.3326605132252,
     ),
     damping=(330.0, 180.0, 152.12036565582588, 309.6215302722146, 201.04998711007383, 269.51458932695414),
-    effort_limit=(200.0, 200.0, 100.0, 100.0, 100.0, 100.0),
+    # ManiSkill's force limits (200, 200, 100, 100, 100, 100 N*m) are left out: see
+    # BRIDGE_FORCE_LIMITS.
+    effort_limit=None,
     velocity_limit=ARM_VELOCITY,
     armature=ARM_ARMATURE,
 )
@@ -329,10 +347,16 @@ class _BridgeWidowX250S(WidowX250S):
     attachments = (Attachment(WidowX250SBridgeGripper, at="ee_arm_link"),)
     control_modes: ClassVar[Mapping[str, ModeConfig]] = bridge_control_modes()
     default_control_mode = BRIDGE_MODE
-    #: The library's 500 Hz: at the plain arm's 160 Hz the Bridge gripper's cube-hold test
-    #: fails, and the sweep finds no step passing (settle 5-260 rad/s at every step, see
-    #: docs/timestep.md).
-    sim_freq = None
+    #: Time-step sweep (2026-11-23, 20 Hz control, both setups; docs/timestep.md): with the
+    #: tuned drives unclamped (BRIDGE_FORCE_LIMITS) every claim but the random-action
+    #: one holds at 800 Hz and 1 kHz; at 500 Hz the sweep's cube slips 2.1-2.3 mm in the
+    #: 2 s hold under the tuned finger drive (bound 2 mm) and, on the flat table, the
+    #: shoulder is still at 0.053 rad/s after 1 s of holding (bound 0.05). The
+    #: random-action claim fails at every step (0.44-0.59 rad past a joint limit, the
+    #: velocity-feedforward modes pressing the wrist and elbow into MuJoCo's soft
+    #: limits with the tuned gains), not the step's doing. Default one tried step finer
+    #: than 800 Hz: 1 kHz (margin: 1 ms against 1.25 ms).
+    sim_freq = 1000
     task_limits: ClassVar[Mapping[str, str]] = {
         "PickCube-v1": (
             "the generic scripted solver succeeds in 0-1 of 20 seeds with the Bridge setups' tuned "

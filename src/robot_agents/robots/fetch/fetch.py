@@ -253,7 +253,8 @@ class Fetch(Agent):
         "habitat_arm_init": _keyframe(HABITAT_ARM_INIT, HABITAT_GRIPPER_INIT),
     }
     default_control_mode = "pd_joint_delta_pos"
-    #: The time-step sweep passes every claim down to 80 Hz; 200 Hz keeps a margin.
+    #: The time-step sweep (grasp claim included) passes every claim down to 160 Hz
+    #: (at 100 Hz the pads press 14.7 mm into the cube); 200 Hz is one tried step finer.
     sim_freq = 200
 
 

@@ -53,6 +53,15 @@ def test_info_shows_joints_keyframes_modes() -> None:
     assert "sensors: none" in text
 
 
+def test_a_directory_named_like_a_uid_does_not_hide_the_robot(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "spot").mkdir()  # e.g. a folder of videos of the robot
+    (tmp_path / "panda").write_text("notes")  # a file without a model suffix
+    monkeypatch.chdir(tmp_path)
+    for uid in ("spot", "panda"):
+        code, text = run("info", uid)
+        assert code == 0 and "keyframes" in text.lower(), text
+
+
 def test_info_lists_cameras_and_touch_sensors() -> None:
     _, text = run("info", "panda_wristcam")
     assert "camera hand_camera on panda_hand: 128x128, fovy 90.0 deg, near 0.01 m, far 10 m" in text

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError
-from robot_agents.registry import get_agent
+from robot_agents.registry import get_agent, list_agents
 
 MODEL_SUFFIXES = (".urdf", ".xml", ".mjcf")
 
@@ -24,11 +24,14 @@ def robot_from_file(path: str | Path, floating: bool = False) -> type[Agent]:
 
 
 def resolve_robot(spec: str, floating: bool = False) -> type[Agent]:
-    """A robot class from ``spec``: a model file path, ``module:Class``, or a uid."""
+    """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
+    directory or file without a model suffix that happens to share a registered uid's
+    name does not hide the uid)."""
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
-    if path.suffix.lower() in MODEL_SUFFIXES or path.exists():
+    registered = spec in list_agents()
+    if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
         return robot_from_file(path, floating)
     if ":" in spec:
         module_name, _, class_name = spec.partition(":")

@@ -99,6 +99,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     print("|---|---|---|---|---|---|")
     for uid in args.uids:
         for mode in args.modes:
+            if mode not in ra.get_agent(uid).modes():
+                print(f"| `{uid}` | `{mode}` | - | not a mode of this robot | - | - |")
+                continue
             mine: list[float] = []
             peer: list[float] = []
             failure = ""

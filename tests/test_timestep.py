@@ -133,6 +133,13 @@ def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
     assert strong is not None and strong.passed and strong.value < 0.001
 
 
+def test_grasp_claim_closes_grippers_whose_joints_close_upwards() -> None:
+    """The Robotiq 2F-85's drivers close towards their upper limit (0 -> 0.8 rad): the
+    claim closes it with the action's -1, as every gripper, and the cube is held."""
+    result = _grasp(ra.get_agent("floating_robotiq_2f_85_gripper"), 500, 20, _Penetration())
+    assert result is not None and result.passed and result.value < SLIP_BOUND, result
+
+
 def test_grasp_claim_tries_the_cube_deeper_between_the_fingers() -> None:
     """The Koch's jaw loses the cube a fifth of an edge in from its grasp point (near the
     tips) and holds it 0.4 edge deeper: the claim reports where it held."""

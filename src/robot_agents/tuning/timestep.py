@@ -357,15 +357,6 @@ def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Pen
     return ClaimResult("ee_tracking", error <= EE_TOLERANCE, error, EE_TOLERANCE, detail)
 
 
-def _part_action(controller: object, raw: np.ndarray) -> np.ndarray:
-    """A controller's action slice from raw values (clipped, normalized if it is)."""
-    low, high = controller.raw_low, controller.raw_high  # type: ignore[attr-defined]
-    raw = np.clip(raw, low, high)
-    if controller.config.normalize_action:  # type: ignore[attr-defined]
-        return np.asarray(2.0 * (raw - low) / (high - low) - 1.0)
-    return np.asarray(raw)
-
-
 def _grasp(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetration) -> ClaimResult | None:
     """Close the gripper on a weightless cube between its open fingers, give the cube its
     weight, lift it and hold it (see the module doc); the cube's largest movement
@@ -447,14 +438,12 @@ def _grasp_at(
     data = scene.world.datas[0]
     weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
 
-    # The gripper's slice of the action: fully closed (its action bound past ``closed``).
+    # The gripper's slice of the action: fully closed (-1 in every gripper's action: its
+    # command past ``closed``, whichever way the joints close).
     slot, close = None, None
     for part_name, controller in agent.controller.parts.items():
         if set(names) & set(controller.config.joint_names):
-            leader_open = float(opened[0])
-            leader_closed = float(np.asarray(gripper.closed, dtype=np.float64).reshape(-1)[0])
-            raw = controller.raw_low if leader_open >= leader_closed else controller.raw_high
-            slot, close = agent.controller.slices[part_name], _part_action(controller, np.asarray(raw))
+            slot, close = agent.controller.slices[part_name], controller.from_raw(controller.unit_low)
     ee_controller = next(c for c in agent.controller.parts.values() if isinstance(c, PDEEController))
     ee_slot = next(agent.controller.slices[n] for n, c in agent.controller.parts.items() if c is ee_controller)
 
@@ -466,7 +455,7 @@ def _grasp_at(
             hold = action[ee_slot].copy()
             raw = hold if not ee_controller.config.use_delta else np.zeros(ee_controller.action_dim)
             raw[2] += lift
-            action[ee_slot] = _part_action(ee_controller, raw)
+            action[ee_slot] = ee_controller.from_raw(raw)
         if slot is not None and close is not None:
             action[slot] = close
         agent.set_action(action)

@@ -49,6 +49,12 @@ def test_loads_with_consistent_model(scene: ra.Scene) -> None:
         assert names and all(n in agent.joint_names for n in names), part
 
 
+@pytest.mark.parametrize("uid", ROBOTS)
+def test_every_robot_has_a_rest_keyframe(uid: str) -> None:
+    """Tasks may reset any robot to ``rest``."""
+    assert "rest" in ra.get_agent(uid).keyframes
+
+
 def test_keyframes_within_limits(scene: ra.Scene) -> None:
     agent = scene.agents[0]
     assert agent.keyframes, "every built-in robot declares at least one keyframe"

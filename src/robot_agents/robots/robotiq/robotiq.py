@@ -198,6 +198,8 @@ class FloatingRobotiq2F85Gripper(Agent):
         "open_facing_down": facing(-HALF_PI, 0.0),
         "open_facing_up": facing(HALF_PI, 0.0),
         "open_facing_side": facing(HALF_PI, -HALF_PI),
+        # the name every built-in robot has, for tasks that reset to it: facing down
+        "rest": facing(-HALF_PI, 0.0),
     }
     default_control_mode = "pd_joint_delta_pos"
 

@@ -215,6 +215,8 @@ class WidowX250S(Agent):
         "home": Keyframe(qpos={ARM_PATTERN: ARM_HOME}),
         "zero": Keyframe(qpos={ARM_PATTERN: 0.0}),
         "sleep": Keyframe(qpos={ARM_PATTERN: ARM_SLEEP}),
+        # the name every built-in robot has, for tasks that reset to it: ``home``'s pose
+        "rest": Keyframe(qpos={ARM_PATTERN: ARM_HOME}),
     }
     default_control_mode = "pd_joint_delta_pos"
 

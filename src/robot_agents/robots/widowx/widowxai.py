@@ -125,6 +125,8 @@ class WidowXAI(Agent):
     keyframes = {
         "ready_to_grasp": Keyframe(qpos={ARM_PATTERN: READY_TO_GRASP, "left_carriage_joint": 0.026}),
         "home": Keyframe(qpos={ARM_PATTERN: 0.0, "left_carriage_joint": 0.044}),
+        # the name every built-in robot has, for tasks that reset to it: the peer's start pose
+        "rest": Keyframe(qpos={ARM_PATTERN: READY_TO_GRASP, "left_carriage_joint": 0.026}),
     }
     default_control_mode = "pd_joint_delta_pos"
 

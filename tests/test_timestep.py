@@ -78,11 +78,12 @@ def test_panda_wrist_oscillates_without_armature() -> None:
         ("ur_10e", "pd_joint_vel"),
         ("widowxai", "pd_joint_pos_vel"),
         ("widowx250s_bridgedataset_flat_table", "pd_joint_pos"),
+        ("google_robot", "pd_joint_target_delta_pos"),
     ],
 )
 def test_drives_that_cycled_between_their_torque_limits_settle_at_their_default_step(uid: str, mode: str) -> None:
-    """The UR10e (Menagerie's gains), the WidowX AI (at 1 kHz) and the Bridge WidowX
-    (unclamped tuned drives) settle after 10 s of random actions and 1 s of holding."""
+    """The UR10e (Menagerie's gains), the WidowX AI (at 1 kHz), the Bridge WidowX
+    (unclamped tuned drives) and the Google Robot's head (damping 90, not 900) settle after 10 s of random actions and 1 s of holding."""
     cls = ra.get_agent(uid)
     speed, joint = settled_speed(cls, mode, cls.sim_freq or DEFAULT_SIM_FREQ)
     assert speed < SETTLE_SPEED, f"{joint} still moves at {speed:.3f} rad/s"

@@ -27,7 +27,11 @@ Sources of the numbers:
   places the robot), separation 2 x 0.18333 m.
 - Drives: SimplerEnv's real-to-sim tuned gains for the arm in "force" drive mode
   (``GoogleRobotDefaultConfig``: stiffness 2000, 1800, 1200, 1000, 650, 500, 500;
-  force limits 400, 400, 300, 300, 200, 200, 100) and the head (2000 / 900, 100 N*m).
+  force limits 400, 400, 300, 300, 200, 200, 100) and the head (stiffness 2000,
+  100 N*m; damping a tenth of SimplerEnv's 900: with 900 on the head's 0.106 kg*m^2
+  (armature 0.1 included) kv * dt / I is 17 at 2 ms and, once the drive's force is
+  clamped, MuJoCo's explicit damping cycles the tilt between its torque limits (0.94
+  rad/s after random actions); 90 is still overdamped (critical: 29) and settles).
   The arm's damping is a fifth of SimplerEnv's (850, 810, 500, 480, 460, 190, 250):
   with the full values our end-effector delta modes (whose joint targets carry a
   velocity feed-forward through the damping) let the tool drift 19 cm in 2 s after a
@@ -100,7 +104,7 @@ GOOGLE_ROBOT_DRIVES = (
         effort_limit=ARM_EFFORT,
         velocity_limit=ARM_VELOCITY,
     ),
-    PDActuator(joints=HEAD_PATTERN, stiffness=2000.0, damping=900.0, effort_limit=100.0, velocity_limit=2.0),
+    PDActuator(joints=HEAD_PATTERN, stiffness=2000.0, damping=90.0, effort_limit=100.0, velocity_limit=2.0),
     PDActuator(joints=FINGER_PATTERN, stiffness=20.0, damping=2.0, effort_limit=30.0, velocity_limit=1.3, armature=0.1),
 )
 
@@ -186,13 +190,11 @@ class GoogleRobot(Agent):
     uid = "google_robot"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
     #: step; docs/timestep.md): hold, random actions, end-effector tracking and
-    #: penetration hold from 160 Hz down to 1 kHz, but two claims fail at every step:
-    #: settle (after random actions and 1 s of holding the head tilt still turns at
-    #: 0.47 rad/s at 1 kHz, 0.94 at 500 Hz, 1.5 at 320 Hz, and the forearm at 4-22 rad/s
-    #: from 200 Hz coarser: a torque-limit cycle that grows with the step) and grasp (the
-    #: 83 mm cube, held at the rest pose's tool, creeps 4.9-6.4 mm along the fingertips in
-    #: the 2 s hold at 160 Hz-1 kHz, 5.2 mm at 500 Hz). With settle depending on the step, nothing
-    #: supports a coarser one: the library's 500 Hz, declared.
+    #: penetration hold from 160 Hz down to 1 kHz. Settle holds from 320 Hz down (with the
+    #: head's damping at 90; at 900 the head tilt cycled at every step); at 200 Hz the
+    #: forearm cycles (4.4 rad/s). Grasp fails at every step (the 83 mm cube, held at the
+    #: rest pose's tool, creeps 4.9-6.4 mm along the fingertips in the 2 s hold, 5.2 mm at
+    #: 500 Hz: open). 500 Hz kept: two tried steps finer than 320 Hz.
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES

@@ -190,11 +190,11 @@ class GoogleRobot(Agent):
     uid = "google_robot"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
     #: step; docs/timestep.md): hold, random actions, end-effector tracking and
-    #: penetration hold from 160 Hz down to 1 kHz. Settle holds from 320 Hz down (with the
-    #: head's damping at 90; at 900 the head tilt cycled at every step); at 200 Hz the
-    #: forearm cycles (4.4 rad/s). Grasp fails at every step (the 83 mm cube, held at the
-    #: rest pose's tool, creeps 4.9-6.4 mm along the fingertips in the 2 s hold, 5.2 mm at
-    #: 500 Hz: open). 500 Hz kept: two tried steps finer than 320 Hz.
+    #: penetration hold from 160 Hz down to 1 kHz. Settle holds at 500 Hz-1 kHz and 320 Hz
+    #: (with the head's damping at 90; at 900 the head tilt cycled at every step), not at
+    #: 400 Hz (1.16 rad/s) nor from 200 Hz coarser (the forearm, 4.4 rad/s). Grasp fails at
+    #: every step (the 83 mm cube, held at the rest pose's tool, creeps 4.9-6.4 mm along
+    #: the fingertips in the 2 s hold, 5.2 mm at 500 Hz: open). 500 Hz, without margin.
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES

@@ -42,8 +42,9 @@ def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float 
     for _ in range(round(seconds * scene.control_freq)):
         agent.set_action(rng.uniform(space.low, space.high))
         scene.step()
+    hold = hold_action(agent)  # one command, repeated, as the sweep's settle claim
     for _ in range(scene.control_freq):
-        agent.set_action(hold_action(agent))
+        agent.set_action(hold)
         scene.step()
     speeds = np.abs(agent.qvel[0])
     name = agent.joint_names[int(np.argmax(speeds))]

@@ -277,8 +277,12 @@ def _random(
             if past > overshoot:
                 overshoot, over_where = past, f"{mode}: {agent.joint_names[int(np.argmax(beyond))]}"
         if _commands_motion(agent) and not any(isinstance(c, PDEEController) for c in agent.controller.parts.values()):
+            # One hold command, repeated: targets stay where the hold began (absolute and
+            # target modes). Re-measuring every step would let a joint that sags under
+            # its load ratchet its own target along (a soft gripper drive under gravity).
+            hold = hold_action(agent)
             for _ in range(round(SETTLE_SECONDS * control_freq)):
-                agent.set_action(hold_action(agent))
+                agent.set_action(hold)
                 scene.step()
                 depth.measure(scene)
             fastest = float(np.max(np.abs(agent.qvel[0]), initial=0.0))

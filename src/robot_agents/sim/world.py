@@ -101,6 +101,12 @@ class BatchedWorld:
         self.last_step_unstable = np.zeros(self.num_envs, dtype=bool)
         #: Per env: how many steps had an instability since the world was made (never cleared).
         self.unstable_steps = np.zeros(self.num_envs, dtype=np.int64)
+        # Hot-path handles, resolved once: MjData's arrays are views whose memory never
+        # moves, and ``model.opt`` reads the live time step.
+        self._data0 = self.datas[0]
+        self._ctrl0 = self.ctrl[0]
+        self._qvel0 = self._data0.qvel
+        self._opt = model.opt
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
@@ -134,6 +140,9 @@ class BatchedWorld:
         change ``self.ctrl`` (e.g. interpolated targets); without it all substeps run in
         one ``mj_step`` call per env.
         """
+        if self.num_envs == 1 and before_substep is None:
+            self._step_single()
+            return
         started = [data.time for data in self.datas]
         if before_substep is None:
             self._step_all(self.substeps)
@@ -154,6 +163,22 @@ class BatchedWorld:
             flags[env] = data.time < started[env] + advance or qvel @ qvel > _MAX_SPEED_SQUARED
         if flags.any():
             self.unstable_steps += flags
+
+    def _step_single(self) -> None:
+        """:meth:`step` of one env without substep hooks: the same MuJoCo calls and the
+        same instability test, without the per-env lists and loops."""
+        data, model = self._data0, self.model
+        started = data.time
+        data.ctrl[:] = self._ctrl0
+        mujoco.mj_step(model, data, self.substeps)
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_camlight(model, data)
+        self._cache.clear()
+        qvel = self._qvel0
+        unstable = data.time < started + (self.substeps - 0.5) * self._opt.timestep or qvel @ qvel > _MAX_SPEED_SQUARED
+        self.last_step_unstable[0] = unstable
+        if unstable:
+            self.unstable_steps[0] += 1
 
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""

@@ -88,7 +88,12 @@ class CombinedController:
         self.drives.write(sim.ctrl, sim.qpos, sim.qvel)
 
     def _to_raw(self, action: FloatArray) -> FloatArray:
-        raw: FloatArray = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
+        # clip, then scale and shift, in place on one new array (the result is handed to
+        # the controllers, which may keep views of it)
+        raw: FloatArray = np.maximum(action, self._clip_low)
+        np.minimum(raw, self._clip_high, out=raw)
+        np.multiply(raw, self._scale, out=raw)
+        np.add(raw, self._offset, out=raw)
         return raw
 
     def check_action(self, action: FloatArray) -> str | None:

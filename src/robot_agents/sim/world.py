@@ -188,13 +188,12 @@ class BatchedWorld:
 
     # -- batched reads (read-only caches, invalidated by step / writes) ---------------
     def _gather(self, field: str) -> FloatArray:
-        if self.num_envs == 1:  # a fresh copy is cheaper than the cache bookkeeping
-            single: FloatArray = getattr(self.datas[0], field).copy()[None]
-            single.flags.writeable = False
-            return single
         cached = self._cache.get(field)
         if cached is None:
-            cached = np.stack([getattr(d, field) for d in self.datas])
+            if self.num_envs == 1:
+                cached = getattr(self._data0, field).copy()[None]
+            else:
+                cached = np.stack([getattr(d, field) for d in self.datas])
             cached.flags.writeable = False
             self._cache[field] = cached
         return cached

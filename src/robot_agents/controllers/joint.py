@@ -132,6 +132,8 @@ class PDJointPosController(Controller):
         self._has_offsets = bool(np.any(self.offsets))
         self._write_now = not config.interpolate
         self._columns = binding.column_sel
+        self._qpos_sel = binding.qpos_sel
+        self._position = self.targets.position  # the drives' buffer (never replaced)
         if not config.use_delta:
             self._base = self._ABSOLUTE
         else:
@@ -165,11 +167,13 @@ class PDJointPosController(Controller):
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
         else:
-            targets = sim.qpos[:, self.binding.qpos_sel] + change
+            targets = sim.qpos[:, self._qpos_sel] + change
         self._previous_target = self.target_qpos
-        self.target_qpos = self._clip_to_limits(targets)
+        if self._clip:
+            targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+        self.target_qpos = targets
         if self._write_now:
-            self.targets.position[:, self._columns] = self.target_qpos
+            self._position[:, self._columns] = targets
 
     @property
     def needs_substep(self) -> bool:

@@ -304,10 +304,14 @@ class RobotEnv(gym.Env[Any, Any]):
         tool body's pose), and callables for what changes identity every step
         (controller targets, touch, a site's or offset frame's pose, the task's extras).
         Rebuilt only when a robot's active controller changes."""
-        key = tuple(a.control.active for a in self.agents)
         plan = self._obs_plan
-        if plan is not None and plan[0] == key:
-            return plan[1]
+        if plan is not None:
+            if self._one_robot:
+                if plan[0][0] is self._agent0.control.active:
+                    return plan[1]
+            elif all(a.control.active is c for a, c in zip(self.agents, plan[0], strict=True)):
+                return plan[1]
+        key = tuple(a.control.active for a in self.agents)
         world = self.scene.world
         entries: list[Any] = []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads

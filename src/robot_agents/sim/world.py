@@ -107,23 +107,31 @@ class BatchedWorld:
         self._ctrl0 = self.ctrl[0]
         self._qvel0 = self._data0.qvel
         self._opt = model.opt
+        #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
+        self._sync_after_step = True
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
     def _step_chunk(self, envs: range, nstep: int) -> None:
-        model, datas, ctrl = self.model, self.datas, self.ctrl
+        model, datas, ctrl, sync = self.model, self.datas, self.ctrl, self._sync_after_step
         for i in envs:
             data = datas[i]
             data.ctrl[:] = ctrl[i]
             mujoco.mj_step(model, data, nstep)
-            _sync_poses(model, data)
+            if sync:
+                _sync_poses(model, data)
 
     def _step_all(self, nstep: int) -> None:
+        """``nstep`` physics steps of every env, then (unless :attr:`_sync_after_step` is
+        off) the poses at the stepped ``qpos``: needed after a control step's last
+        substep only, since ``mj_step`` recomputes them from ``qpos`` first and substep
+        hooks read joint state only."""
         if self.num_envs == 1:
             data = self.datas[0]
             data.ctrl[:] = self.ctrl[0]
             mujoco.mj_step(self.model, data, nstep)
-            _sync_poses(self.model, data)
+            if self._sync_after_step:
+                _sync_poses(self.model, data)
             return
         if self._pool is None:
             self._step_chunk(self._chunks[0], nstep)
@@ -147,10 +155,15 @@ class BatchedWorld:
         if before_substep is None:
             self._step_all(self.substeps)
         else:
-            for i in range(self.substeps):
-                before_substep(i, self.substeps)
-                self._step_all(1)
-                self._cache.clear()  # the hook reads the state of every substep
+            last = self.substeps - 1
+            try:
+                for i in range(self.substeps):
+                    before_substep(i, self.substeps)
+                    self._sync_after_step = i == last
+                    self._step_all(1)
+                    self._cache.clear()  # the hook reads the state of every substep
+            finally:
+                self._sync_after_step = True
         self._cache.clear()
         # MuJoCo's reset after a blow-up sets time back to 0, so a step that did not
         # advance time by all its substeps was reset (a cheap test; instability_counts()

@@ -42,6 +42,7 @@ Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--rounds 10] [-
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import statistics
 import time
@@ -119,7 +120,9 @@ def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[A
     return per_step
 
 
-def measure(uid: str, mode: str, rounds: int, block: int, rng: np.random.Generator) -> Result:
+def measure(
+    uid: str, mode: str, rounds: int, block: int, rng: np.random.Generator, clock: Callable[[], float]
+) -> Result:
     env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
     env.reset(seed=0)
     model, agent = env.model, env.agent
@@ -143,9 +146,9 @@ def measure(uid: str, mode: str, rounds: int, block: int, rng: np.random.Generat
         if isinstance(controller, PDEEController):
 
             def timed(raw: np.ndarray, sim: Any, apply: Callable[..., None] = apply) -> None:
-                begin = time.perf_counter()
+                begin = clock()
                 apply(raw, sim)
-                ik_seconds[0] += time.perf_counter() - begin
+                ik_seconds[0] += clock() - begin
 
             wrapped.append((timed, part_slice))
         else:
@@ -180,13 +183,13 @@ def measure(uid: str, mode: str, rounds: int, block: int, rng: np.random.Generat
     env_times, replay_times, ik_times = [], [], []
     for _ in range(rounds):
         ik_before = ik_seconds[0]
-        begin = time.perf_counter()
+        begin = clock()
         env_loop(block)
-        env_times.append(time.perf_counter() - begin)
+        env_times.append(clock() - begin)
         ik_times.append(ik_seconds[0] - ik_before)
-        begin = time.perf_counter()
+        begin = clock()
         replay_loop(block)
-        replay_times.append(time.perf_counter() - begin)
+        replay_times.append(clock() - begin)
     replay_state = np.empty(mujoco.mj_stateSize(model, STATE))
     mujoco.mj_getState(model, data, replay_state, STATE)
     if not (np.array_equal(replay_state, final) and np.array_equal(env.get_state()["physics"][0], final)):
@@ -216,14 +219,23 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--robots", nargs="*", default=None, help="robot uids (default: every registered robot)")
     parser.add_argument("--modes", nargs="*", default=["joint", "ee"], choices=["joint", "ee"])
-    parser.add_argument("--rounds", type=int, default=10)
-    parser.add_argument("--block", type=int, default=40)
+    parser.add_argument("--rounds", type=int, default=40)
+    parser.add_argument("--block", type=int, default=10)
+    parser.add_argument(
+        "--clock",
+        default="cpu",
+        choices=["cpu", "wall"],
+        help="cpu: this process's CPU time (time.process_time; time spent waiting for a core on a shared "
+        "machine is not counted); wall: time.perf_counter",
+    )
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     robots = args.robots or ra.list_agents()
+    clock = time.process_time if args.clock == "cpu" else time.perf_counter
     print(
         f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.processor() or platform.machine()}, "
-        f"Python {platform.python_version()}, MuJoCo {mujoco.__version__}, {args.rounds} rounds of {args.block} steps"
+        f"Python {platform.python_version()}, MuJoCo {mujoco.__version__}, {args.rounds} rounds of {args.block} steps, "
+        f"{args.clock} clock, load average {os.getloadavg()[0]:.1f}"
     )
     print(
         "| robot | mode | sim_freq (substeps) | env µs/step | raw replay µs/step | overhead µs | IK µs | ratio | ratio excl. IK |"
@@ -234,7 +246,7 @@ def main() -> None:
             mode = mode_of(uid, kind)
             if mode is None:
                 continue
-            r = measure(uid, mode, args.rounds, args.block, rng)
+            r = measure(uid, mode, args.rounds, args.block, rng, clock)
             excl = "-" if np.isnan(r.ratio_excl_ik) else f"{r.ratio_excl_ik:.2f}"
             ik = "-" if not r.ik_us else f"{r.ik_us:.0f}"
             print(

@@ -79,3 +79,19 @@ def test_the_fused_observation_is_a_fresh_array() -> None:
     assert np.array_equal(first, kept)  # stepping did not write into the returned observation
     assert first.flags.writeable and first.flags.c_contiguous and first.shape == env.observation_space.shape
     env.close()
+
+
+def test_one_pass_clip_is_exact_unless_a_bound_is_zero() -> None:
+    """The controllers clip in one ufunc call only where that is bit-exact."""
+    from robot_agents.controllers.base import clip_ufunc, one_pass_clip_exact
+
+    values = np.array([-0.0, 0.0, np.nan, np.inf, -np.inf, 1.0, -1.0, 0.25, -3.0, 5e-324, -5e-324])
+    values = np.concatenate([values, np.random.default_rng(0).normal(size=200)])
+    for low, high in ((-1.0, 1.0), (-0.3, 0.7), (-np.inf, np.inf), (1e-300, 2.0), (-2.0, -1e-300)):
+        bounds = np.full(values.shape, low), np.full(values.shape, high)
+        assert one_pass_clip_exact(*bounds)
+        assert (
+            _bits(clip_ufunc(values, *bounds)).tobytes() == _bits(np.minimum(np.maximum(values, low), high)).tobytes()
+        )
+    assert not one_pass_clip_exact(np.zeros(3), np.ones(3))  # which zero comes back is unspecified
+    assert not one_pass_clip_exact(-np.ones(3), np.array([1.0, 0.0, 1.0]))

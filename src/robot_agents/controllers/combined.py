@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride, Drives
-from robot_agents.controllers.base import Controller, FloatArray, IntArray
+from robot_agents.controllers.base import Controller, FloatArray, IntArray, clip_ufunc, one_pass_clip_exact
 from robot_agents.errors import StateError
 
 
@@ -63,6 +63,7 @@ class CombinedController:
         raw_high = np.concatenate([c.raw_high for c in controllers]) if controllers else np.zeros(0)
         self._clip_low = np.where(normalized, -1.0, raw_low)
         self._clip_high = np.where(normalized, 1.0, raw_high)
+        self._one_pass_clip = one_pass_clip_exact(self._clip_low, self._clip_high)
         with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
             self._scale = np.where(normalized, (raw_high - raw_low) / 2, 1.0)
             self._offset = np.where(normalized, (raw_high + raw_low) / 2, 0.0)
@@ -90,8 +91,11 @@ class CombinedController:
     def _to_raw(self, action: FloatArray) -> FloatArray:
         # clip, then scale and shift, in place on one new array (the result is handed to
         # the controllers, which may keep views of it)
-        raw: FloatArray = np.maximum(action, self._clip_low)
-        np.minimum(raw, self._clip_high, out=raw)
+        if self._one_pass_clip:
+            raw: FloatArray = clip_ufunc(action, self._clip_low, self._clip_high)
+        else:
+            raw = np.maximum(action, self._clip_low)
+            np.minimum(raw, self._clip_high, out=raw)
         np.multiply(raw, self._scale, out=raw)
         np.add(raw, self._offset, out=raw)
         return raw

@@ -119,6 +119,13 @@ class ControlModes:
     def validate_action(self, action: Any) -> FloatArray:
         """``action`` as float64 ``(num_envs, action_dim)``; ``(action_dim,)`` applies to
         every env. Raises :class:`ActionError` for other shapes, dtypes, NaN / inf."""
+        return np.asarray(self.checked_action(action), dtype=np.float64)
+
+    def checked_action(self, action: Any) -> npt.NDArray[Any]:
+        """:meth:`validate_action` without the conversion to float64: the checked array in
+        its own numeric dtype, ``(num_envs, action_dim)`` (possibly a read-only
+        broadcast). The controllers' first operation (clipping against float64 bounds)
+        converts it exactly, so the step skips one array copy."""
         active = self.active
         dim = active.action_dim
         if action.__class__ is np.ndarray:  # the common case: no conversion to try
@@ -146,7 +153,6 @@ class ControlModes:
                     f"{self._where()}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {shape}."
                 )
             array = np.broadcast_to(array, (self.num_envs, dim))
-        array = np.asarray(array, dtype=np.float64)
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
         # finite values falls through to the exact check).
         if not math.isfinite(_sum(array, None)) and not np.isfinite(array).all():

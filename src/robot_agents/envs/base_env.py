@@ -51,26 +51,28 @@ def _space_for(tree: Any) -> gym.Space[Any]:
 
 def _pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
     """The world pose of ``frame`` in ``data`` for :meth:`RobotEnv._single_state_obs`:
-    position then quaternion (w, x, y, z), as views of ``data`` where MuJoCo stores them,
-    else a callable that computes them into reused buffers with the same arithmetic as
+    position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
+    stores them, else a callable that computes them into reused buffers with the same arithmetic as
     :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
     if frame.kind is FrameKind.BODY:
         position, quat = data.xpos[frame.id], data.xquat[frame.id]
         if frame.offset is None:
-            return [position, quat]
+            return [position[None], quat[None]]
     else:
         position, matrix = data.site_xpos[frame.id], data.site_xmat[frame.id]
         quat = np.empty(4)
         if frame.offset is None:
+            site_quat_row = [quat[None]]
 
             def site_quat() -> list[FloatArray]:
                 mujoco.mju_mat2Quat(quat, matrix)
-                return [quat]
+                return site_quat_row
 
-            return [position, site_quat]
+            return [position[None], site_quat]
     offset = np.asarray(frame.offset, dtype=np.float64)
     offset_position, offset_quat = offset[:3].copy(), offset[3:].copy()
     shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
+    rows = [out_position[None], out_quat[None]]
 
     def offset_pose() -> list[FloatArray]:
         if frame.kind is not FrameKind.BODY:
@@ -78,7 +80,7 @@ def _pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         mujoco.mju_rotVecQuat(shifted, offset_position, quat)
         np.add(position, shifted, out=out_position)
         mujoco.mju_mulQuat(out_quat, quat, offset_quat)
-        return [out_position, out_quat]
+        return rows
 
     return [offset_pose]
 
@@ -315,7 +317,7 @@ class RobotEnv(gym.Env[Any, Any]):
         world = self.scene.world
         entries: list[Any] = []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
-            entries.append(lambda: [a.reshape(-1) for a in self._state_arrays()])
+            entries.append(self._state_arrays)
             self._obs_plan = (key, entries)
             return entries
         data = world.datas[0]
@@ -323,31 +325,31 @@ class RobotEnv(gym.Env[Any, Any]):
             index = agent.index
             for source, sel in ((data.qpos, index.qpos_sel), (data.qvel, index.dof_sel)):
                 if isinstance(sel, slice):
-                    entries.append(source[sel])
+                    entries.append(source[None, sel])
                 else:
-                    entries.append(lambda source=source, sel=sel: [source[sel]])
+                    entries.append(lambda source=source, sel=sel: [source[sel][None]])
             for part in controller.parts.values():
-                entries.append(lambda observe=part.observe: [v.reshape(-1) for v in observe().values()])
+                entries.append(lambda observe=part.observe: observe().values())
             if agent.touch_reader.names:
-                entries.append(lambda agent=agent: [agent.touch.reshape(-1)])
+                entries.append(lambda agent=agent: [agent.touch])
             if agent.has_end_effector:
                 entries.extend(_pose_entries(agent.frames.end_effector(None, type(self).__name__), data))
         if self._has_extra_obs:
-            entries.append(lambda: [v.reshape(-1) for v in self._extra_obs().values()])
+            entries.append(lambda: [v.reshape(1, -1) for v in self._extra_obs().values()])
         self._obs_plan = (key, entries)
         return entries
 
     def _single_state_obs(self) -> npt.NDArray[np.float32]:
-        """The ``state`` observation ``(1, D)`` of one env: the same values, order and
-        float32 rounding as :meth:`_state_arrays` concatenated, in one concatenation of
-        views (no per-piece copies, name lookups or dicts)."""
+        """The ``state`` observation ``(1, D)`` of one env: the concatenation of
+        :meth:`_state_arrays` (same values, order and float32 rounding), from ``(1, k)``
+        views planned once (no per-piece copies, name lookups or dicts)."""
         arrays: list[Any] = []
         for entry in self._single_state_plan():
             if entry.__class__ is np.ndarray:
                 arrays.append(entry)
             else:
                 arrays.extend(entry())
-        obs: npt.NDArray[np.float32] = np.concatenate(arrays, dtype=np.float32).reshape(1, -1)
+        obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
         return obs
 
     def _state_arrays(self) -> list[FloatArray]:

@@ -26,7 +26,9 @@ default ``sim_freq``, control 20 Hz):
 Both loops run in alternating blocks of ``--block`` control steps; per round the
 ratio is replay time / env time over the same steps, and the table gives the median
 over ``--rounds`` rounds (the machine is shared, so noise hits both loops of a round
-alike). ``overhead`` is env minus replay per step in microseconds.
+alike). Times are this process's CPU time by default (``--clock cpu``): on a shared
+machine, time spent waiting for a core is not the step's cost. ``overhead`` is env
+minus replay per step in microseconds.
 
 End-effector modes solve inverse kinematics every step. That is control (the work a
 user asks for by choosing the mode, which a raw replay of the resulting ``ctrl`` does
@@ -35,13 +37,17 @@ not do), not per-step overhead: the script times each end-effector controller's
 the env loop and reports ``env/replay`` both with it (``ratio``) and without it
 (``ratio excl. IK``: replay time / (env time - IK time)).
 
-Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--rounds 10] [--block 40]
-[--modes joint ee]``.
+``--python-only`` reports instead the step's own cost with the physics calls made
+no-ops (``python_cost``): the part of the overhead this library's Python owns.
+
+Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--modes joint ee] [--rounds 40]
+[--block 10] [--clock cpu|wall] [--python-only]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import platform
 import statistics
@@ -215,12 +221,40 @@ def measure(
     return result
 
 
+def python_cost(uid: str, mode: str, rng: np.random.Generator, steps: int = 300, repeats: int = 7) -> float:
+    """Microseconds of one ``env.step`` with MuJoCo's ``mj_step`` and ``mj_forward``
+    made no-ops (the physics does not move): what the step costs in Python and in the
+    small MuJoCo calls around it (pose sync), best of ``repeats`` loops of ``steps``
+    steps (the minimum is the least disturbed by other jobs on the machine)."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    actions = small_actions(env, 64, rng)
+    step, forward = mujoco.mj_step, mujoco.mj_forward
+    mujoco.mj_step = mujoco.mj_forward = lambda *args: None
+    try:
+        best = math.inf
+        for _ in range(repeats):
+            begin = time.perf_counter()
+            for i in range(steps):
+                env.step(actions[i % len(actions)])
+            best = min(best, time.perf_counter() - begin)
+    finally:
+        mujoco.mj_step, mujoco.mj_forward = step, forward
+    env.close()
+    return 1e6 * best / steps
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--robots", nargs="*", default=None, help="robot uids (default: every registered robot)")
     parser.add_argument("--modes", nargs="*", default=["joint", "ee"], choices=["joint", "ee"])
     parser.add_argument("--rounds", type=int, default=40)
     parser.add_argument("--block", type=int, default=10)
+    parser.add_argument(
+        "--python-only",
+        action="store_true",
+        help="instead of the ratio: the step's own cost with mj_step and mj_forward made no-ops (python_cost)",
+    )
     parser.add_argument(
         "--clock",
         default="cpu",
@@ -232,6 +266,14 @@ def main() -> None:
     rng = np.random.default_rng(0)
     robots = args.robots or ra.list_agents()
     clock = time.process_time if args.clock == "cpu" else time.perf_counter
+    if args.python_only:
+        print("| robot | mode | env step without physics, µs (best of 7 x 300 steps) |\n|---|---|---|")
+        for uid in robots:
+            for kind in args.modes:
+                mode = mode_of(uid, kind)
+                if mode is not None:
+                    print(f"| `{uid}` | `{mode}` | {python_cost(uid, mode, rng):.1f} |", flush=True)
+        return
     print(
         f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.processor() or platform.machine()}, "
         f"Python {platform.python_version()}, MuJoCo {mujoco.__version__}, {args.rounds} rounds of {args.block} steps, "

@@ -58,6 +58,7 @@ class MobileBase:
         self._planar_dofs = np.array([j.dof_adr for j in self.planar or ()], dtype=np.int64)
         self._wheel_qadr = np.array([w.qpos_adr for w in self.wheels], dtype=np.int64)
         self._wheel_dadr = np.array([w.dof_adr for w in self.wheels], dtype=np.int64)
+        self._all_envs = np.arange(world.num_envs)
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).
         self.refused_moves = np.zeros(n, dtype=np.int64)
@@ -255,18 +256,15 @@ class MobileBase:
         heading = start[:, 2] + self._mount_yaw + 0.5 * turn
         # the slides move along the mount frame's axes; the heading is world yaw
         c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
-        dx = c * (end[:, 0] - start[:, 0]) - s * (end[:, 1] - start[:, 1])
-        dy = s * (end[:, 0] - start[:, 0]) + c * (end[:, 1] - start[:, 1])
+        moved_x, moved_y = end[:, 0] - start[:, 0], end[:, 1] - start[:, 1]
+        dx = c * moved_x - s * moved_y
+        dy = s * moved_x + c * moved_y
         forward = np.cos(heading) * dx + np.sin(heading) * dy
         half = len(self.wheels) // 2
-        travel = np.concatenate(
-            [
-                np.repeat((forward - 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
-                np.repeat((forward + 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
-            ],
-            axis=1,
-        )
-        angles = wheel_start + travel / self.wheel_radius  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(
-            np.arange(n), self._wheel_qadr, angles, self._wheel_dadr, travel / self.wheel_radius / control_dt
-        )
+        differential = 0.5 * self.wheel_separation * turn
+        travel = np.empty((n, 2 * half))
+        travel[:, :half] = (forward - differential)[:, None]
+        travel[:, half:] = (forward + differential)[:, None]
+        rolled = travel / self.wheel_radius
+        angles = wheel_start + rolled  # what physics did to the wheels is overwritten
+        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt)

@@ -145,6 +145,8 @@ class ControlModes:
                     f"got {type(action).__name__}: {action!r:.60}."
                 )
             raise ActionError(f"{self._where()}: expected a float (or integer) array, got dtype {array.dtype}.")
+        if array.dtype.itemsize > 8:  # long double: rounded to float64 first, as validate_action does
+            array = np.asarray(array, dtype=np.float64)
         shape = array.shape
         if shape != (self.num_envs, dim):
             if shape != (dim,):

@@ -473,7 +473,10 @@ class RobotEnv(gym.Env[Any, Any]):
         else:
             self._set_multi_action(action)
         self.scene.step()
-        self.elapsed_steps += 1
+        if self._single:
+            self.elapsed_steps[0] += 1  # an element update: cheaper than the in-place array add
+        else:
+            self.elapsed_steps += 1
         unstable = self.scene.world.last_step_unstable
         if self.raise_on_instability and unstable.any():
             raise PhysicsError(

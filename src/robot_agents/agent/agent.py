@@ -239,7 +239,8 @@ class Agent(AgentDefinition):
     def set_action(self, action: Any) -> None:
         """Validate ``action``, turn it into joint targets and those into controls.
         Nothing is changed when the action is rejected."""
-        self.control.active.set_action(self.control.validate_action(action), self.world)
+        control = self.control
+        control.active.set_action(control.checked_action(action), self.world)
 
     def before_substep(self, substep: int, substeps: int) -> None:
         """Per-substep hook: interpolated targets, explicit PD loops."""

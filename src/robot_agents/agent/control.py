@@ -21,6 +21,10 @@ from robot_agents.errors import ActionError, UnknownNameError
 FloatArray = npt.NDArray[np.float64]
 
 
+#: ``ndarray.sum`` without its Python wrapper (used for a finiteness test only).
+_sum = np.add.reduce
+
+
 class ControlModes:
     """The control modes of one bound robot; one of them is active.
 
@@ -115,35 +119,51 @@ class ControlModes:
     def validate_action(self, action: Any) -> FloatArray:
         """``action`` as float64 ``(num_envs, action_dim)``; ``(action_dim,)`` applies to
         every env. Raises :class:`ActionError` for other shapes, dtypes, NaN / inf."""
-        dim = self.active.action_dim
-        where = f"{self.owner}.set_action (mode {self.mode!r})"
-        try:
-            array = np.asarray(action)
-        except Exception as err:  # whatever the input's own __array__ raises
-            raise ActionError(
-                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: {err}."
-            ) from None
-        if array.dtype == object:
-            raise ActionError(
-                f"{where}: expected a numeric array of shape ({self.num_envs}, {dim}), got {type(action).__name__}: "
-                f"{action!r:.60}."
-            )
+        return np.asarray(self.checked_action(action), dtype=np.float64)
+
+    def checked_action(self, action: Any) -> npt.NDArray[Any]:
+        """:meth:`validate_action` without the conversion to float64: the checked array in
+        its own numeric dtype, ``(num_envs, action_dim)`` (possibly a read-only
+        broadcast). The controllers' first operation (clipping against float64 bounds)
+        converts it exactly, so the step skips one array copy."""
+        active = self.active
+        dim = active.action_dim
+        if action.__class__ is np.ndarray:  # the common case: no conversion to try
+            array = action
+        else:
+            try:
+                array = np.asarray(action)
+            except Exception as err:  # whatever the input's own __array__ raises
+                raise ActionError(
+                    f"{self._where()}: expected a numeric array of shape ({self.num_envs}, {dim}), "
+                    f"got {type(action).__name__}: {err}."
+                ) from None
         if array.dtype.kind not in "fiu":
-            raise ActionError(f"{where}: expected a float (or integer) array, got dtype {array.dtype}.")
-        if array.shape == (dim,):
+            if array.dtype == object:
+                raise ActionError(
+                    f"{self._where()}: expected a numeric array of shape ({self.num_envs}, {dim}), "
+                    f"got {type(action).__name__}: {action!r:.60}."
+                )
+            raise ActionError(f"{self._where()}: expected a float (or integer) array, got dtype {array.dtype}.")
+        if array.dtype.itemsize > 8:  # long double: rounded to float64 first, as validate_action does
+            array = np.asarray(array, dtype=np.float64)
+        shape = array.shape
+        if shape != (self.num_envs, dim):
+            if shape != (dim,):
+                parts = ", ".join(f"{p}: {s.stop - s.start}" for p, s in active.slices.items())
+                raise ActionError(
+                    f"{self._where()}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {shape}."
+                )
             array = np.broadcast_to(array, (self.num_envs, dim))
-        elif array.shape != (self.num_envs, dim):
-            parts = ", ".join(f"{p}: {s.stop - s.start}" for p, s in self.active.slices.items())
-            raise ActionError(
-                f"{where}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {array.shape}."
-            )
-        array = np.asarray(array, dtype=np.float64)
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
         # finite values falls through to the exact check).
-        if not math.isfinite(array.sum()) and not np.isfinite(array).all():
+        if not math.isfinite(_sum(array, None)) and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
-            raise ActionError(f"{where}: expected finite values, got NaN or inf at (env, index) {bad}.")
-        problem = self.active.check_action(array)
+            raise ActionError(f"{self._where()}: expected finite values, got NaN or inf at (env, index) {bad}.")
+        problem = active.check_action(array)
         if problem is not None:
-            raise ActionError(f"{where}: {problem}")
+            raise ActionError(f"{self._where()}: {problem}")
         return array
+
+    def _where(self) -> str:
+        return f"{self.owner}.set_action (mode {self.mode!r})"

@@ -53,6 +53,12 @@ class MobileBase:
         self.wheels = tuple(index.joint(j, owner) for j in part.wheels) if part is not None else ()
         self.wheel_radius = part.wheel_radius if part is not None else 0.0
         self.wheel_separation = part.wheel_separation if part is not None else 0.0
+        # Addresses of the per-step reads and writes, resolved once.
+        self._planar_adr = np.array([j.qpos_adr for j in self.planar or ()], dtype=np.int64)
+        self._planar_dofs = np.array([j.dof_adr for j in self.planar or ()], dtype=np.int64)
+        self._wheel_qadr = np.array([w.qpos_adr for w in self.wheels], dtype=np.int64)
+        self._wheel_dadr = np.array([w.dof_adr for w in self.wheels], dtype=np.int64)
+        self._all_envs = np.arange(world.num_envs)
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).
         self.refused_moves = np.zeros(n, dtype=np.int64)
@@ -191,15 +197,14 @@ class MobileBase:
     def _planar_qpos(self) -> FloatArray:
         if self.planar is None:
             raise StateError(f"{self.owner}: no planar base joints.")
-        adr = [j.qpos_adr for j in self.planar]
-        values: FloatArray = self.world.qpos[:, adr].copy()
+        values: FloatArray = self.world.qpos[:, self._planar_adr]  # fancy indexing: a new array
         return values
 
     def before_step(self) -> None:
         """Remember the planar pose at the start of a control step."""
         if self.moves_each_step:
             self._start = self._planar_qpos()
-            self._wheel_start = self.world.qpos[:, [w.qpos_adr for w in self.wheels]].copy()
+            self._wheel_start = self.world.qpos[:, self._wheel_qadr]
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus
@@ -210,8 +215,7 @@ class MobileBase:
             return
         start = self._start
         n = start.shape[0]
-        adr = [j.qpos_adr for j in self.planar]
-        dofs = [j.dof_adr for j in self.planar]
+        adr, dofs = self._planar_adr, self._planar_dofs
         ids = np.arange(n)
         if self.dynamics == "kinematic":
             velocity = np.zeros((n, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
@@ -252,18 +256,15 @@ class MobileBase:
         heading = start[:, 2] + self._mount_yaw + 0.5 * turn
         # the slides move along the mount frame's axes; the heading is world yaw
         c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
-        dx = c * (end[:, 0] - start[:, 0]) - s * (end[:, 1] - start[:, 1])
-        dy = s * (end[:, 0] - start[:, 0]) + c * (end[:, 1] - start[:, 1])
+        moved_x, moved_y = end[:, 0] - start[:, 0], end[:, 1] - start[:, 1]
+        dx = c * moved_x - s * moved_y
+        dy = s * moved_x + c * moved_y
         forward = np.cos(heading) * dx + np.sin(heading) * dy
         half = len(self.wheels) // 2
-        travel = np.concatenate(
-            [
-                np.repeat((forward - 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
-                np.repeat((forward + 0.5 * self.wheel_separation * turn)[:, None], half, axis=1),
-            ],
-            axis=1,
-        )
-        qadr = [w.qpos_adr for w in self.wheels]
-        dadr = [w.dof_adr for w in self.wheels]
-        angles = wheel_start + travel / self.wheel_radius  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(np.arange(n), qadr, angles, dadr, travel / self.wheel_radius / control_dt)
+        differential = 0.5 * self.wheel_separation * turn
+        travel = np.empty((n, 2 * half))
+        travel[:, :half] = (forward - differential)[:, None]
+        travel[:, half:] = (forward + differential)[:, None]
+        rolled = travel / self.wheel_radius
+        angles = wheel_start + rolled  # what physics did to the wheels is overwritten
+        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt)

@@ -13,6 +13,7 @@ override the drives' gains while its mode is active (``stiffness``, ``damping``,
 from __future__ import annotations
 
 import abc
+import importlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
@@ -74,6 +75,20 @@ class JointBinding:
     @property
     def size(self) -> int:
         return len(self.joint_names)
+
+
+#: NumPy's one-pass clip ufunc, ``minimum(maximum(x, low), high)`` in one call (in
+#: ``numpy._core.umath`` since NumPy 2, ``numpy.core.umath`` before; not in the stubs).
+clip_ufunc: np.ufunc = importlib.import_module("numpy._core.umath" if hasattr(np, "_core") else "numpy.core.umath").clip
+
+
+def one_pass_clip_exact(low: FloatArray, high: FloatArray) -> bool:
+    """True when ``clip_ufunc`` with these bounds returns exactly the bits of
+    ``np.minimum(np.maximum(x, low), high)`` for every ``x``: they can only differ where
+    ``x`` equals a bound of the other sign of zero (``-0.0`` against ``0.0``; which zero
+    each returns is not specified across NumPy versions and SIMD paths), so no bound may
+    be zero (NaN bounds never occur: they are rejected earlier)."""
+    return not (np.any(low == 0.0) or np.any(high == 0.0))
 
 
 def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:

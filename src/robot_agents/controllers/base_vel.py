@@ -81,8 +81,12 @@ class PDBaseVelController(PDJointVelController):
         forward = raw[:, 0]
         lateral = raw[:, 1] if self.config.holonomic else 0.0
         turn = raw[:, -1]
-        self.target_qvel = np.stack((cos * forward - sin * lateral, sin * forward + cos * lateral, turn), axis=1)
-        self.targets.velocity[:, self.binding.column_sel] = self.target_qvel
+        target = np.empty((raw.shape[0], 3))
+        target[:, 0] = cos * forward - sin * lateral
+        target[:, 1] = sin * forward + cos * lateral
+        target[:, 2] = turn
+        self.target_qvel = target
+        self.targets.velocity[:, self.binding.column_sel] = target
 
     def describe(self) -> str:
         kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"

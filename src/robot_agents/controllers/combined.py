@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride, Drives
-from robot_agents.controllers.base import Controller, FloatArray, IntArray
+from robot_agents.controllers.base import Controller, FloatArray, IntArray, clip_ufunc, one_pass_clip_exact
 from robot_agents.errors import StateError
 
 
@@ -66,6 +66,7 @@ class CombinedController:
         unit_high = np.concatenate([c.unit_high for c in controllers]) if controllers else np.zeros(0)
         self._clip_low = np.where(normalized, -1.0, raw_low)
         self._clip_high = np.where(normalized, 1.0, raw_high)
+        self._one_pass_clip = one_pass_clip_exact(self._clip_low, self._clip_high)
         with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
             self._scale = np.where(normalized, (unit_high - unit_low) / 2, 1.0)
             self._offset = np.where(normalized, (unit_high + unit_low) / 2, 0.0)
@@ -91,7 +92,15 @@ class CombinedController:
         self.drives.write(sim.ctrl, sim.qpos, sim.qvel)
 
     def _to_raw(self, action: FloatArray) -> FloatArray:
-        raw: FloatArray = np.minimum(np.maximum(action, self._clip_low), self._clip_high) * self._scale + self._offset
+        # clip, then scale and shift, in place on one new array (the result is handed to
+        # the controllers, which may keep views of it)
+        if self._one_pass_clip:
+            raw: FloatArray = clip_ufunc(action, self._clip_low, self._clip_high)
+        else:
+            raw = np.maximum(action, self._clip_low)
+            np.minimum(raw, self._clip_high, out=raw)
+        np.multiply(raw, self._scale, out=raw)
+        np.add(raw, self._offset, out=raw)
         return raw
 
     def check_action(self, action: FloatArray) -> str | None:

@@ -22,6 +22,8 @@ from robot_agents.controllers.base import (
     JointBinding,
     PerJoint,
     SimView,
+    clip_ufunc,
+    one_pass_clip_exact,
     per_joint,
 )
 from robot_agents.errors import ConfigError
@@ -132,6 +134,9 @@ class PDJointPosController(Controller):
         self._has_offsets = bool(np.any(self.offsets))
         self._write_now = not config.interpolate
         self._columns = binding.column_sel
+        self._qpos_sel = binding.qpos_sel
+        self._position = self.targets.position  # the drives' buffer (never replaced)
+        self._one_pass_clip = self._clip and one_pass_clip_exact(self._lower_limit, self._upper_limit)
         if not config.use_delta:
             self._base = self._ABSOLUTE
         else:
@@ -165,11 +170,15 @@ class PDJointPosController(Controller):
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
         else:
-            targets = sim.qpos[:, self.binding.qpos_sel] + change
+            targets = sim.qpos[:, self._qpos_sel] + change
         self._previous_target = self.target_qpos
-        self.target_qpos = self._clip_to_limits(targets)
+        if self._one_pass_clip:
+            targets = clip_ufunc(targets, self._lower_limit, self._upper_limit)
+        elif self._clip:
+            targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+        self.target_qpos = targets
         if self._write_now:
-            self.targets.position[:, self._columns] = self.target_qpos
+            self._position[:, self._columns] = targets
 
     @property
     def needs_substep(self) -> bool:

@@ -22,6 +22,7 @@ from gymnasium.utils import seeding
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
+from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -29,6 +30,7 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
+from robot_agents.sim.world import BatchedWorld
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -45,6 +47,42 @@ def _space_for(tree: Any) -> gym.Space[Any]:
     # Finite bounds (the largest float32): observations are unbounded physical quantities.
     limit = np.finfo(np.float32).max
     return gym.spaces.Box(-limit, limit, shape=np.shape(tree), dtype=np.float32)
+
+
+def _pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
+    """The world pose of ``frame`` in ``data`` for :meth:`RobotEnv._single_state_obs`:
+    position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
+    stores them, else a callable that computes them into reused buffers with the same arithmetic as
+    :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
+    if frame.kind is FrameKind.BODY:
+        position, quat = data.xpos[frame.id], data.xquat[frame.id]
+        if frame.offset is None:
+            return [position[None], quat[None]]
+    else:
+        position, matrix = data.site_xpos[frame.id], data.site_xmat[frame.id]
+        quat = np.empty(4)
+        if frame.offset is None:
+            site_quat_row = [quat[None]]
+
+            def site_quat() -> list[FloatArray]:
+                mujoco.mju_mat2Quat(quat, matrix)
+                return site_quat_row
+
+            return [position[None], site_quat]
+    offset = np.asarray(frame.offset, dtype=np.float64)
+    offset_position, offset_quat = offset[:3].copy(), offset[3:].copy()
+    shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
+    rows = [out_position[None], out_quat[None]]
+
+    def offset_pose() -> list[FloatArray]:
+        if frame.kind is not FrameKind.BODY:
+            mujoco.mju_mat2Quat(quat, matrix)
+        mujoco.mju_rotVecQuat(shifted, offset_position, quat)
+        np.add(position, shifted, out=out_position)
+        mujoco.mju_mulQuat(out_quat, quat, offset_quat)
+        return rows
+
+    return [offset_pose]
 
 
 class RobotEnv(gym.Env[Any, Any]):
@@ -159,6 +197,11 @@ class RobotEnv(gym.Env[Any, Any]):
         self._plain_task = (
             type(self).evaluate is RobotEnv.evaluate and type(self).compute_reward is RobotEnv.compute_reward
         )
+        self._agent0 = self.scene.agents[0]
+        self._one_robot = len(self.scene.agents) == 1
+        self._has_extra_obs = type(self)._extra_obs is not RobotEnv._extra_obs
+        #: The single-env state observation's sources, rebuilt when a control mode changes.
+        self._obs_plan: tuple[tuple[Any, ...], list[Any]] | None = None
         self.action_space = self._build_action_space()
         self.observation_space = self._build_observation_space()
 
@@ -257,15 +300,73 @@ class RobotEnv(gym.Env[Any, Any]):
         state = _space_for(self._state_dict_obs())
         return gym.spaces.Dict({**state.spaces, **self._sensor_obs.spaces(self.num_envs)})  # type: ignore[attr-defined]
 
+    def _single_state_plan(self) -> list[Any]:
+        """What the ``state`` observation of one env concatenates, in order: read-only
+        views of the simulation's arrays that stay valid across steps (joint state, a
+        tool body's pose), and callables for what changes identity every step
+        (controller targets, touch, a site's or offset frame's pose, the task's extras).
+        Rebuilt only when a robot's active controller changes."""
+        plan = self._obs_plan
+        if plan is not None:
+            if self._one_robot:
+                if plan[0][0] is self._agent0.control.active:
+                    return plan[1]
+            elif all(a.control.active is c for a, c in zip(self.agents, plan[0], strict=True)):
+                return plan[1]
+        key = tuple(a.control.active for a in self.agents)
+        world = self.scene.world
+        entries: list[Any] = []
+        if not isinstance(world, BatchedWorld):  # another backend: the generic reads
+            entries.append(self._state_arrays)
+            self._obs_plan = (key, entries)
+            return entries
+        data = world.datas[0]
+        for agent, controller in zip(self.agents, key, strict=True):
+            index = agent.index
+            for source, sel in ((data.qpos, index.qpos_sel), (data.qvel, index.dof_sel)):
+                if isinstance(sel, slice):
+                    entries.append(source[None, sel])
+                else:
+                    entries.append(lambda source=source, sel=sel: [source[sel][None]])
+            for part in controller.parts.values():
+                entries.append(lambda observe=part.observe: observe().values())
+            if agent.touch_reader.names:
+                entries.append(lambda agent=agent: [agent.touch])
+            if agent.has_end_effector:
+                entries.extend(_pose_entries(agent.frames.end_effector(None, type(self).__name__), data))
+        if self._has_extra_obs:
+            entries.append(lambda: [v.reshape(1, -1) for v in self._extra_obs().values()])
+        self._obs_plan = (key, entries)
+        return entries
+
+    def _single_state_obs(self) -> npt.NDArray[np.float32]:
+        """The ``state`` observation ``(1, D)`` of one env: the concatenation of
+        :meth:`_state_arrays` (same values, order and float32 rounding), from ``(1, k)``
+        views planned once (no per-piece copies, name lookups or dicts)."""
+        arrays: list[Any] = []
+        for entry in self._single_state_plan():
+            if entry.__class__ is np.ndarray:
+                arrays.append(entry)
+            else:
+                arrays.extend(entry())
+        obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
+        return obs
+
+    def _state_arrays(self) -> list[FloatArray]:
+        """The pieces of the ``state`` observation, each ``(num_envs, k)``, in order."""
+        arrays: list[FloatArray] = []
+        for agent in self.agents:
+            arrays.extend(agent.proprioception_arrays())
+            if agent.has_end_effector:
+                arrays.append(agent.tcp_pose)
+        arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
+        return arrays
+
     def _get_obs(self) -> Any:
         if self.obs_mode == "state":
-            arrays: list[FloatArray] = []
-            for agent in self.agents:
-                arrays.extend(agent.proprioception_arrays())
-                if agent.has_end_effector:
-                    arrays.append(agent.tcp_pose)
-            arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
-            return np.concatenate(arrays, axis=1, dtype=np.float32)
+            if self._single:
+                return self._single_state_obs()
+            return np.concatenate(self._state_arrays(), axis=1, dtype=np.float32)
         obs = self._state_dict_obs()
         if self._sensor_obs is not None:
             obs.update(self._sensor_obs.observe(self.scene.world))
@@ -365,13 +466,17 @@ class RobotEnv(gym.Env[Any, Any]):
     def step(self, action: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Apply ``action`` (``(num_envs, A)`` or ``(A,)``; a dict by robot id for several
         robots), advance one control step, and return Gymnasium's five values."""
-        self._check_open(f"{type(self).__name__}.step")
-        if len(self.agents) == 1:
-            self.agent.set_action(action)
+        if self._closed:
+            self._check_open(f"{type(self).__name__}.step")
+        if self._one_robot:
+            self._agent0.set_action(action)
         else:
             self._set_multi_action(action)
         self.scene.step()
-        self.elapsed_steps += 1
+        if self._single:
+            self.elapsed_steps[0] += 1  # an element update: cheaper than the in-place array add
+        else:
+            self.elapsed_steps += 1
         unstable = self.scene.world.last_step_unstable
         if self.raise_on_instability and unstable.any():
             raise PhysicsError(
@@ -412,8 +517,8 @@ class RobotEnv(gym.Env[Any, Any]):
         ``ik_position_error`` (m) and ``ik_rotation_error`` (rad) in end-effector modes,
         ``base_move_refused`` for mobile bases; keyed ``"<robot id>/<key>"`` when the
         scene has several robots."""
-        if len(self.agents) == 1:
-            info.update(self.agent.step_info())
+        if self._one_robot:
+            info.update(self._agent0.step_info())
             return
         for rid, agent in zip(self.scene.robot_ids, self.agents, strict=True):
             info.update({f"{rid}/{key}": value for key, value in agent.step_info().items()})

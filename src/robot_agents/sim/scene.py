@@ -199,9 +199,16 @@ class Scene:
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
         """One control step: every robot's substep hooks, then the physics substeps."""
-        for agent in self.agents:
+        agents = self.agents
+        if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
+            agent = agents[0]
             agent.before_step()
-        hooked = [a for a in self.agents if a.needs_substep]
+            self.world.step()
+            agent.after_step()
+            return
+        for agent in agents:
+            agent.before_step()
+        hooked = [a for a in agents if a.needs_substep]
         if not hooked:
             self.world.step()
         else:

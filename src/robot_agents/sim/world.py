@@ -101,23 +101,37 @@ class BatchedWorld:
         self.last_step_unstable = np.zeros(self.num_envs, dtype=bool)
         #: Per env: how many steps had an instability since the world was made (never cleared).
         self.unstable_steps = np.zeros(self.num_envs, dtype=np.int64)
+        # Hot-path handles, resolved once: MjData's arrays are views whose memory never
+        # moves, and ``model.opt`` reads the live time step.
+        self._data0 = self.datas[0]
+        self._ctrl0 = self.ctrl[0]
+        self._qvel0 = self._data0.qvel
+        self._opt = model.opt
+        #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
+        self._sync_after_step = True
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
     def _step_chunk(self, envs: range, nstep: int) -> None:
-        model, datas, ctrl = self.model, self.datas, self.ctrl
+        model, datas, ctrl, sync = self.model, self.datas, self.ctrl, self._sync_after_step
         for i in envs:
             data = datas[i]
             data.ctrl[:] = ctrl[i]
             mujoco.mj_step(model, data, nstep)
-            _sync_poses(model, data)
+            if sync:
+                _sync_poses(model, data)
 
     def _step_all(self, nstep: int) -> None:
+        """``nstep`` physics steps of every env, then (unless :attr:`_sync_after_step` is
+        off) the poses at the stepped ``qpos``: needed after a control step's last
+        substep only, since ``mj_step`` recomputes them from ``qpos`` first and substep
+        hooks read joint state only."""
         if self.num_envs == 1:
             data = self.datas[0]
             data.ctrl[:] = self.ctrl[0]
             mujoco.mj_step(self.model, data, nstep)
-            _sync_poses(self.model, data)
+            if self._sync_after_step:
+                _sync_poses(self.model, data)
             return
         if self._pool is None:
             self._step_chunk(self._chunks[0], nstep)
@@ -134,14 +148,22 @@ class BatchedWorld:
         change ``self.ctrl`` (e.g. interpolated targets); without it all substeps run in
         one ``mj_step`` call per env.
         """
+        if self.num_envs == 1 and before_substep is None:
+            self._step_single()
+            return
         started = [data.time for data in self.datas]
         if before_substep is None:
             self._step_all(self.substeps)
         else:
-            for i in range(self.substeps):
-                before_substep(i, self.substeps)
-                self._step_all(1)
-                self._cache.clear()  # the hook reads the state of every substep
+            last = self.substeps - 1
+            try:
+                for i in range(self.substeps):
+                    before_substep(i, self.substeps)
+                    self._sync_after_step = i == last
+                    self._step_all(1)
+                    self._cache.clear()  # the hook reads the state of every substep
+            finally:
+                self._sync_after_step = True
         self._cache.clear()
         # MuJoCo's reset after a blow-up sets time back to 0, so a step that did not
         # advance time by all its substeps was reset (a cheap test; instability_counts()
@@ -155,6 +177,22 @@ class BatchedWorld:
         if flags.any():
             self.unstable_steps += flags
 
+    def _step_single(self) -> None:
+        """:meth:`step` of one env without substep hooks: the same MuJoCo calls and the
+        same instability test, without the per-env lists and loops."""
+        data, model = self._data0, self.model
+        started = data.time
+        data.ctrl[:] = self._ctrl0
+        mujoco.mj_step(model, data, self.substeps)
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_camlight(model, data)
+        self._cache.clear()
+        qvel = self._qvel0
+        unstable = data.time < started + (self.substeps - 0.5) * self._opt.timestep or qvel @ qvel > _MAX_SPEED_SQUARED
+        self.last_step_unstable[0] = unstable
+        if unstable:
+            self.unstable_steps[0] += 1
+
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""
         for data in self.datas:
@@ -163,13 +201,12 @@ class BatchedWorld:
 
     # -- batched reads (read-only caches, invalidated by step / writes) ---------------
     def _gather(self, field: str) -> FloatArray:
-        if self.num_envs == 1:  # a fresh copy is cheaper than the cache bookkeeping
-            single: FloatArray = getattr(self.datas[0], field).copy()[None]
-            single.flags.writeable = False
-            return single
         cached = self._cache.get(field)
         if cached is None:
-            cached = np.stack([getattr(d, field) for d in self.datas])
+            if self.num_envs == 1:
+                cached = getattr(self._data0, field).copy()[None]
+            else:
+                cached = np.stack([getattr(d, field) for d in self.datas])
             cached.flags.writeable = False
             self._cache[field] = cached
         return cached

@@ -1,0 +1,302 @@
+"""Per-step overhead of the env against a raw MuJoCo replay of identical physics, for
+every registered robot in a joint mode and an end-effector mode, at its default step.
+
+For each robot and mode (``num_envs=1``, ``Empty-v1``, ``obs_mode="state"``, the robot's
+default ``sim_freq``, control 20 Hz):
+
+1. **Record.** From a seeded reset, the env steps small actions of alternating sign
+   (``step_throughput.small_actions``) while the script records, per control step,
+   every MuJoCo call the world made on its behalf: each ``mj_step`` with the ``ctrl``
+   it ran with and its number of substeps (one call of ``substeps`` steps, or one per
+   substep in modes with substep hooks: interpolated targets, explicit PD drives), and
+   each joint-state write after the physics (kinematic bases and wheels move by the
+   commanded velocity; MuJoCo's ``mj_forward`` follows each write).
+2. **Raw replay** (the denominator): from the same start state, a bare Python loop on a
+   plain ``MjData`` of the same model redoes exactly those calls: ``data.ctrl[:] = u``,
+   ``mj_step(model, data, n)``, the recorded joint-state writes with ``mj_forward``,
+   then the minimum that reading the same observation needs: ``mj_kinematics`` (body
+   poses at the stepped ``qpos``; ``mj_step`` leaves them one substep behind) and one
+   ``np.concatenate`` of ``qpos``, ``qvel``, ``ctrl`` and the tool body's position and
+   quaternion into a float32 vector. The script checks that the replay ends in the
+   env's exact integration state (bit for bit), so both loops simulate the same thing.
+3. **Env**: ``env.step(action)`` on the same action sequence from the same start
+   (validation, clipping and scaling, controllers, drive stage, stepping, instability
+   test, ``info``, observation).
+
+Both loops run in alternating blocks of ``--block`` control steps; per round the
+ratio is replay time / env time over the same steps, and the table gives the median
+over ``--rounds`` rounds (the machine is shared, so noise hits both loops of a round
+alike). Times are this process's CPU time by default (``--clock cpu``): on a shared
+machine, time spent waiting for a core is not the step's cost. ``overhead`` is env
+minus replay per step in microseconds.
+
+End-effector modes solve inverse kinematics every step. That is control (the work a
+user asks for by choosing the mode, which a raw replay of the resulting ``ctrl`` does
+not do), not per-step overhead: the script times each end-effector controller's
+``apply`` (forward kinematics at the seed, target pose, IK solve, target write) inside
+the env loop and reports ``env/replay`` both with it (``ratio``) and without it
+(``ratio excl. IK``: replay time / (env time - IK time)).
+
+``--python-only`` reports instead the step's own cost with the physics calls made
+no-ops (``python_cost``): the part of the overhead this library's Python owns.
+
+Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--modes joint ee] [--rounds 40]
+[--block 10] [--clock cpu|wall] [--python-only]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import mujoco
+import numpy as np
+
+import robot_agents as ra
+from robot_agents.controllers.ee import PDEEController
+from robot_agents.kinematics.forward import FrameKind
+from step_throughput import small_actions
+
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+JOINT_MODE = "pd_joint_delta_pos"
+EE_MODES = ("pd_ee_delta_pose", "pd_ee_delta_pos")
+
+
+@dataclass
+class Result:
+    robot: str
+    mode: str
+    sim_freq: int
+    substeps: int
+    env_us: float
+    replay_us: float
+    ratio: float
+    ik_us: float = 0.0
+    ratio_excl_ik: float = float("nan")
+    ratios: list[float] = field(default_factory=list)
+
+
+def mode_of(uid: str, kind: str) -> str | None:
+    modes = ra.get_agent(uid).modes()
+    if kind == "joint":
+        return JOINT_MODE if JOINT_MODE in modes else None
+    return next((m for m in EE_MODES if m in modes), None)
+
+
+def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[Any, ...]]]:
+    """The MuJoCo calls of ``steps`` env steps: per step a list of ``("step", ctrl, n)``
+    and ``("write", qpos_adr, qpos, dof_adr, qvel)`` in order (one env)."""
+    world = env.scene.world
+    calls: list[tuple[Any, ...]] = []
+    step_single = getattr(world, "_step_single", None)  # the one-env path, where the world has one
+    step_all, write = world._step_all, world.write_joint_state
+
+    def recording_step_single() -> None:
+        calls.append(("step", world.ctrl[0].copy(), world.substeps))
+        step_single()
+
+    def recording_step_all(nstep: int) -> None:
+        calls.append(("step", world.ctrl[0].copy(), nstep))
+        step_all(nstep)
+
+    def recording_write(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any) -> None:
+        calls.append(("write", np.asarray(qpos_adr), np.array(qpos)[0], np.asarray(dof_adr), np.array(qvel)[0]))
+        write(env_ids, qpos_adr, qpos, dof_adr, qvel)
+
+    world._step_all, world.write_joint_state = recording_step_all, recording_write
+    if step_single is not None:
+        world._step_single = recording_step_single
+    try:
+        per_step = []
+        for i in range(steps):
+            calls.clear()
+            env.step(actions[i % len(actions)])
+            per_step.append(list(calls))
+    finally:
+        del world._step_all, world.write_joint_state
+        if step_single is not None:
+            del world._step_single
+    return per_step
+
+
+def measure(
+    uid: str, mode: str, rounds: int, block: int, rng: np.random.Generator, clock: Callable[[], float]
+) -> Result:
+    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    model, agent = env.model, env.agent
+    actions = small_actions(env, 64, rng)
+    steps = (rounds + 1) * block
+    start = env.get_state()
+    per_step = record(env, actions, steps)
+    final = env.get_state()["physics"][0]
+    env.set_state(start)
+
+    data = mujoco.MjData(model)
+    mujoco.mj_setState(model, data, start["physics"][0], STATE)
+    tool = agent.frames.end_effector(None, "overhead_ratio") if agent.has_end_effector else None
+    body = tool.id if tool is not None and tool.kind is FrameKind.BODY else agent.root_body_id
+
+    # End-effector controllers' apply, timed inside the env loop (see the docstring).
+    ik_seconds = [0.0]
+    combined = agent.controller
+    wrapped = []
+    for (apply, part_slice), controller in zip(combined._apply, combined.parts.values(), strict=True):
+        if isinstance(controller, PDEEController):
+
+            def timed(raw: np.ndarray, sim: Any, apply: Callable[..., None] = apply) -> None:
+                begin = clock()
+                apply(raw, sim)
+                ik_seconds[0] += clock() - begin
+
+            wrapped.append((timed, part_slice))
+        else:
+            wrapped.append((apply, part_slice))
+    combined._apply = wrapped
+
+    cursor = {"env": 0, "replay": 0}
+
+    def env_loop(count: int) -> None:
+        for _ in range(count):
+            env.step(actions[cursor["env"] % len(actions)])
+            cursor["env"] += 1
+
+    def replay_loop(count: int) -> None:
+        for _ in range(count):
+            for call in per_step[cursor["replay"]]:
+                if call[0] == "step":
+                    data.ctrl[:] = call[1]
+                    mujoco.mj_step(model, data, call[2])
+                else:
+                    data.qpos[call[1]] = call[2]
+                    data.qvel[call[3]] = call[4]
+                    data.qacc_warmstart[:] = 0.0
+                    mujoco.mj_forward(model, data)
+            mujoco.mj_kinematics(model, data)
+            np.concatenate((data.qpos, data.qvel, data.ctrl, data.xpos[body], data.xquat[body]), dtype=np.float32)
+            cursor["replay"] += 1
+
+    env_loop(block)  # warm-up, both loops
+    replay_loop(block)
+    ik_seconds[0] = 0.0
+    env_times, replay_times, ik_times = [], [], []
+    for _ in range(rounds):
+        ik_before = ik_seconds[0]
+        begin = clock()
+        env_loop(block)
+        env_times.append(clock() - begin)
+        ik_times.append(ik_seconds[0] - ik_before)
+        begin = clock()
+        replay_loop(block)
+        replay_times.append(clock() - begin)
+    replay_state = np.empty(mujoco.mj_stateSize(model, STATE))
+    mujoco.mj_getState(model, data, replay_state, STATE)
+    if not (np.array_equal(replay_state, final) and np.array_equal(env.get_state()["physics"][0], final)):
+        raise RuntimeError(f"{uid} {mode}: the replay did not reproduce the env's trajectory")
+    substeps, sim_freq = env.scene.substeps, env.sim_freq
+    env.close()
+    ratios = [r / e for r, e in zip(replay_times, env_times, strict=True)]
+    result = Result(
+        uid,
+        mode,
+        sim_freq,
+        substeps,
+        env_us=1e6 * statistics.median(env_times) / block,
+        replay_us=1e6 * statistics.median(replay_times) / block,
+        ratio=statistics.median(ratios),
+        ratios=ratios,
+    )
+    if any(ik_times):
+        result.ik_us = 1e6 * statistics.median(ik_times) / block
+        result.ratio_excl_ik = statistics.median(
+            [r / (e - k) for r, e, k in zip(replay_times, env_times, ik_times, strict=True)]
+        )
+    return result
+
+
+def python_cost(uid: str, mode: str, rng: np.random.Generator, steps: int = 300, repeats: int = 7) -> float:
+    """Microseconds of one ``env.step`` with MuJoCo's ``mj_step`` and ``mj_forward``
+    made no-ops (the physics does not move): what the step costs in Python and in the
+    small MuJoCo calls around it (pose sync), best of ``repeats`` loops of ``steps``
+    steps (the minimum is the least disturbed by other jobs on the machine)."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    actions = small_actions(env, 64, rng)
+    step, forward = mujoco.mj_step, mujoco.mj_forward
+    mujoco.mj_step = mujoco.mj_forward = lambda *args: None
+    try:
+        best = math.inf
+        for _ in range(repeats):
+            begin = time.perf_counter()
+            for i in range(steps):
+                env.step(actions[i % len(actions)])
+            best = min(best, time.perf_counter() - begin)
+    finally:
+        mujoco.mj_step, mujoco.mj_forward = step, forward
+    env.close()
+    return 1e6 * best / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument("--robots", nargs="*", default=None, help="robot uids (default: every registered robot)")
+    parser.add_argument("--modes", nargs="*", default=["joint", "ee"], choices=["joint", "ee"])
+    parser.add_argument("--rounds", type=int, default=40)
+    parser.add_argument("--block", type=int, default=10)
+    parser.add_argument(
+        "--python-only",
+        action="store_true",
+        help="instead of the ratio: the step's own cost with mj_step and mj_forward made no-ops (python_cost)",
+    )
+    parser.add_argument(
+        "--clock",
+        default="cpu",
+        choices=["cpu", "wall"],
+        help="cpu: this process's CPU time (time.process_time; time spent waiting for a core on a shared "
+        "machine is not counted); wall: time.perf_counter",
+    )
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    robots = args.robots or ra.list_agents()
+    clock = time.process_time if args.clock == "cpu" else time.perf_counter
+    if args.python_only:
+        print("| robot | mode | env step without physics, µs (best of 7 x 300 steps) |\n|---|---|---|")
+        for uid in robots:
+            for kind in args.modes:
+                mode = mode_of(uid, kind)
+                if mode is not None:
+                    print(f"| `{uid}` | `{mode}` | {python_cost(uid, mode, rng):.1f} |", flush=True)
+        return
+    print(
+        f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.processor() or platform.machine()}, "
+        f"Python {platform.python_version()}, MuJoCo {mujoco.__version__}, {args.rounds} rounds of {args.block} steps, "
+        f"{args.clock} clock, load average {os.getloadavg()[0]:.1f}"
+    )
+    print(
+        "| robot | mode | sim_freq (substeps) | env µs/step | raw replay µs/step | overhead µs | IK µs | ratio | ratio excl. IK |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for uid in robots:
+        for kind in args.modes:
+            mode = mode_of(uid, kind)
+            if mode is None:
+                continue
+            r = measure(uid, mode, args.rounds, args.block, rng, clock)
+            excl = "-" if np.isnan(r.ratio_excl_ik) else f"{r.ratio_excl_ik:.2f}"
+            ik = "-" if not r.ik_us else f"{r.ik_us:.0f}"
+            print(
+                f"| `{uid}` | `{mode}` | {r.sim_freq} ({r.substeps}) | {r.env_us:.0f} | {r.replay_us:.0f} | "
+                f"{r.env_us - r.replay_us:.0f} | {ik} | {r.ratio:.2f} | {excl} |",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()

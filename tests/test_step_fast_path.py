@@ -1,0 +1,97 @@
+"""The one-env step's fast path (benchmarks/overhead_ratio.py) changes no bit: a single
+env steps exactly as env 0 of a batch (which takes the general path), and its fused
+``state`` observation equals the general concatenation, across robots whose tool frame
+is a body, a body with an offset or a site, with touch sensors, wheels or a kinematic
+base, in joint and end-effector modes, and after a mode switch."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+
+CASES = [
+    ("panda", "pd_joint_delta_pos", "Empty-v1"),
+    ("panda", "pd_ee_delta_pose", "Empty-v1"),
+    ("panda", "pd_joint_pos", "PickCube-v1"),  # task observations (the cube) after the robot's
+    ("panda_touch", "pd_joint_delta_pos", "Empty-v1"),  # touch sensors
+    ("so100", "pd_joint_delta_pos", "Empty-v1"),  # tool frame: a body with an offset
+    ("google_robot", "pd_joint_vel", "Empty-v1"),  # tool frame: a site
+    ("stretch", "pd_joint_delta_pos", "Empty-v1"),  # wheels turned after each step
+    ("spot", "pd_joint_delta_pos", "Empty-v1"),  # a kinematic base
+    ("xarm6_robotiq", "pd_ee_delta_pose", "Empty-v1"),
+]
+
+
+def _bits(value: Any) -> np.ndarray:
+    """The exact bytes of an array (-0.0 and 0.0 differ)."""
+    array = np.ascontiguousarray(np.asarray(value))
+    return array.view(np.uint8)
+
+
+def _general_obs(env: Any) -> np.ndarray:
+    return np.concatenate(env._state_arrays(), axis=1, dtype=np.float32)
+
+
+@pytest.mark.parametrize(("uid", "mode", "task"), CASES)
+def test_one_env_steps_bit_for_bit_as_env_zero_of_a_batch(uid: str, mode: str, task: str) -> None:
+    single = ra.make_env(task, robot_uids=uid, control_mode=mode, max_episode_steps=None)
+    batch = ra.make_env(task, robot_uids=uid, control_mode=mode, num_envs=2, max_episode_steps=None)
+    obs1, _ = single.reset(seed=4)
+    obs2, _ = batch.reset(seed=[4, 4])
+    one, two = single.unwrapped, batch.unwrapped
+    assert np.array_equal(_bits(obs1), _bits(obs2[:1]))
+    rng = np.random.default_rng(0)
+    space = one.single_action_space
+    for step in range(25):
+        action = rng.uniform(space.low, space.high).astype(np.float32)
+        if step == 12:  # a mode switch mid-episode: the observation's plan is rebuilt
+            for env in (one, two):
+                env.set_control_mode("pd_joint_delta_pos" if mode != "pd_joint_delta_pos" else "pd_joint_pos")
+            space = one.single_action_space
+            action = (0.1 * rng.uniform(space.low, space.high)).astype(np.float32)
+        obs1, reward1, _, _, info1 = single.step(action[None] if step % 2 else action)
+        obs2, reward2, _, _, info2 = batch.step(np.repeat(action[None], 2, axis=0))
+        assert obs1.shape == (1, obs2.shape[1]) and obs1.dtype == np.float32
+        assert np.array_equal(_bits(obs1), _bits(obs2[:1])), f"step {step}: observations differ"
+        assert np.array_equal(_bits(obs1), _bits(_general_obs(one))), f"step {step}: fused != general observation"
+        assert reward1 == reward2[0]
+        assert set(info1) == set(info2)
+        for key, value in info1.items():
+            if isinstance(value, np.ndarray) and value.shape[:1] == (1,):
+                assert np.array_equal(_bits(value), _bits(info2[key][:1])), f"step {step}: info[{key!r}] differs"
+    state1, state2 = one.get_state(), two.get_state()
+    assert np.array_equal(_bits(state1["physics"][0]), _bits(state2["physics"][0]))
+    assert np.array_equal(_bits(state1["physics"][0]), _bits(state2["physics"][1]))
+    single.close()
+    batch.close()
+
+
+def test_the_fused_observation_is_a_fresh_array() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", max_episode_steps=None)
+    first, _ = env.reset(seed=0)
+    kept = first.copy()
+    second, *_ = env.step(np.zeros(env.unwrapped.single_action_space.shape, dtype=np.float32))
+    assert second is not first and not np.shares_memory(first, second)
+    assert np.array_equal(first, kept)  # stepping did not write into the returned observation
+    assert first.flags.writeable and first.flags.c_contiguous and first.shape == env.observation_space.shape
+    env.close()
+
+
+def test_one_pass_clip_is_exact_unless_a_bound_is_zero() -> None:
+    """The controllers clip in one ufunc call only where that is bit-exact."""
+    from robot_agents.controllers.base import clip_ufunc, one_pass_clip_exact
+
+    values = np.array([-0.0, 0.0, np.nan, np.inf, -np.inf, 1.0, -1.0, 0.25, -3.0, 5e-324, -5e-324])
+    values = np.concatenate([values, np.random.default_rng(0).normal(size=200)])
+    for low, high in ((-1.0, 1.0), (-0.3, 0.7), (-np.inf, np.inf), (1e-300, 2.0), (-2.0, -1e-300)):
+        bounds = np.full(values.shape, low), np.full(values.shape, high)
+        assert one_pass_clip_exact(*bounds)
+        assert (
+            _bits(clip_ufunc(values, *bounds)).tobytes() == _bits(np.minimum(np.maximum(values, low), high)).tobytes()
+        )
+    assert not one_pass_clip_exact(np.zeros(3), np.ones(3))  # which zero comes back is unspecified
+    assert not one_pass_clip_exact(-np.ones(3), np.array([1.0, 0.0, 1.0]))

@@ -20,6 +20,7 @@ from robot_agents.robots.servo_arms.so100 import SO100
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ, Scene
 from robot_agents.tuning.timestep import (
     CLAIMS,
+    SETTLE_SECONDS,
     SETTLE_SPEED,
     SLIP_BOUND,
     ClaimResult,
@@ -33,7 +34,8 @@ from robot_agents.tuning.timestep import (
 
 
 def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float = 10.0) -> tuple[float, str]:
-    """Fastest joint speed after ``seconds`` of random actions then 1 s of holding still."""
+    """Fastest joint speed after ``seconds`` of random actions then the sweep's settle
+    time of one repeated hold command."""
     scene = Scene(cls, control_modes=mode, sim_freq=sim_freq)
     scene.reset()
     agent = scene.agents[0]
@@ -43,7 +45,7 @@ def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float 
         agent.set_action(rng.uniform(space.low, space.high))
         scene.step()
     hold = hold_action(agent)  # one command, repeated, as the sweep's settle claim
-    for _ in range(scene.control_freq):
+    for _ in range(round(SETTLE_SECONDS * scene.control_freq)):
         agent.set_action(hold)
         scene.step()
     speeds = np.abs(agent.qvel[0])

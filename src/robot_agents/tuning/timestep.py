@@ -10,7 +10,7 @@ measures, at each step, every claim the robot makes:
 - ``random``: :data:`RANDOM_SECONDS` of uniformly random actions in every mode without
   instability (MuJoCo warnings, non-finite state) and without a joint passing its limit
   by more than :data:`OVERSHOOT_BOUND`;
-- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of the hold action (joint
+- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of one hold command (joint
   modes that command positions or velocities) leaves every joint slower than
   :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
   torque limits every physics step);
@@ -67,8 +67,11 @@ RANDOM_SECONDS = 10.0
 #: joints 0.08-0.19 rad (2026-11-23 sweep). This bound catches a step too coarse to
 #: stop a joint at all (0.3-2 rad at 25 ms).
 OVERSHOOT_BOUND = 0.25
-#: Seconds of the hold action after the random actions.
-SETTLE_SECONDS = 1.0
+#: Seconds of one repeated hold command after the random actions: long enough for an
+#: underdamped servo to recover from a large swing (the WidowX 250 S's waist, thrown
+#: 1.2 rad past its target, rings down within 1.5 s), short of hiding a limit cycle,
+#: which never decays.
+SETTLE_SECONDS = 2.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
 SETTLE_SPEED = 0.05
 #: The end-effector move commanded (m) and the seconds it is given.

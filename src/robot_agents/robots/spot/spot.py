@@ -157,13 +157,14 @@ class Spot(Agent):
 
     uid = "spot"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control; see
-    #: docs/timestep.md): every claim holds from 5 ms (200 Hz) down to 1 ms (grasp slip
-    #: 1.1-1.2 mm at 200-320 Hz, random-action joint-limit overshoot below 0.25 rad); at 160 Hz the jaw is
-    #: pushed 0.28 rad past its limit. Default one tried step finer, 320 Hz (margin:
-    #: 3.125 ms against 5 ms). No standing claim: the base is kinematic (its planar
+    #: docs/timestep.md): every claim holds from 6.25 ms (160 Hz) down to 1 ms (grasp slip
+    #: 1.0-1.2 mm, random-action joint-limit overshoot 0.02-0.13 rad) now that the jaw's
+    #: limit is stiff (solreflimit 0.005 s; with MuJoCo's default 0.02 s the light jaw was
+    #: thrown 0.2-0.3 rad past it at most steps); at 100 Hz the arm overshoots 1.07 rad.
+    #: Default one tried step finer, 200 Hz (margin: 5 ms against 6.25 ms). No standing claim: the base is kinematic (its planar
     #: joints are set from the commanded velocity) and the legs, held in their standing
     #: pose, carry no weight, so there is nothing to fall.
-    sim_freq: ClassVar[int | None] = 320
+    sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "spot_arm.xml"
     actuators = (SPOT_BASE_DRIVES, SPOT_LEG_DRIVES, SPOT_ARM_DRIVES, SPOT_GRIPPER_DRIVE)
     parts = (SPOT_ARM, SPOT_GRIPPER, SPOT_LEGS, SPOT_BASE)

@@ -226,12 +226,12 @@ class XArm6Robotiq(XArm6):
 
     uid = "xarm6_robotiq"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
-    #: step; docs/timestep.md): every claim holds at 800 Hz and 1 kHz (grasp slip 0.6 mm);
-    #: at 500 Hz the gripper's spring link is still at 0.10 rad/s after random actions
-    #: and 1 s of holding (bound 0.05), at 400 Hz 0.053 (the wrist-camera variant passes
-    #: from 400 Hz). Default one tried step finer than 800 Hz, 1 kHz (margin: 1 ms
-    #: against 1.25 ms), for both variants.
-    sim_freq: ClassVar[int | None] = 1000
+    #: step; docs/timestep.md): every claim holds from 2.5 ms (400 Hz) down to 1 ms (grasp
+    #: slip 0.6-1.5 mm), both variants, with the 2F-85's spring links damped as in
+    #: Menagerie (0.00125 N*m*s/rad; without it they jittered at 0.10 rad/s at 500 Hz and
+    #: the default had to be 1 kHz); at 320 Hz a wrist drive cycles (settle 0.52 rad/s).
+    #: Default one tried step finer, 500 Hz (margin: 2 ms against 2.5 ms).
+    sim_freq: ClassVar[int | None] = 500
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(robotiq.Robotiq2F85, at=FLANGE),)
     parts = with_tool(robotiq.TCP)
     keyframes = XARM6_ROBOTIQ_KEYFRAMES

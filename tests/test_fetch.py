@@ -13,7 +13,9 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
+from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
+from tests.test_mobile_manipulator import MANISKILL_FETCH_MODES
 from tests.test_robot_suite import hold_action
 
 ARM = (
@@ -131,20 +133,6 @@ def test_limits_masses_and_wheels_from_the_urdf() -> None:
 
 
 # ---------------------------------------------------------------- control modes
-MANISKILL_FETCH_MODES = {
-    "pd_joint_delta_pos",
-    "pd_joint_pos",
-    "pd_ee_delta_pos",
-    "pd_ee_delta_pose",
-    "pd_ee_delta_pose_align",
-    "pd_joint_target_delta_pos",
-    "pd_ee_target_delta_pos",
-    "pd_ee_target_delta_pose",
-    "pd_joint_vel",
-    "pd_joint_pos_vel",
-    "pd_joint_delta_pos_vel",
-    "pd_joint_delta_pos_stiff_body",
-}
 
 
 def test_maniskill_mode_table_and_action_layout() -> None:
@@ -308,39 +296,13 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
         agent.set_action(np.concatenate([arm_target, [gripper], np.zeros(3), [0.0, 0.0]]))
         scene.step()
 
-    for _ in range(10):
-        act(grasp, 1.0)  # +1: open (0.05 m)
-    assert not agent.is_grasping("cube")[0]
-    for _ in range(20):  # close for 1 s
-        act(grasp, -1.0)
-    assert agent.is_grasping("cube")[0]
-    # The pads (inner faces at +-q from the grasp point) press less than 1.5 mm into it.
-    assert np.all(agent.qpos[0, index(agent, FINGERS)] > CUBE_HALF - 0.0015)
+    def pads_press_less_than_1_5_mm() -> None:  # inner faces at +-q from the grasp point
+        assert np.all(agent.qpos[0, index(agent, FINGERS)] > CUBE_HALF - 0.0015)
 
-    def bid(name: str) -> int:
-        return int(scene.model.body(name).id)
-
-    fingers = [[bid(agent.prefix + "l_gripper_finger_link")], [bid(agent.prefix + "r_gripper_finger_link")]]
-    cube = bid("cube")
-    left, right, pedestal = scene.world.contact_forces([*fingers, [bid("pedestal")]], cube)[0]
-    assert np.linalg.norm(left) > 5.0 and np.linalg.norm(left) == pytest.approx(np.linalg.norm(right), rel=0.1)
-    np.testing.assert_allclose(left + right + pedestal, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)
-    start = scene.body_pose("cube")[0, :3]
-
-    for i in range(60):  # lift 10 cm over 1 s, hold 2 s
-        blend = min(1.0, (i + 1) / 20)
-        act(grasp + blend * (lift - grasp), -1.0)
-    cube_pose = scene.body_pose("cube")[0]
-    assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
-    assert np.linalg.norm(cube_pose[:3] - agent.tcp_pose[0, :3]) < 0.01  # still between the pads
-    assert agent.is_grasping("cube")[0]
-    left, right, pedestal = scene.world.contact_forces([*fingers, [bid("pedestal")]], cube)[0]
-    assert not np.any(pedestal)
-    np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)  # the pads carry it
-
-    for _ in range(10):  # open: the cube drops
-        act(lift, 1.0)
-    assert not agent.is_grasping("cube")[0]
+    fingers = [[agent.prefix + "l_gripper_finger_link"], [agent.prefix + "r_gripper_finger_link"]]
+    assert_grasps_lifts_and_holds(
+        scene, act, grasp, lift, fingers, CUBE_MASS, min_force=5.0, after_close=pads_press_less_than_1_5_mm
+    )
     scene.close()
 
 

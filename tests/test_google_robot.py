@@ -12,6 +12,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
+from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_robot_suite import hold_action
 
@@ -185,38 +186,11 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
 
     # -1 closes (1.3 rad), +1 opens (0 rad), as every built-in gripper (ManiSkill's Google
     # Robot has the opposite sign).
-    for _ in range(10):
-        act(grasp, 1.0)
-    assert not agent.is_grasping("cube")[0]
-    for _ in range(20):  # close for 1 s
-        act(grasp, -1.0)
-    assert agent.is_grasping("cube")[0]
-
-    body = lambda name: scene.model.body(name).id  # noqa: E731
     fingers = [
-        [body(agent.prefix + "link_finger_right"), body(agent.prefix + "link_finger_tip_right")],
-        [body(agent.prefix + "link_finger_left"), body(agent.prefix + "link_finger_tip_left")],
+        [agent.prefix + "link_finger_right", agent.prefix + "link_finger_tip_right"],
+        [agent.prefix + "link_finger_left", agent.prefix + "link_finger_tip_left"],
     ]
-    cube = body("cube")
-    right, left, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
-    assert np.linalg.norm(left) > 1.0 and np.linalg.norm(left) == pytest.approx(np.linalg.norm(right), rel=0.1)
-    np.testing.assert_allclose(left + right + pedestal, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)
-    start = scene.body_pose("cube")[0, :3]
-
-    for i in range(60):  # lift 10 cm over 1 s, hold 2 s
-        blend = min(1.0, (i + 1) / 20)
-        act(grasp + blend * (lift - grasp), -1.0)
-    cube_pose = scene.body_pose("cube")[0]
-    assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
-    assert np.linalg.norm(cube_pose[:3] - agent.tcp_pose[0, :3]) < 0.01  # still between the tips
-    assert agent.is_grasping("cube")[0]
-    right, left, pedestal = scene.world.contact_forces([*fingers, [body("pedestal")]], cube)[0]
-    assert not np.any(pedestal)
-    np.testing.assert_allclose(left + right, [0.0, 0.0, CUBE_MASS * 9.81], atol=0.05)  # the fingers carry it
-
-    for _ in range(10):  # open: the cube drops
-        act(lift, 1.0)
-    assert not agent.is_grasping("cube")[0]
+    assert_grasps_lifts_and_holds(scene, act, grasp, lift, fingers, CUBE_MASS, min_force=1.0)
     scene.close()
 
 

@@ -68,10 +68,10 @@ RANDOM_SECONDS = 10.0
 #: stop a joint at all (0.3-2 rad at 25 ms).
 OVERSHOOT_BOUND = 0.25
 #: Seconds of one repeated hold command after the random actions: long enough for an
-#: underdamped servo to recover from a large swing (the WidowX 250 S's waist, thrown
-#: 1.2 rad past its target, rings down within 1.5 s), short of hiding a limit cycle,
-#: which never decays.
-SETTLE_SECONDS = 2.0
+#: underdamped drive to recover from a large swing (the WidowX 250 S's waist, thrown
+#: 1.2 rad past its target, rings down within 1.5 s; Fetch's shoulder pan, swinging
+#: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught.
+SETTLE_SECONDS = 3.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
 SETTLE_SPEED = 0.05
 #: The end-effector move commanded (m) and the seconds it is given.
@@ -288,9 +288,12 @@ def _random(
                 agent.set_action(hold)
                 scene.step()
                 depth.measure(scene)
-            fastest = float(np.max(np.abs(agent.qvel[0]), initial=0.0))
+            # wheels are turned with the base (visual): the base's own joints speak for it
+            speeds = np.abs(agent.qvel[0])
+            speeds[[w.dof_start for w in agent.mobile.wheels]] = 0.0
+            fastest = float(np.max(speeds, initial=0.0))
             if fastest > speed:
-                speed, speed_where = fastest, f"{mode}: {agent.joint_names[int(np.argmax(np.abs(agent.qvel[0])))]}"
+                speed, speed_where = fastest, f"{mode}: {agent.joint_names[int(np.argmax(speeds))]}"
         if scene.world.unstable_steps.any() or not np.all(np.isfinite(scene.world.get_state())):
             unstable.append(mode)
         scene.close()

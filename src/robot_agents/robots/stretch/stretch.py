@@ -151,12 +151,13 @@ class Stretch(Agent):
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
     #: step; docs/timestep.md): hold, random actions, end-effector tracking (a 2 cm lift:
     #: the arm cannot move the tool forward, the base does) and penetration hold from
-    #: 80 Hz down to 1 kHz, but two claims fail at every step: settle (a telescoping
-    #: segment of the arm still slides at 0.07-0.13 m/s after random actions and 1 s of
-    #: holding, 0.085 at 1 kHz) and grasp (the 74 mm cube, held at the rest pose's tool,
-    #: slides 7.7-12.5 mm in the 2 s hold, 9.4 at 500 Hz). Neither is understood yet, so no coarser step is
-    #: taken: the library's 500 Hz, declared.
-    sim_freq: ClassVar[int | None] = 500
+    #: 80 Hz down to 1 kHz, and so does settle with the sweep's 3 s hold (with a 1 s hold
+    #: the telescope was still travelling to its accumulated target: docs/timestep.md).
+    #: Grasp fails at every step and not ordered by it (the 74 mm cube, held at the rest
+    #: pose's tool, slides 7.7-12.5 mm in the 2 s hold: open). Default one tried step finer
+    #: than 80 Hz, 100 Hz (was 500): its own grasp-lift-hold, odometry, IK and camera tests,
+    #: the generic suite and examples/mobile_pick.py (20/20 seeds) pass there.
+    sim_freq: ClassVar[int | None] = 100
     mjcf_path = ASSETS / "stretch.xml"
     actuators = STRETCH_DRIVES
     parts = (STRETCH_ARM, STRETCH_GRIPPER, STRETCH_HEAD, STRETCH_BASE)

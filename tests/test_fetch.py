@@ -13,6 +13,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
+from tests.chain_check import axis_rotation, chain, index, transform
 from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_mobile_manipulator import MANISKILL_FETCH_MODES
@@ -50,33 +51,12 @@ HEAD_CAMERA_JOINT = (0.055, 0.0, 0.0225)
 WHEEL_RADIUS = 0.055325
 
 
-def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
-
-
-def transform(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-    result = np.eye(4)
-    result[:3, :3], result[:3, 3] = rotation, position
-    return result
-
-
 def torso_pose(base: np.ndarray, lift: float) -> np.ndarray:
     """torso_lift_link in the world: base_link (x, y, yaw on the floor), then the
     prismatic torso_lift_joint along z."""
     pose = transform(axis_rotation(Z, base[2]), np.array([base[0], base[1], 0.0]))
     origin, axis = TORSO
     return pose @ transform(np.eye(3), np.array(origin) + lift * axis)
-
-
-def chain(pose: np.ndarray, joints: list[tuple[tuple[float, float, float], np.ndarray]], q: np.ndarray) -> np.ndarray:
-    for (origin, axis), angle in zip(joints, q, strict=True):
-        pose = pose @ transform(axis_rotation(axis, float(angle)), np.array(origin))
-    return pose
-
-
-def index(agent: ra.Agent, names: tuple[str, ...] | list[str]) -> list[int]:
-    return [agent.joint_names.index(n) for n in names]
 
 
 def test_forward_kinematics_match_the_urdf_joint_origins() -> None:

@@ -12,6 +12,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
+from tests.chain_check import ChainJoint, axis_rotation, chain, index, transform
 from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_robot_suite import hold_action
@@ -44,27 +45,10 @@ CAMERA_MOUNT = (0.10488, 0.0, 0.0)
 BASE_HEIGHT = 0.06205
 
 
-def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
-
-
-def transform(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-    result = np.eye(4)
-    result[:3, :3], result[:3, 3] = rotation, position
-    return result
-
-
-def chain(base: np.ndarray, joints: list[tuple[tuple[float, float, float], np.ndarray]], q: np.ndarray) -> np.ndarray:
+def base_chain(base: np.ndarray, joints: list[ChainJoint], q: np.ndarray) -> np.ndarray:
     """link_base pose (x, y, yaw) through the joints' origins and axes."""
     pose = transform(axis_rotation(Z, base[2]), np.array([base[0], base[1], BASE_HEIGHT]))
-    for (origin, axis), angle in zip(joints, q, strict=True):
-        pose = pose @ transform(axis_rotation(axis, float(angle)), np.array(origin))
-    return pose
-
-
-def index(agent: ra.Agent, names: tuple[str, ...] | list[str]) -> list[int]:
-    return [agent.joint_names.index(n) for n in names]
+    return chain(pose, joints, q)
 
 
 def test_forward_kinematics_match_the_urdf_joint_origins() -> None:
@@ -83,7 +67,7 @@ def test_forward_kinematics_match_the_urdf_joint_origins() -> None:
     configurations[:, agent.qpos_adr] = q
     poses = agent.kinematics.pose(configurations, frame)
     for i in range(20):
-        expected = chain(q[i, base], ARM_ORIGINS, q[i, arm]) @ transform(np.eye(3), np.array(TCP))
+        expected = base_chain(q[i, base], ARM_ORIGINS, q[i, arm]) @ transform(np.eye(3), np.array(TCP))
         np.testing.assert_allclose(poses[i, :3], expected[:3, 3], atol=1e-6)
         rotation = np.zeros(9)
         mujoco.mju_quat2Mat(rotation, poses[i, 3:])
@@ -210,7 +194,7 @@ def test_head_camera_follows_its_link_and_pans() -> None:
         q[base] = rng.uniform([-1.0, -1.0, -math.pi], [1.0, 1.0, math.pi])
         q[head] = rng.uniform(agent.qpos_limits[head, 0], agent.qpos_limits[head, 1])
         agent.reset(qpos=q)
-        tilt = chain(q[base], HEAD_ORIGINS, q[head])
+        tilt = base_chain(q[base], HEAD_ORIGINS, q[head])
         pose = scene.world.camera_poses(camera)[0]
         np.testing.assert_allclose(pose[:3, 3], tilt[:3, :3] @ np.array(CAMERA_MOUNT) + tilt[:3, 3], atol=1e-6)
         np.testing.assert_allclose(-pose[:3, 2], tilt[:3, 0], atol=1e-6)  # view along x

@@ -20,6 +20,7 @@ from robot_agents.robots.spot.spot import (
     LEG_JOINTS,
     STANDING_LEGS,
 )
+from tests.chain_check import axis_rotation
 from tests.ik_check import assert_ik_reaches_random_targets
 
 # The arm's joint origins and axes, chained independently (Menagerie's spot_arm.xml,
@@ -37,11 +38,6 @@ HAND_CAMERA_POS = (0.101, 0.0, -0.03)
 CUBE_HALF, CUBE_MASS = 0.02, 0.1
 #: The gripper pointing down: arm_link_wr1's x axis along world -z.
 DOWN = np.array([math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0])
-
-
-def axis_rotation(axis: tuple[float, float, float], angle: float) -> np.ndarray:
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
 
 
 def arm_chain(q: np.ndarray, body: np.ndarray) -> np.ndarray:

@@ -13,6 +13,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
 from robot_agents.robots.widowx.widowx250s import BRIDGE_FLAT_TABLE_ROBOT_POSE, BRIDGE_SINK_ROBOT_POSE
+from tests.chain_check import axis_rotation
 from tests.ik_check import assert_ik_reaches_random_targets
 
 WIDOWX_UIDS = [
@@ -57,11 +58,6 @@ WXAI_CAMERA_LINK = ((0.012 + 0.04665, 0.009, 0.054272), math.radians(20.0))
 
 def skew(w: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
-
-
-def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    k = skew(np.asarray(axis, dtype=np.float64))
-    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
 
 
 def screw_exp(screw: np.ndarray, theta: float) -> np.ndarray:

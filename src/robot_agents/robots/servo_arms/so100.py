@@ -110,14 +110,12 @@ class SO100(Agent):
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control): every
     #: sweep claim but the grasp holds from 12.5 ms (80 Hz) down to 1 ms; at 100 Hz the
     #: critically damped 0.2 rad joint step (tests/test_servo_arms.py) overshoots 1.007
-    #: mrad (bound 1 mrad), at 200 Hz it holds: default 200 Hz (2.5x fewer physics steps
-    #: than 500 Hz). The sweep's grasp claim is marginal at every step and not ordered by
-    #: it: the jaw squeezes the 31.5 mm cube slowly out along the fingers, 0.9-1.5 mm of
-    #: slip in the 2 s hold at 320-500 Hz (bound 2 mm), 1.9-4.7 mm at 80-200 Hz (2.4 at
-    #: 200 Hz), 10-11 mm at 800 Hz-1 kHz; the grasp test's own cube (on the floor, jaw
-    #: pointing down) creeps 7.3 mm over its 2 s hold at 200 Hz. A gripper-model
-    #: problem (open), not the step's.
-    sim_freq = 200
+    #: mrad (bound 1 mrad), at 200 Hz it holds. The sweep's grasp claim is not ordered by
+    #: the step: the jaw squeezes the 31.5 mm cube slowly out along the fingers, 0.9-1.5 mm
+    #: of slip in the 2 s hold at 320-500 Hz (bound 2 mm), 1.9-4.7 mm at 80-200 Hz (2.4 at
+    #: 200 Hz), 10-11 mm at 800 Hz-1 kHz (a gripper-model problem, open). 320 Hz is the
+    #: largest step at which every claim holds (was 200 Hz, where the grasp slipped 2.4 mm).
+    sim_freq = 320
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)
     parts = (SO100_ARM, SO100_GRIPPER)

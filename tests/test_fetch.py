@@ -13,7 +13,14 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from tests.chain_check import axis_rotation, chain, index, transform
+from tests.chain_check import (
+    assert_camera_on_frame,
+    assert_pan_turns_the_view,
+    axis_rotation,
+    chain,
+    index,
+    transform,
+)
 from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_mobile_manipulator import MANISKILL_FETCH_MODES
@@ -305,19 +312,9 @@ def test_head_camera_follows_its_link_and_pans() -> None:
         link = chain(torso_pose(q[base], q[torso]), HEAD_ORIGINS, q[head]) @ transform(
             np.eye(3), np.array(HEAD_CAMERA_JOINT)
         )
-        pose = scene.world.camera_poses(camera)[0]
-        np.testing.assert_allclose(pose[:3, 3], link[:3, 3], atol=1e-6)
-        np.testing.assert_allclose(-pose[:3, 2], link[:3, 0], atol=1e-6)  # view along x
-        np.testing.assert_allclose(pose[:3, 1], link[:3, 2], atol=1e-6)  # image up along z
+        assert_camera_on_frame(scene.world.camera_poses(camera)[0], link)
         np.testing.assert_allclose(agent.frame_pose("head_camera_link")[0, :3], link[:3, 3], atol=1e-6)
-    q = agent.qpos[0].copy()
-    q[base], q[head] = 0.0, [0.0, 0.0]
-    agent.reset(qpos=q)
-    before = -scene.world.camera_poses(camera)[0][:3, 2]
-    q[head[0]] = 0.8
-    agent.reset(qpos=q)
-    after = -scene.world.camera_poses(camera)[0][:3, 2]
-    np.testing.assert_allclose(after, axis_rotation(Z, 0.8) @ before, atol=1e-9)
+    assert_pan_turns_the_view(scene, camera, base, head)
     scene.close()
 
 

@@ -12,7 +12,15 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from tests.chain_check import ChainJoint, axis_rotation, chain, index, transform
+from tests.chain_check import (
+    ChainJoint,
+    assert_camera_on_frame,
+    assert_pan_turns_the_view,
+    axis_rotation,
+    chain,
+    index,
+    transform,
+)
 from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_robot_suite import hold_action
@@ -195,19 +203,9 @@ def test_head_camera_follows_its_link_and_pans() -> None:
         q[head] = rng.uniform(agent.qpos_limits[head, 0], agent.qpos_limits[head, 1])
         agent.reset(qpos=q)
         tilt = base_chain(q[base], HEAD_ORIGINS, q[head])
-        pose = scene.world.camera_poses(camera)[0]
-        np.testing.assert_allclose(pose[:3, 3], tilt[:3, :3] @ np.array(CAMERA_MOUNT) + tilt[:3, 3], atol=1e-6)
-        np.testing.assert_allclose(-pose[:3, 2], tilt[:3, 0], atol=1e-6)  # view along x
-        np.testing.assert_allclose(pose[:3, 1], tilt[:3, 2], atol=1e-6)  # image up along z
-    # Pan turns the view direction about world z by the pan angle.
-    q = agent.qpos[0].copy()
-    q[base], q[head] = 0.0, [0.0, 0.0]
-    agent.reset(qpos=q)
-    before = -scene.world.camera_poses(camera)[0][:3, 2]
-    q[head[0]] = 0.8
-    agent.reset(qpos=q)
-    after = -scene.world.camera_poses(camera)[0][:3, 2]
-    np.testing.assert_allclose(after, axis_rotation(Z, 0.8) @ before, atol=1e-9)
+        mount = tilt @ transform(np.eye(3), np.array(CAMERA_MOUNT))
+        assert_camera_on_frame(scene.world.camera_poses(camera)[0], mount)
+    assert_pan_turns_the_view(scene, camera, base, head)  # about world z by the pan angle
     scene.close()
 
 

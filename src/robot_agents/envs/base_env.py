@@ -21,8 +21,8 @@ from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
+from robot_agents.envs.state_obs import pose_entries, space_for, to_float32
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
-from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -33,56 +33,6 @@ from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
 from robot_agents.sim.world import BatchedWorld
 
 FloatArray = npt.NDArray[np.float64]
-
-
-def _to_float32(tree: Any) -> Any:
-    if isinstance(tree, Mapping):
-        return {k: _to_float32(v) for k, v in tree.items()}
-    return np.asarray(tree, dtype=np.float32)
-
-
-def _space_for(tree: Any) -> gym.Space[Any]:
-    if isinstance(tree, Mapping):
-        return gym.spaces.Dict({k: _space_for(v) for k, v in tree.items()})
-    # Finite bounds (the largest float32): observations are unbounded physical quantities.
-    limit = np.finfo(np.float32).max
-    return gym.spaces.Box(-limit, limit, shape=np.shape(tree), dtype=np.float32)
-
-
-def _pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
-    """The world pose of ``frame`` in ``data`` for :meth:`RobotEnv._single_state_obs`:
-    position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
-    stores them, else a callable that computes them into reused buffers with the same arithmetic as
-    :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
-    if frame.kind is FrameKind.BODY:
-        position, quat = data.xpos[frame.id], data.xquat[frame.id]
-        if frame.offset is None:
-            return [position[None], quat[None]]
-    else:
-        position, matrix = data.site_xpos[frame.id], data.site_xmat[frame.id]
-        quat = np.empty(4)
-        if frame.offset is None:
-            site_quat_row = [quat[None]]
-
-            def site_quat() -> list[FloatArray]:
-                mujoco.mju_mat2Quat(quat, matrix)
-                return site_quat_row
-
-            return [position[None], site_quat]
-    offset = np.asarray(frame.offset, dtype=np.float64)
-    offset_position, offset_quat = offset[:3].copy(), offset[3:].copy()
-    shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
-    rows = [out_position[None], out_quat[None]]
-
-    def offset_pose() -> list[FloatArray]:
-        if frame.kind is not FrameKind.BODY:
-            mujoco.mju_mat2Quat(quat, matrix)
-        mujoco.mju_rotVecQuat(shifted, offset_position, quat)
-        np.add(position, shifted, out=out_position)
-        mujoco.mju_mulQuat(out_quat, quat, offset_quat)
-        return rows
-
-    return [offset_pose]
 
 
 class RobotEnv(gym.Env[Any, Any]):
@@ -296,8 +246,8 @@ class RobotEnv(gym.Env[Any, Any]):
     # ------------------------------------------------------------------ observations
     def _build_observation_space(self) -> gym.Space[Any]:
         if self._sensor_obs is None:
-            return _space_for(self._get_obs())
-        state = _space_for(self._state_dict_obs())
+            return space_for(self._get_obs())
+        state = space_for(self._state_dict_obs())
         return gym.spaces.Dict({**state.spaces, **self._sensor_obs.spaces(self.num_envs)})  # type: ignore[attr-defined]
 
     def _single_state_plan(self) -> list[Any]:
@@ -333,7 +283,7 @@ class RobotEnv(gym.Env[Any, Any]):
             if agent.touch_reader.names:
                 entries.append(lambda agent=agent: [agent.touch])
             if agent.has_end_effector:
-                entries.extend(_pose_entries(agent.frames.end_effector(None, type(self).__name__), data))
+                entries.extend(pose_entries(agent.frames.end_effector(None, type(self).__name__), data))
         if self._has_extra_obs:
             entries.append(lambda: [v.reshape(1, -1) for v in self._extra_obs().values()])
         self._obs_plan = (key, entries)
@@ -385,7 +335,7 @@ class RobotEnv(gym.Env[Any, Any]):
             extra = {
                 k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()
             }
-        return dict(_to_float32({"agent": agent_obs, "extra": extra}))
+        return dict(to_float32({"agent": agent_obs, "extra": extra}))
 
     # ------------------------------------------------------------------ gym API
     def reset(

@@ -51,11 +51,6 @@ TASKS = ("PickCube-v1", "ReachPose-v1")
 
 
 # -- the interface, in a few helpers -----------------------------------------------------------
-def action_for(controller: Any, raw: np.ndarray) -> np.ndarray:
-    """A part's action from raw values (clipped to its bounds, normalized if it is)."""
-    return np.asarray(controller.from_raw(raw))
-
-
 def shorten(vectors: np.ndarray, bound: np.ndarray) -> np.ndarray:
     """``vectors`` ``(n, 3)`` scaled down, keeping their direction, into ``[-bound, bound]``."""
     scale = np.max(np.abs(vectors) / bound, axis=1, keepdims=True)
@@ -131,11 +126,11 @@ class Arm:
         for name, controller in self.controller.parts.items():
             slot = self.controller.slices[name]
             if name == self.arm_name:
-                action[:, slot] = action_for(controller, arm_raw)
+                action[:, slot] = controller.from_raw(arm_raw)  # clipped, normalized if it is
             elif name == self.gripper and gripper_open is not None:
                 # every gripper: +1 opens, -1 closes (unit_high / unit_low in raw units)
                 raw = np.where(gripper_open[:, None], controller.unit_high, controller.unit_low)
-                action[:, slot] = action_for(controller, raw)
+                action[:, slot] = controller.from_raw(raw)
         return action
 
     def tool(self) -> np.ndarray:

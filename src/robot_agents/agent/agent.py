@@ -103,6 +103,8 @@ class Agent(AgentDefinition):
         self._held_dof = np.array([j.dof_adr for j in held_info], dtype=np.int64)
         self._held_start = np.array([j.qpos_start for j in held_info], dtype=np.int64)
         self._held_columns = self.drives.columns(held, name) if held else np.zeros(0, dtype=np.int64)
+        self._every_env = np.arange(self.num_envs)
+        self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -263,11 +265,8 @@ class Agent(AgentDefinition):
                 commanded = controller.target_qvel
         self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
         if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
-            n = self.num_envs
             pose = self.drives.targets.position[:, self._held_columns]
-            self.world.write_joint_state(
-                np.arange(n), self._held_qpos, pose, self._held_dof, np.zeros((n, len(self._held_dof)))
-            )
+            self.world.write_joint_state(self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel)
 
     def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
         """What the last control step reports, per env (``(num_envs,)`` arrays): the

@@ -500,12 +500,9 @@ def _grasp_at(
 
 def hold_action_of(agent: Agent, controller: object) -> np.ndarray:
     """The hold action's slice belonging to one part's controller."""
-    action = hold_action(agent)
-    start = 0
-    for part in agent.controller.parts.values():
+    for name, part in agent.controller.parts.items():
         if part is controller:
-            return np.asarray(action[start : start + part.action_dim])
-        start += part.action_dim
+            return np.asarray(hold_action(agent)[agent.controller.slices[name]])
     raise ConfigError(f"hold_action_of: the controller is not one of {type(agent).__name__}'s parts.")
 
 

@@ -41,15 +41,14 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import subprocess
 import time
 from collections.abc import Callable, Sequence
-from pathlib import Path
 
 import mujoco
 import numpy as np
 
 import robot_agents as ra
+from peer import Peer, default_peer_python
 
 #: The robot of the joint-mode table (``--robot``); the end-effector section is the Panda's.
 ROBOT = "panda"
@@ -216,89 +215,6 @@ def ik_success_rate(count: int = 1000) -> tuple[float, float, float, float]:
     )
 
 
-#: The peer's worker, run by the peer's own Python: makes ``Empty-v1`` with the robot
-#: and mode given on the command line, then for every line ``N`` it reads, steps N
-#: small actions of alternating sign and answers with the seconds the steps took.
-#: SAPIEN builds render materials and visual meshes even with render_backend="none";
-#: on a machine without a GPU they are replaced by inert stand-ins (visuals only: the
-#: physics is untouched).
-PEER_WORKER = """
-import sys, time
-import numpy as np
-try:
-    import sapien.render, sapien.wrapper.urdf_loader as urdf_loader, sapien.wrapper.actor_builder as builder
-    class Inert:
-        def __init__(self, *a, **k): pass
-        def __getattr__(self, name): return Inert()
-        def __call__(self, *a, **k): return Inert()
-        def __getitem__(self, k): return [1.0, 1.0, 1.0, 1.0][k]
-        def __iter__(self): return iter([1.0, 1.0, 1.0, 1.0])
-        def __len__(self): return 4
-    for module in (sapien.render, urdf_loader):
-        for name in ("RenderMaterial", "RenderTexture2D"):
-            if hasattr(module, name):
-                setattr(module, name, Inert)
-    for name in dir(builder.ActorBuilder):
-        if name.startswith("add_") and "visual" in name:
-            setattr(builder.ActorBuilder, name, lambda self, *a, **k: self)
-    import builtins
-    builtins.input = lambda *a: "n"  # asset downloads ask; never download here
-    import gymnasium as gym, mani_skill, mani_skill.envs
-    env = gym.make("Empty-v1", robot_uids=sys.argv[1], obs_mode="state", control_mode=sys.argv[2],
-                   sim_backend="cpu", render_backend="none")
-    env.reset(seed=0)
-except BaseException as error:
-    print("unavailable", type(error).__name__, str(error).replace(chr(10), " ")[:160], flush=True)
-    sys.exit(0)
-space = env.action_space
-mid, half = (space.low + space.high) / 2, (space.high - space.low) / 2
-rng = np.random.default_rng(0)
-actions = [(mid + (-1) ** i * 0.1 * half * rng.uniform(0, 1, space.shape)).astype(np.float32) for i in range(64)]
-u = env.unwrapped
-print("ready", mani_skill.__version__, u.control_freq, u.sim_freq, flush=True)
-count = 0
-for line in sys.stdin:
-    n = int(line)
-    start = time.perf_counter()
-    for _ in range(n):
-        env.step(actions[count % 64])
-        count += 1
-    print(time.perf_counter() - start, flush=True)
-"""
-
-
-class Peer:
-    """The peer library's env in a worker process (see ``PEER_WORKER``)."""
-
-    def __init__(self, python: str, uid: str, mode: str) -> None:
-        self.process = subprocess.Popen(
-            [python, "-c", PEER_WORKER, uid, mode],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-        )
-        assert self.process.stdout is not None
-        words = self.process.stdout.readline().split()
-        self.ready = bool(words) and words[0] == "ready"
-        self.status = " ".join(words) if words else "no answer"
-        self.blocks: list[float] = []
-        if not self.ready:
-            self.close()
-
-    def loop(self, count: int) -> None:
-        """Step ``count`` times in the worker; records the worker's own timing of them."""
-        assert self.process.stdin is not None and self.process.stdout is not None
-        self.process.stdin.write(f"{count}\n")
-        self.process.stdin.flush()
-        self.blocks.append(float(self.process.stdout.readline()))
-
-    def close(self) -> None:
-        if self.process.stdin is not None:
-            self.process.stdin.close()
-        self.process.wait(timeout=60)
-
-
 def ee_mode(uid: str) -> str:
     modes = ra.get_agent(uid).modes()
     return "pd_ee_delta_pose" if "pd_ee_delta_pose" in modes else "pd_ee_delta_pos"
@@ -371,10 +287,9 @@ def main() -> None:
     parser.add_argument(
         "--robots", nargs="*", default=["xarm6_robotiq", "so100", "fetch", "spot"], help="other robots to time"
     )
-    default_peer = Path.home() / ".venvs" / "maniskill" / "bin" / "python"
     parser.add_argument(
         "--peer-python",
-        default=str(default_peer) if default_peer.exists() else None,
+        default=default_peer_python(),
         help="a Python with ManiSkill 3 installed (default: ~/.venvs/maniskill/bin/python if present)",
     )
     args = parser.parse_args()

@@ -1,125 +1,216 @@
-"""Side by side with the peer library: env steps/s of each robot both libraries have,
-ours and ManiSkill 3's CPU simulation, same task (``Empty-v1``), control mode
-(``pd_joint_delta_pos`` unless ``--modes`` names others), control frequency (20 Hz),
-seeded random actions, one env, in one run with the two timed in alternating rounds.
+"""Side by side with the peer library: env steps/s of every robot both libraries have,
+ours and ManiSkill 3's CPU simulation, in one run.
 
-    python benchmarks/vs_maniskill.py                       # panda so100 ...
-    python benchmarks/vs_maniskill.py panda --rounds 5 --maniskill-python ~/.venvs/maniskill/bin/python
-    python benchmarks/vs_maniskill.py xarm6_robotiq --modes pd_joint_delta_pos pd_ee_delta_pose
+For each robot both libraries register (:data:`SHARED`, our uid -> the peer's) and each
+mode both have (``pd_joint_delta_pos`` and the end-effector mode ``pd_ee_delta_pose``,
+``pd_ee_delta_pos`` where we have no pose mode; the Bridge setups have only ManiSkill's
+``arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos``), same task (``Empty-v1``),
+state observations, 20 Hz control, small actions of alternating sign
+(``step_throughput.small_actions``; the peer's worker draws its own the same way),
+each library at its own default physics step (ours: the robot's ``sim_freq``; the
+peer's: 100 Hz), four loops timed in one set of alternating blocks:
 
-Robots whose ManiSkill assets are downloaded at run time (``xarm6_*``, ``widowxai``)
-need them under ``$MS_ASSET_DIR/data/robots/`` (ManiSkill's layout); without a
-rendering device SAPIEN cannot build URDF visuals, so strip the ``<visual>`` elements
-from the copy you benchmark (visuals carry no mass; the physics is unchanged).
+- ``ours x1``: ``env.step`` at ``num_envs=1``;
+- ``peer x1``: the peer's ``env.step`` in a worker process (the worker times its own
+  loop, so pipe traffic is not counted);
+- ``ours xN`` (``--num-envs``, default 64): one batched world on all cores (its stepping
+  threads), env steps/s of all envs together;
+- ``peer xC``: C = the machine's cores peer workers stepping at the same time (ManiSkill's
+  CPU simulation runs one env per process), env steps/s of all of them (wall time of the
+  slowest, pipe traffic included).
 
-ManiSkill runs in a separate interpreter (``--maniskill-python``; default: this one if
-it imports ``mani_skill``, else ``~/.venvs/maniskill/bin/python`` as made by
-``setup_maniskill.sh``). Without one the script says so and exits 0. Not run in CI.
-Each library runs at its own default physics step (ours: the robot's ``sim_freq``).
+``--output PATH`` writes the tables as a Markdown page (docs/vs-maniskill.md).
+
+    python benchmarks/vs_maniskill.py                          # every shared robot
+    python benchmarks/vs_maniskill.py panda so100 --rounds 5
+    MS_ASSET_DIR=/tmp/ms_assets python benchmarks/vs_maniskill.py --output docs/vs-maniskill.md
+
+The peer downloads some robots' assets at first use (``xarm6_*``, ``widowxai*``,
+``widowx250s*``, ``ur_10e``, ``googlerobot``, ``floating_robotiq_2f_85_gripper``); a
+machine without network needs them under ``$MS_ASSET_DIR/data/robots/`` in ManiSkill's
+layout (the repositories named in ``mani_skill/utils/assets/data.py``). A robot the peer
+cannot load is reported with its error. Needs the peer's interpreter
+(``--maniskill-python``; default ``~/.venvs/maniskill/bin/python``, made by
+``/work/shared/peers/setup_maniskill.sh``); without one the script says so and exits 0.
+Not run in CI; nothing here imports ManiSkill.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib.util
+import datetime
 import os
-import subprocess
+import platform
 import sys
-import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
 import robot_agents as ra
+from peer import Peer, PeerPool, default_peer_python
+from step_throughput import interleaved, small_actions
 
-#: Robots both libraries register under the same uid.
-SHARED = ("panda", "so100", "koch-v1.1", "widowxai", "xarm6_nogripper", "xarm6_robotiq", "floating_panda_gripper")
+#: Every robot both libraries register: our uid -> ManiSkill 3.0.1's.
+SHARED = {
+    "panda": "panda",
+    "panda_wristcam": "panda_wristcam",
+    "panda_stick": "panda_stick",
+    "floating_panda_gripper": "floating_panda_gripper",
+    "floating_robotiq_2f_85_gripper": "floating_robotiq_2f_85_gripper",
+    "xarm6_nogripper": "xarm6_nogripper",
+    "xarm6_nogripper_wristcam": "xarm6_nogripper_wristcam",
+    "xarm6_robotiq": "xarm6_robotiq",
+    "xarm6_robotiq_wristcam": "xarm6_robotiq_wristcam",
+    "ur_10e": "ur_10e",
+    "widowx250s": "widowx250s",
+    "widowx250s_bridgedataset_flat_table": "widowx250s_bridgedataset_flat_table",
+    "widowx250s_bridgedataset_sink": "widowx250s_bridgedataset_sink",
+    "widowxai": "widowxai",
+    "widowxai_wristcam": "widowxai_wristcam",
+    "so100": "so100",
+    "koch-v1.1": "koch-v1.1",
+    "fetch": "fetch",
+    "google_robot": "googlerobot",
+}
+#: The only mode ManiSkill gives the Bridge setups.
+BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"
 
-PEER = """
-import sys, time, numpy as np, gymnasium as gym, mani_skill.envs  # noqa
-uid, steps, rounds, mode = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-env = gym.make("Empty-v1", robot_uids=uid, obs_mode="state", control_mode=mode,
-               sim_backend="cpu", render_backend="none")
-env.reset(seed=0)
-acts = np.random.default_rng(0).uniform(-1, 1, (steps,) + env.action_space.shape).astype(np.float32)
-for _ in range(rounds):
-    t = time.perf_counter()
-    for a in acts: env.step(a)
-    print(steps / (time.perf_counter() - t), flush=True)
-"""
+
+def modes_of(uid: str) -> list[str]:
+    """The modes compared for ``uid``: a joint mode and an end-effector mode."""
+    ours = ra.get_agent(uid).modes()
+    if BRIDGE_MODE in ours and uid.startswith("widowx250s_bridgedataset"):
+        return [BRIDGE_MODE]
+    return ["pd_joint_delta_pos", "pd_ee_delta_pose" if "pd_ee_delta_pose" in ours else "pd_ee_delta_pos"]
 
 
-def peer_python(given: str | None) -> str | None:
-    if given:
-        return given
-    if importlib.util.find_spec("mani_skill") is not None:
-        return sys.executable
-    venv = Path.home() / ".venvs" / "maniskill" / "bin" / "python"
-    return str(venv) if venv.exists() else None
-
-
-def ours(uid: str, steps: int, mode: str) -> float:
-    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode)
+def our_loop(uid: str, mode: str, num_envs: int, rng: np.random.Generator) -> tuple[Callable[[int], None], ra.RobotEnv]:
+    """A loop stepping our env ``count`` times with pairs of opposite small actions."""
+    env: ra.RobotEnv = ra.make_env(
+        "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, max_episode_steps=None
+    ).unwrapped  # type: ignore[assignment]
     env.reset(seed=0)
-    acts = np.random.default_rng(0).uniform(-1, 1, (steps, *env.action_space.shape)).astype(np.float32)
-    start = time.perf_counter()
-    for a in acts:
-        env.step(a)
-    rate = steps / (time.perf_counter() - start)
-    env.close()
-    return rate
+    pairs = [action for action in small_actions(env, 32, rng) for action in (action, -action)]
+    if num_envs == 1:
+        pairs = [action[0] for action in pairs]
+    counter = [0]
+
+    def loop(count: int) -> None:
+        for _ in range(count):
+            env.step(pairs[counter[0] % len(pairs)])
+            counter[0] += 1
+
+    return loop, env
 
 
-def theirs(python: str, uid: str, steps: int, mode: str) -> float | str:
-    """ManiSkill's rate, or why it did not run (the last line of its error)."""
-    done = subprocess.run([python, "-c", PEER, uid, str(steps), "2", mode], capture_output=True, text=True, timeout=600)
-    if done.returncode != 0:
-        lines = done.stderr.strip().splitlines()
-        return lines[-1][:120] if lines else f"exit {done.returncode}"
-    rates = [float(line) for line in done.stdout.split()]
-    return rates[-1]  # the second round: imports and first-step costs excluded
+def compare(
+    uid: str, mode: str, python: str, rounds: int, block: int, num_envs: int, cores: int, rng: np.random.Generator
+) -> str:
+    """One table row: the four loops in alternating blocks."""
+    peer_uid = SHARED[uid]
+    one, env_one = our_loop(uid, mode, 1, rng)
+    many, env_many = our_loop(uid, mode, num_envs, rng)
+    # a batch step is num_envs env steps: fewer calls per block keep the blocks alike in time
+    many_block = max(1, block // 8)
+    peer = Peer(python, peer_uid, mode)
+    freq = env_one.scene.sim_freq
+    row = f"| `{uid}` | `{mode}` | {freq}"
+    if not peer.ready:
+        env_one.close()
+        env_many.close()
+        return f"{row} | - | peer did not run: {peer.status[:100]} | - | - | - | - | - |"
+    pool = PeerPool(python, peer_uid, mode, cores)
+    loops: list[Callable[[int], None]] = [one, peer.loop]
+    if pool.ready:
+        loops.append(pool.loop)
+    rates = interleaved(loops, rounds, block)
+    many_rate = interleaved([many], max(2, rounds // 2), many_block)[0] * num_envs
+    peer_rate = rounds * block / sum(peer.blocks[1:])  # the worker's own timing, after the warm-up block
+    peer_hz = peer.status.split()[3]
+    peer.close()
+    ours_rate = rates[0]
+    if pool.ready:
+        pool_rate = cores * rounds * block / sum(pool.blocks[1:])
+        pool.close()
+        pool_cells = f"{pool_rate:.0f} | {many_rate / pool_rate:.2f}x"
+    else:
+        pool_cells = f"did not run: {pool.status[:60]} | -"
+    env_one.close()
+    env_many.close()
+    return (
+        f"{row} | {peer_hz} | {ours_rate:.0f} | {peer_rate:.0f} | **{ours_rate / peer_rate:.2f}x** | "
+        f"{many_rate:.0f} | {pool_cells} |"
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("uids", nargs="*", default=list(SHARED))
-    parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--steps", type=int, default=200)
+    parser.add_argument("--rounds", type=int, default=8)
+    parser.add_argument("--block", type=int, default=40, help="control steps per timed block (one env)")
+    parser.add_argument("--num-envs", type=int, default=64, help="envs of our batched loop")
     parser.add_argument("--maniskill-python", default=None)
-    parser.add_argument("--modes", nargs="+", default=["pd_joint_delta_pos"])
+    parser.add_argument("--output", type=Path, default=None, help="write the tables to this Markdown file")
     args = parser.parse_args(argv)
-    python = peer_python(args.maniskill_python)
+    python = args.maniskill_python or default_peer_python()
     if python is None:
         print("mani-skill is not installed (see /work/shared/peers/setup_maniskill.sh): nothing to compare.")
         return 0
-    load = os.getloadavg()[0]
-    print(f"load average {load:.2f}\n")
-    print("| robot | mode | our sim_freq | ours (env steps/s) | ManiSkill CPU | ratio |")
-    print("|---|---|---|---|---|---|")
+    unknown = [uid for uid in args.uids if uid not in SHARED]
+    if unknown:
+        parser.error(f"not robots both libraries have: {unknown}; shared: {sorted(SHARED)}")
+    cores = os.cpu_count() or 1
+    rng = np.random.default_rng(0)
+    started = datetime.datetime.now(datetime.UTC)
+    load_before = os.getloadavg()[0]
+    lines = [
+        "| robot | mode | our sim_freq (Hz) | peer sim_freq (Hz) | ours x1 | peer x1 | ours / peer x1 | "
+        f"ours x{args.num_envs} | peer x{cores} processes | ours x{args.num_envs} / peer x{cores} |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    print("\n".join(lines), flush=True)
     for uid in args.uids:
-        for mode in args.modes:
-            if mode not in ra.get_agent(uid).modes():
-                print(f"| `{uid}` | `{mode}` | - | not a mode of this robot | - | - |")
-                continue
-            mine: list[float] = []
-            peer: list[float] = []
-            failure = ""
-            for _ in range(args.rounds):
-                mine.append(ours(uid, args.steps, mode))
-                rate = theirs(python, uid, args.steps, mode)
-                if isinstance(rate, str):
-                    failure = rate
-                    break
-                peer.append(rate)
-            freq = ra.get_agent(uid).sim_freq or 500
-            row = f"| `{uid}` | `{mode}` | {freq} | {np.median(mine):.0f}"
-            if not peer:
-                print(f"{row} | did not run: {failure} | - |")
-                continue
-            ratio = float(np.median(mine)) / float(np.median(peer))
-            print(f"{row} | {np.median(peer):.0f} | {ratio:.1f}x |")
+        for mode in modes_of(uid):
+            line = compare(uid, mode, python, args.rounds, args.block, args.num_envs, cores, rng)
+            lines.append(line)
+            print(line, flush=True)
+    load_after = os.getloadavg()[0]
+    machine = (
+        f"{started:%Y-%m-%d %H:%M} UTC, robot_agents {ra.__version__}, MuJoCo {mujoco.__version__}, "
+        f"Python {platform.python_version()}, {cores} cores ({platform.processor() or platform.machine()}), "
+        f"load average {load_before:.1f} before and {load_after:.1f} after the run"
+    )
+    print(f"\n{machine}")
+    if args.output is not None:
+        command = "python benchmarks/vs_maniskill.py " + " ".join(argv if argv is not None else sys.argv[1:])
+        args.output.write_text(page(machine, command.strip(), args.rounds, args.block, "\n".join(lines)))
     return 0
+
+
+def page(machine: str, command: str, rounds: int, block: int, table: str) -> str:
+    """The Markdown page ``--output`` writes."""
+    return f"""# Side by side with ManiSkill (generated by `benchmarks/vs_maniskill.py`)
+
+Env steps/s (higher is better) of every robot both libraries register, `Empty-v1`,
+state observations, 20 Hz control, small actions of alternating sign, each library at
+its own default physics step. ManiSkill 3.0.1's CPU simulation (`sim_backend="cpu"`,
+`render_backend="none"`) runs in worker processes of its own interpreter; all loops of a
+row are timed in one set of alternating blocks ({rounds} rounds of {block} steps; the
+batched loop in blocks of an eighth of that), so machine noise hits both libraries
+alike and the ratios are the figures to keep. `x1`: one env. `ours xN`: one batched
+world of N envs stepped on all cores (threads). `peer xC`: C peer processes of one env
+each stepping at the same time (ManiSkill's CPU simulation runs one env per process).
+See [benchmarks.md](benchmarks.md#side-by-side-with-maniskill-benchmarksvs_maniskillpy)
+for what the figures say.
+
+Run: {machine}.
+
+    {command}
+
+{table}
+"""
 
 
 if __name__ == "__main__":

@@ -95,3 +95,29 @@ def test_one_pass_clip_is_exact_unless_a_bound_is_zero() -> None:
         )
     assert not one_pass_clip_exact(np.zeros(3), np.ones(3))  # which zero comes back is unspecified
     assert not one_pass_clip_exact(-np.ones(3), np.array([1.0, 0.0, 1.0]))
+
+
+def test_one_env_wheel_turning_matches_the_batched_arithmetic_bit_for_bit() -> None:
+    """The scalar wheel update of one env (``MobileBase._turn_wheels_single``) writes the
+    same bits as the batched one, over random moves, turns across +-pi and mount yaws."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    base = env.agent.mobile
+    written: list[tuple[np.ndarray, np.ndarray]] = []
+    base.world.write_joint_state = lambda ids, qa, q, da, v: written.append((q[0].copy(), v[0].copy()))
+    rng = np.random.default_rng(0)
+    for k in range(300):
+        base._mount_yaw = float(rng.uniform(-np.pi, np.pi))
+        start = rng.uniform(-4.0, 4.0, 3)
+        end = start + rng.normal(0.0, (0.05, 0.05, 0.3))
+        if k % 3 == 0:  # a turn across the +-pi seam
+            end[2] = start[2] + rng.choice((-1.0, 1.0)) * (np.pi - 1e-9)
+        wheels = rng.uniform(-10.0, 10.0, (1, len(base.wheels)))
+        written.clear()
+        base._turn_wheels_single(start, end, wheels, 0.05)
+        base._all_envs = np.arange(2)
+        base._turn_wheels(np.stack([start, start]), np.stack([end, end]), np.vstack([wheels, wheels]), 0.05)
+        base._all_envs = np.arange(1)
+        (single_q, single_v), (batch_q, batch_v) = written
+        assert np.array_equal(single_q, batch_q) and np.array_equal(single_v, batch_v), k
+    env.close()

@@ -154,7 +154,8 @@ class ControlModes:
                 raise ActionError(
                     f"{self._where()}: expected shape ({self.num_envs}, {dim}) or ({dim},) [{parts}], got {shape}."
                 )
-            array = np.broadcast_to(array, (self.num_envs, dim))
+            # one env: a (1, dim) view (cheaper than broadcast_to); nothing writes into it
+            array = array[None] if self.num_envs == 1 else np.broadcast_to(array, (self.num_envs, dim))
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
         # finite values falls through to the exact check).
         if not math.isfinite(_sum(array, None)) and not np.isfinite(array).all():

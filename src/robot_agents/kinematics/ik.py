@@ -8,6 +8,11 @@ One iteration, per env, at joint positions ``q`` of the chain:
     dq = J^T (J J^T + lambda^2 I)^-1 e   (+ null-space pull, see below)
     q  = clip(q + dq scaled to max_step, joint limits)
 
+A joint at a limit that ``dq`` pushes further is taken out of the step (its column of
+``J`` zeroed) and ``dq`` solved again, until no such joint is left: otherwise the clip
+undoes that joint's share and the others never make it up (an arm resting on its limits,
+such as the SO-100 at ``rest``, stalls).
+
 It stops when both errors are within tolerance (small end-effector steps from a
 controller take 2-3 iterations). A far target can lie beyond a joint limit from the
 seed's side; ``restarts`` then retries from random configurations.
@@ -308,6 +313,20 @@ class IKSolver:
             mujoco.mju_cholFactor(system, 0.0)
             mujoco.mju_cholSolve(solution, system, task)
             step = jacobian.T @ solution
+            # Joints at a limit that the step pushes further are taken out of the
+            # problem (their columns zeroed) and the rest solved again: the clip would
+            # undo their share, and the others would never make it up (an arm resting
+            # on its limits stalls otherwise).
+            for _ in range(len(q)):
+                blocked = ((q <= self.lower) & (step < 0.0)) | ((q >= self.upper) & (step > 0.0))
+                if not blocked.any():
+                    break
+                jacobian[:, blocked] = 0.0
+                np.matmul(jacobian, jacobian.T, out=system)
+                system += damping
+                mujoco.mju_cholFactor(system, 0.0)
+                mujoco.mju_cholSolve(solution, system, task)
+                step = jacobian.T @ solution
             if cfg.null_space_gain > 0:
                 pull = cfg.null_space_gain * (self.rest_qpos - q)
                 np.matmul(jacobian, jacobian.T, out=system)

@@ -106,14 +106,13 @@ class UR10e(Agent):
 
     uid = "ur_10e"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control; see
-    #: docs/timestep.md): with Menagerie's gains every claim but the random-action one
-    #: holds from 5 ms (200 Hz) down to 1 ms; at 160 Hz wrist 1 is still at 0.07 rad/s
-    #: after 1 s of holding (bound 0.05). The random-action claim fails at every step
-    #: (the wrists driven 0.42-0.69 rad past their +-2 pi limits in the velocity-
-    #: feedforward and absolute end-effector modes: 56 N*m against MuJoCo's soft joint
-    #: limit on a 0.1 kg*m^2 armature), not the step's doing. Default one tried step
-    #: finer than 200 Hz: 320 Hz (margin: 3.125 ms against 5 ms).
-    sim_freq: ClassVar[int | None] = 320
+    #: docs/timestep.md): with Menagerie's gains and stiff joint limits (ur10e.xml) every
+    #: claim holds from 3.125 ms (320 Hz) down to 1 ms (random-action overshoot 0.12 rad
+    #: at 320 Hz, bound 0.25); at 200 Hz the limits, whose stiffness MuJoCo bounds by
+    #: the step, let the wrists 0.26 rad past. Default one tried step finer: 400 Hz
+    #: (margin: 2.5 ms against 3.125 ms). (With MuJoCo's soft default limits the
+    #: random-action claim failed at every step: 0.42-0.69 rad past +-2 pi.)
+    sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "ur10e.xml"
     actuators = (UR10E_DRIVES,)
     parts = (UR10E_ARM,)

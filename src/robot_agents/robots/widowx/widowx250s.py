@@ -203,9 +203,10 @@ class WidowX250S(Agent):
 
     uid = "widowx250s"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control): every
-    #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.15-0.23 rad
-    #: at every step, 0.28 rad at 80 Hz; grasp slip 1.2 mm at 100 Hz, 0.8 mm at 160 Hz);
-    #: default one tried step finer, 160 Hz (margin: 6.25 ms against 10 ms).
+    #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.005-0.18 rad
+    #: with the stiff limits of wx250s_arm.xml, 0.29 rad at 80 Hz; grasp slip 1.2 mm at
+    #: 100 Hz, 0.8 mm at 160 Hz); default one tried step finer, 160 Hz (margin: 6.25 ms
+    #: against 10 ms).
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)
@@ -350,14 +351,15 @@ class _BridgeWidowX250S(WidowX250S):
     control_modes: ClassVar[Mapping[str, ModeConfig]] = bridge_control_modes()
     default_control_mode = BRIDGE_MODE
     #: Time-step sweep (2026-11-23, 20 Hz control, both setups; docs/timestep.md): with the
-    #: tuned drives unclamped (BRIDGE_FORCE_LIMITS) every claim but the random-action
-    #: one holds at 800 Hz and 1 kHz; at 500 Hz the sweep's cube slips 2.1-2.3 mm in the
-    #: 2 s hold under the tuned finger drive (bound 2 mm) and, on the flat table, the
-    #: shoulder is still at 0.053 rad/s after 1 s of holding (bound 0.05). The
-    #: random-action claim fails at every step (0.44-0.59 rad past a joint limit, the
-    #: velocity-feedforward modes pressing the wrist and elbow into MuJoCo's soft
-    #: limits with the tuned gains), not the step's doing. Default one tried step finer
-    #: than 800 Hz: 1 kHz (margin: 1 ms against 1.25 ms).
+    #: tuned drives unclamped (BRIDGE_FORCE_LIMITS) and the arm's stiff joint limits
+    #: (wx250s_arm.xml) every claim holds at 800 Hz and 1 kHz for the sink setup (the
+    #: random actions' worst overshoot 0.09-0.14 rad, bound 0.25; it was 0.44-0.59 at
+    #: every step with MuJoCo's soft limits); at 500 Hz the sweep's cube slips 2.1-2.3 mm
+    #: in the 2 s hold under the tuned finger drive (bound 2 mm) and the wrist rotate
+    #: passes its limit by 0.26 rad. The flat-table setup fails only the settle claim at
+    #: 500 Hz-1 kHz: slow travel of its overdamped drives towards accumulated targets,
+    #: not a cycle. Default one tried step finer than 800 Hz: 1 kHz (margin: 1 ms
+    #: against 1.25 ms).
     sim_freq = 1000
     task_limits: ClassVar[Mapping[str, str]] = {
         "PickCube-v1": (

@@ -20,6 +20,7 @@ from robot_agents.robots.servo_arms.so100 import SO100
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ, Scene
 from robot_agents.tuning.timestep import (
     CLAIMS,
+    OVERSHOOT_BOUND,
     SETTLE_SECONDS,
     SETTLE_SPEED,
     SLIP_BOUND,
@@ -82,11 +83,14 @@ def test_panda_wrist_oscillates_without_armature() -> None:
         ("widowxai", "pd_joint_pos_vel"),
         ("widowx250s_bridgedataset_flat_table", "pd_joint_pos"),
         ("google_robot", "pd_joint_target_delta_pos"),
+        ("floating_panda_gripper", "pd_joint_pos"),
     ],
 )
 def test_drives_that_cycled_between_their_torque_limits_settle_at_their_default_step(uid: str, mode: str) -> None:
     """The UR10e (Menagerie's gains), the WidowX AI (at 1 kHz), the Bridge WidowX
-    (unclamped tuned drives) and the Google Robot's head (damping 90, not 900) settle after 10 s of random actions and 1 s of holding."""
+    (unclamped tuned drives), the Google Robot's head (damping 90, not 900) and the
+    floating Panda gripper's mount (no effort limit) settle after 10 s of random actions
+    and the sweep's hold."""
     cls = ra.get_agent(uid)
     speed, joint = settled_speed(cls, mode, cls.sim_freq or DEFAULT_SIM_FREQ)
     assert speed < SETTLE_SPEED, f"{joint} still moves at {speed:.3f} rad/s"
@@ -103,6 +107,57 @@ def test_ur10e_wrists_cycle_with_the_former_gains() -> None:
 
     speed, joint = settled_speed(FormerUR10e, "pd_joint_vel", 500)
     assert speed > 0.1 and "wrist" in joint
+
+
+def test_floating_gripper_mount_cycles_with_maniskills_effort_limit() -> None:
+    """With ManiSkill's 100 N*m limit on the mount, a hinge carrying only the hand cycles
+    between its limits at 200 Hz (without the limit it settles there and at its 160 Hz):
+    the test above can fail."""
+    floating = ra.get_agent("floating_panda_gripper")
+
+    class LimitedMount(floating):  # type: ignore[valid-type,misc]
+        uid = ""
+        actuators = (dataclasses.replace(floating.actuators[0], effort_limit=100.0),)
+
+    speed, joint = settled_speed(LimitedMount, "pd_joint_pos", 200)
+    assert speed > 0.1 and "rot" in joint, (speed, joint)
+    assert settled_speed(floating, "pd_joint_pos", 200)[0] < SETTLE_SPEED
+
+
+def largest_overshoot(cls: type[ra.Agent], mode: str, sim_freq: int, soft_limits: bool = False) -> float:
+    """How far (rad or m) any joint passes its limit over 10 s of random actions
+    (``soft_limits``: with MuJoCo's default limit stiffness, time constant 20 ms)."""
+    scene = Scene(cls, control_modes=mode, sim_freq=sim_freq)
+    if soft_limits:
+        scene.model.jnt_solref[:] = (0.02, 1.0)
+    scene.reset()
+    agent = scene.agents[0]
+    limits = agent.qpos_limits
+    rng = np.random.default_rng(0)
+    space = agent.action_space
+    worst = 0.0
+    for _ in range(round(10.0 * scene.control_freq)):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        q = agent.qpos[0]
+        worst = max(worst, float(np.max(np.maximum(q - limits[:, 1], limits[:, 0] - q), initial=0.0)))
+    scene.close()
+    return worst
+
+
+@pytest.mark.parametrize(
+    ("uid", "mode", "soft"),
+    [("ur_10e", "pd_ee_pose", 0.3), ("widowx250s_bridgedataset_sink", "pd_joint_delta_pos_vel", 0.3)],
+)
+def test_stiff_joint_limits_keep_random_actions_within_the_overshoot_bound(uid: str, mode: str, soft: float) -> None:
+    """The UR10e's and the WidowX 250 S's joint limits are stiff (their controllers keep
+    the joints inside): at the default step random actions pass a limit by less than
+    the sweep's bound; with MuJoCo's soft default (20 ms) the same actions pass it by
+    more than ``soft`` rad."""
+    cls = ra.get_agent(uid)
+    step = cls.sim_freq or DEFAULT_SIM_FREQ
+    assert largest_overshoot(cls, mode, step) < OVERSHOOT_BOUND
+    assert largest_overshoot(cls, mode, step, soft_limits=True) > soft
 
 
 def test_measure_step_reports_every_claim() -> None:

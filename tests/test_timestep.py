@@ -160,7 +160,7 @@ FIXED_GRASPS = {
     "google_robot": (
         0.0015,
         '<geom priority="1" solref="0.01 1" solimp="0.9999 0.9999 0.01" rgba',
-        '<geom rgba',
+        "<geom rgba",
     ),
     "stretch": (0.001, 'solref="0.01 1" solimp="0.9999 0.9999 0.01"', 'solref="0.002 1" solimp="0.95 0.99 0.001"'),
     "so100": (0.001, ' solref="0.01 1" solimp="0.9999 0.9999 0.01"', ""),

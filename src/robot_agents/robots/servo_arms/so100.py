@@ -23,7 +23,7 @@ Sources of the numbers:
   grasp detection are the fixed jaw's finger (``Fixed_Jaw_tip``, a welded body at the
   URDF's tip frame) and ``Moving_Jaw``. Jaw pads: MuJoCo Menagerie's ``trs_so_arm100``
   pad contact (solref 0.01 s, solimp "2 1 0.01", an impedance MuJoCo clamps to 0.9999):
-  with the shared servo pads' 0.95-0.99 the jaw's 12.6 degree wedge on a 31.5 mm cube
+  with the shared servo pads' 0.95-0.99 the jaw's 12.7 degree wedge on a 31.5 mm cube
   squeezed it out at up to 5 mm/s (MuJoCo's soft friction, inside the friction cone).
 - Tool centre point ``tcp``: on ``Fixed_Jaw`` at (0.00705, -0.09548, 0) m, where
   ManiSkill's SO-100 TCP (the midpoint of the URDF's ``Fixed_Jaw_tip`` and

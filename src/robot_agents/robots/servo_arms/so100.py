@@ -24,7 +24,9 @@ Sources of the numbers:
   URDF's tip frame) and ``Moving_Jaw``. Jaw pads: MuJoCo Menagerie's ``trs_so_arm100``
   pad contact (solref 0.01 s, solimp "2 1 0.01", an impedance MuJoCo clamps to 0.9999):
   with the shared servo pads' 0.95-0.99 the jaw's 12.7 degree wedge on a 31.5 mm cube
-  squeezed it out at up to 5 mm/s (MuJoCo's soft friction, inside the friction cone).
+  squeezed it out at up to 5 mm/s (MuJoCo's soft friction, inside the friction cone);
+  condim 4 gives the pads their torsional friction (a near-rigid pair of point contacts
+  lets a carried cube pivot out of the jaw).
 - Tool centre point ``tcp``: on ``Fixed_Jaw`` at (0.00705, -0.09548, 0) m, where
   ManiSkill's SO-100 TCP (the midpoint of the URDF's ``Fixed_Jaw_tip`` and
   ``Moving_Jaw_tip`` frames) lies with the jaw closed. End-effector modes command its
@@ -113,7 +115,7 @@ class SO100(Agent):
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
     #: step): every claim holds from 12.5 ms (80 Hz) down to 1 ms, the grasp included
     #: with the jaw pads' near-rigid contacts (``so100.xml``: the 31.5 mm cube moves
-    #: 0.2-0.6 mm in the 2 s hold at 100 Hz-1 kHz, 1.5 mm at 80 Hz; with the former pad
+    #: 0.22-1.3 mm in the 2 s hold at 100 Hz-1 kHz, 1.9 mm at 80 Hz; with the former pad
     #: impedance the jaw's wedge squeezed it out, 0.9-11 mm, not ordered by the step).
     #: Default 200 Hz, not one tried step finer than 80 Hz: at 100 Hz the critically
     #: damped 0.2 rad joint step (tests/test_servo_arms.py) overshoots 1.007 mrad (bound

@@ -40,6 +40,12 @@ Sources of the numbers:
   for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
   (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
   (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
+- Fingertip contact: MuJoCo Menagerie's ``trs_so_arm100`` pad values (solref 0.01 s,
+  solimp "2 1 0.01", an impedance MuJoCo clamps to 0.9999), with priority; Menagerie's
+  Google Robot sets none. With MuJoCo's default contact the sweep's 83 mm cube, squeezed
+  at 130 N per finger (|f_t| / f_n < 0.04 against 1.0), crept 3 mm/s along the tips:
+  MuJoCo's soft friction (creep about (1 - d) / d * a / b, d the impedance,
+  b = 2 / (d * time constant)), not sliding; now 0.5-1.1 mm in 2 s at 320 Hz-1 kHz.
 - Gripper action: -1 closed (1.3 rad), +1 open (0 rad), as every built-in gripper;
   ManiSkill's mimic gripper has the opposite sign (negate that action to port a policy).
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
@@ -190,12 +196,13 @@ class GoogleRobot(Agent):
     uid = "google_robot"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
     #: step; docs/timestep.md): hold, random actions, end-effector tracking and
-    #: penetration hold from 160 Hz down to 1 kHz. Settle holds at 500 Hz-1 kHz and 320 Hz
-    #: (with the head's damping at 90; at 900 the head tilt cycled at every step), not at
-    #: 400 Hz (1.16 rad/s) nor from 200 Hz coarser (the forearm, 4.4 rad/s). Grasp fails at
-    #: every step (the 83 mm cube, held at the rest pose's tool, creeps 4.9-6.4 mm along
-    #: the fingertips in the 2 s hold, 5.2 mm at 500 Hz: open). 500 Hz, without margin.
-    sim_freq: ClassVar[int | None] = 500
+    #: penetration hold from 160 Hz down to 1 kHz; settle from 320 Hz (with the head's
+    #: damping at 90; the forearm turns at 4.4 rad/s at 200 Hz); grasp, with the
+    #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (the 83 mm cube
+    #: moves 1.06 mm in the 2 s hold at 320 Hz, 0.54-0.94 mm at 400 Hz-1 kHz; 4.9-6.4 mm
+    #: with MuJoCo's default contact). Every claim holds from 320 Hz: default one tried
+    #: step finer, 400 Hz (was 500).
+    sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES
     parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)

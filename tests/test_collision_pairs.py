@@ -133,3 +133,15 @@ def test_candidate_pairs_skip_parents_welds_and_exclusions() -> None:
     assert collisions.candidate_pairs(model) == [(model.body("base").id, model.body("ball").id)]
     excluded = CHAIN.replace("</worldbody>", '</worldbody><contact><exclude body1="base" body2="ball"/></contact>')
     assert collisions.candidate_pairs(mujoco.MjModel.from_xml_string(excluded.format(r1="-1 1", r="-1 1"))) == []
+
+
+def test_a_real_robot_pair_of_each_kind() -> None:
+    # the Panda's base and second link (two joints apart: grid) stay 9 cm apart; its
+    # base and hand (seven joints: random) can meet
+    from robot_agents.registry import get_agent
+
+    apart, meeting = collisions.pair_distances(
+        get_agent("panda"), [("panda_link0", "panda_link2"), ("panda_link0", "panda_hand")]
+    )
+    assert apart.method == "grid" and apart.never_touching and apart.bound > 0.05
+    assert meeting.method == "random" and meeting.min_distance < 0 and not meeting.never_touching

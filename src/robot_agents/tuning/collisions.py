@@ -28,6 +28,11 @@ sampled independently: more poses than the robot can reach, so the check errs to
 A pair is never touching when its bound (the smallest distance less the allowance)
 stays above :data:`MARGIN` plus the geoms' own contact margins.
 
+Excluding such pairs has not paid on any built-in robot (2026-11-23, within +-3 % of
+the physics step; docs/benchmarks.md): in use their geoms stay outside each other's
+bounding spheres, so MuJoCo already discards them cheaply, and each exclusion adds to
+a list MuJoCo scans per broad-phase pair. Measure before declaring any.
+
 :func:`collision_profile` measures, over a replayed control sequence, the share of the
 physics step spent in collision detection (``MjData.timer``) and which geom pairs reach
 the narrow phase (pass the broad phase, the contype/conaffinity filter and the bounding
@@ -59,7 +64,7 @@ from robot_agents.tuning.timestep import OVERSHOOT_BOUND
 #: pairs of 11 built-in robot models, ten times the random samples (another seed, four
 #: times the refined starts) and two to four times the grid points lowered no pair's
 #: minimum distance by more than 0.02 mm (2026-11-23, docs/benchmarks.md "Self-collision
-#: pairs"); the rest covers what the convex hulls and the sampled ranges leave out (a
+#: pairs and the cost of collision detection"); the rest covers what the convex hulls and the sampled ranges leave out (a
 #: tolerance of the geometry, not of the sampling).
 MARGIN = 0.01
 #: How far (rad) a hinge is sampled past each limit: the soft limits let a joint driven

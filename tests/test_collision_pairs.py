@@ -145,3 +145,21 @@ def test_a_real_robot_pair_of_each_kind() -> None:
     )
     assert apart.method == "grid" and apart.never_touching and apart.bound > 0.05
     assert meeting.method == "random" and meeting.min_distance < 0 and not meeting.never_touching
+
+
+def test_collision_profile_counts_the_floor_pair_of_a_resting_ball() -> None:
+    import numpy as np
+
+    model = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><geom type="plane" size="1 1 0.1"/>'
+        '<body name="ball" pos="0 0 0.2"><freejoint/><geom type="sphere" size="0.05"/></body>'
+        "</worldbody></mujoco>"
+    )
+    # 1 s at 2 ms: the ball falls 0.15 m in 0.17 s and rests; the bounding-sphere test
+    # lets the pair through from 5 cm above the floor (its radius) on
+    profile = collisions.collision_profile(model, model.qpos0.copy(), np.zeros((10, 0)), 50)
+    share = profile.narrow_pairs[("world", "ball")]
+    assert 0.8 < share <= 1.0
+    assert 0.8 < profile.contacts <= 1.0
+    assert 0.0 < profile.shares["collision"] < 1.0
+    assert profile.shares["broad"] + profile.shares["narrow"] <= profile.shares["collision"] + 1e-9

@@ -120,7 +120,10 @@ def compare(
     if not peer.ready:
         env_one.close()
         env_many.close()
-        return f"{row} | - | peer did not run: {peer.status[:100]} | - | - | - | - | - |"
+        why = (
+            "the peer has no such mode for this robot" if "not in supported modes" in peer.status else peer.status[:100]
+        )
+        return f"{row} | - | - | {why} | - | - | - | - |"
     pool = PeerPool(python, peer_uid, mode, cores)
     loops: list[Callable[[int], None]] = [one, peer.loop]
     if pool.ready:

@@ -110,13 +110,13 @@ class Koch(Agent):
 
     uid = "koch-v1.1"
     #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
-    #: step): every claim holds from 3.125 ms (320 Hz) down to 1 ms (the 22.3 mm cube
-    #: held 0.4 edge in from the grasp point, 0.9-1.25 mm of slip in the 2 s hold; joint-
-    #: limit overshoot 0.08-0.19 rad at every step); at 200 Hz the cube slips 2.5 mm. The
-    #: critically damped 0.2 rad joint step (tests/test_servo_arms.py) overshoots past
-    #: 1 mrad at 200 Hz and holds at 400 Hz: default 400 Hz, one tried step finer than
-    #: 320 Hz (margin: 2.5 ms against 3.125 ms).
-    sim_freq = 400
+    #: step): with the pads' near-rigid contact (koch.xml) every claim holds from 12.5 ms
+    #: (80 Hz) down to 1 ms (grasp slip 1.2 mm at 80 Hz, 0.1 mm at 200 Hz; it was 2.5 mm
+    #: at 200 Hz with the softer pads, whose claims held only from 320 Hz; joint-limit
+    #: overshoot 0.09-0.2 rad). The critically damped 0.2 rad joint step
+    #: (tests/test_servo_arms.py) overshoots past 1 mrad at 100-200 Hz and holds at
+    #: 320 Hz: default 320 Hz (was 400), set by that test, not by the claims' margin.
+    sim_freq = 320
     mjcf_path = ASSETS / "koch.xml"
     actuators = (KOCH_DRIVES,)
     parts = (KOCH_ARM, KOCH_GRIPPER)

@@ -10,10 +10,11 @@ default ``sim_freq``, control 20 Hz):
    it ran with and its number of substeps (one call of ``substeps`` steps, or one per
    substep in modes with substep hooks: interpolated targets, explicit PD drives), and
    each joint-state write after the physics (kinematic bases and wheels move by the
-   commanded velocity; MuJoCo's ``mj_forward`` follows each write).
+   commanded velocity; MuJoCo's ``mj_forward`` follows each write, or only
+   ``mj_kinematics`` and ``mj_camlight`` for writes that only move bodies: wheels, held legs).
 2. **Raw replay** (the denominator): from the same start state, a bare Python loop on a
    plain ``MjData`` of the same model redoes exactly those calls: ``data.ctrl[:] = u``,
-   ``mj_step(model, data, n)``, the recorded joint-state writes with ``mj_forward``,
+   ``mj_step(model, data, n)``, the recorded joint-state writes with the same MuJoCo calls,
    then the minimum that reading the same observation needs: ``mj_kinematics`` (body
    poses at the stepped ``qpos``; ``mj_step`` leaves them one substep behind) and one
    ``np.concatenate`` of ``qpos``, ``qvel``, ``ctrl`` and the tool body's position and
@@ -106,9 +107,11 @@ def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[A
         calls.append(("step", world.ctrl[0].copy(), nstep))
         step_all(nstep)
 
-    def recording_write(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any) -> None:
-        calls.append(("write", np.asarray(qpos_adr), np.array(qpos)[0], np.asarray(dof_adr), np.array(qvel)[0]))
-        write(env_ids, qpos_adr, qpos, dof_adr, qvel)
+    def recording_write(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
+        calls.append(
+            ("write", np.asarray(qpos_adr), np.array(qpos)[0], np.asarray(dof_adr), np.array(qvel)[0], forward)
+        )
+        write(env_ids, qpos_adr, qpos, dof_adr, qvel, forward)
 
     world._step_all, world.write_joint_state = recording_step_all, recording_write
     if step_single is not None:
@@ -178,7 +181,11 @@ def measure(
                     data.qpos[call[1]] = call[2]
                     data.qvel[call[3]] = call[4]
                     data.qacc_warmstart[:] = 0.0
-                    mujoco.mj_forward(model, data)
+                    if call[5]:
+                        mujoco.mj_forward(model, data)
+                    else:
+                        mujoco.mj_kinematics(model, data)
+                        mujoco.mj_camlight(model, data)
             mujoco.mj_kinematics(model, data)
             np.concatenate((data.qpos, data.qvel, data.ctrl, data.xpos[body], data.xquat[body]), dtype=np.float32)
             cursor["replay"] += 1

@@ -6,6 +6,7 @@ base, in joint and end-effector modes, and after a mode switch."""
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -104,7 +105,7 @@ def test_one_env_wheel_turning_matches_the_batched_arithmetic_bit_for_bit() -> N
     env.reset(seed=0)
     base = env.agent.mobile
     written: list[tuple[np.ndarray, np.ndarray]] = []
-    base.world.write_joint_state = lambda ids, qa, q, da, v: written.append((q[0].copy(), v[0].copy()))
+    base.world.write_joint_state = lambda ids, qa, q, da, v, forward=True: written.append((q[0].copy(), v[0].copy()))
     rng = np.random.default_rng(0)
     for k in range(300):
         base._mount_yaw = float(rng.uniform(-np.pi, np.pi))
@@ -121,3 +122,31 @@ def test_one_env_wheel_turning_matches_the_batched_arithmetic_bit_for_bit() -> N
         (single_q, single_v), (batch_q, batch_v) = written
         assert np.array_equal(single_q, batch_q) and np.array_equal(single_v, batch_v), k
     env.close()
+
+
+def full_forward_write(world: Any, *args: Any, forward: bool = True) -> None:
+    """``write_joint_state`` always followed by ``mj_forward``."""
+    type(world).write_joint_state(world, *args, forward=True)
+
+
+def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> None:
+    """Wheels and held legs are written after a step with poses recomputed only
+    (``forward=False``: ``mj_kinematics`` and cameras, not ``mj_forward``): the
+    trajectory, the observations and the body poses are bit for bit those of a full
+    ``mj_forward`` after each write."""
+    results = []
+    for full in (False, True):
+        env = ra.make_env("Empty-v1", robot_uids="stretch", max_episode_steps=None).unwrapped
+        world = env.scene.world
+        if full:
+            world.write_joint_state = functools.partial(full_forward_write, world)
+        env.reset(seed=2)
+        rng = np.random.default_rng(0)
+        observations = [env.step(rng.uniform(-1, 1, env.action_space.shape[-1]))[0] for _ in range(30)]
+        data = world.datas[0]
+        results.append(
+            (np.concatenate(observations), env.get_state()["physics"], data.xpos.copy(), data.cam_xpos.copy())
+        )
+        env.close()
+    for fast, full in zip(*results, strict=True):
+        assert np.array_equal(fast, full)

@@ -266,7 +266,9 @@ class Agent(AgentDefinition):
         self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
         if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
             pose = self.drives.targets.position[:, self._held_columns]
-            self.world.write_joint_state(self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel)
+            self.world.write_joint_state(
+                self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel, forward=False
+            )
 
     def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
         """What the last control step reports, per env (``(num_envs,)`` arrays): the

@@ -270,7 +270,9 @@ class MobileBase:
         travel[:, half:] = (forward + differential)[:, None]
         rolled = travel / self.wheel_radius
         angles = wheel_start + rolled  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt)
+        self.world.write_joint_state(
+            self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
+        )
 
     def _turn_wheels_single(
         self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float
@@ -292,4 +294,6 @@ class MobileBase:
         radius = self.wheel_radius
         rolled = np.array([[(forward - differential) / radius] * half + [(forward + differential) / radius] * half])
         angles = wheel_start + rolled  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt)
+        self.world.write_joint_state(
+            self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
+        )

@@ -70,8 +70,12 @@ class SimBackend(Protocol):
         qpos: FloatArray,
         dof_adr: npt.ArrayLike,
         qvel: FloatArray,
+        forward: bool = True,
     ) -> None:
-        """Set joint positions and velocities of some envs."""
+        """Set joint positions and velocities of some envs. ``forward``: recompute every
+        derived quantity (contacts, sensors, ...); ``False``: body and camera poses only,
+        for a write after a step that only moves bodies (the next step recomputes the
+        rest from the joint state)."""
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
         """Reset envs to one integration state."""

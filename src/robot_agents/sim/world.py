@@ -318,18 +318,25 @@ class BatchedWorld:
         qpos: FloatArray,
         dof_adr: npt.ArrayLike,
         qvel: FloatArray,
+        forward: bool = True,
     ) -> None:
         """Set ``qpos[adr]`` / ``qvel[adr]`` of ``env_ids`` (rows of ``qpos`` / ``qvel``),
-        clear the solver's warm start and recompute derived quantities."""
+        clear the solver's warm start and recompute derived quantities (``forward=False``:
+        body and camera poses only, as after a step: ``mj_kinematics``, ``mj_camlight``)."""
         ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
+        model = self.model
         for row, env in enumerate(ids):
             data = self.datas[env]
             data.qpos[qa] = qpos[row]
             data.qvel[da] = qvel[row]
             data.qacc_warmstart[:] = 0.0
             data.ctrl[:] = self.ctrl[env]
-            mujoco.mj_forward(self.model, data)
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
         self._cache.clear()
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:

@@ -34,28 +34,9 @@ import numpy as np
 from robot_agents.agent import Agent
 from robot_agents.agent.declaration import check
 from robot_agents.registry import get_agent, list_agents
-from robot_agents.sim.scene import Scene
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
 from robot_agents.tuning.collisions import collision_profile, geom_pairs, never_touching_pairs
-
-
-def controls(cls: type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.MjModel, np.ndarray, np.ndarray, int]:
-    """The scene's model, its start qpos, the ctrl sequence the library's controller
-    produced for seeded random delta actions, and the physics steps per control step."""
-    scene = Scene(cls, control_modes="pd_joint_delta_pos")
-    scene.reset()
-    agent = scene.agents[0]
-    start = scene.world.render_sources([0])[0].qpos.copy()
-    rng = np.random.default_rng(seed)
-    space = agent.action_space
-    sequence = []
-    for _ in range(steps):
-        agent.set_action(rng.uniform(space.low, space.high) * 0.3)
-        scene.step()
-        sequence.append(scene.world.render_sources([0])[0].ctrl.copy())
-    model = scene.model
-    substeps = round(1.0 / (model.opt.timestep * scene.control_freq))
-    scene.close()
-    return model, start, np.array(sequence), substeps
+from sim_options import controls
 
 
 def scene_model(cls: type[Agent], floor: bool = True) -> mujoco.MjModel:
@@ -184,7 +165,8 @@ def measure(uid: str, rounds: int, steps: int) -> tuple[str, str]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         pairs = () if cls.disable_self_collisions else never_touching_pairs(cls)
-        base, start, ctrl, substeps = controls(cls, steps)
+        base, start, ctrl = controls(cls, steps)
+        substeps = round(1.0 / (base.opt.timestep * DEFAULT_CONTROL_FREQ))
         models = {"as built": base}
         if pairs:
             models["excluded"] = scene_model(with_exclusions(cls, pairs))

@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 import mujoco
 import numpy as np
 
+from robot_agents.agent import Agent
 from robot_agents.sim.scene import Scene
 
 Variant = Callable[[mujoco.MjModel], None]
@@ -54,9 +55,9 @@ VARIANTS: dict[str, Variant | None] = {
 }
 
 
-def controls(uid: str, steps: int, seed: int = 0) -> tuple[mujoco.MjModel, np.ndarray, np.ndarray]:
+def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.MjModel, np.ndarray, np.ndarray]:
     """The scene's model, its start state (qpos) and the ctrl sequence the library's
-    controller produced for random delta actions."""
+    controller produced for random delta actions (also used by ``collision_pairs.py``)."""
     scene = Scene(uid, control_modes="pd_joint_delta_pos")
     scene.reset()
     agent = scene.agents[0]

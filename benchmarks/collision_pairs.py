@@ -36,7 +36,7 @@ from robot_agents.agent.declaration import check
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
 from robot_agents.tuning.collisions import collision_profile, geom_pairs, never_touching_pairs
-from sim_options import controls
+from sim_options import controls, replay
 
 
 def scene_model(cls: type[Agent], floor: bool = True) -> mujoco.MjModel:
@@ -93,17 +93,6 @@ def with_visual_geoms_apart(cls: type[Agent]) -> type[Agent]:
 
     Apart.__name__ = cls.__name__
     return Apart
-
-
-def replay(model: mujoco.MjModel, start: np.ndarray, ctrl: np.ndarray, substeps: int) -> tuple[float, np.ndarray]:
-    """Seconds for the replay and the final qpos."""
-    data = mujoco.MjData(model)
-    data.qpos[:] = start
-    begin = time.perf_counter()
-    for row in ctrl:
-        data.ctrl[:] = row
-        mujoco.mj_step(model, data, nstep=substeps)
-    return time.perf_counter() - begin, data.qpos.copy()
 
 
 def poses(model: mujoco.MjModel, start: np.ndarray, ctrl: np.ndarray, substeps: int) -> np.ndarray:

@@ -75,6 +75,18 @@ def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.
     return model, start, np.array(sequence)
 
 
+def replay(model: mujoco.MjModel, start: np.ndarray, ctrl: np.ndarray, substeps: int) -> tuple[float, np.ndarray]:
+    """Seconds for replaying ``ctrl`` (one row per control step) from ``start``, and the
+    final qpos (also used by ``collision_pairs.py``)."""
+    data = mujoco.MjData(model)
+    data.qpos[:] = start
+    begin = time.perf_counter()
+    for row in ctrl:
+        data.ctrl[:] = row
+        mujoco.mj_step(model, data, nstep=substeps)
+    return time.perf_counter() - begin, data.qpos.copy()
+
+
 def copy_model(model: mujoco.MjModel) -> mujoco.MjModel:
     import copy
 
@@ -93,13 +105,8 @@ def run(uid: str, blocks: int, steps: int) -> str:
     rates: dict[str, list[float]] = {name: [] for name in models}
     for _ in range(blocks):
         for name, model in models.items():
-            data = mujoco.MjData(model)
-            data.qpos[:] = start
-            begin = time.perf_counter()
-            for row in ctrl:
-                data.ctrl[:] = row
-                mujoco.mj_step(model, data, nstep=substeps)
-            rates[name].append(len(ctrl) / (time.perf_counter() - begin))
+            seconds, _ = replay(model, start, ctrl, substeps)
+            rates[name].append(len(ctrl) / seconds)
     reference = float(np.median(rates["as built"]))
     lines = [f"### `{uid}` ({1 / base.opt.timestep:.0f} Hz, {substeps} substeps per control step)", ""]
     lines += ["| variant | control steps/s (median) | ratio to as built |", "|---|---|---|"]

@@ -161,7 +161,11 @@ class Spot(Agent):
     #: 1.0-1.2 mm, random-action joint-limit overshoot 0.02-0.13 rad) now that the jaw's
     #: limit is stiff (solreflimit 0.005 s; with MuJoCo's default 0.02 s the light jaw was
     #: thrown 0.2-0.3 rad past it at most steps); at 100 Hz the arm overshoots 1.07 rad.
-    #: Default one tried step finer, 200 Hz (margin: 5 ms against 6.25 ms). No standing claim: the base is kinematic (its planar
+    #: Default one tried step finer, 200 Hz (margin: 5 ms against 6.25 ms). (Rerun 13:15
+    #: UTC, after the IK's active set lets pd_ee_pose reach targets near the body: at
+    #: 800 Hz one seed's random targets press the jaw into the front-left lower leg and pry
+    #: it 0.29 rad past its stop; 160-500 Hz and 1 kHz hold, and seeds 1-2 hold at 200
+    #: and 800 Hz: a self-collision of that trajectory, not ordered by the step.) No standing claim: the base is kinematic (its planar
     #: joints are set from the commanded velocity) and the legs, held in their standing
     #: pose, carry no weight, so there is nothing to fall.
     sim_freq: ClassVar[int | None] = 200

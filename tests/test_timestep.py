@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import io
-import shutil
 from pathlib import Path
 from typing import ClassVar
 
@@ -213,7 +212,7 @@ def test_grasp_claim_tries_the_cube_deeper_between_the_fingers(tmp_path: Path) -
 
 #: The robots whose fingertip contacts were made near-rigid (issue 14): the slip (m) each
 #: must stay under at its default step, and the (fixed, former) texts that restore the
-#: former contact in its model file (with MuJoCo's soft friction the held cube then
+#: former contact in its model files (with MuJoCo's soft friction the held cube then
 #: creeps out).
 NEAR_RIGID = 'solref="0.01 1" solimp="0.9999 0.9999 0.01"'
 FIXED_GRASPS: dict[str, tuple[float, tuple[tuple[str, str], ...]]] = {
@@ -228,8 +227,9 @@ FIXED_GRASPS: dict[str, tuple[float, tuple[tuple[str, str], ...]]] = {
             (NEAR_RIGID, 'solref="0.002 1" solimp="0.95 0.99 0.001"'),
         ),
     ),
-    "so100": (0.001, ((f' condim="4" {NEAR_RIGID}', ""),)),
-    "koch-v1.1": (0.001, ((f' condim="4" {NEAR_RIGID}', ""),)),
+    # both through their shared pad class (servo_arm_defaults.xml)
+    "so100": (0.001, ((f'condim="4" {NEAR_RIGID}', 'solref="0.002 1" solimp="0.95 0.99 0.001"'),)),
+    "koch-v1.1": (0.001, ((f'condim="4" {NEAR_RIGID}', 'solref="0.002 1" solimp="0.95 0.99 0.001"'),)),
 }
 #: Those whose former contact failed the claim at the default step (the Koch's softer
 #: pads held its cube 0.4-0.6 edge deep instead, and let it creep 2.5 mm at 200 Hz
@@ -242,14 +242,14 @@ def former_contact_variant(uid: str, tmp_path: Path) -> type[ra.Agent]:
     model files with the fixed texts of :data:`FIXED_GRASPS` put back."""
     cls = ra.get_agent(uid)
     path = Path(str(cls.mjcf_path))
-    text = path.read_text()
+    # the model file and the default files it includes
+    texts = {sibling.name: sibling.read_text() for sibling in path.parent.glob("*.xml")}
     for fixed, former in FIXED_GRASPS[uid][1]:
-        assert fixed in text
-        text = text.replace(fixed, former)
-    assert NEAR_RIGID not in text
-    for sibling in path.parent.glob("*.xml"):  # with the default files it includes
-        shutil.copy(sibling, tmp_path / sibling.name)
-    (tmp_path / path.name).write_text(text)
+        assert any(fixed in text for text in texts.values()), fixed
+        texts = {name: text.replace(fixed, former) for name, text in texts.items()}
+    for name, text in texts.items():
+        assert NEAR_RIGID not in text, name
+        (tmp_path / name).write_text(text)
     return type(f"Former{cls.__name__}", (cls,), {"uid": "", "mjcf_path": tmp_path / path.name})
 
 

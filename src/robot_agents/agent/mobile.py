@@ -248,13 +248,19 @@ class MobileBase:
         return hit
 
     def _turn_wheels(self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float) -> None:
+        """Turn the wheels by the base's motion from ``start`` to ``end`` (``(num_envs, 3)``),
+        from their angles at the step's start (physics does not turn passive wheels)."""
+        rolled = self._wheel_roll_single(start[0], end[0]) if start.shape[0] == 1 else self._wheel_roll(start, end)
+        angles = wheel_start + rolled  # what physics did to the wheels is overwritten
+        self.world.write_joint_state(
+            self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
+        )
+
+    def _wheel_roll(self, start: FloatArray, end: FloatArray) -> FloatArray:
         """Differential kinematics: left wheels roll ``v - w b / 2``, right wheels
-        ``v + w b / 2`` (``v`` forward travel, ``w`` yaw change, ``b`` separation),
-        from the angles at the step's start (physics does not turn passive wheels)."""
+        ``v + w b / 2`` (``v`` forward travel, ``w`` yaw change, ``b`` separation), in
+        rad, ``(num_envs, wheels)``."""
         n = start.shape[0]
-        if n == 1:
-            self._turn_wheels_single(start[0], end[0], wheel_start, control_dt)
-            return
         turn = wrap_angle(end[:, 2] - start[:, 2])
         heading = start[:, 2] + self._mount_yaw + 0.5 * turn
         # the slides move along the mount frame's axes; the heading is world yaw
@@ -268,21 +274,16 @@ class MobileBase:
         travel = np.empty((n, 2 * half))
         travel[:, :half] = (forward - differential)[:, None]
         travel[:, half:] = (forward + differential)[:, None]
-        rolled = travel / self.wheel_radius
-        angles = wheel_start + rolled  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(
-            self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
-        )
+        rolled: FloatArray = travel / self.wheel_radius
+        return rolled
 
-    def _turn_wheels_single(
-        self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float
-    ) -> None:
-        """:meth:`_turn_wheels` of one env (``start`` / ``end`` ``(3,)``): the same
-        operations in the same order on scalars (Python floats for the arithmetic,
-        NumPy's own ``mod`` / ``cos`` / ``sin``), so bit for bit the same, without a
-        dozen calls on one-element arrays."""
+    def _wheel_roll_single(self, start: FloatArray, end: FloatArray) -> FloatArray:
+        """:meth:`_wheel_roll` of one env (``start`` / ``end`` ``(3,)``), ``(1, wheels)``:
+        the same operations in the same order on scalars (Python floats for the
+        arithmetic, NumPy's own ``mod`` / ``cos`` / ``sin``), so bit for bit the same,
+        without a dozen calls on one-element arrays."""
         x0, y0, yaw0 = float(start[0]), float(start[1]), float(start[2])
-        turn = float(np.pi - np.mod(np.pi - (float(end[2]) - yaw0), 2 * np.pi))
+        turn = float(wrap_angle(end[2] - start[2]))
         heading = yaw0 + self._mount_yaw + 0.5 * turn
         c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
         moved_x, moved_y = float(end[0]) - x0, float(end[1]) - y0
@@ -292,8 +293,4 @@ class MobileBase:
         half = len(self.wheels) // 2
         differential = 0.5 * self.wheel_separation * turn
         radius = self.wheel_radius
-        rolled = np.array([[(forward - differential) / radius] * half + [(forward + differential) / radius] * half])
-        angles = wheel_start + rolled  # what physics did to the wheels is overwritten
-        self.world.write_joint_state(
-            self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
-        )
+        return np.array([[(forward - differential) / radius] * half + [(forward + differential) / radius] * half])

@@ -2,7 +2,8 @@
 own ``sim_freq`` (docs/timestep.md, "What the new defaults buy").
 
 ``Empty-v1``, ``pd_joint_delta_pos``, one env, zero actions, the two envs timed in
-alternating blocks of 100 steps (``--rounds``, default 8), wall clock.
+alternating blocks of 100 steps after a warm-up block (``--rounds``, default 8), wall
+clock (``step_throughput.interleaved``).
 
     python benchmarks/default_step_speedup.py floating_panda_gripper so100 stretch
 
@@ -13,12 +14,12 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 import robot_agents as ra
+from step_throughput import interleaved
 
 
 def speedup(uid: str, rounds: int, block: int = 100) -> str:
@@ -31,14 +32,15 @@ def speedup(uid: str, rounds: int, block: int = 100) -> str:
         env.reset(seed=0)
         envs.append(env)
     zero = np.zeros(envs[0].action_space.shape[-1], dtype=np.float32)
-    seconds = [0.0, 0.0]
-    for _ in range(rounds):
-        for i, env in enumerate(envs):
-            start = time.perf_counter()
-            for _ in range(block):
+
+    def stepping(env: ra.RobotEnv) -> Callable[[int], None]:
+        def loop(count: int) -> None:
+            for _ in range(count):
                 env.step(zero)
-            seconds[i] += time.perf_counter() - start
-    at_500, at_default = rounds * block / seconds[0], rounds * block / seconds[1]
+
+        return loop
+
+    at_500, at_default = interleaved([stepping(env) for env in envs], rounds, block)
     default = envs[1].sim_freq
     for env in envs:
         env.close()

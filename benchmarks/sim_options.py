@@ -4,9 +4,13 @@ it, timed in alternating blocks within one run (machine noise hits all alike).
 
     python benchmarks/sim_options.py                # panda so100 ur_10e
     python benchmarks/sim_options.py widowxai --blocks 10
+    python benchmarks/sim_options.py --all --clock cpu --variants "as built,midphase off"
 
 The arm replays the same recorded control sequence (random pd_joint_delta_pos actions
-from the library's own controller) in every variant. Not run in CI.
+from the library's own controller) in every variant. The table also says whether each
+variant ends in the same state as the scene as built, bit for bit (``same``): an option
+that only skips work (MuJoCo's midphase) must, one that changes the physics will not.
+Not run in CI.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from collections.abc import Callable, Sequence
 import mujoco
 import numpy as np
 
+from robot_agents import list_agents
 from robot_agents.agent import Agent
 from robot_agents.sim.scene import Scene
 
@@ -52,7 +57,14 @@ VARIANTS: dict[str, Variant | None] = {
     "jacobian dense": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_DENSE)),
     "jacobian sparse": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_SPARSE)),
     "warmstart off": _flag(int(mujoco.mjtDisableBit.mjDSBL_WARMSTART), False),
+    # MuJoCo's midphase: a bounding-volume tree over each body's geoms, walked for every
+    # body pair the broadphase passes; off, every geom pair of the two bodies goes to
+    # the bounding-sphere filter instead (contacts and their order are the same).
+    "midphase off": _flag(int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE), False),
+    # Constraint islands: the solver works on each group of coupled trees separately.
+    "islands off": _flag(int(mujoco.mjtDisableBit.mjDSBL_ISLAND), False),
 }
+CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}
 
 
 def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.MjModel, np.ndarray, np.ndarray]:
@@ -75,16 +87,22 @@ def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.
     return model, start, np.array(sequence)
 
 
-def replay(model: mujoco.MjModel, start: np.ndarray, ctrl: np.ndarray, substeps: int) -> tuple[float, np.ndarray]:
-    """Seconds for replaying ``ctrl`` (one row per control step) from ``start``, and the
-    final qpos (also used by ``collision_pairs.py``)."""
+def replay(
+    model: mujoco.MjModel,
+    start: np.ndarray,
+    ctrl: np.ndarray,
+    substeps: int,
+    clock: Callable[[], float] = time.perf_counter,
+) -> tuple[float, np.ndarray]:
+    """Seconds (of ``clock``) for replaying ``ctrl`` (one row per control step) from
+    ``start``, and the final qpos (also used by ``collision_pairs.py``)."""
     data = mujoco.MjData(model)
     data.qpos[:] = start
-    begin = time.perf_counter()
+    begin = clock()
     for row in ctrl:
         data.ctrl[:] = row
         mujoco.mj_step(model, data, nstep=substeps)
-    return time.perf_counter() - begin, data.qpos.copy()
+    return clock() - begin, data.qpos.copy()
 
 
 def copy_model(model: mujoco.MjModel) -> mujoco.MjModel:
@@ -93,38 +111,60 @@ def copy_model(model: mujoco.MjModel) -> mujoco.MjModel:
     return copy.copy(model)
 
 
-def run(uid: str, blocks: int, steps: int) -> str:
+def run(
+    uid: str, blocks: int, steps: int, variants: Sequence[str] = tuple(VARIANTS), clock: str = "wall"
+) -> tuple[str, dict[str, float]]:
+    """The markdown table of one robot and each variant's ratio to the scene as built."""
     base, start, ctrl = controls(uid, steps)
     substeps = round(1.0 / (base.opt.timestep * 20))
     models = {}
-    for name, variant in VARIANTS.items():
+    for name in ["as built", *(v for v in variants if v != "as built")]:
         copy = copy_model(base)
+        variant = VARIANTS[name]
         if variant is not None:
             variant(copy)
         models[name] = copy
     rates: dict[str, list[float]] = {name: [] for name in models}
+    finals: dict[str, np.ndarray] = {}
     for _ in range(blocks):
         for name, model in models.items():
-            seconds, _ = replay(model, start, ctrl, substeps)
+            seconds, finals[name] = replay(model, start, ctrl, substeps, CLOCKS[clock])
             rates[name].append(len(ctrl) / seconds)
     reference = float(np.median(rates["as built"]))
     lines = [f"### `{uid}` ({1 / base.opt.timestep:.0f} Hz, {substeps} substeps per control step)", ""]
-    lines += ["| variant | control steps/s (median) | ratio to as built |", "|---|---|---|"]
+    lines += ["| variant | control steps/s (median) | ratio to as built | same final state |", "|---|---|---|---|"]
+    ratios = {}
     for name, values in rates.items():
         median = float(np.median(values))
-        lines.append(f"| {name} | {median:.0f} | {median / reference:.2f} |")
-    return "\n".join(lines)
+        ratios[name] = median / reference
+        same = "yes" if np.array_equal(finals[name], finals["as built"]) else "no"
+        lines.append(f"| {name} | {median:.0f} | {median / reference:.2f} | {same} |")
+    return "\n".join(lines), ratios
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("uids", nargs="*", default=["panda", "so100", "ur_10e"])
+    parser.add_argument("--all", action="store_true", help="every registered robot")
     parser.add_argument("--blocks", type=int, default=5)
     parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--variants", default=",".join(VARIANTS), help=f"comma-separated, of: {', '.join(VARIANTS)}")
+    parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="cpu: this process's CPU time")
     args = parser.parse_args(argv)
-    print(f"load average {os.getloadavg()[0]:.2f}\n")
-    for uid in args.uids:
-        print(run(uid, args.blocks, args.steps) + "\n")
+    variants = [v.strip() for v in args.variants.split(",")]
+    unknown = [v for v in variants if v not in VARIANTS]
+    if unknown:
+        parser.error(f"unknown variants {unknown}; available: {list(VARIANTS)}")
+    uids = list_agents() if args.all else args.uids
+    print(f"load average {os.getloadavg()[0]:.2f}, clock {args.clock}, {args.blocks} blocks\n")
+    summary = []
+    for uid in uids:
+        table, ratios = run(uid, args.blocks, args.steps, variants, args.clock)
+        print(table + "\n", flush=True)
+        summary.append(f"| `{uid}` | " + " | ".join(f"{ratios[v]:.2f}" for v in ratios if v != "as built") + " |")
+    shown = [v for v in ["as built", *variants] if v != "as built"]
+    print("| robot | " + " | ".join(shown) + " |\n|---|" + "---|" * len(shown))
+    print("\n".join(summary))
     return 0
 
 

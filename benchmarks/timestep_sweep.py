@@ -4,6 +4,7 @@ physics step (largest first) and the largest step at which all hold.
     python benchmarks/timestep_sweep.py                 # every registered robot, every step
     python benchmarks/timestep_sweep.py panda so100     # just these
     python benchmarks/timestep_sweep.py --quick panda   # finest step, then stop after two passes
+    python benchmarks/timestep_sweep.py --seeds 0 so100 # one random-action sequence (default: 0,1,2)
     python benchmarks/timestep_sweep.py --output docs/timestep-sweep.md
 
 Writes a markdown report (summary table, then each robot's table) to ``--output``
@@ -19,15 +20,16 @@ import time
 from collections.abc import Sequence
 
 import robot_agents as ra
-from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, SweepResult, sweep_timestep
+from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, RANDOM_SEEDS, SweepResult, sweep_timestep
 
 
-def report(results: Sequence[SweepResult], seconds: Sequence[float]) -> str:
+def report(results: Sequence[SweepResult], seconds: Sequence[float], seeds: Sequence[int]) -> str:
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines = [
         "# Time-step sweep",
         "",
-        f"MuJoCo physics steps tried among the divisors of the control period; load average {load:.2f}.",
+        "MuJoCo physics steps tried among the divisors of the control period; random actions with seeds "
+        f"{', '.join(map(str, seeds))} (each must pass); load average {load:.2f}.",
         "",
         "| robot | largest passing sim_freq (Hz) | claims failing at every step | largest passing, other claims (Hz) "
         "| declared sim_freq | sweep time (s) |",
@@ -52,6 +54,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--output", default=None, help="markdown file to write (default: stdout)")
     parser.add_argument("--substeps", default=",".join(map(str, DEFAULT_SUBSTEPS)), help="substep counts to try")
     parser.add_argument(
+        "--seeds", default=",".join(map(str, RANDOM_SEEDS)), help="seeds of the random-action claim (each must pass)"
+    )
+    parser.add_argument(
         "--quick",
         action="store_true",
         help="measure the finest step, then stop after two coarser passes (default: every step; a robot near "
@@ -60,14 +65,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     uids = args.uids or ra.list_agents()
     substeps = [int(n) for n in args.substeps.split(",")]
+    seeds = [int(n) for n in args.seeds.split(",")]
     results, seconds = [], []
     for uid in uids:
         start = time.perf_counter()
-        result = sweep_timestep(uid, substeps=substeps, stop_after=2 if args.quick else None)
+        result = sweep_timestep(uid, substeps=substeps, seeds=seeds, stop_after=2 if args.quick else None)
         seconds.append(time.perf_counter() - start)
         results.append(result)
         print(f"{uid}: largest passing {result.largest_passing} Hz ({seconds[-1]:.1f} s)", file=sys.stderr)
-    text = report(results, seconds)
+    text = report(results, seconds, seeds)
     if args.output:
         with open(args.output, "w", encoding="utf-8") as handle:
             handle.write(text)

@@ -30,6 +30,7 @@ from robot_agents.tuning.timestep import (
     SweepResult,
     _grasp,
     _Penetration,
+    _random,
     measure_step,
     sweep_timestep,
 )
@@ -162,7 +163,7 @@ def test_stiff_joint_limits_keep_random_actions_within_the_overshoot_bound(uid: 
 
 
 def test_measure_step_reports_every_claim() -> None:
-    result = measure_step(Panda, 500)
+    result = measure_step(Panda, 500, seeds=(0,))
     assert [c.name for c in result.claims] == list(CLAIMS)
     assert result.passed, result.claims
     tracking = result.claim("ee_tracking")
@@ -313,7 +314,7 @@ def test_a_claim_failing_at_every_step_does_not_limit_the_step() -> None:
 
 def test_sweep_measures_the_finest_step_first_and_stops_after_two_passes() -> None:
     seen: list[int] = []
-    result = sweep_timestep("panda", substeps=(2, 20, 25, 50), progress=lambda s: seen.append(s.sim_freq))
+    result = sweep_timestep("panda", substeps=(2, 20, 25, 50), seeds=(0,), progress=lambda s: seen.append(s.sim_freq))
     assert seen == [1000, 40, 400, 500]
     assert [s.sim_freq for s in result.steps] == [40, 400, 500, 1000]
     assert result.largest_passing == 400
@@ -321,7 +322,7 @@ def test_sweep_measures_the_finest_step_first_and_stops_after_two_passes() -> No
 
 def test_sweep_finds_a_failing_coarse_step_and_a_passing_fine_one() -> None:
     """At 40 Hz (two substeps per 20 Hz action) the WidowX 250 S's claims fail; at 160 Hz they hold."""
-    result = sweep_timestep("widowx250s", substeps=(2, 8), stop_after=None)
+    result = sweep_timestep("widowx250s", substeps=(2, 8), seeds=(0,), stop_after=None)
     by_freq = {s.sim_freq: s for s in result.steps}
     assert not by_freq[40].passed
     assert by_freq[160].passed
@@ -334,6 +335,22 @@ def test_sweep_rejects_bad_input() -> None:
         sweep_timestep("so100", substeps=(0,))
     with pytest.raises(ConfigError):
         sweep_timestep(int)  # type: ignore[arg-type]
+    for seeds in ((), (-1,), (0.5,), "0", 3):
+        with pytest.raises(ConfigError, match="seeds"):
+            sweep_timestep("so100", seeds=seeds)  # type: ignore[arg-type]
+        with pytest.raises(ConfigError, match="seeds"):
+            measure_step(SO100, 200, seeds=seeds)  # type: ignore[arg-type]
+
+
+def test_random_claim_reports_the_worst_of_its_seeds() -> None:
+    """Each seed is its own action sequence; the claim's value is the worst over them,
+    reported with the mode and seed where it happened."""
+    single = {seed: _random(SO100, 200, 20, (seed,), _Penetration())[0] for seed in (0, 1)}
+    both = _random(SO100, 200, 20, (0, 1), _Penetration())[0]
+    assert single[0].value != single[1].value  # two different sequences
+    assert both.value == max(single[0].value, single[1].value)
+    worst = max((0, 1), key=lambda seed: single[seed].value)
+    assert f"(seed {worst})" in both.detail and "(seed" not in single[0].detail
 
 
 def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -341,7 +358,7 @@ def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
 
     monkeypatch.setattr(timestep, "DEFAULT_SUBSTEPS", (25,))
     real = timestep.sweep_timestep
-    monkeypatch.setattr(timestep, "sweep_timestep", lambda cls, stop_after=None: real(cls, substeps=(25,)))
+    monkeypatch.setattr(timestep, "sweep_timestep", lambda cls, stop_after=None: real(cls, substeps=(25,), seeds=(0,)))
     out = io.StringIO()
     code = cmd_check("widowx250s", out, sweep=True)
     text = out.getvalue()

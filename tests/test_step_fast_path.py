@@ -34,7 +34,7 @@ def _bits(value: Any) -> np.ndarray:
 
 
 def _general_obs(env: Any) -> np.ndarray:
-    return np.concatenate(env._state_arrays(), axis=1, dtype=np.float32)
+    return np.concatenate(env._observation.state_arrays(), axis=1, dtype=np.float32)
 
 
 @pytest.mark.parametrize(("uid", "mode", "task"), CASES)

@@ -7,7 +7,8 @@ backend (:class:`~robot_agents.sim.backend.SimBackend`): every array it returns 
 leading ``num_envs`` axis and is a copy. What the instance does is split by concept:
 names to addresses (:mod:`.index`), frames (:mod:`.frames`), control modes
 (:mod:`.control`), joint state (:mod:`.joint_state`); the declaration is composed and
-checked in :mod:`.declaration`.
+checked in :mod:`.declaration`; Habitat's mobile-manipulator names come from the base
+class in :mod:`.habitat_api`.
 """
 
 from __future__ import annotations
@@ -26,9 +27,9 @@ from robot_agents.agent.control import ControlModes
 from robot_agents.agent.definition import AgentDefinition
 from robot_agents.agent.frames import RobotFrames
 from robot_agents.agent.grippers import GripperParts
+from robot_agents.agent.habitat_api import MobileManipulatorAPI
 from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
-from robot_agents.agent.manipulator import ManipulatorView, MobileManipulatorParams
 from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerContext
 from robot_agents.controllers.base_vel import PDBaseVelController
@@ -45,7 +46,7 @@ FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
 
-class Agent(AgentDefinition):
+class Agent(MobileManipulatorAPI, AgentDefinition):
     """Base class of every robot: subclass it, set the class attributes (see
     :class:`~robot_agents.agent.definition.AgentDefinition`), register it. An instance is
     the robot bound to a simulation backend."""
@@ -94,7 +95,7 @@ class Agent(AgentDefinition):
         self.mobile = MobileBase(
             world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
         )
-        self._manipulator: ManipulatorView | None = None
+        self._manipulator = None  # the Habitat-named view, built on first use
         # Held legs (Habitat's leg base): pinned at their drives' reset targets while a
         # kinematic base moves the body.
         held = [j for p in checked.parts if isinstance(p, Legs) and p.held for j in checked.part_joints[p.name]]
@@ -388,108 +389,6 @@ class Agent(AgentDefinition):
         _check_threshold(where, "min_force", min_force)
         _check_threshold(where, "max_angle", max_angle, upper=180.0)
         return self.grippers.is_grasping(body, float(min_force), float(max_angle), gripper)
-
-    # ------------------------------------------------------------------ mobile base (Habitat's names)
-    @property
-    def base_pos(self) -> FloatArray:
-        """Ground point under the base, ``(num_envs, 3)`` (m, world)."""
-        return self.mobile.position
-
-    @property
-    def base_rot(self) -> FloatArray:
-        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``)."""
-        return self.mobile.yaw
-
-    def set_base_pose(
-        self, xy: npt.ArrayLike | None = None, yaw: npt.ArrayLike | None = None, env_ids: npt.ArrayLike | None = None
-    ) -> None:
-        """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
-        where = f"{type(self).__name__}.set_base_pose"
-        self.mobile.set(xy, yaw, env_ids, where)
-        self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
-
-    # ------------------------------------------------------------------ Habitat's manipulator API
-    @property
-    def manipulator(self) -> ManipulatorView:
-        """The Habitat-named arm / gripper / end-effector API (built on first use)."""
-        if self._manipulator is None:
-            self._manipulator = ManipulatorView(self)
-        return self._manipulator
-
-    @property
-    def params(self) -> MobileManipulatorParams:
-        """Habitat's ``MobileManipulatorParams``, derived from the parts (names, SI units)."""
-        return self.manipulator.params
-
-    @property
-    def arm_joint_pos(self) -> FloatArray:
-        """Arm joint positions ``(num_envs, n)`` (rad / m)."""
-        return self.manipulator.arm_joint_pos
-
-    @arm_joint_pos.setter
-    def arm_joint_pos(self, values: npt.ArrayLike) -> None:
-        self.manipulator.set_arm_joint_pos(values)
-
-    @property
-    def arm_motor_pos(self) -> FloatArray:
-        """Arm drive position targets ``(num_envs, n)``."""
-        return self.manipulator.arm_motor_pos
-
-    @property
-    def arm_velocity(self) -> FloatArray:
-        """Arm joint velocities ``(num_envs, n)`` (rad/s, m/s)."""
-        return self.manipulator.arm_velocity
-
-    @property
-    def gripper_joint_pos(self) -> FloatArray:
-        """Gripper joint positions ``(num_envs, n)``."""
-        return self.manipulator.gripper_joint_pos
-
-    def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
-        """Put the gripper joints at the open state (teleport) and hold them there."""
-        self.manipulator.open_gripper(env_ids)
-
-    def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
-        """Put the gripper joints at the closed state (teleport) and hold them there."""
-        self.manipulator.close_gripper(env_ids)
-
-    def set_gripper_target_state(self, state: npt.ArrayLike) -> None:
-        """Gripper drive targets at ``state`` (0 open ... 1 closed) until the next action."""
-        self.manipulator.set_gripper_target_state(state)
-
-    def ee_transform(self, i: int = 0) -> FloatArray:
-        """World transform ``(num_envs, 4, 4)`` of end effector ``i``."""
-        return self.manipulator.ee_transform(i)
-
-    def ee_local_offset(self, i: int = 0) -> FloatArray:
-        """End effector ``i``'s position in its link frame ``(3,)`` (m)."""
-        return self.manipulator.ee_local_offset(i)
-
-    def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """Base-frame positions ``(num_envs, 3)`` clipped into the sampled workspace box."""
-        return self.manipulator.clip_ee_to_workspace(pos, i)
-
-    def calculate_ee_forward_kinematics(self, q: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """World transform ``(num_envs, 4, 4)`` of end effector ``i`` at arm joints ``q``; no side effects."""
-        return self.manipulator.calculate_ee_forward_kinematics(q, i)
-
-    def calculate_ee_inverse_kinematics(
-        self, pose: npt.ArrayLike, i: int = 0, position_only: bool = False, restarts: int = 20
-    ) -> tuple[FloatArray, BoolArray]:
-        """Arm joints ``(num_envs, n)`` reaching world ``pose`` and per-env success; no side effects."""
-        return self.manipulator.calculate_ee_inverse_kinematics(pose, i, position_only, restarts)
-
-    def is_gripper_open(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``open``."""
-        return self.grippers.within(gripper, 1.0)
-
-    def is_gripper_closed(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``closed``."""
-        return self.grippers.within(gripper, 0.0)
-
-    def gripper_opening(self, gripper: str | None = None) -> FloatArray:
-        """Per env, how open the gripper is: 0 at ``closed``, 1 at ``open`` (its first joint)."""
-        return self.grippers.opening(gripper)
 
 
 def _check_threshold(where: str, name: str, value: Any, upper: float = math.inf) -> None:

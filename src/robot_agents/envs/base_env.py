@@ -10,7 +10,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -21,7 +21,7 @@ from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
-from robot_agents.envs.state_obs import pose_entries, space_for, to_float32
+from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
@@ -30,7 +30,6 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.sim.world import BatchedWorld
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -149,9 +148,12 @@ class RobotEnv(gym.Env[Any, Any]):
         )
         self._agent0 = self.scene.agents[0]
         self._one_robot = len(self.scene.agents) == 1
-        self._has_extra_obs = type(self)._extra_obs is not RobotEnv._extra_obs
-        #: The single-env state observation's sources, rebuilt when a control mode changes.
-        self._obs_plan: tuple[tuple[Any, ...], list[Any]] | None = None
+        extra_obs = self._extra_obs if type(self)._extra_obs is not RobotEnv._extra_obs else None
+        self._observation = StateObservation(
+            self.scene, obs_mode == "state", self._sensor_obs, extra_obs, type(self).__name__
+        )
+        #: The observation of every env (:meth:`StateObservation.observe`, bound once).
+        self._get_obs: Callable[[], Any] = self._observation.observe
         self.action_space = self._build_action_space()
         self.observation_space = self._build_observation_space()
 
@@ -245,97 +247,9 @@ class RobotEnv(gym.Env[Any, Any]):
 
     # ------------------------------------------------------------------ observations
     def _build_observation_space(self) -> gym.Space[Any]:
-        if self._sensor_obs is None:
-            return space_for(self._get_obs())
-        state = space_for(self._state_dict_obs())
-        return gym.spaces.Dict({**state.spaces, **self._sensor_obs.spaces(self.num_envs)})  # type: ignore[attr-defined]
-
-    def _single_state_plan(self) -> list[Any]:
-        """What the ``state`` observation of one env concatenates, in order: read-only
-        views of the simulation's arrays that stay valid across steps (joint state, a
-        tool body's pose), and callables for what changes identity every step
-        (controller targets, touch, a site's or offset frame's pose, the task's extras).
-        Rebuilt only when a robot's active controller changes."""
-        plan = self._obs_plan
-        if plan is not None:
-            if self._one_robot:
-                if plan[0][0] is self._agent0.control.active:
-                    return plan[1]
-            elif all(a.control.active is c for a, c in zip(self.agents, plan[0], strict=True)):
-                return plan[1]
-        key = tuple(a.control.active for a in self.agents)
-        world = self.scene.world
-        entries: list[Any] = []
-        if not isinstance(world, BatchedWorld):  # another backend: the generic reads
-            entries.append(self._state_arrays)
-            self._obs_plan = (key, entries)
-            return entries
-        data = world.datas[0]
-        for agent, controller in zip(self.agents, key, strict=True):
-            index = agent.index
-            for source, sel in ((data.qpos, index.qpos_sel), (data.qvel, index.dof_sel)):
-                if isinstance(sel, slice):
-                    entries.append(source[None, sel])
-                else:
-                    entries.append(lambda source=source, sel=sel: [source[sel][None]])
-            for part in controller.parts.values():
-                entries.append(lambda observe=part.observe: observe().values())
-            if agent.touch_reader.names:
-                entries.append(lambda agent=agent: [agent.touch])
-            if agent.has_end_effector:
-                entries.extend(pose_entries(agent.frames.end_effector(None, type(self).__name__), data))
-        if self._has_extra_obs:
-            entries.append(lambda: [v.reshape(1, -1) for v in self._extra_obs().values()])
-        self._obs_plan = (key, entries)
-        return entries
-
-    def _single_state_obs(self) -> npt.NDArray[np.float32]:
-        """The ``state`` observation ``(1, D)`` of one env: the concatenation of
-        :meth:`_state_arrays` (same values, order and float32 rounding), from ``(1, k)``
-        views planned once (no per-piece copies, name lookups or dicts)."""
-        arrays: list[Any] = []
-        for entry in self._single_state_plan():
-            if entry.__class__ is np.ndarray:
-                arrays.append(entry)
-            else:
-                arrays.extend(entry())
-        obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
-        return obs
-
-    def _state_arrays(self) -> list[FloatArray]:
-        """The pieces of the ``state`` observation, each ``(num_envs, k)``, in order."""
-        arrays: list[FloatArray] = []
-        for agent in self.agents:
-            arrays.extend(agent.proprioception_arrays())
-            if agent.has_end_effector:
-                arrays.append(agent.tcp_pose)
-        arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
-        return arrays
-
-    def _get_obs(self) -> Any:
-        if self.obs_mode == "state":
-            if self._single:
-                return self._single_state_obs()
-            return np.concatenate(self._state_arrays(), axis=1, dtype=np.float32)
-        obs = self._state_dict_obs()
-        if self._sensor_obs is not None:
-            obs.update(self._sensor_obs.observe(self.scene.world))
-        return obs
-
-    def _state_dict_obs(self) -> dict[str, Any]:
-        agents = {rid: a.get_proprioception() for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)}
-        extra = {
-            f"{rid}/tcp_pose": a.tcp_pose
-            for rid, a in zip(self.scene.robot_ids, self.agents, strict=True)
-            if a.has_end_effector
-        }
-        extra.update(self._extra_obs())
-        agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
-        if len(agents) == 1:
-            extra = {
-                k.split("/", 1)[1] if k.startswith(self.scene.robot_ids[0] + "/") else k: v for k, v in extra.items()
-            }
-        return dict(to_float32({"agent": agent_obs, "extra": extra}))
+        """The observation space (built again when a control mode changes; a task may
+        prepare what its :meth:`_extra_obs` reads first)."""
+        return self._observation.space()
 
     # ------------------------------------------------------------------ gym API
     def reset(

@@ -1,10 +1,12 @@
-"""State observations: float32 trees and their Gymnasium spaces, and the pose views the
-one-env fast path of :class:`~robot_agents.envs.base_env.RobotEnv` concatenates."""
+"""State observations: what :class:`~robot_agents.envs.base_env.RobotEnv` observes of
+its robots and task (:class:`StateObservation`, which also appends the camera part of a
+visual mode), float32 trees and their Gymnasium spaces, and the pose views the one-env
+fast path concatenates."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 import mujoco
@@ -12,6 +14,11 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.kinematics.forward import FrameKind, FrameRef
+from robot_agents.sim.world import BatchedWorld
+
+if TYPE_CHECKING:
+    from robot_agents.envs.observations import SensorObservation
+    from robot_agents.sim.scene import Scene
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -33,7 +40,7 @@ def space_for(tree: Any) -> gym.Space[Any]:
 
 
 def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
-    """The world pose of ``frame`` in ``data`` for :meth:`~robot_agents.envs.base_env.RobotEnv._single_state_obs`:
+    """The world pose of ``frame`` in ``data`` for :meth:`StateObservation._single_state`:
     position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
     stores them, else a callable that computes them into reused buffers with the same arithmetic as
     :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
@@ -66,3 +73,143 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         return rows
 
     return [offset_pose]
+
+
+class StateObservation:
+    """The observation of a :class:`~robot_agents.envs.base_env.RobotEnv` and its space:
+    per robot its proprioception and tool pose, then the task's extras; ``state`` as one
+    float32 array ``(num_envs, D)``, otherwise the ``state_dict`` tree (``agent``,
+    ``extra``) plus, in a visual mode, the camera part from ``sensors``.
+
+    Args:
+        scene: the env's scene (its robots and simulation backend).
+        flat: ``obs_mode == "state"``.
+        sensors: the camera part of a visual mode (``None`` for the state modes).
+        extra_obs: the task's :meth:`~robot_agents.envs.base_env.RobotEnv._extra_obs`
+            (``None``: the task adds none).
+        where: the env's name, for errors.
+
+    :attr:`observe` is chosen once: the one-env ``state`` observation concatenates
+    views planned once per control mode (see :meth:`_single_state`).
+    """
+
+    def __init__(
+        self,
+        scene: Scene,
+        flat: bool,
+        sensors: SensorObservation | None,
+        extra_obs: Callable[[], Mapping[str, FloatArray]] | None,
+        where: str,
+    ) -> None:
+        self.scene = scene
+        self.agents = scene.agents
+        self.num_envs = scene.num_envs
+        self._sensors = sensors
+        self._extra_obs = extra_obs
+        self._where = where
+        self._agent0 = scene.agents[0]
+        self._one_robot = len(scene.agents) == 1
+        #: The single-env state observation's sources, rebuilt when a control mode changes.
+        self._plan: tuple[tuple[Any, ...], list[Any]] | None = None
+        #: The observation of every env (float32 arrays; see the class doc).
+        self.observe: Callable[[], Any]
+        if flat:
+            self.observe = self._single_state if self.num_envs == 1 else self._flat_state
+        else:
+            self.observe = self._tree
+
+    def space(self) -> gym.Space[Any]:
+        """The Gymnasium space of :attr:`observe` (it observes once)."""
+        if self._sensors is None:
+            return space_for(self.observe())
+        state = space_for(self.state_dict())
+        return gym.spaces.Dict({**state.spaces, **self._sensors.spaces(self.num_envs)})  # type: ignore[attr-defined]
+
+    def state_arrays(self) -> list[FloatArray]:
+        """The pieces of the ``state`` observation, each ``(num_envs, k)``, in order."""
+        arrays: list[FloatArray] = []
+        for agent in self.agents:
+            arrays.extend(agent.proprioception_arrays())
+            if agent.has_end_effector:
+                arrays.append(agent.tcp_pose)
+        if self._extra_obs is not None:
+            arrays.extend(v.reshape(self.num_envs, -1) for v in self._extra_obs().values())
+        return arrays
+
+    def state_dict(self) -> dict[str, Any]:
+        """The ``state_dict`` observation: ``agent`` (one robot's proprioception, or one
+        per robot id) and ``extra`` (tool poses and the task's extras), float32."""
+        robot_ids = self.scene.robot_ids
+        agents = {rid: a.get_proprioception() for rid, a in zip(robot_ids, self.agents, strict=True)}
+        extra = {
+            f"{rid}/tcp_pose": a.tcp_pose for rid, a in zip(robot_ids, self.agents, strict=True) if a.has_end_effector
+        }
+        if self._extra_obs is not None:
+            extra.update(self._extra_obs())
+        agent_obs = next(iter(agents.values())) if len(agents) == 1 else agents
+        if len(agents) == 1:
+            extra = {k.split("/", 1)[1] if k.startswith(robot_ids[0] + "/") else k: v for k, v in extra.items()}
+        return dict(to_float32({"agent": agent_obs, "extra": extra}))
+
+    def _flat_state(self) -> npt.NDArray[np.float32]:
+        obs: npt.NDArray[np.float32] = np.concatenate(self.state_arrays(), axis=1, dtype=np.float32)
+        return obs
+
+    def _tree(self) -> dict[str, Any]:
+        obs = self.state_dict()
+        if self._sensors is not None:
+            obs.update(self._sensors.observe(self.scene.world))
+        return obs
+
+    def _single_state(self) -> npt.NDArray[np.float32]:
+        """The ``state`` observation ``(1, D)`` of one env: the concatenation of
+        :meth:`state_arrays` (same values, order and float32 rounding), from ``(1, k)``
+        views planned once (no per-piece copies, name lookups or dicts)."""
+        arrays: list[Any] = []
+        for entry in self._single_state_plan():
+            if entry.__class__ is np.ndarray:
+                arrays.append(entry)
+            else:
+                arrays.extend(entry())
+        obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
+        return obs
+
+    def _single_state_plan(self) -> list[Any]:
+        """What the ``state`` observation of one env concatenates, in order: read-only
+        views of the simulation's arrays that stay valid across steps (joint state, a
+        tool body's pose), and callables for what changes identity every step
+        (controller targets, touch, a site's or offset frame's pose, the task's extras).
+        Rebuilt only when a robot's active controller changes."""
+        plan = self._plan
+        if plan is not None:
+            if self._one_robot:
+                if plan[0][0] is self._agent0.control.active:
+                    return plan[1]
+            elif all(a.control.active is c for a, c in zip(self.agents, plan[0], strict=True)):
+                return plan[1]
+        key = tuple(a.control.active for a in self.agents)
+        world = self.scene.world
+        entries: list[Any] = []
+        if not isinstance(world, BatchedWorld):  # another backend: the generic reads
+            entries.append(self.state_arrays)
+            self._plan = (key, entries)
+            return entries
+        data = world.datas[0]
+        for agent, controller in zip(self.agents, key, strict=True):
+            index = agent.index
+            for source, sel in ((data.qpos, index.qpos_sel), (data.qvel, index.dof_sel)):
+                if isinstance(sel, slice):
+                    entries.append(source[None, sel])
+                else:
+                    entries.append(lambda source=source, sel=sel: [source[sel][None]])
+            for part in controller.parts.values():
+                entries.append(lambda observe=part.observe: observe().values())
+            if agent.touch_reader.names:
+                entries.append(lambda agent=agent: [agent.touch])
+            if agent.has_end_effector:
+                entries.extend(pose_entries(agent.frames.end_effector(None, self._where), data))
+        extra_obs = self._extra_obs
+        if extra_obs is not None:
+            entries.append(lambda: [v.reshape(1, -1) for v in extra_obs().values()])
+        self._plan = (key, entries)
+        return entries

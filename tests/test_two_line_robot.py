@@ -136,3 +136,26 @@ def test_ambiguous_top_level_bodies_name_the_fix(tmp_path: Path) -> None:
     )
     with pytest.raises(ra.ModelError, match=r"2 top-level bodies \['left', 'right'\].*set root_body = 'left'"):
         ra.Scene(two_line(path))
+
+
+SUNKEN_ARM_MJCF = """<mujoco><worldbody><body name="base" pos="0 0 -0.05">
+  <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+  <body name="link" pos="0 0 0.05"><joint name="hinge" axis="0 1 0" range="-1 1"/>
+    <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.02" mass="0.5"/></body>
+</body></worldbody></mujoco>"""
+
+
+class _Unrelated:
+    """A plain class after AgentDefinition in a robot's bases (a user's mixin)."""
+
+
+def test_a_fixed_robot_reaching_into_the_floor_is_mounted_above_it_unless_it_declares_a_mount(tmp_path: Path) -> None:
+    path = tmp_path / "sunken.xml"
+    path.write_text(SUNKEN_ARM_MJCF)
+    lifted = two_line(path).check().mount_pose[2]
+    assert lifted == pytest.approx(0.1 + 0.001, abs=2e-4)  # the box's bottom 1 mm above z = 0
+    # the automatic lift does not depend on where AgentDefinition sits in the class's MRO
+    mixed = type("Mixed", (ra.Agent, _Unrelated), {"uid": "mixed", "mjcf_path": path})
+    assert mixed.check().mount_pose[2] == pytest.approx(lifted)
+    declared = two_line(path, mount_pose=(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0))
+    assert declared.check().mount_pose[2] == 0.0

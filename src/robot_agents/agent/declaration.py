@@ -305,7 +305,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         base = resting_base(model, index, keyframes["default"].qpos)
         keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
     mount = tuple(float(v) for v in cls.mount_pose)
-    declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__[:-2])
+    from robot_agents.agent.definition import AgentDefinition  # (imports this module)
+
+    # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
+    declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
     if index.free_joint is None and not declared_mount:
         lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos)[2])
         if lift > 0.006:

@@ -17,8 +17,7 @@ use), :class:`~.mobile.MobileBase` (the base's pose) or :class:`~.grippers.Gripp
 - an explicit base class keeps every name, signature, docstring and result as it was,
   and leaves ``agent.py`` the bound robot's lifecycle. It comes before
   :class:`~.definition.AgentDefinition` in ``Agent``'s bases, so attribute lookup on a
-  robot class is as when these lived in ``Agent`` (and ``AgentDefinition`` stays the
-  last class before ``object`` in the MRO, as :mod:`.declaration` expects).
+  robot class is as when these lived in ``Agent``.
 
 The class declares the attributes of ``Agent`` it reads; it is not meant to be used on
 its own.

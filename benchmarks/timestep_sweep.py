@@ -20,7 +20,29 @@ import time
 from collections.abc import Sequence
 
 import robot_agents as ra
+from robot_agents.tuning.cycles import DriveCycleBound, drive_cycle_bounds
 from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, RANDOM_SEEDS, SweepResult, sweep_timestep
+
+
+def cycle_cells(uid: str, declared: int | None) -> tuple[str, str]:
+    """The drive whose torque-limit cycle reaches the highest rate (with that rate), and
+    the cycles possible at the declared step (``robot_agents.tuning.cycles``)."""
+    bounds = drive_cycle_bounds(uid)
+    if not bounds:
+        return "-", "-"
+    top = bounds[0]
+    highest = f"{top.cycle_free_above:.0f} (`{top.joint}`{'' if top.reachable else ', not reachable'})"
+    rate = declared or 500
+    possible: list[DriveCycleBound] = [b for b in bounds if b.amplitude(rate) > 0]
+    at_default = (
+        ", ".join(
+            f"`{b.joint}` {b.amplitude(rate):.2g}{'' if b.reachable else ' (not reachable)'}" for b in possible[:3]
+        )
+        + (" ..." if len(possible) > 3 else "")
+        if possible
+        else "none"
+    )
+    return highest, at_default
 
 
 def report(results: Sequence[SweepResult], seconds: Sequence[float], seeds: Sequence[int]) -> str:
@@ -29,19 +51,24 @@ def report(results: Sequence[SweepResult], seconds: Sequence[float], seeds: Sequ
         "# Time-step sweep",
         "",
         "MuJoCo physics steps tried among the divisors of the control period; random actions with seeds "
-        f"{', '.join(map(str, seeds))} (each must pass); load average {load:.2f}.",
+        f"{', '.join(map(str, seeds))} (each must pass); load average {load:.2f}. The cycle columns are "
+        "the analysis of `robot_agents.tuning.cycles` (no simulation): below that rate a force-limited drive can "
+        "flip between its limits every step, at the speed given; not reachable: its rated speed is below the "
+        "speed that enters the cycle.",
         "",
         "| robot | largest passing sim_freq (Hz) | claims failing at every step | largest passing, other claims (Hz) "
-        "| declared sim_freq | sweep time (s) |",
-        "|---|---|---|---|---|---|",
+        "| declared sim_freq | torque-limit cycle possible below (Hz) | cycles possible at the declared step "
+        "(rad/s or m/s) | sweep time (s) |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for result, took in zip(results, seconds, strict=True):
         declared = ra.get_agent(result.uid).sim_freq
         everywhere = ", ".join(result.failing_everywhere) or "-"
         others = result.largest_passing_other_claims if result.failing_everywhere else result.largest_passing
+        highest, at_default = cycle_cells(result.uid, declared)
         lines.append(
             f"| `{result.uid}` | {result.largest_passing or 'none'} | {everywhere} | {others or 'none'} "
-            f"| {declared or 'default'} | {took:.1f} |"
+            f"| {declared or 'default'} | {highest} | {at_default} | {took:.1f} |"
         )
     for result in results:
         lines += ["", f"## `{result.uid}`", "", result.table()]

@@ -200,9 +200,12 @@ class GoogleRobot(Agent):
     #: damping at 90; the forearm turns at 4.4 rad/s at 200 Hz); grasp, with the
     #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (the 83 mm cube
     #: moves 1.06 mm in the 2 s hold at 320 Hz, 0.54-0.94 mm at 400 Hz-1 kHz; 4.9-6.4 mm
-    #: with MuJoCo's default contact). Every claim holds from 320 Hz: default one tried
-    #: step finer, 400 Hz (was 500).
-    sim_freq: ClassVar[int | None] = 400
+    #: with MuJoCo's default contact). Every claim held from 320 Hz with one
+    #: random-action seed; with three (2026-11-23 14:00 UTC rerun) the forearm cycles
+    #: between its torque limits at 320 Hz (2.9 rad/s, seed 2), every claim holds from
+    #: 400 Hz, and the analysis of ``robot_agents.tuning.cycles`` puts the forearm's
+    #: cycle below 443 Hz: default one tried step finer, 500 Hz (was 400).
+    sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES
     parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)

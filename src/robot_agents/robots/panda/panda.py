@@ -143,8 +143,13 @@ class Panda(PandaArm):
     #: Time-step sweep (robot_agents.tuning.timestep, 2026-11-23, 20 Hz control; the
     #: wrist camera, touch and stick variants alike): every claim (grasp: 0.68-0.78 mm
     #: of slip in the 2 s hold) holds from 2.5 ms (400 Hz) down to 1 ms; at 320 Hz the
-    #: wrist is left in a torque-limit cycle (settle). Default one tried step finer,
-    #: 500 Hz (margin: step 2 ms against the largest passing 2.5 ms).
+    #: wrist is left in a torque-limit cycle (settle). With three random-action seeds
+    #: (2026-11-23 14:00 UTC rerun) joint 7 also cycles at 400 Hz (0.16 rad/s, seed 2;
+    #: ``panda_wristcam`` held there) and every claim holds from 500 Hz. That cycle is
+    #: the one failure between them, and it cannot occur above 485 Hz (kv 100, 12 N*m,
+    #: 0.103 kg*m^2 at its lightest; ``robot_agents.tuning.cycles``, checked in
+    #: tests/test_cycles.py): 500 Hz, where the bound takes the place of the one-step
+    #: margin.
     sim_freq: ClassVar[int | None] = 500
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(PandaHand, at="panda_link8", quat=HAND_ON_FLANGE),)
     parts = with_tool("panda_hand_tcp")
@@ -230,7 +235,8 @@ class PandaStick(PandaArm):
     """The Panda arm with a stick tool on its flange instead of the hand (7 DoF)."""
 
     uid = "panda_stick"
-    #: As the Panda's (sweep 2026-11-23: every claim holds at 400 Hz and finer): 500 Hz.
+    #: As the Panda's (sweep 2026-11-23, three seeds: every claim holds at 500 Hz and
+    #: finer; joint 7 cycles at 400 Hz, impossible above 495 Hz here): 500 Hz.
     sim_freq: ClassVar[int | None] = 500
     attachments = (Attachment(PandaStickTool, at="panda_link8", quat=HAND_ON_FLANGE),)
     parts = with_tool("panda_stick_tcp")

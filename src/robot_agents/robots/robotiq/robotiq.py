@@ -177,9 +177,13 @@ class FloatingRobotiq2F85Gripper(Agent):
     #: Time-step sweep (2026-11-23, 20 Hz control): with the pads' near-rigid contact
     #: (robotiq_2f85.xml) every claim holds from 200 Hz down to 1 kHz (contact depth
     #: 0.1 mm; it was 5.7 mm at 320 Hz with the former pads, whose claims held from
-    #: 400 Hz); at 160 Hz the mount's hinges are left cycling. Default one tried step
-    #: finer, 320 Hz (margin: 3.125 ms against 5 ms).
-    sim_freq: ClassVar[int | None] = 320
+    #: 400 Hz); at 160 Hz the mount's hinges are left cycling. With three random-action
+    #: seeds (2026-11-23 14:00 UTC rerun) the mount's ``root_y_rot_joint`` also cycles
+    #: at 200 Hz (2.8 rad/s); every claim holds from 320 Hz. The mount's hinges (kv 100,
+    #: 100 N*m, 0.1 kg*m^2 with armature) can cycle between their torque limits below
+    #: 498 Hz (``robot_agents.tuning.cycles``): default 500 Hz, the first tried step
+    #: above that bound (was 320 Hz).
+    sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "floating_mount.xml"
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(Robotiq2F85, at="root", quat=GRIPPER_ON_MOUNT),)
     #: The mount's slides and hinges: stiff enough to hold the gripper against contact forces.

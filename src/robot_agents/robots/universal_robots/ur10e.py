@@ -109,10 +109,14 @@ class UR10e(Agent):
     #: docs/timestep.md): with Menagerie's gains and stiff joint limits (ur10e.xml) every
     #: claim holds from 3.125 ms (320 Hz) down to 1 ms (random-action overshoot 0.12 rad
     #: at 320 Hz, bound 0.25); at 200 Hz the limits, whose stiffness MuJoCo bounds by
-    #: the step, let the wrists 0.26 rad past. Default one tried step finer: 400 Hz
-    #: (margin: 2.5 ms against 3.125 ms). (With MuJoCo's soft default limits the
-    #: random-action claim failed at every step: 0.42-0.69 rad past +-2 pi.)
-    sim_freq: ClassVar[int | None] = 400
+    #: the step, let the wrists 0.26 rad past. With three random-action seeds
+    #: (2026-11-23 14:00 UTC rerun) wrist 3 settles at 0.076 rad/s at 320 Hz (bound
+    #: 0.05) and every claim holds from 400 Hz; the shoulder pan (kv 350, 330 N*m,
+    #: 0.40 kg*m^2 at its lightest) can cycle between its torque limits below 441 Hz
+    #: (``robot_agents.tuning.cycles``): default one tried step finer, 500 Hz (was 400).
+    #: (With MuJoCo's soft default limits the random-action claim failed at every
+    #: step: 0.42-0.69 rad past +-2 pi.)
+    sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "ur10e.xml"
     actuators = (UR10E_DRIVES,)
     parts = (UR10E_ARM,)

@@ -68,8 +68,8 @@ class DriveCycleBound:
 
     @property
     def cycle_free_above(self) -> float:
-        """The physics rate (Hz) above which the drive cannot cycle (``inf``: at no rate;
-        0: at every rate, its own damping is enough)."""
+        """The physics rate (Hz) above which the drive cannot cycle (0: it cannot at any
+        rate, its joint's own damping is enough)."""
         excess = self.damping - CYCLE_RATIO * self.joint_damping
         return excess / (CYCLE_RATIO * self.inertia) if excess > 0 else 0.0
 
@@ -96,8 +96,9 @@ def drive_cycle_bounds(
     robot: str | type[Agent], samples: int = DEFAULT_SAMPLES, seed: int = 0
 ) -> tuple[DriveCycleBound, ...]:
     """Every force-limited drive of ``robot`` with velocity feedback (as the default
-    mode sets them), highest ``cycle_free_above`` first. Configurations: the default keyframe and ``samples``
-    uniform draws within the joint limits (unlimited joints: one turn), from ``seed``."""
+    mode sets them), highest ``cycle_free_above`` first. Configurations: the default
+    keyframe and ``samples`` uniform draws of the hinge and slide joints within their
+    limits (unlimited ones: one turn, or +-pi m), from ``seed``."""
     cls = get_agent(robot) if isinstance(robot, str) else robot
     if not (isinstance(cls, type) and issubclass(cls, Agent)):
         raise ConfigError(f"drive_cycle_bounds: expected a robot uid or an Agent subclass, got {robot!r}.")
@@ -114,14 +115,21 @@ def drive_cycle_bounds(
         speeds = {d.joint: d.velocity_limit for d in cls.check().drives}
         if not drives:
             return ()
-        limits = np.clip(agent.qpos_limits, -np.pi, np.pi)
+        one_dof = [
+            k
+            for k, adr in enumerate(agent.qpos_adr)
+            if int(model.jnt_type[_joint_at(model, int(adr))])
+            in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+        ]
+        sampled = agent.qpos_adr[one_dof]
+        limits = np.clip(agent.qpos_limits[one_dof], -np.pi, np.pi)
         rng = np.random.default_rng(seed)
         largest = np.zeros(len(drives))  # max over configurations of (M^-1)_jj
         mass = np.zeros((model.nv, model.nv))
         dofs = [dof for _, dof in drives]
         for sample in range(samples + 1):
             if sample:
-                data.qpos[agent.qpos_adr] = rng.uniform(limits[:, 0], limits[:, 1])
+                data.qpos[sampled] = rng.uniform(limits[:, 0], limits[:, 1])
             mujoco.mj_kinematics(model, data)
             mujoco.mj_comPos(model, data)
             mujoco.mj_crb(model, data)
@@ -146,6 +154,11 @@ def drive_cycle_bounds(
         return tuple(sorted(bounds, key=lambda b: -b.cycle_free_above))
     finally:
         scene.close()
+
+
+def _joint_at(model: mujoco.MjModel, qpos_adr: int) -> int:
+    """The joint whose coordinates include ``qpos[qpos_adr]``."""
+    return int(np.searchsorted(model.jnt_qposadr, qpos_adr, side="right") - 1)
 
 
 def _limited_drives(model: mujoco.MjModel, dofs: set[int]) -> list[tuple[int, int]]:

@@ -363,6 +363,9 @@ def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
     code = cmd_check("widowx250s", out, sweep=True)
     text = out.getvalue()
     assert code == 0 and "| 500 | 2 |" in text and "sim_freq 500 Hz" in text
+    # the torque-limit cycle analysis follows: the WidowX 250 S's fingers (not reachable)
+    assert "torque-limit cycles possible below" in text and "right_finger: 26 Hz" in text
+    assert "not reachable" in text
 
 
 def test_declared_sim_freq_is_the_default_and_an_explicit_one_wins() -> None:

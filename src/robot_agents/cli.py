@@ -159,6 +159,7 @@ def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5
                 f"{', '.join(swept.failing_everywhere)}; the other claims hold at "
                 + (f"{1000 / others:.3g} ms (sim_freq {others} Hz)\n" if others is not None else "no step\n")
             )
+        _write_cycle_bounds(cls, out)
         return 0 if best is not None else 1
     model = cls.check().index.model
     out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n\nchecks:\n")
@@ -168,6 +169,24 @@ def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5
     failed = [r for r in results if not r.passed]
     out.write(f"\n{len(results) - len(failed)} passed, {len(failed)} failed\n")
     return 1 if failed else 0
+
+
+def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:
+    """The drives that can cycle between their torque limits, and below which rate
+    (robot_agents.tuning.cycles)."""
+    from robot_agents.tuning.cycles import drive_cycle_bounds
+
+    bounds = [b for b in drive_cycle_bounds(cls) if b.cycle_free_above > 0]
+    if not bounds:
+        out.write("no force-limited drive can cycle between its limits\n")
+        return
+    out.write("torque-limit cycles possible below (analysis, no simulation):\n")
+    for bound in bounds:
+        note = "" if bound.reachable else " (not reachable: rated speed below the cycle's entry speed)"
+        out.write(
+            f"  {bound.joint}: {bound.cycle_free_above:.0f} Hz (kv {bound.damping:g}, limit {bound.effort_limit:g}, "
+            f"lightest inertia {bound.inertia:.3g}){note}\n"
+        )
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -5,6 +5,7 @@ it, timed in alternating blocks within one run (machine noise hits all alike).
     python benchmarks/sim_options.py                # panda so100 ur_10e
     python benchmarks/sim_options.py widowxai --blocks 10
     python benchmarks/sim_options.py --all --clock cpu --variants "as built,midphase off"
+    python benchmarks/sim_options.py panda so100 --variants "midphase off,islands off" --task-identity
 
 The arm replays the same recorded control sequence (random pd_joint_delta_pos actions
 from the library's own controller) in every variant. The table also says whether each
@@ -142,6 +143,31 @@ def run(
     return "\n".join(lines), ratios
 
 
+def same_task_trajectory(uid: str, variant: str, steps: int = 150) -> tuple[bool, int]:
+    """Whether ``PickCube-v1`` with random actions gives the same observations and
+    rewards bit for bit with ``variant`` applied to its model, and the most contacts seen."""
+    import hashlib
+
+    from robot_agents.envs import make_env
+
+    digests, most = [], 0
+    for apply in (None, VARIANTS[variant]):
+        env = make_env("PickCube-v1", robot_uids=uid)
+        world = env.unwrapped.scene.world  # type: ignore[attr-defined]
+        if apply is not None:
+            apply(world.model)
+        obs, _ = env.reset(seed=3)
+        rng = np.random.default_rng(0)
+        digest = hashlib.sha256()
+        for _ in range(steps):
+            obs, reward, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+            digest.update(np.asarray(obs).tobytes() + np.asarray(reward).tobytes())
+            most = max(most, int(world.datas[0].ncon))
+        env.close()
+        digests.append(digest.hexdigest())
+    return digests[0] == digests[1], most
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("uids", nargs="*", default=["panda", "so100", "ur_10e"])
@@ -150,12 +176,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--variants", default=",".join(VARIANTS), help=f"comma-separated, of: {', '.join(VARIANTS)}")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="cpu: this process's CPU time")
+    parser.add_argument(
+        "--task-identity",
+        action="store_true",
+        help="instead: does each variant leave PickCube-v1 with random actions bit-identical (contacts included)?",
+    )
     args = parser.parse_args(argv)
     variants = [v.strip() for v in args.variants.split(",")]
     unknown = [v for v in variants if v not in VARIANTS]
     if unknown:
         parser.error(f"unknown variants {unknown}; available: {list(VARIANTS)}")
     uids = list_agents() if args.all else args.uids
+    if args.task_identity:
+        for uid in uids:
+            for variant in (v for v in variants if v != "as built"):
+                same, contacts = same_task_trajectory(uid, variant)
+                print(f"{uid} {variant}: PickCube-v1 bit-identical {same} (up to {contacts} contacts)", flush=True)
+        return 0
     print(f"load average {os.getloadavg()[0]:.2f}, clock {args.clock}, {args.blocks} blocks\n")
     summary = []
     for uid in uids:

@@ -20,8 +20,9 @@ import time
 from collections.abc import Sequence
 
 import robot_agents as ra
+from robot_agents.tuning.claims import RANDOM_SEEDS
 from robot_agents.tuning.cycles import DriveCycleBound, drive_cycle_bounds
-from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, RANDOM_SEEDS, SweepResult, sweep_timestep
+from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, SweepResult, sweep_timestep
 
 
 def cycle_cells(uid: str, declared: int | None) -> tuple[str, str]:

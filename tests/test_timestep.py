@@ -19,7 +19,7 @@ from robot_agents.model.compose import Attachment
 from robot_agents.robots.panda.panda import HAND_ON_FLANGE, PANDA_HAND_DRIVES, Panda, PandaHand
 from robot_agents.robots.servo_arms.so100 import SO100
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ, Scene
-from robot_agents.tuning.timestep import (
+from robot_agents.tuning.claims import (
     CLAIMS,
     OVERSHOOT_BOUND,
     SETTLE_SECONDS,
@@ -27,13 +27,12 @@ from robot_agents.tuning.timestep import (
     SLIP_BOUND,
     ClaimResult,
     StepResult,
-    SweepResult,
     _grasp,
     _Penetration,
     _random,
     measure_step,
-    sweep_timestep,
 )
+from robot_agents.tuning.timestep import SweepResult, sweep_timestep
 
 
 def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float = 10.0) -> tuple[float, str]:

@@ -1,8 +1,17 @@
 """Tuning a robot's simulation settings from measurements and analysis: the time-step
-sweep (:mod:`.timestep`), torque-limit cycles (:mod:`.cycles`) and self-collision pairs
+sweep (:mod:`.timestep`; the claims it measures: :mod:`.claims`), torque-limit cycles (:mod:`.cycles`) and self-collision pairs
 (:mod:`.collisions`)."""
 
+from robot_agents.tuning.claims import ClaimResult, StepResult, measure_step
 from robot_agents.tuning.cycles import DriveCycleBound, drive_cycle_bounds
-from robot_agents.tuning.timestep import ClaimResult, StepResult, SweepResult, sweep_timestep
+from robot_agents.tuning.timestep import SweepResult, sweep_timestep
 
-__all__ = ["ClaimResult", "DriveCycleBound", "StepResult", "SweepResult", "drive_cycle_bounds", "sweep_timestep"]
+__all__ = [
+    "ClaimResult",
+    "DriveCycleBound",
+    "StepResult",
+    "SweepResult",
+    "drive_cycle_bounds",
+    "measure_step",
+    "sweep_timestep",
+]

@@ -57,7 +57,7 @@ from robot_agents.agent import Agent
 from robot_agents.agent.declaration import build_spec
 from robot_agents.errors import ConfigError
 from robot_agents.model.compiling import compile_spec
-from robot_agents.tuning.timestep import OVERSHOOT_BOUND
+from robot_agents.tuning.claims import OVERSHOOT_BOUND
 
 #: Smallest clearance (m) a never-touching pair keeps at every sampled pose (after the
 #: grid allowance). 1 cm, 500 times what sampling missed: over the 124 never-touching
@@ -68,7 +68,7 @@ from robot_agents.tuning.timestep import OVERSHOOT_BOUND
 #: tolerance of the geometry, not of the sampling).
 MARGIN = 0.01
 #: How far (rad) a hinge is sampled past each limit: the soft limits let a joint driven
-#: into them pass by up to this much (robot_agents.tuning.timestep.OVERSHOOT_BOUND).
+#: into them pass by up to this much (robot_agents.tuning.claims.OVERSHOOT_BOUND).
 HINGE_OVERSHOOT = OVERSHOOT_BOUND
 #: How far (m) a slide is sampled past each limit (a finger closing at 0.1-0.5 m/s
 #: passes its soft limit by a few mm).

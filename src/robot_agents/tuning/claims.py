@@ -1,0 +1,469 @@
+"""The physics claims of a robot at one physics step (what the time-step sweep of
+:mod:`robot_agents.tuning.timestep` measures at each step it tries).
+
+:func:`measure_step` measures, at one ``sim_freq``, every claim the robot makes:
+
+- ``hold``: each keyframe held for :data:`HOLD_SECONDS` in the default mode, no joint
+  drifting more than :data:`~robot_agents.checks.HOLD_TOLERANCE` (rad or m);
+- ``random``: :data:`RANDOM_SECONDS` of uniformly random actions in every mode, for each
+  of :data:`RANDOM_SEEDS`, without instability (MuJoCo warnings, non-finite state) and
+  without a joint passing its limit by more than :data:`OVERSHOOT_BOUND`;
+- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of one hold command (joint
+  modes that command positions or velocities) leaves every joint slower than
+  :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
+  torque limits every physics step);
+- ``ee_tracking``: where the robot has an end effector, a commanded 2 cm move of the
+  tool (``pd_ee_target_delta_pos``, else an absolute end-effector mode) along the x
+  axis of its command frame (another axis where the arm cannot move the tool along x)
+  reached within :data:`EE_TOLERANCE` of the commanded distance after :data:`EE_SECONDS`;
+- ``grasp``: where the robot has a gripper (a Gripper part with two fingers), a cube of
+  the table-top tasks' size for that gripper (half its opening, water's density; see
+  :mod:`robot_agents.envs.tasks.table_top`) is placed between the open fingers where the
+  scripted PickCube solver grasps it (the gripper's grasp point, a fifth of an edge
+  towards the wrist; 0.4 and 0.6 edges deeper when it does not hold there; faces square
+  to the closing axis), weightless while the fingers
+  close for :data:`CLOSE_SECONDS` (no floor: the cube meets only the robot); then its weight is on, the tool is lifted
+  :data:`LIFT_EDGES` cube edges in :data:`LIFT_SECONDS` (the end-effector mode) and
+  held for :data:`GRASP_HOLD_SECONDS`: the cube may move at most :data:`SLIP_BOUND`
+  relative to the tool frame over the hold (a cube that falls or slides out moves more;
+  a movement of more than the cube's edge is reported as the edge: the cube is lost);
+- ``penetration``: the deepest contact while holding keyframes, tracking and holding
+  the grasped cube at most :data:`PENETRATION_BOUND` (the depth random actions press is
+  reported beside it; the fingers' impact while closing on the cube is not judged).
+
+Standing is not a claim of any built-in robot: the only one with legs, ``spot``, moves
+its base kinematically (Habitat's navmesh-style base: the planar base joints are set
+from the commanded velocity, the legs are posed joints that carry no weight), so it
+cannot fall; a robot whose legs carry a dynamic base needs a standing claim here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from robot_agents.agent import Agent
+from robot_agents.checks import HOLD_TOLERANCE, hold_action
+from robot_agents.controllers.ee import PDEEController
+from robot_agents.errors import ConfigError, RobotAgentsError
+from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
+
+#: Seconds each keyframe is held.
+HOLD_SECONDS = 2.0
+#: Seconds of random actions per mode (and per seed).
+RANDOM_SECONDS = 10.0
+#: Seeds of the random action sequences; the claim holds only if it holds for each.
+#: One seed let a rare event decide a step: a random ``pd_ee_pose`` target that pries
+#: Spot's jaw into its own leg appeared with seed 0 at 800 Hz only (2026-11-23 sweep),
+#: so a step could pass by luck of the one sequence tried.
+RANDOM_SEEDS = (0, 1, 2)
+#: How far (rad or m) a joint may pass its limit under random actions. MuJoCo's joint
+#: limits are soft constraints (time constant 0.02 s, whatever the step), so a joint
+#: driven into its limit at speed passes it by about speed x 0.02 s x a few, at any
+#: step: at every step from 1 ms to 10 ms the Panda's velocity-feedforward modes push
+#: joint 1 0.08-0.16 rad past, the WidowX 250 S's elbow 0.15-0.23 rad, the Koch's
+#: joints 0.08-0.19 rad (2026-11-23 sweep). This bound catches a step too coarse to
+#: stop a joint at all (0.3-2 rad at 25 ms).
+OVERSHOOT_BOUND = 0.25
+#: Seconds of one repeated hold command after the random actions: long enough for an
+#: underdamped drive to recover from a large swing (the WidowX 250 S's waist, thrown
+#: 1.2 rad past its target, rings down within 1.5 s; Fetch's shoulder pan, swinging
+#: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught.
+SETTLE_SECONDS = 3.0
+#: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
+SETTLE_SPEED = 0.05
+#: The end-effector move commanded (m) and the seconds it is given.
+EE_MOVE = 0.02
+EE_SECONDS = 1.0
+#: Largest end-effector tracking error, as a share of the commanded move.
+EE_TOLERANCE = 0.05
+#: Deepest contact penetration allowed (m) while holding keyframes and tracking the
+#: end-effector move. (Random actions press links into the floor with the drives' full
+#: torque, 1-8 cm at any step; that depth is reported, not judged.)
+PENETRATION_BOUND = 0.005
+#: Grasp claim: seconds the fingers close on the weightless cube, the lift (in cube
+#: edges, over seconds) and the hold after it.
+CLOSE_SECONDS = 1.0
+LIFT_EDGES = 2.0
+LIFT_SECONDS = 1.0
+GRASP_HOLD_SECONDS = 2.0
+#: Largest movement of the grasped cube relative to the tool frame over the hold (m).
+SLIP_BOUND = 0.002
+#: How far towards the wrist from the grasp point the cube's centre sits, in cube
+#: edges, tried in order until the cube holds: first the scripted PickCube solver's
+#: grasp depth (the fingers reach past its middle), then deeper (a jaw whose grasp
+#: point lies near its tips, the Koch's, holds the cube only deeper in).
+GRASP_DEPTHS = (0.2, 0.4, 0.6)
+#: A finger that travels less than this share of the other's when the gripper closes
+#: counts as fixed (the SO-100's and Koch's jaws).
+FIXED_FINGER_SHARE = 0.25
+#: The claims, in the order they are reported.
+CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "penetration")
+
+
+@dataclass(frozen=True)
+class ClaimResult:
+    """One claim at one step: whether it held, the measured value and its bound."""
+
+    name: str
+    passed: bool
+    value: float
+    bound: float
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """Every claim at one physics rate."""
+
+    sim_freq: int
+    claims: tuple[ClaimResult, ...]
+    #: Deepest contact under random actions (m), for information (see :func:`_random`).
+    random_press_depth: float = 0.0
+
+    @property
+    def passed(self) -> bool:
+        return all(c.passed for c in self.claims)
+
+    def claim(self, name: str) -> ClaimResult | None:
+        return next((c for c in self.claims if c.name == name), None)
+
+
+class _Penetration:
+    """The deepest contact penetration (m) seen in env 0 of a scene."""
+
+    def __init__(self) -> None:
+        self.depth = 0.0
+        self.where = ""
+
+    def measure(self, scene: Scene) -> None:
+        data = scene.world.render_sources([0])[0]
+        if data.ncon:
+            dist = data.contact.dist[: data.ncon]
+            deepest = int(np.argmin(dist))
+            if -float(dist[deepest]) > self.depth:
+                self.depth = -float(dist[deepest])
+                g1, g2 = data.contact.geom1[deepest], data.contact.geom2[deepest]
+                self.where = f"{scene.model.geom(g1).name} / {scene.model.geom(g2).name}"
+
+
+def _commands_motion(agent: Agent) -> bool:
+    return any(
+        kind in ("position", "velocity") for c in agent.controller.parts.values() for kind in c.config.target_kinds()
+    )
+
+
+def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetration) -> ClaimResult:
+    mode = cls.default_mode()
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+    agent = scene.agents[0]
+    if not _commands_motion(agent):
+        scene.close()
+        return ClaimResult("hold", True, 0.0, HOLD_TOLERANCE, f"{mode} commands efforts")
+    worst, where = 0.0, ""
+    for name in cls.keyframe_names():
+        scene.reset(keyframes=name)
+        start = agent.qpos
+        for _ in range(round(HOLD_SECONDS * control_freq)):
+            agent.set_action(hold_action(agent))
+            scene.step()
+            depth.measure(scene)
+            drift = float(np.max(np.abs(agent.qpos - start), initial=0.0))
+            if drift > worst:
+                worst, where = drift, name
+    scene.close()
+    return ClaimResult("hold", worst < HOLD_TOLERANCE, worst, HOLD_TOLERANCE, where)
+
+
+def _random(
+    cls: type[Agent], sim_freq: int, control_freq: int, seeds: Sequence[int], depth: _Penetration
+) -> tuple[ClaimResult, ClaimResult]:
+    """Random actions in every mode, one sequence per seed (the worst counts); ``depth``
+    collects how deep they press links into the floor or each other (reported, not
+    judged: that depth is set by the drives' torque against MuJoCo's soft contacts, not
+    by the step)."""
+    unstable: list[str] = []
+    overshoot, over_where = 0.0, ""
+    speed, speed_where = 0.0, ""
+    for mode, seed in [(mode, seed) for mode in cls.modes() for seed in seeds]:
+        where = f"{mode} (seed {seed})" if len(seeds) > 1 else mode
+        try:
+            scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+        except RobotAgentsError as err:
+            unstable.append(f"{where} ({err})")
+            continue
+        scene.reset()
+        agent = scene.agents[0]
+        limits = agent.qpos_limits
+        rng = np.random.default_rng(seed)
+        space = agent.action_space
+        for _ in range(round(RANDOM_SECONDS * control_freq)):
+            agent.set_action(rng.uniform(space.low, space.high))
+            scene.step()
+            depth.measure(scene)
+            q = agent.qpos[0]
+            beyond = np.maximum(q - limits[:, 1], limits[:, 0] - q)
+            past = float(np.max(beyond, initial=0.0))
+            if past > overshoot:
+                overshoot, over_where = past, f"{where}: {agent.joint_names[int(np.argmax(beyond))]}"
+        if _commands_motion(agent) and not any(isinstance(c, PDEEController) for c in agent.controller.parts.values()):
+            # One hold command, repeated: targets stay where the hold began (absolute and
+            # target modes). Re-measuring every step would let a joint that sags under
+            # its load ratchet its own target along (a soft gripper drive under gravity).
+            hold = hold_action(agent)
+            for _ in range(round(SETTLE_SECONDS * control_freq)):
+                agent.set_action(hold)
+                scene.step()
+                depth.measure(scene)
+            # wheels are turned with the base (visual): the base's own joints speak for it
+            speeds = np.abs(agent.qvel[0])
+            speeds[[w.dof_start for w in agent.mobile.wheels]] = 0.0
+            fastest = float(np.max(speeds, initial=0.0))
+            if fastest > speed:
+                speed, speed_where = fastest, f"{where}: {agent.joint_names[int(np.argmax(speeds))]}"
+        if scene.world.unstable_steps.any() or not np.all(np.isfinite(scene.world.get_state())):
+            unstable.append(where)
+        scene.close()
+    random = ClaimResult(
+        "random",
+        not unstable and overshoot <= OVERSHOOT_BOUND,
+        overshoot,
+        OVERSHOOT_BOUND,
+        (f"unstable: {unstable}; " if unstable else "") + f"largest overshoot at {over_where}",
+    )
+    settle = ClaimResult("settle", speed <= SETTLE_SPEED, speed, SETTLE_SPEED, speed_where)
+    return random, settle
+
+
+def _ee_mode(cls: type[Agent]) -> str | None:
+    modes = cls.modes()
+    for name in ("pd_ee_target_delta_pos", "pd_ee_pose", "pd_ee_target_delta_pose"):
+        if name in modes:
+            return name
+    return None
+
+
+def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetration) -> ClaimResult | None:
+    mode = _ee_mode(cls)
+    if mode is None:
+        return None
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+    scene.reset()
+    agent = scene.agents[0]
+    if not agent.has_end_effector:
+        scene.close()
+        return None
+    from robot_agents.envs.tasks.table_top import tool_arm
+
+    controllers = list(agent.controller.parts.values())
+    start_tcp = agent.tcp_pose[0, :3].copy()
+    start_target = next(c for c in controllers if isinstance(c, PDEEController)).target_pose[0, :3].copy()
+    # The axes commands are expressed in (the end effector's command frame), and the axis
+    # moved along: x, unless the arm moves the tool along x less than half as readily as
+    # along its best axis (a Stretch's arm cannot move its tool forward: its base does).
+    arm = tool_arm(agent, "sweep_timestep")
+    tool_ee = arm.end_effectors[0]
+    frame = tool_ee.command_frame or "root"
+    tool, tool_in_frame = agent.frame_pose(tool_ee.name)[0], agent.frame_pose(tool_ee.name, relative_to=frame)[0]
+    rotation = quat_to_matrix(tool[3:]) @ quat_to_matrix(tool_in_frame[3:]).T
+    dofs = [agent.index.joint(j, "sweep_timestep").dof_start for j in agent.part_joints[arm.name]]
+    reach = np.linalg.norm(agent.frame_jacobian(tool_ee.name, relative_to=frame)[0, :3][:, dofs], axis=1)
+    axis = 0 if reach[0] >= 0.5 * reach.max() else int(np.argmax(reach))
+    first = []
+    for controller in controllers:
+        hold = hold_action_of(agent, controller)
+        if isinstance(controller, PDEEController):
+            raw = hold.copy() if not controller.config.use_delta else np.zeros(controller.action_dim)
+            raw[axis] += EE_MOVE
+            first.append(controller.from_raw(raw))
+        else:
+            first.append(hold)
+    ee = next(c for c in controllers if isinstance(c, PDEEController))
+    agent.set_action(np.concatenate(first))
+    scene.step()
+    commanded = ee.target_pose[0, :3] - start_target
+    for _ in range(round(EE_SECONDS * control_freq) - 1):
+        agent.set_action(hold_action(agent))
+        scene.step()
+        depth.measure(scene)
+    moved = agent.tcp_pose[0, :3] - start_tcp
+    distance = float(np.linalg.norm(commanded))
+    error = float(np.linalg.norm(moved - rotation @ commanded)) / max(distance, 1e-9)
+    scene.close()
+    detail = f"{mode}, {distance * 1000:.1f} mm along {'xyz'[axis]}"
+    return ClaimResult("ee_tracking", error <= EE_TOLERANCE, error, EE_TOLERANCE, detail)
+
+
+def _grasp(cls: type[Agent], sim_freq: int, control_freq: int, depth: _Penetration) -> ClaimResult | None:
+    """Close the gripper on a weightless cube between its open fingers, give the cube its
+    weight, lift it and hold it (see the module doc); the cube's largest movement
+    relative to the tool frame over the hold, at the first of :data:`GRASP_DEPTHS` where
+    it holds (else the least). ``None``: the robot has no gripper with two fingers (or
+    no end effector)."""
+    from robot_agents.envs.tasks.table_top import table_top_layout
+
+    mode = _ee_mode(cls)
+    if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
+        return None
+    if table_top_layout(cls).gripper is None:
+        return None
+    attempts: list[tuple[float, str, _Penetration]] = []
+    for edges in GRASP_DEPTHS:
+        held = _Penetration()
+        attempts.append((*_grasp_at(cls, sim_freq, control_freq, mode, edges, held), held))
+        if attempts[-1][0] <= SLIP_BOUND:
+            break
+    slip, detail, held = min(attempts, key=lambda attempt: attempt[0])
+    if held.depth > depth.depth:
+        depth.depth, depth.where = held.depth, held.where
+    return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)
+
+
+def _grasp_at(
+    cls: type[Agent], sim_freq: int, control_freq: int, mode: str, edges: float, depth: _Penetration
+) -> tuple[float, str]:
+    """One grasp with the cube's centre ``edges`` cube edges from the grasp point towards
+    the wrist: the slip over the hold (m) and a description."""
+    from robot_agents.envs.tasks.table_top import cube_prop, table_top_layout, tool_arm
+
+    layout = table_top_layout(cls)
+    geometry = layout.gripper
+    if geometry is None:
+        raise ConfigError(f"sweep_timestep: {cls.__name__}'s gripper geometry could not be measured.")
+    cube = cube_prop("sweep_cube", layout, (0.8, 0.2, 0.2, 1.0))
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode, props=[cube], floor=False)
+    scene.reset()
+    agent = scene.agents[0]
+    gripper = agent.gripper()
+    names = agent.part_joints[gripper.name]
+    qpos = agent.qpos[0].copy()
+    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, opened, strict=True):
+        qpos[agent.joint_names.index(name)] = value
+    agent.reset(qpos=qpos)
+    ee = tool_arm(agent, "sweep_timestep").end_effectors[0].name
+
+    # The cube between the open fingers, faces square to the closing axis: in the
+    # middle of the gap, or 1 mm off a finger that does not move (a jaw against a fixed
+    # finger would push a weightless cube out otherwise).
+    approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
+    edge = 2.0 * layout.cube_half_size
+    centre = np.array(geometry.grasp_point) - edges * edge * approach
+    closed_q = qpos.copy()
+    shut = np.broadcast_to(np.asarray(gripper.closed, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, shut, strict=True):
+        closed_q[agent.joint_names.index(name)] = value
+    travel = []  # how far each finger's first link moves as the gripper closes (turns x the opening)
+    for finger in gripper.finger_links[:2]:
+        before, after = agent.frame_pose(finger[0], qpos, ee)[0], agent.frame_pose(finger[0], closed_q, ee)[0]
+        turn = 2.0 * np.arccos(min(1.0, abs(float(before[3:] @ after[3:]))))
+        travel.append(float(np.linalg.norm(after[:3] - before[:3])) + turn * geometry.opening)
+    if min(travel) < FIXED_FINGER_SHARE * max(travel):
+        side = -1.0 if travel[0] < travel[1] else 1.0  # towards the fixed finger
+        centre += side * (0.5 * geometry.opening - 0.5 * edge - 0.001) * closing
+    tool = agent.frame_pose(ee)[0]
+    rotation = quat_to_matrix(tool[3:])
+    axes = rotation @ np.stack([approach, closing, np.cross(approach, closing)], axis=1)
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, axes.reshape(-1))
+    body = scene.model.body("sweep_cube")
+    joint = int(body.jntadr[0])
+    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
+    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
+    pose = np.concatenate([tool[:3] + rotation @ centre, quat])[None]
+    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    data = scene.world.datas[0]
+    weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
+
+    # The gripper's slice of the action: fully closed (-1 in every gripper's action: its
+    # command past ``closed``, whichever way the joints close).
+    slot, close = None, None
+    for part_name, controller in agent.controller.parts.items():
+        if set(names) & set(controller.config.joint_names):
+            slot, close = agent.controller.slices[part_name], controller.from_raw(controller.unit_low)
+    ee_controller = next(c for c in agent.controller.parts.values() if isinstance(c, PDEEController))
+    ee_slot = next(agent.controller.slices[n] for n, c in agent.controller.parts.items() if c is ee_controller)
+
+    impact = _Penetration()  # the fingers' impact on the cube while closing: not judged
+
+    def act(lift: float = 0.0, measured: _Penetration = impact) -> None:
+        action = hold_action(agent)
+        if lift:
+            hold = action[ee_slot].copy()
+            raw = hold if not ee_controller.config.use_delta else np.zeros(ee_controller.action_dim)
+            raw[2] += lift
+            action[ee_slot] = ee_controller.from_raw(raw)
+        if slot is not None and close is not None:
+            action[slot] = close
+        agent.set_action(action)
+        scene.step()
+        measured.measure(scene)
+
+    def in_tool() -> np.ndarray:
+        tool = agent.frame_pose(ee)[0]
+        return np.asarray(quat_to_matrix(tool[3:]).T @ (scene.body_pose("sweep_cube")[0, :3] - tool[:3]))
+
+    data.xfrc_applied[body.id, :3] = weight  # weightless while the fingers close
+    for _ in range(round(CLOSE_SECONDS * control_freq)):
+        act()
+    data.xfrc_applied[body.id, :3] = 0.0
+    lift_steps = round(LIFT_SECONDS * control_freq)
+    for _ in range(lift_steps):
+        act(LIFT_EDGES * edge / lift_steps)
+    start = in_tool()
+    slip = 0.0
+    for _ in range(round(GRASP_HOLD_SECONDS * control_freq)):
+        act(measured=depth)
+        slip = max(slip, float(np.linalg.norm(in_tool() - start)))
+    # (Held in the air under its weight, a cube that moved less than the bound is held;
+    # whether the finger forces also pass ``is_grasping``'s opposing-force test is reported.)
+    opposed = bool(agent.is_grasping("sweep_cube")[0])
+    scene.close()
+    detail = f"{edge * 1000:.1f} mm cube {edges:g} edge in, {mode}" + ("" if opposed else ", finger forces not opposed")
+    if slip > edge:  # farther than its own edge: the cube has left the grasp (however far it fell)
+        slip, detail = edge, detail + ", cube lost"
+    return slip, detail
+
+
+def hold_action_of(agent: Agent, controller: object) -> np.ndarray:
+    """The hold action's slice belonging to one part's controller."""
+    for name, part in agent.controller.parts.items():
+        if part is controller:
+            return np.asarray(hold_action(agent)[agent.controller.slices[name]])
+    raise ConfigError(f"hold_action_of: the controller is not one of {type(agent).__name__}'s parts.")
+
+
+def checked_seeds(seeds: Sequence[int], where: str) -> tuple[int, ...]:
+    """``seeds`` as a tuple of ints, or a :class:`ConfigError` naming what was given."""
+    if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Sequence):
+        raise ConfigError(f"{where}: expected a sequence of int seeds (e.g. (0, 1, 2)), got {seeds!r}.")
+    if not seeds or not all(isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0 for s in seeds):
+        raise ConfigError(f"{where}: expected one or more int seeds >= 0, got {list(seeds)!r}.")
+    return tuple(int(s) for s in seeds)
+
+
+def measure_step(
+    cls: type[Agent],
+    sim_freq: int,
+    control_freq: int = DEFAULT_CONTROL_FREQ,
+    seeds: Sequence[int] = RANDOM_SEEDS,
+) -> StepResult:
+    """Every claim of ``cls`` at ``sim_freq``; ``seeds``: the random claim's action
+    sequences (each must pass)."""
+    seeds = checked_seeds(seeds, "measure_step")
+    depth, pressed = _Penetration(), _Penetration()
+    claims = [_hold(cls, sim_freq, control_freq, depth), *_random(cls, sim_freq, control_freq, seeds, pressed)]
+    tracking = _ee_tracking(cls, sim_freq, control_freq, depth)
+    if tracking is not None:
+        claims.append(tracking)
+    grasp = _grasp(cls, sim_freq, control_freq, depth)
+    if grasp is not None:
+        claims.append(grasp)
+    claims.append(
+        ClaimResult("penetration", depth.depth <= PENETRATION_BOUND, depth.depth, PENETRATION_BOUND, depth.where)
+    )
+    return StepResult(sim_freq, tuple(claims), pressed.depth)

@@ -24,14 +24,13 @@ from robot_agents.tuning.claims import (
     OVERSHOOT_BOUND,
     SETTLE_SECONDS,
     SETTLE_SPEED,
-    SLIP_BOUND,
     ClaimResult,
+    Penetration,
     StepResult,
-    _grasp,
-    _Penetration,
     _random,
     measure_step,
 )
+from robot_agents.tuning.grasp_claim import SLIP_BOUND, grasp_claim
 from robot_agents.tuning.timestep import SweepResult, sweep_timestep
 
 
@@ -172,8 +171,8 @@ def test_measure_step_reports_every_claim() -> None:
 
 
 def test_robots_without_a_gripper_make_no_grasp_claim() -> None:
-    assert _grasp(ra.get_agent("ur_10e"), 500, 20, _Penetration()) is None
-    assert _grasp(ra.get_agent("panda_stick"), 500, 20, _Penetration()) is None
+    assert grasp_claim(ra.get_agent("ur_10e"), 500, 20, Penetration()) is None
+    assert grasp_claim(ra.get_agent("panda_stick"), 500, 20, Penetration()) is None
 
 
 def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
@@ -187,16 +186,16 @@ def test_grasp_claim_fails_when_the_fingers_cannot_hold_the_cube() -> None:
         uid = ""
         attachments: ClassVar = (Attachment(WeakHand, at="panda_link8", quat=HAND_ON_FLANGE),)
 
-    weak = _grasp(WeakPanda, 500, 20, _Penetration())
+    weak = grasp_claim(WeakPanda, 500, 20, Penetration())
     assert weak is not None and not weak.passed and "cube lost" in weak.detail  # moved more than its edge
-    strong = _grasp(Panda, 500, 20, _Penetration())
+    strong = grasp_claim(Panda, 500, 20, Penetration())
     assert strong is not None and strong.passed and strong.value < 0.001
 
 
 def test_grasp_claim_closes_grippers_whose_joints_close_upwards() -> None:
     """The Robotiq 2F-85's drivers close towards their upper limit (0 -> 0.8 rad): the
     claim closes it with the action's -1, as every gripper, and the cube is held."""
-    result = _grasp(ra.get_agent("floating_robotiq_2f_85_gripper"), 500, 20, _Penetration())
+    result = grasp_claim(ra.get_agent("floating_robotiq_2f_85_gripper"), 500, 20, Penetration())
     assert result is not None and result.passed and result.value < SLIP_BOUND, result
 
 
@@ -204,9 +203,9 @@ def test_grasp_claim_tries_the_cube_deeper_between_the_fingers(tmp_path: Path) -
     """With its former, softer pads the Koch's jaw loses the cube a fifth of an edge in
     from its grasp point (near the tips) and holds it 0.4 edge deeper: the claim reports
     where it held (with the near-rigid pads it holds at the first depth)."""
-    result = _grasp(former_contact_variant("koch-v1.1", tmp_path), 400, 20, _Penetration())
+    result = grasp_claim(former_contact_variant("koch-v1.1", tmp_path), 400, 20, Penetration())
     assert result is not None and result.passed and "0.4 edge in" in result.detail, result
-    held = _grasp(ra.get_agent("koch-v1.1"), 400, 20, _Penetration())
+    held = grasp_claim(ra.get_agent("koch-v1.1"), 400, 20, Penetration())
     assert held is not None and held.passed and "0.2 edge in" in held.detail, held
 
 
@@ -261,7 +260,7 @@ def test_fingertips_hold_the_cube_at_the_default_step(uid: str) -> None:
     three with the former contacts)."""
     cls = ra.get_agent(uid)
     assert cls.sim_freq is not None
-    result = _grasp(cls, cls.sim_freq, 20, _Penetration())
+    result = grasp_claim(cls, cls.sim_freq, 20, Penetration())
     assert result is not None and result.passed and result.value < FIXED_GRASPS[uid][0], result
 
 
@@ -271,7 +270,7 @@ def test_former_fingertip_contact_lets_the_cube_creep_out(uid: str, tmp_path: Pa
     same step: the cube creeps along the tips though far inside its friction cone."""
     cls = ra.get_agent(uid)
     assert cls.sim_freq is not None
-    result = _grasp(former_contact_variant(uid, tmp_path), cls.sim_freq, 20, _Penetration())
+    result = grasp_claim(former_contact_variant(uid, tmp_path), cls.sim_freq, 20, Penetration())
     assert result is not None and not result.passed, result
 
 
@@ -344,8 +343,8 @@ def test_sweep_rejects_bad_input() -> None:
 def test_random_claim_reports_the_worst_of_its_seeds() -> None:
     """Each seed is its own action sequence; the claim's value is the worst over them,
     reported with the mode and seed where it happened."""
-    single = {seed: _random(SO100, 200, 20, (seed,), _Penetration())[0] for seed in (0, 1)}
-    both = _random(SO100, 200, 20, (0, 1), _Penetration())[0]
+    single = {seed: _random(SO100, 200, 20, (seed,), Penetration())[0] for seed in (0, 1)}
+    both = _random(SO100, 200, 20, (0, 1), Penetration())[0]
     assert single[0].value != single[1].value  # two different sequences
     assert both.value == max(single[0].value, single[1].value)
     worst = max((0, 1), key=lambda seed: single[seed].value)

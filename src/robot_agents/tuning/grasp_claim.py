@@ -1,0 +1,164 @@
+"""The grasp claim of the time-step sweep (:mod:`.claims`): a robot with a two-finger
+gripper closes it on a cube of the table-top tasks' size, lifts it and holds it; the
+claim is the cube's largest movement relative to the tool frame over the hold."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from robot_agents.agent import Agent
+from robot_agents.checks import hold_action
+from robot_agents.controllers.ee import PDEEController
+from robot_agents.errors import ConfigError
+from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.sim.scene import Scene
+from robot_agents.tuning.claims import ClaimResult, Penetration, ee_mode
+
+#: Grasp claim: seconds the fingers close on the weightless cube, the lift (in cube
+#: edges, over seconds) and the hold after it.
+CLOSE_SECONDS = 1.0
+LIFT_EDGES = 2.0
+LIFT_SECONDS = 1.0
+GRASP_HOLD_SECONDS = 2.0
+#: Largest movement of the grasped cube relative to the tool frame over the hold (m).
+SLIP_BOUND = 0.002
+#: How far towards the wrist from the grasp point the cube's centre sits, in cube
+#: edges, tried in order until the cube holds: first the scripted PickCube solver's
+#: grasp depth (the fingers reach past its middle), then deeper (a jaw whose grasp
+#: point lies near its tips, the Koch's, holds the cube only deeper in).
+GRASP_DEPTHS = (0.2, 0.4, 0.6)
+#: A finger that travels less than this share of the other's when the gripper closes
+#: counts as fixed (the SO-100's and Koch's jaws).
+FIXED_FINGER_SHARE = 0.25
+
+
+def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult | None:
+    """Close the gripper on a weightless cube between its open fingers, give the cube its
+    weight, lift it and hold it (see the module doc); the cube's largest movement
+    relative to the tool frame over the hold, at the first of :data:`GRASP_DEPTHS` where
+    it holds (else the least). ``None``: the robot has no gripper with two fingers (or
+    no end effector)."""
+    from robot_agents.envs.tasks.table_top import table_top_layout
+
+    mode = ee_mode(cls)
+    if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
+        return None
+    if table_top_layout(cls).gripper is None:
+        return None
+    attempts: list[tuple[float, str, Penetration]] = []
+    for edges in GRASP_DEPTHS:
+        held = Penetration()
+        attempts.append((*_grasp_at(cls, sim_freq, control_freq, mode, edges, held), held))
+        if attempts[-1][0] <= SLIP_BOUND:
+            break
+    slip, detail, held = min(attempts, key=lambda attempt: attempt[0])
+    if held.depth > depth.depth:
+        depth.depth, depth.where = held.depth, held.where
+    return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)
+
+
+def _grasp_at(
+    cls: type[Agent], sim_freq: int, control_freq: int, mode: str, edges: float, depth: Penetration
+) -> tuple[float, str]:
+    """One grasp with the cube's centre ``edges`` cube edges from the grasp point towards
+    the wrist: the slip over the hold (m) and a description."""
+    from robot_agents.envs.tasks.table_top import cube_prop, table_top_layout, tool_arm
+
+    layout = table_top_layout(cls)
+    geometry = layout.gripper
+    if geometry is None:
+        raise ConfigError(f"sweep_timestep: {cls.__name__}'s gripper geometry could not be measured.")
+    cube = cube_prop("sweep_cube", layout, (0.8, 0.2, 0.2, 1.0))
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode, props=[cube], floor=False)
+    scene.reset()
+    agent = scene.agents[0]
+    gripper = agent.gripper()
+    names = agent.part_joints[gripper.name]
+    qpos = agent.qpos[0].copy()
+    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, opened, strict=True):
+        qpos[agent.joint_names.index(name)] = value
+    agent.reset(qpos=qpos)
+    ee = tool_arm(agent, "sweep_timestep").end_effectors[0].name
+
+    # The cube between the open fingers, faces square to the closing axis: in the
+    # middle of the gap, or 1 mm off a finger that does not move (a jaw against a fixed
+    # finger would push a weightless cube out otherwise).
+    approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
+    edge = 2.0 * layout.cube_half_size
+    centre = np.array(geometry.grasp_point) - edges * edge * approach
+    closed_q = qpos.copy()
+    shut = np.broadcast_to(np.asarray(gripper.closed, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, shut, strict=True):
+        closed_q[agent.joint_names.index(name)] = value
+    travel = []  # how far each finger's first link moves as the gripper closes (turns x the opening)
+    for finger in gripper.finger_links[:2]:
+        before, after = agent.frame_pose(finger[0], qpos, ee)[0], agent.frame_pose(finger[0], closed_q, ee)[0]
+        turn = 2.0 * np.arccos(min(1.0, abs(float(before[3:] @ after[3:]))))
+        travel.append(float(np.linalg.norm(after[:3] - before[:3])) + turn * geometry.opening)
+    if min(travel) < FIXED_FINGER_SHARE * max(travel):
+        side = -1.0 if travel[0] < travel[1] else 1.0  # towards the fixed finger
+        centre += side * (0.5 * geometry.opening - 0.5 * edge - 0.001) * closing
+    tool = agent.frame_pose(ee)[0]
+    rotation = quat_to_matrix(tool[3:])
+    axes = rotation @ np.stack([approach, closing, np.cross(approach, closing)], axis=1)
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, axes.reshape(-1))
+    body = scene.model.body("sweep_cube")
+    joint = int(body.jntadr[0])
+    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
+    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
+    pose = np.concatenate([tool[:3] + rotation @ centre, quat])[None]
+    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    data = scene.world.datas[0]
+    weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
+
+    # The gripper's slice of the action: fully closed (-1 in every gripper's action: its
+    # command past ``closed``, whichever way the joints close).
+    slot, close = None, None
+    for part_name, controller in agent.controller.parts.items():
+        if set(names) & set(controller.config.joint_names):
+            slot, close = agent.controller.slices[part_name], controller.from_raw(controller.unit_low)
+    ee_controller = next(c for c in agent.controller.parts.values() if isinstance(c, PDEEController))
+    ee_slot = next(agent.controller.slices[n] for n, c in agent.controller.parts.items() if c is ee_controller)
+
+    impact = Penetration()  # the fingers' impact on the cube while closing: not judged
+
+    def act(lift: float = 0.0, measured: Penetration = impact) -> None:
+        action = hold_action(agent)
+        if lift:
+            hold = action[ee_slot].copy()
+            raw = hold if not ee_controller.config.use_delta else np.zeros(ee_controller.action_dim)
+            raw[2] += lift
+            action[ee_slot] = ee_controller.from_raw(raw)
+        if slot is not None and close is not None:
+            action[slot] = close
+        agent.set_action(action)
+        scene.step()
+        measured.measure(scene)
+
+    def in_tool() -> np.ndarray:
+        tool = agent.frame_pose(ee)[0]
+        return np.asarray(quat_to_matrix(tool[3:]).T @ (scene.body_pose("sweep_cube")[0, :3] - tool[:3]))
+
+    data.xfrc_applied[body.id, :3] = weight  # weightless while the fingers close
+    for _ in range(round(CLOSE_SECONDS * control_freq)):
+        act()
+    data.xfrc_applied[body.id, :3] = 0.0
+    lift_steps = round(LIFT_SECONDS * control_freq)
+    for _ in range(lift_steps):
+        act(LIFT_EDGES * edge / lift_steps)
+    start = in_tool()
+    slip = 0.0
+    for _ in range(round(GRASP_HOLD_SECONDS * control_freq)):
+        act(measured=depth)
+        slip = max(slip, float(np.linalg.norm(in_tool() - start)))
+    # (Held in the air under its weight, a cube that moved less than the bound is held;
+    # whether the finger forces also pass ``is_grasping``'s opposing-force test is reported.)
+    opposed = bool(agent.is_grasping("sweep_cube")[0])
+    scene.close()
+    detail = f"{edge * 1000:.1f} mm cube {edges:g} edge in, {mode}" + ("" if opposed else ", finger forces not opposed")
+    if slip > edge:  # farther than its own edge: the cube has left the grasp (however far it fell)
+        slip, detail = edge, detail + ", cube lost"
+    return slip, detail

@@ -323,9 +323,24 @@ class BatchedWorld:
         """Set ``qpos[adr]`` / ``qvel[adr]`` of ``env_ids`` (rows of ``qpos`` / ``qvel``),
         clear the solver's warm start and recompute derived quantities (``forward=False``:
         body and camera poses only, as after a step: ``mj_kinematics``, ``mj_camlight``)."""
-        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
+        if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
+            # the one env (the per-step writes of wheels, kinematic bases and held legs):
+            # the same writes and calls, without the id conversion and the loop
+            data = self._data0
+            data.qpos[qa] = qpos[0]
+            data.qvel[da] = qvel[0]
+            data.qacc_warmstart[:] = 0.0
+            data.ctrl[:] = self._ctrl0
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
+            self._cache.clear()
+            return
+        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
         for row, env in enumerate(ids):
             data = self.datas[env]
             data.qpos[qa] = qpos[row]

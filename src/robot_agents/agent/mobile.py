@@ -202,7 +202,7 @@ class MobileBase:
     def _planar_qpos(self) -> FloatArray:
         if self.planar is None:
             raise StateError(f"{self.owner}: no planar base joints.")
-        values: FloatArray = self.world.qpos[:, self._planar_adr]  # fancy indexing: a new array
+        values: FloatArray = self.world.qpos.take(self._planar_adr, axis=1)  # a new array
         return values
 
     def before_step(self) -> None:
@@ -216,8 +216,8 @@ class MobileBase:
             self._start_row = qpos[0].tolist()
             return
         self._start_row = None
-        self._start = qpos[:, self._planar_adr]
-        self._wheel_start = qpos[:, self._wheel_qadr]
+        self._start = qpos.take(self._planar_adr, axis=1)  # new arrays (as fancy indexing gives)
+        self._wheel_start = qpos.take(self._wheel_qadr, axis=1)
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus

@@ -136,6 +136,17 @@ class PDJointPosController(Controller):
         self._columns = binding.column_sel
         self._qpos_sel = binding.qpos_sel
         self._position = self.targets.position  # the drives' buffer (never replaced)
+        # Joints not contiguous in qpos / in the drives' columns: ndarray.take and
+        # ndarray.put with precomputed indices read and write the same entries as
+        # fancy indexing, several times faster on small arrays.
+        sel = binding.qpos_sel
+        self._qpos_take = None if isinstance(sel, slice) else np.asarray(sel, dtype=np.intp)
+        columns = binding.column_sel
+        self._column_put: IntArray | None = None
+        if not isinstance(columns, slice) and self._position.flags.c_contiguous:
+            width = self._position.shape[1]
+            rows = np.arange(num_envs, dtype=np.intp)[:, None] * width
+            self._column_put = (rows + np.asarray(columns, dtype=np.intp)).reshape(-1)
         self._one_pass_clip = self._clip and one_pass_clip_exact(self._lower_limit, self._upper_limit)
         if not config.use_delta:
             self._base = self._ABSOLUTE
@@ -169,8 +180,10 @@ class PDJointPosController(Controller):
             targets = change + self.offsets if self._has_offsets else change
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
-        else:
+        elif self._qpos_take is None:
             targets = sim.qpos[:, self._qpos_sel] + change
+        else:
+            targets = sim.qpos.take(self._qpos_take, axis=1) + change
         self._previous_target = self.target_qpos
         if self._one_pass_clip:
             targets = clip_ufunc(targets, self._lower_limit, self._upper_limit)
@@ -178,7 +191,10 @@ class PDJointPosController(Controller):
             targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
         self.target_qpos = targets
         if self._write_now:
-            self._position[:, self._columns] = targets
+            if self._column_put is None:
+                self._position[:, self._columns] = targets
+            else:
+                self._position.put(self._column_put, targets)
 
     @property
     def needs_substep(self) -> bool:

@@ -207,7 +207,7 @@ class BatchedWorld:
                 cached = getattr(self._data0, field).copy()[None]
             else:
                 cached = np.stack([getattr(d, field) for d in self.datas])
-            cached.flags.writeable = False
+            cached.setflags(write=False)  # as flags.writeable = False, without the flags object
             self._cache[field] = cached
         return cached
 

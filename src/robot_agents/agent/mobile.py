@@ -280,7 +280,9 @@ class MobileBase:
         (``start_row``, Python floats ``(nq,)``): the same values, from
         :meth:`_wheel_rolls_single`'s Python floats (IEEE additions and divisions, as
         NumPy's), one new array each for the write."""
-        end_row = self.world.qpos[0].tolist()
+        # the stepped positions straight from the env's MjData (the same numbers as
+        # world.qpos, without copying them into the read cache the write then clears)
+        end_row = self.world.render_sources()[0].qpos.tolist()
         planar = self._planar_list
         rolls = self._wheel_rolls_single([start_row[i] for i in planar], [end_row[i] for i in planar])
         angles = np.array([[start_row[q] + r for q, r in zip(self._wheel_qlist, rolls, strict=True)]])

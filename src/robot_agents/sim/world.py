@@ -106,6 +106,9 @@ class BatchedWorld:
         self._data0 = self.datas[0]
         self._ctrl0 = self.ctrl[0]
         self._qvel0 = self._data0.qvel
+        self._qpos0 = self._data0.qpos
+        self._warmstart0 = self._data0.qacc_warmstart
+        self._data_ctrl0 = self._data0.ctrl
         self._opt = model.opt
         #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
         self._sync_after_step = True
@@ -329,10 +332,10 @@ class BatchedWorld:
             # the one env (the per-step writes of wheels, kinematic bases and held legs):
             # the same writes and calls, without the id conversion and the loop
             data = self._data0
-            data.qpos[qa] = qpos[0]
-            data.qvel[da] = qvel[0]
-            data.qacc_warmstart[:] = 0.0
-            data.ctrl[:] = self._ctrl0
+            self._qpos0[qa] = qpos[0]
+            self._qvel0[da] = qvel[0]
+            self._warmstart0.fill(0.0)
+            self._data_ctrl0[:] = self._ctrl0
             if forward:
                 mujoco.mj_forward(model, data)
             else:

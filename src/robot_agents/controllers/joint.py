@@ -152,6 +152,10 @@ class PDJointPosController(Controller):
         # products, sums): NumPy's loop without broadcasting, faster, the same bits
         self._lower_row, self._upper_row = self._lower_limit[None], self._upper_limit[None]
         self._multipliers_row, self._offsets_row = self.multipliers[None], self.offsets[None]
+        # two-pass clip: a row for each bound with no zero (max / min of unequal values, or
+        # of equal nonzero ones, have one answer whichever loop computes them)
+        self._max_bound = self._lower_row if np.all(self._lower_limit != 0.0) else self._lower_limit
+        self._min_bound = self._upper_row if np.all(self._upper_limit != 0.0) else self._upper_limit
         if not config.use_delta:
             self._base = self._ABSOLUTE
         else:
@@ -192,7 +196,8 @@ class PDJointPosController(Controller):
         if self._one_pass_clip:
             targets = clip_ufunc(targets, self._lower_row, self._upper_row)
         elif self._clip:
-            targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+            targets = np.maximum(targets, self._max_bound)  # a new array: clipped in place
+            np.minimum(targets, self._min_bound, out=targets)
         self.target_qpos = targets
         if self._write_now:
             if self._column_put is None:

@@ -23,6 +23,7 @@ CASES = [
     ("google_robot", "pd_joint_vel", "Empty-v1"),  # tool frame: a site
     ("stretch", "pd_joint_delta_pos", "Empty-v1"),  # wheels turned after each step
     ("spot", "pd_joint_delta_pos", "Empty-v1"),  # a kinematic base
+    ("fetch", "pd_joint_delta_pos", "Empty-v1"),  # joints apart in qpos (take / put), a zero joint limit
     ("xarm6_robotiq", "pd_ee_delta_pose", "Empty-v1"),
 ]
 

@@ -106,6 +106,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._held_columns = self.drives.columns(held, name) if held else np.zeros(0, dtype=np.int64)
         self._every_env = np.arange(self.num_envs)
         self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
+        # (active mode, its last base velocity part or None), for after_step
+        self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -260,13 +262,18 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         reset pose (Habitat's leg base); wheels turn with the base."""
         if not self.mobile.moves_each_step:
             return
-        commanded = None
-        for controller in self.control.active.parts.values():
-            if isinstance(controller, PDBaseVelController):
-                commanded = controller.target_qvel
+        active = self.control.active
+        if active is not self._base_controller[0]:  # found once per active mode
+            found = None
+            for controller in active.parts.values():
+                if isinstance(controller, PDBaseVelController):
+                    found = controller
+            self._base_controller = (active, found)
+        base = self._base_controller[1]
+        commanded = None if base is None else base.target_qvel
         self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
         if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
-            pose = self.drives.targets.position[:, self._held_columns]
+            pose = self.drives.targets.position.take(self._held_columns, axis=1)  # [:, columns], faster
             self.world.write_joint_state(
                 self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel, forward=False
             )

@@ -6,6 +6,7 @@ and for a floating root."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import mujoco
@@ -59,6 +60,10 @@ class MobileBase:
         self._wheel_qadr = np.array([w.qpos_adr for w in self.wheels], dtype=np.int64)
         self._wheel_dadr = np.array([w.dof_adr for w in self.wheels], dtype=np.int64)
         self._all_envs = np.arange(world.num_envs)
+        self._planar_list = [int(a) for a in self._planar_adr]
+        self._wheel_qlist = [int(a) for a in self._wheel_qadr]
+        #: One env, wheels only: its ``qpos`` at the step's start (Python floats), else None.
+        self._start_row: list[float] | None = None
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).
         self.refused_moves = np.zeros(n, dtype=np.int64)
@@ -197,26 +202,40 @@ class MobileBase:
     def _planar_qpos(self) -> FloatArray:
         if self.planar is None:
             raise StateError(f"{self.owner}: no planar base joints.")
-        values: FloatArray = self.world.qpos[:, self._planar_adr]  # fancy indexing: a new array
+        values: FloatArray = self.world.qpos.take(self._planar_adr, axis=1)  # a new array
         return values
 
     def before_step(self) -> None:
         """Remember the planar pose at the start of a control step."""
-        if self.moves_each_step:
-            self._start = self._planar_qpos()
-            self._wheel_start = self.world.qpos[:, self._wheel_qadr]
+        if not self.moves_each_step:
+            return
+        qpos = self.world.qpos
+        if qpos.shape[0] == 1 and self.dynamics != "kinematic":
+            # one env whose wheels only turn: its joint positions as Python floats (what
+            # the scalar wheel roll reads; no fancy indexing of one-row arrays)
+            self._start_row = qpos[0].tolist()
+            return
+        self._start_row = None
+        self._start = qpos.take(self._planar_adr, axis=1)  # new arrays (as fancy indexing gives)
+        self._wheel_start = qpos.take(self._wheel_qadr, axis=1)
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus
         ``commanded`` (mount-frame joint velocities ``(num_envs, 3)``) times
         ``control_dt`` (a refused move leaves it at the start pose); wheels turn by the
         base's actual motion."""
-        if not self.moves_each_step or self._start is None or self.planar is None:
+        if not self.moves_each_step or self.planar is None:
+            return
+        if self._start_row is not None:
+            if self.dynamics != "kinematic":
+                self._turn_wheels_single(self._start_row, control_dt)
+            return
+        if self._start is None:
             return
         start = self._start
         n = start.shape[0]
         adr, dofs = self._planar_adr, self._planar_dofs
-        ids = np.arange(n)
+        ids = self._all_envs  # start holds a row per env
         if self.dynamics == "kinematic":
             velocity = np.zeros((n, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
             end = start + velocity * control_dt
@@ -256,6 +275,20 @@ class MobileBase:
             self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, rolled / control_dt, forward=False
         )
 
+    def _turn_wheels_single(self, start_row: list[float], control_dt: float) -> None:
+        """:meth:`_turn_wheels` of one env from its joint positions at the step's start
+        (``start_row``, Python floats ``(nq,)``): the same values, from
+        :meth:`_wheel_rolls_single`'s Python floats (IEEE additions and divisions, as
+        NumPy's), one new array each for the write."""
+        # the stepped positions straight from the env's MjData (the same numbers as
+        # world.qpos, without copying them into the read cache the write then clears)
+        end_row = self.world.render_sources()[0].qpos.tolist()
+        planar = self._planar_list
+        rolls = self._wheel_rolls_single([start_row[i] for i in planar], [end_row[i] for i in planar])
+        angles = np.array([[start_row[q] + r for q, r in zip(self._wheel_qlist, rolls, strict=True)]])
+        speeds = np.array([[r / control_dt for r in rolls]])
+        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
+
     def _wheel_roll(self, start: FloatArray, end: FloatArray) -> FloatArray:
         """Differential kinematics: left wheels roll ``v - w b / 2``, right wheels
         ``v + w b / 2`` (``v`` forward travel, ``w`` yaw change, ``b`` separation), in
@@ -282,8 +315,16 @@ class MobileBase:
         the same operations in the same order on scalars (Python floats for the
         arithmetic, NumPy's own ``mod`` / ``cos`` / ``sin``), so bit for bit the same,
         without a dozen calls on one-element arrays."""
+        return np.array([self._wheel_rolls_single(start, end)])
+
+    def _wheel_rolls_single(
+        self, start: Sequence[float] | FloatArray, end: Sequence[float] | FloatArray
+    ) -> list[float]:
+        """:meth:`_wheel_roll_single` as a list of Python floats, one per wheel. The wrap
+        of the turn is :func:`wrap_angle`'s arithmetic with Python's ``%`` for
+        ``np.mod`` (both are C's ``fmod`` with the result moved to the divisor's sign)."""
         x0, y0, yaw0 = float(start[0]), float(start[1]), float(start[2])
-        turn = float(wrap_angle(end[2] - start[2]))
+        turn = math.pi - (math.pi - (float(end[2]) - yaw0)) % (2 * math.pi)
         heading = yaw0 + self._mount_yaw + 0.5 * turn
         c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
         moved_x, moved_y = float(end[0]) - x0, float(end[1]) - y0
@@ -293,4 +334,4 @@ class MobileBase:
         half = len(self.wheels) // 2
         differential = 0.5 * self.wheel_separation * turn
         radius = self.wheel_radius
-        return np.array([[(forward - differential) / radius] * half + [(forward + differential) / radius] * half])
+        return [(forward - differential) / radius] * half + [(forward + differential) / radius] * half

@@ -78,6 +78,9 @@ class PDBaseVelController(PDJointVelController):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         yaw = sim.qpos[:, self._yaw_adr]
         cos, sin = np.cos(yaw), np.sin(yaw)
+        if raw.shape[0] == 1:  # one env: the same products and sums on Python floats
+            self._apply_single(raw[0].tolist(), cos.item(), sin.item())
+            return
         forward = raw[:, 0]
         lateral = raw[:, 1] if self.config.holonomic else 0.0
         turn = raw[:, -1]
@@ -85,6 +88,16 @@ class PDBaseVelController(PDJointVelController):
         target[:, 0] = cos * forward - sin * lateral
         target[:, 1] = sin * forward + cos * lateral
         target[:, 2] = turn
+        self.target_qvel = target
+        self.targets.velocity[:, self.binding.column_sel] = target
+
+    def _apply_single(self, action: list[float], cos: float, sin: float) -> None:
+        """:meth:`apply` of one env (``action``: its raw action, ``cos`` / ``sin`` of the
+        base's yaw as NumPy computed them): IEEE products and sums as NumPy's, in the
+        same order, without a dozen operations on one-element arrays."""
+        forward, turn = action[0], action[-1]
+        lateral = action[1] if self.config.holonomic else 0.0
+        target = np.array([[cos * forward - sin * lateral, sin * forward + cos * lateral, turn]])
         self.target_qvel = target
         self.targets.velocity[:, self.binding.column_sel] = target
 

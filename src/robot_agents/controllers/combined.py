@@ -70,6 +70,13 @@ class CombinedController:
         with np.errstate(invalid="ignore"):  # unbounded raw entries: inf - inf is never selected
             self._scale = np.where(normalized, (unit_high - unit_low) / 2, 1.0)
             self._offset = np.where(normalized, (unit_high + unit_low) / 2, 0.0)
+        # ``(1, action_dim)`` rows of the per-entry constants: against a ``(1, A)`` action
+        # NumPy takes its loop without broadcasting (several times faster on small
+        # arrays; the same elementwise operations, so the same bits). The two-pass clip
+        # keeps the 1-d bounds: with a zero bound, which zero max / min return may depend
+        # on the loop taken.
+        self._clip_low_row, self._clip_high_row = self._clip_low[None], self._clip_high[None]
+        self._scale_row, self._offset_row = self._scale[None], self._offset[None]
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
         self._checked = [(name, c) for name, c in self.parts.items() if c.checks_actions]
         self._reporting = [c for c in controllers if type(c).step_info is not Controller.step_info]
@@ -95,12 +102,12 @@ class CombinedController:
         # clip, then scale and shift, in place on one new array (the result is handed to
         # the controllers, which may keep views of it)
         if self._one_pass_clip:
-            raw: FloatArray = clip_ufunc(action, self._clip_low, self._clip_high)
+            raw: FloatArray = clip_ufunc(action, self._clip_low_row, self._clip_high_row)
         else:
             raw = np.maximum(action, self._clip_low)
             np.minimum(raw, self._clip_high, out=raw)
-        np.multiply(raw, self._scale, out=raw)
-        np.add(raw, self._offset, out=raw)
+        np.multiply(raw, self._scale_row, out=raw)
+        np.add(raw, self._offset_row, out=raw)
         return raw
 
     def check_action(self, action: FloatArray) -> str | None:

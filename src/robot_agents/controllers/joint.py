@@ -136,7 +136,26 @@ class PDJointPosController(Controller):
         self._columns = binding.column_sel
         self._qpos_sel = binding.qpos_sel
         self._position = self.targets.position  # the drives' buffer (never replaced)
+        # Joints not contiguous in qpos / in the drives' columns: ndarray.take and
+        # ndarray.put with precomputed indices read and write the same entries as
+        # fancy indexing, several times faster on small arrays.
+        sel = binding.qpos_sel
+        self._qpos_take = None if isinstance(sel, slice) else np.asarray(sel, dtype=np.intp)
+        columns = binding.column_sel
+        self._column_put: IntArray | None = None
+        if not isinstance(columns, slice) and self._position.flags.c_contiguous:
+            width = self._position.shape[1]
+            rows = np.arange(num_envs, dtype=np.intp)[:, None] * width
+            self._column_put = (rows + np.asarray(columns, dtype=np.intp)).reshape(-1)
         self._one_pass_clip = self._clip and one_pass_clip_exact(self._lower_limit, self._upper_limit)
+        # (1, n) rows for the exact operations (one-pass clip without a zero bound,
+        # products, sums): NumPy's loop without broadcasting, faster, the same bits
+        self._lower_row, self._upper_row = self._lower_limit[None], self._upper_limit[None]
+        self._multipliers_row, self._offsets_row = self.multipliers[None], self.offsets[None]
+        # two-pass clip: a row for each bound with no zero (max / min of unequal values, or
+        # of equal nonzero ones, have one answer whichever loop computes them)
+        self._max_bound = self._lower_row if np.all(self._lower_limit != 0.0) else self._lower_limit
+        self._min_bound = self._upper_row if np.all(self._upper_limit != 0.0) else self._upper_limit
         if not config.use_delta:
             self._base = self._ABSOLUTE
         else:
@@ -164,21 +183,27 @@ class PDJointPosController(Controller):
         self._previous_target[env_ids] = measured
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
-        change = raw if self._plain else raw * self.multipliers  # (N, 1) * (n,) -> (N, n)
+        change = raw if self._plain else raw * self._multipliers_row  # (N, 1) * (1, n) -> (N, n)
         if self._base == self._ABSOLUTE:
-            targets = change + self.offsets if self._has_offsets else change
+            targets = change + self._offsets_row if self._has_offsets else change
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
-        else:
+        elif self._qpos_take is None:
             targets = sim.qpos[:, self._qpos_sel] + change
+        else:
+            targets = sim.qpos.take(self._qpos_take, axis=1) + change
         self._previous_target = self.target_qpos
         if self._one_pass_clip:
-            targets = clip_ufunc(targets, self._lower_limit, self._upper_limit)
+            targets = clip_ufunc(targets, self._lower_row, self._upper_row)
         elif self._clip:
-            targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+            targets = np.maximum(targets, self._max_bound)  # a new array: clipped in place
+            np.minimum(targets, self._min_bound, out=targets)
         self.target_qpos = targets
         if self._write_now:
-            self._position[:, self._columns] = targets
+            if self._column_put is None:
+                self._position[:, self._columns] = targets
+            else:
+                self._position.put(self._column_put, targets)
 
     @property
     def needs_substep(self) -> bool:

@@ -106,6 +106,9 @@ class BatchedWorld:
         self._data0 = self.datas[0]
         self._ctrl0 = self.ctrl[0]
         self._qvel0 = self._data0.qvel
+        self._qpos0 = self._data0.qpos
+        self._warmstart0 = self._data0.qacc_warmstart
+        self._data_ctrl0 = self._data0.ctrl
         self._opt = model.opt
         #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
         self._sync_after_step = True
@@ -207,7 +210,7 @@ class BatchedWorld:
                 cached = getattr(self._data0, field).copy()[None]
             else:
                 cached = np.stack([getattr(d, field) for d in self.datas])
-            cached.flags.writeable = False
+            cached.setflags(write=False)  # as flags.writeable = False, without the flags object
             self._cache[field] = cached
         return cached
 
@@ -323,9 +326,24 @@ class BatchedWorld:
         """Set ``qpos[adr]`` / ``qvel[adr]`` of ``env_ids`` (rows of ``qpos`` / ``qvel``),
         clear the solver's warm start and recompute derived quantities (``forward=False``:
         body and camera poses only, as after a step: ``mj_kinematics``, ``mj_camlight``)."""
-        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
+        if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
+            # the one env (the per-step writes of wheels, kinematic bases and held legs):
+            # the same writes and calls, without the id conversion and the loop
+            data = self._data0
+            self._qpos0[qa] = qpos[0]
+            self._qvel0[da] = qvel[0]
+            self._warmstart0.fill(0.0)
+            self._data_ctrl0[:] = self._ctrl0
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
+            self._cache.clear()
+            return
+        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
         for row, env in enumerate(ids):
             data = self.datas[env]
             data.qpos[qa] = qpos[row]

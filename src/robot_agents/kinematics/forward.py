@@ -63,6 +63,68 @@ def resolve_frame(model: mujoco.MjModel, name: str, prefix: str = "", where: str
     raise UnknownNameError(where, "body or site", name, available)
 
 
+class BoundFrame:
+    """One frame read off a :class:`Kinematics`' scratch data without per-call look-ups:
+    the same poses and Jacobians as :meth:`Kinematics.loaded_pose` and
+    :meth:`Kinematics.loaded_jacobian` (the same MuJoCo calls on the same numbers), for
+    hot loops (IK, end-effector control).
+
+    Args:
+        kinematics: whose scratch data is read (at the configuration last loaded).
+        frame: the body or site.
+
+    Attributes:
+        pose: the world pose ``(7,)`` (m, quaternion w-x-y-z) written by :meth:`update`;
+            ``position`` and ``quat`` are views of its parts.
+        jacp / jacr: the translational and rotational Jacobians ``(3, nv)`` written by
+            :meth:`jacobian` (m/rad, rad/rad or m).
+    """
+
+    def __init__(self, kinematics: Kinematics, frame: FrameRef) -> None:
+        model, data = kinematics.model, kinematics.data
+        self.frame = frame
+        self._model, self._data = model, data
+        self._is_body = frame.kind is FrameKind.BODY
+        self._id = frame.id
+        self._body = frame.id if self._is_body else int(model.site_bodyid[frame.id])
+        self._offset = None if frame.offset is None else np.asarray(frame.offset, dtype=np.float64)
+        # Views of the scratch data's rows of this frame (MjData's arrays do not move).
+        self._source_position = data.xpos[frame.id] if self._is_body else data.site_xpos[frame.id]
+        self._source_orientation = data.xquat[frame.id] if self._is_body else data.site_xmat[frame.id]
+        self.pose: FloatArray = np.empty(7)
+        self.position, self.quat = self.pose[:3], self.pose[3:]
+        self.jacp: FloatArray = np.zeros((3, model.nv))
+        self.jacr: FloatArray = np.zeros((3, model.nv))
+        self._point = np.empty(7)
+
+    def update(self) -> FloatArray:
+        """The frame's world pose at the loaded configuration, into :attr:`pose` (returned)."""
+        self._pose_into(self.pose, self.position, self.quat)
+        return self.pose
+
+    def _pose_into(self, out: FloatArray, position: FloatArray, quat: FloatArray) -> None:
+        position[...] = self._source_position
+        if self._is_body:
+            quat[...] = self._source_orientation
+        else:
+            mujoco.mju_mat2Quat(quat, self._source_orientation)
+        if self._offset is not None:
+            compose_into(out, out, self._offset)
+
+    def jacobian(self) -> tuple[FloatArray, FloatArray]:
+        """Jacobians of the frame's origin at the loaded configuration, in world axes,
+        into :attr:`jacp` and :attr:`jacr` (returned)."""
+        if self._offset is not None:
+            point = self._point
+            self._pose_into(point, point[:3], point[3:])
+            mujoco.mj_jac(self._model, self._data, self.jacp, self.jacr, point[:3], self._body)
+        elif self._is_body:
+            mujoco.mj_jacBody(self._model, self._data, self.jacp, self.jacr, self._id)
+        else:
+            mujoco.mj_jacSite(self._model, self._data, self.jacp, self.jacr, self._id)
+        return self.jacp, self.jacr
+
+
 class Kinematics:
     """Poses and Jacobians of a compiled model at given joint positions.
 

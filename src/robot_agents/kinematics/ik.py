@@ -41,8 +41,8 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
-from robot_agents.kinematics.forward import FrameRef, Kinematics
-from robot_agents.kinematics.rotations import quat_angle, rotation_error_into
+from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
+from robot_agents.kinematics.rotations import quat_angle
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -166,13 +166,25 @@ class IKSolver:
         self._qpos_sel = index_selector(self.qpos_adr)
         self._dof_sel = index_selector(self.dof_adr)
         self._followers = _linear_followers(model, self.dof_adr)
-        # Scratch buffers of the per-env descent.
+        # Scratch buffers of the per-env descent, and views of them made once (per rows:
+        # 3 for position-only solves, 6 with orientation).
         self._pose = np.empty(7)
         self._error = np.empty(6)
+        self._error_position, self._error_rotation = self._error[:3], self._error[3:]
+        self._difference = np.empty(4)
         self._systems = {3: np.empty((3, 3)), 6: np.empty((6, 6))}
         self._damping = {rows: self.config.damping**2 * np.eye(rows) for rows in (3, 6)}
         self._solution = np.empty(6)
+        self._solutions = {rows: self._solution[:rows] for rows in (3, 6)}
         self._jacobian = np.empty((6, n))
+        self._jacobians = {rows: self._jacobian[:rows] for rows in (3, 6)}
+        self._transposes = {rows: self._jacobian[:rows].T for rows in (3, 6)}
+        self._jacobian_position, self._jacobian_rotation = self._jacobian[:3], self._jacobian[3:]
+        self._bound = BoundFrame(kinematics, frame)
+        self._scratch_qpos = kinematics.data.qpos
+        # The chain's Jacobian columns as views when the dofs are consecutive (else taken).
+        self._chain_jacp = self._bound.jacp[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
+        self._chain_jacr = self._bound.jacr[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
 
     @property
     def size(self) -> int:
@@ -257,87 +269,107 @@ class IKSolver:
         """
         cfg = self.config
         iterations = cfg.max_iterations if max_iterations is None else int(max_iterations)
-        kinematics, frame, dof_sel = self.kinematics, self.frame, self._dof_sel
-        model, data = kinematics.model, kinematics.data
+        lower, upper, scratch_qpos = self.lower, self.upper, self._scratch_qpos
+        model, data = self.kinematics.model, self.kinematics.data
         if not loaded:
-            data.qpos[:] = context
+            scratch_qpos[:] = context
         rows = 3 if position_only else 6
-        q = np.minimum(np.maximum(seed, self.lower), self.upper)
-        if loaded and not (q == seed).all():  # a seed past a (soft) limit was clipped
+        q = np.minimum(np.maximum(seed, lower), upper)
+        if loaded and np.count_nonzero(q != seed):  # a seed past a (soft) limit was clipped
             loaded = False
-            data.qpos[:] = context
+            scratch_qpos[:] = context
         best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf
-        pose, error = self._pose, self._error
-        system, solution = self._systems[rows], self._solution[:rows]
-        jacobian, task = self._jacobian[:rows], error[:rows]
+        bound = self._bound
+        pose, pose_position, pose_quat = bound.pose, bound.position, bound.quat
+        error, error_position, error_rotation = self._error, self._error_position, self._error_rotation
+        difference = self._difference
+        system, solution, damping = self._systems[rows], self._solutions[rows], self._damping[rows]
+        jacobian, transpose = self._jacobians[rows], self._transposes[rows]
+        jacobian_position, jacobian_rotation = self._jacobian_position, self._jacobian_rotation
+        chain_jacp, chain_jacr = self._chain_jacp, self._chain_jacr
+        task = error_position if position_only else error
         target_position, target_quat = target[:3], target[3:]
-        weight, damping, max_task = cfg.rotation_weight, self._damping[rows], cfg.max_task_step
+        weight, max_task = cfg.rotation_weight, cfg.max_task_step
         tol_position, tol_rotation = cfg.position_tolerance, cfg.rotation_tolerance
+        qpos_sel, followers = self._qpos_sel, self._followers
         done = 0
         for iteration in range(iterations + 1):
             if iteration or not loaded:
-                data.qpos[self._qpos_sel] = q
-                self._move_followers(data.qpos, q)
+                scratch_qpos[qpos_sel] = q
+                if followers:
+                    self._move_followers(scratch_qpos, q)
                 mujoco.mj_kinematics(model, data)
                 mujoco.mj_comPos(model, data)
-            kinematics.loaded_pose(frame, pose)
-            np.subtract(target_position, pose[:3], out=error[:3])
-            position_norm = math.sqrt(error[:3] @ error[:3])
+            bound.update()
+            np.subtract(target_position, pose_position, out=error_position)
+            position_norm = math.sqrt(error_position @ error_position)
             if position_only:
                 rotation_norm = 0.0
             else:
-                rotation_error_into(error[3:], target_quat, pose[3:])
-                rotation_norm = math.sqrt(error[3:] @ error[3:])
+                # The rotation vector turning the pose's orientation into the target's
+                # (kinematics.rotations.rotation_error_into, without its allocation).
+                mujoco.mju_negQuat(difference, pose_quat)
+                mujoco.mju_mulQuat(difference, target_quat, difference)
+                mujoco.mju_quat2Vel(error_rotation, difference, 1.0)
+                rotation_norm = math.sqrt(error_rotation @ error_rotation)
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
             if iteration == 0:
                 start_q, start_pose = q, pose.copy()
             if cost < best_cost:
                 best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
-                best_pose = pose.copy()
+                best_pose = start_pose if iteration == 0 else pose.copy()  # neither is written later
             if cost <= 1.0 or iteration == iterations:
                 break
-            jacp, jacr = kinematics.loaded_jacobian(frame)
-            jacobian[:3] = jacp[:, dof_sel]
+            jacp, jacr = bound.jacobian()
+            if chain_jacp is not None and chain_jacr is not None:
+                jacobian_position[...] = chain_jacp
+                if not position_only:
+                    np.multiply(chain_jacr, weight, out=jacobian_rotation)
+            else:
+                jacobian_position[...] = jacp[:, self._dof_sel]
+                if not position_only:
+                    np.multiply(jacr[:, self._dof_sel], weight, out=jacobian_rotation)
             if not position_only:
-                np.multiply(jacr[:, dof_sel], weight, out=jacobian[3:])
-                error[3:] *= weight
-            for _, dof, column, _, slope in self._followers:  # coupled joints move with their leader
+                error_rotation *= weight
+            for _, dof, column, _, slope in followers:  # coupled joints move with their leader
                 jacobian[:3, column] += slope * jacp[:, dof]
                 if not position_only:
                     jacobian[3:, column] += (slope * weight) * jacr[:, dof]
             size = math.sqrt(task @ task)
             if size > max_task:
                 task *= max_task / size
-            np.matmul(jacobian, jacobian.T, out=system)
+            np.matmul(jacobian, transpose, out=system)
             system += damping
             mujoco.mju_cholFactor(system, 0.0)
             mujoco.mju_cholSolve(solution, system, task)
-            step = jacobian.T @ solution
+            step = transpose @ solution
             # Joints at a limit that the step pushes further are taken out of the
             # problem (their columns zeroed) and the rest solved again: the clip would
             # undo their share, and the others would never make it up (an arm resting
-            # on its limits stalls otherwise).
-            for _ in range(len(q)):
-                blocked = ((q <= self.lower) & (step < 0.0)) | ((q >= self.upper) & (step > 0.0))
-                if not blocked.any():
-                    break
-                jacobian[:, blocked] = 0.0
-                np.matmul(jacobian, jacobian.T, out=system)
-                system += damping
-                mujoco.mju_cholFactor(system, 0.0)
-                mujoco.mju_cholSolve(solution, system, task)
-                step = jacobian.T @ solution
+            # on its limits stalls otherwise). No joint at a limit: nothing to take out.
+            at_lower, at_upper = q <= lower, q >= upper
+            if np.count_nonzero(at_lower) or np.count_nonzero(at_upper):
+                for _ in range(len(q)):
+                    blocked = (at_lower & (step < 0.0)) | (at_upper & (step > 0.0))
+                    if not blocked.any():
+                        break
+                    jacobian[:, blocked] = 0.0
+                    np.matmul(jacobian, transpose, out=system)
+                    system += damping
+                    mujoco.mju_cholFactor(system, 0.0)
+                    mujoco.mju_cholSolve(solution, system, task)
+                    step = transpose @ solution
             if cfg.null_space_gain > 0:
                 pull = cfg.null_space_gain * (self.rest_qpos - q)
-                np.matmul(jacobian, jacobian.T, out=system)
+                np.matmul(jacobian, transpose, out=system)
                 system += damping
                 mujoco.mju_cholFactor(system, 0.0)
                 mujoco.mju_cholSolve(solution, system, jacobian @ pull)
-                step += pull - jacobian.T @ solution
+                step += pull - transpose @ solution
             largest = float(np.abs(step).max())
             if largest > cfg.max_step:
                 step *= cfg.max_step / largest
-            q = np.minimum(np.maximum(q + step, self.lower), self.upper)
+            q = np.minimum(np.maximum(q + step, lower), upper)
             done += 1
         success = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
         if not success and best_q is not start_q:

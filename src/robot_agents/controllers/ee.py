@@ -23,6 +23,8 @@ One control step of an end-effector controller, per env:
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 import numpy.typing as npt
@@ -44,9 +46,8 @@ from robot_agents.controllers.ee_config import (
     per_axis,
 )
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.kinematics.forward import FrameKind, FrameRef
+from robot_agents.kinematics.forward import BoundFrame, FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKResult, IKSolver
-from robot_agents.kinematics.rotations import compose_into, relative_pose_into, rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]
 
@@ -115,9 +116,24 @@ class PDEEController(Controller):
             iterations=np.zeros(num_envs, dtype=np.int64),
         )
         self._rotate_about_root = not (isinstance(config, PDEEPoseConfig) and config.rotation_frame is CommandFrame.EE)
-        # Per-env scratch poses.
-        self._tool, self._root, self._measured = np.empty(7), np.empty(7), np.empty(7)
-        self._target, self._world_target, self._turn = np.empty(7), np.empty(7), np.empty(4)
+        # Hot-path state made once: the mode's flags, the tool and root frames bound to
+        # the scratch kinematics, per-env scratch poses and views of their parts.
+        self._from_target = config.use_target or not config.use_delta
+        self._translate_in_tool = config.translation_frame is CommandFrame.EE
+        self._model, self._data = context.kinematics.model, context.kinematics.data
+        self._scratch_qpos = context.kinematics.data.qpos
+        self._tool_bound = BoundFrame(context.kinematics, frame)
+        self._root_bound = BoundFrame(context.kinematics, command)
+        self._tool, self._root = self._tool_bound.pose, self._root_bound.pose
+        self._measured, self._inverse = np.empty(7), np.empty(7)
+        self._target, self._world_target, self._turn, self._axis = np.empty(7), np.empty(7), np.empty(4), np.empty(3)
+        # Position and quaternion views (MuJoCo's functions take views made once faster than slices).
+        self._measured_parts = (self._measured[:3], self._measured[3:])
+        self._inverse_parts = (self._inverse[:3], self._inverse[3:])
+        self._target_parts = (self._target[:3], self._target[3:])
+        self._world_target_parts = (self._world_target[:3], self._world_target[3:])
+        self._configuration = np.empty(context.model.nq)
+        self._start, self._position, self._velocity = np.empty((num_envs, n)), np.empty((num_envs, n)), np.empty((num_envs, n))
 
     @staticmethod
     def _check_chain(model: mujoco.MjModel, binding: JointBinding, frame: FrameRef, owner: str) -> None:
@@ -167,67 +183,88 @@ class PDEEController(Controller):
     def _measure(self, configuration: FloatArray) -> None:
         """Forward kinematics of one env: world poses of the root (``self._root``) and the
         tool, and the tool in the root frame (``self._measured``)."""
-        kinematics = self.kinematics
-        kinematics.load(configuration)
-        kinematics.loaded_pose(self.ee_frame, self._tool)
-        kinematics.loaded_pose(self.root_frame, self._root)
-        relative_pose_into(self._measured, self._tool, self._root)
+        self._load(configuration)
+        tool, root = self._tool_bound, self._root_bound
+        (inverse_position, inverse_quat), (measured_position, measured_quat) = self._inverse_parts, self._measured_parts
+        tool.update()
+        root.update()
+        # relative_pose_into(measured, tool, root), writing straight into its buffers.
+        mujoco.mju_negPose(inverse_position, inverse_quat, root.position, root.quat)
+        mujoco.mju_mulPose(measured_position, measured_quat, inverse_position, inverse_quat, tool.position, tool.quat)
 
-    def _set_target(self, raw: FloatArray, base: FloatArray, out: FloatArray) -> None:
-        """Target tool pose ``(7,)`` in the root frame from one env's action and base pose."""
-        cfg = self.config
-        turn = self._turn
-        if cfg.use_delta:
-            if cfg.translation_frame is CommandFrame.EE:
-                mujoco.mju_rotVecQuat(out[:3], raw[:3], base[3:])
-                out[:3] += base[:3]
+    def _load(self, configuration: FloatArray) -> None:
+        """Kinematics.load: one configuration ``(nq,)`` into the scratch data, positions computed."""
+        self._scratch_qpos[:] = configuration
+        mujoco.mj_kinematics(self._model, self._data)
+        mujoco.mj_comPos(self._model, self._data)
+
+    def _rotvec_to_quat(self, out: FloatArray, rotvec: FloatArray) -> None:
+        """rotations.rotvec_to_quat_into (rad -> unit quaternion ``(4,)``) with a scratch axis."""
+        angle = math.sqrt(float(rotvec @ rotvec))
+        if angle < 1e-12:
+            out[:] = (1.0, 0.0, 0.0, 0.0)
+            return
+        np.divide(rotvec, angle, out=self._axis)
+        mujoco.mju_axisAngle2Quat(out, self._axis, angle)
+
+    def _set_target(self, raw: FloatArray, base: FloatArray) -> None:
+        """Target tool pose (``self._target``, ``(7,)``) in the root frame from one env's
+        action and base pose."""
+        out = self._target
+        position, quat = self._target_parts
+        if self.config.use_delta:
+            if self._translate_in_tool:
+                mujoco.mju_rotVecQuat(position, raw[:3], base[3:])
+                position += base[:3]
             else:
-                np.add(base[:3], raw[:3], out=out[:3])
+                np.add(base[:3], raw[:3], out=position)
             if self.rotation:
-                rotvec_to_quat_into(turn, raw[3:6])
+                turn = self._turn
+                self._rotvec_to_quat(turn, raw[3:6])
                 if self._rotate_about_root:
-                    mujoco.mju_mulQuat(out[3:], turn, base[3:])
+                    mujoco.mju_mulQuat(quat, turn, base[3:])
                 else:
-                    mujoco.mju_mulQuat(out[3:], base[3:], turn)
+                    mujoco.mju_mulQuat(quat, base[3:], turn)
         else:
-            out[:3] = raw[:3]
+            position[...] = raw[:3]
             if self.quaternion_input:
-                out[3:] = raw[3:7]
+                quat[...] = raw[3:7]
             elif self.rotation:
-                rotvec_to_quat_into(out[3:], raw[3:6])
+                self._rotvec_to_quat(quat, raw[3:6])
         if self._workspace is not None:
-            np.clip(out[:3], self._workspace[0], self._workspace[1], out=out[:3])
-        mujoco.mju_normalize4(out[3:])
+            np.clip(position, self._workspace[0], self._workspace[1], out=position)
+        mujoco.mju_normalize4(quat)
         if out[3] < 0.0:  # one sign per orientation
-            out[3:] *= -1.0
+            quat *= -1.0
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
-        cfg = self.config
-        qpos = sim.qpos
-        measured_q = qpos[:, self.binding.qpos_sel]
-        from_target = cfg.use_target or not cfg.use_delta
-        start = self.target_qpos.copy() if from_target else np.array(measured_q)
-        target, world_target, result = self._target, self._world_target, self._result
+        qpos, qpos_sel = sim.qpos, self.binding.qpos_sel
+        from_target, use_target, target_pose = self._from_target, self.config.use_target, self.target_pose
+        start = self._start
+        start[...] = self.target_qpos if from_target else qpos[:, qpos_sel]
+        target, world_target, result, root = self._target, self._world_target, self._result, self._root_bound
+        solve_one, position_only = self.solver.solve_one, self._position_only
+        (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
         for env in range(self.num_envs):
             if from_target:
                 # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
-                configuration = qpos[env].copy()
-                configuration[self.binding.qpos_sel] = start[env]
-                self.kinematics.load(configuration)
-                self.kinematics.loaded_pose(self.root_frame, self._root)
+                configuration = self._configuration
+                configuration[:] = qpos[env]
+                configuration[qpos_sel] = start[env]
+                self._load(configuration)
+                root.update()
             else:
                 configuration = qpos[env]
                 self._measure(configuration)
-            base = self.target_pose[env] if cfg.use_target else self._measured
+            base = target_pose[env] if use_target else self._measured
             if not self.rotation:
-                target[3:] = self.target_pose[env, 3:]  # position modes hold the orientation
-            self._set_target(raw[env], base, target)
-            compose_into(world_target, self._root, target)
+                target_quat[...] = target_pose[env, 3:]  # position modes hold the orientation
+            self._set_target(raw[env], base)
+            # compose_into(world_target, root, target), writing straight into its buffer.
+            mujoco.mju_mulPose(world_position, world_quat, root.position, root.quat, target_position, target_quat)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.
-            self.solver.solve_one(
-                configuration, world_target, start[env], result, env, position_only=self._position_only, loaded=True
-            )
-            self.target_pose[env] = target
+            solve_one(configuration, world_target, start[env], result, env, position_only, None, True)
+            target_pose[env] = target
         solution = result.qpos
         # With feed-forward: the mean position and the velocity of the straight joint
         # path start -> solution over one control step (the targets are held over the
@@ -235,10 +272,13 @@ class PDEEController(Controller):
         # failed (at the edge of the workspace, a joint limit or a singularity) get a
         # plain position target, so the arm does not carry speed into the limit.
         targets = self.targets
-        if cfg.feedforward:
-            position = 0.5 * (start + solution)
-            velocity = (solution - start) / self.control_timestep
-            if not result.success.all():
+        if self.config.feedforward:
+            position, velocity = self._position, self._velocity
+            np.add(start, solution, out=position)
+            np.multiply(0.5, position, out=position)
+            np.subtract(solution, start, out=velocity)
+            np.divide(velocity, self.control_timestep, out=velocity)
+            if np.count_nonzero(result.success) != len(result.success):
                 failed = ~result.success
                 position[failed] = solution[failed]
                 velocity[failed] = 0.0

@@ -292,6 +292,8 @@ class IKSolver:
         weight, max_task = cfg.rotation_weight, cfg.max_task_step
         tol_position, tol_rotation = cfg.position_tolerance, cfg.rotation_tolerance
         qpos_sel, followers = self._qpos_sel, self._followers
+        # ``a.dot(b)`` is ``a @ b`` (the same BLAS call, ddot / dgemv, so the same bits)
+        # without matmul's per-call dispatch.
         done = 0
         for iteration in range(iterations + 1):
             if iteration or not loaded:
@@ -302,7 +304,7 @@ class IKSolver:
                 mujoco.mj_comPos(model, data)
             bound.update()
             np.subtract(target_position, pose_position, out=error_position)
-            position_norm = math.sqrt(error_position @ error_position)
+            position_norm = math.sqrt(error_position.dot(error_position))
             if position_only:
                 rotation_norm = 0.0
             else:
@@ -311,7 +313,7 @@ class IKSolver:
                 mujoco.mju_negQuat(difference, pose_quat)
                 mujoco.mju_mulQuat(difference, target_quat, difference)
                 mujoco.mju_quat2Vel(error_rotation, difference, 1.0)
-                rotation_norm = math.sqrt(error_rotation @ error_rotation)
+                rotation_norm = math.sqrt(error_rotation.dot(error_rotation))
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
             if iteration == 0:
                 start_q, start_pose = q, pose.copy()
@@ -335,14 +337,14 @@ class IKSolver:
                 jacobian[:3, column] += slope * jacp[:, dof]
                 if not position_only:
                     jacobian[3:, column] += (slope * weight) * jacr[:, dof]
-            size = math.sqrt(task @ task)
+            size = math.sqrt(task.dot(task))
             if size > max_task:
                 task *= max_task / size
             np.matmul(jacobian, transpose, out=system)
             system += damping
             mujoco.mju_cholFactor(system, 0.0)
             mujoco.mju_cholSolve(solution, system, task)
-            step = transpose @ solution
+            step = transpose.dot(solution)
             # Joints at a limit that the step pushes further are taken out of the
             # problem (their columns zeroed) and the rest solved again: the clip would
             # undo their share, and the others would never make it up (an arm resting
@@ -358,7 +360,7 @@ class IKSolver:
                     system += damping
                     mujoco.mju_cholFactor(system, 0.0)
                     mujoco.mju_cholSolve(solution, system, task)
-                    step = transpose @ solution
+                    step = transpose.dot(solution)
             if cfg.null_space_gain > 0:
                 pull = cfg.null_space_gain * (self.rest_qpos - q)
                 np.matmul(jacobian, transpose, out=system)

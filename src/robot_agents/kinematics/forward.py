@@ -87,7 +87,8 @@ class BoundFrame:
         self._is_body = frame.kind is FrameKind.BODY
         self._id = frame.id
         self._body = frame.id if self._is_body else int(model.site_bodyid[frame.id])
-        self._offset = None if frame.offset is None else np.asarray(frame.offset, dtype=np.float64)
+        offset = None if frame.offset is None else np.asarray(frame.offset, dtype=np.float64)
+        self._offset = offset
         # Views of the scratch data's rows of this frame (MjData's arrays do not move).
         self._source_position = data.xpos[frame.id] if self._is_body else data.site_xpos[frame.id]
         self._source_orientation = data.xquat[frame.id] if self._is_body else data.site_xmat[frame.id]
@@ -95,29 +96,48 @@ class BoundFrame:
         self.position, self.quat = self.pose[:3], self.pose[3:]
         self.jacp: FloatArray = np.zeros((3, model.nv))
         self.jacr: FloatArray = np.zeros((3, model.nv))
+        # With an offset: the body's or site's own pose, and the offset's parts.
+        self._origin = np.empty(7)
+        self._origin_parts = (self._origin[:3], self._origin[3:])
+        self._offset_parts = None if offset is None else (offset[:3], offset[3:])
         self._point = np.empty(7)
+        self._point_parts = (self._point[:3], self._point[3:])
 
     def update(self) -> FloatArray:
         """The frame's world pose at the loaded configuration, into :attr:`pose` (returned)."""
-        self._pose_into(self.pose, self.position, self.quat)
+        self._pose_into(self.position, self.quat)
         return self.pose
 
-    def _pose_into(self, out: FloatArray, position: FloatArray, quat: FloatArray) -> None:
+    def _pose_into(self, position: FloatArray, quat: FloatArray) -> None:
+        """The pose's parts into ``position`` ``(3,)`` and ``quat`` ``(4,)``, as
+        :meth:`Kinematics.loaded_pose` computes them (with an offset, its
+        ``compose_into(out, out, offset)`` writing through a scratch pose)."""
+        if self._offset_parts is not None:
+            origin_position, origin_quat = self._origin_parts
+            self._origin_into(origin_position, origin_quat)
+            offset_position, offset_quat = self._offset_parts
+            mujoco.mju_mulPose(position, quat, origin_position, origin_quat, offset_position, offset_quat)
+        else:
+            self._origin_into(position, quat)
+
+    def _origin_into(self, position: FloatArray, quat: FloatArray) -> None:
         position[...] = self._source_position
         if self._is_body:
             quat[...] = self._source_orientation
         else:
             mujoco.mju_mat2Quat(quat, self._source_orientation)
-        if self._offset is not None:
-            compose_into(out, out, self._offset)
 
-    def jacobian(self) -> tuple[FloatArray, FloatArray]:
+    def jacobian(self, updated: bool = False) -> tuple[FloatArray, FloatArray]:
         """Jacobians of the frame's origin at the loaded configuration, in world axes,
-        into :attr:`jacp` and :attr:`jacr` (returned)."""
+        into :attr:`jacp` and :attr:`jacr` (returned). ``updated``: :meth:`update` ran at
+        this configuration, so :attr:`pose` holds the frame's position already."""
         if self._offset is not None:
-            point = self._point
-            self._pose_into(point, point[:3], point[3:])
-            mujoco.mj_jac(self._model, self._data, self.jacp, self.jacr, point[:3], self._body)
+            if updated:
+                point = self.position
+            else:
+                point, point_quat = self._point_parts
+                self._pose_into(point, point_quat)
+            mujoco.mj_jac(self._model, self._data, self.jacp, self.jacr, point, self._body)
         elif self._is_body:
             mujoco.mj_jacBody(self._model, self._data, self.jacp, self.jacr, self._id)
         else:

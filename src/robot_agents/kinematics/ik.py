@@ -322,7 +322,7 @@ class IKSolver:
                 best_pose = start_pose if iteration == 0 else pose.copy()  # neither is written later
             if cost <= 1.0 or iteration == iterations:
                 break
-            jacp, jacr = bound.jacobian()
+            jacp, jacr = bound.jacobian(updated=True)
             if chain_jacp is not None and chain_jacr is not None:
                 jacobian_position[...] = chain_jacp
                 if not position_only:

@@ -118,6 +118,7 @@ class PDEEController(Controller):
         self._rotate_about_root = not (isinstance(config, PDEEPoseConfig) and config.rotation_frame is CommandFrame.EE)
         # Hot-path state made once: the mode's flags, the tool and root frames bound to
         # the scratch kinematics, per-env scratch poses and views of their parts.
+        self._use_delta = config.use_delta
         self._from_target = config.use_target or not config.use_delta
         self._translate_in_tool = config.translation_frame is CommandFrame.EE
         self._model, self._data = context.kinematics.model, context.kinematics.data
@@ -207,24 +208,24 @@ class PDEEController(Controller):
         np.divide(rotvec, angle, out=self._axis)
         mujoco.mju_axisAngle2Quat(out, self._axis, angle)
 
-    def _set_target(self, raw: FloatArray, base: FloatArray) -> None:
+    def _set_target(self, raw: FloatArray, base_position: FloatArray, base_quat: FloatArray) -> None:
         """Target tool pose (``self._target``, ``(7,)``) in the root frame from one env's
-        action and base pose."""
+        action and base pose (position ``(3,)``, quaternion ``(4,)``)."""
         out = self._target
         position, quat = self._target_parts
-        if self.config.use_delta:
+        if self._use_delta:
             if self._translate_in_tool:
-                mujoco.mju_rotVecQuat(position, raw[:3], base[3:])
-                position += base[:3]
+                mujoco.mju_rotVecQuat(position, raw[:3], base_quat)
+                position += base_position
             else:
-                np.add(base[:3], raw[:3], out=position)
+                np.add(base_position, raw[:3], out=position)
             if self.rotation:
                 turn = self._turn
                 self._rotvec_to_quat(turn, raw[3:6])
                 if self._rotate_about_root:
-                    mujoco.mju_mulQuat(quat, turn, base[3:])
+                    mujoco.mju_mulQuat(quat, turn, base_quat)
                 else:
-                    mujoco.mju_mulQuat(quat, base[3:], turn)
+                    mujoco.mju_mulQuat(quat, base_quat, turn)
         else:
             position[...] = raw[:3]
             if self.quaternion_input:
@@ -245,6 +246,7 @@ class PDEEController(Controller):
         target, world_target, result, root = self._target, self._world_target, self._result, self._root_bound
         solve_one, position_only = self.solver.solve_one, self._position_only
         (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
+        measured = self._measured_parts
         for env in range(self.num_envs):
             if from_target:
                 # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
@@ -256,10 +258,10 @@ class PDEEController(Controller):
             else:
                 configuration = qpos[env]
                 self._measure(configuration)
-            base = target_pose[env] if use_target else self._measured
+            base_position, base_quat = (target_pose[env, :3], target_pose[env, 3:]) if use_target else measured
             if not self.rotation:
                 target_quat[...] = target_pose[env, 3:]  # position modes hold the orientation
-            self._set_target(raw[env], base)
+            self._set_target(raw[env], base_position, base_quat)
             # compose_into(world_target, root, target), writing straight into its buffer.
             mujoco.mju_mulPose(world_position, world_quat, root.position, root.quat, target_position, target_quat)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.

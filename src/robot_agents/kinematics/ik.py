@@ -368,7 +368,7 @@ class IKSolver:
                 mujoco.mju_cholFactor(system, 0.0)
                 mujoco.mju_cholSolve(solution, system, jacobian @ pull)
                 step += pull - transpose @ solution
-            largest = float(np.abs(step).max())
+            largest = _largest_magnitude(step)
             if largest > cfg.max_step:
                 step *= cfg.max_step / largest
             q = np.minimum(np.maximum(q + step, lower), upper)
@@ -454,6 +454,17 @@ def _linear_followers(model: mujoco.MjModel, chain_dofs: IntArray) -> list[tuple
                 )
                 break
     return out
+
+
+def _largest_magnitude(values: FloatArray) -> float:
+    """``float(np.abs(values).max())``: the largest magnitude, picked in Python (exact: a
+    maximum selects one of the values); numpy's answer where a NaN may be present (a NaN
+    or ``inf - inf`` sum), since Python's ``max`` does not propagate NaN."""
+    entries = values.tolist()
+    total = sum(entries)
+    if total != total:
+        return float(np.abs(values).max())
+    return max(map(abs, entries))
 
 
 def _distance(a: FloatArray, b: FloatArray) -> float:

@@ -134,7 +134,8 @@ class PDEEController(Controller):
         self._target_parts = (self._target[:3], self._target[3:])
         self._world_target_parts = (self._world_target[:3], self._world_target[3:])
         self._configuration = np.empty(context.model.nq)
-        self._start, self._position, self._velocity = np.empty((num_envs, n)), np.empty((num_envs, n)), np.empty((num_envs, n))
+        #: Per step: the IK seeds, and the feed-forward position and velocity targets.
+        self._start, self._position, self._velocity = (np.empty((num_envs, n)) for _ in range(3))
 
     @staticmethod
     def _check_chain(model: mujoco.MjModel, binding: JointBinding, frame: FrameRef, owner: str) -> None:

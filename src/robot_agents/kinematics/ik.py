@@ -460,7 +460,7 @@ def _largest_magnitude(values: FloatArray) -> float:
     """``float(np.abs(values).max())``: the largest magnitude, picked in Python (exact: a
     maximum selects one of the values); numpy's answer where a NaN may be present (a NaN
     or ``inf - inf`` sum), since Python's ``max`` does not propagate NaN."""
-    entries = values.tolist()
+    entries: list[float] = values.tolist()
     total = sum(entries)
     if total != total:
         return float(np.abs(values).max())

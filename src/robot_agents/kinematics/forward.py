@@ -105,7 +105,11 @@ class BoundFrame:
 
     def update(self) -> FloatArray:
         """The frame's world pose at the loaded configuration, into :attr:`pose` (returned)."""
-        self._pose_into(self.position, self.quat)
+        if self._is_body and self._offset_parts is None:  # the common case, inlined
+            self.position[...] = self._source_position
+            self.quat[...] = self._source_orientation
+        else:
+            self._pose_into(self.position, self.quat)
         return self.pose
 
     def _pose_into(self, position: FloatArray, quat: FloatArray) -> None:

@@ -180,6 +180,16 @@ class IKSolver:
         self._jacobians = {rows: self._jacobian[:rows] for rows in (3, 6)}
         self._transposes = {rows: self._jacobian[:rows].T for rows in (3, 6)}
         self._jacobian_position, self._jacobian_rotation = self._jacobian[:3], self._jacobian[3:]
+        self._buffers = {
+            rows: (
+                self._systems[rows],
+                self._solutions[rows],
+                self._damping[rows],
+                self._jacobians[rows],
+                self._transposes[rows],
+            )
+            for rows in (3, 6)
+        }
         self._bound = BoundFrame(kinematics, frame)
         self._scratch_qpos = kinematics.data.qpos
         # The chain's Jacobian columns as views when the dofs are consecutive (else taken).
@@ -283,8 +293,7 @@ class IKSolver:
         pose, pose_position, pose_quat = bound.pose, bound.position, bound.quat
         error, error_position, error_rotation = self._error, self._error_position, self._error_rotation
         difference = self._difference
-        system, solution, damping = self._systems[rows], self._solutions[rows], self._damping[rows]
-        jacobian, transpose = self._jacobians[rows], self._transposes[rows]
+        system, solution, damping, jacobian, transpose = self._buffers[rows]
         jacobian_position, jacobian_rotation = self._jacobian_position, self._jacobian_rotation
         chain_jacp, chain_jacr = self._chain_jacp, self._chain_jacr
         task = error_position if position_only else error

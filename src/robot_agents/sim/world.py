@@ -60,6 +60,15 @@ _INSTABILITY_WARNINGS = (
 )
 
 
+def _derive(model: mujoco.MjModel, data: mujoco.MjData, forward: bool) -> None:
+    """After a joint-state write: everything ``mj_forward`` derives, or (``forward=False``)
+    body and camera poses only, as after a step (``mj_kinematics``, ``mj_camlight``)."""
+    if forward:
+        mujoco.mj_forward(model, data)
+    else:
+        _sync_poses(model, data)
+
+
 class BatchedWorld:
     """A compiled model and ``num_envs`` MjData.
 
@@ -336,11 +345,7 @@ class BatchedWorld:
             self._qvel0[da] = qvel[0]
             self._warmstart0.fill(0.0)
             self._data_ctrl0[:] = self._ctrl0
-            if forward:
-                mujoco.mj_forward(model, data)
-            else:
-                mujoco.mj_kinematics(model, data)
-                mujoco.mj_camlight(model, data)
+            _derive(model, data, forward)
             self._cache.clear()
             return
         ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
@@ -350,11 +355,7 @@ class BatchedWorld:
             data.qvel[da] = qvel[row]
             data.qacc_warmstart[:] = 0.0
             data.ctrl[:] = self.ctrl[env]
-            if forward:
-                mujoco.mj_forward(model, data)
-            else:
-                mujoco.mj_kinematics(model, data)
-                mujoco.mj_camlight(model, data)
+            _derive(model, data, forward)
         self._cache.clear()
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:

@@ -23,8 +23,6 @@ One control step of an end-effector controller, per env:
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 import numpy.typing as npt
@@ -48,6 +46,7 @@ from robot_agents.controllers.ee_config import (
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import BoundFrame, FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKResult, IKSolver
+from robot_agents.kinematics.rotations import rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]
 
@@ -121,8 +120,7 @@ class PDEEController(Controller):
         self._use_delta = config.use_delta
         self._from_target = config.use_target or not config.use_delta
         self._translate_in_tool = config.translation_frame is CommandFrame.EE
-        self._model, self._data = context.kinematics.model, context.kinematics.data
-        self._scratch_qpos = context.kinematics.data.qpos
+        self._kinematics_load = context.kinematics.load
         self._tool_bound = BoundFrame(context.kinematics, frame)
         self._root_bound = BoundFrame(context.kinematics, command)
         self._tool, self._root = self._tool_bound.pose, self._root_bound.pose
@@ -185,7 +183,7 @@ class PDEEController(Controller):
     def _measure(self, configuration: FloatArray) -> None:
         """Forward kinematics of one env: world poses of the root (``self._root``) and the
         tool, and the tool in the root frame (``self._measured``)."""
-        self._load(configuration)
+        self._kinematics_load(configuration)
         tool, root = self._tool_bound, self._root_bound
         (inverse_position, inverse_quat), (measured_position, measured_quat) = self._inverse_parts, self._measured_parts
         tool.update()
@@ -193,21 +191,6 @@ class PDEEController(Controller):
         # relative_pose_into(measured, tool, root), writing straight into its buffers.
         mujoco.mju_negPose(inverse_position, inverse_quat, root.position, root.quat)
         mujoco.mju_mulPose(measured_position, measured_quat, inverse_position, inverse_quat, tool.position, tool.quat)
-
-    def _load(self, configuration: FloatArray) -> None:
-        """Kinematics.load: one configuration ``(nq,)`` into the scratch data, positions computed."""
-        self._scratch_qpos[:] = configuration
-        mujoco.mj_kinematics(self._model, self._data)
-        mujoco.mj_comPos(self._model, self._data)
-
-    def _rotvec_to_quat(self, out: FloatArray, rotvec: FloatArray) -> None:
-        """rotations.rotvec_to_quat_into (rad -> unit quaternion ``(4,)``) with a scratch axis."""
-        angle = math.sqrt(float(rotvec @ rotvec))
-        if angle < 1e-12:
-            out[:] = (1.0, 0.0, 0.0, 0.0)
-            return
-        np.divide(rotvec, angle, out=self._axis)
-        mujoco.mju_axisAngle2Quat(out, self._axis, angle)
 
     def _set_target(self, raw: FloatArray, base_position: FloatArray, base_quat: FloatArray) -> None:
         """Target tool pose (``self._target``, ``(7,)``) in the root frame from one env's
@@ -222,7 +205,7 @@ class PDEEController(Controller):
                 np.add(base_position, raw[:3], out=position)
             if self.rotation:
                 turn = self._turn
-                self._rotvec_to_quat(turn, raw[3:6])
+                rotvec_to_quat_into(turn, raw[3:6], self._axis)
                 if self._rotate_about_root:
                     mujoco.mju_mulQuat(quat, turn, base_quat)
                 else:
@@ -232,7 +215,7 @@ class PDEEController(Controller):
             if self.quaternion_input:
                 quat[...] = raw[3:7]
             elif self.rotation:
-                self._rotvec_to_quat(quat, raw[3:6])
+                rotvec_to_quat_into(quat, raw[3:6], self._axis)
         if self._workspace is not None:
             np.clip(position, self._workspace[0], self._workspace[1], out=position)
         mujoco.mju_normalize4(quat)
@@ -254,7 +237,7 @@ class PDEEController(Controller):
                 configuration = self._configuration
                 configuration[:] = qpos[env]
                 configuration[qpos_sel] = start[env]
-                self._load(configuration)
+                self._kinematics_load(configuration)
                 root.update()
             else:
                 configuration = qpos[env]

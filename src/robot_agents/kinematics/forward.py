@@ -16,7 +16,6 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import StateError, UnknownNameError
-from robot_agents.kinematics.rotations import compose_into
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -65,9 +64,9 @@ def resolve_frame(model: mujoco.MjModel, name: str, prefix: str = "", where: str
 
 class BoundFrame:
     """One frame read off a :class:`Kinematics`' scratch data without per-call look-ups:
-    the same poses and Jacobians as :meth:`Kinematics.loaded_pose` and
-    :meth:`Kinematics.loaded_jacobian` (the same MuJoCo calls on the same numbers), for
-    hot loops (IK, end-effector control).
+    what :meth:`Kinematics.loaded_pose` and :meth:`Kinematics.loaded_jacobian` read
+    through. Hot loops (IK, end-effector control) keep their own, whose buffers no one
+    else writes.
 
     Args:
         kinematics: whose scratch data is read (at the configuration last loaded).
@@ -113,9 +112,8 @@ class BoundFrame:
         return self.pose
 
     def _pose_into(self, position: FloatArray, quat: FloatArray) -> None:
-        """The pose's parts into ``position`` ``(3,)`` and ``quat`` ``(4,)``, as
-        :meth:`Kinematics.loaded_pose` computes them (with an offset, its
-        ``compose_into(out, out, offset)`` writing through a scratch pose)."""
+        """The pose's parts into ``position`` ``(3,)`` and ``quat`` ``(4,)`` (with an
+        offset: the origin's pose composed with it, ``mju_mulPose``)."""
         if self._offset_parts is not None:
             origin_position, origin_quat = self._origin_parts
             self._origin_into(origin_position, origin_quat)
@@ -163,42 +161,32 @@ class Kinematics:
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
         self.data = mujoco.MjData(model)
-        self._jacp = np.zeros((3, model.nv))
-        self._jacr = np.zeros((3, model.nv))
+        self._qpos = self.data.qpos  # (MjData's arrays do not move)
+        #: The frames :meth:`loaded_pose` / :meth:`loaded_jacobian` have read, bound once.
+        self._frames: dict[FrameRef, BoundFrame] = {}
 
     # -- single configuration (the hot path of IK) --------------------------------------
     def load(self, qpos: FloatArray) -> None:
         """Put one configuration ``(nq,)`` into the scratch data and compute positions,
         orientations and the quantities Jacobians need."""
-        self.data.qpos[:] = qpos
+        self._qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
 
     def loaded_pose(self, frame: FrameRef, out: FloatArray) -> None:
         """World pose of ``frame`` at the loaded configuration into ``out`` ``(7,)``."""
-        data = self.data
-        if frame.kind is FrameKind.BODY:
-            out[:3] = data.xpos[frame.id]
-            out[3:] = data.xquat[frame.id]
-        else:
-            out[:3] = data.site_xpos[frame.id]
-            mujoco.mju_mat2Quat(out[3:], data.site_xmat[frame.id])
-        if frame.offset is not None:
-            compose_into(out, out, np.asarray(frame.offset, dtype=np.float64))
+        out[:] = self._bound(frame).update()
 
     def loaded_jacobian(self, frame: FrameRef) -> tuple[FloatArray, FloatArray]:
         """Translational and rotational Jacobians ``(3, nv)`` each of ``frame``'s origin at
         the loaded configuration, in world axes (internal buffers: copy to keep)."""
-        if frame.offset is not None:
-            pose = np.empty(7)
-            self.loaded_pose(frame, pose)
-            body = frame.id if frame.kind is FrameKind.BODY else int(self.model.site_bodyid[frame.id])
-            mujoco.mj_jac(self.model, self.data, self._jacp, self._jacr, pose[:3], body)
-        elif frame.kind is FrameKind.BODY:
-            mujoco.mj_jacBody(self.model, self.data, self._jacp, self._jacr, frame.id)
-        else:
-            mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, frame.id)
-        return self._jacp, self._jacr
+        return self._bound(frame).jacobian()
+
+    def _bound(self, frame: FrameRef) -> BoundFrame:
+        bound = self._frames.get(frame)
+        if bound is None:
+            bound = self._frames[frame] = BoundFrame(self, frame)
+        return bound
 
     # -- batched ------------------------------------------------------------------------
     def _check(self, qpos: npt.ArrayLike, where: str) -> FloatArray:

@@ -203,13 +203,14 @@ def matrix_to_quat(matrix: npt.ArrayLike) -> FloatArray:
     return out.reshape((*matrices.shape[:-2], 4))
 
 
-def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray) -> None:
-    """Unit quaternion ``(4,)`` of one rotation vector ``(3,)`` (rad), written into ``out``."""
+def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray, axis: FloatArray | None = None) -> None:
+    """Unit quaternion ``(4,)`` of one rotation vector ``(3,)`` (rad), written into ``out``
+    (``axis``: a scratch ``(3,)`` for the unit axis, so hot loops allocate nothing)."""
     angle = math.sqrt(float(rotvec @ rotvec))
     if angle < 1e-12:
         out[:] = (1.0, 0.0, 0.0, 0.0)
         return
-    mujoco.mju_axisAngle2Quat(out, rotvec / angle, angle)
+    mujoco.mju_axisAngle2Quat(out, rotvec / angle if axis is None else np.divide(rotvec, angle, out=axis), angle)
 
 
 def rotation_error_into(out: FloatArray, target: FloatArray, current: FloatArray) -> None:

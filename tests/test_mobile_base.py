@@ -136,3 +136,16 @@ def test_gripper_open_and_closed_states() -> None:
     assert not agent.is_gripper_open()[0] and not agent.is_gripper_closed()[0]
     with pytest.raises(ra.ConfigError, match="no mobile base"):
         agent.base_rot  # noqa: B018
+
+
+def test_the_float_wrap_is_the_array_wrap_bit_for_bit() -> None:
+    """The one-env wheel roll wraps its turn on Python floats; it must equal the batched
+    path's NumPy wrap exactly, at the +-pi seam, at +-0 and far out."""
+    from robot_agents.agent.mobile import wrap_angle, wrap_angle_float
+
+    rng = np.random.default_rng(0)
+    seams = [math.pi, -math.pi, 3 * math.pi, -3 * math.pi, 0.0, -0.0, 2 * math.pi, 1e-300, -1e-300]
+    near = [np.nextafter(x, direction) for x in seams for direction in (-np.inf, np.inf)]
+    angles = np.concatenate([seams, near, rng.uniform(-20, 20, 20000), rng.uniform(-1e6, 1e6, 2000)])
+    floats = np.array([wrap_angle_float(float(a)) for a in angles])
+    assert floats.tobytes() == wrap_angle(angles).tobytes()

@@ -30,6 +30,13 @@ def wrap_angle(angle: FloatArray) -> FloatArray:
     return wrapped
 
 
+def wrap_angle_float(angle: float) -> float:
+    """:func:`wrap_angle` of one Python float, bit for bit (Python's ``%`` and NumPy's
+    ``mod`` are both C's ``fmod`` with the result moved to the divisor's sign), without
+    NumPy's per-call cost."""
+    return math.pi - (math.pi - angle) % (2 * math.pi)
+
+
 class MobileBase:
     """The base of one robot: planar joints ``(x, y, yaw)`` of a ``Base`` part, or the
     root's free joint. Poses are in the world frame; planar joints are taken relative
@@ -320,11 +327,10 @@ class MobileBase:
     def _wheel_rolls_single(
         self, start: Sequence[float] | FloatArray, end: Sequence[float] | FloatArray
     ) -> list[float]:
-        """:meth:`_wheel_roll_single` as a list of Python floats, one per wheel. The wrap
-        of the turn is :func:`wrap_angle`'s arithmetic with Python's ``%`` for
-        ``np.mod`` (both are C's ``fmod`` with the result moved to the divisor's sign)."""
+        """:meth:`_wheel_roll_single` as a list of Python floats, one per wheel (the turn
+        wrapped by :func:`wrap_angle_float`)."""
         x0, y0, yaw0 = float(start[0]), float(start[1]), float(start[2])
-        turn = math.pi - (math.pi - (float(end[2]) - yaw0)) % (2 * math.pi)
+        turn = wrap_angle_float(float(end[2]) - yaw0)
         heading = yaw0 + self._mount_yaw + 0.5 * turn
         c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
         moved_x, moved_y = float(end[0]) - x0, float(end[1]) - y0

@@ -15,7 +15,7 @@ Every variant replays the same recorded control sequence (seeded random
 start; "same trajectory" says whether the final state of the excluded variant is
 bit-identical to the one as built (it is when the excluded pairs never touched). Also
 prints, per robot, the share of the step spent in collision detection and the geom
-pairs reaching the narrow phase (:func:`~robot_agents.tuning.collisions.collision_profile`).
+pairs reaching the narrow phase (:func:`~robot_agents.tuning.collision_profile.collision_profile`).
 Not run in CI.
 """
 
@@ -35,7 +35,8 @@ from robot_agents.agent import Agent
 from robot_agents.agent.declaration import check
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
-from robot_agents.tuning.collisions import collision_profile, geom_pairs, never_touching_pairs
+from robot_agents.tuning.collision_profile import collision_profile
+from robot_agents.tuning.collisions import geom_pairs, never_touching_pairs
 from sim_options import controls, replay
 
 

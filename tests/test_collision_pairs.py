@@ -8,7 +8,7 @@ import math
 import mujoco
 import pytest
 
-from robot_agents.tuning import collisions
+from robot_agents.tuning import collision_profile, collisions
 
 #: A post (sphere, r 5 cm) 0.3 m above a hinge about y, and a ball (r 5 cm) on a 0.3 m
 #: arm swinging about it: the ball's centre is at (0.3 cos q, 0, -0.3 sin q), so it
@@ -157,7 +157,7 @@ def test_collision_profile_counts_the_floor_pair_of_a_resting_ball() -> None:
     )
     # 1 s at 2 ms: the ball falls 0.15 m in 0.17 s and rests; the bounding-sphere test
     # lets the pair through from 5 cm above the floor (its radius) on
-    profile = collisions.collision_profile(model, model.qpos0.copy(), np.zeros((10, 0)), 50)
+    profile = collision_profile.collision_profile(model, model.qpos0.copy(), np.zeros((10, 0)), 50)
     share = profile.narrow_pairs[("world", "ball")]
     assert 0.8 < share <= 1.0
     assert 0.8 < profile.contacts <= 1.0

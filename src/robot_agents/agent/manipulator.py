@@ -25,7 +25,8 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
-from robot_agents.kinematics.ik import IKConfig, IKSolver
+from robot_agents.kinematics.ik import IKSolver
+from robot_agents.kinematics.ik_config import IKConfig
 
 if TYPE_CHECKING:
     from robot_agents.agent.agent import Agent

@@ -45,7 +45,8 @@ from robot_agents.controllers.ee_config import (
 )
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import BoundFrame, FrameKind, FrameRef
-from robot_agents.kinematics.ik import IKResult, IKSolver
+from robot_agents.kinematics.ik import IKSolver
+from robot_agents.kinematics.ik_config import IKResult
 from robot_agents.kinematics.rotations import rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]

@@ -19,7 +19,7 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.controllers.task_space import WorkspaceBox
 from robot_agents.errors import ConfigError
-from robot_agents.kinematics.ik import IKConfig
+from robot_agents.kinematics.ik_config import IKConfig
 
 BoolArray = npt.NDArray[np.bool_]
 #: A scalar for x, y and z, or one value per axis.

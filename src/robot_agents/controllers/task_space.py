@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from robot_agents.errors import ConfigError
-from robot_agents.kinematics.ik import IKConfig
+from robot_agents.kinematics.ik_config import IKConfig
 
 
 @dataclass(frozen=True)

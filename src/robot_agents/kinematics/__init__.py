@@ -1,6 +1,7 @@
 """Kinematics without side effects: batched forward kinematics, Jacobians and IK."""
 
 from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
-from robot_agents.kinematics.ik import IKConfig, IKResult, IKSolver
+from robot_agents.kinematics.ik import IKSolver
+from robot_agents.kinematics.ik_config import IKConfig, IKResult
 
 __all__ = ["FrameKind", "FrameRef", "IKConfig", "IKResult", "IKSolver", "Kinematics", "resolve_frame"]

@@ -33,7 +33,6 @@ and it reports per env whether the tolerances were met.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -42,77 +41,12 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
+from robot_agents.kinematics.ik_config import IKConfig, IKResult
 from robot_agents.kinematics.rotations import quat_angle
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
-
-
-@dataclass(frozen=True)
-class IKConfig:
-    """Settings of the damped-least-squares solver.
-
-    Attributes:
-        damping: ``lambda`` of DLS (m); larger is more robust near singularities and
-            joint limits, smaller converges faster.
-        max_iterations: iterations per solve (each costs one forward kinematics per env).
-        position_tolerance: success threshold on the position error (m).
-        rotation_tolerance: success threshold on the rotation error (rad).
-        rotation_weight: metres per radian when position and rotation errors share one
-            least-squares problem.
-        max_step: largest change of any joint in one iteration (rad or m).
-        max_task_step: largest weighted task-space error one iteration tries to remove
-            (m); far targets are approached in straight steps of this size.
-        null_space_gain: pull toward the rest posture per iteration (0 disables it).
-    """
-
-    damping: float = 0.01
-    max_iterations: int = 10
-    position_tolerance: float = 1e-3
-    rotation_tolerance: float = math.radians(1.0)
-    rotation_weight: float = 0.5
-    max_step: float = 0.3
-    max_task_step: float = 0.2
-    null_space_gain: float = 0.0
-
-    def __post_init__(self) -> None:
-        positive = {
-            "position_tolerance": self.position_tolerance,
-            "rotation_tolerance": self.rotation_tolerance,
-            "rotation_weight": self.rotation_weight,
-            "max_step": self.max_step,
-            "max_task_step": self.max_task_step,
-        }
-        for name, value in positive.items():
-            if not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"IKConfig.{name}: expected a finite value > 0, got {value!r}.")
-        if not (math.isfinite(self.damping) and self.damping >= 0):
-            raise ConfigError(f"IKConfig.damping: expected a finite value >= 0, got {self.damping!r}.")
-        if not (math.isfinite(self.null_space_gain) and 0 <= self.null_space_gain <= 1):
-            raise ConfigError(f"IKConfig.null_space_gain: expected a value in [0, 1], got {self.null_space_gain!r}.")
-        if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):
-            raise ConfigError(f"IKConfig.max_iterations: expected an int >= 1, got {self.max_iterations!r}.")
-
-
-@dataclass(frozen=True)
-class IKResult:
-    """What a solve returns, per env.
-
-    Attributes:
-        qpos: the chain's joint positions ``(num_envs, n)`` (the best iterate).
-        success: both tolerances met ``(num_envs,)``.
-        position_error: remaining position error (m) ``(num_envs,)``.
-        rotation_error: remaining rotation error (rad) ``(num_envs,)``; 0 for
-            position-only solves.
-        iterations: DLS updates made ``(num_envs,)``.
-    """
-
-    qpos: FloatArray
-    success: BoolArray
-    position_error: FloatArray
-    rotation_error: FloatArray
-    iterations: IntArray
 
 
 class IKSolver:

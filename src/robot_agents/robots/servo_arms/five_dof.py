@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from robot_agents.kinematics.ik import IKConfig
+from robot_agents.kinematics.ik_config import IKConfig
 
 #: IK settings of the end-effector position modes of a 5-DoF arm (see the module doc).
 POSITION_IK = IKConfig(rotation_weight=0.01, rotation_tolerance=math.pi)

@@ -74,7 +74,7 @@ def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.
     scene = Scene(uid, control_modes="pd_joint_delta_pos")
     scene.reset()
     agent = scene.agents[0]
-    data = scene.world.render_sources([0])[0]
+    data = scene.world.physics_sources([0])[0]
     start = data.qpos.copy()
     rng = np.random.default_rng(seed)
     space = agent.action_space
@@ -82,7 +82,7 @@ def controls(uid: str | type[Agent], steps: int, seed: int = 0) -> tuple[mujoco.
     for _ in range(steps):
         agent.set_action(rng.uniform(space.low, space.high) * 0.3)
         scene.step()
-        sequence.append(scene.world.render_sources([0])[0].ctrl.copy())
+        sequence.append(scene.world.physics_sources([0])[0].ctrl.copy())
     model = scene.model
     scene.close()
     return model, start, np.array(sequence)

@@ -79,7 +79,7 @@ def test_a_piece_sits_at_its_site_with_its_offset(two_hands: type[ra.Agent]) -> 
     scene = ra.Scene(two_hands)
     scene.reset()
     model = scene.model
-    data = scene.world.render_sources([0])[0]
+    data = scene.world.physics_sources([0])[0]
     for side, offset in (("left", 0.0), ("right", 0.01)):
         site = model.site(f"two_hands-0/{side}_mount").id
         hand = model.body(f"two_hands-0/{side}/panda_hand").id

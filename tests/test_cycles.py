@@ -38,7 +38,7 @@ def settled_speed(cls: type[ra.Agent], sim_freq: int, kick: float, joint_damping
     ``kick`` rad/s at its target (the drive holding 0)."""
     scene = ra.Scene(cls, sim_freq=sim_freq)
     scene.reset()
-    model, data = scene.model, scene.world.render_sources([0])[0]
+    model, data = scene.model, scene.world.physics_sources([0])[0]
     model.dof_damping[0] = joint_damping
     data.qvel[0] = kick
     mujoco.mj_step(model, data, nstep=sim_freq)

@@ -200,12 +200,13 @@ def test_robot_poses_from_make_env_and_the_robots_own_mount() -> None:
 
 def robot_pixel_share(env: ra.RobotEnv, camera: object) -> float:
     """Share of the picture covered by the robot's geoms (segmentation render)."""
-    renderer = mujoco.Renderer(env.model, 120, 160)
+    model = env.render_model
+    renderer = mujoco.Renderer(model, 120, 160)
     renderer.enable_segmentation_rendering()
-    renderer.update_scene(env.data, camera=camera)  # type: ignore[arg-type]
+    renderer.update_scene(env.scene.world.render_sources([0])[0], camera=camera)  # type: ignore[arg-type]
     ids = renderer.render()[:, :, 0]
     renderer.close()
-    robot = [g for g in range(env.model.ngeom) if env.model.body_rootid[env.model.geom_bodyid[g]] != 0]
+    robot = [g for g in range(model.ngeom) if model.body_rootid[model.geom_bodyid[g]] != 0]
     return float(np.isin(ids, robot).mean())
 
 

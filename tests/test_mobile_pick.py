@@ -132,7 +132,7 @@ def test_held_legs_start_at_their_keyframe() -> None:
     for _ in range(10):
         env.step(np.zeros(env.action_space.shape))
     model, deepest = env.model, 0.0
-    for data in env.scene.world.render_sources():
+    for data in env.scene.world.physics_sources():
         for contact in data.contact[: data.ncon]:
             names = {model.geom(int(g)).name for g in (contact.geom1, contact.geom2)}
             if "floor" in names:

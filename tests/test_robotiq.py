@@ -71,7 +71,7 @@ def pad_tilt(agent: ra.Agent, side: str) -> float:
 
 def loop_gap(scene: ra.Scene, agent: ra.Agent, side: str) -> float:
     """How far (m) the follower's origin is from its pin on the coupler."""
-    data = scene.world.render_sources([0])[0]
+    data = scene.world.physics_sources([0])[0]
     coupler = scene.model.body(f"{agent.prefix}{side}_coupler").id
     follower = scene.model.body(f"{agent.prefix}{side}_follower").id
     pin = (B + E_ON_SPRING) - (A + C_ON_DRIVER)  # the pin in the coupler frame (y, z)
@@ -297,7 +297,7 @@ def test_the_piece_mounts_on_a_flange(tmp_path: Path) -> None:
         assert scene.world.datas[0].ncon == 0
         right, left = pad_faces(agent, prefix="rq/")
         assert right[1] - left[1] == pytest.approx(gap, abs=2e-4)
-        data = scene.world.render_sources([0])[0]
+        data = scene.world.physics_sources([0])[0]
         approach = data.xmat[flange].reshape(3, 3)[:, 2]
         np.testing.assert_allclose(agent.tcp_pose[0, :3], data.xpos[flange] + 0.1553 * approach, atol=2e-4)
     scene.close()

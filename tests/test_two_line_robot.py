@@ -106,7 +106,7 @@ def test_gymnasium_floating_robots_two_lines(name: str, joints: int, motors: int
     assert agent.control_mode == "joint_effort"  # motors take efforts
     # The default keyframe rests the robot on the floor, not inside it: its lowest point
     # is 1 mm above z = 0 (contacts within the file's geom margins, none penetrating).
-    model, data = scene.model, scene.world.render_sources([0])[0]
+    model, data = scene.model, scene.world.physics_sources([0])[0]
     assert all(data.contact[i].dist > 0 for i in range(data.ncon))
     floor = model.geom("floor").id
     robot = [g for g in range(model.ngeom) if model.body_rootid[model.geom_bodyid[g]] != 0 and model.geom_contype[g]]

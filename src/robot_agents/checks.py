@@ -67,7 +67,7 @@ def check_keyframes(cls: type[Agent]) -> CheckResult:
     worst, where = 0.0, ""
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
-        data = scene.world.render_sources([0])[0]
+        data = scene.world.physics_sources([0])[0]
         for i in range(data.ncon):
             depth = -float(data.contact[i].dist)
             if depth > worst:

@@ -101,7 +101,7 @@ def run_demo(
     scene = Scene(cls, control_modes=mode)
     agent = scene.agents[0]
     scene.reset()
-    renderer = make_renderer(scene.model, size[0], size[1])
+    renderer = make_renderer(scene.render_model, size[0], size[1])
     camera = _framing_camera(scene, agent)
     robot_views = _robot_views(scene, size[1])
     record_every = max(1, round(scene.control_freq / fps))
@@ -192,7 +192,7 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
         for c in scene.cameras.cameras.values()
         if c.robot is not None
     ]
-    return CameraRig(scene.model, cameras) if cameras else None
+    return CameraRig(scene.render_model, cameras) if cameras else None
 
 
 def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:

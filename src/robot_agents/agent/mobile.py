@@ -260,7 +260,7 @@ class MobileBase:
 
     def _touching_world(self) -> npt.NDArray[np.bool_]:
         """Per env: does a base geom touch a geom outside the robot (not the ground)?"""
-        datas = self.world.render_sources()
+        datas = self.world.physics_sources()
         base, robot = self._base_geoms, self._ignored_geoms
         hit = np.zeros(len(datas), dtype=bool)
         for env, data in enumerate(datas):
@@ -289,7 +289,7 @@ class MobileBase:
         NumPy's), one new array each for the write."""
         # the stepped positions straight from the env's MjData (the same numbers as
         # world.qpos, without copying them into the read cache the write then clears)
-        end_row = self.world.render_sources()[0].qpos.tolist()
+        end_row = self.world.physics_sources()[0].qpos.tolist()
         planar = self._planar_list
         rolls = self._wheel_rolls_single([start_row[i] for i in planar], [end_row[i] for i in planar])
         angles = np.array([[start_row[q] + r for q, r in zip(self._wheel_qlist, rolls, strict=True)]])

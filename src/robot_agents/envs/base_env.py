@@ -63,6 +63,10 @@ class RobotEnv(gym.Env[Any, Any]):
         base_dynamics: ``"dynamic"`` or ``"kinematic"`` for every robot with a ``Base``
             part (overrides ``Base.dynamics``; see docs/mobile-manipulators.md);
             ``None``: as declared.
+        render_only_visuals: simulate the scene without its visual-only geoms (the
+            same motion, a faster physics step) and draw them in renders
+            (:attr:`model` is what is simulated, :attr:`render_model` what is drawn);
+            ``False``: one model for both.
 
     Randomness: every env has its own random stream, :meth:`env_rng`; ``reset(seed=s)``
     seeds env ``i`` with ``s + i`` (Gymnasium's rule for vector envs), so env ``i`` of a
@@ -94,6 +98,7 @@ class RobotEnv(gym.Env[Any, Any]):
         robot_poses: Sequence[Sequence[float]] | None = None,
         raise_on_instability: bool = False,
         base_dynamics: str | None = None,
+        render_only_visuals: bool = True,
     ) -> None:
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -119,6 +124,7 @@ class RobotEnv(gym.Env[Any, Any]):
             cameras=self._scene_cameras(),
             sensor_configs=sensor_configs,
             robot_poses=robot_poses,
+            render_only_visuals=render_only_visuals,
         )
         if base_dynamics is not None:
             self._override_base_dynamics(base_dynamics)
@@ -207,13 +213,20 @@ class RobotEnv(gym.Env[Any, Any]):
 
     @property
     def model(self) -> mujoco.MjModel:
-        """The compiled scene, shared by every env."""
+        """The simulated scene, shared by every env (without the visual-only geoms, see
+        :attr:`render_model`)."""
         return self.scene.model
+
+    @property
+    def render_model(self) -> mujoco.MjModel:
+        """The model renderers draw: :attr:`model` plus the visual-only geoms the
+        simulation leaves out (``render_only_visuals``; :class:`~robot_agents.sim.scene.Scene`)."""
+        return self.scene.render_model
 
     @property
     def data(self) -> mujoco.MjData:
         """The MjData of env 0 (the CPU backend's, for inspection)."""
-        return self.scene.world.render_sources([0])[0]
+        return self.scene.world.physics_sources([0])[0]
 
     @property
     def segmentation_id_map(self) -> dict[int, SegmentationEntry]:
@@ -444,10 +457,10 @@ class RobotEnv(gym.Env[Any, Any]):
             return None
         if self._renderer is None:
             width, height = self.render_size
-            self._renderer = make_renderer(self.model, width, height)
+            self._renderer = make_renderer(self.scene.render_model, width, height)
         if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
             lower, upper = self._render_bounds()
-            self._render_camera = framing_camera(lower, upper, fovy=float(self.model.vis.global_.fovy))
+            self._render_camera = framing_camera(lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy))
         frames = []
         for data in self.scene.world.render_sources():
             self._renderer.update_scene(data, camera=self._render_camera)

@@ -20,7 +20,7 @@ FloatArray = npt.NDArray[np.float64]
 def robot_bounds(world: SimBackend, prefixes: Sequence[str], env: int = 0) -> tuple[FloatArray, FloatArray]:
     """Axis-aligned box ``(lower, upper)`` (m, world frame) around the geoms of the
     robots whose names start with ``prefixes``, in env ``env`` (bounding spheres)."""
-    model = world.model
+    model = world.render_model
     data = world.render_sources([env])[0]
     lower, upper = np.full(3, np.inf), np.full(3, -np.inf)
     for geom in range(model.ngeom):

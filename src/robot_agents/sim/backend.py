@@ -21,7 +21,11 @@ FloatArray = npt.NDArray[np.float64]
 class SimBackend(Protocol):
     """Batched simulation state of ``num_envs`` copies of one compiled model."""
 
+    #: The simulated model.
     model: mujoco.MjModel
+    #: The model renderers draw: ``model``, or the same scene with visual-only geoms
+    #: the simulated model leaves out.
+    render_model: mujoco.MjModel
     num_envs: int
     substeps: int
     #: Controls of every env, ``(num_envs, nu)``, written by the drive stage.
@@ -60,8 +64,11 @@ class SimBackend(Protocol):
     def camera_poses(self, camera_id: int) -> FloatArray:
         """Camera poses ``(num_envs, 4, 4)``."""
 
+    def physics_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
+        """Each env's simulated MjData, of :attr:`model` (read-only)."""
+
     def render_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
-        """What a ``mujoco.Renderer`` draws for each env (read-only)."""
+        """What a ``mujoco.Renderer`` of :attr:`render_model` draws for each env (read-only)."""
 
     def write_joint_state(
         self,

@@ -73,14 +73,25 @@ class BatchedWorld:
     """A compiled model and ``num_envs`` MjData.
 
     Args:
-        model: the compiled scene.
+        model: the compiled scene, as simulated.
         num_envs: number of independent copies (>= 1).
         substeps: physics steps per control step (>= 1).
         num_threads: worker threads for ``num_envs > 1``; default ``min(num_envs,
             os.cpu_count())``. Each env's result does not depend on the thread count.
+        render_model: the model renderers draw, when it is not ``model``: the same
+            scene with the visual-only geoms the simulated twin leaves out
+            (:mod:`robot_agents.model.physics_twin`); each env's state is copied into
+            its own ``MjData`` of it when rendered.
     """
 
-    def __init__(self, model: mujoco.MjModel, num_envs: int, substeps: int, num_threads: int | None = None) -> None:
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        num_envs: int,
+        substeps: int,
+        num_threads: int | None = None,
+        render_model: mujoco.MjModel | None = None,
+    ) -> None:
         if not isinstance(num_envs, (int, np.integer)) or isinstance(num_envs, bool) or num_envs < 1:
             raise ConfigError(f"BatchedWorld: expected num_envs to be a whole number >= 1, got {num_envs!r}.")
         if not isinstance(substeps, (int, np.integer)) or isinstance(substeps, bool) or substeps < 1:
@@ -93,6 +104,9 @@ class BatchedWorld:
             )
         route_mujoco_warnings()
         self.model = model
+        #: The model renderers draw (``model`` itself unless a fuller one was given).
+        self.render_model = model if render_model is None else render_model
+        self._render_datas: list[mujoco.MjData] | None = None
         self.num_envs = int(num_envs)
         self.substeps = int(substeps)
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
@@ -317,10 +331,34 @@ class BatchedWorld:
             pose[3, 3] = 1.0
         return out
 
-    def render_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
-        """What a ``mujoco.Renderer`` draws for each env (the CPU backend's MjData); for
-        renderers only, never to be written."""
+    def physics_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
+        """Each env's simulated MjData (of :attr:`model`), for reading (contacts,
+        inspection); never to be written."""
         return list(self.datas) if env_ids is None else [self.datas[i] for i in env_ids]
+
+    def render_sources(self, env_ids: Sequence[int] | None = None) -> list[mujoco.MjData]:
+        """What a ``mujoco.Renderer`` of :attr:`render_model` draws for each env: the
+        simulated MjData itself, or (with a separate render model) an MjData of the
+        render model holding the env's current state (joint state, actuator state,
+        mocap poses, time; ``mj_forward`` derives the rest). For renderers only."""
+        ids = range(self.num_envs) if env_ids is None else env_ids
+        if self.render_model is self.model:
+            return [self.datas[i] for i in ids]
+        if self._render_datas is None:
+            self._render_datas = [mujoco.MjData(self.render_model) for _ in range(self.num_envs)]
+        out = []
+        for i in ids:
+            source, target = self.datas[i], self._render_datas[i]
+            target.time = source.time
+            target.qpos[:] = source.qpos
+            target.qvel[:] = source.qvel
+            target.act[:] = source.act
+            target.ctrl[:] = source.ctrl
+            target.mocap_pos[:] = source.mocap_pos
+            target.mocap_quat[:] = source.mocap_quat
+            mujoco.mj_forward(self.render_model, target)
+            out.append(target)
+        return out
 
     # -- writes ---------------------------------------------------------------------------
     def write_joint_state(

@@ -124,7 +124,7 @@ class Penetration:
         self.where = ""
 
     def measure(self, scene: Scene) -> None:
-        data = scene.world.render_sources([0])[0]
+        data = scene.world.physics_sources([0])[0]
         if data.ncon:
             dist = data.contact.dist[: data.ncon]
             deepest = int(np.argmin(dist))

@@ -110,7 +110,7 @@ def drive_cycle_bounds(
         agent = scene.agents[0]
         model = scene.model
         data = mujoco.MjData(model)
-        data.qpos[:] = scene.world.render_sources([0])[0].qpos
+        data.qpos[:] = scene.world.physics_sources([0])[0].qpos
         drives = _limited_drives(model, set(agent.dof_adr.tolist()))
         speeds = {d.joint: d.velocity_limit for d in cls.check().drives}
         if not drives:

@@ -1,0 +1,160 @@
+"""The simulated twin: a scene without its visual-only geoms simulates the same motion,
+bit for bit, and renders the same pictures."""
+
+from __future__ import annotations
+
+import hashlib
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.model.physics_twin import copy_spec, physics_twin, visual_only_geoms
+
+MODEL = """
+<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 1 0.1"/>
+    <body name="arm" pos="0 0 0.5">
+      <joint name="hinge" axis="0 1 0"/>
+      <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+      <geom name="link" type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/>
+      <geom name="paint" type="box" size="0.03 0.03 0.03" contype="0" conaffinity="0" group="2"/>
+      <geom name="paired" type="sphere" size="0.02" pos="0 0 -0.2" contype="0" conaffinity="0"/>
+      <geom name="sensed" type="sphere" size="0.01" pos="0 0 -0.1" contype="0" conaffinity="0"/>
+      <body name="loose" pos="0 0 -0.2">
+        <joint name="free_hinge" axis="0 1 0"/>
+        <geom name="heavy_paint" type="box" size="0.02 0.02 0.02" contype="0" conaffinity="0"/>
+        <geom name="massless_paint" type="box" size="0.02 0.02 0.02" contype="0" conaffinity="0" mass="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <contact><pair geom1="paired" geom2="floor"/></contact>
+  <sensor><distance geom1="sensed" geom2="floor"/></sensor>
+</mujoco>
+"""
+
+
+def twin_of(xml: str) -> tuple[mujoco.MjModel, mujoco.MjModel | None]:
+    spec = mujoco.MjSpec.from_string(xml)
+    full = spec.compile()
+    return full, physics_twin(spec, full)
+
+
+def geom_names(model: mujoco.MjModel) -> set[str]:
+    return {model.geom(g).name for g in range(model.ngeom)}
+
+
+def test_only_geoms_that_change_nothing_are_left_out() -> None:
+    full, twin = twin_of(MODEL)
+    assert twin is not None
+    # a pair, a sensor and a body's mass keep theirs; the massless paint goes too
+    assert geom_names(full) - geom_names(twin) == {"paint", "massless_paint"}
+    assert {full.geom(g).name for g in visual_only_geoms(full)} == {"paint", "heavy_paint", "massless_paint"}
+    np.testing.assert_array_equal(twin.body_mass, full.body_mass)
+    np.testing.assert_array_equal(twin.body_inertia, full.body_inertia)
+
+
+def test_a_model_without_visual_only_geoms_has_no_twin() -> None:
+    _, twin = twin_of("<mujoco><worldbody><body><freejoint/><geom size='0.1'/></body></worldbody></mujoco>")
+    assert twin is None
+
+
+def test_copy_spec_keeps_material_textures() -> None:
+    scene = ra.Scene("panda", render_only_visuals=False)
+    copy = copy_spec(scene.spec)
+    model = copy.compile()  # MuJoCo 4.0's own copy garbles the floor material's textures
+    np.testing.assert_array_equal(model.mat_texid, scene.model.mat_texid)
+    scene.close()
+
+
+def trajectory_digest(uid: str, mode: str, render_only_visuals: bool, task: str = "Empty-v1") -> str:
+    env = ra.make_env(task, robot_uids=uid, control_mode=mode, render_only_visuals=render_only_visuals)
+    obs, _ = env.reset(seed=2)
+    rng = np.random.default_rng(0)
+    digest = hashlib.sha256(np.asarray(obs).tobytes())
+    for _ in range(40):
+        obs, reward, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+        digest.update(np.asarray(obs).tobytes() + np.asarray(reward).tobytes())
+    digest.update(np.asarray(env.unwrapped.get_state()["physics"]).tobytes())
+    env.close()
+    return digest.hexdigest()
+
+
+@pytest.mark.parametrize(
+    ("uid", "mode", "task"),
+    [
+        ("panda", "pd_joint_delta_pos", "PickCube-v1"),
+        ("xarm6_robotiq", "pd_ee_delta_pose", "Empty-v1"),
+        ("fetch", "pd_joint_delta_pos", "Empty-v1"),
+        ("floating_robotiq_2f_85_gripper", "pd_joint_delta_pos", "Empty-v1"),
+    ],
+)
+def test_the_twin_simulates_the_same_motion_bit_for_bit(uid: str, mode: str, task: str) -> None:
+    scene = ra.Scene(uid)
+    assert scene.model.ngeom < scene.render_model.ngeom  # the twin is in use
+    scene.close()
+    assert trajectory_digest(uid, mode, True, task) == trajectory_digest(uid, mode, False, task)
+
+
+def test_renders_and_camera_images_are_the_same_with_the_twin() -> None:
+    images = []
+    for render_only_visuals in (True, False):
+        env = ra.make_env(
+            "Empty-v1",
+            robot_uids="panda_wristcam",
+            obs_mode="rgb+depth+segmentation",
+            render_mode="rgb_array",
+            render_size=(96, 72),
+            render_only_visuals=render_only_visuals,
+        )
+        env.reset(seed=1)
+        for _ in range(3):
+            obs, *_ = env.step(np.full(env.action_space.shape, 0.5))
+        images.append((env.render(), obs["sensor_data"]))
+        env.close()
+    (frame_twin, sensors_twin), (frame_one, sensors_one) = images
+    np.testing.assert_array_equal(frame_twin, frame_one)
+    for camera, textures in sensors_one.items():
+        for texture, image in textures.items():
+            np.testing.assert_array_equal(sensors_twin[camera][texture], image)
+    # what is drawn has the visual geoms: the simulated model alone draws another picture
+    scene = ra.Scene("panda")
+    scene.reset()
+    world, pictures = scene.world, []
+    for model, data in (
+        (scene.render_model, world.render_sources([0])[0]),
+        (scene.model, world.physics_sources([0])[0]),
+    ):
+        renderer = mujoco.Renderer(model, 72, 96)
+        renderer.update_scene(data)
+        pictures.append(renderer.render().copy())
+        renderer.close()
+    assert np.mean(np.any(pictures[0] != pictures[1], axis=2)) > 0.01
+    scene.close()
+
+
+def test_render_sources_follow_the_simulated_state() -> None:
+    scene = ra.Scene("panda")
+    scene.reset()
+    world = scene.world
+    agent = scene.agents[0]
+    for _ in range(3):
+        agent.set_action(np.full(agent.controller.action_dim, 0.3))
+        scene.step()
+    simulated, drawn = world.physics_sources([0])[0], world.render_sources([0])[0]
+    assert drawn is not simulated
+    np.testing.assert_array_equal(drawn.qpos, simulated.qpos)
+    np.testing.assert_array_equal(drawn.xpos, simulated.xpos)  # same bodies, same poses
+    hand = scene.render_model.body("panda-0/panda_hand").id
+    np.testing.assert_array_equal(drawn.xquat[hand], simulated.xquat[hand])
+    scene.close()
+
+
+def test_render_only_visuals_is_checked() -> None:
+    with pytest.raises(ra.ConfigError, match="render_only_visuals"):
+        ra.Scene("panda", render_only_visuals="yes")  # type: ignore[arg-type]
+    scene = ra.Scene("panda", render_only_visuals=False)
+    assert scene.model is scene.render_model
+    scene.close()

@@ -4,9 +4,9 @@ A geom that takes part in no contact (``contype = conaffinity = 0``) still costs
 physics step: ``mj_kinematics`` computes its world pose at each of them, and a robot
 that looks like itself has many (the Panda 36 of its 65 geoms). They change nothing the
 physics computes, so the scene steps a twin without them and draws the full model
-(:attr:`robot_agents.sim.scene.Scene.render_model`). On the built-in robots this makes
-the physics step 8-17 % faster with the same trajectory bit for bit (docs/benchmarks.md,
-"Visual geoms out of the physics step").
+(:attr:`robot_agents.sim.scene.Scene.render_model`). On 18 of the 22 built-in robots
+this makes the physics step 8-22 % faster, with the same trajectory bit for bit
+(docs/benchmarks.md, "Visual geoms out of the physics step").
 
 A visual-only geom stays in the twin when anything that acts on the physics names it:
 a contact pair, a tendon wrapping around it, a sensor, a fluid interaction, or when it

@@ -62,7 +62,7 @@ class Scene:
         render_only_visuals: simulate :attr:`model`, the scene without the geoms that
             only show (no contacts, no mass; :mod:`robot_agents.model.physics_twin`), and
             draw :attr:`render_model`, the whole scene (the same motion, bit for bit, and
-            a physics step 8-17 % faster on the built-in robots). ``False``: one model
+            a physics step 8-22 % faster on most built-in robots). ``False``: one model
             for both.
 
     The robots' and the task's cameras are in :attr:`cameras` (a

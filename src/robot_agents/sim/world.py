@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.limits import MAX_SPEED
+from robot_agents.sim.render_mirror import RenderMirror
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -106,8 +107,8 @@ class BatchedWorld:
         self.model = model
         #: The model renderers draw (``model`` itself unless a fuller one was given).
         self.render_model = model if render_model is None else render_model
-        self._render_datas: list[mujoco.MjData] | None = None
         self.num_envs = int(num_envs)
+        self._mirror = None if self.render_model is model else RenderMirror(self.render_model, self.num_envs)
         self.substeps = int(substeps)
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
         self.ctrl = np.zeros((self.num_envs, model.nu))
@@ -342,23 +343,9 @@ class BatchedWorld:
         render model holding the env's current state (joint state, actuator state,
         mocap poses, time; ``mj_forward`` derives the rest). For renderers only."""
         ids = range(self.num_envs) if env_ids is None else env_ids
-        if self.render_model is self.model:
+        if self._mirror is None:
             return [self.datas[i] for i in ids]
-        if self._render_datas is None:
-            self._render_datas = [mujoco.MjData(self.render_model) for _ in range(self.num_envs)]
-        out = []
-        for i in ids:
-            source, target = self.datas[i], self._render_datas[i]
-            target.time = source.time
-            target.qpos[:] = source.qpos
-            target.qvel[:] = source.qvel
-            target.act[:] = source.act
-            target.ctrl[:] = source.ctrl
-            target.mocap_pos[:] = source.mocap_pos
-            target.mocap_quat[:] = source.mocap_quat
-            mujoco.mj_forward(self.render_model, target)
-            out.append(target)
-        return out
+        return self._mirror.fill(self.datas, ids)
 
     # -- writes ---------------------------------------------------------------------------
     def write_joint_state(

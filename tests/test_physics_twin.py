@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.model.physics_twin import copy_spec, physics_twin, visual_only_geoms
+from robot_agents.model.physics_twin import copy_spec, geoms_giving_mass, physics_twin, visual_only_geoms
 
 MODEL = """
 <mujoco>
@@ -157,4 +157,17 @@ def test_render_only_visuals_is_checked() -> None:
         ra.Scene("panda", render_only_visuals="yes")  # type: ignore[arg-type]
     scene = ra.Scene("panda", render_only_visuals=False)
     assert scene.model is scene.render_model
+    scene.close()
+
+
+@pytest.mark.parametrize("uid", ra.list_agents())
+def test_every_built_in_robot_simulates_only_what_matters(uid: str) -> None:
+    """Each robot's scene gets its twin, and a visual-only geom left in it gives its body mass."""
+    scene = ra.Scene(uid)
+    assert scene.model is not scene.render_model
+    assert scene.model.ngeom < scene.render_model.ngeom
+    full = scene.render_model
+    visual = visual_only_geoms(full)
+    kept = len(visual) - (full.ngeom - scene.model.ngeom)
+    assert kept == len(geoms_giving_mass(scene.spec, full, visual))
     scene.close()

@@ -139,7 +139,7 @@ def _strip(spec: mujoco.MjSpec, full: mujoco.MjModel, geoms: set[int]) -> mujoco
     return twin
 
 
-def _geoms_giving_mass(spec: mujoco.MjSpec, full: mujoco.MjModel, geoms: set[int]) -> set[int]:
+def geoms_giving_mass(spec: mujoco.MjSpec, full: mujoco.MjModel, geoms: set[int]) -> set[int]:
     """Those of ``geoms`` that give their body mass: the body takes its inertial from its
     geoms (no explicit inertial, or the compiler's ``inertiafromgeom="true"``), the geom's
     group is within the compiler's ``inertiagrouprange``, and its mass (given, or density
@@ -166,7 +166,7 @@ def physics_twin(spec: mujoco.MjSpec, full: mujoco.MjModel) -> mujoco.MjModel | 
 
     Geoms that give their body mass are kept."""
     visual = visual_only_geoms(full)
-    geoms = visual - _geoms_giving_mass(spec, full, visual)
+    geoms = visual - geoms_giving_mass(spec, full, visual)
     if not geoms:
         return None
     twin = _strip(spec, full, geoms)

@@ -211,6 +211,7 @@ def test_check_passes_for_a_builtin_and_a_model_file(tmp_path: Path) -> None:
     code, text = run("check", "panda", "--seconds", "0.5")
     assert code == 0, text
     assert "5 passed, 0 failed" in text and "total mass: 17.452 kg" in text
+    assert "geoms simulated: 29 of 65 in its scene, floor included (the other 36 only drawn" in text
     urdf = tmp_path / "two_link.urdf"
     urdf.write_text(TWO_LINK_URDF)
     code, text = run("check", str(urdf), "--seconds", "0.5")

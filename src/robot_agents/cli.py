@@ -162,13 +162,28 @@ def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5
         _write_cycle_bounds(cls, out)
         return 0 if best is not None else 1
     model = cls.check().index.model
-    out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n\nchecks:\n")
+    out.write(f"total mass: {float(model.body_mass.sum()):.3f} kg\n")
+    _write_simulated_geoms(cls, out)
+    out.write("\nchecks:\n")
     results = run_checks(cls, random_seconds=seconds)
     for result in results:
         out.write(result.line() + "\n")
     failed = [r for r in results if not r.passed]
     out.write(f"\n{len(results) - len(failed)} passed, {len(failed)} failed\n")
     return 1 if failed else 0
+
+
+def _write_simulated_geoms(cls: type[Agent], out: TextIO) -> None:
+    """How many of the scene's geoms the physics steps (robot_agents.model.physics_twin)."""
+    from robot_agents.sim.scene import Scene
+
+    scene = Scene(cls)
+    simulated, drawn = scene.model.ngeom, scene.render_model.ngeom
+    scene.close()
+    out.write(
+        f"geoms simulated: {simulated} of {drawn} in its scene, floor included"
+        + (f" (the other {drawn - simulated} only drawn: no contacts, no mass)\n" if drawn > simulated else "\n")
+    )
 
 
 def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:

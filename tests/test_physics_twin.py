@@ -3,6 +3,7 @@ bit for bit, and renders the same pictures."""
 
 from __future__ import annotations
 
+import copy
 import hashlib
 
 import mujoco
@@ -171,3 +172,20 @@ def test_every_built_in_robot_simulates_only_what_matters(uid: str) -> None:
     kept = len(visual) - (full.ngeom - scene.model.ngeom)
     assert kept == len(geoms_giving_mass(scene.spec, full, visual))
     scene.close()
+
+
+def test_a_twin_that_simulates_something_else_is_refused() -> None:
+    """The check after compiling catches any difference besides geoms."""
+    from robot_agents.model import physics_twin as twin_module
+
+    full, twin = twin_of(MODEL)
+    assert twin is not None and twin_module._same_physics(full, twin)
+    for change in (
+        lambda m: m.body_mass.__setitem__(1, 2.0),
+        lambda m: m.dof_damping.__setitem__(0, 0.5),
+        lambda m: setattr(m.opt, "iterations", 7),
+        lambda m: m.sensor_objid.__setitem__(0, 0),  # the distance sensor names another geom
+    ):
+        other = copy.copy(twin)
+        change(other)
+        assert not twin_module._same_physics(full, other)

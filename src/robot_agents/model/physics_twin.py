@@ -11,9 +11,11 @@ this makes the physics step 8-22 % faster, with the same trajectory bit for bit
 A visual-only geom stays in the twin when anything that acts on the physics names it:
 a contact pair, a tendon wrapping around it, a sensor, a fluid interaction, or when it
 gives its body mass (a body without an explicit inertial takes its mass and inertia
-from its geoms, visual ones included, unless they are massless). The twin is checked against the full model: every body,
-joint, actuator, site, camera, sensor and option equal (only geoms differ), or there is
-no twin.
+from its geoms, visual ones included, unless they are massless). The twin is checked
+against the full model after compiling: the counts, bodies (pose, mass, inertia),
+joints, DoFs, actuators, sites, cameras, equalities, sensors, tendons, keyframes, the
+physics options and the mean inertia equal, contact pairs and sensors naming the same
+geoms, or there is no twin.
 """
 
 from __future__ import annotations
@@ -59,6 +61,23 @@ SAME_FIELDS = (
     "key_qpos",
     "qpos0",
 )
+#: Physics options that must be equal (``MjOption`` fields).
+SAME_OPTIONS = (
+    "timestep",
+    "integrator",
+    "cone",
+    "jacobian",
+    "solver",
+    "iterations",
+    "tolerance",
+    "impratio",
+    "gravity",
+    "wind",
+    "density",
+    "viscosity",
+    "disableflags",
+    "enableflags",
+)
 #: Counts that must be equal.
 SAME_SIZES = ("nq", "nv", "nu", "na", "nbody", "njnt", "nsite", "ncam", "nlight", "nsensor", "neq", "ntendon", "nkey")
 
@@ -94,6 +113,8 @@ def _same_physics(full: mujoco.MjModel, twin: mujoco.MjModel) -> bool:
     if any(getattr(full, n) != getattr(twin, n) for n in SAME_SIZES):
         return False
     if full.stat.meaninertia != twin.stat.meaninertia:  # scales the solver's tolerance
+        return False
+    if not all(np.array_equal(getattr(full.opt, f), getattr(twin.opt, f)) for f in SAME_OPTIONS):
         return False
     if not all(np.array_equal(getattr(full, f), getattr(twin, f)) for f in SAME_FIELDS):
         return False

@@ -133,7 +133,8 @@ class Scene:
         #: The simulated model: ``render_model`` without the visual-only geoms that
         #: change nothing the physics computes, when there are any and
         #: ``render_only_visuals`` (:mod:`robot_agents.model.physics_twin`).
-        self.model = (physics_twin(self.spec, self.render_model) if render_only_visuals else None) or self.render_model
+        twin = physics_twin(self.spec, self.render_model) if render_only_visuals else None
+        self.model = twin if twin is not None else self.render_model
         self.world = BatchedWorld(
             self.model, num_envs, sim_freq // control_freq, num_threads, render_model=self.render_model
         )

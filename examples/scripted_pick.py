@@ -44,7 +44,7 @@ import mujoco
 import numpy as np
 
 import robot_agents as ra
-from robot_agents.envs.tasks.table_top import tool_arm
+from robot_agents.envs.tasks.layout import tool_arm
 from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
 
 TASKS = ("PickCube-v1", "ReachPose-v1")

@@ -240,7 +240,7 @@ def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pene
     if not agent.has_end_effector:
         scene.close()
         return None
-    from robot_agents.envs.tasks.table_top import tool_arm
+    from robot_agents.envs.tasks.layout import tool_arm
 
     controllers = list(agent.controller.parts.values())
     start_tcp = agent.tcp_pose[0, :3].copy()

@@ -39,7 +39,7 @@ def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penet
     relative to the tool frame over the hold, at the first of :data:`GRASP_DEPTHS` where
     it holds (else the least). ``None``: the robot has no gripper with two fingers (or
     no end effector)."""
-    from robot_agents.envs.tasks.table_top import table_top_layout
+    from robot_agents.envs.tasks.layout import table_top_layout
 
     mode = ee_mode(cls)
     if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
@@ -63,7 +63,8 @@ def _grasp_at(
 ) -> tuple[float, str]:
     """One grasp with the cube's centre ``edges`` cube edges from the grasp point towards
     the wrist: the slip over the hold (m) and a description."""
-    from robot_agents.envs.tasks.table_top import cube_prop, table_top_layout, tool_arm
+    from robot_agents.envs.tasks.layout import table_top_layout, tool_arm
+    from robot_agents.envs.tasks.table_top import cube_prop
 
     layout = table_top_layout(cls)
     geometry = layout.gripper

@@ -28,7 +28,8 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
-from robot_agents.envs.tasks.table_top import FloatArray, TableTopEnv, cube_prop, random_yaw_quats
+from robot_agents.envs.tasks.layout import FloatArray
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm

@@ -32,7 +32,8 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.agent.index import JointKind
-from robot_agents.envs.tasks.table_top import FloatArray, TableTopEnv, tool_arm
+from robot_agents.envs.tasks.layout import FloatArray, tool_arm
+from robot_agents.envs.tasks.table_top import TableTopEnv
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_rotvec, relative_pose, rotation_error
 from robot_agents.parts.declaration import Arm

@@ -1,0 +1,347 @@
+"""Where the table-top scene puts a robot, its table and its workspace, measured from
+the robot's own definition (no per-robot numbers anywhere).
+
+The layout (:func:`table_top_layout`, computed once per robot class on a probe scene):
+
+- **Reach** ``R``: how far the first end effector gets from the anchor of the arm's
+  first joint (its *shoulder*), the largest distance over the default keyframe and
+  1024 configurations drawn (with a fixed seed) uniformly within the arm joints'
+  limits: 0.95 m for the Panda, 1.36 m for the UR10e, 0.51 m for the SO-100.
+- **Facing**: the robot is turned about the vertical so that its default keyframe's
+  tool lies straight ahead of its shoulder, along world +x (a robot whose tool is
+  above its shoulder keeps its heading).
+- **Placement**: the robot stands on the table top, at its own ``mount_pose`` above
+  it, moved so that its default keyframe's tool is above the world origin: the
+  *workspace centre*, where cubes and goals are drawn around. The table top is at
+  ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
+  ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
+- **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
+  instead, next to the table, facing it as above. The table top is ``0.15 R`` below
+  the default keyframe's tool (0.18 R for the Panda on its table). The table's near
+  edge clears, by ``0.02 R``, the circle that the robot's geoms lower than the table
+  top (plus 1 cm) sweep when the base turns in place about its yaw axis, so the robot
+  can turn at the table. The workspace centre lies under the rest tool, or further
+  ahead when a cube drawn near the centre's robot side could overhang that edge.
+  ``robot_pose`` is this stance (where a mobile task docks the base).
+- **Cube**: its edge is half the opening of the gripper (the distances from the tool
+  point to each finger's colliding geoms, gripper open, summed), 4 cm for the Panda;
+  for a robot without a gripper, ``0.04 R``. Density 1000 kg/m^3 (water).
+- **Randomization scale**: cubes and goals are drawn within ``0.1 R`` of the
+  workspace centre (the Panda's: 0.095 m; ManiSkill's PickCube uses 0.1 m).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.agent import Agent
+from robot_agents.errors import ConfigError
+from robot_agents.model.scene import Prop
+from robot_agents.parts.declaration import Arm, Base
+from robot_agents.registry import get_agent
+from robot_agents.sim.scene import Scene
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Configurations drawn to measure the reach (fixed seed: the layout is deterministic).
+REACH_SAMPLES = 1024
+#: Table-top height above the floor, as a share of the reach.
+TABLE_HEIGHT = 0.75
+#: Cubes and goals are drawn within this share of the reach of the workspace centre.
+SPAWN_HALF_SIZE = 0.1
+#: Cube edge as a share of the gripper's opening, and of the reach without a gripper.
+CUBE_PER_OPENING = 0.5
+CUBE_PER_REACH = 0.04
+#: Cube density (kg/m^3).
+CUBE_DENSITY = 1000.0
+#: Smallest cube edge (m).
+MIN_CUBE_EDGE = 0.01
+#: Mobile robots: the table top lies this share of the reach below the default
+#: keyframe's tool (the Panda's rest tool is 0.18 R above its table).
+TOOL_ABOVE_TABLE = 0.25
+#: Mobile robots: clearance between the base's turning circle and the table, and
+#: between a cube drawn nearest the robot and the table's edge, as shares of the reach.
+TABLE_CLEARANCE = 0.02
+#: Geoms lower than the table top plus this (m) sweep the floor around the table.
+LOW_GEOM_MARGIN = 0.01
+
+
+@dataclass(frozen=True)
+class GripperGeometry:
+    """The open gripper as seen from its tool point (vectors in the tool frame).
+
+    Attributes:
+        opening: gap between the open fingers at the tool point (m).
+        grasp_point: the middle of the gap on the closing axis through the tool point
+            (m): where an object's centre goes for a grasp.
+        closing_axis: unit vector from the first finger towards the second, square to
+            the approach axis.
+        approach_axis: unit vector from the arm's last joint to the tool point: the way
+            the fingers point.
+    """
+
+    opening: float
+    grasp_point: tuple[float, float, float]
+    closing_axis: tuple[float, float, float]
+    approach_axis: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class TableTopLayout:
+    """Where a robot, its table and its workspace are (m, world frame).
+
+    Attributes:
+        reach: how far the tool gets from the shoulder (see the module doc).
+        robot_pose: world pose of the robot's root ``(x, y, z, qw, qx, qy, qz)``.
+        table_height: z of the table top; the workspace centre is ``(0, 0, table_height)``.
+        table_center, table_half_size: the table box (a static prop from the floor up).
+        rest_tcp: the default keyframe's tool position in this layout.
+        gripper: the open gripper's geometry (``None`` without a gripper).
+        cube_half_size: half the cube's edge.
+        spawn_half_size: cubes and goals are drawn in ``[-s, s]`` of the centre.
+        dof: joints of the arm that carries the end effector.
+        mobile: the robot has a ``Base`` part and stands on the floor next to the table.
+        turning_radius: (mobile robots) the radius of the circle swept by the robot's
+            geoms below the table top when the base turns in place (m); 0 otherwise.
+    """
+
+    reach: float
+    robot_pose: tuple[float, ...]
+    table_height: float
+    table_center: tuple[float, float, float]
+    table_half_size: tuple[float, float, float]
+    rest_tcp: tuple[float, float, float]
+    gripper: GripperGeometry | None
+    cube_half_size: float
+    spawn_half_size: float
+    dof: int
+    mobile: bool = False
+    turning_radius: float = 0.0
+
+    @property
+    def center(self) -> FloatArray:
+        """The workspace centre on the table top."""
+        return np.array([0.0, 0.0, self.table_height])
+
+
+_LAYOUTS: weakref.WeakKeyDictionary[type, TableTopLayout] = weakref.WeakKeyDictionary()
+
+
+def robot_class(robot_uids: Any, where: str) -> type[Agent]:
+    """The one robot class a table-top task takes."""
+    specifier = robot_uids
+    if isinstance(robot_uids, Sequence) and not isinstance(robot_uids, str):
+        if len(robot_uids) != 1:
+            raise ConfigError(f"{where}: expected one robot, got {robot_uids!r}.")
+        specifier = robot_uids[0]
+    cls = get_agent(specifier) if isinstance(specifier, str) else specifier
+    if not (isinstance(cls, type) and issubclass(cls, Agent)):
+        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot_uids!r}.")
+    return cls
+
+
+def tool_arm(agent: Agent, where: str) -> Arm:
+    """The arm part that carries the robot's first end effector."""
+    for part in agent.parts_by_name.values():
+        if isinstance(part, Arm) and part.end_effectors:
+            return part
+    raise ConfigError(f"{where}: {type(agent).__name__} declares no end effector (an Arm part's end_effectors).")
+
+
+def table_top_layout(cls: type[Agent]) -> TableTopLayout:
+    """The layout of ``cls`` (see the module doc); computed once per class."""
+    cached = _LAYOUTS.get(cls)
+    if cached is None:
+        cached = _measure_layout(cls)
+        _LAYOUTS[cls] = cached
+    return cached
+
+
+def _yaw_quat(yaw: float) -> FloatArray:
+    return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+
+def _measure_layout(cls: type[Agent]) -> TableTopLayout:
+    where = f"table_top_layout({cls.__name__})"
+    probe = Scene(cls, props=[Prop("layout_probe", "sphere", (1e-4,), mass=1e-3)])
+    try:
+        probe.reset()
+        agent = probe.agents[0]
+        arm = tool_arm(agent, where)
+        model = probe.model
+        data = mujoco.MjData(model)
+        joints = [agent.index.joint(name, where) for name in agent.part_joints[arm.name]]
+        keyframe = agent.keyframe_qpos(agent.keyframe_names()[0])
+        data.qpos[:] = probe.world.qpos[0]
+        data.qpos[agent.qpos_adr] = keyframe
+        mujoco.mj_kinematics(model, data)
+        shoulder = data.xanchor[joints[0].id].copy()
+        tool = agent.frames.end_effector(None, where)
+        rest_tcp = agent.kinematics.pose(data.qpos.copy(), tool)[0, :3]
+        # Reach: the farthest tool position from the shoulder over sampled configurations.
+        rng = np.random.default_rng(0)
+        configs = np.tile(data.qpos, (REACH_SAMPLES, 1))
+        for joint in joints:
+            if joint.nq != 1:
+                continue
+            low, high = joint.range if joint.limited else (-math.pi, math.pi)
+            configs[:, joint.qpos_adr] = rng.uniform(low, high, REACH_SAMPLES)
+        tips = agent.kinematics.pose(configs, tool)[:, :3]
+        reach = float(max(np.max(np.linalg.norm(tips - shoulder, axis=1)), np.linalg.norm(rest_tcp - shoulder)))
+        if not reach > 1e-3:
+            raise ConfigError(f"{where}: the end effector does not move away from the arm's first joint.")
+        ahead = (rest_tcp - shoulder)[:2]
+        yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
+        base = next((p for p in agent.parts_by_name.values() if isinstance(p, Base)), None)
+        if base is not None:
+            turn_joint = agent.index.joint(agent.part_joints[base.name][-1], where)
+            axis = data.xanchor[turn_joint.id].copy()
+            boxes = _robot_geom_boxes(agent, model, data)
+        gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
+    finally:
+        probe.close()
+    turn = _yaw_quat(yaw)
+    mount = np.asarray(cls.check().mount_pose, dtype=np.float64)
+    cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
+    cube_edge = max(cube_edge, MIN_CUBE_EDGE)
+    spawn = SPAWN_HALF_SIZE * reach
+    # Turn the probe's world (robot at its mount pose) about z, then shift it so that the
+    # workspace centre lies at the origin: a fixed robot's mount floor becomes the table
+    # top; a mobile robot stays on the floor next to the table.
+    rest_turned = np.empty(3)
+    mujoco.mju_rotVecQuat(rest_turned, rest_tcp, turn)
+    centre = rest_turned.copy()
+    turning_radius = 0.0
+    if base is None:
+        table_height = TABLE_HEIGHT * reach
+        shift = np.array([-centre[0], -centre[1], table_height])
+    else:
+        table_height = float(rest_turned[2]) - TOOL_ABOVE_TABLE * reach
+        if not table_height >= MIN_CUBE_EDGE:
+            raise ConfigError(
+                f"{where}: a mobile robot's table top lies {TOOL_ABOVE_TABLE} reach ({TOOL_ABOVE_TABLE * reach:.3f} m) "
+                f"below its default keyframe's tool, which is {rest_turned[2]:.3f} m above the floor; expected the "
+                f"tool higher (the table top at least {MIN_CUBE_EDGE} m up)."
+            )
+        sweeping = [(lo, hi) for lo, hi in boxes if lo[2] < table_height + LOW_GEOM_MARGIN]
+        corners = [np.array([x, y]) for lo, hi in sweeping for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+        turning_radius = max((float(np.linalg.norm(c - axis[:2])) for c in corners), default=0.0)
+        axis_turned = np.empty(3)
+        mujoco.mju_rotVecQuat(axis_turned, axis, turn)
+        edge = axis_turned[0] + turning_radius + TABLE_CLEARANCE * reach
+        # every cube drawn (turned any way) must lie on the table, clear of its edge
+        nearest_cube = edge + TABLE_CLEARANCE * reach + math.sqrt(2.0) * 0.5 * cube_edge + spawn
+        centre[0] = max(centre[0], nearest_cube)
+        shift = np.array([-centre[0], -centre[1], 0.0])
+    root = np.empty(3)
+    mujoco.mju_rotVecQuat(root, mount[:3], turn)
+    root += shift
+    quat = np.empty(4)
+    mujoco.mju_mulQuat(quat, turn, mount[3:])
+    front = 0.55 * reach
+    back = min(root[0], 0.0) - 0.35 * reach if base is None else edge - centre[0]
+    return TableTopLayout(
+        reach=reach,
+        robot_pose=(*root.tolist(), *quat.tolist()),
+        table_height=table_height,
+        table_center=(0.5 * (back + front), 0.0, 0.5 * table_height),
+        table_half_size=(0.5 * (front - back), 0.6 * reach, 0.5 * table_height),
+        rest_tcp=(float(rest_turned[0] + shift[0]), float(rest_turned[1] + shift[1]), float(rest_turned[2] + shift[2])),
+        gripper=gripper,
+        cube_half_size=0.5 * cube_edge,
+        spawn_half_size=spawn,
+        dof=sum(j.nv for j in joints),
+        mobile=base is not None,
+        turning_radius=turning_radius,
+    )
+
+
+def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[FloatArray, FloatArray]]:
+    """World axis-aligned boxes (lower, upper corners) of the robot's colliding geoms
+    in ``data``'s configuration."""
+    bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
+    boxes = []
+    for g in range(model.ngeom):
+        if int(model.geom_bodyid[g]) not in bodies or not (model.geom_contype[g] or model.geom_conaffinity[g]):
+            continue
+        rotation = data.geom_xmat[g].reshape(3, 3)
+        centre = data.geom_xpos[g] + rotation @ model.geom_aabb[g, :3]
+        half = np.abs(rotation) @ model.geom_aabb[g, 3:]
+        boxes.append((centre - half, centre + half))
+    return boxes
+
+
+def _gripper_geometry(
+    agent: Agent, probe: Scene, data: mujoco.MjData, keyframe: FloatArray, tool: Any, wrist: int, where: str
+) -> GripperGeometry | None:
+    """The open gripper measured at the tool point: the nearest point of each finger's
+    colliding geoms to it (MuJoCo's signed geom distances from a probe sphere there)."""
+    parts = agent.grippers.parts
+    if not parts:
+        return None
+    gripper = next(iter(parts.values()))
+    if len(gripper.finger_links) < 2:
+        return None
+    model = probe.model
+    qpos = keyframe.copy()
+    names = agent.part_joints[gripper.name]
+    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
+    for name, value in zip(names, opened, strict=True):
+        qpos[agent.index.joint(name, where).qpos_start] = value
+    data.qpos[agent.qpos_adr] = qpos
+    mujoco.mj_kinematics(model, data)
+    point = np.empty(7)
+    agent.kinematics.load(data.qpos.copy())
+    agent.kinematics.loaded_pose(tool, point)
+    probe_body = model.body("layout_probe")
+    adr = int(model.jnt_qposadr[probe_body.jntadr[0]])
+    data.qpos[adr : adr + 3] = point[:3]
+    mujoco.mj_kinematics(model, data)
+    probe_geom = model.geom("layout_probe").id
+    radius = float(model.geom_size[probe_geom, 0])
+    nearest_points, gaps = [], []
+    for finger in gripper.finger_links[:2]:
+        bodies = {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, where))}
+        geoms = [
+            g
+            for g in range(model.ngeom)
+            if int(model.geom_bodyid[g]) in bodies and (model.geom_contype[g] or model.geom_conaffinity[g])
+        ]
+        if not geoms:
+            return None
+        best, best_point = np.inf, np.zeros(3)
+        fromto = np.zeros(6)
+        for g in geoms:
+            distance = mujoco.mj_geomDistance(model, data, probe_geom, g, 1.0, fromto)
+            if distance < best:
+                best, best_point = float(distance), fromto[3:].copy()
+        nearest_points.append(best_point)
+        gaps.append(max(0.0, best - radius))
+    opening = sum(gaps)
+    if not opening > 0.0:
+        return None
+    # Into the tool frame: the closing axis (first finger's nearest point to the
+    # second's), the approach axis (wrist joint to tool point), the grasp point.
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, point[3:])
+    to_tool = rotation.reshape(3, 3).T
+    closing = to_tool @ (nearest_points[1] - nearest_points[0])
+    approach = to_tool @ (point[:3] - data.xanchor[wrist])
+    approach /= max(float(np.linalg.norm(approach)), 1e-9)
+    closing -= approach * float(closing @ approach)
+    closing /= max(float(np.linalg.norm(closing)), 1e-9)
+    grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
+    return GripperGeometry(
+        opening=opening,
+        grasp_point=tuple(grasp.tolist()),
+        closing_axis=tuple(closing.tolist()),
+        approach_axis=tuple(approach.tolist()),
+    )

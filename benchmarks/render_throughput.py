@@ -78,11 +78,11 @@ def stepper(env: Any, actions: list[np.ndarray]) -> Callable[[int], None]:
 
 def capture_rate(env: Any, textures: tuple[str, ...], rounds: int, block: int) -> float:
     """Camera frames/s of ``CameraRig.capture`` alone (all envs, one camera)."""
-    rig, datas = env.scene.cameras, env.scene.world.datas
+    rig, world = env.scene.cameras, env.scene.world
 
     def loop(count: int) -> None:
         for _ in range(count):
-            rig.capture(datas, textures)
+            rig.capture(world, textures)
 
     return interleaved([loop], rounds, block)[0] * env.num_envs
 
@@ -92,7 +92,7 @@ def gl_renderer_name(env: Any) -> str:
     try:
         from OpenGL import GL  # type: ignore[import-untyped]
 
-        env.scene.cameras.capture(env.scene.world.datas[:1])
+        env.scene.cameras.capture(env.scene.world, env_ids=[0])
         name = GL.glGetString(GL.GL_RENDERER)
         return name.decode() if isinstance(name, bytes) else str(name)
     except Exception as err:  # only informative

@@ -54,7 +54,7 @@ def main() -> None:
     ) / 2
     q_low, q_high = agent.qpos_limits[:7, 0], agent.qpos_limits[:7, 1]
     ctrl = np.zeros((1, model.nu))
-    tcp = agent.tcp_body_id
+    tcp = agent.frames.end_effector(None, "python_floor").id  # the Panda's TCP is a body
 
     def minimal_step(action: np.ndarray) -> np.ndarray:
         a = np.asarray(action, dtype=np.float64)

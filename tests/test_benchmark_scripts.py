@@ -1,0 +1,41 @@
+"""Every benchmark script still runs (on its smallest setting): the figures in the docs
+come from them, and a script that no longer runs cannot be rerun. Not a speed test:
+nothing here is timed. Left out: vs_maniskill.py and task_throughput's peer rows (need
+mani-skill), public_models.py (downloads a wheel), timestep_sweep.py (the sweep has its
+own tests in test_timestep.py)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+
+#: script and arguments -> a piece of text its output must contain.
+RUNS = {
+    ("python_floor.py", "--rounds", "1", "--block", "2"): "of raw const",
+    ("overhead_ratio.py", "--robots", "so100", "--rounds", "1", "--block", "2"): "| `so100` | `pd_joint_delta_pos`",
+    ("overhead_ratio.py", "--robots", "so100", "--modes", "joint", "--python-only"): "| `so100` |",
+    ("sim_options.py", "so100", "--blocks", "1", "--steps", "5", "--variants", "visual geoms simulated"): "| yes |",
+    ("batch_stepping.py", "--num-envs", "2", "--rounds", "1"): "BatchedWorld",
+    ("render_throughput.py", "--rounds", "1", "--block", "1", "--num-envs", "1"): "capture fps",
+    ("default_step_speedup.py", "so100", "--rounds", "1"): "| `so100`",
+    ("pose_sync_cost.py",): "| `fetch` |",
+    ("sleep_option.py", "--rounds", "1"): "round trip",
+    ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
+    ("task_throughput.py", "--rounds", "1", "--block", "2", "--batch-block", "1", "--maniskill-python", "/absent"): (
+        "ours x1"
+    ),
+}
+
+
+@pytest.mark.parametrize("command", list(RUNS), ids=[" ".join(c[:1] + c[1:3]) for c in RUNS])
+def test_benchmark_script_runs(command: tuple[str, ...]) -> None:
+    run = subprocess.run(
+        [sys.executable, *command], cwd=BENCHMARKS, capture_output=True, text=True, timeout=300, check=False
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert RUNS[command] in run.stdout, run.stdout[-2000:]

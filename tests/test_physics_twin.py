@@ -11,7 +11,13 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.model.physics_twin import copy_spec, geoms_giving_mass, physics_twin, visual_only_geoms
+from robot_agents.model.physics_twin import (
+    copy_spec,
+    geoms_giving_mass,
+    physics_twin,
+    shared_geoms,
+    visual_only_geoms,
+)
 
 MODEL = """
 <mujoco>
@@ -189,3 +195,35 @@ def test_a_twin_that_simulates_something_else_is_refused() -> None:
         other = copy.copy(twin)
         change(other)
         assert not twin_module._same_physics(full, other)
+
+
+def test_changes_to_the_simulated_model_show_in_what_is_drawn() -> None:
+    """Moving a static body, or recolouring / resizing a geom, in ``env.model`` is drawn
+    as with one model; the visual-only geoms follow their bodies."""
+    env = ra.make_env("PickCube-v1", robot_uids="panda", render_mode="rgb_array", render_size=(64, 48))
+    env.reset(seed=0)
+    u = env.unwrapped
+    simulated, drawn, world = u.model, u.render_model, u.scene.world
+    mirror_ids = shared_geoms(drawn, simulated)
+    assert [simulated.geom(i).name for i in range(simulated.ngeom)] == [drawn.geom(int(j)).name for j in mirror_ids]
+    table = simulated.body("table").id
+    table_geom = int(np.flatnonzero(simulated.geom_bodyid == table)[0])
+    before = env.render()
+    simulated.body_pos[table, 2] -= 0.05
+    simulated.geom_rgba[table_geom] = (0.0, 1.0, 0.0, 1.0)
+    simulated.geom_size[table_geom, 0] *= 1.5
+    data = world.render_sources([0])[0]
+    shown = int(mirror_ids[table_geom])
+    np.testing.assert_array_equal(drawn.body_pos[table], simulated.body_pos[table])
+    np.testing.assert_array_equal(drawn.geom_rgba[shown], (0.0, 1.0, 0.0, 1.0))
+    np.testing.assert_array_equal(drawn.geom_size[shown], simulated.geom_size[table_geom])
+    mujoco.mj_forward(simulated, world.physics_sources([0])[0])
+    np.testing.assert_allclose(data.geom_xpos[shown], world.physics_sources([0])[0].geom_xpos[table_geom])
+    assert np.any(env.render() != before)
+    # a visual-only geom of the hand follows the hand
+    hand = simulated.body("panda-0/panda_hand").id
+    visual = [g for g in visual_only_geoms(drawn) if int(drawn.geom_bodyid[g]) == hand]
+    assert visual
+    offset = data.xmat[hand].reshape(3, 3).T @ (data.geom_xpos[visual[0]] - data.xpos[hand])
+    np.testing.assert_allclose(offset, drawn.geom_pos[visual[0]], atol=1e-12)
+    env.close()

@@ -22,9 +22,12 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.errors import ModelError
 from robot_agents.model.compiling import compile_spec
+
+IntArray = npt.NDArray[np.int64]
 
 #: What must be equal, array for array, between the full model and its twin (the
 #: physics besides geoms; checked after compiling, so a stripped geom that mattered
@@ -194,3 +197,25 @@ def physics_twin(spec: mujoco.MjSpec, full: mujoco.MjModel) -> mujoco.MjModel | 
     if twin is None or not _same_physics(full, twin):
         return None
     return twin
+
+
+def shared_geoms(full: mujoco.MjModel, twin: mujoco.MjModel) -> IntArray:
+    """For each geom of ``twin``, its id in ``full`` (the twin keeps the full model's
+    order: each is the next geom of ``full`` on the same body with the same type, name,
+    size and pose). Raises ``ValueError`` when ``twin`` is not ``full`` less some geoms."""
+    ids = np.empty(twin.ngeom, dtype=np.int64)
+    j = 0
+    for i in range(twin.ngeom):
+        while j < full.ngeom and not (
+            full.geom_bodyid[j] == twin.geom_bodyid[i]
+            and full.geom_type[j] == twin.geom_type[i]
+            and full.geom(j).name == twin.geom(i).name
+            and np.array_equal(full.geom_size[j], twin.geom_size[i])
+            and np.array_equal(full.geom_pos[j], twin.geom_pos[i])
+        ):
+            j += 1
+        if j == full.ngeom:
+            raise ValueError(f"shared_geoms: geom {i} of the twin has no match in the full model.")
+        ids[i] = j
+        j += 1
+    return ids

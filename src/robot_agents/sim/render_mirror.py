@@ -1,6 +1,13 @@
 """What renderers draw when the simulated model leaves out visual-only geoms: one
 ``MjData`` of the render model per env, filled with that env's simulated state when a
-picture is asked for (:mod:`robot_agents.model.physics_twin`)."""
+picture is asked for (:mod:`robot_agents.model.physics_twin`).
+
+The simulated model is the authority for what both models have: before each picture,
+its body poses, the pose, size and colour of its geoms, its cameras and its materials'
+colours are copied into the render model, so a change made to ``env.model`` (moving a
+static body, randomizing a geom's colour or size, a camera's field of view) shows as
+it did with one model. The visual-only geoms exist only in the render model: change
+them there."""
 
 from __future__ import annotations
 
@@ -8,27 +15,46 @@ from collections.abc import Iterable, Sequence
 
 import mujoco
 
+from robot_agents.model.physics_twin import shared_geoms
+
 
 class RenderMirror:
     """The render model's ``MjData`` of ``num_envs`` envs (made on first use).
 
     Args:
-        render_model: the whole scene, as drawn; it has the simulated model's bodies,
-            joints, actuators and mocap bodies, so their state copies across unchanged.
+        render_model: the whole scene, as drawn.
+        simulated_model: the simulated twin: ``render_model`` less some geoms (the same
+            bodies, joints, actuators, cameras, materials and mocap bodies, so their
+            state copies across unchanged).
         num_envs: number of envs.
     """
 
-    def __init__(self, render_model: mujoco.MjModel, num_envs: int) -> None:
+    def __init__(self, render_model: mujoco.MjModel, simulated_model: mujoco.MjModel, num_envs: int) -> None:
         self.model = render_model
+        self.simulated_model = simulated_model
         self.num_envs = num_envs
+        #: The render model's id of each simulated geom.
+        self.geoms = shared_geoms(render_model, simulated_model)
         self._datas: list[mujoco.MjData] | None = None
+
+    def sync_model(self) -> None:
+        """Copy what the simulated model decides into the render model (see the module doc)."""
+        drawn, simulated, geoms = self.model, self.simulated_model, self.geoms
+        drawn.body_pos[:] = simulated.body_pos
+        drawn.body_quat[:] = simulated.body_quat
+        for name in ("geom_pos", "geom_quat", "geom_size", "geom_rgba", "geom_matid"):
+            getattr(drawn, name)[geoms] = getattr(simulated, name)
+        for name in ("cam_pos", "cam_quat", "cam_fovy", "mat_rgba"):
+            getattr(drawn, name)[:] = getattr(simulated, name)
 
     def fill(self, simulated: Sequence[mujoco.MjData], env_ids: Iterable[int]) -> list[mujoco.MjData]:
         """The render ``MjData`` of ``env_ids`` holding the state of ``simulated[env]``
-        (time, joint and actuator state, controls, mocap poses); ``mj_forward`` derives
-        the poses, contacts and sensors drawn from it."""
+        (time, joint and actuator state, controls, mocap poses), after
+        :meth:`sync_model`; ``mj_forward`` derives the poses, contacts and sensors drawn
+        from it."""
         if self._datas is None:
             self._datas = [mujoco.MjData(self.model) for _ in range(self.num_envs)]
+        self.sync_model()
         out = []
         for env in env_ids:
             source, target = simulated[env], self._datas[env]

@@ -108,7 +108,7 @@ class BatchedWorld:
         #: The model renderers draw (``model`` itself unless a fuller one was given).
         self.render_model = model if render_model is None else render_model
         self.num_envs = int(num_envs)
-        self._mirror = None if self.render_model is model else RenderMirror(self.render_model, self.num_envs)
+        self._mirror = None if self.render_model is model else RenderMirror(self.render_model, model, self.num_envs)
         self.substeps = int(substeps)
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
         self.ctrl = np.zeros((self.num_envs, model.nu))

@@ -1,11 +1,12 @@
-"""What MuJoCo 4.0's island sleeping (``mjENBL_SLEEP``) would save, and why it is off.
+"""What MuJoCo 4.0's island sleeping (``sleep=True``, ``mjENBL_SLEEP``) saves.
 
 A task env (``PickCube-v1`` by default) steps the same seeded actions with the option
 off and on: the first half small random moves, the second half zero actions (the arm
 and the cube at rest); process CPU time per step, ``--rounds`` alternating runs. It
 also reports whether the two trajectories are equal, and whether ``get_state`` /
-``set_state`` still round-trip exactly with sleeping on (MuJoCo's integration state
-does not carry the sleep counters, ``MjData.tree_asleep``).
+``set_state`` round-trip exactly with sleeping on (a sleeping state restored in a fresh
+env: MuJoCo's integration state does not carry the sleep state; the library's
+``get_state`` adds it under ``"sleep"``).
 
     python benchmarks/sleep_option.py [--task PickCube-v1] [--robot panda] [--rounds 3]
 
@@ -18,7 +19,6 @@ import argparse
 import time
 from collections.abc import Sequence
 
-import mujoco
 import numpy as np
 
 import robot_agents as ra
@@ -26,9 +26,9 @@ import robot_agents as ra
 
 def run(task: str, robot: str, sleep: bool, steps: int = 200) -> tuple[float, np.ndarray]:
     """(CPU µs per step, final physics state)."""
-    env = ra.make_env(task, robot_uids=robot, control_mode="pd_joint_delta_pos", max_episode_steps=None).unwrapped
-    if sleep:
-        env.model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
+    env = ra.make_env(
+        task, robot_uids=robot, control_mode="pd_joint_delta_pos", max_episode_steps=None, sleep=sleep
+    ).unwrapped
     env.reset(seed=0)
     rng = np.random.default_rng(0)
     dim = env.action_space.shape[-1]
@@ -64,8 +64,9 @@ def round_trip(task: str, robot: str) -> bool:
     finals = []
     saved = None
     for _ in range(2):
-        env = ra.make_env(task, robot_uids=robot, control_mode="pd_joint_delta_pos", max_episode_steps=None).unwrapped
-        env.model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
+        env = ra.make_env(
+            task, robot_uids=robot, control_mode="pd_joint_delta_pos", max_episode_steps=None, sleep=True
+        ).unwrapped
         env.reset(seed=0)
         zero = np.zeros(env.action_space.shape[-1], dtype=np.float32)
         if saved is None:

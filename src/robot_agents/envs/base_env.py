@@ -67,6 +67,9 @@ class RobotEnv(gym.Env[Any, Any]):
             same motion, a faster physics step) and draw them in renders
             (:attr:`model` is what is simulated, :attr:`render_model` what is drawn);
             ``False``: one model for both.
+        sleep: MuJoCo's island sleeping for props at rest (a robot never sleeps):
+            faster scenes with resting props, a different deterministic trajectory;
+            :meth:`get_state` saves the sleep counters. Off by default.
 
     Randomness: every env has its own random stream, :meth:`env_rng`; ``reset(seed=s)``
     seeds env ``i`` with ``s + i`` (Gymnasium's rule for vector envs), so env ``i`` of a
@@ -99,6 +102,7 @@ class RobotEnv(gym.Env[Any, Any]):
         raise_on_instability: bool = False,
         base_dynamics: str | None = None,
         render_only_visuals: bool = True,
+        sleep: bool = False,
     ) -> None:
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -125,6 +129,7 @@ class RobotEnv(gym.Env[Any, Any]):
             sensor_configs=sensor_configs,
             robot_poses=robot_poses,
             render_only_visuals=render_only_visuals,
+            sleep=sleep,
         )
         if base_dynamics is not None:
             self._override_base_dynamics(base_dynamics)

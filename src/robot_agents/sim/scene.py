@@ -64,6 +64,11 @@ class Scene:
             draw :attr:`render_model`, the whole scene (the same motion, bit for bit, and
             a physics step 8-22 % faster on most built-in robots). ``False``: one model
             for both.
+        sleep: MuJoCo's island sleeping (``mjENBL_SLEEP``): trees that stay still (a
+            prop at rest; a robot's actuated tree never sleeps) stop being simulated
+            until something touches them. Faster with resting props, a different (still
+            deterministic) trajectory; state round trips stay exact (the sleep counters
+            are saved). Off by default.
 
     The robots' and the task's cameras are in :attr:`cameras` (a
     :class:`~robot_agents.sensors.CameraRig`); nothing is rendered unless asked.
@@ -83,9 +88,11 @@ class Scene:
         cameras: Sequence[CameraConfig] = (),
         sensor_configs: SensorOverrides | None = None,
         render_only_visuals: bool = True,
+        sleep: bool = False,
     ) -> None:
-        if not isinstance(render_only_visuals, bool):
-            raise ConfigError(f"Scene: expected render_only_visuals to be a bool, got {render_only_visuals!r}.")
+        for flag_name, flag in (("render_only_visuals", render_only_visuals), ("sleep", sleep)):
+            if not isinstance(flag, bool):
+                raise ConfigError(f"Scene: expected {flag_name} to be a bool, got {flag!r}.")
         if isinstance(robots, (str, type)):
             specifiers: list[Any] = [robots]
         elif isinstance(robots, Sequence):
@@ -135,6 +142,8 @@ class Scene:
         #: ``render_only_visuals`` (:mod:`robot_agents.model.physics_twin`).
         twin = physics_twin(self.spec, self.render_model) if render_only_visuals else None
         self.model = twin if twin is not None else self.render_model
+        if sleep:
+            self.model.opt.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
         self.world = BatchedWorld(
             self.model, num_envs, sim_freq // control_freq, num_threads, render_model=self.render_model
         )
@@ -274,9 +283,12 @@ class Scene:
     # ------------------------------------------------------------------ state
     def get_state(self) -> dict[str, Any]:
         """Everything for a bit-identical continuation: physics state ``(num_envs, n)``
-        plus each robot's control mode and controller state."""
+        (MuJoCo's integration state), the island-sleep counters ``(num_envs, ntree)``
+        (``sleep``; an older state without them restores the rest) plus each robot's
+        control mode and controller state."""
         return {
             "physics": self.world.get_state(),
+            "sleep": self.world.get_sleep_state(),
             "agents": [{"control_mode": a.control_mode, "controller": a.controller.get_state()} for a in self.agents],
         }
 
@@ -285,6 +297,7 @@ class Scene:
         if not isinstance(state, Mapping) or "physics" not in state or "agents" not in state:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
         physics = self.world.check_state(state["physics"], "Scene.set_state")
+        sleep = self.world.check_sleep_state(state["sleep"], "Scene.set_state") if "sleep" in state else None
         agent_states = list(state["agents"])
         if len(agent_states) != len(self.agents):
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
@@ -294,7 +307,7 @@ class Scene:
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])
-        self.world.set_state(physics)
+        self.world.set_state(physics, sleep)
 
     def close(self) -> None:
         self.cameras.close()

@@ -33,6 +33,11 @@ FloatArray = npt.NDArray[np.float64]
 STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
+#: Island sleeping (MuJoCo 4.0): the per-tree counters and what a step derives from
+#: them, all outside the integration state (:meth:`BatchedWorld.get_sleep_state`).
+SLEEP_ARRAYS = ("tree_asleep", "tree_awake", "body_awake", "body_awake_ind", "dof_awake_ind", "parent_awake_ind")
+SLEEP_COUNTS = ("nbody_awake", "nparent_awake", "ntree_awake", "nv_awake")
+
 _LOG = logging.getLogger("robot_agents.mujoco")
 
 
@@ -113,6 +118,9 @@ class BatchedWorld:
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
         self.ctrl = np.zeros((self.num_envs, model.nu))
         self.state_size = mujoco.mj_stateSize(model, STATE_SPEC)
+        probe = mujoco.MjData(model)
+        #: Length of one env's :meth:`get_sleep_state`.
+        self.sleep_size = sum(getattr(probe, name).size for name in SLEEP_ARRAYS) + len(SLEEP_COUNTS)
         threads = num_threads if num_threads is not None else min(self.num_envs, os.cpu_count() or 1)
         self.num_threads = max(1, min(int(threads), self.num_envs))
         # The calling thread steps the first chunk itself; the pool steps the others.
@@ -423,13 +431,54 @@ class BatchedWorld:
             raise StateError(f"{where}: the physics state contains NaN or inf.")
         return array
 
-    def set_state(self, state: npt.ArrayLike) -> None:
-        """Restore :meth:`get_state`; the continuation is bit-identical."""
+    def get_sleep_state(self) -> npt.NDArray[np.int64]:
+        """Each env's island-sleep state, shape ``(num_envs, sleep_size)``: the per-tree
+        counters (``MjData.tree_asleep``) and what MuJoCo derives from them during a step
+        (``SLEEP_ARRAYS``, ``SLEEP_COUNTS``). MuJoCo's integration state leaves these out
+        and ``mj_forward`` does not rebuild them; with sleeping enabled
+        (``mjENBL_SLEEP``) an exact continuation needs them all."""
+        out = np.empty((self.num_envs, self.sleep_size), dtype=np.int64)
+        for row, data in zip(out, self.datas, strict=True):
+            row[:] = np.concatenate(
+                [getattr(data, name).reshape(-1) for name in SLEEP_ARRAYS]
+                + [np.array([getattr(data, name) for name in SLEEP_COUNTS])]
+            )
+        return out
+
+    def check_sleep_state(self, state: npt.ArrayLike, where: str = "BatchedWorld.set_state") -> npt.NDArray[np.int64]:
+        """Validate :meth:`get_sleep_state`'s array (shape, whole numbers) without applying it."""
+        array = np.asarray(state)
+        expected = (self.num_envs, self.sleep_size)
+        if array.shape != expected or array.dtype.kind not in "iu":
+            raise StateError(
+                f"{where}: expected the sleep state as integers of shape {expected}, got "
+                f"{array.dtype} of shape {array.shape}."
+            )
+        return array.astype(np.int64, copy=False)
+
+    def _set_sleep_state(self, data: mujoco.MjData, row: npt.NDArray[np.int64]) -> None:
+        start = 0
+        for name in SLEEP_ARRAYS:
+            target = getattr(data, name)
+            target[:] = row[start : start + target.size]
+            start += target.size
+        for k, name in enumerate(SLEEP_COUNTS):
+            setattr(data, name, int(row[start + k]))
+
+    def set_state(self, state: npt.ArrayLike, sleep: npt.ArrayLike | None = None) -> None:
+        """Restore :meth:`get_state` (and, when given, :meth:`get_sleep_state`); the
+        continuation is bit-identical."""
         array = self.check_state(state)
+        counters = None if sleep is None else self.check_sleep_state(sleep)
         for i, data in enumerate(self.datas):
             mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
             self.ctrl[i] = data.ctrl
         self.forward()
+        if counters is not None:
+            # after the forward pass, which advances the sleep countdowns as a step's
+            # would: the continuation starts from the saved ones
+            for data, row in zip(self.datas, counters, strict=True):
+                self._set_sleep_state(data, row)
 
     def close(self) -> None:
         if self._pool is not None:

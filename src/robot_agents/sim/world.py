@@ -37,6 +37,7 @@ STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 #: them, all outside the integration state (:meth:`BatchedWorld.get_sleep_state`).
 SLEEP_ARRAYS = ("tree_asleep", "tree_awake", "body_awake", "body_awake_ind", "dof_awake_ind", "parent_awake_ind")
 SLEEP_COUNTS = ("nbody_awake", "nparent_awake", "ntree_awake", "nv_awake")
+_SLEEP_FLAG = int(mujoco.mjtEnableBit.mjENBL_SLEEP)
 
 _LOG = logging.getLogger("robot_agents.mujoco")
 
@@ -474,9 +475,10 @@ class BatchedWorld:
             mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
             self.ctrl[i] = data.ctrl
         self.forward()
-        if counters is not None:
+        if counters is not None and self.model.opt.enableflags & _SLEEP_FLAG:
             # after the forward pass, which advances the sleep countdowns as a step's
-            # would: the continuation starts from the saved ones
+            # would: the continuation starts from the saved ones (without sleeping
+            # enabled there is nothing asleep to restore)
             for data, row in zip(self.datas, counters, strict=True):
                 self._set_sleep_state(data, row)
 

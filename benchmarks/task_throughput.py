@@ -79,7 +79,7 @@ for line in sys.stdin:
 class Ours:
     """Our vector env stepping random actions in blocks."""
 
-    def __init__(self, num_envs: int) -> None:
+    def __init__(self, num_envs: int, sleep: bool = True) -> None:
         self.env = gym.make_vec(
             "robot_agents/PickCube-v1",
             num_envs=num_envs,
@@ -88,6 +88,7 @@ class Ours:
             obs_mode="state",
             control_mode=CONTROL_MODE,
             max_episode_steps=EPISODE_STEPS,
+            sleep=sleep,
         )
         self.env.reset(seed=SEED)
         shape = (256, *self.env.action_space.shape)
@@ -136,6 +137,11 @@ def main() -> None:
     parser.add_argument("--block", type=int, default=100, help="env steps per block of a single env")
     parser.add_argument("--batch-block", type=int, default=10, help="vector steps per block at 64 envs")
     parser.add_argument("--maniskill-python", default=str(Path.home() / ".venvs/maniskill/bin/python"))
+    parser.add_argument(
+        "--no-sleep-too",
+        action="store_true",
+        help="also time ours with MuJoCo's island sleeping off (the tasks turn it on)",
+    )
     args = parser.parse_args()
 
     print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())} ({os.cpu_count()} CPUs)")
@@ -144,6 +150,9 @@ def main() -> None:
         "ours x1": (Ours(1), args.block, 1),
         "ours x64": (Ours(64), args.batch_block, 64),
     }
+    if args.no_sleep_too:
+        loops["ours x1, sleep off"] = (Ours(1, sleep=False), args.block, 1)
+        loops["ours x64, sleep off"] = (Ours(64, sleep=False), args.batch_block, 64)
     peer = None
     if args.maniskill_python and Path(args.maniskill_python).exists():
         peer = Peer(args.maniskill_python)

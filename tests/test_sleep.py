@@ -38,7 +38,10 @@ def cube_asleep(env: ra.RobotEnv) -> bool:
     return not bool(data.tree_awake[tree])
 
 
-def test_sleeping_is_off_by_default_and_on_when_asked() -> None:
+def test_sleeping_is_on_for_the_tasks_and_off_elsewhere_by_default() -> None:
+    assert not ra.make_env("Empty-v1", robot_uids="panda").unwrapped.model.opt.enableflags & SLEEP
+    assert not ra.Scene("panda").model.opt.enableflags & SLEEP
+    assert ra.make_env("PickCube-v1", robot_uids="panda").unwrapped.model.opt.enableflags & SLEEP
     assert not pick_cube(sleep=False).model.opt.enableflags & SLEEP
     env = pick_cube()
     assert env.model.opt.enableflags & SLEEP

@@ -104,6 +104,7 @@ class TableTopEnv(RobotEnv):
         self.layout = table_top_layout(cls)
         if kwargs.get("robot_poses") is None:
             kwargs["robot_poses"] = [self.layout.robot_pose]
+        kwargs.setdefault("sleep", True)  # props at rest sleep (docs/tasks.md)
         self._task_ready = False
         super().__init__(robot_uids=cls, num_envs=num_envs, **kwargs)
 

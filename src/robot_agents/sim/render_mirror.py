@@ -3,10 +3,10 @@
 picture is asked for (:mod:`robot_agents.model.physics_twin`).
 
 The simulated model is the authority for what both models have: before each picture,
-its body poses, the pose, size and colour of its geoms, its cameras and its materials'
-colours are copied into the render model, so a change made to ``env.model`` (moving a
-static body, randomizing a geom's colour or size, a camera's field of view) shows as
-it did with one model. The visual-only geoms exist only in the render model: change
+its body poses, the pose, size, colour and material of its geoms, its cameras, lights
+and materials (:data:`SHARED_FIELDS`) are copied into the render model, so a change
+made to ``env.model`` (moving a static body, randomizing a geom's colour or size, a
+light or a camera's field of view) shows as it did with one model. The visual-only geoms exist only in the render model: change
 them there."""
 
 from __future__ import annotations
@@ -16,6 +16,26 @@ from collections.abc import Iterable, Sequence
 import mujoco
 
 from robot_agents.model.physics_twin import shared_geoms
+
+#: Fields of elements both models have in the same order (cameras, lights, materials),
+#: copied whole from the simulated model before each picture.
+SHARED_FIELDS = (
+    "cam_pos",
+    "cam_quat",
+    "cam_fovy",
+    "light_pos",
+    "light_dir",
+    "light_active",
+    "light_diffuse",
+    "light_ambient",
+    "light_specular",
+    "light_castshadow",
+    "mat_rgba",
+    "mat_emission",
+    "mat_specular",
+    "mat_shininess",
+    "mat_reflectance",
+)
 
 
 class RenderMirror:
@@ -44,7 +64,7 @@ class RenderMirror:
         drawn.body_quat[:] = simulated.body_quat
         for name in ("geom_pos", "geom_quat", "geom_size", "geom_rgba", "geom_matid"):
             getattr(drawn, name)[geoms] = getattr(simulated, name)
-        for name in ("cam_pos", "cam_quat", "cam_fovy", "mat_rgba"):
+        for name in SHARED_FIELDS:
             getattr(drawn, name)[:] = getattr(simulated, name)
 
     def fill(self, simulated: Sequence[mujoco.MjData], env_ids: Iterable[int]) -> list[mujoco.MjData]:

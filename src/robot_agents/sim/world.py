@@ -119,9 +119,8 @@ class BatchedWorld:
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
         self.ctrl = np.zeros((self.num_envs, model.nu))
         self.state_size = mujoco.mj_stateSize(model, STATE_SPEC)
-        probe = mujoco.MjData(model)
         #: Length of one env's :meth:`get_sleep_state`.
-        self.sleep_size = sum(getattr(probe, name).size for name in SLEEP_ARRAYS) + len(SLEEP_COUNTS)
+        self.sleep_size = sum(getattr(self.datas[0], name).size for name in SLEEP_ARRAYS) + len(SLEEP_COUNTS)
         threads = num_threads if num_threads is not None else min(self.num_envs, os.cpu_count() or 1)
         self.num_threads = max(1, min(int(threads), self.num_envs))
         # The calling thread steps the first chunk itself; the pool steps the others.

@@ -109,3 +109,14 @@ def test_robots_without_legs_carrying_them_make_no_claim(model_file: Path) -> No
     assert standing_claim(ra.get_agent("spot"), 200, 20, Penetration()) is None  # held legs, kinematic base
     fixed = quadruped(model_file, fix_root_link=True)
     assert standing_leg_joints(fixed) == () and standing_claim(fixed, 500, 20, Penetration()) is None
+
+
+def test_the_check_command_runs_the_standing_check(model_file: Path) -> None:
+    from robot_agents.checks import check_standing, run_checks
+
+    names = [r.name for r in run_checks(quadruped(model_file), random_seconds=1.0)]
+    assert names[2] == "stands 5 s on its legs from each keyframe"
+    weak = check_standing(quadruped(model_file, 3.0, 3.0))
+    assert weak is not None and not weak.passed and "thigh" in weak.detail
+    assert check_standing(ra.get_agent("panda")) is None
+    assert "stands" not in " ".join(r.name for r in run_checks(ra.get_agent("ur_10e"), random_seconds=0.5))

@@ -241,12 +241,30 @@ def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> Check
     return CheckResult("PD drives stable at the physics step", bool(share[worst] < STABLE_SHARE), detail)
 
 
+def check_standing(cls: type[Agent]) -> CheckResult | None:
+    """A robot whose legs carry a free base stands from each keyframe at its physics
+    step (the sweep's standing claim, :mod:`robot_agents.tuning.standing_claim`);
+    ``None`` for other robots."""
+    from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
+    from robot_agents.tuning.claims import Penetration
+    from robot_agents.tuning.standing_claim import STAND_SECONDS, standing_claim
+
+    claim = standing_claim(cls, default_sim_freq([cls]), DEFAULT_CONTROL_FREQ, Penetration())
+    if claim is None:
+        return None
+    name = f"stands {STAND_SECONDS:g} s on its legs from each keyframe"
+    detail = f"base moved {claim.value * 1000:.1f} mm after settling (bound {claim.bound * 1000:g} mm); {claim.detail}"
+    return CheckResult(name, claim.passed, detail)
+
+
 def run_checks(cls: type[Agent], random_seconds: float = 5.0) -> list[CheckResult]:
-    """Every check, in order."""
-    return [
+    """Every check that applies to the robot, in order."""
+    checks = [
         check_keyframes(cls),
         check_holds(cls),
         check_random_actions(cls, random_seconds),
         check_inertia(cls),
         check_pd_stability(cls),
     ]
+    standing = check_standing(cls)
+    return checks if standing is None else [*checks[:2], standing, *checks[2:]]

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.agent.legs import foot_bodies
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_drift, standing_leg_joints
-from robot_agents.tuning.standing_claim import foot_bodies
 
 ROBOTS = ra.list_agents()
 CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).modes()]

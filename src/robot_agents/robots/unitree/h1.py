@@ -18,7 +18,10 @@ Sources of the numbers:
   the ankle, so ManiSkill's ``standing`` pelvis height (0.975 m) puts it 1.9 mm above the
   floor. (Menagerie's three 14 mm capsules reach 0.070 m down and only 3.5 cm behind the
   ankle: the centre of mass, 1.1 cm behind the ankle, stood 2.4 cm from their heel and the
-  robot tipped over backwards within 1.6 s.)
+  robot tipped over backwards within 2 s, with ManiSkill's gains and with ours.)
+- Joint limits: stiff (``solreflimit`` 5 ms): the H1's are mechanical stops, and with
+  MuJoCo's default 20 ms the 300 N*m knee drives pressed 0.27-0.35 rad past them under
+  random actions at every step (now 0.05-0.18 rad, bound 0.25).
 - Effort and velocity limits: Unitree's URDF (``effort``, ``velocity``; Menagerie's motor
   ``ctrlrange`` has the same efforts): hips and torso 200 N*m, 23 rad/s; knees 300 N*m,
   14 rad/s; ankles 40 N*m, 9 rad/s; shoulder pitch and roll 40 N*m, 9 rad/s; shoulder
@@ -188,7 +191,21 @@ class UnitreeH1(Agent):
     """
 
     uid = "unitree_h1"
-    sim_freq: ClassVar[int | None] = None
+    #: Time-step sweep (``robot-agents check unitree_h1 --sweep``, 2026-11-23, 20 Hz
+    #: control; see docs/timestep.md): hold, standing, random and penetration hold from
+    #: 5 ms (200 Hz) down to 1 ms (standing: the base moves 1.8-6.0 mm after settling,
+    #: tilt 0.8-1.2 deg; random-action overshoot 0.05-0.18 rad with the stiff joint
+    #: limits, 0.27-0.35 rad at every step with MuJoCo's default soft ones); at 160 Hz the
+    #: hold drifts 0.0104 rad and the pelvis 1.4 cm. Settle fails at every step: in
+    #: ``pd_joint_vel`` (and the measured-delta modes) a loaded joint creeps at load / kv
+    #: (0.05-0.15 rad/s: the modes keep no target), and in the others a robot the random
+    #: actions threw down can still be rolling, or sinking onto an 18 N*m elbow, 3 s into
+    #: the hold (500 Hz, seed 0: the torso turns at 0.29 rad/s at 3 s, everything is still
+    #: at 3.5 s); at 200 Hz an ankle cycles (0.98 rad/s). The sweep takes every other
+    #: claim as holding from 320 Hz; the light drives (ankles, shoulders, elbows: kv 100
+    #: on 0.10-0.11 kg*m^2) can cycle between their torque limits below 473-485 Hz
+    #: (``robot_agents.tuning.cycles``): default 500 Hz, the first tried step above them.
+    sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "h1.xml"
     fix_root_link = False
     gravity_compensation = False

@@ -107,7 +107,7 @@ def tilt_deg(quat: np.ndarray) -> float:
     return math.degrees(math.acos(float(np.clip(1.0 - 2.0 * (x * x + y * y), -1.0, 1.0))))
 
 
-def stand(cls: type[ra.Agent] | str, seconds: float = 5.0) -> dict[str, float | set[str]]:
+def stand(cls: type[ra.Agent] | str, seconds: float = 5.0) -> dict[str, float | bool | set[str]]:
     """Reset to ``standing`` and repeat the default mode's hold action (taken once);
     the pelvis heights, the largest tilt, joint error and the bodies touching the floor."""
     scene = ra.Scene(cls)
@@ -128,9 +128,11 @@ def stand(cls: type[ra.Agent] | str, seconds: float = 5.0) -> dict[str, float | 
             bodies = {int(model.geom_bodyid[contact.geom1]), int(model.geom_bodyid[contact.geom2])}
             if 0 in bodies:  # the floor (world body)
                 touching |= {model.body(b).name.removeprefix(agent.prefix) for b in bodies - {0}}
+    standing = bool(agent.is_standing()[0]) and not bool(agent.is_fallen()[0])
     scene.close()
     last = np.array(heights[round(scene.control_freq) :])
     return {
+        "standing": standing,
         "height": heights[-1],
         "spread": float(last.max() - last.min()),
         "tilt": tilt,
@@ -151,6 +153,7 @@ def test_stands_on_its_feet_for_5_s_from_standing() -> None:
     assert result["tilt"] < 2.0
     assert result["error"] < 0.05
     assert result["touching"] == {"left_ankle_link", "right_ankle_link"}
+    assert result["standing"]  # agent.is_standing, not is_fallen
 
 
 class ManiSkillGainsH1(UnitreeH1):
@@ -256,7 +259,7 @@ def test_actions_follow_maniskills_joint_order_and_bounds() -> None:
 
 @pytest.mark.parametrize("mode", list(UnitreeH1.modes()))
 def test_random_actions_for_10_s_stay_finite_and_stable(mode: str) -> None:
-    """It falls over (random targets over the whole range), but nothing blows up, no
+    """It falls over (random targets over the whole range: ``is_fallen``), but nothing blows up, no
     joint is pressed more than 0.15 rad past its stop, and the same actions replay exactly."""
     scene = ra.Scene("unitree_h1", control_modes=mode)
     agent = scene.agents[0]
@@ -266,16 +269,18 @@ def test_random_actions_for_10_s_stay_finite_and_stable(mode: str) -> None:
     for _ in range(2):
         scene.reset()
         rng = np.random.default_rng(0)
-        worst = 0.0
+        worst, fell = 0.0, False
         for _ in range(10 * scene.control_freq):
             agent.set_action(rng.uniform(space.low, space.high))
             scene.step()
+            fell = fell or bool(agent.is_fallen()[0])
             q = agent.qpos[0]
             worst = max(worst, float(np.max(np.maximum(q - limits[:, 1], limits[:, 0] - q))))
         state = scene.world.get_state()
         assert np.all(np.isfinite(state))
         assert not np.any(scene.world.instability_counts())
         assert worst < 0.15
+        assert fell  # thrown down: a body other than a foot touched the floor
         runs.append(state)
     np.testing.assert_array_equal(runs[0], runs[1])
     scene.close()

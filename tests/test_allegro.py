@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.checks import check_holds, check_random_actions
+from robot_agents.checks import check_holds, check_random_actions, hold_action
 from robot_agents.robots.wonik.allegro import PALM_UP_MOUNT, TIP_LINKS
 from tests.chain_check import axis_rotation, transform
 
@@ -40,7 +40,8 @@ FINGER_TIPS = {"index": "link_3.0_tip", "middle": "link_7.0_tip", "ring": "link_
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """URDF rpy: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    return axis_rotation(Z, yaw) @ axis_rotation(Y, pitch) @ axis_rotation((1.0, 0.0, 0.0), roll)
+    rotation: np.ndarray = axis_rotation(Z, yaw) @ axis_rotation(Y, pitch) @ axis_rotation((1.0, 0.0, 0.0), roll)
+    return rotation
 
 
 def tip_in_base(finger: str, q: np.ndarray) -> np.ndarray:
@@ -51,7 +52,8 @@ def tip_in_base(finger: str, q: np.ndarray) -> np.ndarray:
     links = THUMB_LINKS if finger == "thumb" else FINGER_LINKS
     for (offset, axis), angle in zip(links, q[1:], strict=True):
         pose = pose @ transform(axis_rotation(axis, float(angle)), np.array(offset))
-    return (pose @ np.array([0.0, 0.0, TIP_OFFSET[finger], 1.0]))[:3]
+    tip: np.ndarray = (pose @ np.array([0.0, 0.0, TIP_OFFSET[finger], 1.0]))[:3]
+    return tip
 
 
 @pytest.mark.parametrize("pose", ["keyframe", "closed", "random"])
@@ -114,8 +116,20 @@ def test_masses_and_ranges_match_the_sources() -> None:
 
 
 def test_keyframes_hold_and_random_actions_stay_stable() -> None:
-    held = check_holds(ra.get_agent(UID), seconds=2.0)
+    held = check_holds(ra.get_agent(UID), seconds=2.0)  # on the palm_side mount
     assert held.passed, held.detail
+    # palm_up on its own mount: 2 s of its hold action, every joint within 0.01 rad
+    scene = ra.Scene(UID, robot_poses=[PALM_UP_MOUNT])
+    scene.reset(keyframes="palm_up")
+    agent = scene.agents[0]
+    action = hold_action(agent)
+    drift = 0.0
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(action)
+        scene.step()
+        drift = max(drift, float(np.max(np.abs(agent.qpos[0] - agent.keyframe_qpos("palm_up")))))
+    assert drift < 0.01
+    scene.close()
     random = check_random_actions(ra.get_agent(UID), seconds=10.0)
     assert random.passed, random.detail
 

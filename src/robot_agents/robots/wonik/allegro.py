@@ -37,8 +37,26 @@ Sources of the numbers:
   has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
   torsional friction (condim 4) and the near-rigid pad contact the library's other
   pads use (Menagerie's ``trs_so_arm100`` values).
-- Drives: ManiSkill's PD gains, kp 400 N*m/rad and kv 10 N*m*s/rad on every joint,
-  and its force limit, 50 N*m.
+- Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml``: position servos with
+  kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad, taken as the drives'
+  kv (as the UR10e takes Menagerie's joint damping); ManiSkill's force limit, 50 N*m,
+  which kp 10 never reaches within the joint ranges (at most 19 N*m), and Wonik's
+  7 rad/s. ManiSkill's gains (kp 400, kv 10 N*m*s/rad) do not work in MuJoCo: PhysX
+  integrates a drive implicitly, MuJoCo only its damping, and on links of 3e-6 to
+  1e-4 kg*m^2 kp 400 is unstable at 2 ms (kp / (4 I / dt^2) = 42); with the armature
+  below they pass the random-action claim at 400-500 Hz but a drive clamped at its
+  limit has its damping integrated explicitly (kv * dt / I = 10 at 1 kHz) and the settle
+  claim fails at every step, 40 Hz-1 kHz (25-580 rad/s).
+- Armature: 0.001 kg*m^2 per joint, an order-of-magnitude estimate of the reflected
+  rotor inertia (no public model or datasheet we could read gives one): a small
+  coreless DC motor's rotor, of order 1e-8 kg*m^2, behind a reduction of about 300:1
+  (1e-8 * 300^2 = 9e-4). Without it the random actions press the joints (distal
+  links: 3e-6 kg*m^2) 0.51-0.60 rad past their limits at 500 Hz-1 kHz and after the
+  settle claim's hold a joint still turns at 97 rad/s at 500 Hz (0.026 rad/s from
+  800 Hz); with it the fingers' response is unchanged (kv / kp = 0.1 s).
+- Gravity: compensated on every body (the library's default for a fixed root, as the
+  Panda's), so the keyframes are held exactly; without it Menagerie's soft kp lets the
+  fingers sag 0.058 rad (``palm_side``) and 0.089 rad (``palm_up``) in 2 s.
 - Keyframes: ManiSkill's ``palm_side`` and ``palm_up``: every joint at 0 (the thumb's
   base, whose range starts at 0.263 rad, at its lower limit), the root at 0.5 m,
   unturned (fingers up, palm facing +x) or turned -pi/2 about y (palm facing up,
@@ -49,6 +67,14 @@ Sources of the numbers:
 - Control modes: generated from the ``Hand`` part: ManiSkill's ``pd_joint_delta_pos``
   (default, +-0.1 rad per step), ``pd_joint_pos`` (absolute targets, not normalized)
   and ``pd_joint_target_delta_pos``, plus the library's three velocity variants.
+- Grasp (tests/test_allegro.py): the palm up, the hand open (:data:`OPEN`: the thumb
+  stands up opposite the fingers), a 5.5 cm, 100 g cube laid flat in the palm 15 mm
+  from the finger bases; closing (:data:`CLOSED`, ``pd_joint_pos``, 2 s) the middle
+  finger and the thumb press on it from opposite sides (about 30 N each, the ring
+  finger 4 N, the index misses it) and ``is_grasping`` holds; its weight cancelled and
+  as much again pulling it away from the palm for 2 s (1 g net, as with the hand
+  turned over) it moves 0.22 mm relative to the palm at 320 Hz (0.40 mm at 200 Hz,
+  0.17 mm at 1 kHz); opened, ``is_grasping`` is false.
 """
 
 from __future__ import annotations
@@ -72,7 +98,7 @@ JOINT_PATTERN = r"joint_\d+\.0"
 #: Fingertip bodies in ManiSkill's order: thumb, index, middle, ring.
 TIP_LINKS = ("link_15.0_tip", "link_3.0_tip", "link_7.0_tip", "link_11.0_tip")
 #: Each finger's links (base to tip): index, middle, ring, thumb.
-FINGERS = tuple(tuple(f"link_{4 * f + k}.0" for k in range(4)) + (f"link_{4 * f + 3}.0_tip",) for f in range(4))
+FINGERS = tuple((*(f"link_{4 * f + k}.0" for k in range(4)), f"link_{4 * f + 3}.0_tip") for f in range(4))
 
 #: Thumb base lower limit (rad): the keyframes' 0 clipped into the range.
 THUMB_BASE_MIN = 0.263
@@ -84,17 +110,21 @@ ROOT_HEIGHT = 0.5
 PALM_SIDE_MOUNT = (0.0, 0.0, ROOT_HEIGHT, 1.0, 0.0, 0.0, 0.0)
 PALM_UP_MOUNT = (0.0, 0.0, ROOT_HEIGHT, math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0)
 
-#: ManiSkill's drives: kp (N*m/rad), kv (N*m*s/rad), force limit (N*m); Wonik's 7 rad/s.
+#: Menagerie's kp (N*m/rad) and kv (N*m*s/rad), ManiSkill's force limit (N*m), Wonik's
+#: velocity limit (rad/s).
 STIFFNESS = 10.0
 DAMPING = 1.0
 EFFORT_LIMIT = 50.0
 VELOCITY_LIMIT = 7.0
+#: Reflected rotor inertia (kg*m^2), an estimate (see the module doc).
+ARMATURE = 0.001
 ALLEGRO_DRIVES = PDActuator(
     joints=JOINT_PATTERN,
     stiffness=STIFFNESS,
     damping=DAMPING,
     effort_limit=EFFORT_LIMIT,
     velocity_limit=VELOCITY_LIMIT,
+    armature=ARMATURE,
 )
 
 #: Open (rad): fingers stretched, the thumb's base turned to its upper limit (1.396 rad),
@@ -133,6 +163,16 @@ class AllegroHandRight(Agent):
     """
 
     uid = "allegro_hand_right"
+    #: Time-step sweep (``robot-agents check allegro_hand_right --sweep``, 2026-11-23,
+    #: 20 Hz control): every claim holds from 5 ms (200 Hz) down to 1 ms (random-action
+    #: overshoot 0.093 rad at 200 Hz, 0.045 at 320 Hz, bound 0.25; settle 0.006-0.032
+    #: rad/s, bound 0.05); at 160 Hz and coarser the random actions press joints
+    #: 0.66-2.05 rad past their limits. Default one tried step finer: 320 Hz (3.125 ms).
+    #: The distal joints could cycle between their torque limits below 397 Hz, but not
+    #: at the joints' rated speed (``robot_agents.tuning.cycles``). Without the armature
+    #: estimate the random claim failed at every step (0.51 rad at 1 kHz) and settle
+    #: below 800 Hz (97 rad/s at 500 Hz).
+    sim_freq: ClassVar[int | None] = 320
     mjcf_path = ASSETS / "allegro_hand_right.xml"
     mount_pose: ClassVar[tuple[float, ...]] = PALM_SIDE_MOUNT
     actuators = (ALLEGRO_DRIVES,)
@@ -141,6 +181,8 @@ class AllegroHandRight(Agent):
     keyframes = {
         "palm_side": Keyframe(qpos=ZERO_POSE),
         "palm_up": Keyframe(qpos=ZERO_POSE),
+        # the name every built-in robot has, for tasks that reset to it
+        "rest": Keyframe(qpos=ZERO_POSE),
     }
     default_control_mode = "pd_joint_delta_pos"
 

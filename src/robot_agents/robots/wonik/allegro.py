@@ -28,7 +28,7 @@ Sources of the numbers:
   gyration for a 10 g link) and ManiSkill's differ between identical fingers (its
   middle distal weighs 0.0388 kg, the index's 0.02, the ring's 0.0096), so each link's
   inertia is that of a solid box (tips: capsule) of its mass over its collision shape,
-  computed by MuJoCo (link_0.0's equals ManiSkill's, which was made so).
+  computed by MuJoCo (link_0.0's ixx and iyy equal ManiSkill's, which are a box's too).
 - Joint friction and passive damping: Wonik's V4 description (``frictionloss`` 0.01
   N*m, damping 0.1 N*m*s/rad); its velocity limit, 7 rad/s, bounds the velocity modes.
 - Collision shapes: Menagerie's boxes (palm 40.8 x 113 x 95 mm; links 19.6 x 27.5 mm
@@ -37,16 +37,16 @@ Sources of the numbers:
   has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
   torsional friction (condim 4) and the near-rigid pad contact the library's other
   pads use (Menagerie's ``trs_so_arm100`` values).
-- Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml``: position servos with
-  kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad, taken as the drives'
-  kv (as the UR10e takes Menagerie's joint damping); ManiSkill's force limit, 50 N*m,
-  which kp 10 never reaches within the joint ranges (at most 19 N*m), and Wonik's
-  7 rad/s. ManiSkill's gains (kp 400, kv 10 N*m*s/rad) do not work in MuJoCo: PhysX
-  integrates a drive implicitly, MuJoCo only its damping, and on links of 3e-6 to
-  1e-4 kg*m^2 kp 400 is unstable at 2 ms (kp / (4 I / dt^2) = 42); with the armature
-  below they pass the random-action claim at 400-500 Hz but a drive clamped at its
-  limit has its damping integrated explicitly (kv * dt / I = 10 at 1 kHz) and the settle
-  claim fails at every step, 40 Hz-1 kHz (25-580 rad/s).
+- Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml`` (commit 28ffb48):
+  position servos with kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad,
+  taken as the drives' kv (as the UR10e takes Menagerie's joint damping); ManiSkill's
+  force limit, 50 N*m, which kp 10 never reaches within the joint ranges (at most
+  19 N*m), and Wonik's 7 rad/s. ManiSkill's gains (kp 400, kv 10 N*m*s/rad) do not
+  work in MuJoCo: PhysX integrates a drive implicitly, MuJoCo only its damping, and on
+  links of 3e-6 to 1e-4 kg*m^2 kp 400 is unstable at 2 ms (kp / (4 I / dt^2) = 42);
+  with the armature below they pass the random-action claim at 400-500 Hz, but a drive
+  clamped at its limit has its damping integrated explicitly (kv * dt / I = 10 at
+  1 kHz) and the settle claim fails at every step, 40 Hz-1 kHz (25-580 rad/s).
 - Armature: 0.001 kg*m^2 per joint, an order-of-magnitude estimate of the reflected
   rotor inertia (no public model or datasheet we could read gives one): a small
   coreless DC motor's rotor, of order 1e-8 kg*m^2, behind a reduction of about 300:1

@@ -27,4 +27,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
     "spot": "robot_agents.robots.spot.spot:Spot",
     "fetch": "robot_agents.robots.fetch.fetch:Fetch",
+    "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
 }

@@ -27,14 +27,15 @@
   :data:`~.grasp_claim.SLIP_BOUND`
   relative to the tool frame over the hold (a cube that falls or slides out moves more;
   a movement of more than the cube's edge is reported as the edge: the cube is lost);
-- ``penetration``: the deepest contact while holding keyframes, tracking and holding
-  the grasped cube at most :data:`PENETRATION_BOUND` (the depth random actions press is
-  reported beside it; the fingers' impact while closing on the cube is not judged).
-
-Standing is not a claim of any built-in robot: the only one with legs, ``spot``, moves
-its base kinematically (Habitat's navmesh-style base: the planar base joints are set
-from the commanded velocity, the legs are posed joints that carry no weight), so it
-cannot fall; a robot whose legs carry a dynamic base needs a standing claim here.
+- ``standing``: where the robot's legs carry a free base (a ``Legs`` part that is not
+  held, a free root), from each keyframe it holds its pose on the floor and stays still,
+  upright and on its feet alone (:mod:`.standing_claim` has the times and bounds);
+  ``spot``'s legs are held and its base kinematic (Habitat's navmesh-style base): it makes
+  no standing claim;
+- ``penetration``: the deepest contact while holding keyframes, tracking, holding
+  the grasped cube and standing at most :data:`PENETRATION_BOUND` (the depth random
+  actions press is reported beside it; the fingers' impact while closing on the cube is
+  not judged).
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.checks import HOLD_TOLERANCE, hold_action
+from robot_agents.checks import HOLD_TOLERANCE, LOAD_SETTLE_SECONDS, hold_action, hold_drift, standing_leg_joints
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_matrix
@@ -85,7 +86,7 @@ EE_TOLERANCE = 0.05
 #: torque, 1-8 cm at any step; that depth is reported, not judged.)
 PENETRATION_BOUND = 0.005
 #: The claims, in the order they are reported.
-CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "penetration")
+CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "standing", "penetration")
 
 
 @dataclass(frozen=True)
@@ -147,18 +148,17 @@ def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration
     if not _commands_motion(agent):
         scene.close()
         return ClaimResult("hold", True, 0.0, HOLD_TOLERANCE, f"{mode} commands efforts")
-    worst, where = 0.0, ""
+    worst, where, sag = 0.0, "", 0.0
+    settle_steps = round(LOAD_SETTLE_SECONDS * control_freq) if standing_leg_joints(cls) else 0
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
-        start = agent.qpos
-        for _ in range(round(HOLD_SECONDS * control_freq)):
-            agent.set_action(hold_action(agent))
-            scene.step()
-            depth.measure(scene)
-            drift = float(np.max(np.abs(agent.qpos - start), initial=0.0))
-            if drift > worst:
-                worst, where = drift, name
+        drift, settling = hold_drift(scene, agent, HOLD_SECONDS, settle_steps, lambda: depth.measure(scene))
+        sag = max(sag, settling)
+        if drift > worst or not where:
+            worst, where = drift, name
     scene.close()
+    if settle_steps:
+        where += f" (after {LOAD_SETTLE_SECONDS:g} s on its legs; sag meanwhile {sag:.4f})"
     return ClaimResult("hold", worst < HOLD_TOLERANCE, worst, HOLD_TOLERANCE, where)
 
 
@@ -317,6 +317,11 @@ def measure_step(
     grasp = grasp_claim(cls, sim_freq, control_freq, depth)
     if grasp is not None:
         claims.append(grasp)
+    from robot_agents.tuning.standing_claim import standing_claim  # (imports this module)
+
+    standing = standing_claim(cls, sim_freq, control_freq, depth)
+    if standing is not None:
+        claims.append(standing)
     claims.append(
         ClaimResult("penetration", depth.depth <= PENETRATION_BOUND, depth.depth, PENETRATION_BOUND, depth.where)
     )

@@ -25,7 +25,7 @@ STANDING_QPOS = (0.03, -0.03, 0.03, -0.03, 0.4, 0.4, -0.4, -0.4, -0.8, -0.8, 0.8
 STANDING_HEIGHT = 0.545
 
 ANYMAL_DRIVES = PDActuator(
-    joints="(LF|RF|LH|RH)_(HAA|HFE|KFE)", stiffness=80.0, damping=2.0, effort_limit=80.0, velocity_limit=7.5
+    joints="(LF|RF|LH|RH)_(HAA|HFE|KFE)", stiffness=400.0, damping=10.0, effort_limit=80.0, velocity_limit=7.5, friction=0.1
 )
 ANYMAL_LEGS = Legs(name="legs", joints=LEG_PATTERNS, max_delta=0.225)
 
@@ -45,3 +45,5 @@ class AnymalC(Agent):
     parts = (ANYMAL_LEGS,)
     keyframes: ClassVar[Mapping[str, Keyframe]] = {"standing": _standing(), "rest": _standing()}
     default_control_mode = "pd_joint_target_delta_pos"
+    friction_cone = "elliptic"
+    impratio = 100.0

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.checks import hold_action
+from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_action, hold_drift, standing_leg_joints
+from robot_agents.controllers.joint import UNBOUNDED_TARGET
 
 ROBOTS = ra.list_agents()
 CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).modes()]
@@ -80,6 +81,16 @@ def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
         )
 
 
+def holds_fixed_targets(agent: ra.Agent) -> bool:
+    """Every part of the mode keeps fixed position targets under its hold action (absolute
+    or target-relative positions), so drives carrying a load hold it."""
+    for controller in agent.controller.parts.values():
+        config = controller.config
+        if not isinstance(config, ra.PDJointPosConfig) or (config.use_delta and not config.use_target):
+            return False
+    return True
+
+
 def assert_gripper_action_closes_at_minus_one(agent: ra.Agent) -> None:
     """Every gripper, in every mode: a normalized -1 commands its leader joint to (or past)
     the closed position, +1 to (or past) the open one, whichever way its joints close."""
@@ -118,7 +129,8 @@ def test_every_mode(uid: str, mode: str) -> None:
         elif isinstance(cfg, ra.PDJointPosConfig) and cfg.lower is None:
             # absolute joint targets: bounded by the joint limits in the compiled model
             ranges = [scene.model.jnt_range[scene.model.joint(agent.prefix + j).id] for j in cfg.joint_names]
-            limits = np.array(ranges[: len(range(sl.start, sl.stop))])
+            # (joints turning more than a turn either way take targets within one turn)
+            limits = np.clip(np.array(ranges[: len(range(sl.start, sl.stop))]), -UNBOUNDED_TARGET, UNBOUNDED_TARGET)
             n = len(cfg.joint_names) if not isinstance(cfg, ra.PDJointPosMimicConfig) else 1
             np.testing.assert_allclose(space.low[0, sl.start : sl.start + n], limits[:n, 0].astype(np.float32))
             np.testing.assert_allclose(space.high[0, sl.start : sl.start + n], limits[:n, 1].astype(np.float32))
@@ -127,11 +139,19 @@ def test_every_mode(uid: str, mode: str) -> None:
 
     # Hold: the robot stays at its rest keyframe for 1 s (5 s for the default mode: see below).
     scene.reset()
-    start = agent.qpos
-    for _ in range(scene.control_freq):
-        agent.set_action(hold_action(agent))
-        scene.step()
-    assert np.max(np.abs(agent.qpos - start)) < 0.01
+    if standing_leg_joints(type(agent)):
+        # Legs carrying a free base: the hold action taken once and repeated, measured
+        # after settling onto the legs, in modes whose hold keeps fixed position targets
+        # (zero deltas on the measured pose and zero velocities let the legs fold).
+        if holds_fixed_targets(agent):
+            drift, _ = hold_drift(scene, agent, 1.0, round(LOAD_SETTLE_SECONDS * scene.control_freq))
+            assert drift < 0.01
+    else:
+        start = agent.qpos
+        for _ in range(scene.control_freq):
+            agent.set_action(hold_action(agent))
+            scene.step()
+        assert np.max(np.abs(agent.qpos - start)) < 0.01
 
     # Random actions: finite, deterministic.
     # Random actions over the whole space (absolute targets anywhere within the joint
@@ -158,6 +178,12 @@ def test_default_mode_holds_every_keyframe_for_five_seconds(uid: str, keyframe: 
     scene = ra.Scene(uid)
     agent = scene.agents[0]
     scene.reset(keyframes=keyframe)
+    if standing_leg_joints(type(agent)):  # on its legs: measured after settling onto them
+        worst, _ = hold_drift(scene, agent, 5.0, round(LOAD_SETTLE_SECONDS * scene.control_freq))
+        assert worst < 0.01, f"{uid} drifted {worst:.4f} rad/m from keyframe {keyframe!r} after settling"
+        assert np.all(agent.is_static())
+        scene.close()
+        return
     start = agent.qpos
     worst = 0.0
     for _ in range(5 * scene.control_freq):

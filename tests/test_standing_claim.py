@@ -10,9 +10,10 @@ from typing import Any
 import pytest
 
 import robot_agents as ra
+from robot_agents.agent.legs import foot_bodies
 from robot_agents.checks import LOAD_SETTLE_SECONDS, check_holds, standing_leg_joints
 from robot_agents.tuning.claims import Penetration, measure_step
-from robot_agents.tuning.standing_claim import STAND_DRIFT, STAND_TILT, foot_bodies, standing_claim
+from robot_agents.tuning.standing_claim import STAND_DRIFT, STAND_TILT, standing_claim
 
 LEG = """<body name="{n}_thigh" pos="{x} {y} 0"><joint name="{n}_hip" axis="0 1 0" range="-1.5 1.5"/>
   <geom type="capsule" fromto="0 0 0 0 0 -0.15" size="0.02" mass="0.5"/>
@@ -120,3 +121,44 @@ def test_the_check_command_runs_the_standing_check(model_file: Path) -> None:
     assert weak is not None and not weak.passed and "thigh" in weak.detail
     assert check_standing(ra.get_agent("panda")) is None
     assert "stands" not in " ".join(r.name for r in run_checks(ra.get_agent("ur_10e"), random_seconds=0.5))
+
+
+def test_is_standing_and_is_fallen(model_file: Path) -> None:
+    """Standing: upright, only the feet on the floor; fallen: any other body on it."""
+    import numpy as np
+
+    from robot_agents.errors import ConfigError
+
+    side = (math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0, 0.0)  # rolled 90 deg
+    keyframes = {
+        "standing": STANDING,
+        "on_side": ra.Keyframe(qpos=STANDING.qpos, base_pos=(0, 0, 0.13), base_quat=side),
+    }
+    scene = ra.Scene(quadruped(model_file, keyframes=keyframes), num_envs=2)
+    agent = scene.agents[0]
+    assert len(agent.legs.feet) == 8  # four shins and their ball feet
+    scene.reset(keyframes="standing")
+    scene.reset(env_ids=[1], keyframes="on_side")
+    hold = np.tile(agent.keyframe_qpos("standing"), (2, 1))
+    for _ in range(20):  # 1 s
+        agent.set_action(hold)
+        scene.step()
+    assert agent.is_standing().tolist() == [True, False]
+    assert agent.is_fallen().tolist() == [False, True]
+    tilt = math.acos(1 - 2 * float(np.sum(agent.base_pose[1, 4:6] ** 2)))
+    assert agent.is_standing(max_tilt=tilt + 0.01).tolist() == [True, False]  # upright enough, but fallen
+    with pytest.raises(ConfigError, match="max_tilt"):
+        agent.is_standing(max_tilt=-1.0)
+    scene.close()
+    weak = ra.Scene(quadruped(model_file, 3.0, 3.0))
+    weak.reset()
+    for _ in range(60):  # 3 s: the legs give and the thighs come down on the floor
+        weak.agents[0].set_action(weak.agents[0].keyframe_qpos("standing"))
+        weak.step()
+    assert weak.agents[0].is_fallen().tolist() == [True] and weak.agents[0].is_standing().tolist() == [False]
+    weak.close()
+    arm = ra.Scene("ur_10e")
+    for method in (arm.agents[0].is_standing, arm.agents[0].is_fallen):
+        with pytest.raises(ConfigError, match="no legs carrying a free base"):
+            method()
+    arm.close()

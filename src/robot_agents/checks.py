@@ -12,11 +12,11 @@ import numpy as np
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DriveKind
 from robot_agents.agent import Agent
+from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController
 from robot_agents.errors import RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_rotvec
-from robot_agents.parts.declaration import Legs
 from robot_agents.sim.scene import Scene, default_sim_freq
 
 #: A keyframe is held when no joint drifts more than this over the hold (rad or m).
@@ -72,18 +72,12 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
 
 
 def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:
-    """The joints of legs that carry the robot: its ``Legs`` parts that are not held,
-    when its root is free (empty for a fixed root, which rests on its mount, and for
-    held legs, which ride a kinematic base: ``spot``)."""
+    """The joints of legs that carry the robot (:func:`robot_agents.agent.legs.standing_legs`):
+    empty for a fixed root and for held legs."""
     if cls.fix_root_link:
         return ()
     checked = cls.check()
-    return tuple(
-        joint
-        for part in checked.parts
-        if isinstance(part, Legs) and not part.held
-        for joint in checked.part_joints[part.name]
-    )
+    return standing_legs(checked.parts, checked.part_joints, cls.fix_root_link)
 
 
 def hold_drift(

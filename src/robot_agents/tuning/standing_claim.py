@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import math
 
-import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
+from robot_agents.agent.legs import foot_bodies
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_action, standing_leg_joints
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sim.scene import Scene
@@ -37,23 +37,6 @@ STAND_SECONDS = 5.0
 STAND_DRIFT = 0.01
 #: Largest angle (rad) between the base's up axis and the keyframe's, at any time.
 STAND_TILT = math.radians(5.0)
-
-
-def foot_bodies(model: mujoco.MjModel, leg_joint_ids: list[int]) -> set[int]:
-    """Bodies of ``model`` that are feet: each distal leg link (moved by a leg joint that
-    no other leg joint's body descends from) and every body below it."""
-    leg_bodies = {int(model.jnt_bodyid[j]) for j in leg_joint_ids}
-
-    def ancestors(body: int) -> list[int]:
-        chain = []
-        while body > 0:
-            body = int(model.body_parentid[body])
-            chain.append(body)
-        return chain
-
-    proximal = {a for b in leg_bodies for a in ancestors(b) if a in leg_bodies}
-    distal = leg_bodies - proximal
-    return {b for b in range(model.nbody) if b in distal or distal.intersection(ancestors(b))}
 
 
 def standing_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult | None:

@@ -282,3 +282,19 @@ def test_random_actions_for_ten_seconds_stay_stable(mode: str) -> None:
     assert fastest < 500.0
     assert -0.1 < agent.base_pose[0, 2] < 2.0  # on the floor, not thrown
     scene.close()
+
+
+def test_is_standing_and_is_fallen() -> None:
+    """Standing in the default mode; ManiSkill's default mode (deltas on the measured pose)
+    folds the loaded legs at a zero action until the belly is on the floor."""
+    for mode, standing in (("pd_joint_target_delta_pos", True), ("pd_joint_delta_pos", False)):
+        scene = ra.Scene("anymal_c", control_modes=mode)
+        agent = scene.agents[0]
+        scene.reset(keyframes="standing")
+        hold = hold_action(agent)
+        for _ in range(5 * scene.control_freq):
+            agent.set_action(hold)
+            scene.step()
+        assert bool(agent.is_standing()[0]) is standing and bool(agent.is_fallen()[0]) is not standing, mode
+        assert bool(agent.base_pose[0, 2] > 0.5) is standing
+        scene.close()

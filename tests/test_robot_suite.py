@@ -7,25 +7,11 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.agent.legs import foot_bodies
-from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_drift, standing_leg_joints
+from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_drift, keeps_targets, standing_leg_joints
 from robot_agents.controllers.joint import UNBOUNDED_TARGET
 
 ROBOTS = ra.list_agents()
 CASES = [(uid, mode) for uid in ROBOTS for mode in ra.get_agent(uid).modes()]
-
-
-def keeps_targets(agent: ra.Agent) -> bool:
-    """Whether the mode's hold action keeps every joint target where it was taken:
-    absolute and target-delta joint modes, end-effector modes. A delta from the measured
-    pose or a zero velocity lets a joint under load (a leg carrying the body) give
-    without end; only robots standing on their legs are held to this."""
-    for controller in agent.controller.parts.values():
-        config = controller.config
-        if isinstance(config, ra.PDJointVelConfig) or (
-            isinstance(config, ra.PDJointPosConfig) and config.use_delta and not config.use_target
-        ):
-            return False
-    return True
 
 
 def assert_stable(scene: ra.Scene) -> None:

@@ -34,10 +34,9 @@ def test_every_robot_with_the_parts_is_covered() -> None:
     covered = {(task, uid) for task, uid in CASES}
     for uid in ("panda", "panda_wristcam", "panda_touch", "floating_panda_gripper", "so100", "koch-v1.1"):
         assert ("PickCube-v1", uid) in covered
-    for uid in ra.list_agents():  # every registered robot with an end effector (legs alone have none)
-        if any(isinstance(p, ra.Arm) and p.end_effectors for p in ra.get_agent(uid).check().parts):
-            assert ("ReachPose-v1", uid) in covered
-    assert ("ReachPose-v1", "anymal_c") not in covered
+    for uid in ra.list_agents():  # every registered robot with an end effector
+        tools = [p for p in ra.get_agent(uid).check().parts if isinstance(p, ra.Arm) and p.end_effectors]
+        assert (("ReachPose-v1", uid) in covered) == bool(tools), uid
     assert ("PickCube-v1", "ur_10e") not in covered  # no gripper: the task refuses it
 
 

@@ -14,7 +14,7 @@ from robot_agents.actuators.spec import DriveKind
 from robot_agents.agent import Agent
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
-from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController
+from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController, PDJointVelConfig
 from robot_agents.errors import RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_rotvec
 from robot_agents.sim.scene import Scene, default_sim_freq
@@ -78,6 +78,20 @@ def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:
         return ()
     checked = cls.check()
     return standing_legs(checked.parts, checked.part_joints, cls.fix_root_link)
+
+
+def keeps_targets(agent: Agent) -> bool:
+    """Whether the active mode's hold action keeps every joint target where it was taken:
+    absolute and target-delta joint modes, end-effector modes. A delta from the measured
+    pose, or a zero velocity, lets a joint under a load it carries (a leg under the body)
+    give without end: in such modes a robot standing on its legs cannot hold a pose."""
+    for controller in agent.controller.parts.values():
+        config = controller.config
+        if isinstance(config, PDJointVelConfig) or (
+            isinstance(config, PDJointPosConfig) and config.use_delta and not config.use_target
+        ):
+            return False
+    return True
 
 
 def hold_drift(

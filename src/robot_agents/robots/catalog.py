@@ -27,5 +27,6 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
     "spot": "robot_agents.robots.spot.spot:Spot",
     "fetch": "robot_agents.robots.fetch.fetch:Fetch",
+    "unitree_h1": "robot_agents.robots.unitree.h1:UnitreeH1",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
 }

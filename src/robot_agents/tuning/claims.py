@@ -11,7 +11,9 @@
 - ``settle``: after the random actions, :data:`SETTLE_SECONDS` of one hold command (joint
   modes that command positions or velocities) leaves every joint slower than
   :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
-  torque limits every physics step);
+  torque limits every physics step); a robot standing on its legs is given
+  :data:`LEGGED_SETTLE_SECONDS`, in the modes whose hold keeps its targets
+  (:func:`~robot_agents.checks.keeps_targets`: elsewhere its loaded legs creep);
 - ``ee_tracking``: where the robot has an end effector, a commanded 2 cm move of the
   tool (``pd_ee_target_delta_pos``, else an absolute end-effector mode) along the x
   axis of its command frame (another axis where the arm cannot move the tool along x)
@@ -46,7 +48,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.checks import HOLD_TOLERANCE, LOAD_SETTLE_SECONDS, hold_action, hold_drift, standing_leg_joints
+from robot_agents.checks import (
+    HOLD_TOLERANCE,
+    LOAD_SETTLE_SECONDS,
+    hold_action,
+    hold_drift,
+    keeps_targets,
+    standing_leg_joints,
+)
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_matrix
@@ -74,6 +83,11 @@ OVERSHOOT_BOUND = 0.25
 #: 1.2 rad past its target, rings down within 1.5 s; Fetch's shoulder pan, swinging
 #: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught.
 SETTLE_SECONDS = 3.0
+#: The settle phase of a robot standing on its legs: random actions may have thrown it
+#: over, and a body still rolling or sliding to rest moves its joints (the Unitree H1,
+#: seed 0 at 500 Hz: its torso turns at 0.29 rad/s 3 s into the hold, everything is
+#: still by 3.5 s); a limit cycle never decays, so it is still caught.
+LEGGED_SETTLE_SECONDS = 5.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
 SETTLE_SPEED = 0.05
 #: The end-effector move commanded (m) and the seconds it is given.
@@ -172,6 +186,8 @@ def _random(
     unstable: list[str] = []
     overshoot, over_where = 0.0, ""
     speed, speed_where = 0.0, ""
+    legged = bool(standing_leg_joints(cls))
+    settle_steps = round((LEGGED_SETTLE_SECONDS if legged else SETTLE_SECONDS) * control_freq)
     for mode, seed in [(mode, seed) for mode in cls.modes() for seed in seeds]:
         where = f"{mode} (seed {seed})" if len(seeds) > 1 else mode
         try:
@@ -193,12 +209,20 @@ def _random(
             past = float(np.max(beyond, initial=0.0))
             if past > overshoot:
                 overshoot, over_where = past, f"{where}: {agent.joint_names[int(np.argmax(beyond))]}"
-        if _commands_motion(agent) and not any(isinstance(c, PDEEController) for c in agent.controller.parts.values()):
+        settles = _commands_motion(agent) and not any(
+            isinstance(c, PDEEController) for c in agent.controller.parts.values()
+        )
+        if settles and legged and not keeps_targets(agent):
+            # legs under the body's weight give at load / damping in a mode whose hold
+            # keeps no target (a zero delta from the measured pose, a zero velocity):
+            # creep, not a cycle, and not the step's doing
+            settles = False
+        if settles:
             # One hold command, repeated: targets stay where the hold began (absolute and
             # target modes). Re-measuring every step would let a joint that sags under
             # its load ratchet its own target along (a soft gripper drive under gravity).
             hold = hold_action(agent)
-            for _ in range(round(SETTLE_SECONDS * control_freq)):
+            for _ in range(settle_steps):
                 agent.set_action(hold)
                 scene.step()
                 depth.measure(scene)

@@ -97,17 +97,14 @@ class AnymalC(Agent):
     """
 
     uid = "anymal_c"
-    #: Time-step sweep (``robot-agents check anymal_c --sweep``, 2026-11-23, 20 Hz control;
-    #: docs/timestep.md): hold, random, standing and penetration hold at every step from
-    #: 3.125 ms (320 Hz) down to 1 ms (standing: the base still to 0.22 mm; random-action
-    #: overshoot 0.11-0.21 rad, HAA); at 200 Hz the hold drifts 0.013 rad and the feet press
-    #: 7 mm into the floor, at 160 Hz random actions push HAA 0.59 rad past its stop, from
-    #: 100 Hz down MuJoCo goes unstable. Settle fails at every step (0.17-0.51 rad/s), not by
-    #: the step: in the velocity modes and the deltas on the measured pose the hold command
-    #: lets loaded legs fold (their targets follow the sag), and a robot left lying by
-    #: random actions with its legs tangled slips now and then (at 400 Hz, seed 1 of
-    #: ``pd_joint_target_delta_pos``: 0.19 rad/s at 3 s, still from 4 s). Default one tried
-    #: step finer than 320 Hz: 400 Hz (margin: 2.5 ms against 3.125 ms).
+    #: Time-step sweep (``robot-agents check anymal_c --sweep``, 2026-11-23 18:30 UTC, 20 Hz
+    #: control; docs/timestep.md): every claim holds at every step from 3.125 ms (320 Hz)
+    #: down to 1 ms (standing: the base still to 0.22 mm; hold 0.0003 rad after settling;
+    #: random-action overshoot 0.11-0.21 rad, HAA; settle 0.004-0.016 rad/s; penetration
+    #: 2.7-4.5 mm). At 200 Hz the hold drifts 0.013 rad, random actions push HAA 0.40 rad
+    #: past its stop, settle 0.95 rad/s, the feet press 7 mm into the floor; at 160 Hz the
+    #: base sinks 6 cm while standing; from 100 Hz down MuJoCo goes unstable. Default one
+    #: tried step finer than 320 Hz: 400 Hz (margin: 2.5 ms against 3.125 ms).
     sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "anymal_c.xml"
     fix_root_link = False

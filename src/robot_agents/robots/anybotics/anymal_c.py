@@ -103,7 +103,7 @@ class AnymalC(Agent):
     #: random-action overshoot 0.11-0.21 rad, HAA; settle 0.004-0.016 rad/s; penetration
     #: 2.7-4.5 mm). At 200 Hz the hold drifts 0.013 rad, random actions push HAA 0.40 rad
     #: past its stop, settle 0.95 rad/s, the feet press 7 mm into the floor; at 160 Hz the
-    #: base sinks 6 cm while standing; from 100 Hz down MuJoCo goes unstable. Default one
+    #: base moves 6 cm while standing; from 100 Hz down MuJoCo goes unstable. Default one
     #: tried step finer than 320 Hz: 400 Hz (margin: 2.5 ms against 3.125 ms).
     sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "anymal_c.xml"

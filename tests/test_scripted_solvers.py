@@ -37,6 +37,7 @@ def test_every_robot_with_the_parts_is_covered() -> None:
     for uid in ra.list_agents():  # every registered robot with an end effector
         tools = [p for p in ra.get_agent(uid).check().parts if isinstance(p, ra.Arm) and p.end_effectors]
         assert (("ReachPose-v1", uid) in covered) == bool(tools), uid
+    assert ("ReachPose-v1", "allegro_hand_right") not in covered  # a hand on a fixed mount: nothing to reach with
     assert ("PickCube-v1", "ur_10e") not in covered  # no gripper: the task refuses it
 
 

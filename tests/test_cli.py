@@ -34,6 +34,7 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
         rows.items()
         >= {
             "allegro_hand_right": "16",
+            "anymal_c": "12",
             "floating_panda_gripper": "8",
             "panda": "9",
             "panda_stick": "7",

@@ -37,6 +37,7 @@ from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.scene import FRICTION_CONES
 from robot_agents.parts.declaration import EndEffector, Gripper, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
@@ -145,6 +146,11 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     freq = cls.sim_freq
     if freq is not None and (isinstance(freq, bool) or not isinstance(freq, int) or freq <= 0):
         raise ConfigError(f"{name}.sim_freq: expected a positive integer (Hz) or None, got {freq!r}.")
+    if cls.friction_cone not in (None, *FRICTION_CONES):
+        raise ConfigError(f"{name}.friction_cone: expected one of {FRICTION_CONES} or None, got {cls.friction_cone!r}.")
+    ratio = cls.impratio
+    if ratio is not None and (isinstance(ratio, bool) or not isinstance(ratio, (int, float)) or not ratio >= 1.0):
+        raise ConfigError(f"{name}.impratio: expected a number >= 1 or None, got {ratio!r}.")
     for attr, kind in (
         ("actuators", ActuatorConfig),
         ("parts", Part),

@@ -57,6 +57,12 @@ class AgentDefinition:
             one: the largest step at which all its physics claims hold, found by the
             time-step sweep (:mod:`robot_agents.tuning.timestep`), with a margin;
             ``None``: the library's default (500 Hz).
+        friction_cone / impratio: MuJoCo's contact friction model this robot's contacts
+            need (``"elliptic"`` or ``"pyramidal"``; the ratio of frictional to normal
+            constraint impedance), as a model file's ``<option cone impratio>`` gives them
+            (a robot's own options are lost when it is composed into a scene). A scene
+            uses the elliptic cone when any of its robots asks for it, and the largest
+            ``impratio`` asked for; ``None``: MuJoCo's defaults (pyramidal, 1).
         task_limits: task id -> why this robot cannot do it although it has the parts
             the task asks for (read by the tests of the tasks' scripted solvers).
     """
@@ -84,6 +90,8 @@ class AgentDefinition:
     touch_sensors: ClassVar[tuple[TouchSensorConfig, ...]] = ()
     task_limits: ClassVar[Mapping[str, str]] = {}
     sim_freq: ClassVar[int | None] = None
+    friction_cone: ClassVar[str | None] = None
+    impratio: ClassVar[float | None] = None
 
     # ------------------------------------------------------------------ declaration
     @classmethod

@@ -76,12 +76,22 @@ class SceneOptions:
             implicitly, which keeps stiff PD gains stable at millisecond steps.
         floor: add a ground plane at z = 0.
         gravity: m/s^2.
+        cone / impratio: MuJoCo's friction cone (``"pyramidal"`` or ``"elliptic"``) and
+            the ratio of frictional to normal constraint impedance (a larger one makes
+            static friction stiffer: less creep of feet or grasped objects under a
+            sideways load).
     """
 
     timestep: float = 0.002
     integrator: str = "implicitfast"
     floor: bool = True
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    cone: str = "pyramidal"
+    impratio: float = 1.0
+
+
+#: MuJoCo's friction cones by name.
+FRICTION_CONES = ("pyramidal", "elliptic")
 
 
 #: Where the scene's render camera stands and what it looks at (m, world frame).
@@ -114,6 +124,12 @@ def compose_scene(
     spec.option.timestep = options.timestep
     spec.option.integrator = integrators[options.integrator]
     spec.option.gravity = list(options.gravity)
+    if options.cone not in FRICTION_CONES or not options.impratio >= 1.0:
+        raise ConfigError(
+            f"SceneOptions: expected cone in {FRICTION_CONES} and impratio >= 1, got {options.cone!r}, {options.impratio!r}."
+        )
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC if options.cone == "elliptic" else mujoco.mjtCone.mjCONE_PYRAMIDAL
+    spec.option.impratio = float(options.impratio)
     spec.visual.global_.offwidth = 1280
     spec.visual.global_.offheight = 960
     spec.visual.headlight.ambient = [0.35, 0.35, 0.35]

@@ -41,6 +41,14 @@ def default_sim_freq(classes: Sequence[type[Agent]]) -> int:
     return max((int(cls.sim_freq or DEFAULT_SIM_FREQ) for cls in classes), default=DEFAULT_SIM_FREQ)
 
 
+def contact_options(classes: Sequence[type[Agent]]) -> tuple[str, float]:
+    """The friction cone and impratio a scene of these robots uses: the elliptic cone
+    when any of them declares it, and the largest ``impratio`` declared (MuJoCo's
+    pyramidal cone and 1 when none declares any)."""
+    cone = "elliptic" if any(cls.friction_cone == "elliptic" for cls in classes) else "pyramidal"
+    return cone, max((float(cls.impratio or 1.0) for cls in classes), default=1.0)
+
+
 class Scene:
     """One or more robots, props and a floor, simulated in ``num_envs`` copies.
 
@@ -133,7 +141,8 @@ class Scene:
             )
             for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
         ]
-        options = SceneOptions(timestep=1.0 / sim_freq, floor=floor)
+        cone, impratio = contact_options(classes)
+        options = SceneOptions(timestep=1.0 / sim_freq, floor=floor, cone=cone, impratio=impratio)
         self.spec = compose_scene(mounts, self.props, options, [c.config for c in planned if c.robot is None])
         #: The model renderers draw: the whole scene as composed.
         self.render_model = compile_scene(self.spec)

@@ -1,0 +1,1 @@
+"""ANYbotics legged robots."""

@@ -27,4 +27,5 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
     "spot": "robot_agents.robots.spot.spot:Spot",
     "fetch": "robot_agents.robots.fetch.fetch:Fetch",
+    "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
 }

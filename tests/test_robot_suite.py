@@ -80,6 +80,20 @@ def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
         )
 
 
+def holds_its_weight(agent: ra.Agent) -> bool:
+    """Whether the hold action keeps the robot at its pose in the current mode. A robot on
+    a free root stands on its drives: a hold that re-reads the measured pose every control
+    step (absolute targets there, zero deltas on it, zero velocities) lets the weight walk
+    the targets down by the drives' steady-state error each step (the Go2 sinks about
+    0.05 rad in 1 s); only modes that keep their targets (delta from target) hold it."""
+    if type(agent).fix_root_link:
+        return True
+    return all(
+        isinstance(c.config, ra.PDJointPosConfig) and c.config.use_delta and c.config.use_target
+        for c in agent.controller.parts.values()
+    )
+
+
 def assert_gripper_action_closes_at_minus_one(agent: ra.Agent) -> None:
     """Every gripper, in every mode: a normalized -1 commands its leader joint to (or past)
     the closed position, +1 to (or past) the open one, whichever way its joints close."""
@@ -131,7 +145,7 @@ def test_every_mode(uid: str, mode: str) -> None:
     for _ in range(scene.control_freq):
         agent.set_action(hold_action(agent))
         scene.step()
-    assert np.max(np.abs(agent.qpos - start)) < 0.01
+    assert np.max(np.abs(agent.qpos - start)) < (0.01 if holds_its_weight(agent) else 0.1)
 
     # Random actions: finite, deterministic.
     # Random actions over the whole space (absolute targets anywhere within the joint

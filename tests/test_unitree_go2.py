@@ -4,6 +4,7 @@ follow ManiSkill's joint order, and random actions in every mode stay finite."""
 
 from __future__ import annotations
 
+import io
 import math
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.checks import hold_action
+from robot_agents.cli import main
 from robot_agents.robots.unitree.go2 import (
     ACTION_JOINTS,
     LEG_JOINTS,
@@ -266,3 +268,12 @@ def test_random_actions_for_10_s_stay_finite_in_every_mode(mode: str) -> None:
         assert abs(agent.base_pose[0, 2]) < 1.0 and np.max(np.abs(agent.base_pose[0, :2])) < 3.0
     assert not np.any(scene.world.instability_counts())
     scene.close()
+
+
+def test_cli_info_shows_a_free_root_and_the_default_mode() -> None:
+    out = io.StringIO()
+    assert main(["info", UID], out=out) == 0
+    text = out.getvalue()
+    assert "root: free" in text
+    assert "pd_joint_target_delta_pos (default)  12" in text
+    assert "rest: qpos = [0.0000, 0.9000, -1.8000" in text

@@ -25,13 +25,21 @@ Sources of the numbers:
   -1.8 x 4). Our ``Legs`` part lists its patterns in that order, so actions match
   ManiSkill's; ``qpos`` is in MuJoCo's model order, leg by leg (FL hip, thigh, calf,
   FR ..., RL ..., RR ...): :data:`LEG_JOINTS` and :data:`ACTION_JOINTS`.
-- Delta modes: ManiSkill's +-0.7 rad per step (``pd_joint_delta_pos``); the default
-  mode is ManiSkill's first, ``pd_joint_delta_pos``.
-- Keyframes: ``standing`` (the default) is ManiSkill's: root at 0.29 m, hips 0, thighs
-  0.9, calves -1.8 rad (the feet 1.6 mm above the floor). ``home`` is Menagerie's: the
-  same joint angles with the root at 0.27 m in Menagerie, where the soft feet sink
-  into the floor; with our rigid feet that height would put them 18 mm below it, so
-  ``home`` puts the root where the feet touch (0.2884 m).
+- Modes: the six joint modes generated from the ``Legs`` part, deltas bounded by
+  ManiSkill's +-0.7 rad per step (its ``pd_joint_delta_pos``). ManiSkill's first mode,
+  ``pd_joint_delta_pos``, retargets the measured pose every control step, so under the
+  robot's weight a zero action lets the legs sink by the drives' steady-state error
+  each step (6 cm in 3 s here; the same in ManiSkill); the default is therefore
+  ``pd_joint_target_delta_pos``, whose zero action keeps the targets: the robot stands.
+  ``pd_joint_pos`` with ManiSkill's standing qpos as the action stands too.
+- Keyframes: ``rest`` (the default reset, where tasks start) and ``standing`` are
+  ManiSkill's ``standing``: root at 0.29 m, hips 0, thighs 0.9, calves -1.8 rad (the
+  feet 1.6 mm above the floor). ``home`` is Menagerie's: the same joint angles with the
+  root at 0.27 m, where Menagerie's soft feet sink into the floor; our rigid feet would
+  be 18 mm below it, so ``home`` puts the root where they touch (0.2885 m).
+- Standing: at the default 4 kHz the robot settles 2.4 mm below the touching height
+  (base 0.2860 m), its knees 6 mrad and hips 2.5 mrad from the keyframe (kp 1000 against
+  the 15.2 kg), level, on its four feet.
 - Feet: Menagerie's foot contact (friction 0.8, torsional 0.02, rolling 0.01).
   ManiSkill's foot material (friction 2.0) is PhysX's; Menagerie's is MuJoCo's.
 """
@@ -105,6 +113,22 @@ class UnitreeGo2(Agent):
     """
 
     uid = "unitree_go2"
+    #: Time-step sweep (``robot-agents check unitree_go2 --sweep`` and ``sweep_timestep``
+    #: with 10-250 substeps, 2026-11-23, 20 Hz control, seeds 0-2; see docs/timestep.md):
+    #: hold (0.006 rad: the legs' sag as the robot lands), random (joint-limit overshoot
+    #: 0.17-0.19 rad, the knees pressed into their soft stops) and penetration (2.1 mm)
+    #: hold from 1.6 kHz up; settle fails below 3 kHz (1.5 rad/s at 1 kHz, 0.09 at
+    #: 2.5 kHz): ManiSkill's kv 100 on joints of 0.013-0.019 kg*m^2 apparent inertia
+    #: puts every drive into a torque-limit cycle (MuJoCo's implicit damping drops out
+    #: while the force is clamped) below kv / (2 I) = 2.5-3.6 kHz (the check's bound).
+    #: 3 kHz and 4 kHz pass every claim; at 5 kHz settle reads 0.057 rad/s (bound 0.05)
+    #: in ``pd_joint_delta_pos_vel``, where zero deltas retarget the measured pose every
+    #: control step and the fallen robot's weight walks a thigh down (not the step's
+    #: doing). Largest passing step 1/3000 s; default one tried step finer, 4 kHz
+    #: (margin: 0.25 ms against 0.33 ms). The robot stands at every step tried
+    #: (200 Hz up); at 500 Hz only random actions expose the cycle. (With kv 50 the
+    #: claims pass at 1.6-2 kHz; the drives' cycle bound scales with kv.)
+    sim_freq: ClassVar[int | None] = 4000
     mjcf_path = ASSETS / "go2.xml"
     fix_root_link = False
     gravity_compensation = False

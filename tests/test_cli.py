@@ -33,11 +33,13 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
     assert (
         rows.items()
         >= {
+            "allegro_hand_right": "16",
             "floating_panda_gripper": "8",
             "panda": "9",
             "panda_stick": "7",
             "panda_touch": "9",
             "panda_wristcam": "9",
+            "unitree_h1": "19",
             "unitree_go2": "12",
         }.items()
     )

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.checks import hold_action
 from robot_agents.kinematics import IKSolver, resolve_frame
 from tests.chain_check import (
     assert_camera_on_frame,
@@ -24,7 +25,6 @@ from tests.chain_check import (
 from tests.grasp_check import assert_grasps_lifts_and_holds
 from tests.ik_check import assert_ik_reaches_random_targets
 from tests.test_mobile_manipulator import MANISKILL_FETCH_MODES
-from tests.test_robot_suite import hold_action
 
 ARM = (
     "shoulder_pan_joint",

@@ -35,10 +35,9 @@ def test_every_robot_with_the_parts_is_covered() -> None:
     for uid in ("panda", "panda_wristcam", "panda_touch", "floating_panda_gripper", "so100", "koch-v1.1"):
         assert ("PickCube-v1", uid) in covered
     for uid in ra.list_agents():  # every registered robot with an end effector
-        if any(getattr(part, "end_effectors", ()) for part in ra.get_agent(uid).check().parts):
-            assert ("ReachPose-v1", uid) in covered
-        else:  # legs only (unitree_go2): the task refuses it
-            assert ("ReachPose-v1", uid) not in covered
+        tools = [p for p in ra.get_agent(uid).check().parts if isinstance(p, ra.Arm) and p.end_effectors]
+        assert (("ReachPose-v1", uid) in covered) == bool(tools), uid
+    assert ("ReachPose-v1", "allegro_hand_right") not in covered  # a hand on a fixed mount: nothing to reach with
     assert ("PickCube-v1", "ur_10e") not in covered  # no gripper: the task refuses it
 
 

@@ -16,11 +16,11 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.actuators.config import PerJoint
+from robot_agents.checks import hold_action
 from robot_agents.kinematics import IKConfig, IKSolver
 from robot_agents.kinematics.rotations import quat_rotate
 from robot_agents.robots.servo_arms import koch, so100
 from robot_agents.robots.servo_arms.servos import BANDWIDTH, STS3215, XL330_M288, XL430_W250, Servo
-from tests.test_robot_suite import hold_action
 
 UIDS = ("so100", "koch-v1.1")
 XYZ = tuple[float, float, float]

@@ -102,13 +102,15 @@ def floor_contacts(scene: ra.Scene) -> set[int]:
 def test_stands_at_the_standing_keyframe_for_5_s_in_the_default_mode() -> None:
     scene = ra.Scene(UID)
     agent = scene.agents[0]
-    assert agent.control_mode == "pd_joint_target_delta_pos"
+    assert agent.control_mode == "pd_joint_pos"
     scene.reset(keyframes="standing")
     np.testing.assert_allclose(agent.base_pose[0, :3], (0.0, 0.0, STANDING_HEIGHT))
+    hold = hold_action(agent)  # the keyframe's targets, repeated
+    np.testing.assert_array_equal(hold, MANISKILL_STANDING)  # ManiSkill's action order
     heights, tilts, sag = [], [], 0.0
     feet = set(foot_geoms(scene))
     for _ in range(5 * scene.control_freq):
-        agent.set_action(hold_action(agent))
+        agent.set_action(hold)
         scene.step()
         heights.append(float(agent.base_pose[0, 2]))
         tilts.append(tilt_degrees(agent.base_pose[0, 3:]))
@@ -123,6 +125,7 @@ def test_stands_at_the_standing_keyframe_for_5_s_in_the_default_mode() -> None:
     assert 0.002 < sag < 0.05
     assert TOUCHING_HEIGHT - 0.005 < last[-1] < TOUCHING_HEIGHT
     assert np.all(agent.is_static())
+    assert np.all(agent.is_standing()) and not np.any(agent.is_fallen())
     scene.close()
 
 
@@ -134,34 +137,33 @@ def test_every_keyframe_stands_on_four_feet() -> None:
     for name in agent.keyframes:
         scene.reset(keyframes=name)
         np.testing.assert_array_equal(agent.qpos[0], STANDING_QPOS)
+        hold = hold_action(agent)
         for _ in range(2 * scene.control_freq):
-            agent.set_action(hold_action(agent))
+            agent.set_action(hold)
             scene.step()
         assert floor_contacts(scene) == feet, name
         assert tilt_degrees(agent.base_pose[0, 3:]) < 2.0, name
     scene.close()
 
 
-def test_maniskills_absolute_standing_targets_stand_and_zero_deltas_sink() -> None:
-    """ManiSkill's own modes: ``pd_joint_pos`` with its standing qpos (its action order)
-    stands; ``pd_joint_delta_pos`` with zero deltas retargets the measured pose every
-    control step, so the load walks the legs down by the drives' steady-state error each
-    step (why the default mode is the delta-from-target one)."""
+def test_target_deltas_stand_and_maniskills_zero_deltas_sink() -> None:
+    """Zero ``pd_joint_target_delta_pos`` deltas keep the targets: the robot stands. Zero
+    ``pd_joint_delta_pos`` deltas (ManiSkill's default mode) retarget the measured pose
+    every control step, so the load walks the legs down by the drives' steady-state error
+    each step (why the default mode is ``pd_joint_pos``)."""
     scene = ra.Scene(UID)
     agent = scene.agents[0]
-    agent.set_control_mode("pd_joint_pos")
-    scene.reset(keyframes="standing")
-    for _ in range(3 * scene.control_freq):
-        agent.set_action(MANISKILL_STANDING)
-        scene.step()
-    assert np.max(np.abs(agent.qpos[0] - STANDING_QPOS)) < 0.01
-    held = float(agent.base_pose[0, 2])
-    agent.set_control_mode("pd_joint_delta_pos")
-    scene.reset(keyframes="standing")
-    for _ in range(3 * scene.control_freq):
-        agent.set_action(np.zeros(12))
-        scene.step()
-    assert held - float(agent.base_pose[0, 2]) > 0.02  # sunk more than 2 cm in 3 s
+    heights = {}
+    for mode in ("pd_joint_target_delta_pos", "pd_joint_delta_pos"):
+        agent.set_control_mode(mode)
+        scene.reset(keyframes="standing")
+        for _ in range(3 * scene.control_freq):
+            agent.set_action(np.zeros(12))
+            scene.step()
+        heights[mode] = float(agent.base_pose[0, 2])
+        if mode == "pd_joint_target_delta_pos":
+            assert np.max(np.abs(agent.qpos[0] - STANDING_QPOS)) < 0.01
+    assert heights["pd_joint_target_delta_pos"] - heights["pd_joint_delta_pos"] > 0.02  # sunk > 2 cm in 3 s
     scene.close()
 
 
@@ -260,13 +262,17 @@ def test_random_actions_for_10_s_stay_finite_in_every_mode(mode: str) -> None:
     scene.reset()
     rng = np.random.default_rng(1)
     space = agent.single_action_space
+    fell = False
     for _ in range(10 * scene.control_freq):
         agent.set_action(rng.uniform(space.low, space.high))
         scene.step()
         assert np.all(np.isfinite(agent.qpos)) and np.all(np.isfinite(agent.base_pose))
         assert np.max(np.abs(agent.qvel)) < 200.0  # rad/s: no blow-up
         assert abs(agent.base_pose[0, 2]) < 1.0 and np.max(np.abs(agent.base_pose[0, :2])) < 3.0
+        fell = fell or bool(agent.is_fallen()[0])
     assert not np.any(scene.world.instability_counts())
+    if mode == "pd_joint_pos":  # random targets over the whole joint ranges fold it up
+        assert fell
     scene.close()
 
 
@@ -275,5 +281,5 @@ def test_cli_info_shows_a_free_root_and_the_default_mode() -> None:
     assert main(["info", UID], out=out) == 0
     text = out.getvalue()
     assert "root: free" in text
-    assert "pd_joint_target_delta_pos (default)  12" in text
+    assert "pd_joint_pos (default)     12" in text
     assert "rest: qpos = [0.0000, 0.9000, -1.8000" in text

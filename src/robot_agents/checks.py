@@ -3,6 +3,7 @@ each check has a number and a pass / fail, and says what to change when it fails
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import mujoco
@@ -11,14 +12,19 @@ import numpy as np
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DriveKind
 from robot_agents.agent import Agent
+from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
-from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController
+from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController, PDJointVelConfig
 from robot_agents.errors import RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_rotvec
 from robot_agents.sim.scene import Scene, default_sim_freq
 
 #: A keyframe is held when no joint drifts more than this over the hold (rad or m).
 HOLD_TOLERANCE = 0.01
+#: Seconds a robot standing on its legs is given to settle onto them before its hold is
+#: measured: legs carrying the body give under the load by load / stiffness (the drives'
+#: static sag, set by the gains, not by the step), and then must stay put.
+LOAD_SETTLE_SECONDS = 1.0
 #: Plausible masses of a moving body (kg).
 MASS_RANGE = (1e-4, 1e4)
 #: A PD drive is stable when kp stays below this share of the explicit-stiffness bound 4 I / dt^2.
@@ -40,7 +46,11 @@ class CheckResult:
 def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
     """The action that asks the robot to stay where it is (env ``env``), in any mode:
     absolute joint targets at the measured pose, the end effector's current target for
-    absolute end-effector modes, zero deltas, velocities and efforts otherwise."""
+    absolute end-effector modes, zero deltas, velocities and efforts otherwise.
+
+    To hold a pose, take it once and repeat it: taken again at every step, absolute
+    targets would follow a joint that gives under its load (a leg carrying the body)
+    all the way down."""
     parts = []
     for controller in agent.controller.parts.values():
         config = controller.config
@@ -59,6 +69,56 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
             raw = controller.from_raw(raw)
         parts.append(raw)
     return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:
+    """The joints of legs that carry the robot (:func:`robot_agents.agent.legs.standing_legs`):
+    empty for a fixed root and for held legs."""
+    if cls.fix_root_link:
+        return ()
+    checked = cls.check()
+    return standing_legs(checked.parts, checked.part_joints, cls.fix_root_link)
+
+
+def keeps_targets(agent: Agent) -> bool:
+    """Whether the active mode's hold action keeps every joint target where it was taken:
+    absolute and target-delta joint modes, end-effector modes. A delta from the measured
+    pose, or a zero velocity, lets a joint under a load it carries (a leg under the body)
+    give without end: in such modes a robot standing on its legs cannot hold a pose."""
+    for controller in agent.controller.parts.values():
+        config = controller.config
+        if isinstance(config, PDJointVelConfig) or (
+            isinstance(config, PDJointPosConfig) and config.use_delta and not config.use_target
+        ):
+            return False
+    return True
+
+
+def hold_drift(
+    scene: Scene, agent: Agent, seconds: float, settle_steps: int, after_step: Callable[[], object] | None = None
+) -> tuple[float, float]:
+    """Repeat the hold action taken at the current (just reset) pose for ``seconds``
+    after ``settle_steps`` control steps of it; ``(largest drift from the pose after
+    settling, largest drift from the reset pose during settling)`` (rad or m).
+    ``after_step`` is called after every control step."""
+    hold = hold_action(agent)  # the keyframe's own targets, repeated (see hold_action)
+    start = agent.qpos
+    sag = 0.0
+    for _ in range(settle_steps):
+        agent.set_action(hold)
+        scene.step()
+        if after_step is not None:
+            after_step()
+        sag = max(sag, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
+    start = agent.qpos
+    worst = 0.0
+    for _ in range(round(seconds * scene.control_freq)):
+        agent.set_action(hold)
+        scene.step()
+        if after_step is not None:
+            after_step()
+        worst = max(worst, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
+    return worst, sag
 
 
 def check_keyframes(cls: type[Agent]) -> CheckResult:
@@ -92,22 +152,22 @@ def check_holds(cls: type[Agent], seconds: float = 2.0) -> CheckResult:
     ):
         scene.close()
         return CheckResult(f"keyframes held {seconds:g} s in {mode}", True, "not applicable: the mode commands efforts")
-    drifts = {}
+    drifts, sags = {}, {}
+    settle_steps = round(LOAD_SETTLE_SECONDS * scene.control_freq) if standing_leg_joints(cls) else 0
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
-        start = agent.qpos
-        worst = 0.0
-        for _ in range(round(seconds * scene.control_freq)):
-            agent.set_action(hold_action(agent))
-            scene.step()
-            worst = max(worst, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
-        drifts[name] = worst
+        drifts[name], sags[name] = hold_drift(scene, agent, seconds, settle_steps)
     scene.close()
     name, worst = max(drifts.items(), key=lambda item: item[1])
     return CheckResult(
         f"keyframes held {seconds:g} s in {mode}",
         worst < HOLD_TOLERANCE,
-        f"largest drift {worst:.4f} rad/m ({name}); tolerance {HOLD_TOLERANCE}",
+        f"largest drift {worst:.4f} rad/m ({name}); tolerance {HOLD_TOLERANCE}"
+        + (
+            f"; measured after {LOAD_SETTLE_SECONDS:g} s on its legs (sag meanwhile: {max(sags.values()):.4f})"
+            if settle_steps
+            else ""
+        ),
     )
 
 
@@ -189,12 +249,30 @@ def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> Check
     return CheckResult("PD drives stable at the physics step", bool(share[worst] < STABLE_SHARE), detail)
 
 
+def check_standing(cls: type[Agent]) -> CheckResult | None:
+    """A robot whose legs carry a free base stands from each keyframe at its physics
+    step (the sweep's standing claim, :mod:`robot_agents.tuning.standing_claim`);
+    ``None`` for other robots."""
+    from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
+    from robot_agents.tuning.claims import Penetration
+    from robot_agents.tuning.standing_claim import STAND_SECONDS, standing_claim
+
+    claim = standing_claim(cls, default_sim_freq([cls]), DEFAULT_CONTROL_FREQ, Penetration())
+    if claim is None:
+        return None
+    name = f"stands {STAND_SECONDS:g} s on its legs from each keyframe"
+    detail = f"base moved {claim.value * 1000:.1f} mm after settling (bound {claim.bound * 1000:g} mm); {claim.detail}"
+    return CheckResult(name, claim.passed, detail)
+
+
 def run_checks(cls: type[Agent], random_seconds: float = 5.0) -> list[CheckResult]:
-    """Every check, in order."""
-    return [
+    """Every check that applies to the robot, in order."""
+    checks = [
         check_keyframes(cls),
         check_holds(cls),
         check_random_actions(cls, random_seconds),
         check_inertia(cls),
         check_pd_stability(cls),
     ]
+    standing = check_standing(cls)
+    return checks if standing is None else [*checks[:2], standing, *checks[2:]]

@@ -30,6 +30,7 @@ from robot_agents.agent.grippers import GripperParts
 from robot_agents.agent.habitat_api import MobileManipulatorAPI
 from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import JointState
+from robot_agents.agent.legs import STANDING_TILT, LegParts
 from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerContext
 from robot_agents.controllers.base_vel import PDBaseVelController
@@ -91,6 +92,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         )
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
         self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
+        self.legs = LegParts(world, self.index, checked.parts, checked.part_joints, type(self).fix_root_link, name)
         base = next((p for p in checked.parts if isinstance(p, Base)), None)
         self.mobile = MobileBase(
             world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
@@ -381,6 +383,19 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """Per env: every joint except grippers' moves slower than ``threshold`` (rad/s or m/s)."""
         _check_threshold(f"{type(self).__name__}.is_static", "threshold", threshold)
         return self.grippers.is_static(float(threshold))
+
+    def is_standing(self, max_tilt: float = STANDING_TILT) -> BoolArray:
+        """Per env, for a robot whose legs carry its free base: the base within
+        ``max_tilt`` (rad; default 20 deg) of upright and only the feet touching anything
+        outside the robot. Raises :class:`ConfigError` for other robots."""
+        where = f"{type(self).__name__}.is_standing"
+        _check_threshold(where, "max_tilt", max_tilt, upper=math.pi)
+        return self.legs.is_standing(float(max_tilt), where)
+
+    def is_fallen(self) -> BoolArray:
+        """Per env, for a robot whose legs carry its free base: a body other than a foot
+        touches something outside the robot. Raises :class:`ConfigError` for other robots."""
+        return self.legs.is_fallen(f"{type(self).__name__}.is_fallen")
 
     def gripper(self, name: str | None = None) -> Gripper:
         """The gripper or hand part ``name`` (default: the first)."""

@@ -78,16 +78,27 @@ class GripperParts:
     def within(self, gripper: str | None, opening: float) -> BoolArray:
         """Per env: the opening within the part's tolerance of ``opening`` (0 closed, 1 open)."""
         part = self.part(gripper)
-        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
-        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        _, opened, closed = self._measured_joint(part)
         return np.asarray(np.abs(self.opening(gripper) - opening) <= part.tolerance / abs(opened - closed))
 
     def opening(self, gripper: str | None) -> FloatArray:
-        """Per env, 0 at ``closed`` and 1 at ``open`` (the part's first joint)."""
+        """Per env, 0 at ``closed`` and 1 at ``open`` (the part's first joint that moves
+        between the two: a gripper's leader; a hand's first joint that flexes)."""
         part = self.part(gripper)
-        joint = self.index.joint(self.part_joints[part.name][0], "gripper_opening")
-        opened = float(np.asarray(part.open, dtype=np.float64).reshape(-1)[0])
-        closed = float(np.asarray(part.closed, dtype=np.float64).reshape(-1)[0])
+        name, opened, closed = self._measured_joint(part)
+        joint = self.index.joint(name, "gripper_opening")
         q = self.world.qpos[:, joint.qpos_adr]
         opening: FloatArray = (q - closed) / (opened - closed)
         return opening
+
+    def _measured_joint(self, part: Gripper) -> tuple[str, float, float]:
+        """The part's first joint whose ``open`` and ``closed`` positions differ, and those
+        positions (rad or m): a hand's first joint may not move between the two (a
+        finger's spread)."""
+        names = self.part_joints[part.name]
+        opened = np.broadcast_to(np.asarray(part.open, dtype=np.float64).reshape(-1), (len(names),))
+        closed = np.broadcast_to(np.asarray(part.closed, dtype=np.float64).reshape(-1), (len(names),))
+        for name, o, c in zip(names, opened, closed, strict=True):
+            if o != c:
+                return name, float(o), float(c)
+        raise ConfigError(f"{self.owner}: {type(part).__name__} {part.name!r} has the same open and closed positions.")

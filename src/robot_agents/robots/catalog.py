@@ -27,5 +27,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "stretch": "robot_agents.robots.stretch.stretch:Stretch",
     "spot": "robot_agents.robots.spot.spot:Spot",
     "fetch": "robot_agents.robots.fetch.fetch:Fetch",
+    "unitree_h1": "robot_agents.robots.unitree.h1:UnitreeH1",
+    "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
 }

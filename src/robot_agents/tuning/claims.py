@@ -11,7 +11,9 @@
 - ``settle``: after the random actions, :data:`SETTLE_SECONDS` of one hold command (joint
   modes that command positions or velocities) leaves every joint slower than
   :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
-  torque limits every physics step);
+  torque limits every physics step); a robot standing on its legs is given
+  :data:`LEGGED_SETTLE_SECONDS`, in the modes whose hold keeps its targets
+  (:func:`~robot_agents.checks.keeps_targets`: elsewhere its loaded legs creep);
 - ``ee_tracking``: where the robot has an end effector, a commanded 2 cm move of the
   tool (``pd_ee_target_delta_pos``, else an absolute end-effector mode) along the x
   axis of its command frame (another axis where the arm cannot move the tool along x)
@@ -27,14 +29,15 @@
   :data:`~.grasp_claim.SLIP_BOUND`
   relative to the tool frame over the hold (a cube that falls or slides out moves more;
   a movement of more than the cube's edge is reported as the edge: the cube is lost);
-- ``penetration``: the deepest contact while holding keyframes, tracking and holding
-  the grasped cube at most :data:`PENETRATION_BOUND` (the depth random actions press is
-  reported beside it; the fingers' impact while closing on the cube is not judged).
-
-Standing is not a claim of any built-in robot: the only one with legs, ``spot``, moves
-its base kinematically (Habitat's navmesh-style base: the planar base joints are set
-from the commanded velocity, the legs are posed joints that carry no weight), so it
-cannot fall; a robot whose legs carry a dynamic base needs a standing claim here.
+- ``standing``: where the robot's legs carry a free base (a ``Legs`` part that is not
+  held, a free root), from each keyframe it holds its pose on the floor and stays still,
+  upright and on its feet alone (:mod:`.standing_claim` has the times and bounds);
+  ``spot``'s legs are held and its base kinematic (Habitat's navmesh-style base): it makes
+  no standing claim;
+- ``penetration``: the deepest contact while holding keyframes, tracking, holding
+  the grasped cube and standing at most :data:`PENETRATION_BOUND` (the depth random
+  actions press is reported beside it; the fingers' impact while closing on the cube is
+  not judged).
 """
 
 from __future__ import annotations
@@ -45,7 +48,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.checks import HOLD_TOLERANCE, hold_action
+from robot_agents.checks import (
+    HOLD_TOLERANCE,
+    LOAD_SETTLE_SECONDS,
+    hold_action,
+    hold_drift,
+    keeps_targets,
+    standing_leg_joints,
+)
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_matrix
@@ -73,6 +83,11 @@ OVERSHOOT_BOUND = 0.25
 #: 1.2 rad past its target, rings down within 1.5 s; Fetch's shoulder pan, swinging
 #: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught.
 SETTLE_SECONDS = 3.0
+#: The settle phase of a robot standing on its legs: random actions may have thrown it
+#: over, and a body still rolling or sliding to rest moves its joints (the Unitree H1,
+#: seed 0 at 500 Hz: its torso turns at 0.29 rad/s 3 s into the hold, everything is
+#: still by 3.5 s); a limit cycle never decays, so it is still caught.
+LEGGED_SETTLE_SECONDS = 5.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
 SETTLE_SPEED = 0.05
 #: The end-effector move commanded (m) and the seconds it is given.
@@ -85,7 +100,7 @@ EE_TOLERANCE = 0.05
 #: torque, 1-8 cm at any step; that depth is reported, not judged.)
 PENETRATION_BOUND = 0.005
 #: The claims, in the order they are reported.
-CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "penetration")
+CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "standing", "penetration")
 
 
 @dataclass(frozen=True)
@@ -147,18 +162,17 @@ def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration
     if not _commands_motion(agent):
         scene.close()
         return ClaimResult("hold", True, 0.0, HOLD_TOLERANCE, f"{mode} commands efforts")
-    worst, where = 0.0, ""
+    worst, where, sag = 0.0, "", 0.0
+    settle_steps = round(LOAD_SETTLE_SECONDS * control_freq) if standing_leg_joints(cls) else 0
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
-        start = agent.qpos
-        for _ in range(round(HOLD_SECONDS * control_freq)):
-            agent.set_action(hold_action(agent))
-            scene.step()
-            depth.measure(scene)
-            drift = float(np.max(np.abs(agent.qpos - start), initial=0.0))
-            if drift > worst:
-                worst, where = drift, name
+        drift, settling = hold_drift(scene, agent, HOLD_SECONDS, settle_steps, lambda: depth.measure(scene))
+        sag = max(sag, settling)
+        if drift > worst or not where:
+            worst, where = drift, name
     scene.close()
+    if settle_steps:
+        where += f" (after {LOAD_SETTLE_SECONDS:g} s on its legs; sag meanwhile {sag:.4f})"
     return ClaimResult("hold", worst < HOLD_TOLERANCE, worst, HOLD_TOLERANCE, where)
 
 
@@ -172,6 +186,8 @@ def _random(
     unstable: list[str] = []
     overshoot, over_where = 0.0, ""
     speed, speed_where = 0.0, ""
+    legged = bool(standing_leg_joints(cls))
+    settle_steps = round((LEGGED_SETTLE_SECONDS if legged else SETTLE_SECONDS) * control_freq)
     for mode, seed in [(mode, seed) for mode in cls.modes() for seed in seeds]:
         where = f"{mode} (seed {seed})" if len(seeds) > 1 else mode
         try:
@@ -193,12 +209,20 @@ def _random(
             past = float(np.max(beyond, initial=0.0))
             if past > overshoot:
                 overshoot, over_where = past, f"{where}: {agent.joint_names[int(np.argmax(beyond))]}"
-        if _commands_motion(agent) and not any(isinstance(c, PDEEController) for c in agent.controller.parts.values()):
+        settles = _commands_motion(agent) and not any(
+            isinstance(c, PDEEController) for c in agent.controller.parts.values()
+        )
+        if settles and legged and not keeps_targets(agent):
+            # legs under the body's weight give at load / damping in a mode whose hold
+            # keeps no target (a zero delta from the measured pose, a zero velocity):
+            # creep, not a cycle, and not the step's doing
+            settles = False
+        if settles:
             # One hold command, repeated: targets stay where the hold began (absolute and
             # target modes). Re-measuring every step would let a joint that sags under
             # its load ratchet its own target along (a soft gripper drive under gravity).
             hold = hold_action(agent)
-            for _ in range(round(SETTLE_SECONDS * control_freq)):
+            for _ in range(settle_steps):
                 agent.set_action(hold)
                 scene.step()
                 depth.measure(scene)
@@ -317,6 +341,11 @@ def measure_step(
     grasp = grasp_claim(cls, sim_freq, control_freq, depth)
     if grasp is not None:
         claims.append(grasp)
+    from robot_agents.tuning.standing_claim import standing_claim  # (imports this module)
+
+    standing = standing_claim(cls, sim_freq, control_freq, depth)
+    if standing is not None:
+        claims.append(standing)
     claims.append(
         ClaimResult("penetration", depth.depth <= PENETRATION_BOUND, depth.depth, PENETRATION_BOUND, depth.where)
     )

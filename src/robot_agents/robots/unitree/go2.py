@@ -26,12 +26,12 @@ Sources of the numbers:
   ManiSkill's; ``qpos`` is in MuJoCo's model order, leg by leg (FL hip, thigh, calf,
   FR ..., RL ..., RR ...): :data:`LEG_JOINTS` and :data:`ACTION_JOINTS`.
 - Modes: the six joint modes generated from the ``Legs`` part, deltas bounded by
-  ManiSkill's +-0.7 rad per step (its ``pd_joint_delta_pos``). ManiSkill's first mode,
-  ``pd_joint_delta_pos``, retargets the measured pose every control step, so under the
-  robot's weight a zero action lets the legs sink by the drives' steady-state error
-  each step (6 cm in 3 s here; the same in ManiSkill); the default is therefore
-  ``pd_joint_target_delta_pos``, whose zero action keeps the targets: the robot stands.
-  ``pd_joint_pos`` with ManiSkill's standing qpos as the action stands too.
+  ManiSkill's +-0.7 rad per step (its ``pd_joint_delta_pos``). The default is
+  ManiSkill's ``pd_joint_pos``: its hold (the keyframe's targets, repeated) keeps the
+  robot standing. ManiSkill's first mode, ``pd_joint_delta_pos``, retargets the
+  measured pose every control step, so under the robot's weight a zero action lets the
+  legs sink by the drives' steady-state error each step (6 cm in 3 s here; the same in
+  ManiSkill); ``pd_joint_target_delta_pos`` keeps its targets and stands.
 - Keyframes: ``rest`` (the default reset, where tasks start) and ``standing`` are
   ManiSkill's ``standing``: root at 0.29 m, hips 0, thighs 0.9, calves -1.8 rad (the
   feet 1.6 mm above the floor). ``home`` is Menagerie's: the same joint angles with the
@@ -139,7 +139,7 @@ class UnitreeGo2(Agent):
         "standing": _standing(STANDING_HEIGHT),
         "home": _standing(TOUCHING_HEIGHT),
     }
-    default_control_mode = "pd_joint_target_delta_pos"
+    default_control_mode = "pd_joint_pos"
 
 
 __all__ = [

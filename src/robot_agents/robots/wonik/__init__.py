@@ -1,0 +1,1 @@
+"""Wonik Robotics: the Allegro Hand (:mod:`robot_agents.robots.wonik.allegro`)."""

@@ -1,0 +1,199 @@
+"""Wonik Robotics Allegro Hand v4, right hand (``allegro_hand_right``): a 16-DoF
+four-finger hand bolted on a fixed mount, as ManiSkill's ``allegro_hand_right``.
+
+Sources of the numbers:
+- Product: "four fingers and sixteen independent torque-controlled joints (4 fingers x
+  4 DOF ea.)", "capable of holding over 1.5 kg" (the Allegro Hand overview of Wonik's
+  allegro_hand_ros package, as quoted at
+  https://blog.csdn.net/weixin_52531852/article/details/124179424). The v4 user
+  manual's specification table (weight, joint torque) could not be read from the
+  stored corpora; no number here rests on it.
+- Kinematics, joint axes and ranges: the Allegro Hand URDF (Wonik's
+  ``allegro_hand_description_right``; identical in ManiSkill's
+  ``assets/robots/allegro/allegro_hand_right.urdf`` and in MuJoCo Menagerie's
+  ``wonik_allegro/right_hand.xml``, all read as data). Finger bases at
+  (0, +-0.0435, -0.001542) turned -+5 deg about x (index, ring) and (0, 0, 0.0007)
+  (middle); base (axis z) -> proximal 0.0164 -> medial 0.054 -> distal 0.0384 -> tip
+  0.0267 m along z (axes y). Thumb base at (-0.0182, 0.019333, -0.045987), quaternion
+  (0.477714, -0.521334, -0.521334, -0.477714) (the URDF's rpy (0, -1.658063,
+  -1.570796)), axis -x; -> (-0.027, 0.005, 0.0399) axis z -> 0.0177 -> 0.0514 ->
+  tip 0.0423 m (axes y). Ranges (rad): base +-0.47, proximal -0.196..1.61, medial
+  -0.174..1.709, distal -0.227..1.618; thumb 0.263..1.396, -0.105..1.163,
+  -0.189..1.644, -0.162..1.719 (Menagerie's actuator ctrlranges are the same).
+- Masses: Wonik's official V4 description (``Wonikrobotics-git/allegro_hand_ros2``,
+  ``allegro_hand_hardwares/v4/description/urdf/allegro_hand_description_right.xacro``):
+  palm 0.4154 kg; per finger base 0.0119, proximal 0.065, medial 0.0355, distal
+  0.0096, tip 0.0168; thumb 0.0176, 0.0119, 0.038, 0.0388, tip 0.0168: 0.9549 kg in
+  all. Its inertias are placeholders (1e-4 kg*m^2 on every link, a 10 cm radius of
+  gyration for a 10 g link) and ManiSkill's differ between identical fingers (its
+  middle distal weighs 0.0388 kg, the index's 0.02, the ring's 0.0096), so each link's
+  inertia is that of a solid box (tips: capsule) of its mass over its collision shape,
+  computed by MuJoCo (link_0.0's ixx and iyy equal ManiSkill's, which are a box's too).
+- Joint friction and passive damping: Wonik's V4 description (``frictionloss`` 0.01
+  N*m, damping 0.1 N*m*s/rad); its velocity limit, 7 rad/s, bounds the velocity modes.
+- Collision shapes: Menagerie's boxes (palm 40.8 x 113 x 95 mm; links 19.6 x 27.5 mm
+  in section) and fingertip capsules (radius 12 mm, the URDF's fingertip sphere).
+- Fingertip pads: ManiSkill's tip material (static friction 2.0, dynamic 1.0); MuJoCo
+  has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
+  torsional friction (condim 4) and the near-rigid pad contact the library's other
+  pads use (Menagerie's ``trs_so_arm100`` values).
+- Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml`` (commit 28ffb48):
+  position servos with kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad,
+  taken as the drives' kv (as the UR10e takes Menagerie's joint damping); ManiSkill's
+  force limit, 50 N*m, which kp 10 never reaches within the joint ranges (at most
+  19 N*m), and Wonik's 7 rad/s. ManiSkill's gains (kp 400, kv 10 N*m*s/rad) do not
+  work in MuJoCo: PhysX integrates a drive implicitly, MuJoCo only its damping, and on
+  links of 3e-6 to 1e-4 kg*m^2 kp 400 is unstable at 2 ms (kp / (4 I / dt^2) = 42);
+  with the armature below they pass the random-action claim at 400-500 Hz, but a drive
+  clamped at its limit has its damping integrated explicitly (kv * dt / I = 10 at
+  1 kHz) and the settle claim fails at every step, 40 Hz-1 kHz (25-580 rad/s).
+- Armature: 0.001 kg*m^2 per joint, an order-of-magnitude estimate of the reflected
+  rotor inertia (no public model or datasheet we could read gives one): a small
+  coreless DC motor's rotor, of order 1e-8 kg*m^2, behind a reduction of about 300:1
+  (1e-8 * 300^2 = 9e-4). Without it the random actions press the joints (distal
+  links: 3e-6 kg*m^2) 0.51-0.60 rad past their limits at 500 Hz-1 kHz and after the
+  settle claim's hold a joint still turns at 97 rad/s at 500 Hz (0.026 rad/s from
+  800 Hz); with it the fingers' response is unchanged (kv / kp = 0.1 s).
+- Gravity: compensated on every body (the library's default for a fixed root, as the
+  Panda's), so the keyframes are held exactly; without it Menagerie's soft kp lets the
+  fingers sag 0.058 rad (``palm_side``) and 0.089 rad (``palm_up``) in 2 s.
+- Keyframes: ManiSkill's ``palm_side`` and ``palm_up``: every joint at 0 (the thumb's
+  base, whose range starts at 0.263 rad, at its lower limit), the root at 0.5 m,
+  unturned (fingers up, palm facing +x) or turned -pi/2 about y (palm facing up,
+  fingers along -x). A fixed root cannot take a keyframe's root pose here (the mount
+  is part of the compiled scene): the robot is mounted as ``palm_side``
+  (:attr:`AllegroHandRight.mount_pose`) and ``palm_up`` is the same joint pose with the
+  scene mounting the robot at :data:`PALM_UP_MOUNT` (``robot_poses=[PALM_UP_MOUNT]``).
+- Control modes: generated from the ``Hand`` part: ManiSkill's ``pd_joint_delta_pos``
+  (default, +-0.1 rad per step), ``pd_joint_pos`` (absolute targets, not normalized)
+  and ``pd_joint_target_delta_pos``, plus the library's three velocity variants.
+- Grasp (tests/test_allegro.py): the palm up, the hand open (:data:`OPEN`: the thumb
+  stands up opposite the fingers), a 5.5 cm, 100 g cube laid flat in the palm 15 mm
+  from the finger bases; closing (:data:`CLOSED`, ``pd_joint_pos``, 2 s) the middle
+  finger and the thumb press on it from opposite sides (about 30 N each, the ring
+  finger 4 N, the index misses it) and ``is_grasping`` holds; its weight cancelled and
+  as much again pulling it away from the palm for 2 s (1 g net, as with the hand
+  turned over) it moves 0.22 mm relative to the palm at 320 Hz (0.40 mm at 200 Hz,
+  0.17 mm at 1 kHz); opened, ``is_grasping`` is false.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import ClassVar
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.keyframe import Keyframe
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.parts.declaration import Hand
+from robot_agents.registry import register_agent
+
+ASSETS = Path(__file__).parent / "assets"
+
+#: ManiSkill's joint order: index 0-3, middle 4-7, ring 8-11, thumb 12-15 (model order too).
+JOINTS = tuple(f"joint_{i}.0" for i in range(16))
+JOINT_PATTERN = r"joint_\d+\.0"
+#: Fingertip bodies in ManiSkill's order: thumb, index, middle, ring.
+TIP_LINKS = ("link_15.0_tip", "link_3.0_tip", "link_7.0_tip", "link_11.0_tip")
+#: Each finger's links (base to tip): index, middle, ring, thumb.
+FINGERS = tuple((*(f"link_{4 * f + k}.0" for k in range(4)), f"link_{4 * f + 3}.0_tip") for f in range(4))
+
+#: Thumb base lower limit (rad): the keyframes' 0 clipped into the range.
+THUMB_BASE_MIN = 0.263
+#: Keyframe joint angles (rad): ManiSkill's zeros, the thumb's base at its lower limit.
+ZERO_POSE = {r"joint_([0-9]|1[013-5])\.0": 0.0, r"joint_12\.0": THUMB_BASE_MIN}
+
+#: Where ManiSkill puts the root (m) and the two keyframes' root orientations (w, x, y, z).
+ROOT_HEIGHT = 0.5
+PALM_SIDE_MOUNT = (0.0, 0.0, ROOT_HEIGHT, 1.0, 0.0, 0.0, 0.0)
+PALM_UP_MOUNT = (0.0, 0.0, ROOT_HEIGHT, math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0)
+
+#: Menagerie's kp (N*m/rad) and kv (N*m*s/rad), ManiSkill's force limit (N*m), Wonik's
+#: velocity limit (rad/s).
+STIFFNESS = 10.0
+DAMPING = 1.0
+EFFORT_LIMIT = 50.0
+VELOCITY_LIMIT = 7.0
+#: Reflected rotor inertia (kg*m^2), an estimate (see the module doc).
+ARMATURE = 0.001
+ALLEGRO_DRIVES = PDActuator(
+    joints=JOINT_PATTERN,
+    stiffness=STIFFNESS,
+    damping=DAMPING,
+    effort_limit=EFFORT_LIMIT,
+    velocity_limit=VELOCITY_LIMIT,
+    armature=ARMATURE,
+)
+
+#: Open (rad): fingers stretched, the thumb's base turned to its upper limit (1.396 rad),
+#: so that it stands up out of the palm at its wrist end, opposite the fingers, ready to
+#: close over an object lying on the palm (the keyframes' thumb lies along the palm).
+THUMB_OPPOSED = 1.396
+OPEN = tuple(THUMB_OPPOSED if j == "joint_12.0" else 0.0 for j in JOINTS)
+#: Closed (power grasp, rad): each finger's proximal at its upper limit (standing up
+#: from the palm), medial and distal curled back over the palm; the thumb's medial and
+#: distal curled towards the fingers. On an object in the palm the joints stop short
+#: of these targets and press with kp times the remaining error.
+FINGER_CLOSED = (0.0, 1.61, 1.0, 1.0)
+THUMB_CLOSED = (THUMB_OPPOSED, 0.3, 0.9, 0.9)
+CLOSED = FINGER_CLOSED * 3 + THUMB_CLOSED
+
+ALLEGRO_HAND = Hand(
+    name="hand",
+    joints=JOINT_PATTERN,
+    open=OPEN,
+    closed=CLOSED,
+    fingers=FINGERS,
+    max_delta=0.1,
+    max_velocity=VELOCITY_LIMIT,
+)
+
+#: Fingertip pads (ManiSkill's dynamic friction of its tip material).
+TIP_PAD = FrictionMaterial(sliding=1.0, torsional=0.01, rolling=0.0001)
+
+
+@register_agent()
+class AllegroHandRight(Agent):
+    """Wonik Allegro Hand v4, right hand, on a fixed mount 0.5 m up (``palm_side``).
+
+    qpos order: ``joint_0.0`` .. ``joint_15.0`` (index, middle, ring, thumb; base,
+    proximal, medial, distal each). Fingertip bodies: :data:`TIP_LINKS`.
+    """
+
+    uid = "allegro_hand_right"
+    #: Time-step sweep (``robot-agents check allegro_hand_right --sweep``, 2026-11-23,
+    #: 20 Hz control): every claim holds from 5 ms (200 Hz) down to 1 ms (random-action
+    #: overshoot 0.093 rad at 200 Hz, 0.045 at 320 Hz, bound 0.25; settle 0.006-0.032
+    #: rad/s, bound 0.05); at 160 Hz and coarser the random actions press joints
+    #: 0.66-2.05 rad past their limits. Default one tried step finer: 320 Hz (3.125 ms).
+    #: The distal joints could cycle between their torque limits below 397 Hz, but not
+    #: at the joints' rated speed (``robot_agents.tuning.cycles``). Without the armature
+    #: estimate the random claim failed at every step (0.51 rad at 1 kHz) and settle
+    #: below 800 Hz (97 rad/s at 500 Hz).
+    sim_freq: ClassVar[int | None] = 320
+    mjcf_path = ASSETS / "allegro_hand_right.xml"
+    mount_pose: ClassVar[tuple[float, ...]] = PALM_SIDE_MOUNT
+    actuators = (ALLEGRO_DRIVES,)
+    parts = (ALLEGRO_HAND,)
+    link_materials = {tip: TIP_PAD for tip in TIP_LINKS}
+    keyframes = {
+        "palm_side": Keyframe(qpos=ZERO_POSE),
+        "palm_up": Keyframe(qpos=ZERO_POSE),
+        # the name every built-in robot has, for tasks that reset to it
+        "rest": Keyframe(qpos=ZERO_POSE),
+    }
+    default_control_mode = "pd_joint_delta_pos"
+
+
+__all__ = [
+    "ALLEGRO_DRIVES",
+    "ALLEGRO_HAND",
+    "FINGERS",
+    "JOINTS",
+    "PALM_SIDE_MOUNT",
+    "PALM_UP_MOUNT",
+    "TIP_LINKS",
+    "AllegroHandRight",
+]

@@ -113,21 +113,21 @@ class UnitreeGo2(Agent):
     """
 
     uid = "unitree_go2"
-    #: Time-step sweep (``robot-agents check unitree_go2 --sweep`` and ``sweep_timestep``
-    #: with 10-250 substeps, 2026-11-23, 20 Hz control, seeds 0-2; see docs/timestep.md):
-    #: hold (0.006 rad: the legs' sag as the robot lands), random (joint-limit overshoot
-    #: 0.17-0.19 rad, the knees pressed into their soft stops) and penetration (2.1 mm)
-    #: hold from 1.6 kHz up; settle fails below 3 kHz (1.5 rad/s at 1 kHz, 0.09 at
-    #: 2.5 kHz): ManiSkill's kv 100 on joints of 0.013-0.019 kg*m^2 apparent inertia
-    #: puts every drive into a torque-limit cycle (MuJoCo's implicit damping drops out
-    #: while the force is clamped) below kv / (2 I) = 2.5-3.6 kHz (the check's bound).
-    #: 3 kHz and 4 kHz pass every claim; at 5 kHz settle reads 0.057 rad/s (bound 0.05)
-    #: in ``pd_joint_delta_pos_vel``, where zero deltas retarget the measured pose every
-    #: control step and the fallen robot's weight walks a thigh down (not the step's
-    #: doing). Largest passing step 1/3000 s; default one tried step finer, 4 kHz
-    #: (margin: 0.25 ms against 0.33 ms). The robot stands at every step tried
-    #: (200 Hz up); at 500 Hz only random actions expose the cycle. (With kv 50 the
-    #: claims pass at 1.6-2 kHz; the drives' cycle bound scales with kv.)
+    #: Time-step sweep (``sweep_timestep`` with 10-250 substeps: the CLI's ``--sweep``
+    #: stops at 1 kHz; 20 Hz control, seeds 0-2, 2026-11-23 18:35 UTC, with the standing
+    #: claim; see docs/timestep.md): hold (< 3e-6 rad after 1 s on its legs; sag
+    #: meanwhile 6 mrad) and standing (the base moves < 4e-7 m, tilt <= 0.05 deg, feet
+    #: alone on the floor) hold from 200 Hz, penetration (2.1-3.3 mm) from 500 Hz; random
+    #: (joint-limit overshoot: the knees pressed into their soft stops, 0.57 rad at
+    #: 500 Hz, 0.255 at 1 kHz, 0.17-0.19 from 1.6 kHz) and settle (1.3 rad/s at 1 kHz: a
+    #: knee cycling between its torque limits) hold from 1.6 kHz; every claim holds from
+    #: 1.6 to 5 kHz. ManiSkill's kv 100 on joints of 0.013-0.019 kg*m^2 apparent inertia
+    #: can cycle between the torque limits below kv / (2 I) = 2.5-3.6 kHz
+    #: (``robot_agents.tuning.cycles``; a sweep before the settle claim left out the
+    #: modes that keep no targets saw a knee cycle at 0.76 rad/s at 2 kHz in
+    #: ``pd_joint_delta_pos``): default 4 kHz, the first tried step above them (as the
+    #: H1's 500 Hz), 2.5x finer than the largest passing step. The robot stands at every
+    #: step tried; only fast motion (random actions) drives it into the cycle.
     sim_freq: ClassVar[int | None] = 4000
     mjcf_path = ASSETS / "go2.xml"
     fix_root_link = False

@@ -73,6 +73,8 @@ SHARED = {
     "koch-v1.1": "koch-v1.1",
     "fetch": "fetch",
     "google_robot": "googlerobot",
+    "unitree_h1": "unitree_h1",
+    "allegro_hand_right": "allegro_hand_right",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"
@@ -83,7 +85,8 @@ def modes_of(uid: str) -> list[str]:
     ours = ra.get_agent(uid).modes()
     if BRIDGE_MODE in ours and uid.startswith("widowx250s_bridgedataset"):
         return [BRIDGE_MODE]
-    return ["pd_joint_delta_pos", "pd_ee_delta_pose" if "pd_ee_delta_pose" in ours else "pd_ee_delta_pos"]
+    ee = next((m for m in ("pd_ee_delta_pose", "pd_ee_delta_pos") if m in ours), None)
+    return ["pd_joint_delta_pos"] + ([ee] if ee else [])  # legs or a hand alone: no end effector
 
 
 def our_loop(uid: str, mode: str, num_envs: int, rng: np.random.Generator) -> tuple[Callable[[int], None], ra.RobotEnv]:

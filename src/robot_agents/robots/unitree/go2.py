@@ -11,7 +11,9 @@ Sources of the numbers:
   sphere (r 0.022 m) 2 mm behind the calf's end. See ``assets/go2.xml``.
 - Masses: Menagerie's link inertials: base 6.921 kg, hip 0.678, thigh 1.152, calf (with
   the foot) 0.241352 kg per leg; 15.206 kg in all. Unitree's own URDF sums to 15.02 kg
-  (its calf 0.154 + foot 0.04 kg); Unitree gives the Go2 as about 15 kg with battery.
+  (its calf 0.154 + foot 0.04 kg); about 15 kg is the Go2's commonly listed weight
+  (e.g. the ros-claw unitree-sdk2-mcp robot table; Unitree's own spec page was not
+  among the sources we could read).
 - Drives: position PD per joint with ManiSkill's gains (``unitree_go2.py``: kp 1000
   N*m/rad, kv 100 N*m*s/rad for every joint); effort limits Menagerie's actuator ranges
   (hip and thigh +-23.7 N*m, as Unitree's URDF; knee +-45.43 N*m, where Unitree's URDF

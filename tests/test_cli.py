@@ -41,6 +41,7 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
             "panda_touch": "9",
             "panda_wristcam": "9",
             "unitree_h1": "19",
+            "unitree_go2": "12",
         }.items()
     )
     assert "pd_joint_target_delta_pos" in text

@@ -1,0 +1,155 @@
+"""Unitree Go2 quadruped (uid ``unitree_go2``, ManiSkill's), standing on its own legs.
+
+Sources of the numbers:
+- Names, kinematics, joint ranges, link masses and inertias: MuJoCo Menagerie's
+  ``unitree_go2/go2.xml`` (read as data), whose names are Unitree's URDF names
+  (``unitree_ros/robots/go2_description``): links ``base``, ``{FL,FR,RL,RR}_hip / _thigh
+  / _calf / _foot``, joints ``*_hip_joint`` (abduction, about x, +-1.0472 rad),
+  ``*_thigh_joint`` (about y, front -1.5708..3.4907, rear -0.5236..4.5379 rad) and
+  ``*_calf_joint`` (knee, about y, -2.7227..-0.83776 rad). Hips at (+-0.1934, +-0.0465,
+  0) m in the base, thighs 0.0955 m outwards, thigh and calf 0.213 m long; the foot
+  sphere (r 0.022 m) 2 mm behind the calf's end. See ``assets/go2.xml``.
+- Masses: Menagerie's link inertials: base 6.921 kg, hip 0.678, thigh 1.152, calf (with
+  the foot) 0.241352 kg per leg; 15.206 kg in all. Unitree's own URDF sums to 15.02 kg
+  (its calf 0.154 + foot 0.04 kg); about 15 kg is the Go2's commonly listed weight
+  (e.g. the ros-claw unitree-sdk2-mcp robot table; Unitree's own spec page was not
+  among the sources we could read).
+- Drives: position PD per joint with ManiSkill's gains (``unitree_go2.py``: kp 1000
+  N*m/rad, kv 100 N*m*s/rad for every joint); effort limits Menagerie's actuator ranges
+  (hip and thigh +-23.7 N*m, as Unitree's URDF; knee +-45.43 N*m, where Unitree's URDF
+  lists 35.55); velocity limits Unitree's URDF (30.1 rad/s hip and thigh, 20.07 rad/s
+  knee); armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints'
+  passive damping 2 N*m*s/rad (in the MJCF), Menagerie's. No gravity compensation:
+  the legs carry the robot's weight (ManiSkill switches gravity off on the leg links).
+- Action order: ManiSkill's ``active_joints`` of Unitree's URDF, a breadth-first walk
+  of the tree: the four hips, then the four thighs, then the four calves, each in the
+  URDF's leg order FL, FR, RL, RR (so its ``standing`` qpos reads 0 x 4, 0.9 x 4,
+  -1.8 x 4). Our ``Legs`` part lists its patterns in that order, so actions match
+  ManiSkill's; ``qpos`` is in MuJoCo's model order, leg by leg (FL hip, thigh, calf,
+  FR ..., RL ..., RR ...): :data:`LEG_JOINTS` and :data:`ACTION_JOINTS`.
+- Modes: the six joint modes generated from the ``Legs`` part, deltas bounded by
+  ManiSkill's +-0.7 rad per step (its ``pd_joint_delta_pos``). The default is
+  ManiSkill's ``pd_joint_pos``: its hold (the keyframe's targets, repeated) keeps the
+  robot standing. ManiSkill's first mode, ``pd_joint_delta_pos``, retargets the
+  measured pose every control step, so under the robot's weight a zero action lets the
+  legs sink by the drives' steady-state error each step (6 cm in 3 s here; the same in
+  ManiSkill); ``pd_joint_target_delta_pos`` keeps its targets and stands.
+- Keyframes: ``rest`` (the default reset, where tasks start) and ``standing`` are
+  ManiSkill's ``standing``: root at 0.29 m, hips 0, thighs 0.9, calves -1.8 rad (the
+  feet 1.6 mm above the floor). ``home`` is Menagerie's: the same joint angles with the
+  root at 0.27 m, where Menagerie's soft feet sink into the floor; our rigid feet would
+  be 18 mm below it, so ``home`` puts the root where they touch (0.2885 m).
+- Standing: at the default 4 kHz the robot settles 2.4 mm below the touching height
+  (base 0.2860 m), its knees 6 mrad and hips 2.5 mrad from the keyframe (kp 1000 against
+  the 15.2 kg), level, on its four feet.
+- Feet: Menagerie's foot contact (friction 0.8, torsional 0.02, rolling 0.01).
+  ManiSkill's foot material (friction 2.0) is PhysX's; Menagerie's is MuJoCo's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import ClassVar
+
+from robot_agents.actuators.config import PDActuator
+from robot_agents.agent.agent import Agent
+from robot_agents.keyframe import Keyframe
+from robot_agents.parts.declaration import Legs
+from robot_agents.registry import register_agent
+
+ASSETS = Path(__file__).parent / "assets"
+
+LEGS = ("FL", "FR", "RL", "RR")
+#: The leg joints in qpos (model) order: leg by leg.
+LEG_JOINTS = tuple(f"{leg}_{j}_joint" for leg in LEGS for j in ("hip", "thigh", "calf"))
+#: The leg joints in action order (ManiSkill's): hips, thighs, calves.
+ACTION_PATTERNS = tuple(f"(FL|FR|RL|RR)_{j}_joint" for j in ("hip", "thigh", "calf"))
+ACTION_JOINTS = tuple(f"{leg}_{j}_joint" for j in ("hip", "thigh", "calf") for leg in LEGS)
+#: ManiSkill's standing pose (rad): hip, thigh, calf, the same on every leg.
+STANDING_LEG = (0.0, 0.9, -1.8)
+#: ManiSkill's standing root height (m).
+STANDING_HEIGHT = 0.29
+#: The root height at which the feet touch the floor in the standing pose (m): the
+#: soles 0.288372 m below the root, so 0.1 mm clear.
+TOUCHING_HEIGHT = 0.2885
+#: ManiSkill's delta bound of pd_joint_delta_pos (rad per step).
+MAX_DELTA = 0.7
+
+#: Hip and thigh drives, and the knees' (stronger): ManiSkill's gains, Menagerie's efforts.
+GO2_HIP_THIGH_DRIVES = PDActuator(
+    joints=ACTION_PATTERNS[:2],
+    stiffness=1000.0,
+    damping=100.0,
+    effort_limit=23.7,
+    velocity_limit=30.1,
+    armature=0.01,
+    friction=0.2,
+)
+GO2_KNEE_DRIVES = PDActuator(
+    joints=ACTION_PATTERNS[2],
+    stiffness=1000.0,
+    damping=100.0,
+    effort_limit=45.43,
+    velocity_limit=20.07,
+    armature=0.01,
+    friction=0.2,
+)
+GO2_LEGS = Legs(name="legs", joints=ACTION_PATTERNS, max_delta=MAX_DELTA)
+
+
+def _standing(height: float) -> Keyframe:
+    hip, thigh, calf = STANDING_LEG
+    return Keyframe(
+        qpos={ACTION_PATTERNS[0]: hip, ACTION_PATTERNS[1]: thigh, ACTION_PATTERNS[2]: calf},
+        base_pos=(0.0, 0.0, height),
+    )
+
+
+@register_agent()
+class UnitreeGo2(Agent):
+    """Unitree Go2: a free-floating base on four 3-joint legs under PD control.
+
+    qpos order (model): ``FL_hip_joint, FL_thigh_joint, FL_calf_joint, FR_..., RL_...,
+    RR_...``; action order (ManiSkill's): the hips, thighs and calves of FL, FR, RL, RR.
+    """
+
+    uid = "unitree_go2"
+    #: Time-step sweep (``sweep_timestep`` with 10-250 substeps: the CLI's ``--sweep``
+    #: stops at 1 kHz; 20 Hz control, seeds 0-2, 2026-11-23 18:35 UTC, with the standing
+    #: claim; see docs/timestep.md): hold (< 3e-6 rad after 1 s on its legs; sag
+    #: meanwhile 6 mrad) and standing (the base moves < 4e-7 m, tilt <= 0.05 deg, feet
+    #: alone on the floor) hold from 200 Hz, penetration (2.1-3.3 mm) from 500 Hz; random
+    #: (joint-limit overshoot: the knees pressed into their soft stops, 0.57 rad at
+    #: 500 Hz, 0.255 at 1 kHz, 0.17-0.19 from 1.6 kHz) and settle (1.3 rad/s at 1 kHz: a
+    #: knee cycling between its torque limits) hold from 1.6 kHz; every claim holds from
+    #: 1.6 to 5 kHz. ManiSkill's kv 100 on joints of 0.013-0.019 kg*m^2 apparent inertia
+    #: can cycle between the torque limits below kv / (2 I) = 2.5-3.6 kHz
+    #: (``robot_agents.tuning.cycles``; a sweep before the settle claim left out the
+    #: modes that keep no targets saw a knee cycle at 0.76 rad/s at 2 kHz in
+    #: ``pd_joint_delta_pos``): default 4 kHz, the first tried step above them (as the
+    #: H1's 500 Hz), 2.5x finer than the largest passing step. The robot stands at every
+    #: step tried; only fast motion (random actions) drives it into the cycle.
+    sim_freq: ClassVar[int | None] = 4000
+    mjcf_path = ASSETS / "go2.xml"
+    fix_root_link = False
+    gravity_compensation = False
+    actuators = (GO2_HIP_THIGH_DRIVES, GO2_KNEE_DRIVES)
+    parts = (GO2_LEGS,)
+    keyframes: ClassVar[Mapping[str, Keyframe]] = {
+        "rest": _standing(STANDING_HEIGHT),
+        "standing": _standing(STANDING_HEIGHT),
+        "home": _standing(TOUCHING_HEIGHT),
+    }
+    default_control_mode = "pd_joint_pos"
+
+
+__all__ = [
+    "ACTION_JOINTS",
+    "LEG_JOINTS",
+    "MAX_DELTA",
+    "STANDING_HEIGHT",
+    "STANDING_LEG",
+    "TOUCHING_HEIGHT",
+    "UnitreeGo2",
+]

@@ -14,8 +14,10 @@ Sources of the numbers:
   (its calf 0.154 + foot 0.04 kg); about 15 kg is the Go2's commonly listed weight
   (e.g. the ros-claw unitree-sdk2-mcp robot table; Unitree's own spec page was not
   among the sources we could read).
-- Drives: position PD per joint with ManiSkill's gains (``unitree_go2.py``: kp 1000
-  N*m/rad, kv 100 N*m*s/rad for every joint); effort limits Menagerie's actuator ranges
+- Drives: position PD per joint with Unitree's standing gains (unitree_sdk2's
+  ``example/go2/go2_stand_example.cpp``: Kp 60 N*m/rad, Kd 5 N*m*s/rad on every joint;
+  ManiSkill's ``unitree_go2.py`` has kp 1000, kv 100, which in MuJoCo need a 4 kHz step:
+  see :data:`UNITREE_KP`); effort limits Menagerie's actuator ranges
   (hip and thigh +-23.7 N*m, as Unitree's URDF; knee +-45.43 N*m, where Unitree's URDF
   lists 35.55); velocity limits Unitree's URDF (30.1 rad/s hip and thigh, 20.07 rad/s
   knee); armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints'
@@ -39,9 +41,9 @@ Sources of the numbers:
   feet 1.6 mm above the floor). ``home`` is Menagerie's: the same joint angles with the
   root at 0.27 m, where Menagerie's soft feet sink into the floor; our rigid feet would
   be 18 mm below it, so ``home`` puts the root where they touch (0.2885 m).
-- Standing: at the default 4 kHz the robot settles 2.4 mm below the touching height
-  (base 0.2860 m), its knees 6 mrad and hips 2.5 mrad from the keyframe (kp 1000 against
-  the 15.2 kg), level, on its four feet.
+- Standing: the legs give 0.12 rad (knees) under the 15.2 kg while settling onto the
+  floor at Unitree's gains (Unitree's own stand sags alike), then hold still: the base
+  level, on its four feet.
 - Feet: Menagerie's foot contact (friction 0.8, torsional 0.02, rolling 0.01).
   ManiSkill's foot material (friction 2.0) is PhysX's; Menagerie's is MuJoCo's.
 """
@@ -76,11 +78,18 @@ TOUCHING_HEIGHT = 0.2885
 #: ManiSkill's delta bound of pd_joint_delta_pos (rad per step).
 MAX_DELTA = 0.7
 
-#: Hip and thigh drives, and the knees' (stronger): ManiSkill's gains, Menagerie's efforts.
+#: Unitree's joint gains for standing (N*m/rad, N*m*s/rad): ``Kp = 60.0``, ``Kd = 5.0`` in
+#: unitree_sdk2's ``example/go2/go2_stand_example.cpp`` (the low-level stand of the real
+#: robot). ManiSkill's kp 1000 / kv 100 need a physics step of 4 kHz in MuJoCo (below
+#: 2.5-3.6 kHz the drives bang between their torque limits: kv over these joints'
+#: 0.013-0.019 kg*m^2); PhysX integrates its drives implicitly, limits included.
+UNITREE_KP = 60.0
+UNITREE_KD = 5.0
+#: Hip and thigh drives, and the knees' (stronger): Unitree's gains, Menagerie's efforts.
 GO2_HIP_THIGH_DRIVES = PDActuator(
     joints=ACTION_PATTERNS[:2],
-    stiffness=1000.0,
-    damping=100.0,
+    stiffness=UNITREE_KP,
+    damping=UNITREE_KD,
     effort_limit=23.7,
     velocity_limit=30.1,
     armature=0.01,
@@ -88,8 +97,8 @@ GO2_HIP_THIGH_DRIVES = PDActuator(
 )
 GO2_KNEE_DRIVES = PDActuator(
     joints=ACTION_PATTERNS[2],
-    stiffness=1000.0,
-    damping=100.0,
+    stiffness=UNITREE_KP,
+    damping=UNITREE_KD,
     effort_limit=45.43,
     velocity_limit=20.07,
     armature=0.01,
@@ -115,22 +124,12 @@ class UnitreeGo2(Agent):
     """
 
     uid = "unitree_go2"
-    #: Time-step sweep (``sweep_timestep`` with 10-250 substeps: the CLI's ``--sweep``
-    #: stops at 1 kHz; 20 Hz control, seeds 0-2, 2026-11-23 18:35 UTC, with the standing
-    #: claim; see docs/timestep.md): hold (< 3e-6 rad after 1 s on its legs; sag
-    #: meanwhile 6 mrad) and standing (the base moves < 4e-7 m, tilt <= 0.05 deg, feet
-    #: alone on the floor) hold from 200 Hz, penetration (2.1-3.3 mm) from 500 Hz; random
-    #: (joint-limit overshoot: the knees pressed into their soft stops, 0.57 rad at
-    #: 500 Hz, 0.255 at 1 kHz, 0.17-0.19 from 1.6 kHz) and settle (1.3 rad/s at 1 kHz: a
-    #: knee cycling between its torque limits) hold from 1.6 kHz; every claim holds from
-    #: 1.6 to 5 kHz. ManiSkill's kv 100 on joints of 0.013-0.019 kg*m^2 apparent inertia
-    #: can cycle between the torque limits below kv / (2 I) = 2.5-3.6 kHz
-    #: (``robot_agents.tuning.cycles``; a sweep before the settle claim left out the
-    #: modes that keep no targets saw a knee cycle at 0.76 rad/s at 2 kHz in
-    #: ``pd_joint_delta_pos``): default 4 kHz, the first tried step above them (as the
-    #: H1's 500 Hz), 2.5x finer than the largest passing step. The robot stands at every
-    #: step tried; only fast motion (random actions) drives it into the cycle.
-    sim_freq: ClassVar[int | None] = 4000
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py unitree_go2``, seeds 0-2,
+    #: 20 Hz control, 2026-11-23 with the standing claim; docs/timestep.md): every claim
+    #: holds from 320 Hz to 1 kHz; at 200 Hz random actions push a calf 0.27 rad past its
+    #: limit (bound 0.25). Default 400 Hz, one tried step finer. The drives cannot bang
+    #: between their torque limits above kd / (2 I) = 130-190 Hz (``tuning.cycles``).
+    sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "go2.xml"
     fix_root_link = False
     gravity_compensation = False
@@ -151,5 +150,7 @@ __all__ = [
     "STANDING_HEIGHT",
     "STANDING_LEG",
     "TOUCHING_HEIGHT",
+    "UNITREE_KD",
+    "UNITREE_KP",
     "UnitreeGo2",
 ]

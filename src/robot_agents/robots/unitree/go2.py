@@ -128,7 +128,7 @@ class UnitreeGo2(Agent):
     #: 20 Hz control, 2026-11-23 with the standing claim; docs/timestep.md): every claim
     #: holds from 320 Hz to 1 kHz; at 200 Hz random actions push a calf 0.27 rad past its
     #: limit (bound 0.25). Default 400 Hz, one tried step finer. The drives cannot bang
-    #: between their torque limits above kd / (2 I) = 130-190 Hz (``tuning.cycles``).
+    #: between their torque limits above 37 Hz (``tuning.cycles``, the calves).
     sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "go2.xml"
     fix_root_link = False

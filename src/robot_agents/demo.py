@@ -151,15 +151,24 @@ def run_demo(
         gripping = {
             j for p in agent.parts_by_name.values() if isinstance(p, Gripper) for j in agent.part_joints[p.name]
         }
-        movable = [i for i, n in enumerate(agent.joint_names) if n not in gripping]
+        # legs carrying the robot keep its stand: out-of-phase waves would topple it
+        held = gripping | set(agent.legs.joints)
+        movable = [i for i, n in enumerate(agent.joint_names) if n not in held]
         span = agent.qpos_limits[movable, 1] - agent.qpos_limits[movable, 0]
         # Up to 0.35 rad for a hinge, 5 cm for a slide (a floating mount stays in view).
         slides = np.array([j.kind is JointKind.SLIDE for j in agent.index.joints])[movable]
         amplitude = np.minimum(np.where(slides, 0.05, 0.35), 0.15 * np.where(np.isfinite(span), span, 2.0))
+        # grippers and hands close and open once meanwhile (their declared poses)
+        hands = [p for p in agent.parts_by_name.values() if isinstance(p, Gripper)]
+        finger_index = [[agent.joint_names.index(j) for j in agent.part_joints[p.name]] for p in hands]
         for i in range(steps_per_pose * 2):
             phase = 2 * np.pi * i / (steps_per_pose * 2)
             target = base.copy()
             target[movable] += amplitude * np.sin(phase + np.arange(len(movable)))
+            closing = 0.5 * (1 - np.cos(phase))  # 0 open, 1 closed, 0 open again
+            for part, index in zip(hands, finger_index, strict=True):
+                opened, closed = np.broadcast_arrays(np.asarray(part.open, float), np.asarray(part.closed, float))
+                target[index] = opened + closing * (closed - opened)
             target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
             advance(_action_for(agent, target))
     renderer.close()

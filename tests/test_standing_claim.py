@@ -27,17 +27,20 @@ QUADRUPED_MJCF = (
     '<default><joint damping="0.1" armature="0.01"/></default><worldbody>'
     '<body name="torso" pos="0 0 0.3"><geom name="torso" type="box" size="0.2 0.1 0.05" mass="8"/>'
     + "".join(LEG.format(n=n, x=x, y=y) for n, x, y in CORNERS)
-    + "</body></worldbody></mujoco>"
+    + "{arm}</body></worldbody></mujoco>"
 )
+#: A one-joint arm on the torso's front (so that the legs are not the main part).
+ARM = """<body name="arm" pos="0.2 0 0.05"><joint name="arm_joint" axis="0 1 0" range="-1 1"/>
+  <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01" mass="0.1"/></body>"""
 #: Hips at 0.5 rad, knees at -1.0: each foot 0.263 m below its hip, under it; the ball
 #: feet (2 cm) touch the floor with the torso's centre 0.283 m up.
 STANDING = ra.Keyframe(qpos={".*_hip": 0.5, ".*_knee": -1.0}, base_pos=(0.0, 0.0, 0.285))
 
 
 def quadruped(
-    path: Path, front_stiffness: float = 200.0, hind_stiffness: float = 200.0, **extra: Any
+    path: Path, front_stiffness: float = 200.0, hind_stiffness: float = 200.0, arm: bool = False, **extra: Any
 ) -> type[ra.Agent]:
-    path.write_text(QUADRUPED_MJCF)
+    path.write_text(QUADRUPED_MJCF.format(arm=ARM if arm else ""))
     attributes: dict[str, Any] = {
         "uid": "",
         "mjcf_path": path,
@@ -162,3 +165,25 @@ def test_is_standing_and_is_fallen(model_file: Path) -> None:
         with pytest.raises(ConfigError, match="no legs carrying a free base"):
             method()
     arm.close()
+
+
+def test_legs_beside_an_arm_take_deltas_from_their_targets_and_stand(model_file: Path) -> None:
+    """Generated modes append the legs to the arm's modes with deltas from their targets:
+    zero actions keep the robot standing in every joint-position mode."""
+    import numpy as np
+
+    parts = (ra.Arm(name="arm", joints="arm_joint"), ra.Legs(name="legs", joints=".*_(hip|knee)"))
+    actuators = (ra.PDActuator(joints=".*", stiffness=200.0, damping=5.0, effort_limit=40.0),)
+    cls = quadruped(model_file, arm=True, parts=parts, actuators=actuators, default_control_mode=None)
+    for mode in ("pd_joint_delta_pos", "pd_joint_target_delta_pos"):
+        legs = cls.modes()[mode]["legs"]
+        assert legs.use_delta and legs.use_target, mode
+        scene = ra.Scene(cls, control_modes=mode)
+        scene.reset()
+        agent = scene.agents[0]
+        for _ in range(60):  # 3 s of zero actions
+            agent.set_action(np.zeros(agent.controller.action_dim))
+            scene.step()
+        assert agent.is_standing().tolist() == [True], mode
+        assert float(agent.base_pose[0, 2]) > 0.27, mode  # stood at 0.283 m: given only the drives' sag
+        scene.close()

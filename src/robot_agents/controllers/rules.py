@@ -284,8 +284,14 @@ def modes_from_parts(
         else:
             moving = tuple(j for j in names if j in driven)
             if moving:
+                # legs that carry the robot take deltas from their targets: a zero delta
+                # from the measured pose would let them give under its weight step by step
                 others[part.name] = PDJointPosConfig(
-                    joint_names=moving, use_delta=True, lower=-part.max_delta, upper=part.max_delta
+                    joint_names=moving,
+                    use_delta=True,
+                    use_target=isinstance(part, Legs),
+                    lower=-part.max_delta,
+                    upper=part.max_delta,
                 )
     combined = combine_parts(main.name, table, **others)
     # A mobile manipulator's body (torso, head) held at absolute targets while the arm

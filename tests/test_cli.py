@@ -252,3 +252,19 @@ def test_robot_forms_are_checked_before_anything_runs() -> None:
     assert code == 2
     code = main(["info", "/nonexistent/robot.urdf"])
     assert code == 2
+
+
+def test_check_sweeps_the_substeps_asked_for(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--substeps`` widens the sweep past its default 1 kHz (here 1 and 2 kHz at 20 Hz
+    control); a bad list is refused before anything runs."""
+    from tests.conftest import TWO_LINK_URDF
+
+    urdf = tmp_path / "two_link.urdf"
+    urdf.write_text(TWO_LINK_URDF)
+    code, text = run("check", str(urdf), "--sweep", "--substeps", "100,50")
+    assert code == 0, text
+    rows = [line for line in text.splitlines() if line.startswith("| 1000 |") or line.startswith("| 2000 |")]
+    assert len(rows) == 2 and "| 500 |" not in text
+    for bad in ("0,10", "ten", ""):
+        assert main(["check", str(urdf), "--sweep", "--substeps", bad]) == 2
+        assert "--substeps: expected whole numbers >= 1" in capsys.readouterr().err

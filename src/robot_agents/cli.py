@@ -27,6 +27,22 @@ class UsageError(Exception):
     """A command-line argument with a bad value (reported in one line, exit status 2)."""
 
 
+def parse_substeps(text: str | None) -> tuple[int, ...] | None:
+    """``--substeps``: comma-separated physics substeps per control step to sweep, each a
+    whole number >= 1 (``None``: the sweep's default, 2-50 at 20 Hz control: 40 Hz-1 kHz)."""
+    if text is None:
+        return None
+    try:
+        values = tuple(int(part) for part in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or min(values) < 1:
+        raise UsageError(
+            f"argument --substeps: expected whole numbers >= 1 separated by commas (e.g. 10,20,50,100), got {text!r}"
+        )
+    return values
+
+
 def parse_seconds(text: str) -> float:
     """``--seconds``: a finite number of simulated seconds per pose, > 0 and <= :data:`MAX_SECONDS`."""
     try:
@@ -134,9 +150,17 @@ def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = 
     return 0 if summary.finite else 1
 
 
-def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5.0, sweep: bool = False) -> int:
+def cmd_check(
+    spec: str,
+    out: TextIO,
+    floating: bool = False,
+    seconds: float = 5.0,
+    sweep: bool = False,
+    substeps: Sequence[int] | None = None,
+) -> int:
     """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a
-    failure. ``sweep``: instead, the time-step sweep's table (exit 1 when no step passes)."""
+    failure. ``sweep``: instead, the time-step sweep's table (exit 1 when no step passes),
+    over ``substeps`` per control step (default: the sweep's)."""
     from robot_agents.checks import run_checks
 
     cls = resolve_robot(spec, floating)
@@ -144,7 +168,11 @@ def cmd_check(spec: str, out: TextIO, floating: bool = False, seconds: float = 5
     if sweep:
         from robot_agents.tuning.timestep import sweep_timestep
 
-        swept = sweep_timestep(cls, stop_after=None)
+        swept = (
+            sweep_timestep(cls, stop_after=None)
+            if substeps is None
+            else sweep_timestep(cls, substeps=substeps, stop_after=None)
+        )
         best = swept.largest_passing
         out.write(f"\ntime-step sweep (control at {swept.control_freq} Hz):\n{swept.table()}\n\n")
         out.write(
@@ -220,6 +248,12 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
     )
+    check.add_argument(
+        "--substeps",
+        default=None,
+        help="with --sweep: physics substeps per control step to try, comma-separated "
+        "(default 2,4,5,8,10,16,20,25,40,50: 40 Hz-1 kHz at 20 Hz control; e.g. 50,100,200 for up to 4 kHz)",
+    )
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
@@ -248,7 +282,9 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating)
         if args.command == "check":
-            return cmd_check(args.uid, stream, args.floating, parse_seconds(args.seconds), args.sweep)
+            return cmd_check(
+                args.uid, stream, args.floating, parse_seconds(args.seconds), args.sweep, parse_substeps(args.substeps)
+            )
         default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
         return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating)
     except (RobotAgentsError, UsageError) as err:

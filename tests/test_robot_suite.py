@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.agent.legs import foot_bodies
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_drift, keeps_targets, standing_leg_joints
 from robot_agents.controllers.joint import UNBOUNDED_TARGET
 
@@ -76,8 +75,7 @@ def test_keyframe_pose_has_no_contacts(scene: ra.Scene) -> None:
     for a robot standing on its legs, its feet on the floor."""
     agent = scene.agents[0]
     model = scene.model
-    legs = standing_leg_joints(type(agent))
-    feet = foot_bodies(model, [agent.index.joint(j, "test").id for j in legs]) if legs else set()
+    feet = agent.legs.feet  # empty unless the robot stands on its legs
     for name in agent.keyframes:
         scene.reset(keyframes=name)
         data = scene.world.datas[0]

@@ -356,7 +356,9 @@ def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
 
     monkeypatch.setattr(timestep, "DEFAULT_SUBSTEPS", (25,))
     real = timestep.sweep_timestep
-    monkeypatch.setattr(timestep, "sweep_timestep", lambda cls, stop_after=None: real(cls, substeps=(25,), seeds=(0,)))
+    monkeypatch.setattr(  # one seed, for speed; the substeps are the (patched) default's
+        timestep, "sweep_timestep", lambda cls, substeps, stop_after=None: real(cls, substeps=substeps, seeds=(0,))
+    )
     out = io.StringIO()
     code = cmd_check("widowx250s", out, sweep=True)
     text = out.getvalue()

@@ -74,8 +74,6 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
 def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:
     """The joints of legs that carry the robot (:func:`robot_agents.agent.legs.standing_legs`):
     empty for a fixed root and for held legs."""
-    if cls.fix_root_link:
-        return ()
     checked = cls.check()
     return standing_legs(checked.parts, checked.part_joints, cls.fix_root_link)
 
@@ -103,21 +101,19 @@ def hold_drift(
     ``after_step`` is called after every control step."""
     hold = hold_action(agent)  # the keyframe's own targets, repeated (see hold_action)
     start = agent.qpos
-    sag = 0.0
-    for _ in range(settle_steps):
+    sag = worst = 0.0
+    for step in range(settle_steps + round(seconds * scene.control_freq)):
+        if step == settle_steps:
+            start = agent.qpos  # settled: drift counts from here
         agent.set_action(hold)
         scene.step()
         if after_step is not None:
             after_step()
-        sag = max(sag, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
-    start = agent.qpos
-    worst = 0.0
-    for _ in range(round(seconds * scene.control_freq)):
-        agent.set_action(hold)
-        scene.step()
-        if after_step is not None:
-            after_step()
-        worst = max(worst, float(np.max(np.abs(agent.qpos - start), initial=0.0)))
+        moved = float(np.max(np.abs(agent.qpos - start), initial=0.0))
+        if step < settle_steps:
+            sag = max(sag, moved)
+        else:
+            worst = max(worst, moved)
     return worst, sag
 
 

@@ -166,13 +166,9 @@ def cmd_check(
     cls = resolve_robot(spec, floating)
     cmd_info(spec, out, floating)
     if sweep:
-        from robot_agents.tuning.timestep import sweep_timestep
+        from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, sweep_timestep
 
-        swept = (
-            sweep_timestep(cls, stop_after=None)
-            if substeps is None
-            else sweep_timestep(cls, substeps=substeps, stop_after=None)
-        )
+        swept = sweep_timestep(cls, substeps=substeps or DEFAULT_SUBSTEPS, stop_after=None)
         best = swept.largest_passing
         out.write(f"\ntime-step sweep (control at {swept.control_freq} Hz):\n{swept.table()}\n\n")
         out.write(

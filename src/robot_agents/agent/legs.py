@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
 
 BoolArray = npt.NDArray[np.bool_]
+IntArray = npt.NDArray[np.int64]
 
 #: Default largest tilt (rad) of a standing robot's base from upright: 20 deg (the
 #: threshold ManiSkill's quadrupeds use for "standing").
@@ -84,19 +85,24 @@ class LegParts:
                 "that is not held); it cannot stand or fall."
             )
 
+    def off_feet(self, env: int, where: str) -> IntArray:
+        """Bodies of the robot other than its feet that touch something outside it in env
+        ``env`` (ids, sorted; empty while it stands on its feet alone)."""
+        self._require(where)
+        return self._off_feet(self.world.physics_sources([env])[0])
+
+    def _off_feet(self, data: mujoco.MjData) -> IntArray:
+        n = data.ncon
+        bodies = self.index.model.geom_bodyid
+        b1, b2 = bodies[data.contact.geom1[:n]], bodies[data.contact.geom2[:n]]
+        hits = np.concatenate((b1[self._not_foot[b1] & ~self._robot[b2]], b2[self._not_foot[b2] & ~self._robot[b1]]))
+        return np.unique(hits).astype(np.int64)
+
     def is_fallen(self, where: str) -> BoolArray:
         """Per env: a body of the robot other than a foot touches something outside it."""
         self._require(where)
-        bodies = self.index.model.geom_bodyid
-        out = np.zeros(self.world.num_envs, dtype=bool)
-        for env, data in enumerate(self.world.physics_sources(range(self.world.num_envs))):
-            n = data.ncon
-            if n:
-                b1, b2 = bodies[data.contact.geom1[:n]], bodies[data.contact.geom2[:n]]
-                out[env] = bool(
-                    np.any((self._not_foot[b1] & ~self._robot[b2]) | (self._not_foot[b2] & ~self._robot[b1]))
-                )
-        return out
+        datas = self.world.physics_sources(range(self.world.num_envs))
+        return np.array([self._off_feet(data).size > 0 for data in datas], dtype=bool)
 
     def is_standing(self, max_tilt: float, where: str) -> BoolArray:
         """Per env: the base's up axis within ``max_tilt`` (rad) of the world's, and not

@@ -24,7 +24,6 @@ import math
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.agent.legs import foot_bodies
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_action, standing_leg_joints
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sim.scene import Scene
@@ -42,16 +41,12 @@ STAND_TILT = math.radians(5.0)
 def standing_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult | None:
     """Hold each keyframe standing (see the module doc); the base's largest movement over
     the settled hold. ``None``: the robot has no legs carrying a free base."""
-    legs = standing_leg_joints(cls)
-    if not legs:
+    if not standing_leg_joints(cls):
         return None
     mode = cls.default_mode()
     scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
     agent = scene.agents[0]
     model = scene.model
-    feet = foot_bodies(model, [agent.index.joint(j, "standing_claim").id for j in legs])
-    tree = int(model.body_rootid[agent.root_body_id])
-    robot_bodies = {b for b in range(model.nbody) if int(model.body_rootid[b]) == tree}
     settle_steps = round(LOAD_SETTLE_SECONDS * control_freq)
     worst_drift, worst_tilt, where = 0.0, 0.0, ""
     touching: set[str] = set()
@@ -67,7 +62,7 @@ def standing_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pe
             pose = agent.base_pose[0]
             tilt = math.acos(float(np.clip(quat_to_matrix(pose[3:])[:, 2] @ up, -1.0, 1.0)))
             worst_tilt = max(worst_tilt, tilt)
-            touching |= _touching_outside(scene, robot_bodies, feet, name)
+            touching |= {f"{model.body(b).name} ({name})" for b in agent.legs.off_feet(0, "standing_claim")}
             if step + 1 == settle_steps:
                 settled = pose[:3].copy()
             elif settled is not None:
@@ -82,17 +77,3 @@ def standing_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pe
         + (f"touching the floor besides the feet: {sorted(touching)}" if touching else "feet alone on the floor")
     )
     return ClaimResult("standing", passed, worst_drift, STAND_DRIFT, detail)
-
-
-def _touching_outside(scene: Scene, robot_bodies: set[int], feet: set[int], keyframe: str) -> set[str]:
-    """``"<body> (<keyframe>)"`` for each robot body other than a foot in contact with
-    something outside the robot (env 0)."""
-    model, data = scene.model, scene.world.physics_sources([0])[0]
-    found: set[str] = set()
-    n = data.ncon
-    for g1, g2 in zip(data.contact.geom1[:n].tolist(), data.contact.geom2[:n].tolist(), strict=True):
-        b1, b2 = int(model.geom_bodyid[g1]), int(model.geom_bodyid[g2])
-        for body, other in ((b1, b2), (b2, b1)):
-            if body in robot_bodies and other not in robot_bodies and body not in feet:
-                found.add(f"{model.body(body).name} ({keyframe})")
-    return found

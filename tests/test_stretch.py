@@ -294,3 +294,23 @@ def test_ee_delta_moves_the_tool_in_the_base_frame_while_the_base_turns(mode: st
     assert agent.qpos[0, 2] > 0.4  # the base turned
     np.testing.assert_allclose(moved, 20 * step, rtol=0.05, atol=0.05 * np.linalg.norm(20 * step))
     scene.close()
+
+
+@pytest.mark.parametrize("mode", ["pd_ee_delta_pos", "pd_ee_target_delta_pos"])
+def test_ee_position_modes_solve_random_actions(mode: str) -> None:
+    """Random full-range end-effector actions (2.5 cm per axis per step, the forward axis
+    included), 60 steps from three resets: IK reaches every target. With the tool's
+    orientation held it reached 3 % (a five-joint arm moves the tool forward only by
+    swinging the wrist), so the position modes solve for the position alone, and the
+    6-DoF pose modes are not offered."""
+    assert not any("pose" in m and "_ee_" in m for m in ra.get_agent("stretch").modes())
+    env = ra.make_env("Empty-v1", robot_uids="stretch", control_mode=mode, max_episode_steps=None)
+    rng = np.random.default_rng(0)
+    solved = []
+    for seed in range(3):
+        env.reset(seed=seed)
+        for _ in range(20):
+            _, _, _, _, info = env.step(rng.uniform(-1.0, 1.0, env.action_space.shape))
+            solved.append(bool(np.all(info["ik_success"])))
+    env.close()
+    assert np.mean(solved) >= 0.98, f"IK solved {np.mean(solved):.0%} of the steps"

@@ -23,8 +23,16 @@ default ``sim_freq``, control 20 Hz):
 3. **Env**: ``env.step(action)`` on the same action sequence from the same start
    (validation, clipping and scaling, controllers, drive stage, stepping, instability
    test, ``info``, observation).
+4. **Python floor**: the raw replay plus the least Python any env step must add to it
+   with the same action: convert it and test it finite, clip and scale it, add it to the
+   measured joint positions and clip those to bounds (``numpy`` on the same small arrays;
+   the targets go to a scratch buffer, the recorded ``ctrl`` drives the physics, so the
+   physics stays identical). ``floor ratio`` = replay time / floor time is the most any
+   Python env step could reach here; the gap between it and ``ratio`` is the part of
+   the overhead this library's code adds (``python_floor.py`` writes such a loop out in
+   full for the Panda).
 
-Both loops run in alternating blocks of ``--block`` control steps; per round the
+The loops run in alternating blocks of ``--block`` control steps; per round the
 ratio is replay time / env time over the same steps, and the table gives the median
 over ``--rounds`` rounds (the machine is shared, so noise hits both loops of a round
 alike). Times are this process's CPU time by default (``--clock cpu``): on a shared
@@ -79,6 +87,8 @@ class Result:
     env_us: float
     replay_us: float
     ratio: float
+    floor_us: float = float("nan")
+    floor_ratio: float = float("nan")
     ik_us: float = 0.0
     ratio_excl_ik: float = float("nan")
     ratios: list[float] = field(default_factory=list)
@@ -171,29 +181,55 @@ def measure(
             env.step(actions[cursor["env"] % len(actions)])
             cursor["env"] += 1
 
+    def replay_calls(data: mujoco.MjData, step: int) -> None:
+        for call in per_step[step]:
+            if call[0] == "step":
+                data.ctrl[:] = call[1]
+                mujoco.mj_step(model, data, call[2])
+            else:
+                data.qpos[call[1]] = call[2]
+                data.qvel[call[3]] = call[4]
+                data.qacc_warmstart[:] = 0.0
+                if call[5]:
+                    mujoco.mj_forward(model, data)
+                else:
+                    mujoco.mj_kinematics(model, data)
+                    mujoco.mj_camlight(model, data)
+        mujoco.mj_kinematics(model, data)
+        np.concatenate((data.qpos, data.qvel, data.ctrl, data.xpos[body], data.xquat[body]), dtype=np.float32)
+
     def replay_loop(count: int) -> None:
         for _ in range(count):
-            for call in per_step[cursor["replay"]]:
-                if call[0] == "step":
-                    data.ctrl[:] = call[1]
-                    mujoco.mj_step(model, data, call[2])
-                else:
-                    data.qpos[call[1]] = call[2]
-                    data.qvel[call[3]] = call[4]
-                    data.qacc_warmstart[:] = 0.0
-                    if call[5]:
-                        mujoco.mj_forward(model, data)
-                    else:
-                        mujoco.mj_kinematics(model, data)
-                        mujoco.mj_camlight(model, data)
-            mujoco.mj_kinematics(model, data)
-            np.concatenate((data.qpos, data.qvel, data.ctrl, data.xpos[body], data.xquat[body]), dtype=np.float32)
+            replay_calls(data, cursor["replay"])
             cursor["replay"] += 1
 
-    env_loop(block)  # warm-up, both loops
+    # The Python floor's action arithmetic (module doc, item 4): the action's bounds and
+    # scale, and the first joints the robot drives (as many as the action has numbers).
+    floor_data = mujoco.MjData(model)
+    mujoco.mj_setState(model, floor_data, start["physics"][0], STATE)
+    low, high = combined.action_low, combined.action_high
+    scale = np.ones_like(low)
+    joints = agent.drives.qpos_adr[: len(low)]
+    joint_low, joint_high = np.full(len(joints), -10.0), np.full(len(joints), 10.0)
+    scratch = np.empty(len(joints))
+    cursor["floor"] = 0
+
+    def floor_loop(count: int) -> None:
+        for _ in range(count):
+            step = cursor["floor"]
+            action = np.asarray(actions[step % len(actions)], dtype=np.float64)
+            if not math.isfinite(action.sum()):
+                raise ValueError("non-finite action")
+            raw = np.clip(action.reshape(-1), low, high) * scale
+            scratch[:] = np.clip(floor_data.qpos[joints] + raw[: len(joints)], joint_low, joint_high)
+            replay_calls(floor_data, step)
+            cursor["floor"] += 1
+
+    env_loop(block)  # warm-up, every loop
     replay_loop(block)
+    floor_loop(block)
     ik_seconds[0] = 0.0
-    env_times, replay_times, ik_times = [], [], []
+    env_times, replay_times, floor_times, ik_times = [], [], [], []
     for _ in range(rounds):
         ik_before = ik_seconds[0]
         begin = clock()
@@ -203,10 +239,16 @@ def measure(
         begin = clock()
         replay_loop(block)
         replay_times.append(clock() - begin)
-    replay_state = np.empty(mujoco.mj_stateSize(model, STATE))
-    mujoco.mj_getState(model, data, replay_state, STATE)
-    if not (np.array_equal(replay_state, final) and np.array_equal(env.get_state()["physics"][0], final)):
-        raise RuntimeError(f"{uid} {mode}: the replay did not reproduce the env's trajectory")
+        begin = clock()
+        floor_loop(block)
+        floor_times.append(clock() - begin)
+    for name, replayed in (("replay", data), ("Python floor", floor_data)):
+        replay_state = np.empty(mujoco.mj_stateSize(model, STATE))
+        mujoco.mj_getState(model, replayed, replay_state, STATE)
+        if not np.array_equal(replay_state, final):
+            raise RuntimeError(f"{uid} {mode}: the {name} did not reproduce the env's trajectory")
+    if not np.array_equal(env.get_state()["physics"][0], final):
+        raise RuntimeError(f"{uid} {mode}: the env did not repeat its recorded trajectory")
     substeps, sim_freq = env.scene.substeps, env.sim_freq
     env.close()
     ratios = [r / e for r, e in zip(replay_times, env_times, strict=True)]
@@ -218,6 +260,8 @@ def measure(
         env_us=1e6 * statistics.median(env_times) / block,
         replay_us=1e6 * statistics.median(replay_times) / block,
         ratio=statistics.median(ratios),
+        floor_us=1e6 * statistics.median(floor_times) / block,
+        floor_ratio=statistics.median([r / f for r, f in zip(replay_times, floor_times, strict=True)]),
         ratios=ratios,
     )
     if any(ik_times):
@@ -296,9 +340,10 @@ def main() -> None:
         f"{args.clock} clock, load average {os.getloadavg()[0]:.1f}"
     )
     print(
-        "| robot | mode | sim_freq (substeps) | env µs/step | raw replay µs/step | overhead µs | IK µs | ratio | ratio excl. IK |"
+        "| robot | mode | sim_freq (substeps) | env µs/step | raw replay µs/step | overhead µs | IK µs | ratio | "
+        "ratio excl. IK | Python floor µs/step | floor ratio |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for uid in robots:
         for kind in args.modes:
             mode = mode_of(uid, kind)
@@ -309,7 +354,7 @@ def main() -> None:
             ik = "-" if not r.ik_us else f"{r.ik_us:.0f}"
             print(
                 f"| `{uid}` | `{mode}` | {r.sim_freq} ({r.substeps}) | {r.env_us:.0f} | {r.replay_us:.0f} | "
-                f"{r.env_us - r.replay_us:.0f} | {ik} | {r.ratio:.2f} | {excl} |",
+                f"{r.env_us - r.replay_us:.0f} | {ik} | {r.ratio:.2f} | {excl} | {r.floor_us:.0f} | {r.floor_ratio:.2f} |",
                 flush=True,
             )
 

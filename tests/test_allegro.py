@@ -5,6 +5,7 @@ upturned palm that holds against a pull away from the palm."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -12,7 +13,18 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.checks import check_holds, check_random_actions, hold_action
-from robot_agents.robots.wonik.allegro import PALM_UP_MOUNT, TIP_LINKS
+from robot_agents.errors import UnknownNameError
+from robot_agents.robots.wonik.allegro import (
+    ALLEGRO_HAND,
+    OPEN,
+    PALM_FACE,
+    PALM_UP_MOUNT,
+    POWER_GRASP,
+    TIP_LINKS,
+    AllegroHandRight,
+)
+from robot_agents.tuning.claims import Penetration
+from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import axis_rotation, transform
 
 UID = "allegro_hand_right"
@@ -136,11 +148,11 @@ def test_keyframes_hold_and_random_actions_stay_stable() -> None:
 
 # ---------------------------------------------------------------- grasp
 #: A 5.5 cm, 100 g cube lying in the upturned palm (palm face 0.0111 m along base_link x),
-#: its centre 15 mm from the finger bases towards the wrist (clear of the thumb's base).
-CUBE_HALF = 0.0275
+#: its centre 15 mm from the finger bases towards the wrist (clear of the thumb's base):
+#: the hand's declared power grasp.
+CUBE_HALF = 0.5 * POWER_GRASP.cube_edge
 CUBE_MASS = 0.1
-PALM_FACE = 0.0111
-CUBE_IN_BASE = (PALM_FACE + CUBE_HALF + 0.0005, 0.0, -0.015)
+CUBE_IN_BASE = POWER_GRASP.cube_centre
 
 
 def in_world(point: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -238,3 +250,53 @@ def test_the_hand_reports_its_opening() -> None:
 
 def test_tip_links_are_maniskills() -> None:
     assert TIP_LINKS == ("link_15.0_tip", "link_3.0_tip", "link_7.0_tip", "link_11.0_tip")
+
+
+# ---------------------------------------------------------------- the sweep's grasp claim
+def test_the_sweeps_grasp_claim_holds_the_declared_power_grasp() -> None:
+    """The time-step sweep's grasp claim for a hand: the declared 5.5 cm cube (water's
+    density, 166 g) held against a 1 g pull away from the palm, at the default step."""
+    claim = grasp_claim(AllegroHandRight, AllegroHandRight.sim_freq, 20, Penetration())
+    assert claim is not None and claim.passed, claim
+    assert claim.value < 0.001 and "not opposed" not in claim.detail
+
+
+class _NeverCloses(AllegroHandRight):
+    """The Allegro whose power grasp is its open pose: the fingers never close."""
+
+    parts = (dataclasses.replace(ALLEGRO_HAND, closed=OPEN),)
+
+
+def test_the_sweeps_grasp_claim_fails_when_the_hand_does_not_close() -> None:
+    claim = grasp_claim(_NeverCloses, AllegroHandRight.sim_freq, 20, Penetration())
+    assert claim is not None and not claim.passed
+    assert claim.value > 0.01 and "not opposed" in claim.detail
+
+
+def test_a_power_grasp_is_checked_where_it_is_declared() -> None:
+    with pytest.raises(ra.ConfigError, match="cube_edge"):
+        ra.PowerGrasp("base_link", (0.04, 0.0, 0.0), -0.05, (1.0, 0.0, 0.0))
+    with pytest.raises(ra.ConfigError, match="outward"):
+        ra.PowerGrasp("base_link", (0.04, 0.0, 0.0), 0.05, (0.0, 0.0, 0.0))
+    with pytest.raises(ra.ConfigError, match="cube_centre"):
+        ra.PowerGrasp("base_link", (0.04, 0.0), 0.05, (1.0, 0.0, 0.0))
+    assert ra.PowerGrasp("base_link", (0.04, 0.0, 0.0), 0.05, (2.0, 0.0, 0.0)).outward == (1.0, 0.0, 0.0)
+
+    class MisnamedPalm(AllegroHandRight):
+        parts = (dataclasses.replace(ALLEGRO_HAND, power_grasp=dataclasses.replace(POWER_GRASP, link="base_lnk")),)
+
+    with pytest.raises(UnknownNameError, match=r"power_grasp\.link.*base_lnk.*base_link"):
+        MisnamedPalm.check()
+
+
+def test_a_mounted_hand_carries_its_power_grasp_with_the_prefix() -> None:
+    """The Allegro as a piece on an arm's flange: its power grasp names the prefixed palm."""
+    from robot_agents.robots.ufactory.xarm6 import XArm6NoGripper
+
+    class ArmWithHand(XArm6NoGripper):
+        uid = "arm_with_allegro_test"
+        attachments = (ra.Attachment(AllegroHandRight, at="link_eef", prefix="hand/", pos=(0.0, 0.0, 0.1)),)
+
+    hand = next(p for p in ArmWithHand.check().parts if isinstance(p, ra.Hand))
+    assert hand.power_grasp is not None and hand.power_grasp.link == "hand/base_link"
+    assert hand.power_grasp.cube_centre == POWER_GRASP.cube_centre

@@ -38,7 +38,7 @@ from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
-from robot_agents.parts.declaration import EndEffector, Gripper, Part
+from robot_agents.parts.declaration import EndEffector, Gripper, Hand, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -85,6 +85,8 @@ def _prefix_part(part: Part, prefix: str) -> Part:
         )
     if isinstance(part, Gripper):
         changes["fingers"] = tuple(tuple(prefix + link for link in finger) for finger in part.finger_links)
+    if isinstance(part, Hand) and part.power_grasp is not None:
+        changes["power_grasp"] = dataclasses.replace(part.power_grasp, link=prefix + part.power_grasp.link)
     return dataclasses.replace(part, **changes)
 
 
@@ -449,6 +451,8 @@ def _resolve_parts(
             for finger in part.finger_links:
                 for link in finger:
                     index.body_id(link, f"{where} {part.name!r}.fingers")
+        if isinstance(part, Hand) and part.power_grasp is not None:
+            index.body_id(part.power_grasp.link, f"{where} {part.name!r}.power_grasp.link")
             n = len(resolved[part.name])
             for attr in ("open", "closed"):
                 value = np.asarray(getattr(part, attr), dtype=np.float64).reshape(-1)

@@ -1,6 +1,31 @@
 """Parts of a robot (arm, gripper, hand, head, torso, base, legs) and their roles."""
 
-from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Hand, Head, Legs, Part, PartKind, Torso
+from robot_agents.parts.declaration import (
+    Arm,
+    Base,
+    EndEffector,
+    Gripper,
+    Hand,
+    Head,
+    Legs,
+    Part,
+    PartKind,
+    PowerGrasp,
+    Torso,
+)
 from robot_agents.parts.grasp import grasped
 
-__all__ = ["Arm", "Base", "EndEffector", "Gripper", "Hand", "Head", "Legs", "Part", "PartKind", "Torso", "grasped"]
+__all__ = [
+    "Arm",
+    "Base",
+    "EndEffector",
+    "Gripper",
+    "Hand",
+    "Head",
+    "Legs",
+    "Part",
+    "PartKind",
+    "PowerGrasp",
+    "Torso",
+    "grasped",
+]

@@ -158,12 +158,61 @@ class Gripper(Part):
         return self.fingers  # type: ignore[return-value]
 
 
+@dataclass(frozen=True)
+class PowerGrasp:
+    """Where a hand's power grasp (its ``closed`` pose) holds a cube: the time-step
+    sweep's grasp claim places a cube there with the hand open, closes the hand and
+    pulls the cube away from the palm (:mod:`robot_agents.tuning.grasp_claim`).
+
+    Attributes:
+        link: the palm link the numbers below are in.
+        cube_centre: the cube's centre in ``link``'s frame (m), with the hand open: its
+            face just off the palm, between the fingers' paths as they close; the cube's
+            faces are square to ``link``'s axes.
+        cube_edge: the cube's edge (m).
+        outward: the direction away from the palm in ``link``'s frame (any length;
+            stored as a unit vector): the way a held object would fall with the palm
+            turned down.
+    """
+
+    link: str
+    cube_centre: tuple[float, float, float]
+    cube_edge: float
+    outward: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        where = "PowerGrasp"
+        if not isinstance(self.link, str) or not self.link:
+            raise ConfigError(f"{where}.link: expected the palm link's name, got {self.link!r}.")
+        object.__setattr__(self, "cube_centre", _vector(f"{where}.cube_centre", self.cube_centre, 3))
+        if not (isinstance(self.cube_edge, (int, float)) and 0.0 < self.cube_edge < math.inf):
+            raise ConfigError(f"{where}.cube_edge: expected a positive length (m), got {self.cube_edge!r}.")
+        outward = _vector(f"{where}.outward", self.outward, 3)
+        norm = math.sqrt(sum(v * v for v in outward))
+        if not norm > 0.0:
+            raise ConfigError(f"{where}.outward: expected a nonzero direction, got {self.outward!r}.")
+        object.__setattr__(self, "outward", tuple(v / norm for v in outward))
+
+
 @dataclass(frozen=True, kw_only=True)
 class Hand(Gripper):
     """A multi-finger hand: every joint takes its own action; ``open`` / ``closed`` are
-    its open and power-grasp poses, ``fingers`` the links of each finger."""
+    its open and power-grasp poses, ``fingers`` the links of each finger.
+
+    Attributes:
+        power_grasp: where the ``closed`` pose holds a cube (the time-step sweep's grasp
+            claim; ``None``: the sweep makes no grasp claim for this hand).
+    """
 
     kind: ClassVar[PartKind] = PartKind.HAND
+    power_grasp: PowerGrasp | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.power_grasp is not None and not isinstance(self.power_grasp, PowerGrasp):
+            raise ConfigError(
+                f"Hand {self.name!r}.power_grasp: expected a PowerGrasp or None, got {self.power_grasp!r}."
+            )
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -29,6 +29,9 @@
   :data:`~.grasp_claim.SLIP_BOUND`
   relative to the tool frame over the hold (a cube that falls or slides out moves more;
   a movement of more than the cube's edge is reported as the edge: the cube is lost);
+  a hand that declares its power grasp (``Hand.power_grasp``) closes to ``closed`` on
+  the declared cube instead and holds it against a pull of 1 g away from the palm (its
+  movement relative to the palm counts; a hand without one makes no grasp claim);
 - ``standing``: where the robot's legs carry a free base (a ``Legs`` part that is not
   held, a free root), from each keyframe it holds its pose on the floor and stays still,
   upright and on its feet alone (:mod:`.standing_claim` has the times and bounds);

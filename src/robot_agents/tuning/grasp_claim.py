@@ -1,6 +1,9 @@
 """The grasp claim of the time-step sweep (:mod:`.claims`): a robot with a two-finger
 gripper closes it on a cube of the table-top tasks' size, lifts it and holds it; the
-claim is the cube's largest movement relative to the tool frame over the hold."""
+claim is the cube's largest movement relative to the tool frame over the hold. A hand
+that declares its power grasp (:class:`~robot_agents.parts.declaration.PowerGrasp`)
+closes on the declared cube instead, and the cube is pulled away from the palm (its
+movement relative to the palm counts)."""
 
 from __future__ import annotations
 
@@ -12,6 +15,9 @@ from robot_agents.checks import hold_action
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.scene import Prop
+from robot_agents.parts.declaration import Hand
 from robot_agents.sim.scene import Scene
 from robot_agents.tuning.claims import ClaimResult, Penetration, ee_mode
 
@@ -31,6 +37,16 @@ GRASP_DEPTHS = (0.2, 0.4, 0.6)
 #: A finger that travels less than this share of the other's when the gripper closes
 #: counts as fixed (the SO-100's and Koch's jaws).
 FIXED_FINGER_SHARE = 0.25
+#: Hands: seconds the fingers close on the weightless cube (a hand's fingers travel
+#: further than a gripper's jaws), and the pull away from the palm over the hold, in
+#: units of the cube's weight (its weight cancelled and this much again: 1 g net, as if
+#: the palm were turned down).
+HAND_CLOSE_SECONDS = 2.0
+HAND_PULL = 1.0
+#: The mode a hand's grasp runs in: absolute joint targets (the ``closed`` pose).
+HAND_MODE = "pd_joint_pos"
+#: The cube's density (kg/m^3), as the table-top tasks' cubes (water).
+CUBE_DENSITY = 1000.0
 
 
 def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult | None:
@@ -41,6 +57,9 @@ def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penet
     no end effector)."""
     from robot_agents.envs.tasks.layout import table_top_layout
 
+    hand = next((p for p in cls.check().parts if isinstance(p, Hand) and p.power_grasp is not None), None)
+    if hand is not None:
+        return _hand_grasp(cls, hand, sim_freq, control_freq, depth)
     mode = ee_mode(cls)
     if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
         return None
@@ -163,3 +182,86 @@ def _grasp_at(
     if slip > edge:  # farther than its own edge: the cube has left the grasp (however far it fell)
         slip, detail = edge, detail + ", cube lost"
     return slip, detail
+
+
+def _hand_grasp(
+    cls: type[Agent], hand: Hand, sim_freq: int, control_freq: int, depth: Penetration
+) -> ClaimResult | None:
+    """A hand's grasp claim (module doc): the declared cube, weightless, between the open
+    fingers; the hand closes to ``closed``; then the cube's weight is cancelled and
+    :data:`HAND_PULL` times it pulls the cube along the palm's outward direction for
+    :data:`GRASP_HOLD_SECONDS`. The cube's largest movement relative to the palm link
+    over that hold. ``None``: the robot has no :data:`HAND_MODE`."""
+    grasp = hand.power_grasp
+    if grasp is None or HAND_MODE not in cls.modes():
+        return None
+    half = 0.5 * grasp.cube_edge
+    cube = Prop(
+        "sweep_cube",
+        "box",
+        (half,) * 3,
+        mass=CUBE_DENSITY * grasp.cube_edge**3,
+        rgba=(0.8, 0.2, 0.2, 1.0),
+        friction=FrictionMaterial(sliding=1.0, torsional=0.005, rolling=0.0001),
+    )
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=HAND_MODE, props=[cube], floor=False)
+    scene.reset()
+    agent = scene.agents[0]
+    names = agent.part_joints[hand.name]
+    opened = np.broadcast_to(np.asarray(hand.open, dtype=np.float64).reshape(-1), (len(names),))
+    shut = np.broadcast_to(np.asarray(hand.closed, dtype=np.float64).reshape(-1), (len(names),))
+    closed = dict(zip(names, shut, strict=True))
+    qpos = agent.qpos[0].copy()
+    for name, value in zip(names, opened, strict=True):
+        qpos[agent.joint_names.index(name)] = value
+    agent.reset(qpos=qpos)
+
+    # The hand's slice of the action: its ``closed`` pose; every other part holds.
+    action = hold_action(agent)
+    for part_name, controller in agent.controller.parts.items():
+        joints = controller.config.joint_names
+        if set(joints) & set(names):
+            raw = np.array([closed.get(j, agent.qpos[0, agent.joint_names.index(j)]) for j in joints])
+            action[agent.controller.slices[part_name]] = controller.from_raw(raw[: controller.action_dim])
+
+    def palm() -> tuple[np.ndarray, np.ndarray]:
+        pose = agent.frame_pose(grasp.link)[0]
+        return pose[:3], quat_to_matrix(pose[3:])
+
+    origin, rotation = palm()
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, rotation.reshape(-1))
+    body = scene.model.body("sweep_cube")
+    joint = int(body.jntadr[0])
+    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
+    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
+    pose = np.concatenate([origin + rotation @ np.array(grasp.cube_centre), quat])[None]
+    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    data = scene.world.datas[0]
+    weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
+
+    def in_palm() -> np.ndarray:
+        origin, rotation = palm()
+        return np.asarray(rotation.T @ (scene.body_pose("sweep_cube")[0, :3] - origin))
+
+    data.xfrc_applied[body.id, :3] = weight  # weightless while the fingers close
+    for _ in range(round(HAND_CLOSE_SECONDS * control_freq)):
+        agent.set_action(action)
+        scene.step()
+    start = in_palm()
+    pull = HAND_PULL * float(np.linalg.norm(weight)) * np.array(grasp.outward)  # in the palm's axes
+    slip = 0.0
+    for _ in range(round(GRASP_HOLD_SECONDS * control_freq)):
+        _, rotation = palm()  # (a hand on an arm: the palm may turn)
+        data.xfrc_applied[body.id, :3] = weight + rotation @ pull
+        agent.set_action(action)
+        scene.step()
+        depth.measure(scene)
+        slip = max(slip, float(np.linalg.norm(in_palm() - start)))
+    opposed = bool(agent.is_grasping("sweep_cube")[0])
+    scene.close()
+    detail = f"{grasp.cube_edge * 1000:.1f} mm cube in the palm, {HAND_PULL:g} g pull away from it, {HAND_MODE}"
+    detail += "" if opposed else ", finger forces not opposed"
+    if slip > grasp.cube_edge:
+        slip, detail = grasp.cube_edge, detail + ", cube lost"
+    return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)

@@ -74,7 +74,9 @@ Sources of the numbers:
   finger 4 N, the index misses it) and ``is_grasping`` holds; its weight cancelled and
   as much again pulling it away from the palm for 2 s (1 g net, as with the hand
   turned over) it moves 0.22 mm relative to the palm at 320 Hz (0.40 mm at 200 Hz,
-  0.17 mm at 1 kHz); opened, ``is_grasping`` is false.
+  0.17 mm at 1 kHz); opened, ``is_grasping`` is false. The same grasp is declared as the
+  hand's :data:`POWER_GRASP`, the time-step sweep's grasp claim (a 166 g cube of water's
+  density there): 0.30 mm at 320 Hz, held from 80 Hz up.
 """
 
 from __future__ import annotations
@@ -87,7 +89,7 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.keyframe import Keyframe
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.parts.declaration import Hand
+from robot_agents.parts.declaration import Hand, PowerGrasp
 from robot_agents.registry import register_agent
 
 ASSETS = Path(__file__).parent / "assets"
@@ -140,6 +142,18 @@ FINGER_CLOSED = (0.0, 1.61, 1.0, 1.0)
 THUMB_CLOSED = (THUMB_OPPOSED, 0.3, 0.9, 0.9)
 CLOSED = FINGER_CLOSED * 3 + THUMB_CLOSED
 
+#: The palm's face, 0.0111 m along ``base_link``'s x axis (the URDF's palm box), and the
+#: power grasp's cube: 5.5 cm, its centre 15 mm from the finger bases towards the wrist
+#: (clear of the thumb's base), its face 0.5 mm off the palm (tests/test_allegro.py).
+PALM_FACE = 0.0111
+GRASP_CUBE_EDGE = 0.055
+POWER_GRASP = PowerGrasp(
+    link="base_link",
+    cube_centre=(PALM_FACE + 0.5 * GRASP_CUBE_EDGE + 0.0005, 0.0, -0.015),
+    cube_edge=GRASP_CUBE_EDGE,
+    outward=(1.0, 0.0, 0.0),
+)
+
 ALLEGRO_HAND = Hand(
     name="hand",
     joints=JOINT_PATTERN,
@@ -148,6 +162,7 @@ ALLEGRO_HAND = Hand(
     fingers=FINGERS,
     max_delta=0.1,
     max_velocity=VELOCITY_LIMIT,
+    power_grasp=POWER_GRASP,
 )
 
 #: Fingertip pads (ManiSkill's dynamic friction of its tip material).
@@ -166,7 +181,8 @@ class AllegroHandRight(Agent):
     #: Time-step sweep (``robot-agents check allegro_hand_right --sweep``, 2026-11-23,
     #: 20 Hz control): every claim holds from 5 ms (200 Hz) down to 1 ms (random-action
     #: overshoot 0.093 rad at 200 Hz, 0.045 at 320 Hz, bound 0.25; settle 0.006-0.032
-    #: rad/s, bound 0.05); at 160 Hz and coarser the random actions press joints
+    #: rad/s, bound 0.05; the power grasp's slip 0.30 mm at 320 Hz, rerun 20:45 UTC with
+    #: the hand's grasp claim); at 160 Hz and coarser the random actions press joints
     #: 0.66-2.05 rad past their limits. Default one tried step finer: 320 Hz (3.125 ms).
     #: The distal joints could cycle between their torque limits below 397 Hz, but not
     #: at the joints' rated speed (``robot_agents.tuning.cycles``). Without the armature
@@ -191,9 +207,12 @@ __all__ = [
     "ALLEGRO_DRIVES",
     "ALLEGRO_HAND",
     "FINGERS",
+    "GRASP_CUBE_EDGE",
     "JOINTS",
+    "PALM_FACE",
     "PALM_SIDE_MOUNT",
     "PALM_UP_MOUNT",
+    "POWER_GRASP",
     "TIP_LINKS",
     "AllegroHandRight",
 ]

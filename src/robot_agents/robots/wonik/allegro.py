@@ -181,7 +181,7 @@ class AllegroHandRight(Agent):
     #: Time-step sweep (``robot-agents check allegro_hand_right --sweep``, 2026-11-23,
     #: 20 Hz control): every claim holds from 5 ms (200 Hz) down to 1 ms (random-action
     #: overshoot 0.093 rad at 200 Hz, 0.045 at 320 Hz, bound 0.25; settle 0.006-0.032
-    #: rad/s, bound 0.05; the power grasp's slip 0.30 mm at 320 Hz, rerun 20:45 UTC with
+    #: rad/s, bound 0.05; the power grasp's slip 0.30 mm at 320 Hz, rerun 20:39 UTC with
     #: the hand's grasp claim); at 160 Hz and coarser the random actions press joints
     #: 0.66-2.05 rad past their limits. Default one tried step finer: 320 Hz (3.125 ms).
     #: The distal joints could cycle between their torque limits below 397 Hz, but not

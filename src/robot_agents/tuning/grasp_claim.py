@@ -123,16 +123,8 @@ def _grasp_at(
     tool = agent.frame_pose(ee)[0]
     rotation = quat_to_matrix(tool[3:])
     axes = rotation @ np.stack([approach, closing, np.cross(approach, closing)], axis=1)
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, axes.reshape(-1))
-    body = scene.model.body("sweep_cube")
-    joint = int(body.jntadr[0])
-    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
-    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
-    pose = np.concatenate([tool[:3] + rotation @ centre, quat])[None]
-    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    body, _ = _place_weightless_cube(scene, tool[:3] + rotation @ centre, axes)
     data = scene.world.datas[0]
-    weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
 
     # The gripper's slice of the action: fully closed (-1 in every gripper's action: its
     # command past ``closed``, whichever way the joints close).
@@ -162,10 +154,9 @@ def _grasp_at(
         tool = agent.frame_pose(ee)[0]
         return np.asarray(quat_to_matrix(tool[3:]).T @ (scene.body_pose("sweep_cube")[0, :3] - tool[:3]))
 
-    data.xfrc_applied[body.id, :3] = weight  # weightless while the fingers close
-    for _ in range(round(CLOSE_SECONDS * control_freq)):
+    for _ in range(round(CLOSE_SECONDS * control_freq)):  # weightless while the fingers close
         act()
-    data.xfrc_applied[body.id, :3] = 0.0
+    data.xfrc_applied[body, :3] = 0.0
     lift_steps = round(LIFT_SECONDS * control_freq)
     for _ in range(lift_steps):
         act(LIFT_EDGES * edge / lift_steps)
@@ -229,23 +220,14 @@ def _hand_grasp(
         return pose[:3], quat_to_matrix(pose[3:])
 
     origin, rotation = palm()
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, rotation.reshape(-1))
-    body = scene.model.body("sweep_cube")
-    joint = int(body.jntadr[0])
-    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
-    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
-    pose = np.concatenate([origin + rotation @ np.array(grasp.cube_centre), quat])[None]
-    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    body, weight = _place_weightless_cube(scene, origin + rotation @ np.array(grasp.cube_centre), rotation)
     data = scene.world.datas[0]
-    weight = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
 
     def in_palm() -> np.ndarray:
         origin, rotation = palm()
         return np.asarray(rotation.T @ (scene.body_pose("sweep_cube")[0, :3] - origin))
 
-    data.xfrc_applied[body.id, :3] = weight  # weightless while the fingers close
-    for _ in range(round(HAND_CLOSE_SECONDS * control_freq)):
+    for _ in range(round(HAND_CLOSE_SECONDS * control_freq)):  # weightless while the fingers close
         agent.set_action(action)
         scene.step()
     start = in_palm()
@@ -253,7 +235,7 @@ def _hand_grasp(
     slip = 0.0
     for _ in range(round(GRASP_HOLD_SECONDS * control_freq)):
         _, rotation = palm()  # (a hand on an arm: the palm may turn)
-        data.xfrc_applied[body.id, :3] = weight + rotation @ pull
+        data.xfrc_applied[body, :3] = weight + rotation @ pull
         agent.set_action(action)
         scene.step()
         depth.measure(scene)
@@ -265,3 +247,20 @@ def _hand_grasp(
     if slip > grasp.cube_edge:
         slip, detail = grasp.cube_edge, detail + ", cube lost"
     return ClaimResult("grasp", slip <= SLIP_BOUND, slip, SLIP_BOUND, detail)
+
+
+def _place_weightless_cube(scene: Scene, position: np.ndarray, axes: np.ndarray) -> tuple[int, np.ndarray]:
+    """Put the claim's cube (``sweep_cube``) at rest at ``position`` (world, m) with its
+    faces along the columns of ``axes`` (a rotation matrix), its weight cancelled by an
+    applied force; its body id and its weight (N, world axes)."""
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(axes).reshape(-1))
+    body = scene.model.body("sweep_cube")
+    joint = int(body.jntadr[0])
+    qpos_adr = np.arange(7) + int(scene.model.jnt_qposadr[joint])
+    dof_adr = np.arange(6) + int(scene.model.jnt_dofadr[joint])
+    pose = np.concatenate([position, quat])[None]
+    scene.world.write_joint_state([0], qpos_adr, pose, dof_adr, np.zeros((1, 6)))
+    weight: np.ndarray = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
+    scene.world.datas[0].xfrc_applied[body.id, :3] = weight
+    return int(body.id), weight

@@ -57,6 +57,8 @@ VARIANTS: dict[str, Variant | None] = {
     "as built": None,
     "integrator implicit": _set("integrator", int(mujoco.mjtIntegrator.mjINT_IMPLICIT)),
     "integrator euler": _set("integrator", int(mujoco.mjtIntegrator.mjINT_EULER)),
+    # MuJoCo 3.13+: the constraint solve and the implicit update in one metric
+    "integrator discrete": _set("integrator", int(mujoco.mjtIntegrator.mjINT_DISCRETE)),
     "solver iterations 20": _set("iterations", 20),
     "solver tolerance 1e-6": _set("tolerance", 1e-6),
     "cone elliptic": _set("cone", int(mujoco.mjtCone.mjCONE_ELLIPTIC)),

@@ -170,6 +170,23 @@ def test_gripper_opening_and_part_errors() -> None:
         ra.Arm(name="a/b", joints="x")
 
 
+def test_gripper_positions_take_one_value_or_one_per_joint() -> None:
+    """``open`` / ``closed``: a scalar or one value per matched joint, checked against
+    the model (the Panda's fingers are two joints)."""
+    from robot_agents.robots.panda.panda import PANDA_GRIPPER, PandaHand
+
+    class ThreeValues(PandaHand):
+        parts = (dataclasses.replace(PANDA_GRIPPER, open=(0.04, 0.04, 0.04)),)
+
+    with pytest.raises(ra.ConfigError, match=r"'gripper'\.open: expected 1 or 2 values.*panda_finger_joint1"):
+        ThreeValues.check()
+
+    class TwoValues(PandaHand):
+        parts = (dataclasses.replace(PANDA_GRIPPER, closed=(0.0, 0.0)),)
+
+    assert TwoValues.check().parts[0].closed == (0.0, 0.0)
+
+
 def test_position_modes_of_a_short_arm_solve_for_position_alone(torso_file: Path) -> None:
     """A 3-joint arm cannot hold its tool's orientation while it moves sideways: with
     ``hold_orientation=False`` its position modes solve for the position and succeed."""

@@ -451,8 +451,6 @@ def _resolve_parts(
             for finger in part.finger_links:
                 for link in finger:
                     index.body_id(link, f"{where} {part.name!r}.fingers")
-        if isinstance(part, Hand) and part.power_grasp is not None:
-            index.body_id(part.power_grasp.link, f"{where} {part.name!r}.power_grasp.link")
             n = len(resolved[part.name])
             for attr in ("open", "closed"):
                 value = np.asarray(getattr(part, attr), dtype=np.float64).reshape(-1)
@@ -461,6 +459,8 @@ def _resolve_parts(
                         f"{where} {part.name!r}.{attr}: expected 1 or {n} values (one per joint: "
                         f"{', '.join(resolved[part.name])}), got {value.size}."
                     )
+        if isinstance(part, Hand) and part.power_grasp is not None:
+            index.body_id(part.power_grasp.link, f"{where} {part.name!r}.power_grasp.link")
     return resolved
 
 

@@ -15,8 +15,6 @@ from robot_agents.checks import hold_action
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
-from robot_agents.model.materials import FrictionMaterial
-from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Hand
 from robot_agents.sim.scene import Scene
 from robot_agents.tuning.claims import ClaimResult, Penetration, ee_mode
@@ -45,8 +43,6 @@ HAND_CLOSE_SECONDS = 2.0
 HAND_PULL = 1.0
 #: The mode a hand's grasp runs in: absolute joint targets (the ``closed`` pose).
 HAND_MODE = "pd_joint_pos"
-#: The cube's density (kg/m^3), as the table-top tasks' cubes (water).
-CUBE_DENSITY = 1000.0
 
 
 def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult | None:
@@ -183,18 +179,12 @@ def _hand_grasp(
     :data:`HAND_PULL` times it pulls the cube along the palm's outward direction for
     :data:`GRASP_HOLD_SECONDS`. The cube's largest movement relative to the palm link
     over that hold. ``None``: the robot has no :data:`HAND_MODE`."""
+    from robot_agents.envs.tasks.table_top import free_cube
+
     grasp = hand.power_grasp
     if grasp is None or HAND_MODE not in cls.modes():
         return None
-    half = 0.5 * grasp.cube_edge
-    cube = Prop(
-        "sweep_cube",
-        "box",
-        (half,) * 3,
-        mass=CUBE_DENSITY * grasp.cube_edge**3,
-        rgba=(0.8, 0.2, 0.2, 1.0),
-        friction=FrictionMaterial(sliding=1.0, torsional=0.005, rolling=0.0001),
-    )
+    cube = free_cube("sweep_cube", 0.5 * grasp.cube_edge, (0.8, 0.2, 0.2, 1.0))
     scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=HAND_MODE, props=[cube], floor=False)
     scene.reset()
     agent = scene.agents[0]

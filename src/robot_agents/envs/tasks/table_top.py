@@ -34,13 +34,23 @@ def cube_prop(name: str, layout: TableTopLayout, rgba: tuple[float, float, float
     """A free cube of ``CUBE_DENSITY`` on the table at the workspace centre (a reset
     places it)."""
     half_size = layout.cube_half_size
-    mass = CUBE_DENSITY * (2.0 * half_size) ** 3
+    return free_cube(name, half_size, rgba, pos=(0.0, 0.0, layout.table_height + half_size))
+
+
+def free_cube(
+    name: str,
+    half_size: float,
+    rgba: tuple[float, float, float, float],
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0),
+) -> Prop:
+    """A free cube of ``CUBE_DENSITY`` (edge ``2 * half_size``, m) with the tasks' cube
+    material, at ``pos`` (m)."""
     return Prop(
         name,
         "box",
         (half_size,) * 3,
-        pos=(0.0, 0.0, layout.table_height + half_size),
-        mass=mass,
+        pos=pos,
+        mass=CUBE_DENSITY * (2.0 * half_size) ** 3,
         rgba=rgba,
         friction=FrictionMaterial(sliding=1.0, torsional=0.005, rolling=0.0001),
     )

@@ -26,6 +26,7 @@ RUNS = {
     ("pose_sync_cost.py",): "| `fetch` |",
     ("legged_contacts.py", "unitree_go2", "--steps", "2"): "| `unitree_go2` | as declared |",
     ("integrator_claims.py", "floating_panda_gripper", "160"): "| `floating_panda_gripper` | 160 |",
+    ("mobile_pick_seeds.py", "spot", "--seeds", "1"): "| `spot` | 1/1 |",
     ("sleep_option.py", "--rounds", "1"): "round trip",
     ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
     ("task_throughput.py", "--rounds", "1", "--block", "2", "--batch-block", "1", "--maniskill-python", "/absent"): (

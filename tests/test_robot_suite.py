@@ -97,8 +97,7 @@ def assert_gripper_action_closes_at_minus_one(agent: ra.Agent) -> None:
         if isinstance(part, ra.Hand):
             continue
         joints = list(agent.part_joints[part.name])
-        opened = np.broadcast_to(np.asarray(part.open, dtype=float).reshape(-1), (len(joints),))
-        closed = np.broadcast_to(np.asarray(part.closed, dtype=float).reshape(-1), (len(joints),))
+        opened, closed = part.positions(len(joints))
         for controller in agent.controller.parts.values():
             leader = controller.config.joint_names[0]
             if leader not in joints or not controller.config.normalize_action:

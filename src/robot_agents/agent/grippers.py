@@ -96,8 +96,7 @@ class GripperParts:
         positions (rad or m): a hand's first joint may not move between the two (a
         finger's spread)."""
         names = self.part_joints[part.name]
-        opened = np.broadcast_to(np.asarray(part.open, dtype=np.float64).reshape(-1), (len(names),))
-        closed = np.broadcast_to(np.asarray(part.closed, dtype=np.float64).reshape(-1), (len(names),))
+        opened, closed = part.positions(len(names))
         for name, o, c in zip(names, opened, closed, strict=True):
             if o != c:
                 return name, float(o), float(c)

@@ -15,8 +15,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-import numpy as np
-
 from robot_agents.controllers.base import ControllerConfig, PerJoint
 from robot_agents.controllers.base_vel import base_modes
 from robot_agents.controllers.ee import CommandFrame, PDEEPosConfig, PDEEPoseConfig
@@ -190,8 +188,7 @@ def gripper_config(part: Gripper, joints: Sequence[str], driven: Sequence[str]) 
     if not names:
         raise ConfigError(f"Gripper {part.name!r}: none of its joints {list(joints)} has a drive.")
     n = len(joints)
-    opened = np.broadcast_to(np.asarray(part.open, dtype=np.float64).reshape(-1), (n,))
-    closed = np.broadcast_to(np.asarray(part.closed, dtype=np.float64).reshape(-1), (n,))
+    opened, closed = part.positions(n)
     pick = [list(joints).index(j) for j in names]
     o, c = opened[pick], closed[pick]
     span = o[0] - c[0]

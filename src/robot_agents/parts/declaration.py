@@ -14,6 +14,9 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import ClassVar
 
+import numpy as np
+import numpy.typing as npt
+
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import Patterns, as_patterns
 
@@ -156,6 +159,13 @@ class Gripper(Part):
     @property
     def finger_links(self) -> tuple[tuple[str, ...], ...]:
         return self.fingers  # type: ignore[return-value]
+
+    def positions(self, joints: int) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """``open`` and ``closed`` as one position per joint of the part, ``(joints,)``
+        each (rad or m; a scalar applies to every joint; read-only views)."""
+        opened = np.broadcast_to(np.asarray(self.open, dtype=np.float64).reshape(-1), (joints,))
+        closed = np.broadcast_to(np.asarray(self.closed, dtype=np.float64).reshape(-1), (joints,))
+        return opened, closed
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,8 @@ movement relative to the palm counts)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import mujoco
 import numpy as np
 
@@ -91,10 +93,8 @@ def _grasp_at(
     agent = scene.agents[0]
     gripper = agent.gripper()
     names = agent.part_joints[gripper.name]
-    qpos = agent.qpos[0].copy()
-    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
-    for name, value in zip(names, opened, strict=True):
-        qpos[agent.joint_names.index(name)] = value
+    opened, shut = gripper.positions(len(names))
+    qpos = _with_joints(agent, agent.qpos[0], names, opened)
     agent.reset(qpos=qpos)
     ee = tool_arm(agent, "sweep_timestep").end_effectors[0].name
 
@@ -104,10 +104,7 @@ def _grasp_at(
     approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
     edge = 2.0 * layout.cube_half_size
     centre = np.array(geometry.grasp_point) - edges * edge * approach
-    closed_q = qpos.copy()
-    shut = np.broadcast_to(np.asarray(gripper.closed, dtype=np.float64).reshape(-1), (len(names),))
-    for name, value in zip(names, shut, strict=True):
-        closed_q[agent.joint_names.index(name)] = value
+    closed_q = _with_joints(agent, qpos, names, shut)
     travel = []  # how far each finger's first link moves as the gripper closes (turns x the opening)
     for finger in gripper.finger_links[:2]:
         before, after = agent.frame_pose(finger[0], qpos, ee)[0], agent.frame_pose(finger[0], closed_q, ee)[0]
@@ -189,13 +186,9 @@ def _hand_grasp(
     scene.reset()
     agent = scene.agents[0]
     names = agent.part_joints[hand.name]
-    opened = np.broadcast_to(np.asarray(hand.open, dtype=np.float64).reshape(-1), (len(names),))
-    shut = np.broadcast_to(np.asarray(hand.closed, dtype=np.float64).reshape(-1), (len(names),))
+    opened, shut = hand.positions(len(names))
     closed = dict(zip(names, shut, strict=True))
-    qpos = agent.qpos[0].copy()
-    for name, value in zip(names, opened, strict=True):
-        qpos[agent.joint_names.index(name)] = value
-    agent.reset(qpos=qpos)
+    agent.reset(qpos=_with_joints(agent, agent.qpos[0], names, opened))
 
     # The hand's slice of the action: its ``closed`` pose; every other part holds.
     action = hold_action(agent)
@@ -254,3 +247,11 @@ def _place_weightless_cube(scene: Scene, position: np.ndarray, axes: np.ndarray)
     weight: np.ndarray = -float(scene.model.body_subtreemass[body.id]) * scene.model.opt.gravity
     scene.world.datas[0].xfrc_applied[body.id, :3] = weight
     return int(body.id), weight
+
+
+def _with_joints(agent: Agent, qpos: np.ndarray, names: Sequence[str], values: np.ndarray) -> np.ndarray:
+    """A copy of the robot's ``qpos`` ``(nq,)`` with the joints ``names`` at ``values``."""
+    out: np.ndarray = qpos.copy()
+    for name, value in zip(names, values, strict=True):
+        out[agent.joint_names.index(name)] = value
+    return out

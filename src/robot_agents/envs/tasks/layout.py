@@ -293,7 +293,7 @@ def _gripper_geometry(
     model = probe.model
     qpos = keyframe.copy()
     names = agent.part_joints[gripper.name]
-    opened = np.broadcast_to(np.asarray(gripper.open, dtype=np.float64).reshape(-1), (len(names),))
+    opened, _ = gripper.positions(len(names))
     for name, value in zip(names, opened, strict=True):
         qpos[agent.index.joint(name, where).qpos_start] = value
     data.qpos[agent.qpos_adr] = qpos

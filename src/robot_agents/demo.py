@@ -167,7 +167,7 @@ def run_demo(
             target[movable] += amplitude * np.sin(phase + np.arange(len(movable)))
             closing = 0.5 * (1 - np.cos(phase))  # 0 open, 1 closed, 0 open again
             for part, index in zip(hands, finger_index, strict=True):
-                opened, closed = np.broadcast_arrays(np.asarray(part.open, float), np.asarray(part.closed, float))
+                opened, closed = part.positions(len(index))
                 target[index] = opened + closing * (closed - opened)
             target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
             advance(_action_for(agent, target))

@@ -78,6 +78,12 @@ def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:
     return standing_legs(checked.parts, checked.part_joints, cls.fix_root_link)
 
 
+def load_settle_steps(cls: type[Agent], control_freq: int) -> int:
+    """Control steps a hold is given to settle before its drift counts:
+    :data:`LOAD_SETTLE_SECONDS` for a robot standing on its legs, none for others."""
+    return round(LOAD_SETTLE_SECONDS * control_freq) if standing_leg_joints(cls) else 0
+
+
 def keeps_targets(agent: Agent) -> bool:
     """Whether the active mode's hold action keeps every joint target where it was taken:
     absolute and target-delta joint modes, end-effector modes. A delta from the measured
@@ -149,7 +155,7 @@ def check_holds(cls: type[Agent], seconds: float = 2.0) -> CheckResult:
         scene.close()
         return CheckResult(f"keyframes held {seconds:g} s in {mode}", True, "not applicable: the mode commands efforts")
     drifts, sags = {}, {}
-    settle_steps = round(LOAD_SETTLE_SECONDS * scene.control_freq) if standing_leg_joints(cls) else 0
+    settle_steps = load_settle_steps(cls, scene.control_freq)
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
         drifts[name], sags[name] = hold_drift(scene, agent, seconds, settle_steps)

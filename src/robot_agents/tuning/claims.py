@@ -57,6 +57,7 @@ from robot_agents.checks import (
     hold_action,
     hold_drift,
     keeps_targets,
+    load_settle_steps,
     standing_leg_joints,
 )
 from robot_agents.controllers.ee import PDEEController
@@ -166,7 +167,7 @@ def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration
         scene.close()
         return ClaimResult("hold", True, 0.0, HOLD_TOLERANCE, f"{mode} commands efforts")
     worst, where, sag = 0.0, "", 0.0
-    settle_steps = round(LOAD_SETTLE_SECONDS * control_freq) if standing_leg_joints(cls) else 0
+    settle_steps = load_settle_steps(cls, control_freq)
     for name in cls.keyframe_names():
         scene.reset(keyframes=name)
         drift, settling = hold_drift(scene, agent, HOLD_SECONDS, settle_steps, lambda: depth.measure(scene))

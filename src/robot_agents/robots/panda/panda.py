@@ -49,6 +49,7 @@ from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
+from robot_agents.robots.floating_mount import MOUNT_JOINTS, mount_arm
 from robot_agents.sensors import CameraConfig, TouchSensorConfig
 
 ASSETS = Path(__file__).parent / "assets"
@@ -242,16 +243,6 @@ class PandaStick(PandaArm):
     parts = with_tool("panda_stick_tcp")
 
 
-MOUNT_JOINTS = (
-    "root_x_axis_joint",
-    "root_y_axis_joint",
-    "root_z_axis_joint",
-    "root_x_rot_joint",
-    "root_y_rot_joint",
-    "root_z_rot_joint",
-)
-
-
 @register_agent()
 class FloatingPandaGripper(Agent):
     """The Franka Hand on a 6-DoF floating mount (x, y, z slides, then x, y, z hinges).
@@ -274,19 +265,8 @@ class FloatingPandaGripper(Agent):
     #: have no effort limit: a clamped drive's damping is integrated explicitly, and on
     #: the hand's small inertia about the hinges ManiSkill's 100 N*m limit left the mount
     #: cycling between its limits at coarse steps (docs/timestep.md).
-    actuators = (PDActuator(joints="root_.*_joint", stiffness=1e3, damping=1e2),)
-    parts = (
-        Arm(
-            name="arm",
-            joints="root_.*_joint",
-            end_effectors=(EndEffector("panda_hand_tcp", name="tcp"),),
-            # the mount's slide range bounds absolute positions
-            task_space=TaskSpace(
-                position_bounds=WorkspaceBox(lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)),
-                modes=("pd_ee_delta_pose", "pd_ee_pose"),
-            ),
-        ),
-    )
+    actuators = (PDActuator(joints=MOUNT_JOINTS, stiffness=1e3, damping=1e2),)
+    parts = (mount_arm("panda_hand_tcp"),)
     keyframes = {
         "rest": Keyframe(qpos={"root_.*": 0.0}),
         "closed": Keyframe(qpos={"root_.*": 0.0, "panda_finger_joint1": 0.0}),

@@ -16,6 +16,8 @@ import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
 from robot_agents.kinematics.rotations import rotation_error
 from robot_agents.robots.robotiq.robotiq import Robotiq2F85, linkage_qpos
+from robot_agents.tuning.claims import ClaimResult, Penetration, _random
+from robot_agents.tuning.cycles import drive_cycle_bounds
 
 # The right side's linkage in the base frame (y, z), from Menagerie's robotiq_2f85:
 # driver hinge A, coupler on the driver at A + C_ON_DRIVER, spring link hinge B, the
@@ -301,3 +303,37 @@ def test_the_piece_mounts_on_a_flange(tmp_path: Path) -> None:
         approach = data.xmat[flange].reshape(3, 3)[:, 2]
         np.testing.assert_allclose(agent.tcp_pose[0, :3], data.xpos[flange] + 0.1553 * approach, atol=2e-4)
     scene.close()
+
+
+def settle_claim_at_200_hz(cls: type[ra.Agent]) -> ClaimResult:
+    """The sweep's settle claim at 200 Hz with the random-action seeds that left the
+    former mount's hinges cycling (1 and 2, in ``pd_joint_vel``)."""
+    return next(r for r in _random(cls, 200, 20, (1, 2), Penetration()) if r.name == "settle")
+
+
+def test_the_mounts_hinges_cannot_cycle_at_the_default_step(tmp_path: Path) -> None:
+    """The mount's hinges (100 N*m, kv 100) carry 0.3 kg*m^2 of armature so that no
+    torque-limit cycle exists at the robot's 200 Hz (docs/timestep.md, "The 2F-85 mount's
+    armature"): they settle after random actions, where with the former 0.1 kg*m^2 a
+    hinge was left flipping between its limits every step."""
+    robot = ra.get_agent("floating_robotiq_2f_85_gripper")
+    assert robot.sim_freq == 200
+    hinges = [b for b in drive_cycle_bounds(robot) if b.joint.endswith("_rot_joint")]
+    assert len(hinges) == 3
+    for bound in hinges:
+        assert bound.inertia == pytest.approx(0.3, abs=0.01)  # armature + the gripper's own
+        assert bound.cycle_free_above < robot.sim_freq
+    settle = settle_claim_at_200_hz(robot)
+    assert settle.passed, settle
+
+    source = Path(robot.mjcf_path).read_text()
+    assert source.count('type="hinge" armature="0.3"') == 3
+    former_file = tmp_path / "floating_mount.xml"
+    former_file.write_text(source.replace('type="hinge" armature="0.3"', 'type="hinge" armature="0.1"'))
+
+    class FormerMount(robot):  # type: ignore[valid-type,misc]
+        uid = ""
+        mjcf_path = former_file
+
+    former = settle_claim_at_200_hz(FormerMount)
+    assert not former.passed and former.value > 1.0 and "_rot_joint" in former.detail, former

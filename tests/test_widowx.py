@@ -5,6 +5,7 @@ datasheet limits, grasps that lift a cube, IK, keyframes, the wrist and Bridge c
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -366,3 +367,70 @@ def test_bridge_camera_is_the_datasets_camera(
     u, v = cx + fx * local[0] / -local[2], cy - fx * local[1] / -local[2]
     assert local[2] < 0 and 0 <= u < 640 and 0 <= v < 480
     scene.close()
+
+
+# ---------------------------------------------------------------- rigid links (WidowX AI)
+def folded_press(cls: type[ra.Agent]) -> tuple[float, float]:
+    """The sweep's random-action sequence that folds the WidowX AI onto its base (seed
+    1, ``pd_joint_target_delta_pos``, 10 s) and its settle phase (3 s of one hold
+    command) at the robot's 1 kHz: the fastest joint speed after it (rad/s or m/s) and
+    the deepest contact between two of the robot's own geoms (m)."""
+    from robot_agents.sim.scene import Scene
+    from robot_agents.tuning.claims import RANDOM_SECONDS, SETTLE_SECONDS, hold_action
+
+    scene = Scene(cls, control_modes="pd_joint_target_delta_pos", sim_freq=1000)
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(1)
+    space = agent.action_space
+    for _ in range(round(RANDOM_SECONDS * scene.control_freq)):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+    hold = hold_action(agent)
+    for _ in range(round(SETTLE_SECONDS * scene.control_freq)):
+        agent.set_action(hold)
+        scene.step()
+    model, data = scene.world.model, scene.world.datas[0]
+    own = set(agent.index.subtree_bodies(agent.index.root_body_id))
+    depth = 0.0
+    for contact in data.contact[: data.ncon]:
+        bodies = (int(model.geom_bodyid[contact.geom1]), int(model.geom_bodyid[contact.geom2]))
+        if not set(bodies) <= own:
+            continue  # the floor (world body) and props are not the robot's own links
+        depth = max(depth, -float(contact.dist))
+    speed = float(np.abs(agent.qvel[0]).max())
+    scene.close()
+    return speed, depth
+
+
+def test_widowxai_links_stay_rigid_when_random_actions_fold_the_arm_onto_its_base() -> None:
+    """With the links' 4 ms contact time constant the folded arm's gripper rests 1.9 mm
+    into the base link and the arm settles (0.004 rad/s); see the next test for the
+    former contact."""
+    from robot_agents.tuning.claims import SETTLE_SPEED
+
+    speed, depth = folded_press(ra.get_agent("widowxai"))
+    assert depth < 0.003, depth
+    assert speed < SETTLE_SPEED, speed
+
+
+def test_widowxai_with_mujocos_default_contact_sinks_into_its_base(tmp_path: Path) -> None:
+    """The same motion with MuJoCo's default 20 ms contact on the links (the model files
+    copied without ``widowx_rigid``'s time constant): the gripper sinks 33 mm into the
+    base link and the jammed contact jitters above the settle bound."""
+    from robot_agents.tuning.claims import SETTLE_SPEED
+
+    cls = ra.get_agent("widowxai")
+    path = Path(str(cls.mjcf_path))
+    rigid = '<default class="widowx_rigid">\n          <geom solref="0.004 1"/>'
+    texts = {sibling.name: sibling.read_text() for sibling in path.parent.glob("*.xml")}
+    assert rigid in texts["widowx_defaults.xml"]
+    texts["widowx_defaults.xml"] = texts["widowx_defaults.xml"].replace(
+        rigid, '<default class="widowx_rigid">\n          <geom/>'
+    )
+    for name, text in texts.items():
+        (tmp_path / name).write_text(text)
+    former = type("SoftLinkWidowXAI", (cls,), {"uid": "", "mjcf_path": tmp_path / path.name})
+    speed, depth = folded_press(former)
+    assert depth > 0.02, depth
+    assert speed > SETTLE_SPEED, speed

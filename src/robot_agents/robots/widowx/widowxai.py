@@ -14,6 +14,11 @@ Sources of the numbers:
   3-5), friction 0.1 N*m; the gripper drives ``left_carriage_joint`` (kp = 1000 N/m,
   kv = 50 N*s/m, 400 N) and the right carriage follows through a joint equality; both
   carriages carry 0.1 kg of armature and 0.1 N of friction (set in ``wxai.xml``). Joint speed limit pi rad/s (Trossen's URDF).
+- Link contacts (ours, not from a source): the links are rigid aluminium and plastic, so
+  contacts between them use a 4 ms time constant (``widowx_rigid`` in
+  ``assets/widowx_defaults.xml``: four physics steps at the 1 kHz default) instead of
+  MuJoCo's 20 ms, under which the 27 N*m shoulder drives pressed the gripper 33 mm into
+  the base link (1.9 mm now; ``tests/test_widowx.py``).
 - Keyframes: ``ready_to_grasp`` is ManiSkill 3.0.1's (``widowxai.py``), the gripper
   0.026 m open per carriage; ``home`` is Trossen's (every joint at zero: the arm
   folded), with the gripper open.
@@ -107,16 +112,21 @@ class WidowXAI(Agent):
     """
 
     uid = "widowxai"
-    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control; see
-    #: docs/timestep.md): every claim holds at 800 Hz and 1 kHz; from 500 Hz coarser,
-    #: joint 5 (wrist roll: Trossen's kv 5 N*m*s/rad and 7 N*m limit on 0.0018 kg*m^2 of
-    #: armature plus ~0.001 of link, kv * dt / I = 3.4 at 2 ms) is left in a torque-limit
-    #: cycle after random actions (settle 2.7 rad/s at 500 Hz, 3.7 at 400 Hz). Trossen's
-    #: model gives these gains and armature and no rotor data exists to replace them, so
-    #: the step is finer instead: one tried step finer than 800 Hz, 1 kHz (margin: 1 ms
-    #: against 1.25 ms; kv * dt / I = 1.7 there). The wrist-camera variant (its mount
-    #: adds to joint 5's inertia) passes at 160-320 Hz and from 500 Hz but cycles at
-    #: 400 Hz (3.3 rad/s): it keeps 1 kHz too.
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py widowxai widowxai_wristcam``,
+    #: 2026-11-23 22:27 UTC, 20 Hz control, random-action seeds 0-2; see
+    #: docs/timestep.md): every claim holds at 800 Hz and 1 kHz (and at 200 Hz, where no
+    #: seed happened to enter the cycle below); at 320-500 Hz and 160 Hz joint 5 (wrist
+    #: roll: Trossen's kv 5 N*m*s/rad and 7 N*m limit on 0.0018 kg*m^2 of armature plus
+    #: ~0.001 of link, kv * dt / I = 3.4 at 2 ms) is left in a torque-limit cycle after
+    #: random actions (settle 2.4-2.7 rad/s); the analysis puts the cycle below 948 Hz.
+    #: Trossen's model gives these gains and armature and no rotor data exists to replace
+    #: them, so the step is finer instead: one tried step finer than 800 Hz and above the
+    #: cycle bound, 1 kHz (kv * dt / I = 1.7 there). The wrist-camera variant (its mount
+    #: adds to the wrist's inertia; cycle bound 868 Hz) holds every claim at 1 kHz only
+    #: (800 Hz: settle 0.28 rad/s): it keeps 1 kHz too. Before the links' contacts were
+    #: made stiff (``widowx_rigid``) no step passed: random actions folded the arm until
+    #: the gripper sank 33 mm into the base link and the jammed contact jittered
+    #: (settle 0.09 rad/s at 1 kHz).
     sim_freq: ClassVar[int | None] = 1000
     mjcf_path = ASSETS / "wxai.xml"
     actuators = (WXAI_ARM_DRIVES, WXAI_GRIPPER_DRIVE)

@@ -6,7 +6,9 @@ PickCube, per env (all envs of a batch at once):
 1. *Turn*: joint-position mode. Damped-least-squares IK on ``agent.frame_pose`` /
    ``agent.frame_jacobian`` finds the arm pose that holds the gripper's grasp point
    above the cube, fingers pointing down, closing across two faces of the cube (the
-   gripper's geometry comes from ``env.layout.gripper``); the joints are driven there
+   gripper's geometry comes from ``env.layout.gripper``; joints that follow an arm joint
+   through a linear equality, such as Stretch's telescope segments, move with it:
+   ``linear_followers``); the joints are driven there
    along a smooth 1.5 s ramp with the gripper open. (A 5-joint arm's default keyframe
    need not point its jaw down, and its end-effector modes cannot turn the tool.)
 2. End-effector delta mode, position only (``pd_ee_target_delta_pos``, else
@@ -83,6 +85,37 @@ def world_to_root(agent: ra.Agent, ee: str) -> np.ndarray:
     return np.swapaxes(quat_to_matrix(root[:, 3:]), 1, 2)
 
 
+def linear_followers(agent: ra.Agent, arm_qpos: np.ndarray) -> list[tuple[int, int, int, float, float]]:
+    """The robot's joints that follow an arm joint through linear joint equalities
+    (``follower = c0 + c1 * leader``, possibly through a chain of them, e.g. Stretch's
+    telescope segments): ``(qpos index, dof index, arm column, c0, c1)``, robot-local
+    indices. Frame poses and Jacobians at a given ``qpos`` move only the joints it
+    sets, so an IK on them must move these with their leader."""
+    model = agent.index.model
+    local_q = {int(adr): i for i, adr in enumerate(agent.qpos_adr)}
+    local_v = {int(adr): i for i, adr in enumerate(agent.dof_adr)}
+    column_of = {int(agent.qpos_adr[q]): c for c, q in enumerate(arm_qpos)}
+    leader_of: dict[int, tuple[int, float, float]] = {}  # follower joint -> (leader joint, c0, c1)
+    for eq in range(model.neq):
+        if model.eq_type[eq] != mujoco.mjtEq.mjEQ_JOINT or model.eq_obj2id[eq] < 0:
+            continue
+        coef = model.eq_data[eq, :5]
+        if np.any(coef[2:] != 0.0):
+            continue  # nonlinear couplings are left out
+        leader_of[int(model.eq_obj1id[eq])] = (int(model.eq_obj2id[eq]), float(coef[0]), float(coef[1]))
+    out = []
+    for follower in leader_of:
+        offset, slope, joint = 0.0, 1.0, follower
+        while joint in leader_of:  # compose the chain down to an arm joint
+            joint, c0, c1 = leader_of[joint]
+            offset, slope = offset + slope * c0, slope * c1
+        adr = int(model.jnt_qposadr[joint])
+        if adr in column_of and int(model.jnt_qposadr[follower]) in local_q:
+            fq, fv = int(model.jnt_qposadr[follower]), int(model.jnt_dofadr[follower])
+            out.append((local_q[fq], local_v[fv], column_of[adr], offset, slope))
+    return out
+
+
 class Arm:
     """The robot's arm and gripper as the solvers use them."""
 
@@ -98,6 +131,7 @@ class Arm:
         self.q_index = np.array([j.qpos_start for j in joints])
         self.v_index = np.array([j.dof_start for j in joints])
         self.limits = self.agent.qpos_limits[self.q_index]
+        self.followers = linear_followers(self.agent, self.q_index)
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
         # all of the gripper's joints: its controller may drive any one of them (a
@@ -166,7 +200,10 @@ class Arm:
         low, high = self.limits[:, 0], self.limits[:, 1]
         for _ in range(iterations):
             pose = self.agent.frame_pose(self.ee, qpos=q)
-            jacobian = self.agent.frame_jacobian(self.ee, qpos=q)[:, :rows, self.v_index]
+            full_jacobian = self.agent.frame_jacobian(self.ee, qpos=q)[:, :rows]
+            jacobian = full_jacobian[:, :, self.v_index]
+            for _, follower_v, column, _, slope in self.followers:  # coupled joints move with their leader
+                jacobian[:, :, column] += slope * full_jacobian[:, :, follower_v]
             error = position - pose[:, :3]
             if quat is not None:
                 error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
@@ -182,6 +219,8 @@ class Arm:
                     break
                 free &= ~blocked
             q[:, self.q_index] = np.clip(arm + np.clip(step, -0.2, 0.2), low, high)
+            for follower_q, _, column, offset, slope in self.followers:
+                q[:, follower_q] = offset + slope * q[:, self.q_index[column]]
         solution: np.ndarray = q[:, self.q_index]
         return solution
 

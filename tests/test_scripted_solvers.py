@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+import numpy as np
 import pytest
 
 import robot_agents as ra
@@ -81,3 +82,32 @@ def test_measurement_script_prints_the_table() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines()[-1].startswith("| ReachPose-v1 | panda | 2/2 |")
+
+
+def test_the_turns_ik_moves_stretchs_telescope_segments_with_their_leader() -> None:
+    """Frame poses at a given ``qpos`` move only the joints it sets; the solver's IK
+    finds the three telescope segments that follow ``joint_arm_l0`` (``l1 = l0``,
+    ``l2 = l1``, ``l3 = l2``) and moves them with it, so its solution above a cube
+    puts the tool where it aimed (the lead segment alone cannot reach it)."""
+    env = ra.make_env("PickCube-v1", robot_uids="stretch").unwrapped
+    env.reset(seed=2)
+    arm = solver.Arm(env)
+    agent = env.agent
+    lead = list(arm.q_index).index(agent.index.joint("joint_arm_l0", "test").qpos_start)
+    found = {agent.joint_names[q] for q, _, column, offset, slope in arm.followers if column == lead}
+    assert {name.rsplit("/", 1)[-1] for name in found} == {"joint_arm_l1", "joint_arm_l2", "joint_arm_l3"}
+    assert all((offset, slope) == (0.0, 1.0) for _, _, _, offset, slope in arm.followers)
+    # the target: the tool with the whole telescope 4 x 4 cm further out (reachable: the
+    # lead segment alone cannot move 16 cm, its range is 0-0.13 m)
+    out = agent.qpos.copy()
+    for q in [arm.q_index[lead]] + [q for q, _, column, _, _ in arm.followers if column == lead]:
+        out[:, q] += 0.04
+    target = agent.frame_pose(arm.ee, qpos=out)
+    solution = arm.solve(target[:, :3], target[:, 3:])
+    full = agent.qpos.copy()
+    full[:, arm.q_index] = solution
+    for q, _, column, offset, slope in arm.followers:
+        full[:, q] = offset + slope * solution[:, column]
+    reached = agent.frame_pose(arm.ee, qpos=full)
+    assert np.linalg.norm(reached[0, :3] - target[0, :3]) < 1e-3, (reached, target)
+    env.close()

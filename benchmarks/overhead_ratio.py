@@ -47,11 +47,16 @@ not do), not per-step overhead: the script times each end-effector controller's
 the env loop and reports ``env/replay`` both with it (``ratio``) and without it
 (``ratio excl. IK``: replay time / (env time - IK time)).
 
+``--num-envs N`` (N > 1) measures the batched path instead (``measure_batched``): one
+world of N envs stepped on one thread against N plain ``MjData`` replayed in a Python
+loop, figures per env-step (the overhead a policy pays per sample when it steps many
+envs at once); no Python floor there.
+
 ``--python-only`` reports instead the step's own cost with the physics calls made
 no-ops (``python_cost``): the part of the overhead this library's Python owns.
 
 Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--modes joint ee] [--rounds 40]
-[--block 10] [--clock cpu|wall] [--python-only]``.
+[--block 10] [--clock cpu|wall] [--num-envs 1] [--python-only]``.
 """
 
 from __future__ import annotations
@@ -279,6 +284,136 @@ def measure(
     return result
 
 
+def record_batched(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[Any, ...]]]:
+    """:func:`record` for ``num_envs > 1``: per step ``("step", ctrl (N, nu), n, sync)``
+    (``sync``: poses updated after it) and ``("write", env_ids, qpos_adr, qpos, dof_adr,
+    qvel, forward)`` with a row per env id."""
+    world = env.scene.world
+    calls: list[tuple[Any, ...]] = []
+    step_all, write = world._step_all, world.write_joint_state
+
+    def recording_step_all(nstep: int) -> None:
+        calls.append(("step", world.ctrl.copy(), nstep, world._sync_after_step))
+        step_all(nstep)
+
+    def recording_write(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
+        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1).copy()
+        calls.append(("write", ids, np.asarray(qpos_adr), np.array(qpos), np.asarray(dof_adr), np.array(qvel), forward))
+        write(env_ids, qpos_adr, qpos, dof_adr, qvel, forward)
+
+    world._step_all, world.write_joint_state = recording_step_all, recording_write
+    try:
+        per_step = []
+        for i in range(steps):
+            calls.clear()
+            env.step(actions[i % len(actions)])
+            per_step.append(list(calls))
+    finally:
+        del world._step_all, world.write_joint_state
+    return per_step
+
+
+def measure_batched(
+    uid: str,
+    mode: str,
+    num_envs: int,
+    rounds: int,
+    block: int,
+    rng: np.random.Generator,
+    clock: Callable[[], float],
+) -> Result:
+    """``env / raw replay`` for ``num_envs`` envs in one batched world stepped on one
+    thread (``num_threads=1``), against a raw replay of the same calls on ``num_envs``
+    plain ``MjData`` in a Python loop (each: ``ctrl``, ``mj_step``, the recorded joint
+    writes, ``mj_kinematics`` and ``mj_camlight`` after the control step's physics, as
+    the world does), then one ``np.concatenate`` per env of ``qpos``, ``qvel``,
+    ``ctrl`` and the tool body's pose stacked into the ``(N, D)`` float32 observation.
+    Checked bit for bit: every replayed env ends in its env's integration state. No
+    Python floor is measured here."""
+    env = ra.make_env(
+        "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, num_threads=1, max_episode_steps=None
+    ).unwrapped
+    env.reset(seed=0)
+    model, agent = env.model, env.agent
+    actions = small_actions(env, 64, rng)
+    steps = (rounds + 1) * block
+    start = env.get_state()
+    per_step = record_batched(env, actions, steps)
+    final = [np.array(row) for row in env.get_state()["physics"]]
+    env.set_state(start)
+    datas = []
+    for row in start["physics"]:
+        data = mujoco.MjData(model)
+        mujoco.mj_setState(model, data, row, STATE)
+        datas.append(data)
+    tool = agent.frames.end_effector(None, "overhead_ratio") if agent.has_end_effector else None
+    body = tool.id if tool is not None and tool.kind is FrameKind.BODY else agent.root_body_id
+    cursor = {"env": 0, "replay": 0}
+
+    def env_loop(count: int) -> None:
+        for _ in range(count):
+            env.step(actions[cursor["env"] % len(actions)])
+            cursor["env"] += 1
+
+    def replay_loop(count: int) -> None:
+        for _ in range(count):
+            for call in per_step[cursor["replay"]]:
+                if call[0] == "step":
+                    ctrl, nstep, sync = call[1], call[2], call[3]
+                    for i, data in enumerate(datas):
+                        data.ctrl[:] = ctrl[i]
+                        mujoco.mj_step(model, data, nstep)
+                        if sync:
+                            mujoco.mj_kinematics(model, data)
+                            mujoco.mj_camlight(model, data)
+                else:
+                    _, ids, qa, qpos, da, qvel, forward = call
+                    for row, i in enumerate(ids):
+                        data = datas[i]
+                        data.qpos[qa] = qpos[row]
+                        data.qvel[da] = qvel[row]
+                        data.qacc_warmstart[:] = 0.0
+                        if forward:
+                            mujoco.mj_forward(model, data)
+                        else:
+                            mujoco.mj_kinematics(model, data)
+                            mujoco.mj_camlight(model, data)
+            np.stack(
+                [np.concatenate((d.qpos, d.qvel, d.ctrl, d.xpos[body], d.xquat[body]), dtype=np.float32) for d in datas]
+            )
+            cursor["replay"] += 1
+
+    env_loop(block)  # warm-up
+    replay_loop(block)
+    env_times, replay_times = [], []
+    for _ in range(rounds):
+        begin = clock()
+        env_loop(block)
+        env_times.append(clock() - begin)
+        begin = clock()
+        replay_loop(block)
+        replay_times.append(clock() - begin)
+    state = np.empty(mujoco.mj_stateSize(model, STATE))
+    for i, data in enumerate(datas):
+        mujoco.mj_getState(model, data, state, STATE)
+        if not np.array_equal(state, final[i]):
+            raise RuntimeError(f"{uid} {mode}: the replay of env {i} did not reproduce the env's trajectory")
+    substeps, sim_freq = env.scene.substeps, env.sim_freq
+    env.close()
+    ratios = [r / e for r, e in zip(replay_times, env_times, strict=True)]
+    per_env = block * num_envs
+    return Result(
+        uid,
+        mode,
+        sim_freq,
+        substeps,
+        env_us=1e6 * statistics.median(env_times) / per_env,
+        replay_us=1e6 * statistics.median(replay_times) / per_env,
+        ratio=statistics.median(ratios),
+        ratios=ratios,
+    )
+
+
 def python_cost(
     uid: str,
     mode: str,
@@ -316,6 +451,13 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=40)
     parser.add_argument("--block", type=int, default=10)
     parser.add_argument(
+        "--num-envs",
+        type=int,
+        default=1,
+        help="N > 1: one batched world of N envs on one thread against N plain MjData in a loop "
+        "(measure_batched; per env-step figures, no Python floor, end-effector modes without the IK split)",
+    )
+    parser.add_argument(
         "--python-only",
         action="store_true",
         help="instead of the ratio: the step's own cost with mj_step and mj_forward made no-ops (python_cost)",
@@ -344,6 +486,7 @@ def main() -> None:
     print(
         f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.processor() or platform.machine()}, "
         f"Python {platform.python_version()}, MuJoCo {mujoco.__version__}, {args.rounds} rounds of {args.block} steps, "
+        f"num_envs {args.num_envs}{' (one thread; µs per env-step)' if args.num_envs > 1 else ''}, "
         f"{args.clock} clock, load average {os.getloadavg()[0]:.1f}"
     )
     print(
@@ -356,12 +499,16 @@ def main() -> None:
             mode = mode_of(uid, kind)
             if mode is None:
                 continue
-            r = measure(uid, mode, args.rounds, args.block, rng, clock)
+            if args.num_envs > 1:
+                r = measure_batched(uid, mode, args.num_envs, args.rounds, args.block, rng, clock)
+            else:
+                r = measure(uid, mode, args.rounds, args.block, rng, clock)
             excl = "-" if np.isnan(r.ratio_excl_ik) else f"{r.ratio_excl_ik:.2f}"
             ik = "-" if not r.ik_us else f"{r.ik_us:.0f}"
+            floor = "- | -" if np.isnan(r.floor_us) else f"{r.floor_us:.0f} | {r.floor_ratio:.2f}"
             print(
                 f"| `{uid}` | `{mode}` | {r.sim_freq} ({r.substeps}) | {r.env_us:.0f} | {r.replay_us:.0f} | "
-                f"{r.env_us - r.replay_us:.0f} | {ik} | {r.ratio:.2f} | {excl} | {r.floor_us:.0f} | {r.floor_ratio:.2f} |",
+                f"{r.env_us - r.replay_us:.0f} | {ik} | {r.ratio:.2f} | {excl} | {floor} |",
                 flush=True,
             )
 

@@ -92,12 +92,14 @@ class RobotFrames:
             pose = world.site_poses([frame.id])[:, 0]
         if frame.offset is not None:
             offset = np.asarray(frame.offset)
+            offset_position, offset_quat = offset[:3], offset[3:]
+            shifted, turned = np.empty(3), np.empty(4)  # scratch, reused for every env
             for row in pose:
-                shifted, turned = np.empty(3), np.empty(4)
-                mujoco.mju_rotVecQuat(shifted, offset[:3], row[3:])
-                mujoco.mju_mulQuat(turned, row[3:], offset[3:])
+                quat = row[3:]
+                mujoco.mju_rotVecQuat(shifted, offset_position, quat)
+                mujoco.mju_mulQuat(turned, quat, offset_quat)
                 row[:3] += shifted
-                row[3:] = turned
+                quat[:] = turned
         return pose
 
     def pose(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:

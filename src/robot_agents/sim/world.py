@@ -136,6 +136,8 @@ class BatchedWorld:
         # Hot-path handles, resolved once: MjData's arrays are views whose memory never
         # moves, and ``model.opt`` reads the live time step.
         self._data0 = self.datas[0]
+        #: Per field, each env's MjData array (views made once: their memory never moves).
+        self._arrays: dict[str, list[FloatArray]] = {}
         self._ctrl0 = self.ctrl[0]
         self._qvel0 = self._data0.qvel
         self._qpos0 = self._data0.qpos
@@ -147,11 +149,20 @@ class BatchedWorld:
         self.forward()
 
     # -- stepping ---------------------------------------------------------------------
+    def _env_arrays(self, field: str) -> list[FloatArray]:
+        """Each env's MjData array ``field`` (``qpos``, ``xpos``, ...): views made once per
+        field, since reading the attribute makes a new view every time."""
+        arrays = self._arrays.get(field)
+        if arrays is None:
+            arrays = self._arrays[field] = [getattr(data, field) for data in self.datas]
+        return arrays
+
     def _step_chunk(self, envs: range, nstep: int) -> None:
         model, datas, ctrl, sync = self.model, self.datas, self.ctrl, self._sync_after_step
+        data_ctrl = self._env_arrays("ctrl")
         for i in envs:
             data = datas[i]
-            data.ctrl[:] = ctrl[i]
+            data_ctrl[i][:] = ctrl[i]
             mujoco.mj_step(model, data, nstep)
             if sync:
                 _sync_poses(model, data)
@@ -206,8 +217,7 @@ class BatchedWorld:
         # before MuJoCo's own guard would reset the env.
         advance = (self.substeps - 0.5) * float(self.model.opt.timestep)
         flags = self.last_step_unstable
-        for env, data in enumerate(self.datas):
-            qvel = data.qvel
+        for env, (data, qvel) in enumerate(zip(self.datas, self._env_arrays("qvel"), strict=True)):
             flags[env] = data.time < started[env] + advance or qvel @ qvel > _MAX_SPEED_SQUARED
         if flags.any():
             self.unstable_steps += flags
@@ -241,7 +251,7 @@ class BatchedWorld:
             if self.num_envs == 1:
                 cached = getattr(self._data0, field).copy()[None]
             else:
-                cached = np.stack([getattr(d, field) for d in self.datas])
+                cached = np.stack(self._env_arrays(field))
             cached.setflags(write=False)  # as flags.writeable = False, without the flags object
             self._cache[field] = cached
         return cached
@@ -286,20 +296,22 @@ class BatchedWorld:
             return single
         ids = [int(b) for b in np.asarray(body_ids, dtype=np.int64).reshape(-1)]
         out = np.empty((self.num_envs, len(ids), 7))
-        for row, data in zip(out, self.datas, strict=True):
+        for row, xpos, xquat in zip(out, self._env_arrays("xpos"), self._env_arrays("xquat"), strict=True):
             for k, body in enumerate(ids):
-                row[k, :3] = data.xpos[body]
-                row[k, 3:] = data.xquat[body]
+                row[k, :3] = xpos[body]
+                row[k, 3:] = xquat[body]
         return out
 
     def site_poses(self, site_ids: npt.ArrayLike) -> FloatArray:
         """World poses of sites, shape ``(num_envs, k, 7)``: position (m), quaternion (w, x, y, z)."""
         ids = np.asarray(site_ids, dtype=np.int64).reshape(-1)
         out = np.empty((self.num_envs, len(ids), 7))
-        for row, data in zip(out, self.datas, strict=True):
-            row[:, :3] = data.site_xpos[ids]
+        for row, site_xpos, site_xmat in zip(
+            out, self._env_arrays("site_xpos"), self._env_arrays("site_xmat"), strict=True
+        ):
+            row[:, :3] = site_xpos[ids]
             for k, site in enumerate(ids):
-                mujoco.mju_mat2Quat(row[k, 3:], data.site_xmat[site])
+                mujoco.mju_mat2Quat(row[k, 3:], site_xmat[site])
         return out
 
     def sensor_values(self, adr: npt.ArrayLike) -> FloatArray:

@@ -304,14 +304,14 @@ class BatchedWorld:
 
     def site_poses(self, site_ids: npt.ArrayLike) -> FloatArray:
         """World poses of sites, shape ``(num_envs, k, 7)``: position (m), quaternion (w, x, y, z)."""
-        ids = np.asarray(site_ids, dtype=np.int64).reshape(-1)
-        out = np.empty((self.num_envs, len(ids), 7))
+        sites = np.asarray(site_ids, dtype=np.int64).reshape(-1).tolist()
+        out = np.empty((self.num_envs, len(sites), 7))
         for row, site_xpos, site_xmat in zip(
             out, self._env_arrays("site_xpos"), self._env_arrays("site_xmat"), strict=True
         ):
-            row[:, :3] = site_xpos[ids]
-            for k, site in enumerate(ids):
-                mujoco.mju_mat2Quat(row[k, 3:], site_xmat[site])
+            for pose, site in zip(row, sites, strict=True):
+                pose[:3] = site_xpos[site]
+                mujoco.mju_mat2Quat(pose[3:], site_xmat[site])
         return out
 
     def sensor_values(self, adr: npt.ArrayLike) -> FloatArray:
@@ -393,14 +393,16 @@ class BatchedWorld:
             _derive(model, data, forward)
             self._cache.clear()
             return
-        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1)
+        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1).tolist()
+        datas, ctrl = self.datas, self.ctrl
+        data_qpos, data_qvel = self._env_arrays("qpos"), self._env_arrays("qvel")
+        warmstarts, data_ctrl = self._env_arrays("qacc_warmstart"), self._env_arrays("ctrl")
         for row, env in enumerate(ids):
-            data = self.datas[env]
-            data.qpos[qa] = qpos[row]
-            data.qvel[da] = qvel[row]
-            data.qacc_warmstart[:] = 0.0
-            data.ctrl[:] = self.ctrl[env]
-            _derive(model, data, forward)
+            data_qpos[env][qa] = qpos[row]
+            data_qvel[env][da] = qvel[row]
+            warmstarts[env].fill(0.0)
+            data_ctrl[env][:] = ctrl[env]
+            _derive(model, datas[env], forward)
         self._cache.clear()
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:

@@ -93,13 +93,15 @@ class RobotFrames:
         if frame.offset is not None:
             offset = np.asarray(frame.offset)
             offset_position, offset_quat = offset[:3], offset[3:]
-            shifted, turned = np.empty(3), np.empty(4)  # scratch, reused for every env
-            for row in pose:
+            # MuJoCo's quaternion functions per env (the arithmetic of the one-env
+            # observation), the additions and copies once for all envs (the same bits)
+            shifted, turned = np.empty((len(pose), 3)), np.empty((len(pose), 4))
+            for row, shift, turn in zip(pose, shifted, turned, strict=True):
                 quat = row[3:]
-                mujoco.mju_rotVecQuat(shifted, offset_position, quat)
-                mujoco.mju_mulQuat(turned, quat, offset_quat)
-                row[:3] += shifted
-                quat[:] = turned
+                mujoco.mju_rotVecQuat(shift, offset_position, quat)
+                mujoco.mju_mulQuat(turn, quat, offset_quat)
+            pose[:, :3] += shifted
+            pose[:, 3:] = turned
         return pose
 
     def pose(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:

@@ -227,7 +227,7 @@ class BatchedWorld:
         same instability test, without the per-env lists and loops."""
         data, model = self._data0, self.model
         started = data.time
-        data.ctrl[:] = self._ctrl0
+        self._data_ctrl0[:] = self._ctrl0
         mujoco.mj_step(model, data, self.substeps)
         mujoco.mj_kinematics(model, data)
         mujoco.mj_camlight(model, data)
@@ -249,7 +249,7 @@ class BatchedWorld:
         cached = self._cache.get(field)
         if cached is None:
             if self.num_envs == 1:
-                cached = getattr(self._data0, field).copy()[None]
+                cached = self._env_arrays(field)[0].copy()[None]
             else:
                 cached = np.stack(self._env_arrays(field))
             cached.setflags(write=False)  # as flags.writeable = False, without the flags object

@@ -8,7 +8,8 @@ PickCube, per env (all envs of a batch at once):
    above the cube, fingers pointing down, closing across two faces of the cube (the
    gripper's geometry comes from ``env.layout.gripper``; joints that follow an arm joint
    through a linear equality, such as Stretch's telescope segments, move with it:
-   ``linear_followers``); the joints are driven there
+   ``linear_followers``; where it stays more than 1 cm off, it restarts from random
+   configurations); the joints are driven there
    along a smooth 1.5 s ramp with the gripper open. (A 5-joint arm's default keyframe
    need not point its jaw down, and its end-effector modes cannot turn the tool.)
 2. End-effector delta mode, position only (``pd_ee_target_delta_pos``, else
@@ -189,12 +190,44 @@ class Arm:
         turn = np.zeros_like(step) if quat is None else rotation_error(wanted[:, 3:], base[:, 3:])
         return np.concatenate([step, shorten(turn, high[3:6])], axis=1)
 
-    def solve(self, position: np.ndarray, quat: np.ndarray | None, iterations: int = 200) -> np.ndarray:
+    def solve(
+        self, position: np.ndarray, quat: np.ndarray | None, iterations: int = 200, restarts: int = 8
+    ) -> np.ndarray:
         """Arm joints ``(num_envs, k)`` that put the tool at ``position`` (and ``quat``):
         damped least squares on the agent's frame pose and Jacobian, from the measured
         joints; a joint at a limit that the step would push past it is left out of
-        that step (so the others take over)."""
-        q = self.agent.qpos
+        that step (so the others take over). Envs it leaves more than 1 cm (weighted
+        error) from the target try again from up to ``restarts`` random configurations
+        within the limits (fixed seed) and take the first that reaches it (within 1
+        cm); where none does, the solution from the measured joints stays (a local
+        minimum against joint limits is the usual cause: the WidowX 250 S's shoulder
+        and wrist left the tool 13-16 cm off in 12 of 200 PickCube seeds)."""
+        q, error = self._descend(self.agent.qpos, position, quat, iterations)
+        low = np.where(np.isfinite(self.limits[:, 0]), self.limits[:, 0], -np.pi)
+        high = np.where(np.isfinite(self.limits[:, 1]), self.limits[:, 1], np.pi)
+        rng = np.random.default_rng(0)
+        for _ in range(restarts):
+            stuck = error > 0.01
+            if not stuck.any():
+                break
+            start = q.copy()
+            start[:, self.q_index] = np.where(
+                stuck[:, None], rng.uniform(low, high, (len(q), len(low))), q[:, self.q_index]
+            )
+            retried, retried_error = self._descend(start, position, quat, iterations)
+            better = stuck & (retried_error <= 0.01)  # a restart that reaches it
+            q[better], error[better] = retried[better], retried_error[better]
+        solution: np.ndarray = q[:, self.q_index]
+        return solution
+
+    def _descend(
+        self, start: np.ndarray, position: np.ndarray, quat: np.ndarray | None, iterations: int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``iterations`` damped-least-squares steps from the robot's joints ``start``
+        ``(num_envs, nq)``: the joints reached and the remaining weighted error (m) per env."""
+        q = start.copy()
+        for follower_q, _, column, offset, slope in self.followers:
+            q[:, follower_q] = offset + slope * q[:, self.q_index[column]]
         rows = 3 if quat is None else 6
         weight, damping = 0.3, 0.05
         low, high = self.limits[:, 0], self.limits[:, 1]
@@ -221,8 +254,11 @@ class Arm:
             q[:, self.q_index] = np.clip(arm + np.clip(step, -0.2, 0.2), low, high)
             for follower_q, _, column, offset, slope in self.followers:
                 q[:, follower_q] = offset + slope * q[:, self.q_index[column]]
-        solution: np.ndarray = q[:, self.q_index]
-        return solution
+        pose = self.agent.frame_pose(self.ee, qpos=q)
+        error = position - pose[:, :3]
+        if quat is not None:
+            error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
+        return q, np.linalg.norm(error, axis=1)
 
     def ramp(self, step: Any, goal_q: np.ndarray, steps: int, gripper_open: np.ndarray | None) -> None:
         """Drive the arm joints to ``goal_q`` along a smooth ramp (joint-position mode),

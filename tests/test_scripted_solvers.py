@@ -111,3 +111,17 @@ def test_the_turns_ik_moves_stretchs_telescope_segments_with_their_leader() -> N
     reached = agent.frame_pose(arm.ee, qpos=full)
     assert np.linalg.norm(reached[0, :3] - target[0, :3]) < 1e-3, (reached, target)
     env.close()
+
+
+def test_the_turns_ik_restarts_where_joint_limits_trap_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """WidowX 250 S, PickCube seed 37: from the measured joints the IK ends with the
+    shoulder and the wrist at their limits, the tool 14 cm off, and the episode fails;
+    a restart from a random configuration reaches the target and the cube is picked."""
+    assert solver.success_rate("PickCube-v1", "widowx250s", 1, seed=37)[0] == 1
+    solve = solver.Arm.solve
+    monkeypatch.setattr(
+        solver.Arm,
+        "solve",
+        lambda self, position, quat, iterations=200, restarts=0: solve(self, position, quat, 200, 0),
+    )
+    assert solver.success_rate("PickCube-v1", "widowx250s", 1, seed=37)[0] == 0

@@ -194,14 +194,20 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """Pose ``(num_envs, 7)`` of the robot's body, site or end effector ``name``, at the
         measured or given ``qpos`` (``(nq,)`` or ``(num_envs, nq)``), in the world,
         ``"root"`` (the frame of end-effector commands) or another frame of the robot;
-        computed on scratch data (the simulation is untouched)."""
+        computed on scratch data (the simulation is untouched). A given ``qpos`` is taken
+        as it is: joints that follow another through an equality (mimic fingers,
+        Stretch's telescope segments) keep the values it gives them, so set them too
+        (:class:`~robot_agents.kinematics.IKSolver` moves linear followers itself)."""
         where = f"{type(self).__name__}.frame_pose"
         frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
         return self.frames.pose(frame, reference, self.state.configurations(qpos, where))
 
     def frame_jacobian(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
         """Jacobian ``(num_envs, 6, dof)`` of the origin of ``name``: rows 0-2 linear
-        velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity."""
+        velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity, one
+        column per joint of the robot (a joint's own column: a leader's does not include
+        the joints that follow it through equalities; add ``c1`` times theirs for
+        ``follower = c0 + c1 * leader``). ``qpos`` as in :meth:`frame_pose`."""
         where = f"{type(self).__name__}.frame_jacobian"
         frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
         return self.frames.jacobian(frame, reference, self.state.configurations(qpos, where))

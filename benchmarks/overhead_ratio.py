@@ -129,9 +129,24 @@ def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[A
         )
         write(env_ids, qpos_adr, qpos, dof_adr, qvel, forward)
 
-    world._step_all, world.write_joint_state = recording_step_all, recording_write
+    patches: dict[str, Callable[..., None]] = {"_step_all": recording_step_all, "write_joint_state": recording_write}
     if step_single is not None:
-        world._step_single = recording_step_single
+        patches["_step_single"] = recording_step_single
+    return recorded_steps(env, actions, steps, calls, patches)
+
+
+def recorded_steps(
+    env: Any,
+    actions: list[np.ndarray],
+    steps: int,
+    calls: list[tuple[Any, ...]],
+    patches: dict[str, Callable[..., None]],
+) -> list[list[tuple[Any, ...]]]:
+    """``steps`` env steps with the world's methods in ``patches`` replaced by recording
+    ones (which append to ``calls``); the calls of each step, in order."""
+    world = env.scene.world
+    for name, method in patches.items():
+        setattr(world, name, method)
     try:
         per_step = []
         for i in range(steps):
@@ -139,9 +154,8 @@ def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[A
             env.step(actions[i % len(actions)])
             per_step.append(list(calls))
     finally:
-        del world._step_all, world.write_joint_state
-        if step_single is not None:
-            del world._step_single
+        for name in patches:
+            delattr(world, name)
     return per_step
 
 
@@ -301,16 +315,9 @@ def record_batched(env: Any, actions: list[np.ndarray], steps: int) -> list[list
         calls.append(("write", ids, np.asarray(qpos_adr), np.array(qpos), np.asarray(dof_adr), np.array(qvel), forward))
         write(env_ids, qpos_adr, qpos, dof_adr, qvel, forward)
 
-    world._step_all, world.write_joint_state = recording_step_all, recording_write
-    try:
-        per_step = []
-        for i in range(steps):
-            calls.clear()
-            env.step(actions[i % len(actions)])
-            per_step.append(list(calls))
-    finally:
-        del world._step_all, world.write_joint_state
-    return per_step
+    return recorded_steps(
+        env, actions, steps, calls, {"_step_all": recording_step_all, "write_joint_state": recording_write}
+    )
 
 
 def measure_batched(

@@ -139,16 +139,16 @@ class BatchedWorld:
         #: Per field, each env's MjData array (views made once: their memory never moves).
         self._arrays: dict[str, list[FloatArray]] = {}
         self._ctrl0 = self.ctrl[0]
-        self._qvel0 = self._data0.qvel
-        self._qpos0 = self._data0.qpos
-        self._warmstart0 = self._data0.qacc_warmstart
-        self._data_ctrl0 = self._data0.ctrl
+        # the first env's views, for the one-env paths
+        self._qvel0 = self._env_arrays("qvel")[0]
+        self._qpos0 = self._env_arrays("qpos")[0]
+        self._warmstart0 = self._env_arrays("qacc_warmstart")[0]
+        self._data_ctrl0 = self._env_arrays("ctrl")[0]
         self._opt = model.opt
         #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
         self._sync_after_step = True
         self.forward()
 
-    # -- stepping ---------------------------------------------------------------------
     def _env_arrays(self, field: str) -> list[FloatArray]:
         """Each env's MjData array ``field`` (``qpos``, ``xpos``, ...): views made once per
         field, since reading the attribute makes a new view every time."""
@@ -157,6 +157,7 @@ class BatchedWorld:
             arrays = self._arrays[field] = [getattr(data, field) for data in self.datas]
         return arrays
 
+    # -- stepping ---------------------------------------------------------------------
     def _step_chunk(self, envs: range, nstep: int) -> None:
         model, datas, ctrl, sync = self.model, self.datas, self.ctrl, self._sync_after_step
         data_ctrl = self._env_arrays("ctrl")
@@ -173,8 +174,8 @@ class BatchedWorld:
         substep only, since ``mj_step`` recomputes them from ``qpos`` first and substep
         hooks read joint state only."""
         if self.num_envs == 1:
-            data = self.datas[0]
-            data.ctrl[:] = self.ctrl[0]
+            data = self._data0
+            self._data_ctrl0[:] = self._ctrl0
             mujoco.mj_step(self.model, data, nstep)
             if self._sync_after_step:
                 _sync_poses(self.model, data)

@@ -8,7 +8,7 @@ PickCube, per env (all envs of a batch at once):
    above the cube, fingers pointing down, closing across two faces of the cube (the
    gripper's geometry comes from ``env.layout.gripper``; joints that follow an arm joint
    through a linear equality, such as Stretch's telescope segments, move with it:
-   ``linear_followers``; where it stays more than 1 cm off, it restarts from random
+   ``arm_followers``; where it stays more than 1 cm off, it restarts from random
    configurations); the joints are driven there
    along a smooth 1.5 s ramp with the gripper open. (A 5-joint arm's default keyframe
    need not point its jaw down, and its end-effector modes cannot turn the tool.)
@@ -48,6 +48,7 @@ import numpy as np
 
 import robot_agents as ra
 from robot_agents.envs.tasks.layout import tool_arm
+from robot_agents.kinematics import linear_followers
 from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
 
 TASKS = ("PickCube-v1", "ReachPose-v1")
@@ -86,35 +87,19 @@ def world_to_root(agent: ra.Agent, ee: str) -> np.ndarray:
     return np.swapaxes(quat_to_matrix(root[:, 3:]), 1, 2)
 
 
-def linear_followers(agent: ra.Agent, arm_qpos: np.ndarray) -> list[tuple[int, int, int, float, float]]:
-    """The robot's joints that follow an arm joint through linear joint equalities
-    (``follower = c0 + c1 * leader``, possibly through a chain of them, e.g. Stretch's
-    telescope segments): ``(qpos index, dof index, arm column, c0, c1)``, robot-local
-    indices. Frame poses and Jacobians at a given ``qpos`` move only the joints it
-    sets, so an IK on them must move these with their leader."""
-    model = agent.index.model
+def arm_followers(agent: ra.Agent, arm_dof: np.ndarray) -> list[tuple[int, int, int, float, float]]:
+    """The robot's joints that follow an arm joint (``arm_dof``: the arm's robot-local dof
+    indices) through linear joint equalities, e.g. Stretch's telescope segments:
+    ``(qpos index, dof index, arm column, c0, c1)``, robot-local indices (the library's
+    ``linear_followers`` in the robot's own numbering). Frame poses and Jacobians at a
+    given ``qpos`` move only the joints it sets, so the IK below moves these itself."""
     local_q = {int(adr): i for i, adr in enumerate(agent.qpos_adr)}
     local_v = {int(adr): i for i, adr in enumerate(agent.dof_adr)}
-    column_of = {int(agent.qpos_adr[q]): c for c, q in enumerate(arm_qpos)}
-    leader_of: dict[int, tuple[int, float, float]] = {}  # follower joint -> (leader joint, c0, c1)
-    for eq in range(model.neq):
-        if model.eq_type[eq] != mujoco.mjtEq.mjEQ_JOINT or model.eq_obj2id[eq] < 0:
-            continue
-        coef = model.eq_data[eq, :5]
-        if np.any(coef[2:] != 0.0):
-            continue  # nonlinear couplings are left out
-        leader_of[int(model.eq_obj1id[eq])] = (int(model.eq_obj2id[eq]), float(coef[0]), float(coef[1]))
-    out = []
-    for follower in leader_of:
-        offset, slope, joint = 0.0, 1.0, follower
-        while joint in leader_of:  # compose the chain down to an arm joint
-            joint, c0, c1 = leader_of[joint]
-            offset, slope = offset + slope * c0, slope * c1
-        adr = int(model.jnt_qposadr[joint])
-        if adr in column_of and int(model.jnt_qposadr[follower]) in local_q:
-            fq, fv = int(model.jnt_qposadr[follower]), int(model.jnt_dofadr[follower])
-            out.append((local_q[fq], local_v[fv], column_of[adr], offset, slope))
-    return out
+    return [
+        (local_q[q], local_v[v], column, offset, slope)
+        for q, v, column, offset, slope in linear_followers(agent.index.model, agent.dof_adr[arm_dof])
+        if q in local_q
+    ]
 
 
 class Arm:
@@ -132,7 +117,7 @@ class Arm:
         self.q_index = np.array([j.qpos_start for j in joints])
         self.v_index = np.array([j.dof_start for j in joints])
         self.limits = self.agent.qpos_limits[self.q_index]
-        self.followers = linear_followers(self.agent, self.q_index)
+        self.followers = arm_followers(self.agent, self.v_index)
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
         # all of the gripper's joints: its controller may drive any one of them (a

@@ -1,7 +1,16 @@
 """Kinematics without side effects: batched forward kinematics, Jacobians and IK."""
 
 from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
-from robot_agents.kinematics.ik import IKSolver
+from robot_agents.kinematics.ik import IKSolver, linear_followers
 from robot_agents.kinematics.ik_config import IKConfig, IKResult
 
-__all__ = ["FrameKind", "FrameRef", "IKConfig", "IKResult", "IKSolver", "Kinematics", "resolve_frame"]
+__all__ = [
+    "FrameKind",
+    "FrameRef",
+    "IKConfig",
+    "IKResult",
+    "IKSolver",
+    "Kinematics",
+    "linear_followers",
+    "resolve_frame",
+]

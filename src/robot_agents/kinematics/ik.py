@@ -99,7 +99,7 @@ class IKSolver:
                 )
         self._qpos_sel = index_selector(self.qpos_adr)
         self._dof_sel = index_selector(self.dof_adr)
-        self._followers = _linear_followers(model, self.dof_adr)
+        self._followers = linear_followers(model, self.dof_adr)
         # Scratch buffers of the per-env descent, and views of them made once (per rows:
         # 3 for position-only solves, 6 with orientation).
         self._pose = np.empty(7)
@@ -368,11 +368,14 @@ class IKSolver:
         return start_q, _distance(target[:3], start_pose[:3]), float(quat_angle(target[3:], start_pose[3:]))
 
 
-def _linear_followers(model: mujoco.MjModel, chain_dofs: IntArray) -> list[tuple[int, int, int, float, float]]:
-    """Joints outside the chain that follow a chain joint through active linear joint
-    equalities (directly or through other followers): ``(qpos adr, dof adr, chain
-    column, c0, c1)`` with ``follower = c0 + c1 * chain joint``. Nonlinear couplings are
-    left out (the follower then keeps its context value)."""
+def linear_followers(model: mujoco.MjModel, chain_dofs: IntArray) -> list[tuple[int, int, int, float, float]]:
+    """Joints outside the chain (``chain_dofs``: its dof addresses) that follow a chain
+    joint through active linear joint equalities (directly or through other followers,
+    e.g. Stretch's telescope segments): ``(qpos adr, dof adr, chain column, c0, c1)``
+    with ``follower = c0 + c1 * chain joint``, model addresses. Nonlinear couplings are
+    left out (the follower then keeps its context value). Forward kinematics at a given
+    ``qpos`` moves only the joints it sets; an IK moves these with their leader and adds
+    ``c1`` times a follower's Jacobian column to its leader's."""
     column_of = {int(model.dof_jntid[dof]): k for k, dof in enumerate(chain_dofs)}
     leader_of: dict[int, tuple[int, float, float]] = {}
     for eq in range(model.neq):

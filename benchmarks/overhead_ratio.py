@@ -428,12 +428,16 @@ def python_cost(
     steps: int = 300,
     repeats: int = 7,
     clock: Callable[[], float] = time.perf_counter,
+    num_envs: int = 1,
 ) -> float:
     """Microseconds of one ``env.step`` with MuJoCo's ``mj_step`` and ``mj_forward``
     made no-ops (the physics does not move): what the step costs in Python and in the
     small MuJoCo calls around it (pose sync), best of ``repeats`` loops of ``steps``
-    steps (the minimum is the least disturbed by other jobs on the machine)."""
-    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None).unwrapped
+    steps (the minimum is the least disturbed by other jobs on the machine); with
+    ``num_envs > 1``, per env-step of one batched world on one thread."""
+    env = ra.make_env(
+        "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, num_threads=1, max_episode_steps=None
+    ).unwrapped
     env.reset(seed=0)
     actions = small_actions(env, 64, rng)
     step, forward = mujoco.mj_step, mujoco.mj_forward
@@ -448,7 +452,7 @@ def python_cost(
     finally:
         mujoco.mj_step, mujoco.mj_forward = step, forward
     env.close()
-    return 1e6 * best / steps
+    return 1e6 * best / (steps * num_envs)
 
 
 def main() -> None:
@@ -462,7 +466,7 @@ def main() -> None:
         type=int,
         default=1,
         help="N > 1: one batched world of N envs on one thread against N plain MjData in a loop "
-        "(measure_batched; per env-step figures, no Python floor, end-effector modes without the IK split)",
+        "(measure_batched, or with --python-only the step's Python per env-step; no Python floor, end-effector modes without the IK split)",
     )
     parser.add_argument(
         "--python-only",
@@ -482,13 +486,17 @@ def main() -> None:
     clock = time.process_time if args.clock == "cpu" else time.perf_counter
     if args.python_only:
         print(
-            f"| robot | mode | env step without physics, µs (best of 7 x 300 steps, {args.clock} clock) |\n|---|---|---|"
+            f"| robot | mode | env step without physics, µs{' per env-step' if args.num_envs > 1 else ''} "
+            f"(best of 7 x 300 steps, {args.clock} clock, num_envs {args.num_envs}) |\n|---|---|---|"
         )
         for uid in robots:
             for kind in args.modes:
                 mode = mode_of(uid, kind)
                 if mode is not None:
-                    print(f"| `{uid}` | `{mode}` | {python_cost(uid, mode, rng, clock=clock):.1f} |", flush=True)
+                    print(
+                        f"| `{uid}` | `{mode}` | {python_cost(uid, mode, rng, clock=clock, num_envs=args.num_envs):.1f} |",
+                        flush=True,
+                    )
         return
     print(
         f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.processor() or platform.machine()}, "

@@ -8,6 +8,7 @@ import io
 from pathlib import Path
 from typing import ClassVar
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -28,6 +29,7 @@ from robot_agents.tuning.claims import (
     Penetration,
     StepResult,
     _random,
+    contact_label,
     measure_step,
 )
 from robot_agents.tuning.grasp_claim import SLIP_BOUND, grasp_claim
@@ -168,6 +170,20 @@ def test_measure_step_reports_every_claim() -> None:
     assert tracking is not None and tracking.value < 0.05
     grasp = result.claim("grasp")
     assert grasp is not None and grasp.value < SLIP_BOUND and "40.3 mm cube" in grasp.detail
+    # the random press is reported with its place: on seed 0 the hand meets the floor
+    assert result.random_press_depth > 0.01
+    assert result.random_press_where == "floor / panda-0/panda_hand geom 0"
+
+
+def test_contact_label_names_unnamed_geoms_by_their_body() -> None:
+    spec = mujoco.MjSpec()
+    spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[1, 1, 0.1])
+    body = spec.worldbody.add_body(name="link")
+    body.add_geom(size=[0.1, 0, 0])
+    body.add_geom(name="pad", size=[0.1, 0, 0])
+    body.add_geom(size=[0.1, 0, 0])
+    model = spec.compile()
+    assert [contact_label(model, g) for g in range(model.ngeom)] == ["floor", "link geom 0", "pad", "link geom 2"]
 
 
 def test_robots_without_a_gripper_make_no_grasp_claim() -> None:

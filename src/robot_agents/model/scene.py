@@ -94,6 +94,16 @@ class SceneOptions:
 FRICTION_CONES = ("pyramidal", "elliptic")
 
 
+#: The floor's contact (MuJoCo's ``solref``, ``solimp`` and ``solmix``): MuJoCo's
+#: defaults, written out. Under a constant push ``a0`` (m/s^2) a contact settles about
+#: ``(1 - d) * d * timeconst**2 * a0`` deep (``d`` the impedance, 0.95 here): a light link
+#: driven at its full torque presses centimetres into this floor (docs/timestep.md,
+#: "Where random actions press", has the measurements and a stiffer floor tried).
+FLOOR_SOLREF = (0.02, 1.0)
+FLOOR_SOLIMP = (0.9, 0.95, 0.001)
+FLOOR_SOLMIX = 1.0
+
+
 #: Where the scene's render camera stands and what it looks at (m, world frame).
 RENDER_CAMERA_POS = (1.25, -1.0, 0.9)
 RENDER_CAMERA_TARGET = (0.25, 0.0, 0.35)
@@ -147,7 +157,15 @@ def compose_scene(
             height=256,
         )
         spec.add_material(name="floor", textures=["", "grid"], texrepeat=[8, 8], reflectance=0.0)
-        world.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material="floor")
+        world.add_geom(
+            name="floor",
+            type=mujoco.mjtGeom.mjGEOM_PLANE,
+            size=[0, 0, 0.05],
+            material="floor",
+            solref=list(FLOOR_SOLREF),
+            solimp=[*FLOOR_SOLIMP, 0.5, 2.0],
+            solmix=FLOOR_SOLMIX,
+        )
     world.add_camera(
         name="render_camera",
         pos=list(RENDER_CAMERA_POS),

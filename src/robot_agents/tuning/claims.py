@@ -48,6 +48,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
@@ -100,8 +101,10 @@ EE_SECONDS = 1.0
 #: Largest end-effector tracking error, as a share of the commanded move.
 EE_TOLERANCE = 0.05
 #: Deepest contact penetration allowed (m) while holding keyframes and tracking the
-#: end-effector move. (Random actions press links into the floor with the drives' full
-#: torque, 1-8 cm at any step; that depth is reported, not judged.)
+#: end-effector move. (Random actions press links into the floor and into each other
+#: with the drives' full torque, 0.3-25 cm at the built-in robots' defaults; that depth
+#: and where it is are reported, not judged: docs/timestep.md, "Where random actions
+#: press".)
 PENETRATION_BOUND = 0.005
 #: The claims, in the order they are reported.
 CLAIMS = ("hold", "random", "settle", "ee_tracking", "grasp", "standing", "penetration")
@@ -126,6 +129,8 @@ class StepResult:
     claims: tuple[ClaimResult, ...]
     #: Deepest contact under random actions (m), for information (see :func:`_random`).
     random_press_depth: float = 0.0
+    #: Where it was: the two geoms (:func:`contact_label`), ``""`` when nothing touched.
+    random_press_where: str = ""
 
     @property
     def passed(self) -> bool:
@@ -150,7 +155,18 @@ class Penetration:
             if -float(dist[deepest]) > self.depth:
                 self.depth = -float(dist[deepest])
                 g1, g2 = data.contact.geom1[deepest], data.contact.geom2[deepest]
-                self.where = f"{scene.model.geom(g1).name} / {scene.model.geom(g2).name}"
+                self.where = f"{contact_label(scene.model, g1)} / {contact_label(scene.model, g2)}"
+
+
+def contact_label(model: mujoco.MjModel, geom: int) -> str:
+    """A geom's name, or for an unnamed geom its body's name and its index there
+    (``"panda-0/panda_link6 geom 2"``): enough to tell a link pressed into the floor
+    from two links pressed into each other."""
+    name = model.geom(geom).name
+    if name:
+        return str(name)
+    body = int(model.geom_bodyid[geom])
+    return f"{model.body(body).name} geom {geom - int(model.body_geomadr[body])}"
 
 
 def _commands_motion(agent: Agent) -> bool:
@@ -353,4 +369,4 @@ def measure_step(
     claims.append(
         ClaimResult("penetration", depth.depth <= PENETRATION_BOUND, depth.depth, PENETRATION_BOUND, depth.where)
     )
-    return StepResult(sim_freq, tuple(claims), pressed.depth)
+    return StepResult(sim_freq, tuple(claims), pressed.depth, pressed.where)

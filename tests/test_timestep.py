@@ -380,6 +380,9 @@ def test_check_sweep_prints_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
     code = cmd_check("widowx250s", out, sweep=True)
     text = out.getvalue()
     assert code == 0 and "| 500 | 2 |" in text and "sim_freq 500 Hz" in text
+    # where random actions pressed deepest: the WidowX's own links or the floor
+    assert "deepest contact under random actions at 500 Hz (reported, not judged):" in text
+    assert "widowx250s-0/" in text.split("deepest contact under random actions", 1)[1].splitlines()[0]
     # the torque-limit cycle analysis follows: the WidowX 250 S's fingers (not reachable)
     assert "torque-limit cycles possible below" in text and "right_finger: 26 Hz" in text
     assert "not reachable" in text

@@ -183,6 +183,12 @@ def cmd_check(
                 f"{', '.join(swept.failing_everywhere)}; the other claims hold at "
                 + (f"{1000 / others:.3g} ms (sim_freq {others} Hz)\n" if others is not None else "no step\n")
             )
+        finest = max(swept.steps, key=lambda step: step.sim_freq)
+        if finest.random_press_where:
+            out.write(
+                f"deepest contact under random actions at {finest.sim_freq} Hz (reported, not judged): "
+                f"{finest.random_press_depth * 100:.2g} cm, {finest.random_press_where}\n"
+            )
         _write_cycle_bounds(cls, out)
         return 0 if best is not None else 1
     model = cls.check().index.model

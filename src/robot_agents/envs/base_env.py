@@ -20,6 +20,7 @@ import numpy.typing as npt
 from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
+from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
@@ -192,6 +193,11 @@ class RobotEnv(gym.Env[Any, Any]):
     def _initialize_episode(self, env_ids: npt.NDArray[np.int64]) -> None:
         """Randomize the task in ``env_ids`` at a reset, after the robots were reset
         (draw from :meth:`env_rng` of each env, one env after the other)."""
+
+    def _render_markers(self, env: int) -> Sequence[Marker]:
+        """What :meth:`render` draws into env ``env``'s frame besides the scene (a task's
+        goal; :mod:`robot_agents.envs.markers`): never seen by the cameras."""
+        return ()
 
     def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
         """World box ``(lower, upper)`` the render camera frames: the robots' extent."""
@@ -467,8 +473,9 @@ class RobotEnv(gym.Env[Any, Any]):
             lower, upper = self._render_bounds()
             self._render_camera = framing_camera(lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy))
         frames = []
-        for data in self.scene.world.render_sources():
+        for env, data in enumerate(self.scene.world.render_sources()):
             self._renderer.update_scene(data, camera=self._render_camera)
+            draw_markers(self._renderer.scene, self._render_markers(env))
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)
 

@@ -22,13 +22,14 @@ success and 0 otherwise.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.envs.markers import Marker, goal_sphere
 from robot_agents.envs.tasks.layout import FloatArray
 from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
 from robot_agents.errors import ConfigError
@@ -85,6 +86,10 @@ class PickCubeEnv(TableTopEnv):
                     break
             self.goal_pos[env] = goal
         self.place_body("cube", poses, env_ids)
+
+    def _render_markers(self, env: int) -> Sequence[Marker]:
+        """The goal region: where the cube's centre must be for a success."""
+        return (goal_sphere(self.goal_pos[env], self.goal_threshold),)
 
     # -- metrics, reward, observations ---------------------------------------------------
     def evaluate(self) -> dict[str, Any]:

@@ -21,13 +21,14 @@ is within a quarter edge of the push point; 3 on success. ``dense`` lies in
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.envs.markers import Marker, goal_disc
 from robot_agents.envs.tasks.layout import FloatArray
 from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
 from robot_agents.errors import ConfigError
@@ -81,6 +82,10 @@ class PushCubeEnv(TableTopEnv):
         point: FloatArray = cube.copy()
         point[:, :2] -= direction * (half + 0.25 * half)
         return point
+
+    def _render_markers(self, env: int) -> Sequence[Marker]:
+        """The goal disc, lying on the table top (1 mm above it, so the table does not hide it)."""
+        return (goal_disc(self.goal_pos[env] + np.array([0.0, 0.0, 0.001]), self.goal_radius),)
 
     def evaluate(self) -> dict[str, Any]:
         cube = self.body_pose("cube")[:, :3]

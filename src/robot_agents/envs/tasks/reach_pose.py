@@ -23,7 +23,7 @@ divided by it, ``sparse`` is 1 on success.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import mujoco
@@ -32,6 +32,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.agent.index import JointKind
+from robot_agents.envs.markers import Marker, goal_sphere, pose_axes
 from robot_agents.envs.tasks.layout import FloatArray, tool_arm
 from robot_agents.envs.tasks.table_top import TableTopEnv
 from robot_agents.errors import ConfigError
@@ -119,6 +120,15 @@ class ReachPoseEnv(TableTopEnv):
         rest = self.agent.keyframe_qpos(self.agent.keyframe_names()[0])
         for env in env_ids:
             self.goal_pose[env] = self._draw_goal(self.env_rng(int(env)), rest, int(env))
+
+    def _render_markers(self, env: int) -> Sequence[Marker]:
+        """The goal region around the goal position and, for orientation goals, the
+        goal's axes (x red, y green, z blue; four thresholds long)."""
+        goal = self.goal_pose[env]
+        markers = [goal_sphere(goal[:3], self.position_threshold)]
+        if self.with_orientation:
+            markers += pose_axes(goal, 4.0 * self.position_threshold, self.position_threshold / 8.0)
+        return markers
 
     # -- metrics, reward, observations ---------------------------------------------------
     def errors(self) -> tuple[FloatArray, FloatArray]:

@@ -32,6 +32,7 @@ Run it to measure success over seeds for every registered robot that can do a ta
 
     python examples/scripted_pick.py                       # both tasks, 20 seeds each
     python examples/scripted_pick.py --task PickCube-v1 --robots so100 panda --seeds 10
+    python examples/scripted_pick.py --task PickCube-v1 --robots panda --seed 3 --video pick.gif
 """
 
 from __future__ import annotations
@@ -50,6 +51,7 @@ import robot_agents as ra
 from robot_agents.envs.tasks.layout import tool_arm
 from robot_agents.kinematics import linear_followers
 from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
+from robot_agents.media import write_video
 
 TASKS = ("PickCube-v1", "ReachPose-v1")
 
@@ -285,10 +287,18 @@ SPEED = 0.05
 DEPTH = 0.2
 
 
-def solve_pick(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
+def record(env: Any, frames: list[np.ndarray] | None) -> None:
+    """Append ``env.render()``'s frame (every env's, stacked) to ``frames`` unless it is ``None``."""
+    if frames is not None:
+        frames.append(np.asarray(env.render()))
+
+
+def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
     """Run one episode in every env of ``env`` (a ``PickCube-v1`` env, reset with
-    ``seed``); per env, whether it succeeded."""
+    ``seed``); per env, whether it succeeded. ``frames``: a list to append
+    ``env.render()``'s frame to, after the reset and after every step."""
     env.reset(seed=seed)
+    record(env, frames)
     arm = Arm(env)
     layout, geometry = env.layout, env.layout.gripper
     approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
@@ -304,6 +314,7 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
         info = env.step(action)[4]
         success |= np.asarray(info["success"], dtype=bool).reshape(n)
         steps += 1
+        record(env, frames)
 
     def tool_target(grasp_at: np.ndarray, quat: np.ndarray) -> np.ndarray:
         return grasp_at - np.einsum("nij,j->ni", quat_to_matrix(quat), grasp_point)
@@ -349,10 +360,11 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
 
 
 # -- ReachPose --------------------------------------------------------------------------------
-def solve_reach(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
+def solve_reach(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
     """Run one episode in every env of ``env`` (a ``ReachPose-v1`` env, reset with
-    ``seed``); per env, whether it succeeded."""
+    ``seed``); per env, whether it succeeded. ``frames``: as :func:`solve_pick`."""
     env.reset(seed=seed)
+    record(env, frames)
     arm = Arm(env)
     n = env.num_envs
     success = np.zeros(n, dtype=bool)
@@ -363,6 +375,7 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30) -> np.ndarray:
         info = env.step(action)[4]
         success |= np.asarray(info["success"], dtype=bool).reshape(n)
         steps += 1
+        record(env, frames)
 
     position, quat = env.goal_pose[:, :3], env.goal_pose[:, 3:] if env.with_orientation else None
     opened = np.ones(n, dtype=bool) if arm.gripper_joints else None
@@ -401,12 +414,35 @@ def success_rate(task: str, uid: str, seeds: int, seed: int = 0) -> tuple[int, f
     return successes, time.perf_counter() - start
 
 
+def record_episode(task: str, uid: str, seed: int, path: str) -> bool:
+    """One episode of ``task`` by ``uid`` from ``seed``, written to ``path`` (``.gif`` or
+    ``.mp4``) as the env renders it (the goal drawn in); whether it succeeded."""
+    env = ra.make_env(task, robot_uids=uid, render_mode="rgb_array").unwrapped
+    frames: list[np.ndarray] = []
+    try:
+        succeeded = bool(SOLVERS[task](env, seed, frames=frames)[0])
+    finally:
+        env.close()
+    write_video(path, frames, fps=env.control_freq)
+    return succeeded
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--task", choices=TASKS, action="append", help="default: both")
     parser.add_argument("--robots", nargs="*", help="uids (default: every registered robot the task takes)")
     parser.add_argument("--seeds", type=int, default=20, help="envs (seeds 0 .. N-1) per robot")
+    parser.add_argument("--video", help="record one episode (one task, one robot, --seed) to this .gif / .mp4")
+    parser.add_argument("--seed", type=int, default=0, help="with --video: the episode's seed")
     args = parser.parse_args(argv)
+    if args.video:
+        if len(args.task or ()) != 1 or len(args.robots or ()) != 1:
+            parser.error("--video records one episode: give one --task and one robot in --robots")
+        succeeded = record_episode(args.task[0], args.robots[0], args.seed, args.video)
+        print(
+            f"{args.task[0]} {args.robots[0]} seed {args.seed}: {'success' if succeeded else 'no success'}; {args.video}"
+        )
+        return 0
     print("| task | robot | successes | time |\n|---|---|---|---|")
     for task in args.task or TASKS:
         for uid in args.robots or robots_for(task):

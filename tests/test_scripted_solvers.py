@@ -125,3 +125,24 @@ def test_the_turns_ik_restarts_where_joint_limits_trap_it(monkeypatch: pytest.Mo
         lambda self, position, quat, iterations=200, restarts=0: solve(self, position, quat, 200, 0),
     )
     assert solver.success_rate("PickCube-v1", "widowx250s", 1, seed=37)[0] == 0
+
+
+def test_video_records_the_episode_as_rendered(tmp_path: Path) -> None:
+    from PIL import Image
+
+    env = ra.make_env("ReachPose-v1", robot_uids="so100", render_mode="rgb_array").unwrapped
+    frames: list[np.ndarray] = []
+    assert solver.solve_reach(env, 0, frames=frames)[0]
+    assert len(frames) == (env.max_episode_steps or 100) + 1  # the reset, then every step
+    assert frames[0].shape == (env.render_size[1], env.render_size[0], 3)
+    env.close()
+    path = tmp_path / "reach.gif"
+    assert solver.record_episode("ReachPose-v1", "so100", 0, str(path))
+    with Image.open(path) as gif:  # (Pillow merges repeated frames)
+        assert gif.n_frames > 10 and gif.size == env.render_size
+
+
+def test_video_wants_one_task_and_one_robot() -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        solver.main(["--task", "PickCube-v1", "--robots", "so100", "panda", "--video", "x.gif"])
+    assert exit_info.value.code == 2

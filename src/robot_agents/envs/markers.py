@@ -20,18 +20,12 @@ import numpy.typing as npt
 
 from robot_agents.errors import RenderError
 from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.model.scene import PRIMITIVE_SHAPES
 
 FloatArray = npt.NDArray[np.float64]
 
 #: The colour of goals (translucent green, as ManiSkill draws them).
 GOAL_RGBA = (0.1, 0.8, 0.2, 0.45)
-
-_SHAPES = {
-    "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
-    "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
-    "capsule": mujoco.mjtGeom.mjGEOM_CAPSULE,
-    "box": mujoco.mjtGeom.mjGEOM_BOX,
-}
 
 
 @dataclass(frozen=True)
@@ -54,8 +48,8 @@ class Marker:
     rgba: tuple[float, float, float, float] = GOAL_RGBA
 
     def __post_init__(self) -> None:
-        if self.shape not in _SHAPES:
-            raise RenderError(f"Marker: expected shape in {sorted(_SHAPES)}, got {self.shape!r}.")
+        if self.shape not in PRIMITIVE_SHAPES:
+            raise RenderError(f"Marker: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}.")
         values = [*self.size, *self.pos, *self.quat, *self.rgba]
         if not 1 <= len(self.size) <= 3 or not np.all(np.isfinite(values)) or min(self.size) <= 0:
             raise RenderError(
@@ -123,7 +117,7 @@ def draw_markers(scene: mujoco.MjvScene, markers: Sequence[Marker]) -> None:
         geom = scene.geoms[scene.ngeom]
         mujoco.mjv_initGeom(
             geom,
-            _SHAPES[marker.shape],
+            PRIMITIVE_SHAPES[marker.shape],
             size,
             np.asarray(marker.pos, dtype=np.float64),
             matrix,

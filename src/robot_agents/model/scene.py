@@ -18,7 +18,8 @@ from robot_agents.model.materials import FrictionMaterial
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_camera
 
-_SHAPES = {
+#: The primitive shapes props (and the render frames' markers) take, by name.
+PRIMITIVE_SHAPES = {
     "box": mujoco.mjtGeom.mjGEOM_BOX,
     "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
     "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
@@ -50,8 +51,8 @@ class Prop:
     friction: FrictionMaterial = field(default_factory=FrictionMaterial)
 
     def __post_init__(self) -> None:
-        if self.shape not in _SHAPES:
-            raise ConfigError(f"Prop {self.name!r}: expected shape in {sorted(_SHAPES)}, got {self.shape!r}.")
+        if self.shape not in PRIMITIVE_SHAPES:
+            raise ConfigError(f"Prop {self.name!r}: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}.")
         if self.mass is not None and not self.mass > 0:
             raise ConfigError(f"Prop {self.name!r}: expected mass > 0 kg or None (static), got {self.mass!r}.")
 
@@ -197,7 +198,7 @@ def _add_prop(spec: mujoco.MjSpec, prop: Prop) -> None:
         body.add_freejoint(name=f"{prop.name}_free_joint")
     body.add_geom(
         name=prop.name,
-        type=_SHAPES[prop.shape],
+        type=PRIMITIVE_SHAPES[prop.shape],
         size=list(prop.size) + [0.0] * (3 - len(prop.size)),
         rgba=list(prop.rgba),
         friction=prop.friction.as_mujoco(),

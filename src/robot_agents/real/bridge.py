@@ -1,0 +1,303 @@
+"""Drive a real robot with its simulation definition: the same control modes, the same
+controllers, joint targets sent to the hardware.
+
+:class:`RealRobot` keeps a one-env scene of the robot that is never stepped. Each
+control step it reads the robot's measured joint positions and velocities from a
+:class:`JointBus` (the hardware's interface: motors, a vendor SDK, a ROS topic), writes
+them into that scene, lets the mode's controllers turn the action into joint targets
+exactly as in simulation (end-effector modes solve their IK on the model at the
+measured pose), and sends the targets to the bus. The drives themselves (the PD loops)
+run on the hardware.
+
+Scope: robots whose root is fixed and which have no ``Base`` part (arms, grippers,
+hands, arm + gripper); a mobile base has no joints to command. The bus carries the
+robot's driven joints (``Agent.drives.joint_names``); joints that follow another
+through an equality (a mimic finger) or are passive keep their keyframe values in the
+controllers' model. Substep interpolation of targets is a simulation feature: the bus
+receives each step's final targets.
+
+:class:`SimulatedBus` is a :class:`JointBus` on a simulated copy of the robot, for
+running and testing the bridge without hardware: each :meth:`~SimulatedBus.write` sets
+its drives' targets and advances its physics one control period (where real motors
+would keep moving in real time until the next command).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.actuators.drives import DriveOverride
+from robot_agents.agent import Agent
+from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError, close_names
+from robot_agents.registry import get_agent
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@runtime_checkable
+class JointBus(Protocol):
+    """A real robot's joint interface, as the bridge uses it.
+
+    ``joint_names``: the joints it reads and commands (the robot definition's joint
+    names, without a scene prefix), in the order of every array below. Units: rad and
+    rad/s for hinges, m and m/s for slides, N*m / N for efforts.
+    """
+
+    @property
+    def joint_names(self) -> Sequence[str]: ...
+
+    def read(self) -> tuple[FloatArray, FloatArray]:
+        """Measured positions and velocities, each ``(n,)``."""
+        ...
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        """Targets ``(n,)`` each: position, velocity (0 where the mode sets none) and
+        feed-forward effort (0 where the mode sets none)."""
+        ...
+
+    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        """The drives' settings for the active mode, ``(n,)`` each: stiffness (N*m/rad or
+        N/m; 0 for a velocity drive), damping (N*m*s/rad or N*s/m) and effort limit
+        (N*m or N): the definition's declared drives with the mode's overrides."""
+        ...
+
+    def close(self) -> None: ...
+
+
+def _agent_class(robot: str | type[Agent], where: str) -> type[Agent]:
+    cls = get_agent(robot) if isinstance(robot, str) else robot
+    if not (isinstance(cls, type) and issubclass(cls, Agent)):
+        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot!r}.")
+    return cls
+
+
+class RealRobot:
+    """A real robot driven through ``bus`` with the control modes of its definition.
+
+    Args:
+        robot: registered uid or Agent subclass (fixed root, no ``Base`` part).
+        bus: the hardware's :class:`JointBus`; its ``joint_names`` must be the robot's
+            driven joints (any order).
+        control_mode: the mode to start in (default: the robot's default mode).
+        max_target_step: the farthest (rad or m, one number or one per bus joint) a
+            position target may lie from the measured position; targets beyond are
+            clipped towards it (a safety limit for hardware; ``None``: no limit).
+
+    Raises:
+        ConfigError: the robot has a free root or a mobile base, the bus's joints are
+            not the robot's driven joints, or ``max_target_step`` is not positive.
+    """
+
+    def __init__(
+        self,
+        robot: str | type[Agent],
+        bus: JointBus,
+        control_mode: str | None = None,
+        max_target_step: float | Sequence[float] | None = None,
+    ) -> None:
+        where = "RealRobot"
+        cls = _agent_class(robot, where)
+        if not cls.fix_root_link:
+            raise ConfigError(f"{where}: {cls.__name__} has a free root; the bridge drives fixed-root robots only.")
+        if not isinstance(bus, JointBus):
+            raise ConfigError(
+                f"{where}: expected a JointBus (joint_names, read, write, set_gains, close), got {bus!r}."
+            )
+        self.scene = Scene(cls, control_modes=control_mode, floor=False, render_only_visuals=False)
+        self.agent = self.scene.agents[0]
+        agent = self.agent
+        if agent.mobile.planar is not None:
+            self.scene.close()
+            raise ConfigError(f"{where}: {cls.__name__} has a mobile base; the bridge drives fixed-root robots only.")
+        driven = list(agent.drives.joint_names)
+        names = [str(n) for n in bus.joint_names]
+        if sorted(names) != sorted(driven) or len(set(names)) != len(names):
+            self.scene.close()
+            missing = sorted(set(driven) - set(names))
+            extra = sorted(set(names) - set(driven))
+            hints = [
+                f"{name!r} (did you mean {close_names(name, missing)[0]!r}?)"
+                for name in extra
+                if close_names(name, missing)
+            ]
+            raise ConfigError(
+                f"{where}: the bus must carry {cls.__name__}'s driven joints {driven}, got {names}"
+                + (f"; missing {missing}" if missing else "")
+                + (f"; not driven {extra}" if extra else "")
+                + (f"; {', '.join(hints)}" if hints else "")
+                + ("; repeated names" if len(set(names)) != len(names) else "")
+                + "."
+            )
+        #: drive column of each bus joint
+        self._columns = np.array([driven.index(n) for n in names], dtype=np.int64)
+        self._qpos_adr = agent.drives.qpos_adr[self._columns]  # scene addresses, bus order
+        self._dof_adr = agent.drives.dof_adr[self._columns]
+        try:
+            self._max_step = self._checked_step(max_target_step, len(names), where)
+        except ConfigError:
+            self.scene.close()
+            raise
+        self.bus = bus
+        self._measured = np.zeros(len(names))
+        self._closed = False
+        try:
+            if cls.keyframe_names():  # joints the bus does not carry start at the default keyframe
+                self.scene.reset()
+            self.set_control_mode(agent.control_mode)  # holding the measured pose
+        except Exception:
+            self.scene.close()  # (the bus stays the caller's)
+            raise
+
+    @staticmethod
+    def _checked_step(value: float | Sequence[float] | None, n: int, where: str) -> FloatArray | None:
+        if value is None:
+            return None
+        step: FloatArray
+        try:
+            step = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)).copy()
+        except (TypeError, ValueError):
+            step = np.full(n, np.nan)
+        if not np.all(np.isfinite(step)) or np.any(step <= 0):
+            raise ConfigError(f"{where}: expected max_target_step > 0 (one number or {n}), got {value!r}.")
+        return step
+
+    # -- state -----------------------------------------------------------------------------
+    def sync(self) -> None:
+        """Read the measured state from the bus into the controllers' model."""
+        self._check_open("RealRobot.sync")
+        qpos, qvel = self.bus.read()
+        n = len(self._columns)
+        qpos, qvel = np.asarray(qpos, dtype=np.float64), np.asarray(qvel, dtype=np.float64)
+        if qpos.shape != (n,) or qvel.shape != (n,) or not (np.all(np.isfinite(qpos)) and np.all(np.isfinite(qvel))):
+            raise StateError(
+                f"RealRobot.sync: the bus read positions {qpos.shape} and velocities {qvel.shape}; "
+                f"expected finite ({n},) each."
+            )
+        self._measured = qpos.copy()
+        self.scene.world.write_joint_state(np.array([0]), self._qpos_adr, qpos[None], self._dof_adr, qvel[None])
+
+    @property
+    def control_mode(self) -> str:
+        return self.agent.control_mode
+
+    def set_control_mode(self, mode: str) -> None:
+        """Switch modes: the new mode holds the measured pose (read from the bus) and
+        its drive settings go to the bus (:meth:`JointBus.set_gains`)."""
+        self.sync()
+        self.agent.set_control_mode(mode)
+        drives, columns = self.agent.drives, self._columns
+        self.bus.set_gains(drives.stiffness[columns], drives.damping[columns], drives.effort_limit[columns])
+
+    @property
+    def action_space(self) -> Any:
+        """The mode's action space of one robot, ``(action_dim,)``."""
+        return self.agent.single_action_space
+
+    def get_proprioception(self) -> dict[str, Any]:
+        """As in simulation (:meth:`Agent.get_proprioception`), from the last read."""
+        return self.agent.get_proprioception()
+
+    # -- control ---------------------------------------------------------------------------
+    def step(self, action: npt.ArrayLike) -> FloatArray:
+        """Read the state, turn ``action`` into joint targets with the mode's controllers
+        and send them; returns the position targets sent ``(n,)``, bus order. A rejected
+        action (:class:`ActionError`) sends nothing and changes no controller state."""
+        self._check_open("RealRobot.step")
+        agent = self.agent
+        checked = agent.validate_action(action)  # before anything moves (raises ActionError)
+        self.sync()
+        agent.set_action(checked)
+        targets = agent.drives.targets
+        position: FloatArray = targets.position[0, self._columns].copy()
+        if self._max_step is not None:
+            np.clip(position, self._measured - self._max_step, self._measured + self._max_step, out=position)
+        self.bus.write(position, targets.velocity[0, self._columns].copy(), targets.effort[0, self._columns].copy())
+        return position
+
+    def _check_open(self, where: str) -> None:
+        if self._closed:
+            raise StateError(f"{where}: this RealRobot is closed; make a new one.")
+
+    def close(self) -> None:
+        """Close the bus and the controllers' scene."""
+        if not self._closed:
+            self._closed = True
+            self.bus.close()
+            self.scene.close()
+
+
+class SimulatedBus:
+    """A :class:`JointBus` on a simulated copy of ``robot`` (its driven joints).
+
+    Args:
+        robot: registered uid or Agent subclass.
+        keyframe: where the simulated robot starts (default: its first keyframe).
+        sim_freq / control_freq: the copy's physics and command rates (Hz); each
+            :meth:`write` advances ``1 / control_freq`` s.
+    """
+
+    def __init__(
+        self,
+        robot: str | type[Agent],
+        keyframe: str | None = None,
+        sim_freq: int | None = None,
+        control_freq: int = DEFAULT_CONTROL_FREQ,
+    ) -> None:
+        cls = _agent_class(robot, "SimulatedBus")
+        # an absolute joint mode: no controller rewrites the targets between substeps
+        mode = "pd_joint_pos" if "pd_joint_pos" in cls.modes() else None
+        self.scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+        self.agent = self.scene.agents[0]
+        if keyframe is not None and keyframe not in cls.keyframe_names():
+            self.scene.close()
+            raise UnknownNameError("SimulatedBus", "keyframe", keyframe, list(cls.keyframe_names()))
+        if cls.keyframe_names():
+            self.scene.reset(keyframes=keyframe)
+        # the drives take every target kind they are sent (position, velocity
+        # feed-forward, effort), as hardware drives do
+        drives = self.agent.drives
+        self.set_gains(drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
+        self._names = tuple(self.agent.drives.joint_names)
+        self._closed = False
+
+    @property
+    def joint_names(self) -> Sequence[str]:
+        return self._names
+
+    def read(self) -> tuple[FloatArray, FloatArray]:
+        drives = self.agent.drives
+        return self.scene.world.qpos[0, drives.qpos_adr].copy(), self.scene.world.qvel[0, drives.dof_adr].copy()
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        if self._closed:
+            raise StateError("SimulatedBus.write: this bus is closed.")
+        n = len(self._names)
+        arrays = [np.asarray(a, dtype=np.float64) for a in (position, velocity, effort)]
+        if any(a.shape != (n,) or not np.all(np.isfinite(a)) for a in arrays):
+            raise ActionError(f"SimulatedBus.write: expected finite targets of shape ({n},), got {arrays}.")
+        drives = self.agent.drives
+        targets = drives.targets
+        targets.position[0], targets.velocity[0], targets.effort[0] = arrays
+        drives.write(self.scene.world.ctrl)
+        self.scene.step()
+
+    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        drives = self.agent.drives
+        values = [np.asarray(a, dtype=np.float64) for a in (stiffness, damping, effort_limit)]
+        n = len(drives.joint_names)
+        if any(v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) for v in values):
+            raise ConfigError(f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, got {values}.")
+        declared = (drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
+        # as a mode's override: NaN where the declared value stands
+        override = DriveOverride(*(np.where(v == d, np.nan, v) for v, d in zip(values, declared, strict=True)))
+        drives.activate(override, uses_velocity=True, uses_effort=True)
+
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            self.scene.close()

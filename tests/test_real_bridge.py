@@ -1,0 +1,207 @@
+"""The real-robot bridge sends the targets the simulation would apply: driven through a
+simulated bus, a robot follows the simulation's trajectory bit for bit."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pytest
+
+from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError
+from robot_agents.real import JointBus, RealRobot, SimulatedBus
+from robot_agents.sim.scene import Scene
+
+FloatArray = np.ndarray
+
+
+def simulated_and_bridged(
+    uid: str, mode: str, steps: int, bus: JointBus | None = None
+) -> tuple[FloatArray, FloatArray]:
+    """Driven-joint positions per step: a scene in ``mode``, and the bridge in ``mode``
+    on a simulated bus, from the same seeded random actions."""
+    bus = bus if bus is not None else SimulatedBus(uid)
+    real = RealRobot(uid, bus, control_mode=mode)
+    scene = Scene(uid, control_modes=mode)
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(0)
+    simulated, bridged = [], []
+    for _ in range(steps):
+        action = rng.uniform(-1.0, 1.0, real.action_space.shape)
+        real.step(action)
+        agent.set_action(action)
+        scene.step()
+        simulated.append(scene.world.qpos[0, agent.drives.qpos_adr].copy())
+        order = [list(bus.joint_names).index(name) for name in agent.drives.joint_names]
+        bridged.append(bus.read()[0][order])
+    real.close()
+    scene.close()
+    return np.array(simulated), np.array(bridged)
+
+
+@pytest.mark.parametrize(
+    ("uid", "mode"),
+    [
+        ("panda", "pd_ee_delta_pose"),  # IK at the measured pose, velocity feed-forward
+        ("so100", "pd_ee_target_delta_pos"),
+        ("widowx250s", "pd_joint_target_delta_pos"),
+        ("ur_10e", "pd_joint_vel"),  # the mode's own drive settings (a velocity drive) go to the bus
+        ("allegro_hand_right", "pd_joint_delta_pos"),
+    ],
+)
+def test_the_bridge_sends_what_the_simulation_applies(uid: str, mode: str) -> None:
+    simulated, bridged = simulated_and_bridged(uid, mode, 40)
+    assert np.abs(simulated[-1] - simulated[0]).max() > 0.05  # the robot moved
+    np.testing.assert_array_equal(bridged, simulated)
+
+
+def test_joints_the_bus_does_not_carry_keep_the_result_close() -> None:
+    """The 2F-85's passive linkage joints are not on the bus: the controllers' model
+    keeps them at the keyframe, which moves the result in its last bits only."""
+    simulated, bridged = simulated_and_bridged("xarm6_robotiq", "pd_ee_delta_pose", 40)
+    np.testing.assert_allclose(bridged, simulated, atol=1e-9)
+
+
+class ReversedBus:
+    """A bus that lists the joints in the opposite order."""
+
+    def __init__(self, bus: SimulatedBus) -> None:
+        self.inner = bus
+
+    @property
+    def joint_names(self) -> Sequence[str]:
+        return list(self.inner.joint_names)[::-1]
+
+    def read(self) -> tuple[FloatArray, FloatArray]:
+        qpos, qvel = self.inner.read()
+        return qpos[::-1].copy(), qvel[::-1].copy()
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        self.inner.write(position[::-1].copy(), velocity[::-1].copy(), effort[::-1].copy())
+
+    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        self.inner.set_gains(stiffness[::-1].copy(), damping[::-1].copy(), effort_limit[::-1].copy())
+
+    def close(self) -> None:
+        self.inner.close()
+
+
+def test_the_bus_joint_order_is_its_own() -> None:
+    simulated, bridged = simulated_and_bridged("panda", "pd_joint_delta_pos", 20, ReversedBus(SimulatedBus("panda")))
+    np.testing.assert_array_equal(bridged, simulated)
+
+
+class RenamedBus(SimulatedBus):
+    """The simulated Panda's bus, some of its joints going by other names."""
+
+    def __init__(self, names: dict[str, str]) -> None:
+        super().__init__("panda")
+        self.names = names
+
+    @property
+    def joint_names(self) -> Sequence[str]:
+        return [self.names.get(n, n) for n in super().joint_names]
+
+
+class RecordingBus(SimulatedBus):
+    def __init__(self, robot: str, read_nan: bool = False) -> None:
+        self.writes: list[tuple[FloatArray, ...]] = []
+        self.gains: list[tuple[FloatArray, ...]] = []
+        self.read_nan = read_nan
+        super().__init__(robot)
+
+    def read(self) -> tuple[FloatArray, FloatArray]:
+        qpos, qvel = super().read()
+        if self.read_nan:
+            qpos[0] = np.nan
+        return qpos, qvel
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        self.writes.append((position, velocity, effort))
+        super().write(position, velocity, effort)
+
+    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        self.gains.append((stiffness, damping, effort_limit))
+        super().set_gains(stiffness, damping, effort_limit)
+
+
+def test_targets_far_from_the_measured_pose_are_limited() -> None:
+    bus = RecordingBus("ur_10e")
+    real = RealRobot("ur_10e", bus, control_mode="pd_joint_pos", max_target_step=0.05)
+    measured = bus.read()[0]
+    far = measured + 1.0  # 1 rad away on every joint (within the limits of the keyframe)
+    sent = real.step(far)
+    np.testing.assert_allclose(sent, measured + 0.05)
+    np.testing.assert_array_equal(bus.writes[-1][0], sent)
+    unlimited = RealRobot("ur_10e", SimulatedBus("ur_10e"), control_mode="pd_joint_pos")
+    np.testing.assert_allclose(unlimited.step(far), far)
+    real.close()
+    unlimited.close()
+
+
+def test_a_mode_switch_sends_the_modes_drive_settings() -> None:
+    bus = RecordingBus("ur_10e")
+    real = RealRobot("ur_10e", bus, control_mode="pd_joint_pos")
+    stiffness, damping, _ = bus.gains[-1]
+    assert np.all(stiffness > 0)
+    real.set_control_mode("pd_joint_vel")
+    stiffness, damping, _ = bus.gains[-1]
+    assert real.control_mode == "pd_joint_vel" and np.all(stiffness == 0) and np.all(damping > 0)
+    real.close()
+
+
+def test_a_rejected_action_sends_nothing_and_changes_nothing() -> None:
+    bus = RecordingBus("panda")
+    real = RealRobot("panda", bus, control_mode="pd_joint_target_delta_pos")
+    real.step(np.full(real.action_space.shape, 0.5))
+    writes, before = len(bus.writes), real.agent.controller.get_state()
+    for bad in (np.zeros(3), np.full(real.action_space.shape, np.nan), "up"):
+        with pytest.raises(ActionError):
+            real.step(bad)
+    assert len(bus.writes) == writes
+    after = real.agent.controller.get_state()
+    for part in before:
+        for key in before[part]:
+            np.testing.assert_array_equal(after[part][key], before[part][key])
+    real.close()
+    with pytest.raises(StateError, match="closed"):
+        real.step(np.zeros(real.action_space.shape))
+
+
+def test_bad_setups_are_clean_errors() -> None:
+    with pytest.raises(ConfigError, match="free root"):
+        RealRobot("anymal_c", SimulatedBus("panda"))
+    with pytest.raises(ConfigError, match="mobile base"):
+        RealRobot("fetch", SimulatedBus("fetch"))
+    renamed = RenamedBus({"panda_finger_joint2": "panda_finger_jiont2"})
+    with pytest.raises(ConfigError, match=r"missing \['panda_finger_joint2'\].*did you mean 'panda_finger_joint2'"):
+        RealRobot("panda", renamed)
+    with pytest.raises(ConfigError, match="max_target_step > 0"):
+        RealRobot("panda", SimulatedBus("panda"), max_target_step=-1.0)
+    with pytest.raises(ConfigError, match="expected a JointBus"):
+        RealRobot("panda", object())  # type: ignore[arg-type]
+    with pytest.raises(UnknownNameError, match="keyframe"):
+        SimulatedBus("panda", keyframe="rset")
+    with pytest.raises(StateError, match="expected finite"):
+        RealRobot("panda", RecordingBus("panda", read_nan=True))
+    bus = SimulatedBus("panda")
+    with pytest.raises(ActionError, match="finite targets"):
+        bus.write(np.zeros(2), np.zeros(2), np.zeros(2))
+    with pytest.raises(ConfigError, match="values >= 0"):
+        bus.set_gains(-np.ones(9), np.ones(9), np.ones(9))
+    bus.close()
+
+
+def test_the_docs_example_runs() -> None:
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "real-robots.md").read_text()
+    (block,) = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    namespace: dict[str, object] = {}
+    exec(compile(block, "docs/real-robots.md", "exec"), namespace)
+    start = SimulatedBus("so100")
+    moved = np.asarray(namespace["sent"]) - start.read()[0]
+    start.close()
+    assert isinstance(namespace["robot"], RealRobot) and np.abs(moved).max() > 0.1  # rad: the arm went

@@ -205,3 +205,25 @@ def test_the_docs_example_runs() -> None:
     moved = np.asarray(namespace["sent"]) - start.read()[0]
     start.close()
     assert isinstance(namespace["robot"], RealRobot) and np.abs(moved).max() > 0.1  # rad: the arm went
+
+
+def test_move_to_ramps_to_a_keyframe() -> None:
+    bus = RecordingBus("widowx250s")
+    robot = RealRobot("widowx250s", bus, control_mode="pd_joint_delta_pos", max_target_step=0.3)
+    local = {int(adr): i for i, adr in enumerate(robot.agent.index.qpos_adr)}
+    order = [local[int(adr)] for adr in robot.agent.drives.qpos_adr]
+    target = robot.agent.keyframe_qpos("sleep")[order]
+    start = bus.read()[0]
+    assert np.abs(start - target).max() > 1.0  # from home to sleep: over a radian on some joint
+    before = len(bus.writes)
+    robot.move_to("sleep", steps=40)
+    ramp = np.array([w[0] for w in bus.writes[before:]])
+    assert len(ramp) == 40
+    np.testing.assert_allclose(ramp[-1], target, atol=1e-12)  # the last command is the keyframe
+    assert np.abs(bus.read()[0] - target).max() < 0.1  # the arm got there (its drives lag)
+    assert robot.control_mode == "pd_joint_delta_pos"
+    with pytest.raises(UnknownNameError, match="Did you mean 'sleep'"):
+        robot.move_to("slep")
+    with pytest.raises(ConfigError, match="steps"):
+        robot.move_to("sleep", steps=0)
+    robot.close()

@@ -219,6 +219,30 @@ class RealRobot:
         self.bus.write(position, targets.velocity[0, self._columns].copy(), targets.effort[0, self._columns].copy())
         return position
 
+    def move_to(self, keyframe: str, steps: int = 40) -> None:
+        """Bring the robot to ``keyframe`` (its driven joints) along a smooth ramp of
+        ``steps`` position commands from the measured pose (one per control step of
+        the caller's timing: the bus decides how long each takes), then hold it in the
+        active mode. The ramp's commands respect ``max_target_step``."""
+        self._check_open("RealRobot.move_to")
+        agent = self.agent
+        robot_qpos = agent.keyframe_qpos(keyframe)  # raises UnknownNameError
+        if not (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 1):
+            raise ConfigError(f"RealRobot.move_to: expected steps as a whole number >= 1, got {steps!r}.")
+        local = {int(adr): i for i, adr in enumerate(agent.index.qpos_adr)}
+        target = robot_qpos[[local[int(adr)] for adr in self._qpos_adr]]
+        self.sync()
+        start = self._measured.copy()
+        zeros = np.zeros_like(start)
+        for step in range(1, steps + 1):
+            s = step / steps
+            position = start + (target - start) * (s * s * (3.0 - 2.0 * s))  # smoothstep: no jump in speed
+            if self._max_step is not None:
+                self.sync()
+                np.clip(position, self._measured - self._max_step, self._measured + self._max_step, out=position)
+            self.bus.write(position, zeros, zeros)
+        self.set_control_mode(agent.control_mode)
+
     def _check_open(self, where: str) -> None:
         if self._closed:
             raise StateError(f"{where}: this RealRobot is closed; make a new one.")

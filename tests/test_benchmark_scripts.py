@@ -38,6 +38,7 @@ RUNS = {
     ("default_step_speedup.py", "so100", "--rounds", "1"): "| `so100`",
     ("pose_sync_cost.py",): "| `fetch` |",
     ("legged_contacts.py", "unitree_go2", "--steps", "2"): "| `unitree_go2` | as declared |",
+    ("bridge_latency.py", "--robots", "so100", "--rounds", "1", "--block", "2"): "| `so100` | `pd_joint_delta_pos` |",
     ("random_press.py", "so100", "--seeds", "0", "--floor-solref", "0.004", "1"): "so100  (sim_freq 200)",
     ("integrator_claims.py", "floating_panda_gripper", "160"): "| `floating_panda_gripper` | 160 |",
     ("mobile_pick_seeds.py", "spot", "--seeds", "1"): "| `spot` | 1/1 |",

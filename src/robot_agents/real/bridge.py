@@ -76,6 +76,24 @@ def _agent_class(robot: str | type[Agent], where: str) -> type[Agent]:
     return cls
 
 
+def bus_columns(driven: list[str], names: list[str], robot: str) -> npt.NDArray[np.int64]:
+    """The drive column of each of a bus's joints ``names``; :class:`ConfigError` unless
+    they are the ``driven`` joints (any order, each once), with close-name hints."""
+    if sorted(names) == sorted(driven) and len(set(names)) == len(names):
+        return np.array([driven.index(n) for n in names], dtype=np.int64)
+    missing = sorted(set(driven) - set(names))
+    extra = sorted(set(names) - set(driven))
+    hints = [f"{n!r} (did you mean {close_names(n, missing)[0]!r}?)" for n in extra if close_names(n, missing)]
+    raise ConfigError(
+        f"RealRobot: the bus must carry {robot}'s driven joints {driven}, got {names}"
+        + (f"; missing {missing}" if missing else "")
+        + (f"; not driven {extra}" if extra else "")
+        + (f"; {', '.join(hints)}" if hints else "")
+        + ("; repeated names" if len(set(names)) != len(names) else "")
+        + "."
+    )
+
+
 class RealRobot:
     """A real robot driven through ``bus`` with the control modes of its definition.
 
@@ -110,47 +128,25 @@ class RealRobot:
             )
         self.scene = Scene(cls, control_modes=control_mode, floor=False, render_only_visuals=False)
         self.agent = self.scene.agents[0]
-        agent = self.agent
-        if agent.mobile.planar is not None:
-            self.scene.close()
-            raise ConfigError(f"{where}: {cls.__name__} has a mobile base; the bridge drives fixed-root robots only.")
-        driven = list(agent.drives.joint_names)
-        names = [str(n) for n in bus.joint_names]
-        if sorted(names) != sorted(driven) or len(set(names)) != len(names):
-            self.scene.close()
-            missing = sorted(set(driven) - set(names))
-            extra = sorted(set(names) - set(driven))
-            hints = [
-                f"{name!r} (did you mean {close_names(name, missing)[0]!r}?)"
-                for name in extra
-                if close_names(name, missing)
-            ]
-            raise ConfigError(
-                f"{where}: the bus must carry {cls.__name__}'s driven joints {driven}, got {names}"
-                + (f"; missing {missing}" if missing else "")
-                + (f"; not driven {extra}" if extra else "")
-                + (f"; {', '.join(hints)}" if hints else "")
-                + ("; repeated names" if len(set(names)) != len(names) else "")
-                + "."
-            )
-        #: drive column of each bus joint
-        self._columns = np.array([driven.index(n) for n in names], dtype=np.int64)
-        self._qpos_adr = agent.drives.qpos_adr[self._columns]  # scene addresses, bus order
-        self._dof_adr = agent.drives.dof_adr[self._columns]
-        try:
-            self._max_step = self._checked_step(max_target_step, len(names), where)
-        except ConfigError:
-            self.scene.close()
-            raise
         self.bus = bus
-        self._measured = np.zeros(len(names))
         self._closed = False
-        try:
+        try:  # on any failure the scene is closed (the bus stays the caller's)
+            if self.agent.mobile.planar is not None:
+                raise ConfigError(
+                    f"{where}: {cls.__name__} has a mobile base; the bridge drives fixed-root robots only."
+                )
+            drives = self.agent.drives
+            #: the drive column of each bus joint
+            self._columns = bus_columns(list(drives.joint_names), [str(n) for n in bus.joint_names], cls.__name__)
+            self._qpos_adr = drives.qpos_adr[self._columns]  # scene addresses, bus order
+            self._dof_adr = drives.dof_adr[self._columns]
+            self._max_step = self._checked_step(max_target_step, len(self._columns), where)
+            self._measured = np.zeros(len(self._columns))
             if cls.keyframe_names():  # joints the bus does not carry start at the default keyframe
                 self.scene.reset()
-            self.set_control_mode(agent.control_mode)  # holding the measured pose
+            self.set_control_mode(self.agent.control_mode)  # holding the measured pose
         except Exception:
-            self.scene.close()  # (the bus stays the caller's)
+            self.scene.close()
             raise
 
     @staticmethod

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 import pytest
 
+import robot_agents as ra
 from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError
 from robot_agents.real import JointBus, RealRobot, SimulatedBus
 from robot_agents.sim.scene import Scene
@@ -227,3 +228,46 @@ def test_move_to_ramps_to_a_keyframe() -> None:
     with pytest.raises(ConfigError, match="steps"):
         robot.move_to("sleep", steps=0)
     robot.close()
+
+
+def _obs_difference(uid: str, mode: str, steps: int = 20) -> tuple[float, float]:
+    """Largest difference between a simulated ``Empty-v1``'s state observation and the
+    bridge's ``get_obs`` on a simulated bus started from the env's reset state: at the
+    reset and over ``steps`` steps of the same random actions."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, obs_mode="state").unwrapped
+    first, _ = env.reset(seed=0)
+    bus = SimulatedBus(uid)
+    bus.agent.reset(qpos=env.agent.qpos[0], qvel=env.agent.qvel[0])
+    robot = RealRobot(uid, bus, control_mode=mode)
+    at_reset = float(np.abs(robot.get_obs() - first).max())
+    assert robot.get_obs().shape == first.shape and robot.get_obs().dtype == np.float32
+    rng = np.random.default_rng(0)
+    worst = 0.0
+    for _ in range(steps):
+        action = rng.uniform(-1.0, 1.0, env.action_space.shape)
+        obs = env.step(action)[0]
+        robot.step(action)
+        robot.sync()
+        worst = max(worst, float(np.abs(robot.get_obs() - obs).max()))
+    env.close()
+    robot.close()
+    return at_reset, worst
+
+
+@pytest.mark.parametrize(
+    ("uid", "mode"),
+    [("panda", "pd_ee_delta_pose"), ("so100", "pd_joint_delta_pos"), ("widowx250s", "pd_joint_target_delta_pos")],
+)
+def test_get_obs_is_the_simulated_state_observation(uid: str, mode: str) -> None:
+    assert _obs_difference(uid, mode) == (0.0, 0.0)
+
+
+def test_a_mimic_follower_is_set_from_its_leader() -> None:
+    """The WidowX AI's right carriage follows the left through a joint equality and is
+    not on the bus: the bridge sets it from its leader (exactly), the simulation holds
+    it there within the equality's softness."""
+    robot = RealRobot("widowxai", SimulatedBus("widowxai"))
+    assert len(robot.bus.joint_names) == robot.agent.nq - 1 and len(robot._follower_qpos) == 1
+    robot.close()
+    at_reset, worst = _obs_difference("widowxai", "pd_ee_delta_pose")
+    assert at_reset == 0.0 and worst < 2e-3

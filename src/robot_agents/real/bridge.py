@@ -11,9 +11,9 @@ run on the hardware.
 
 Scope: robots whose root is fixed and which have no ``Base`` part (arms, grippers,
 hands, arm + gripper); a mobile base has no joints to command. The bus carries the
-robot's driven joints (``Agent.drives.joint_names``); joints that follow another
-through an equality (a mimic finger) or are passive keep their keyframe values in the
-controllers' model. Substep interpolation of targets is a simulation feature: the bus
+robot's driven joints (``Agent.drives.joint_names``); joints that follow one of them
+through a linear joint equality (a mimic finger) are set with it; passive joints (a
+linkage) keep their keyframe values in the controllers' model. Substep interpolation of targets is a simulation feature: the bus
 receives each step's final targets.
 
 :class:`SimulatedBus` is a :class:`JointBus` on a simulated copy of the robot, for
@@ -32,7 +32,9 @@ import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride
 from robot_agents.agent import Agent
+from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError, close_names
+from robot_agents.kinematics import linear_followers
 from robot_agents.registry import get_agent
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
 
@@ -140,6 +142,15 @@ class RealRobot:
             self._columns = bus_columns(list(drives.joint_names), [str(n) for n in bus.joint_names], cls.__name__)
             self._qpos_adr = drives.qpos_adr[self._columns]  # scene addresses, bus order
             self._dof_adr = drives.dof_adr[self._columns]
+            # joints that follow a bus joint through a linear equality (a mimic finger):
+            # written with it, as the equality holds them on the real robot
+            followers = linear_followers(self.scene.model, self._dof_adr)
+            self._follower_qpos = np.array([f[0] for f in followers], dtype=np.int64)
+            self._follower_dof = np.array([f[1] for f in followers], dtype=np.int64)
+            self._follower_leader = np.array([f[2] for f in followers], dtype=np.int64)
+            self._follower_offset = np.array([f[3] for f in followers], dtype=np.float64)
+            self._follower_slope = np.array([f[4] for f in followers], dtype=np.float64)
+            self._observation = StateObservation(self.scene, True, None, None, where)
             self._max_step = self._checked_step(max_target_step, len(self._columns), where)
             self._measured = np.zeros(len(self._columns))
             if cls.keyframe_names():  # joints the bus does not carry start at the default keyframe
@@ -175,7 +186,12 @@ class RealRobot:
                 f"expected finite ({n},) each."
             )
         self._measured = qpos.copy()
-        self.scene.world.write_joint_state(np.array([0]), self._qpos_adr, qpos[None], self._dof_adr, qvel[None])
+        leaders = self._follower_leader
+        qpos_adr = np.concatenate([self._qpos_adr, self._follower_qpos])
+        dof_adr = np.concatenate([self._dof_adr, self._follower_dof])
+        qpos = np.concatenate([qpos, self._follower_offset + self._follower_slope * qpos[leaders]])
+        qvel = np.concatenate([qvel, self._follower_slope * qvel[leaders]])
+        self.scene.world.write_joint_state(np.array([0]), qpos_adr, qpos[None], dof_adr, qvel[None])
 
     @property
     def control_mode(self) -> str:
@@ -197,6 +213,17 @@ class RealRobot:
     def get_proprioception(self) -> dict[str, Any]:
         """As in simulation (:meth:`Agent.get_proprioception`), from the last read."""
         return self.agent.get_proprioception()
+
+    def get_obs(self) -> npt.NDArray[np.float32]:
+        """The robot's part of a simulated env's ``obs_mode="state"`` observation,
+        ``(1, D)`` float32, from the last read (:meth:`sync`): the same entries in the
+        same order (``Empty-v1``'s whole observation; a task appends its own), so a
+        policy trained on it reads the real robot unchanged. Joints the bus does not
+        carry and no linear equality ties to one (a passive linkage) read their keyframe
+        values and zero speed."""
+        self._check_open("RealRobot.get_obs")
+        obs: npt.NDArray[np.float32] = self._observation.observe()
+        return obs
 
     # -- control ---------------------------------------------------------------------------
     def step(self, action: npt.ArrayLike) -> FloatArray:

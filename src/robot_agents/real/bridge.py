@@ -13,8 +13,8 @@ Scope: robots whose root is fixed and which have no ``Base`` part (arms, gripper
 hands, arm + gripper); a mobile base has no joints to command. The bus carries the
 robot's driven joints (``Agent.drives.joint_names``); joints that follow one of them
 through a linear joint equality (a mimic finger) are set with it; passive joints (a
-linkage) keep their keyframe values in the controllers' model. Substep interpolation of targets is a simulation feature: the bus
-receives each step's final targets.
+linkage) keep their keyframe values in the controllers' model. Substep interpolation
+of targets is a simulation feature: the bus receives each step's final targets.
 
 :class:`SimulatedBus` is a :class:`JointBus` on a simulated copy of the robot, for
 running and testing the bridge without hardware: each :meth:`~SimulatedBus.write` sets

@@ -271,3 +271,28 @@ def test_a_mimic_follower_is_set_from_its_leader() -> None:
     robot.close()
     at_reset, worst = _obs_difference("widowxai", "pd_ee_delta_pose")
     assert at_reset == 0.0 and worst < 2e-3
+
+
+def test_camera_params_follow_the_measured_joints() -> None:
+    """The Panda's wrist camera seen through the bridge: the same intrinsics and pose
+    as the simulated env's ``sensor_param`` after the same end-effector moves."""
+    uid, mode = "panda_wristcam", "pd_ee_delta_pose"
+    env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, obs_mode="rgb").unwrapped
+    env.reset(seed=0)
+    bus = SimulatedBus(uid)
+    bus.agent.reset(qpos=env.agent.qpos[0], qvel=env.agent.qvel[0])
+    robot = RealRobot(uid, bus, control_mode=mode)
+    start = robot.camera_params()["hand_camera"]["cam2world_gl"].copy()
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        action = rng.uniform(-1.0, 1.0, env.action_space.shape)
+        obs = env.step(action)[0]
+        robot.step(action)
+    robot.sync()
+    params = robot.camera_params()
+    assert list(params) == ["hand_camera"]  # the robot's own; the task's base camera is not the robot's
+    for key, value in params["hand_camera"].items():
+        np.testing.assert_array_equal(value.astype(np.float32), obs["sensor_param"]["hand_camera"][key])
+    assert np.abs(params["hand_camera"]["cam2world_gl"][0, :3, 3] - start[0, :3, 3]).max() > 0.01  # it moved
+    env.close()
+    robot.close()

@@ -225,6 +225,15 @@ class RealRobot:
         obs: npt.NDArray[np.float32] = self._observation.observe()
         return obs
 
+    def camera_params(self) -> dict[str, dict[str, FloatArray]]:
+        """The robot's own cameras (its definition's mounts) at the last read, as a
+        simulated env's ``obs["sensor_param"]``: per camera ``intrinsic_cv`` ``(1, 3, 3)``,
+        ``extrinsic_cv`` ``(1, 3, 4)`` and ``cam2world_gl`` ``(1, 4, 4)``, float64
+        (:mod:`robot_agents.sensors.camera_params`): where the real camera on that mount
+        looks from, to project its images."""
+        self._check_open("RealRobot.camera_params")
+        return self.scene.cameras.params(self.scene.world)
+
     # -- control ---------------------------------------------------------------------------
     def step(self, action: npt.ArrayLike) -> FloatArray:
         """Read the state, turn ``action`` into joint targets with the mode's controllers

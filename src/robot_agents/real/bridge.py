@@ -16,66 +16,25 @@ through a linear joint equality (a mimic finger) are set with it; passive joints
 linkage) keep their keyframe values in the controllers' model. Substep interpolation
 of targets is a simulation feature: the bus receives each step's final targets.
 
-:class:`SimulatedBus` is a :class:`JointBus` on a simulated copy of the robot, for
-running and testing the bridge without hardware: each :meth:`~SimulatedBus.write` sets
-its drives' targets and advances its physics one control period (where real motors
-would keep moving in real time until the next command).
+:class:`~robot_agents.real.simulated_bus.SimulatedBus` stands in for hardware.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.actuators.drives import DriveOverride
 from robot_agents.agent import Agent
 from robot_agents.envs.state_obs import StateObservation
-from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError, close_names
+from robot_agents.errors import ConfigError, StateError, close_names
 from robot_agents.kinematics import linear_followers
-from robot_agents.registry import get_agent
-from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
+from robot_agents.real.bus import JointBus, agent_class
+from robot_agents.sim.scene import Scene
 
 FloatArray = npt.NDArray[np.float64]
-
-
-@runtime_checkable
-class JointBus(Protocol):
-    """A real robot's joint interface, as the bridge uses it.
-
-    ``joint_names``: the joints it reads and commands (the robot definition's joint
-    names, without a scene prefix), in the order of every array below. Units: rad and
-    rad/s for hinges, m and m/s for slides, N*m / N for efforts.
-    """
-
-    @property
-    def joint_names(self) -> Sequence[str]: ...
-
-    def read(self) -> tuple[FloatArray, FloatArray]:
-        """Measured positions and velocities, each ``(n,)``."""
-        ...
-
-    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
-        """Targets ``(n,)`` each: position, velocity (0 where the mode sets none) and
-        feed-forward effort (0 where the mode sets none)."""
-        ...
-
-    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
-        """The drives' settings for the active mode, ``(n,)`` each: stiffness (N*m/rad or
-        N/m; 0 for a velocity drive), damping (N*m*s/rad or N*s/m) and effort limit
-        (N*m or N): the definition's declared drives with the mode's overrides."""
-        ...
-
-    def close(self) -> None: ...
-
-
-def _agent_class(robot: str | type[Agent], where: str) -> type[Agent]:
-    cls = get_agent(robot) if isinstance(robot, str) else robot
-    if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot!r}.")
-    return cls
 
 
 def bus_columns(driven: list[str], names: list[str], robot: str) -> npt.NDArray[np.int64]:
@@ -121,7 +80,7 @@ class RealRobot:
         max_target_step: float | Sequence[float] | None = None,
     ) -> None:
         where = "RealRobot"
-        cls = _agent_class(robot, where)
+        cls = agent_class(robot, where)
         if not cls.fix_root_link:
             raise ConfigError(f"{where}: {cls.__name__} has a free root; the bridge drives fixed-root robots only.")
         if not isinstance(bus, JointBus):
@@ -284,76 +243,4 @@ class RealRobot:
         if not self._closed:
             self._closed = True
             self.bus.close()
-            self.scene.close()
-
-
-class SimulatedBus:
-    """A :class:`JointBus` on a simulated copy of ``robot`` (its driven joints).
-
-    Args:
-        robot: registered uid or Agent subclass.
-        keyframe: where the simulated robot starts (default: its first keyframe).
-        sim_freq / control_freq: the copy's physics and command rates (Hz); each
-            :meth:`write` advances ``1 / control_freq`` s.
-    """
-
-    def __init__(
-        self,
-        robot: str | type[Agent],
-        keyframe: str | None = None,
-        sim_freq: int | None = None,
-        control_freq: int = DEFAULT_CONTROL_FREQ,
-    ) -> None:
-        cls = _agent_class(robot, "SimulatedBus")
-        # an absolute joint mode: no controller rewrites the targets between substeps
-        mode = "pd_joint_pos" if "pd_joint_pos" in cls.modes() else None
-        self.scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
-        self.agent = self.scene.agents[0]
-        if keyframe is not None and keyframe not in cls.keyframe_names():
-            self.scene.close()
-            raise UnknownNameError("SimulatedBus", "keyframe", keyframe, list(cls.keyframe_names()))
-        if cls.keyframe_names():
-            self.scene.reset(keyframes=keyframe)
-        # the drives take every target kind they are sent (position, velocity
-        # feed-forward, effort), as hardware drives do
-        drives = self.agent.drives
-        self.set_gains(drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
-        self._names = tuple(self.agent.drives.joint_names)
-        self._closed = False
-
-    @property
-    def joint_names(self) -> Sequence[str]:
-        return self._names
-
-    def read(self) -> tuple[FloatArray, FloatArray]:
-        drives = self.agent.drives
-        return self.scene.world.qpos[0, drives.qpos_adr].copy(), self.scene.world.qvel[0, drives.dof_adr].copy()
-
-    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
-        if self._closed:
-            raise StateError("SimulatedBus.write: this bus is closed.")
-        n = len(self._names)
-        arrays = [np.asarray(a, dtype=np.float64) for a in (position, velocity, effort)]
-        if any(a.shape != (n,) or not np.all(np.isfinite(a)) for a in arrays):
-            raise ActionError(f"SimulatedBus.write: expected finite targets of shape ({n},), got {arrays}.")
-        drives = self.agent.drives
-        targets = drives.targets
-        targets.position[0], targets.velocity[0], targets.effort[0] = arrays
-        drives.write(self.scene.world.ctrl)
-        self.scene.step()
-
-    def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
-        drives = self.agent.drives
-        values = [np.asarray(a, dtype=np.float64) for a in (stiffness, damping, effort_limit)]
-        n = len(drives.joint_names)
-        if any(v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) for v in values):
-            raise ConfigError(f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, got {values}.")
-        declared = (drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
-        # as a mode's override: NaN where the declared value stands
-        override = DriveOverride(*(np.where(v == d, np.nan, v) for v, d in zip(values, declared, strict=True)))
-        drives.activate(override, uses_velocity=True, uses_effort=True)
-
-    def close(self) -> None:
-        if not self._closed:
-            self._closed = True
             self.scene.close()

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, TypeVar
 
-from robot_agents.errors import RegistryError, UnknownNameError
+from robot_agents.errors import ConfigError, RegistryError, UnknownNameError
 from robot_agents.robots.catalog import BUILTIN_ROBOTS
 
 if TYPE_CHECKING:
@@ -85,6 +85,17 @@ def get_agent(uid: str) -> type[Agent]:
         if found is not None:
             return found
     raise UnknownNameError("get_agent", "robot uid", str(uid), _available())
+
+
+def agent_class(robot: object, where: str) -> type[Agent]:
+    """``robot`` as an Agent class: a registered uid looked up (:func:`get_agent`), an
+    Agent subclass as it is; :class:`ConfigError` (naming ``where``) for anything else."""
+    from robot_agents.agent import Agent  # (the agent package imports this module)
+
+    cls = get_agent(robot) if isinstance(robot, str) else robot
+    if not (isinstance(cls, type) and issubclass(cls, Agent)):
+        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot!r}.")
+    return cls
 
 
 def list_agents() -> list[str]:

@@ -31,7 +31,8 @@ from robot_agents.agent import Agent
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, StateError, close_names
 from robot_agents.kinematics import linear_followers
-from robot_agents.real.bus import JointBus, agent_class
+from robot_agents.real.bus import JointBus
+from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
 
 FloatArray = npt.NDArray[np.float64]

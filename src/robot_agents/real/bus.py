@@ -8,10 +8,6 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.agent import Agent
-from robot_agents.errors import ConfigError
-from robot_agents.registry import get_agent
-
 FloatArray = npt.NDArray[np.float64]
 
 
@@ -43,10 +39,3 @@ class JointBus(Protocol):
         ...
 
     def close(self) -> None: ...
-
-
-def agent_class(robot: str | type[Agent], where: str) -> type[Agent]:
-    cls = get_agent(robot) if isinstance(robot, str) else robot
-    if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot!r}.")
-    return cls

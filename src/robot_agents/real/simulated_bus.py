@@ -13,7 +13,7 @@ import numpy.typing as npt
 from robot_agents.actuators.drives import DriveOverride
 from robot_agents.agent import Agent
 from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError
-from robot_agents.real.bus import agent_class
+from robot_agents.registry import agent_class
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
 
 FloatArray = npt.NDArray[np.float64]

@@ -18,7 +18,7 @@ from robot_agents.agent.declaration import composition
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.model.physics_twin import physics_twin
 from robot_agents.model.scene import Prop, RobotMount, SceneOptions, compile_scene, compose_scene
-from robot_agents.registry import get_agent
+from robot_agents.registry import agent_class
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
 from robot_agents.sensors.rig import CameraRig
@@ -109,10 +109,7 @@ class Scene:
             raise ConfigError(f"Scene: expected a robot uid, an Agent subclass, or a sequence of them, got {robots!r}.")
         if not specifiers:
             raise ConfigError("Scene: expected at least one robot, got none.")
-        classes = [get_agent(r) if isinstance(r, str) else r for r in specifiers]
-        for cls in classes:
-            if not (isinstance(cls, type) and issubclass(cls, Agent)):
-                raise ConfigError(f"Scene: expected a robot uid or an Agent subclass, got {cls!r}.")
+        classes = [agent_class(r, "Scene") for r in specifiers]
         if sim_freq is None:
             sim_freq = default_sim_freq(classes)
         for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):

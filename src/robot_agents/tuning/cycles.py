@@ -35,7 +35,7 @@ import numpy as np
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError
-from robot_agents.registry import get_agent
+from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
 
 #: ``kv * dt / I`` at and above which a clamped drive can cycle between its limits.
@@ -99,9 +99,7 @@ def drive_cycle_bounds(
     mode sets them), highest ``cycle_free_above`` first. Configurations: the default
     keyframe and ``samples`` uniform draws of the hinge and slide joints within their
     limits (unlimited ones: one turn, or +-pi m), from ``seed``."""
-    cls = get_agent(robot) if isinstance(robot, str) else robot
-    if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"drive_cycle_bounds: expected a robot uid or an Agent subclass, got {robot!r}.")
+    cls = agent_class(robot, "drive_cycle_bounds")
     if not (isinstance(samples, int) and samples >= 0):
         raise ConfigError(f"drive_cycle_bounds: expected samples >= 0 (an int), got {samples!r}.")
     scene = Scene(cls)

@@ -16,7 +16,7 @@ import numpy as np
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError
-from robot_agents.registry import get_agent
+from robot_agents.registry import agent_class
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning.claims import CLAIMS, RANDOM_SEEDS, StepResult, checked_seeds, measure_step
 
@@ -115,9 +115,7 @@ def sweep_timestep(
     ``seeds``: the random claim's action sequences at every step (each must pass).
     ``progress`` is called with each step's result as it is measured.
     """
-    cls = get_agent(robot) if isinstance(robot, str) else robot
-    if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"sweep_timestep: expected a robot uid or an Agent subclass, got {robot!r}.")
+    cls = agent_class(robot, "sweep_timestep")
     counts = sorted({int(n) for n in substeps})
     if not counts or counts[0] < 1:
         raise ConfigError(f"sweep_timestep: expected positive substep counts, got {list(substeps)!r}.")

@@ -101,15 +101,16 @@ class RealRobot:
             #: the drive column of each bus joint
             self._columns = bus_columns(list(drives.joint_names), [str(n) for n in bus.joint_names], cls.__name__)
             self._qpos_adr = drives.qpos_adr[self._columns]  # scene addresses, bus order
-            self._dof_adr = drives.dof_adr[self._columns]
             # joints that follow a bus joint through a linear equality (a mimic finger):
             # written with it, as the equality holds them on the real robot
-            followers = linear_followers(self.scene.model, self._dof_adr)
-            self._follower_qpos = np.array([f[0] for f in followers], dtype=np.int64)
-            self._follower_dof = np.array([f[1] for f in followers], dtype=np.int64)
+            dof_adr = drives.dof_adr[self._columns]
+            followers = linear_followers(self.scene.model, dof_adr)
             self._follower_leader = np.array([f[2] for f in followers], dtype=np.int64)
             self._follower_offset = np.array([f[3] for f in followers], dtype=np.float64)
             self._follower_slope = np.array([f[4] for f in followers], dtype=np.float64)
+            #: where :meth:`sync` writes: the bus joints, then their followers
+            self._write_qpos_adr = np.concatenate([self._qpos_adr, [f[0] for f in followers]]).astype(np.int64)
+            self._write_dof_adr = np.concatenate([dof_adr, [f[1] for f in followers]]).astype(np.int64)
             self._observation = StateObservation(self.scene, True, None, None, where)
             self._max_step = self._checked_step(max_target_step, len(self._columns), where)
             self._measured = np.zeros(len(self._columns))
@@ -147,11 +148,11 @@ class RealRobot:
             )
         self._measured = qpos.copy()
         leaders = self._follower_leader
-        qpos_adr = np.concatenate([self._qpos_adr, self._follower_qpos])
-        dof_adr = np.concatenate([self._dof_adr, self._follower_dof])
         qpos = np.concatenate([qpos, self._follower_offset + self._follower_slope * qpos[leaders]])
         qvel = np.concatenate([qvel, self._follower_slope * qvel[leaders]])
-        self.scene.world.write_joint_state(np.array([0]), qpos_adr, qpos[None], dof_adr, qvel[None])
+        self.scene.world.write_joint_state(
+            np.array([0]), self._write_qpos_adr, qpos[None], self._write_dof_adr, qvel[None]
+        )
 
     @property
     def control_mode(self) -> str:
@@ -205,9 +206,7 @@ class RealRobot:
         self.sync()
         agent.set_action(checked)
         targets = agent.drives.targets
-        position: FloatArray = targets.position[0, self._columns].copy()
-        if self._max_step is not None:
-            np.clip(position, self._measured - self._max_step, self._measured + self._max_step, out=position)
+        position = self._limited(targets.position[0, self._columns].copy())
         self.bus.write(position, targets.velocity[0, self._columns].copy(), targets.effort[0, self._columns].copy())
         return position
 
@@ -231,9 +230,15 @@ class RealRobot:
             position = start + (target - start) * (s * s * (3.0 - 2.0 * s))  # smoothstep: no jump in speed
             if self._max_step is not None:
                 self.sync()
-                np.clip(position, self._measured - self._max_step, self._measured + self._max_step, out=position)
-            self.bus.write(position, zeros, zeros)
+            self.bus.write(self._limited(position), zeros, zeros)
         self.set_control_mode(agent.control_mode)
+
+    def _limited(self, position: FloatArray) -> FloatArray:
+        """``position`` (bus order) clipped in place to ``max_target_step`` from the
+        last measured position (unchanged without a limit)."""
+        if self._max_step is not None:
+            np.clip(position, self._measured - self._max_step, self._measured + self._max_step, out=position)
+        return position
 
     def _check_open(self, where: str) -> None:
         if self._closed:

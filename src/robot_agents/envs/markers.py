@@ -58,17 +58,20 @@ class Marker:
             )
 
 
+def _point(values: npt.ArrayLike) -> tuple[float, float, float]:
+    x, y, z = (float(v) for v in np.asarray(values, dtype=np.float64).reshape(3))
+    return x, y, z
+
+
 def goal_sphere(pos: npt.ArrayLike, radius: float) -> Marker:
     """A goal region: a translucent sphere of ``radius`` (m) at ``pos`` (m, world)."""
-    x, y, z = (float(v) for v in np.asarray(pos, dtype=np.float64).reshape(3))
-    return Marker("sphere", (float(radius),), (x, y, z))
+    return Marker("sphere", (float(radius),), _point(pos))
 
 
 def goal_disc(pos: npt.ArrayLike, radius: float, thickness: float = 0.002) -> Marker:
     """A goal area on a surface: a flat cylinder of ``radius`` (m) centred at ``pos``
     (m, world), ``thickness`` (m) tall, lying in the world's x-y plane."""
-    x, y, z = (float(v) for v in np.asarray(pos, dtype=np.float64).reshape(3))
-    return Marker("cylinder", (float(radius), thickness / 2.0), (x, y, z))
+    return Marker("cylinder", (float(radius), thickness / 2.0), _point(pos))
 
 
 def pose_axes(pose: npt.ArrayLike, length: float, radius: float) -> list[Marker]:
@@ -92,7 +95,7 @@ def pose_axes(pose: npt.ArrayLike, length: float, radius: float) -> list[Marker]
             Marker(
                 "capsule",
                 (radius, length / 2.0),
-                (float(centre[0]), float(centre[1]), float(centre[2])),
+                _point(centre),
                 (float(quat[0]), float(quat[1]), float(quat[2]), float(quat[3])),
                 colours[axis],
             )

@@ -3,7 +3,11 @@ how far the standing robot's base creeps (m) between 1 s and 5 s of holding its 
 keyframe in its default mode, and how many control steps per second it runs after its
 legs have folded under small random deltas in ``pd_joint_delta_pos`` (the mode
 ``benchmarks/vs_maniskill.py`` compares; deltas from the measured pose let loaded legs
-give), lying on the floor in a heap of contacts.
+give), lying on the floor in a heap of contacts. For that folded run it also reports
+the share of MuJoCo's step spent in its constraint stage (``mjTIMER_CONSTRAINT`` over
+``mjTIMER_STEP``) and the mean Newton iterations of the last substep of each control step,
+and, besides the contact variants, solver settings on the declared contacts
+(:data:`SOLVER_VARIANTS`, set on the compiled model's ``opt``).
 
 Usage: ``python benchmarks/legged_contacts.py [UID ...] [--steps 200]`` (default
 ``anymal_c``, whose declared contacts are Menagerie's elliptic cone with impratio 100).
@@ -13,8 +17,10 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import dataclass
 from typing import Any
 
+import mujoco
 import numpy as np
 
 import robot_agents as ra
@@ -27,10 +33,33 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "elliptic, impratio 10": {"friction_cone": "elliptic", "impratio": 10.0},
 }
 
+#: Solver settings tried on the declared contacts: name -> ``MjOption`` fields.
+SOLVER_VARIANTS: dict[str, dict[str, float]] = {
+    "as declared, solver tolerance 1e-6 (from 1e-8)": {"tolerance": 1e-6},
+    "as declared, solver tolerance 1e-5": {"tolerance": 1e-5},
+    "as declared, 20 solver iterations (from 100)": {"iterations": 20},
+}
 
-def creep(cls: type[ra.Agent]) -> float:
+
+@dataclass(frozen=True)
+class Folded:
+    """The folded run: control steps per second (CPU time), the constraint stage's share
+    of MuJoCo's step time, mean Newton iterations (last substep of each control step)."""
+
+    rate: float
+    constraint_share: float
+    iterations: float
+
+
+def _set_options(scene: ra.Scene, options: dict[str, float]) -> None:
+    for field, value in options.items():
+        setattr(scene.model.opt, field, value)
+
+
+def creep(cls: type[ra.Agent], options: dict[str, float] | None = None) -> float:
     """The base's movement (m) from 1 s to 5 s of holding the default keyframe."""
     scene = ra.Scene(cls)
+    _set_options(scene, options or {})
     scene.reset()
     agent = scene.agents[0]
     hold = hold_action(agent)
@@ -43,21 +72,26 @@ def creep(cls: type[ra.Agent]) -> float:
     return float(np.linalg.norm(positions[-1] - positions[scene.control_freq - 1]))
 
 
-def folded_rate(cls: type[ra.Agent], steps: int) -> float:
-    """Control steps per second (CPU time) of ``steps`` small random deltas in
-    ``pd_joint_delta_pos`` from the default keyframe."""
+def folded_run(cls: type[ra.Agent], steps: int, options: dict[str, float] | None = None) -> Folded:
+    """``steps`` small random deltas in ``pd_joint_delta_pos`` from the default keyframe."""
     scene = ra.Scene(cls, control_modes="pd_joint_delta_pos")
+    _set_options(scene, options or {})
     scene.reset()
     agent = scene.agents[0]
+    data = scene.world.physics_sources([0])[0]
     rng = np.random.default_rng(0)
     actions = [rng.uniform(-0.05, 0.05, agent.controller.action_dim) for _ in range(steps)]
+    iterations = []
     begin = time.process_time()
     for action in actions:
         agent.set_action(action)
         scene.step()
+        iterations.append(int(data.solver_niter[0]))
     elapsed = time.process_time() - begin
+    step_time = data.timer[int(mujoco.mjtTimer.mjTIMER_STEP)].duration
+    constraint_time = data.timer[int(mujoco.mjtTimer.mjTIMER_CONSTRAINT)].duration
     scene.close()
-    return steps / elapsed
+    return Folded(steps / elapsed, constraint_time / step_time, float(np.mean(iterations)))
 
 
 def main() -> None:
@@ -66,12 +100,22 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=200)
     args = parser.parse_args()
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
-    print("| robot | contacts | creep 1-5 s standing (mm) | folded: control steps/s |\n|---|---|---|---|")
+    print(
+        "| robot | contacts | creep 1-5 s standing (mm) | folded: control steps/s | folded: constraint stage "
+        "share of mj_step | folded: Newton iterations |\n|---|---|---|---|---|---|"
+    )
     for uid in args.uids:
         base = ra.get_agent(uid)
-        for name, attributes in VARIANTS.items():
+        runs = [(name, attributes, {}) for name, attributes in VARIANTS.items()]
+        runs += [(name, {}, options) for name, options in SOLVER_VARIANTS.items()]
+        for name, attributes, options in runs:
             cls = type(base.__name__, (base,), {"uid": "", **attributes})
-            print(f"| `{uid}` | {name} | {1000 * creep(cls):.2f} | {folded_rate(cls, args.steps):.0f} |", flush=True)
+            folded = folded_run(cls, args.steps, options)
+            print(
+                f"| `{uid}` | {name} | {1000 * creep(cls, options):.2f} | {folded.rate:.0f} | "
+                f"{folded.constraint_share:.2f} | {folded.iterations:.1f} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

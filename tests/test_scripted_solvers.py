@@ -26,7 +26,7 @@ SOLVER_SHORTFALLS = {
     ("PushCube-v1", "so100"): "6/20: the cube pushed 0-9 cm of the 10-13 cm to the goal (the arm folded over its base)",
     ("PushCube-v1", "koch-v1.1"): "15/20: the cube pushed 1-4.5 of 7-8 cm, sliding off the jaw sideways",
     ("PushCube-v1", "google_robot"): "14/20: from the floor, the cube pushed 6-16 cm of the 20-30 cm to the goal",
-    ("PushCube-v1", "stretch"): "3/20: pushing away is across the plane its arm moves the tool in (no base moves)",
+    ("PushCube-v1", "stretch"): "4/20: pushing away is across the plane its arm moves the tool in (no base moves)",
     ("PushCube-v1", "widowxai"): "15/20: fingers down, the push start is out of the IK's reach (stops 4.5-5.7 cm up)",
     ("PushCube-v1", "widowxai_wristcam"): "15/20: as widowxai",
     ("PushCube-v1", "xarm6_nogripper"): "12/20: near its base the wrist hits the base on the way down, 7-12 cm up",

@@ -26,7 +26,7 @@ SEEDS, REQUIRED = 20, 18
 SOLVER_SHORTFALLS = {
     ("PushCube-v1", "so100"): "11/20: the cube pushed 0-9 cm of the 10-13 cm to the goal",
     ("PushCube-v1", "stretch"): "3/20: pushing away is across the plane its arm moves the tool in (no base moves)",
-    ("PushCube-v1", "widowxai"): "14/20: the push start near its base is out of the IK's reach (tool stops 6-7 cm up)",
+    ("PushCube-v1", "widowxai"): "14/20: near its base the wrist hits the upper arm on the way down, 6-7 cm up",
     ("PushCube-v1", "widowxai_wristcam"): "14/20: as widowxai",
     ("PushCube-v1", "xarm6_nogripper"): "12/20: near its base the wrist hits the base on the way down, 7-17 cm up",
     ("PushCube-v1", "xarm6_nogripper_wristcam"): "10/20: as xarm6_nogripper",

@@ -399,7 +399,7 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarr
 ABOVE_BEHIND, DOWN_BEHIND, LIFT, PUSH = range(4)
 #: Largest tool speed while coming down to the table and while pushing, in reaches per
 #: step (0.19 m/s for the Panda).
-PUSH_SPEED = 0.01
+PUSH_SPEED = 0.015
 #: How far behind the cube's centre the tool point comes down, beyond half an edge, in
 #: reaches; nearer where the table ends: at least EDGE_MARGIN in from its edge, and at
 #: least EDGE_MARGIN beyond the cube's face.

@@ -301,46 +301,66 @@ def record(env: Any, frames: list[np.ndarray] | None) -> None:
         frames.append(np.asarray(env.render()))
 
 
+class Episode:
+    """One episode of every env of ``env``, reset with ``seed``: steps it, keeps per env
+    whether it has succeeded at any step, and appends each rendered frame to ``frames``
+    (unless ``None``) after the reset and after every step."""
+
+    def __init__(self, env: Any, seed: int, frames: list[np.ndarray] | None) -> None:
+        self.env, self.frames = env, frames
+        env.reset(seed=seed)
+        record(env, frames)
+        self.success = np.zeros(env.num_envs, dtype=bool)
+        self.steps = 0
+        self.limit = env.max_episode_steps or 100
+
+    def step(self, action: np.ndarray) -> None:
+        info = self.env.step(action)[4]
+        self.success |= np.asarray(info["success"], dtype=bool).reshape(self.env.num_envs)
+        self.steps += 1
+        record(self.env, self.frames)
+
+    @property
+    def running(self) -> bool:
+        return self.steps < self.limit
+
+
+def in_tool(quat: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """``offset`` (a vector in the tool frame, ``(3,)``) in world axes for tool
+    orientations ``quat`` ``(n, 4)``: ``(n, 3)``."""
+    rotated: np.ndarray = np.einsum("nij,j->ni", quat_to_matrix(quat), offset)
+    return rotated
+
+
 def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
     """Run one episode in every env of ``env`` (a ``PickCube-v1`` env, reset with
     ``seed``); per env, whether it succeeded. ``frames``: a list to append
     ``env.render()``'s frame to, after the reset and after every step."""
-    env.reset(seed=seed)
-    record(env, frames)
+    episode = Episode(env, seed, frames)
     arm = Arm(env)
     layout, geometry = env.layout, env.layout.gripper
     approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
     grasp_point = np.array(geometry.grasp_point)
     n, edge = env.num_envs, 2.0 * layout.cube_half_size
     above = np.array([0.0, 0.0, 0.1 * layout.reach + edge])
-    success = np.zeros(n, dtype=bool)
-    steps = 0
-    limit = env.max_episode_steps or 100
-
-    def step(action: np.ndarray) -> None:
-        nonlocal steps, success
-        info = env.step(action)[4]
-        success |= np.asarray(info["success"], dtype=bool).reshape(n)
-        steps += 1
-        record(env, frames)
 
     def tool_target(grasp_at: np.ndarray, quat: np.ndarray) -> np.ndarray:
-        return grasp_at - np.einsum("nij,j->ni", quat_to_matrix(quat), grasp_point)
+        return grasp_at - in_tool(quat, grasp_point)
 
     # 1. Turn: joint positions along a ramp to the IK solution above the cube.
     cube = env.body_pose("cube")
     quat = grasp_orientation(arm.tool()[:, 3:], cube[:, 3:], approach, closing)
-    arm.ramp(step, arm.solve(tool_target(cube[:, :3] + above, quat), quat), turn_steps, np.ones(n, dtype=bool))
+    arm.ramp(episode.step, arm.solve(tool_target(cube[:, :3] + above, quat), quat), turn_steps, np.ones(n, dtype=bool))
     # 2. End-effector deltas.
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, APPROACH)
     in_stage = np.zeros(n, dtype=int)
     grasp_at = np.zeros((n, 3))
     rest_z = layout.table_height + layout.cube_half_size
-    while steps < limit:
+    while episode.running:
         cube = env.body_pose("cube")[:, :3]
         tool = arm.tool()
-        point = tool[:, :3] + np.einsum("nij,j->ni", quat_to_matrix(tool[:, 3:]), grasp_point)
+        point = tool[:, :3] + in_tool(tool[:, 3:], grasp_point)
         lifted = cube.copy()
         lifted[:, 2] = np.maximum(env.goal_pos[:, 2], rest_z + edge)
         deeper = cube - DEPTH * edge * np.array([0.0, 0.0, 1.0])
@@ -353,7 +373,7 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         # Near the goal, stop commanding: in a target-delta mode the arm then holds still.
         arrived = (stage == CARRY) & (np.linalg.norm(env.goal_pos - cube, axis=1) < 0.25 * env.goal_threshold)
         command[arrived] = 0.0
-        step(arm.action(command, stage < CLOSE))
+        episode.step(arm.action(command, stage < CLOSE))
         in_stage += 1
         advance = (
             ((stage == APPROACH) & ((error < 0.25 * edge) | (in_stage > 15)))
@@ -364,35 +384,25 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         grasp_at = np.where(((stage == DESCEND) & advance)[:, None], target, grasp_at)
         stage = np.where(advance, np.minimum(stage + 1, CARRY), stage)
         in_stage[advance] = 0
-    return success
+    return episode.success
 
 
 # -- ReachPose --------------------------------------------------------------------------------
 def solve_reach(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
     """Run one episode in every env of ``env`` (a ``ReachPose-v1`` env, reset with
     ``seed``); per env, whether it succeeded. ``frames``: as :func:`solve_pick`."""
-    env.reset(seed=seed)
-    record(env, frames)
+    episode = Episode(env, seed, frames)
     arm = Arm(env)
     n = env.num_envs
-    success = np.zeros(n, dtype=bool)
-    steps = 0
-
-    def step(action: np.ndarray) -> None:
-        nonlocal steps, success
-        info = env.step(action)[4]
-        success |= np.asarray(info["success"], dtype=bool).reshape(n)
-        steps += 1
-        record(env, frames)
 
     position, quat = env.goal_pose[:, :3], env.goal_pose[:, 3:] if env.with_orientation else None
     opened = np.ones(n, dtype=bool) if arm.gripper_joints else None
     # 1. Joint positions along a ramp to the IK solution; 2. end-effector deltas.
-    arm.ramp(step, arm.solve(position, quat), turn_steps, opened)
+    arm.ramp(episode.step, arm.solve(position, quat), turn_steps, opened)
     arm.set_mode(end_effector_mode(arm.agent, rotation=env.with_orientation))
-    while steps < (env.max_episode_steps or 100):
-        step(arm.action(arm.ee_command(position, quat), opened))
-    return success
+    while episode.running:
+        episode.step(arm.action(arm.ee_command(position, quat), opened))
+    return episode.success
 
 
 # -- PushCube ---------------------------------------------------------------------------------
@@ -453,8 +463,7 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     the tool first backs off behind the cube on the line), at most ``PUSH_SPEED`` reaches a step (twice
     that coming down), and stops
     commanding once the cube's centre is within a quarter of the goal's radius."""
-    env.reset(seed=seed)
-    record(env, frames)
+    episode = Episode(env, seed, frames)
     arm = Arm(env)
     layout = env.layout
     n, half, reach = env.num_envs, layout.cube_half_size, layout.reach
@@ -470,17 +479,6 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
             np.zeros(3),
             None,
         )
-    success = np.zeros(n, dtype=bool)
-    steps = 0
-    limit = env.max_episode_steps or 100
-
-    def step(action: np.ndarray) -> None:
-        nonlocal steps, success
-        info = env.step(action)[4]
-        success |= np.asarray(info["success"], dtype=bool).reshape(n)
-        steps += 1
-        record(env, frames)
-
     cube = env.body_pose("cube")[:, :3]
     push = env.goal_pos - cube
     push[:, 2] = 0.0
@@ -494,18 +492,17 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
     above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
     quat = push_orientation(arm.tool()[:, 3:], approach, closing, push)
-    offset = np.einsum("nij,j->ni", quat_to_matrix(quat), point_in_tool)  # tool point - tool frame
-    arm.ramp(step, arm.solve(above - offset, quat), turn_steps, closed)
+    arm.ramp(episode.step, arm.solve(above - in_tool(quat, point_in_tool), quat), turn_steps, closed)
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, ABOVE_BEHIND)
     in_stage = np.zeros(n, dtype=int)
     height = np.full(n, layout.table_height + half)  # of the tool point while pushing
     last_z = np.full(n, np.inf)
     realign = np.zeros(n, dtype=bool)
-    while steps < limit:
+    while episode.running:
         cube = env.body_pose("cube")[:, :3]
         tool = arm.tool()
-        point = tool[:, :3] + np.einsum("nij,j->ni", quat_to_matrix(tool[:, 3:]), point_in_tool)
+        point = tool[:, :3] + in_tool(tool[:, 3:], point_in_tool)
         along = env.goal_pos - cube
         along[:, 2] = 0.0
         along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-9)
@@ -527,7 +524,7 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         command = arm.ee_command(tool[:, :3] + target - point, None, speed=speed[:, None])
         arrived = (stage == PUSH) & (np.linalg.norm((env.goal_pos - cube)[:, :2], axis=1) < 0.25 * env.goal_radius)
         command[arrived] = 0.0
-        step(arm.action(command, closed))
+        episode.step(arm.action(command, closed))
         in_stage += 1
         z = point[:, 2]
         # down: touched once the tool stops coming down (well above where it aims)
@@ -544,7 +541,7 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         stage = np.where(advance, np.minimum(stage + 1, PUSH), stage)
         in_stage[advance] = 0
         last_z = z
-    return success
+    return episode.success
 
 
 SOLVERS = {"PickCube-v1": solve_pick, "PushCube-v1": solve_push, "ReachPose-v1": solve_reach}

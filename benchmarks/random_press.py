@@ -41,19 +41,16 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 import robot_agents as ra
-import robot_agents.tuning.claims as claims_module
-import robot_agents.tuning.grasp_claim as grasp_module
-import robot_agents.tuning.standing_claim as standing_module
 from robot_agents.model.scene import FLOOR_SOLIMP, FLOOR_SOLMIX, FLOOR_SOLREF
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene, default_sim_freq
-from robot_agents.tuning.claims import RANDOM_SECONDS, RANDOM_SEEDS, contact_label, measure_step
+from robot_agents.tuning.claims import RANDOM_SECONDS, RANDOM_SEEDS, contact_label, measure_step, scene_setup
 
 
 @dataclass(frozen=True)
@@ -121,26 +118,6 @@ def random_press(uid: str, seeds: Sequence[int], floor: FloorContact) -> tuple[P
     return on_floor, on_self
 
 
-def with_floor(floor: FloorContact) -> Callable[[], None]:
-    """Make the claims' scenes use ``floor``; returns the undo."""
-
-    class FloorScene(Scene):
-        def __init__(self, *args: object, **kwargs: object) -> None:
-            super().__init__(*args, **kwargs)  # type: ignore[arg-type]
-            floor.apply(self)
-
-    modules = (claims_module, grasp_module, standing_module)
-    saved = [module.Scene for module in modules]
-    for module in modules:
-        module.Scene = FloorScene  # type: ignore[attr-defined]
-
-    def undo() -> None:
-        for module, scene in zip(modules, saved, strict=True):
-            module.Scene = scene  # type: ignore[attr-defined]
-
-    return undo
-
-
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("robots", nargs="*", help="robot uids (default: every registered robot)")
@@ -163,26 +140,20 @@ def main(argv: Sequence[str] | None = None) -> None:
         parser.error(f"unknown robot uids {unknown}; available: {ra.list_agents()}")
     print(f"floor: solref {floor.solref}, solimp {floor.solimp}, solmix {floor.solmix}; seeds {args.seeds}")
     claims_at = args.claims_at or ([None] if args.claims else [])
-    undo = with_floor(floor) if claims_at else None
-    try:
-        for uid in uids:
-            begin = time.perf_counter()
-            on_floor, on_self = random_press(uid, args.seeds, floor)
-            print(f"{uid}  (sim_freq {default_sim_freq([ra.get_agent(uid)])})")
-            print(f"  floor: {on_floor.row()}")
-            print(f"  self:  {on_self.row()}")
-            cls = ra.get_agent(uid)
-            for sim_freq in claims_at:
-                rate = sim_freq or default_sim_freq([cls])
+    for uid in uids:
+        begin = time.perf_counter()
+        on_floor, on_self = random_press(uid, args.seeds, floor)
+        print(f"{uid}  (sim_freq {default_sim_freq([ra.get_agent(uid)])})")
+        print(f"  floor: {on_floor.row()}")
+        print(f"  self:  {on_self.row()}")
+        cls = ra.get_agent(uid)
+        for sim_freq in claims_at:
+            rate = sim_freq or default_sim_freq([cls])
+            with scene_setup(floor.apply):  # every claim's scene gets this floor
                 result = measure_step(cls, rate, seeds=args.seeds)
-                failed = [
-                    f"{c.name} {c.value:.4g} (bound {c.bound:g}; {c.detail})" for c in result.claims if not c.passed
-                ]
-                print(f"  claims at {rate} Hz: {'all hold' if not failed else 'FAIL ' + '; '.join(failed)}")
-            print(f"  ({time.perf_counter() - begin:.1f} s)", flush=True)
-    finally:
-        if undo is not None:
-            undo()
+            failed = [f"{c.name} {c.value:.4g} (bound {c.bound:g}; {c.detail})" for c in result.claims if not c.passed]
+            print(f"  claims at {rate} Hz: {'all hold' if not failed else 'FAIL ' + '; '.join(failed)}")
+        print(f"  ({time.perf_counter() - begin:.1f} s)", flush=True)
 
 
 if __name__ == "__main__":

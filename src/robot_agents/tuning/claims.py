@@ -45,8 +45,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -177,7 +180,7 @@ def _commands_motion(agent: Agent) -> bool:
 
 def _hold(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penetration) -> ClaimResult:
     mode = cls.default_mode()
-    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+    scene = claim_scene(cls, sim_freq, control_freq, mode)
     agent = scene.agents[0]
     if not _commands_motion(agent):
         scene.close()
@@ -211,7 +214,7 @@ def _random(
     for mode, seed in [(mode, seed) for mode in cls.modes() for seed in seeds]:
         where = f"{mode} (seed {seed})" if len(seeds) > 1 else mode
         try:
-            scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+            scene = claim_scene(cls, sim_freq, control_freq, mode)
         except RobotAgentsError as err:
             unstable.append(f"{where} ({err})")
             continue
@@ -278,7 +281,7 @@ def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pene
     mode = ee_mode(cls)
     if mode is None:
         return None
-    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+    scene = claim_scene(cls, sim_freq, control_freq, mode)
     scene.reset()
     agent = scene.agents[0]
     if not agent.has_end_effector:
@@ -340,6 +343,33 @@ def checked_seeds(seeds: Sequence[int], where: str) -> tuple[int, ...]:
     if not seeds or not all(isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0 for s in seeds):
         raise ConfigError(f"{where}: expected one or more int seeds >= 0, got {list(seeds)!r}.")
     return tuple(int(s) for s in seeds)
+
+
+#: What every claim's scene is handed to right after it is made (:func:`scene_setup`).
+_SCENE_SETUP: ContextVar[Callable[[Scene], None] | None] = ContextVar("claim_scene_setup", default=None)
+
+
+def claim_scene(cls: type[Agent], sim_freq: int, control_freq: int, mode: str | None, **options: Any) -> Scene:
+    """The scene a claim runs in, ``Scene(cls, sim_freq=..., control_freq=...,
+    control_modes=mode, **options)``, handed to the active :func:`scene_setup`, if any,
+    before the claim resets it."""
+    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode, **options)
+    setup = _SCENE_SETUP.get()
+    if setup is not None:
+        setup(scene)
+    return scene
+
+
+@contextmanager
+def scene_setup(setup: Callable[[Scene], None]) -> Iterator[None]:
+    """Within the block, every claim's scene is handed to ``setup`` once made (before its
+    reset): a benchmark measuring the claims with a variant of the scene, e.g. another
+    floor contact (``benchmarks/random_press.py --claims``)."""
+    token = _SCENE_SETUP.set(setup)
+    try:
+        yield
+    finally:
+        _SCENE_SETUP.reset(token)
 
 
 def measure_step(

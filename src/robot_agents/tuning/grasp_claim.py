@@ -19,7 +19,7 @@ from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.parts.declaration import Hand
 from robot_agents.sim.scene import Scene
-from robot_agents.tuning.claims import ClaimResult, Penetration, ee_mode
+from robot_agents.tuning.claims import ClaimResult, Penetration, claim_scene, ee_mode
 
 #: Grasp claim: seconds the fingers close on the weightless cube, the lift (in cube
 #: edges, over seconds) and the hold after it.
@@ -88,7 +88,7 @@ def _grasp_at(
     if geometry is None:
         raise ConfigError(f"sweep_timestep: {cls.__name__}'s gripper geometry could not be measured.")
     cube = cube_prop("sweep_cube", layout, (0.8, 0.2, 0.2, 1.0))
-    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode, props=[cube], floor=False)
+    scene = claim_scene(cls, sim_freq, control_freq, mode, props=[cube], floor=False)
     scene.reset()
     agent = scene.agents[0]
     gripper = agent.gripper()
@@ -182,7 +182,7 @@ def _hand_grasp(
     if grasp is None or HAND_MODE not in cls.modes():
         return None
     cube = free_cube("sweep_cube", 0.5 * grasp.cube_edge, (0.8, 0.2, 0.2, 1.0))
-    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=HAND_MODE, props=[cube], floor=False)
+    scene = claim_scene(cls, sim_freq, control_freq, HAND_MODE, props=[cube], floor=False)
     scene.reset()
     agent = scene.agents[0]
     names = agent.part_joints[hand.name]

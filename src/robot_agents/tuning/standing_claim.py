@@ -26,8 +26,7 @@ import numpy as np
 from robot_agents.agent import Agent
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_action, standing_leg_joints
 from robot_agents.kinematics.rotations import quat_to_matrix
-from robot_agents.sim.scene import Scene
-from robot_agents.tuning.claims import ClaimResult, Penetration
+from robot_agents.tuning.claims import ClaimResult, Penetration, claim_scene
 
 #: Seconds each keyframe is held standing; the first
 #: :data:`~robot_agents.checks.LOAD_SETTLE_SECONDS` of them are left for settling.
@@ -44,7 +43,7 @@ def standing_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pe
     if not standing_leg_joints(cls):
         return None
     mode = cls.default_mode()
-    scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
+    scene = claim_scene(cls, sim_freq, control_freq, mode)
     agent = scene.agents[0]
     model = scene.model
     settle_steps = round(LOAD_SETTLE_SECONDS * control_freq)

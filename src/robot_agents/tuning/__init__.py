@@ -2,7 +2,7 @@
 sweep (:mod:`.timestep`; the claims it measures: :mod:`.claims`), torque-limit cycles (:mod:`.cycles`) and self-collision pairs
 (:mod:`.collisions`)."""
 
-from robot_agents.tuning.claims import ClaimResult, StepResult, measure_step
+from robot_agents.tuning.claims import ClaimResult, StepResult, measure_step, scene_setup
 from robot_agents.tuning.cycles import DriveCycleBound, drive_cycle_bounds
 from robot_agents.tuning.timestep import SweepResult, sweep_timestep
 
@@ -13,5 +13,6 @@ __all__ = [
     "SweepResult",
     "drive_cycle_bounds",
     "measure_step",
+    "scene_setup",
     "sweep_timestep",
 ]

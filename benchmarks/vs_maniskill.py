@@ -192,7 +192,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     print(f"\n{machine}")
     if args.output is not None:
-        command = "python benchmarks/vs_maniskill.py " + " ".join(argv if argv is not None else sys.argv[1:])
+        assets = os.environ.get("MS_ASSET_DIR")  # where the peer's downloaded robot assets were
+        command = ("" if assets is None else f"MS_ASSET_DIR={assets} ") + "python benchmarks/vs_maniskill.py "
+        command += " ".join(argv if argv is not None else sys.argv[1:])
         args.output.write_text(page(machine, command.strip(), args.rounds, args.block, "\n".join(lines)))
     return 0
 

@@ -364,7 +364,8 @@ def claim_scene(cls: type[Agent], sim_freq: int, control_freq: int, mode: str | 
 def scene_setup(setup: Callable[[Scene], None]) -> Iterator[None]:
     """Within the block, every claim's scene is handed to ``setup`` once made (before its
     reset): a benchmark measuring the claims with a variant of the scene, e.g. another
-    floor contact (``benchmarks/random_press.py --claims``)."""
+    floor contact (``benchmarks/random_press.py --claims``). The setup is a context
+    variable: it applies to claims run in this thread (and in contexts copied from it)."""
     token = _SCENE_SETUP.set(setup)
     try:
         yield

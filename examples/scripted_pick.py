@@ -407,8 +407,8 @@ def solve_reach(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarr
 
 # -- PushCube ---------------------------------------------------------------------------------
 ABOVE_BEHIND, DOWN_BEHIND, LIFT, PUSH = range(4)
-#: Largest tool speed while coming down to the table and while pushing, in reaches per
-#: step (0.19 m/s for the Panda).
+#: Largest tool speed while pushing, in reaches per step (0.28 m/s for the Panda at
+#: 20 Hz); twice that coming down to the table.
 PUSH_SPEED = 0.015
 #: How far behind the cube's centre the tool point comes down, beyond half an edge, in
 #: reaches; nearer where the table ends: at least EDGE_MARGIN in from its edge, and at
@@ -449,6 +449,14 @@ def push_orientation(tool_quat: np.ndarray, approach: np.ndarray, closing: np.nd
     return out
 
 
+def to_goal(cube: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """Horizontal unit vectors ``(n, 3)`` from the cube centres to the goals ``(n, 3)``."""
+    along = goal - cube
+    along[:, 2] = 0.0
+    along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-9)
+    return along
+
+
 def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarray] | None = None) -> np.ndarray:
     """Run one episode in every env of ``env`` (a ``PushCube-v1`` env, reset with
     ``seed``); per env, whether it succeeded. ``frames``: as :func:`solve_pick`.
@@ -460,9 +468,9 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     edges off it, then *push* at that height: the tool point aims at the cube's
     centre from behind along the line from the cube to the goal (redrawn every step,
     which steers the cube back onto it; off the line by more than ``OFF_LINE`` edges,
-    the tool first backs off behind the cube on the line), at most ``PUSH_SPEED`` reaches a step (twice
-    that coming down), and stops
-    commanding once the cube's centre is within a quarter of the goal's radius."""
+    the tool first backs off behind the cube on the line), at most ``PUSH_SPEED``
+    reaches a step (twice that coming down), and stops commanding once the cube's
+    centre is within a quarter of the goal's radius."""
     episode = Episode(env, seed, frames)
     arm = Arm(env)
     layout = env.layout
@@ -473,16 +481,10 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         point_in_tool = np.array(geometry.grasp_point)
         closed: np.ndarray | None = np.zeros(n, dtype=bool)
     else:  # a bare flange: its tool frame's z points out of it
-        approach, closing, point_in_tool, closed = (
-            np.array([0.0, 0.0, 1.0]),
-            np.array([1.0, 0.0, 0.0]),
-            np.zeros(3),
-            None,
-        )
+        approach, closing = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
+        point_in_tool, closed = np.zeros(3), None
     cube = env.body_pose("cube")[:, :3]
-    push = env.goal_pos - cube
-    push[:, 2] = 0.0
-    push /= np.maximum(np.linalg.norm(push, axis=1, keepdims=True), 1e-9)
+    push = to_goal(cube, env.goal_pos)
     # the push start: CLEARANCE behind the cube's near face, but on the table (a mobile
     # robot's cubes lie near the table's edge), at least EDGE_MARGIN in from its edge
     near_edge = layout.table_center[0] - layout.table_half_size[0] + EDGE_MARGIN * reach
@@ -503,9 +505,7 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         cube = env.body_pose("cube")[:, :3]
         tool = arm.tool()
         point = tool[:, :3] + in_tool(tool[:, 3:], point_in_tool)
-        along = env.goal_pos - cube
-        along[:, 2] = 0.0
-        along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-9)
+        along = to_goal(cube, env.goal_pos)
         # Off the cube's line to the goal by more than OFF_LINE edges: back off behind the
         # cube on that line (clear of it) before pushing on.
         offset_xy = (point - cube) * np.array([1.0, 1.0, 0.0])

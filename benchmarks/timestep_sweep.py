@@ -6,6 +6,7 @@ physics step (largest first) and the largest step at which all hold.
     python benchmarks/timestep_sweep.py --quick panda   # finest step, then stop after two passes
     python benchmarks/timestep_sweep.py --seeds 0 so100 # one random-action sequence (default: 0,1,2)
     python benchmarks/timestep_sweep.py --output docs/timestep-sweep.md
+    python benchmarks/timestep_sweep.py --jobs 2       # robots swept in 2 processes
 
 Writes a markdown report (summary table, then each robot's table) to ``--output``
 (default: stdout). Not run in CI.
@@ -14,10 +15,12 @@ Writes a markdown report (summary table, then each robot's table) to ``--output`
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
 import time
 from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
 
 import robot_agents as ra
 from robot_agents.tuning.claims import RANDOM_SEEDS
@@ -76,6 +79,15 @@ def report(results: Sequence[SweepResult], seconds: Sequence[float], seeds: Sequ
     return "\n".join(lines) + "\n"
 
 
+def timed_sweep(uid: str, substeps: Sequence[int], seeds: Sequence[int], quick: bool) -> tuple[SweepResult, float]:
+    """One robot's sweep and its wall-clock seconds (reported on stderr as it ends)."""
+    start = time.perf_counter()
+    result = sweep_timestep(uid, substeps=substeps, seeds=seeds, stop_after=2 if quick else None)
+    took = time.perf_counter() - start
+    print(f"{uid}: largest passing {result.largest_passing} Hz ({took:.1f} s)", file=sys.stderr, flush=True)
+    return result, took
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("uids", nargs="*", help="robots to sweep (default: every registered robot)")
@@ -90,18 +102,23 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="measure the finest step, then stop after two coarser passes (default: every step; a robot near "
         "a torque-limit cycle can pass at a coarse step and fail at a finer one)",
     )
+    parser.add_argument(
+        "--jobs",
+        type=int,
+        default=1,
+        help="robots swept at once, each in its own process (the sweep times then share the machine's cores)",
+    )
     args = parser.parse_args(argv)
     uids = args.uids or ra.list_agents()
     substeps = [int(n) for n in args.substeps.split(",")]
     seeds = [int(n) for n in args.seeds.split(",")]
-    results, seconds = [], []
-    for uid in uids:
-        start = time.perf_counter()
-        result = sweep_timestep(uid, substeps=substeps, seeds=seeds, stop_after=2 if args.quick else None)
-        seconds.append(time.perf_counter() - start)
-        results.append(result)
-        print(f"{uid}: largest passing {result.largest_passing} Hz ({seconds[-1]:.1f} s)", file=sys.stderr)
-    text = report(results, seconds, seeds)
+    sweep = functools.partial(timed_sweep, substeps=substeps, seeds=seeds, quick=args.quick)
+    if args.jobs > 1:
+        with ProcessPoolExecutor(args.jobs) as pool:
+            timed = list(pool.map(sweep, uids))
+    else:
+        timed = [sweep(uid) for uid in uids]
+    text = report([result for result, _ in timed], [took for _, took in timed], seeds)
     if args.output:
         with open(args.output, "w", encoding="utf-8") as handle:
             handle.write(text)

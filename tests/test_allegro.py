@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -300,3 +301,46 @@ def test_a_mounted_hand_carries_its_power_grasp_with_the_prefix() -> None:
     hand = next(p for p in ArmWithHand.check().parts if isinstance(p, ra.Hand))
     assert hand.power_grasp is not None and hand.power_grasp.link == "hand/base_link"
     assert hand.power_grasp.cube_centre == POWER_GRASP.cube_centre
+
+
+# ---------------------------------------------------------------- finger on finger
+def thumb_speed_after_pressing_the_index(cls: type[ra.Agent]) -> float:
+    """Random ``pd_joint_target_delta_pos`` actions (seed 2) at 320 Hz leave the thumb's
+    target beyond the index finger; held there (the accumulated targets, one hold command
+    repeated for 3 s) the thumb tip presses on the finger: the fastest joint over the
+    last 0.5 s (rad/s)."""
+    from robot_agents.sim.scene import Scene
+
+    scene = Scene(cls, control_modes="pd_joint_target_delta_pos", sim_freq=320)
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(2)
+    space = agent.action_space
+    for _ in range(200):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+    hold, fastest = hold_action(agent), 0.0
+    for step in range(60):
+        agent.set_action(hold)
+        scene.step()
+        if step >= 50:
+            fastest = max(fastest, float(np.abs(agent.qvel[0]).max()))
+    scene.close()
+    return fastest
+
+
+def test_a_fingertip_on_another_finger_meets_the_links_contact_and_comes_to_rest(tmp_path: Path) -> None:
+    """The hand's links take contact priority over the fingertip pads, so the thumb tip
+    pressed on the index finger meets MuJoCo's default contact and the hand comes to rest;
+    with the pads' near-rigid contact there (the links' priority removed) the tip chatters
+    on the finger, sliding and bouncing every 0.24 s, above the sweep's settle bound."""
+    from robot_agents.tuning.claims import SETTLE_SPEED
+
+    path = Path(str(AllegroHandRight.mjcf_path))
+    links_first = '<geom group="3" rgba="0.55 0.65 0.8 0.5" priority="2"/>'
+    source = path.read_text()
+    assert links_first in source
+    (tmp_path / path.name).write_text(source.replace(links_first, '<geom group="3" rgba="0.55 0.65 0.8 0.5"/>'))
+    pads_everywhere = type("PadsEverywhere", (AllegroHandRight,), {"uid": "", "mjcf_path": tmp_path / path.name})
+    assert thumb_speed_after_pressing_the_index(AllegroHandRight) < SETTLE_SPEED / 10
+    assert thumb_speed_after_pressing_the_index(pads_everywhere) > SETTLE_SPEED

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+from collections.abc import Callable
 from pathlib import Path
 from typing import ClassVar
 
@@ -25,6 +26,7 @@ from robot_agents.tuning.claims import (
     OVERSHOOT_BOUND,
     SETTLE_SECONDS,
     SETTLE_SPEED,
+    SETTLE_WINDOW,
     ClaimResult,
     Penetration,
     StepResult,
@@ -32,30 +34,33 @@ from robot_agents.tuning.claims import (
     contact_label,
     measure_step,
     scene_setup,
+    settle_hold,
 )
 from robot_agents.tuning.grasp_claim import SLIP_BOUND, grasp_claim
 from robot_agents.tuning.timestep import SweepResult, sweep_timestep
 
 
-def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seconds: float = 10.0) -> tuple[float, str]:
-    """Fastest joint speed after ``seconds`` of random actions then the sweep's settle
-    time of one repeated hold command."""
+def after_random_actions(cls: type[ra.Agent], mode: str, sim_freq: int, seed: int = 0, seconds: float = 10.0) -> Scene:
+    """A scene of ``cls`` after ``seconds`` of uniform random actions (``seed``), as the
+    sweep's random claim leaves it."""
     scene = Scene(cls, control_modes=mode, sim_freq=sim_freq)
     scene.reset()
     agent = scene.agents[0]
-    rng = np.random.default_rng(0)
+    rng = np.random.default_rng(seed)
     space = agent.action_space
     for _ in range(round(seconds * scene.control_freq)):
         agent.set_action(rng.uniform(space.low, space.high))
         scene.step()
-    hold = hold_action(agent)  # one command, repeated, as the sweep's settle claim
-    for _ in range(round(SETTLE_SECONDS * scene.control_freq)):
-        agent.set_action(hold)
-        scene.step()
-    speeds = np.abs(agent.qvel[0])
-    name = agent.joint_names[int(np.argmax(speeds))]
+    return scene
+
+
+def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seed: int = 0) -> tuple[float, str]:
+    """Fastest joint speed after 10 s of random actions and the sweep's settle hold
+    (``settle_hold``), and that joint."""
+    scene = after_random_actions(cls, mode, sim_freq, seed)
+    speed, joint = settle_hold(scene, scene.agents[0])
     scene.close()
-    return float(speeds.max()), name
+    return speed, joint
 
 
 def test_panda_wrist_settles_after_random_actions() -> None:
@@ -65,6 +70,61 @@ def test_panda_wrist_settles_after_random_actions() -> None:
     integrates the drive's damping implicitly only while the force is inside its range."""
     speed, joint = settled_speed(Panda, "pd_joint_delta_pos", 500)
     assert speed < SETTLE_SPEED, f"{joint} still moves at {speed:.3f} rad/s"
+
+
+def test_settle_claim_asks_the_robot_to_stay_where_the_random_actions_left_it() -> None:
+    """After random target-delta actions (seed 0) the Bridge WidowX's accumulated targets
+    lie far from its joints: holding them, its tuned, overdamped forearm roll is still
+    travelling after 3 s (the 2026-11-23 claim failed this robot at every step); the
+    claim's hold first sets the targets to the measured pose, and the arm is still."""
+    scene = after_random_actions(ra.get_agent("widowx250s_bridgedataset_flat_table"), "pd_joint_target_delta_pos", 1000)
+    state = scene.get_state()
+    agent = scene.agents[0]
+    hold = hold_action(agent)  # the accumulated targets, kept
+    for _ in range(round(SETTLE_SECONDS * scene.control_freq)):
+        agent.set_action(hold)
+        scene.step()
+    travelling = float(np.abs(agent.qvel[0]).max())
+    scene.set_state(state)
+    speed, _ = settle_hold(scene, agent)
+    scene.close()
+    assert travelling > 0.1
+    assert speed < SETTLE_SPEED
+
+
+def test_settle_claim_fails_a_drive_cycling_between_its_torque_limits() -> None:
+    """The Panda's wrist cycles at 400 Hz (seed 2, the sweep's failure one step coarser
+    than its default): the cycle goes on from targets at the measured pose too."""
+    speed, joint = settled_speed(Panda, "pd_joint_delta_pos", 400, seed=2)
+    assert speed > 0.1 and joint.endswith("panda_joint7"), (speed, joint)
+
+
+def settle_with_fake_speeds(speed_at: Callable[[int], float]) -> float:
+    """``settle_hold`` of the SO-100 holding still when, after each control step ``k``
+    (from 1), its first joint's measured speed is replaced by ``speed_at(k)``."""
+    scene = Scene(SO100, control_modes="pd_joint_pos", sim_freq=200)
+    scene.reset()
+    agent = scene.agents[0]
+    step = 0
+
+    def replace_speed() -> None:
+        nonlocal step
+        step += 1
+        scene.world.datas[0].qvel[agent.index.dof_adr[0]] = speed_at(step)
+        scene.world.invalidate()
+
+    speed, _ = settle_hold(scene, agent, on_step=replace_speed)
+    scene.close()
+    return speed
+
+
+def test_settle_claim_needs_every_joint_below_the_bound_over_its_last_window() -> None:
+    """One slow sample does not pass the claim: speeds below the bound at the last step
+    only fail it with the window's 0.2; a fast step before the window does not count."""
+    steps, window = round(SETTLE_SECONDS * 20), round(SETTLE_WINDOW * 20)
+    assert settle_with_fake_speeds(lambda k: 0.01 if k == steps else 0.2) == 0.2
+    assert settle_with_fake_speeds(lambda k: 0.2 if k == steps - window else 0.01) == 0.01
+    assert settle_with_fake_speeds(lambda k: 0.2 if k == steps - window + 1 else 0.01) == 0.2
 
 
 def test_panda_wrist_oscillates_without_armature() -> None:

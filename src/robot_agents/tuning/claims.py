@@ -8,11 +8,14 @@
 - ``random``: :data:`RANDOM_SECONDS` of uniformly random actions in every mode, for each
   of :data:`RANDOM_SEEDS`, without instability (MuJoCo warnings, non-finite state) and
   without a joint passing its limit by more than :data:`OVERSHOOT_BOUND`;
-- ``settle``: after the random actions, :data:`SETTLE_SECONDS` of one hold command (joint
-  modes that command positions or velocities) leaves every joint slower than
-  :data:`SETTLE_SPEED` (catches limit cycles such as a drive bang-banging between its
-  torque limits every physics step); a robot standing on its legs is given
-  :data:`LEGGED_SETTLE_SECONDS`, in the modes whose hold keeps its targets
+- ``settle``: after the random actions, the robot asked to stay where they left it
+  (joint modes that command positions or velocities: targets set to the measured pose
+  once, then one hold command repeated; :func:`settle_hold`) has every joint slower than
+  :data:`SETTLE_SPEED` over the last :data:`SETTLE_WINDOW` of :data:`SETTLE_SECONDS`
+  (catches limit cycles such as a drive bang-banging between its torque limits every
+  physics step, or a contact that bounces); a robot standing on its legs is given
+  :data:`LEGGED_SETTLE_SECONDS` and judged at its last step
+  (:data:`LEGGED_SETTLE_WINDOW`), in the modes whose hold keeps its targets
   (:func:`~robot_agents.checks.keeps_targets`: elsewhere its loaded legs creep);
 - ``ee_tracking``: where the robot has an end effector, a commanded 2 cm move of the
   tool (``pd_ee_target_delta_pos``, else an absolute end-effector mode) along the x
@@ -49,6 +52,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import mujoco
@@ -89,13 +93,32 @@ OVERSHOOT_BOUND = 0.25
 #: Seconds of one repeated hold command after the random actions: long enough for an
 #: underdamped drive to recover from a large swing (the WidowX 250 S's waist, thrown
 #: 1.2 rad past its target, rings down within 1.5 s; Fetch's shoulder pan, swinging
-#: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught.
+#: 1.2 rad, within 2.4 s), and a limit cycle never decays, so it is still caught. The
+#: hold starts from targets at the measured pose: kept where the random actions left
+#: them, a target-delta mode's targets can lie far off (the Bridge WidowX's tuned,
+#: overdamped forearm roll was still closing a 0.39 rad gap after 3 s; the Stretch's
+#: telescope 9 cm), or inside the robot's own body (the WidowX AI folded onto its base,
+#: its jammed links slipping at 0.05-0.26 rad/s for seconds): travel and jams, not the
+#: step's doing (2026-11-28).
 SETTLE_SECONDS = 3.0
+#: How long (s) every joint must have stayed below :data:`SETTLE_SPEED`, on end, when
+#: the settle claim is judged: sampled at the control rate, one instant can fall on a
+#: slow phase of a cycle (a fingertip of the Allegro hand chattering on another finger
+#: showed 0.003-0.09 rad/s from one control step to the next, 2026-11-28).
+SETTLE_WINDOW = 0.5
 #: The settle phase of a robot standing on its legs: random actions may have thrown it
 #: over, and a body still rolling or sliding to rest moves its joints (the Unitree H1,
 #: seed 0 at 500 Hz: its torso turns at 0.29 rad/s 3 s into the hold, everything is
 #: still by 3.5 s); a limit cycle never decays, so it is still caught.
 LEGGED_SETTLE_SECONDS = 5.0
+#: The settle claim of a robot standing on its legs reads the last control step only,
+#: not :data:`SETTLE_WINDOW`: thrown over by the random actions, such a robot lies on its
+#: links, which slip now and then under its weight long after the drives are still, and
+#: a window over that heap judges the heap (2026-11-28, with a 0.5 s window: the H1's
+#: arm under its body crept at up to 0.19 rad/s for 12 s, ``pd_joint_pos_vel`` seed 1
+#: at 320 Hz; the ANYmal on its side slipped a hip at 0.15 rad/s 10 s into the hold,
+#: seed 1 at 800 Hz; an ANYmal on its back rocked to 6 s).
+LEGGED_SETTLE_WINDOW = 0.0
 #: Fastest joint speed (rad/s or m/s) allowed at the end of the settle phase.
 SETTLE_SPEED = 0.05
 #: The end-effector move commanded (m) and the seconds it is given.
@@ -210,7 +233,9 @@ def _random(
     overshoot, over_where = 0.0, ""
     speed, speed_where = 0.0, ""
     legged = bool(standing_leg_joints(cls))
-    settle_steps = round((LEGGED_SETTLE_SECONDS if legged else SETTLE_SECONDS) * control_freq)
+    settle_seconds, settle_window = (
+        (LEGGED_SETTLE_SECONDS, LEGGED_SETTLE_WINDOW) if legged else (SETTLE_SECONDS, SETTLE_WINDOW)
+    )
     for mode, seed in [(mode, seed) for mode in cls.modes() for seed in seeds]:
         where = f"{mode} (seed {seed})" if len(seeds) > 1 else mode
         try:
@@ -241,20 +266,9 @@ def _random(
             # creep, not a cycle, and not the step's doing
             settles = False
         if settles:
-            # One hold command, repeated: targets stay where the hold began (absolute and
-            # target modes). Re-measuring every step would let a joint that sags under
-            # its load ratchet its own target along (a soft gripper drive under gravity).
-            hold = hold_action(agent)
-            for _ in range(settle_steps):
-                agent.set_action(hold)
-                scene.step()
-                depth.measure(scene)
-            # wheels are turned with the base (visual): the base's own joints speak for it
-            speeds = np.abs(agent.qvel[0])
-            speeds[[w.dof_start for w in agent.mobile.wheels]] = 0.0
-            fastest = float(np.max(speeds, initial=0.0))
-            if fastest > speed:
-                speed, speed_where = fastest, f"{where}: {agent.joint_names[int(np.argmax(speeds))]}"
+            fastest, joint = settle_hold(scene, agent, settle_seconds, partial(depth.measure, scene), settle_window)
+            if fastest > speed or not speed_where:
+                speed, speed_where = fastest, f"{where}: {joint}"
         if scene.world.unstable_steps.any() or not np.all(np.isfinite(scene.world.get_state())):
             unstable.append(where)
         scene.close()
@@ -267,6 +281,42 @@ def _random(
     )
     settle = ClaimResult("settle", speed <= SETTLE_SPEED, speed, SETTLE_SPEED, speed_where)
     return random, settle
+
+
+def settle_hold(
+    scene: Scene,
+    agent: Agent,
+    seconds: float = SETTLE_SECONDS,
+    on_step: Callable[[], None] | None = None,
+    window: float = SETTLE_WINDOW,
+) -> tuple[float, str]:
+    """The settle claim's hold in env 0 of ``scene``: the controllers' targets set to the
+    measured pose once (as a reset does: the robot is asked to stay where the random
+    actions left it, not to finish travelling to their last targets), then one hold
+    command (:func:`~robot_agents.checks.hold_action`, taken once and repeated, so that
+    a joint sagging under its load cannot drag its own target along) for ``seconds``.
+
+    Returns the fastest joint speed over the last ``window`` seconds (at least the last
+    control step; rad/s or m/s; passive wheels left out: they turn with the base, whose
+    joints count) and that joint's name. ``on_step`` is called after each control step."""
+    agent.controller.reset(np.zeros(1, dtype=np.int64), agent.world)
+    hold = hold_action(agent)
+    steps = max(1, round(seconds * scene.control_freq))
+    last_steps = min(steps, max(1, round(window * scene.control_freq)))
+    wheels = [w.dof_start for w in agent.mobile.wheels]
+    fastest, joint = 0.0, 0
+    for step in range(steps):
+        agent.set_action(hold)
+        scene.step()
+        if on_step is not None:
+            on_step()
+        if step >= steps - last_steps:
+            speeds = np.abs(agent.qvel[0])
+            speeds[wheels] = 0.0
+            if speeds.size and float(speeds.max()) > fastest:
+                joint = int(np.argmax(speeds))
+                fastest = float(speeds[joint])
+    return fastest, agent.joint_names[joint] if agent.joint_names else ""
 
 
 def ee_mode(cls: type[Agent]) -> str | None:

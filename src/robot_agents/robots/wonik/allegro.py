@@ -36,7 +36,15 @@ Sources of the numbers:
 - Fingertip pads: ManiSkill's tip material (static friction 2.0, dynamic 1.0); MuJoCo
   has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
   torsional friction (condim 4) and the near-rigid pad contact the library's other
-  pads use (Menagerie's ``trs_so_arm100`` values).
+  pads use (Menagerie's ``trs_so_arm100`` values), against objects only: the hand's
+  other collision geoms take a higher contact priority, so a fingertip pressing on
+  another finger meets MuJoCo's default contact. With the pads' contact there, a thumb
+  tip pressed by its drive on the index finger (the targets random
+  ``pd_joint_target_delta_pos`` actions left, seed 2, held) chattered, sliding at the
+  edge of its friction cone and losing and regaining contact every 0.24 s, at 200-400
+  Hz, 0.06-0.1 rad/s for as long as it was held (10 s tried; 2026-11-28). With the
+  links first it comes to rest, and random actions no longer press joints past their
+  limits at 160 Hz (0.78 -> 0.14 rad).
 - Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml`` (commit 28ffb48):
   position servos with kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad,
   taken as the drives' kv (as the UR10e takes Menagerie's joint damping); ManiSkill's
@@ -178,17 +186,18 @@ class AllegroHandRight(Agent):
     """
 
     uid = "allegro_hand_right"
-    #: Time-step sweep (``robot-agents check allegro_hand_right --sweep``, 2026-11-23,
-    #: 20 Hz control): every claim holds from 5 ms (200 Hz) down to 1 ms (random-action
-    #: overshoot 0.093 rad at 200 Hz, 0.045 at 320 Hz, bound 0.25; settle 0.006-0.032
-    #: rad/s, bound 0.05; the power grasp's slip 0.30 mm at 320 Hz, rerun 20:39 UTC with
-    #: the hand's grasp claim); at 160 Hz and coarser the random actions press joints
-    #: 0.66-2.05 rad past their limits. Default one tried step finer: 320 Hz (3.125 ms).
-    #: The distal joints could cycle between their torque limits below 397 Hz, but not
-    #: at the joints' rated speed (``robot_agents.tuning.cycles``). Without the armature
-    #: estimate the random claim failed at every step (0.51 rad at 1 kHz) and settle
-    #: below 800 Hz (97 rad/s at 500 Hz).
-    sim_freq: ClassVar[int | None] = 320
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py allegro_hand_right``,
+    #: 2026-11-28, 20 Hz control): every claim holds from 6.25 ms (160 Hz) down to 1 ms
+    #: (random-action overshoot 0.136 rad at 160 Hz, 0.095 at 200 Hz, bound 0.25; settle
+    #: below 1e-4 rad/s, bound 0.05; the power grasp's slip 0.06-0.13 mm; deepest contact
+    #: 4.2-4.5 mm, bound 5); at 100 Hz and coarser the random actions press joints 0.3-1
+    #: rad past their limits. Default one tried step finer: 200 Hz (5 ms; 320 Hz until
+    #: the fingertips' pad contact stopped applying between fingers, see the module
+    #: docstring). The distal joints could cycle between their torque limits below 397
+    #: Hz, but not at the joints' rated speed (``robot_agents.tuning.cycles``). Without
+    #: the armature estimate the random claim failed at every step (0.51 rad at 1 kHz)
+    #: and settle below 800 Hz (97 rad/s at 500 Hz).
+    sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "allegro_hand_right.xml"
     mount_pose: ClassVar[tuple[float, ...]] = PALM_SIDE_MOUNT
     actuators = (ALLEGRO_DRIVES,)

@@ -122,8 +122,10 @@ class WidowXAI(Agent):
     #: Trossen's model gives these gains and armature and no rotor data exists to replace
     #: them, so the step is finer instead: one tried step finer than 800 Hz and above the
     #: cycle bound, 1 kHz (kv * dt / I = 1.7 there). The wrist-camera variant (its mount
-    #: adds to the wrist's inertia; cycle bound 868 Hz) holds every claim at 1 kHz only
-    #: (800 Hz: settle 0.28 rad/s): it keeps 1 kHz too. Before the links' contacts were
+    #: adds to the wrist's inertia; cycle bound 868 Hz) held every claim at 1 kHz only
+    #: (800 Hz: settle 0.28 rad/s); with the settle claim asking the robot to stay where
+    #: it is (2026-11-28 sweep) it holds them at 500 Hz-1 kHz, 320 and 160 Hz, and joint 5
+    #: cycles at 400 and 200 Hz (3.3 and 2.1 rad/s): it keeps 1 kHz, above the bound. Before the links' contacts were
     #: made stiff (``widowx_rigid``) no step passed: random actions folded the arm until
     #: the gripper sank 33 mm into the base link and the jammed contact jittered
     #: (settle 0.09 rad/s at 1 kHz).

@@ -1,9 +1,11 @@
 """What a legged robot's contact options cost and buy: for each friction-cone setting,
 how far the standing robot's base creeps (m) between 1 s and 5 s of holding its default
-keyframe in its default mode, and how many control steps per second it runs after its
-legs have folded under small random deltas in ``pd_joint_delta_pos`` (the mode
-``benchmarks/vs_maniskill.py`` compares; deltas from the measured pose let loaded legs
-give), lying on the floor in a heap of contacts. For that folded run it also reports
+keyframe in its default mode; how many control steps per second it runs standing while
+its legs move (small deltas of alternating sign in ``pd_joint_target_delta_pos``, the
+loop of ``benchmarks/vs_maniskill.py --our-mode pd_joint_target_delta_pos``); and how
+many after its legs have folded under small random deltas in ``pd_joint_delta_pos`` (the
+mode ``benchmarks/vs_maniskill.py`` compares; deltas from the measured pose let loaded
+legs give), lying on the floor in a heap of contacts. For that folded run it also reports
 the share of MuJoCo's step spent in its constraint stage (``mjTIMER_CONSTRAINT`` over
 ``mjTIMER_STEP``) and the mean Newton iterations of the last substep of each control step,
 and, besides the contact variants, solver settings on the declared contacts
@@ -24,7 +26,8 @@ import mujoco
 import numpy as np
 
 import robot_agents as ra
-from robot_agents.checks import hold_action
+from robot_agents.agent.legs import foot_bodies
+from robot_agents.checks import hold_action, standing_leg_joints
 
 #: Variants: name -> class attributes overriding the robot's.
 VARIANTS: dict[str, dict[str, Any]] = {
@@ -32,6 +35,11 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "pyramidal, impratio 1 (MuJoCo's default)": {"friction_cone": "pyramidal", "impratio": 1.0},
     "elliptic, impratio 10": {"friction_cone": "elliptic", "impratio": 10.0},
 }
+
+#: Contact dimensionality of the feet (the sphere geoms of the legs' distal links, set
+#: on the compiled model): name -> condim. MuJoCo Menagerie's ANYmal and Go2 feet take 6
+#: (sliding, torsional 0.02 and rolling 0.01 friction); our ANYmal's 3, our Go2's 6.
+FOOT_CONDIM_VARIANTS: dict[str, int] = {"feet condim 3 (sliding friction only)": 3, "feet condim 6 (Menagerie's)": 6}
 
 #: Solver settings tried on the declared contacts: name -> ``MjOption`` fields.
 SOLVER_VARIANTS: dict[str, dict[str, float]] = {
@@ -52,8 +60,40 @@ class Folded:
 
 
 def _set_options(scene: ra.Scene, options: dict[str, float]) -> None:
+    """``MjOption`` fields, and ``foot_condim``: the contact dimensionality of the feet
+    (the sphere geoms of the legs' distal links)."""
+    model = scene.model
     for field, value in options.items():
-        setattr(scene.model.opt, field, value)
+        if field == "foot_condim":
+            agent = scene.agents[0]
+            ids = [agent.index.joint(j, "legged_contacts").id for j in standing_leg_joints(type(agent))]
+            feet = np.isin(model.geom_bodyid, sorted(foot_bodies(model, ids)))
+            model.geom_condim[feet & (model.geom_type == int(mujoco.mjtGeom.mjGEOM_SPHERE))] = int(value)
+        else:
+            setattr(model.opt, field, value)
+
+
+def standing_rate(cls: type[ra.Agent], steps: int, options: dict[str, float] | None = None) -> float:
+    """Control steps per second (CPU time) standing in ``pd_joint_target_delta_pos`` while
+    small deltas of alternating sign move the legs (the loop of ``vs_maniskill.py
+    --our-mode pd_joint_target_delta_pos``), after a second of it."""
+    scene = ra.Scene(cls, control_modes="pd_joint_target_delta_pos")
+    _set_options(scene, options or {})
+    scene.reset()
+    agent = scene.agents[0]
+    rng = np.random.default_rng(0)
+    deltas = [rng.uniform(-0.05, 0.05, agent.controller.action_dim) for _ in range(16)]
+    pairs = [delta for pair in deltas for delta in (pair, -pair)]
+    for k in range(scene.control_freq):
+        agent.set_action(pairs[k % len(pairs)])
+        scene.step()
+    begin = time.process_time()
+    for k in range(steps):
+        agent.set_action(pairs[k % len(pairs)])
+        scene.step()
+    elapsed = time.process_time() - begin
+    scene.close()
+    return steps / elapsed
 
 
 def creep(cls: type[ra.Agent], options: dict[str, float] | None = None) -> float:
@@ -101,18 +141,20 @@ def main() -> None:
     args = parser.parse_args()
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     print(
-        "| robot | contacts | creep 1-5 s standing (mm) | folded: control steps/s | folded: constraint stage "
-        "share of mj_step | folded: Newton iterations |\n|---|---|---|---|---|---|"
+        "| robot | contacts | creep 1-5 s standing (mm) | standing, legs moving: control steps/s | folded: control "
+        "steps/s | folded: constraint stage share of mj_step | folded: Newton iterations |\n|---|---|---|---|---|---|---|"
     )
     for uid in args.uids:
         base = ra.get_agent(uid)
         runs = [(name, attributes, {}) for name, attributes in VARIANTS.items()]
+        runs += [(name, {}, {"foot_condim": float(condim)}) for name, condim in FOOT_CONDIM_VARIANTS.items()]
         runs += [(name, {}, options) for name, options in SOLVER_VARIANTS.items()]
         for name, attributes, options in runs:
             cls = type(base.__name__, (base,), {"uid": "", **attributes})
             folded = folded_run(cls, args.steps, options)
             print(
-                f"| `{uid}` | {name} | {1000 * creep(cls, options):.2f} | {folded.rate:.0f} | "
+                f"| `{uid}` | {name} | {1000 * creep(cls, options):.2f} | {standing_rate(cls, args.steps, options):.0f} "
+                f"| {folded.rate:.0f} | "
                 f"{folded.constraint_share:.2f} | {folded.iterations:.1f} |",
                 flush=True,
             )

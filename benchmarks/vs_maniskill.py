@@ -21,8 +21,15 @@ peer's: 100 Hz), four loops timed in one set of alternating blocks:
 
 ``--output PATH`` writes the tables as a Markdown page (docs/vs-maniskill.md).
 
+``--our-mode MODE`` steps our env in ``MODE`` against the peer's ``pd_joint_delta_pos``
+(the joint row only): a legged robot standing in ``pd_joint_target_delta_pos``, where in
+``pd_joint_delta_pos`` our loaded legs give (the targets follow the measured pose) and
+the robot folds into a heap of contacts, while the peer's legs carry no weight (it
+switches gravity off on them). The row names both modes.
+
     python benchmarks/vs_maniskill.py                          # every shared robot
     python benchmarks/vs_maniskill.py panda so100 --rounds 5
+    python benchmarks/vs_maniskill.py anymal_c unitree_go2 --our-mode pd_joint_target_delta_pos
     MS_ASSET_DIR=/tmp/ms_assets python benchmarks/vs_maniskill.py --output docs/vs-maniskill.md
 
 The peer downloads some robots' assets at first use (``xarm6_*``, ``widowxai*``,
@@ -111,17 +118,28 @@ def our_loop(uid: str, mode: str, num_envs: int, rng: np.random.Generator) -> tu
 
 
 def compare(
-    uid: str, mode: str, python: str, rounds: int, block: int, num_envs: int, cores: int, rng: np.random.Generator
+    uid: str,
+    mode: str,
+    python: str,
+    rounds: int,
+    block: int,
+    num_envs: int,
+    cores: int,
+    rng: np.random.Generator,
+    our_mode: str | None = None,
 ) -> str:
-    """One table row: the four loops in alternating blocks."""
+    """One table row: the four loops in alternating blocks (ours in ``our_mode`` where
+    given, the peer in ``mode``)."""
     peer_uid = SHARED[uid]
-    one, env_one = our_loop(uid, mode, 1, rng)
-    many, env_many = our_loop(uid, mode, num_envs, rng)
+    ours = our_mode or mode
+    one, env_one = our_loop(uid, ours, 1, rng)
+    many, env_many = our_loop(uid, ours, num_envs, rng)
     # a batch step is num_envs env steps: fewer calls per block keep the blocks alike in time
     many_block = max(1, block // 8)
     peer = Peer(python, peer_uid, mode)
     freq = env_one.scene.sim_freq
-    row = f"| `{uid}` | `{mode}` | {freq}"
+    label = f"`{mode}`" if ours == mode else f"ours `{ours}`, the peer's `{mode}`"
+    row = f"| `{uid}` | {label} | {freq}"
     if not peer.ready:
         env_one.close()
         env_many.close()
@@ -161,6 +179,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--num-envs", type=int, default=64, help="envs of our batched loop")
     parser.add_argument("--maniskill-python", default=None)
     parser.add_argument("--output", type=Path, default=None, help="write the tables to this Markdown file")
+    parser.add_argument(
+        "--our-mode",
+        default=None,
+        help="step our env in this mode against the peer's pd_joint_delta_pos (the joint row only)",
+    )
     args = parser.parse_args(argv)
     python = args.maniskill_python or default_peer_python()
     if python is None:
@@ -180,8 +203,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ]
     print("\n".join(lines), flush=True)
     for uid in args.uids:
-        for mode in modes_of(uid):
-            line = compare(uid, mode, python, args.rounds, args.block, args.num_envs, cores, rng)
+        for mode in modes_of(uid) if args.our_mode is None else ["pd_joint_delta_pos"]:
+            line = compare(uid, mode, python, args.rounds, args.block, args.num_envs, cores, rng, args.our_mode)
             lines.append(line)
             print(line, flush=True)
     load_after = os.getloadavg()[0]

@@ -14,8 +14,12 @@ Sources of the numbers:
   +-9.42478 rad. Masses: base 19.2035 kg, hip 2.781, thigh 3.071, shank 0.58842 (with the
   URDF's foot): 44.965 kg in all. Foot: the URDF's ``FOOT`` frame (site ``<leg>_FOOT``) at
   (+-0.08795, +-0.01305, -0.33797) m in the shank, a 0.03 m sphere 0.0225 m above it,
-  friction 0.8 / 0.02 / 0.01, condim 6 (Menagerie's foot class; its softened foot
-  ``solimp`` is not taken: MuJoCo's default contact).
+  friction 0.8, condim 3 (Menagerie's foot class, friction 0.8 / 0.02 / 0.01 at condim
+  6, without its torsional and rolling friction: the standing robot's base creeps 0.22 mm
+  from 1 s to 5 s either way, and standing while its legs move it runs 1.5x as many
+  control steps per second, 1535 against 996; `python benchmarks/legged_contacts.py
+  anymal_c`, 2026-11-28 01:46 UTC; the sweep's claims hold from 320 Hz as before; its
+  softened foot ``solimp`` is not taken: MuJoCo's default contact).
 - Contacts: Menagerie's ``<option cone="elliptic" impratio="100"/>``, declared as
   ``friction_cone`` / ``impratio`` (a scene with this robot uses them). With MuJoCo's
   default pyramidal cone and impratio 1 the feet creep outwards under the standing robot

@@ -44,7 +44,11 @@ Sources of the numbers:
 - Standing: the legs give 0.12 rad (knees) under the 15.2 kg while settling onto the
   floor at Unitree's gains (Unitree's own stand sags alike), then hold still: the base
   level, on its four feet.
-- Feet: Menagerie's foot contact (friction 0.8, torsional 0.02, rolling 0.01).
+- Feet: Menagerie's foot contact (friction 0.8) at condim 3, without its torsional
+  (0.02) and rolling (0.01) friction: standing, the base creeps 1.77 mm from 1 s to 5 s
+  (1.83 with them), and standing while its legs move it runs 4171 control steps/s
+  against 3483 (`python benchmarks/legged_contacts.py unitree_go2`, 2026-11-28 01:46
+  UTC); the sweep's claims hold from 320 Hz as before.
   ManiSkill's foot material (friction 2.0) is PhysX's; Menagerie's is MuJoCo's.
 """
 

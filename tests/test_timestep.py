@@ -23,6 +23,7 @@ from robot_agents.robots.servo_arms.so100 import SO100
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ, Scene
 from robot_agents.tuning.claims import (
     CLAIMS,
+    LEGGED_SETTLE_SECONDS,
     OVERSHOOT_BOUND,
     SETTLE_SECONDS,
     SETTLE_SPEED,
@@ -97,6 +98,41 @@ def test_settle_claim_fails_a_drive_cycling_between_its_torque_limits() -> None:
     than its default): the cycle goes on from targets at the measured pose too."""
     speed, joint = settled_speed(Panda, "pd_joint_delta_pos", 400, seed=2)
     assert speed > 0.1 and joint.endswith("panda_joint7"), (speed, joint)
+
+
+def test_legged_settle_claim_fails_a_drive_cycling_between_its_torque_limits() -> None:
+    """The Go2 with ManiSkill's kp 1000 / kv 100 (cycles below 2.5-3.6 kHz in MuJoCo) at
+    400 Hz: after random actions a calf drive flips between its limits, about 3 rad/s
+    while barely moving, and the legged claim (cycling joints only) sees it; at Unitree's
+    own gains no joint cycles."""
+    go2 = ra.get_agent("unitree_go2")
+    maniskill_gains = type(
+        "ManiSkillGainsGo2",
+        (go2,),
+        {"uid": "", "actuators": tuple(dataclasses.replace(a, stiffness=1000.0, damping=100.0) for a in go2.actuators)},
+    )
+    for cls, cycles in ((maniskill_gains, True), (go2, False)):
+        scene = after_random_actions(cls, "pd_joint_pos", 400)
+        speed, joint = settle_hold(scene, scene.agents[0], LEGGED_SETTLE_SECONDS, cycles_only=True)
+        scene.close()
+        if cycles:
+            assert speed > 1.0 and joint.endswith("calf_joint"), (speed, joint)
+        else:
+            assert (speed, joint) == (0.0, "")
+
+
+def test_legged_settle_claim_lets_a_fallen_robot_rock() -> None:
+    """Random target-delta actions (seed 1) throw the ANYmal onto its back at 640 Hz; 5 s
+    into the hold it still rocks, a leg joint swinging faster than the settle bound with
+    the body: moving with it, no joint cycles, and the claim holds."""
+    scene = after_random_actions(ra.get_agent("anymal_c"), "pd_joint_target_delta_pos", 640, seed=1)
+    state = scene.get_state()
+    fastest, _ = settle_hold(scene, scene.agents[0], LEGGED_SETTLE_SECONDS)
+    scene.set_state(state)
+    cycling, _ = settle_hold(scene, scene.agents[0], LEGGED_SETTLE_SECONDS, cycles_only=True)
+    scene.close()
+    assert fastest > SETTLE_SPEED
+    assert cycling == 0.0
 
 
 def settle_with_fake_speeds(speed_at: Callable[[int], float]) -> float:

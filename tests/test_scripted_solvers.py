@@ -29,7 +29,7 @@ SOLVER_SHORTFALLS = {
     ("PushCube-v1", "widowxai"): "14/20: near its base the wrist hits the upper arm on the way down, 6-7 cm up",
     ("PushCube-v1", "widowxai_wristcam"): "14/20: as widowxai",
     ("PushCube-v1", "xarm6_nogripper"): "12/20: near its base the wrist hits the base on the way down, 7-17 cm up",
-    ("PushCube-v1", "xarm6_nogripper_wristcam"): "10/20: as xarm6_nogripper",
+    ("PushCube-v1", "xarm6_nogripper_wristcam"): "9/20: as xarm6_nogripper",
 }
 
 

@@ -21,7 +21,7 @@ from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning.claims import CLAIMS, RANDOM_SEEDS, StepResult, checked_seeds, measure_step
 
 #: Substeps per control step tried by default (control period / n), large steps first.
-DEFAULT_SUBSTEPS = (2, 4, 5, 8, 10, 16, 20, 25, 40, 50)
+DEFAULT_SUBSTEPS = (2, 4, 5, 8, 10, 16, 20, 25, 32, 40, 50)
 #: A claim failing at every step counts as failing the same way at a step where its
 #: value is at most this many times its value at the finest step.
 SAME_FAILURE = 2.0

@@ -141,13 +141,15 @@ class XArm6NoGripper(XArm6):
     """UFactory xArm6 with a bare flange; its end effector ``flange`` is ``link_eef``."""
 
     uid = "xarm6_nogripper"
-    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
-    #: step; docs/timestep.md): every claim holds from 2 ms (500 Hz) down to 1 ms (the
-    #: wrist-camera variant from 400 Hz); at 400 Hz a wrist drive (kv 100, 32 N*m, 0.1
-    #: kg*m^2 armature: kv * dt / I 1.6-1.8 at 2 ms) is left in a torque-limit cycle
-    #: (settle 0.34 rad/s). 500 Hz has no margin: default one tried step finer, 800 Hz
-    #: (margin: 1.25 ms against 2 ms), for both variants.
-    sim_freq: ClassVar[int | None] = 800
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23 and 2026-11-28, 20 Hz
+    #: control, every step; docs/timestep.md): every claim holds from 2 ms (500 Hz) down
+    #: to 1 ms (the wrist-camera variant from 400 Hz); at 400 Hz a wrist drive (kv 100, 32
+    #: N*m, 0.1 kg*m^2 armature: kv * dt / I 1.6-1.8 at 2 ms) is left in a torque-limit
+    #: cycle (settle 0.34 rad/s). 500 Hz has no margin: default one tried step finer, 640
+    #: Hz (margin: 1.5625 ms against 2 ms; 800 Hz until 640 Hz joined the sweep's steps,
+    #: 2026-11-28), for both variants, above joint 1's cycle bound (599-604 Hz,
+    #: ``robot_agents.tuning.cycles``).
+    sim_freq: ClassVar[int | None] = 640
 
 
 class RealSenseD435OnStand(Agent):

@@ -115,7 +115,7 @@ class WidowXAI(Agent):
     #: Time-step sweep (``python benchmarks/timestep_sweep.py widowxai widowxai_wristcam``,
     #: 2026-11-23 22:27 UTC, 20 Hz control, random-action seeds 0-2; see
     #: docs/timestep.md): every claim holds at 800 Hz and 1 kHz (and at 200 Hz, where no
-    #: seed happened to enter the cycle below); at 320-500 Hz and 160 Hz joint 5 (wrist
+    #: seed happened to enter the cycle below); at 320-640 Hz and 160 Hz joint 5 (wrist
     #: roll: Trossen's kv 5 N*m*s/rad and 7 N*m limit on 0.0018 kg*m^2 of armature plus
     #: ~0.001 of link, kv * dt / I = 3.4 at 2 ms) is left in a torque-limit cycle after
     #: random actions (settle 2.4-2.7 rad/s); the analysis puts the cycle below 948 Hz.
@@ -124,8 +124,9 @@ class WidowXAI(Agent):
     #: cycle bound, 1 kHz (kv * dt / I = 1.7 there). The wrist-camera variant (its mount
     #: adds to the wrist's inertia; cycle bound 868 Hz) held every claim at 1 kHz only
     #: (800 Hz: settle 0.28 rad/s); with the settle claim asking the robot to stay where
-    #: it is (2026-11-28 sweep) it holds them at 500 Hz-1 kHz, 320 and 160 Hz, and joint 5
-    #: cycles at 400 and 200 Hz (3.3 and 2.1 rad/s): it keeps 1 kHz, above the bound. Before the links' contacts were
+    #: it is (2026-11-28 sweep) it holds them at 800 Hz-1 kHz, 500, 320 and 160 Hz; joint
+    #: 5 cycles at 400 and 200 Hz (3.3 and 2.1 rad/s) and at 640 Hz random actions push a
+    #: joint 0.26 rad past its limit (bound 0.25): it keeps 1 kHz, above the bound. Before the links' contacts were
     #: made stiff (``widowx_rigid``) no step passed: random actions folded the arm until
     #: the gripper sank 33 mm into the base link and the jammed contact jittered
     #: (settle 0.09 rad/s at 1 kHz).

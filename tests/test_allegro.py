@@ -27,6 +27,7 @@ from robot_agents.robots.wonik.allegro import (
 from robot_agents.tuning.claims import Penetration
 from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import axis_rotation, transform
+from tests.random_actions import after_random_actions
 
 UID = "allegro_hand_right"
 
@@ -309,16 +310,8 @@ def thumb_speed_after_pressing_the_index(cls: type[ra.Agent]) -> float:
     target beyond the index finger; held there (the accumulated targets, one hold command
     repeated for 3 s) the thumb tip presses on the finger: the fastest joint over the
     last 0.5 s (rad/s)."""
-    from robot_agents.sim.scene import Scene
-
-    scene = Scene(cls, control_modes="pd_joint_target_delta_pos", sim_freq=320)
-    scene.reset()
+    scene = after_random_actions(cls, "pd_joint_target_delta_pos", 320, seed=2)
     agent = scene.agents[0]
-    rng = np.random.default_rng(2)
-    space = agent.action_space
-    for _ in range(200):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
     hold, fastest = hold_action(agent), 0.0
     for step in range(60):
         agent.set_action(hold)

@@ -39,20 +39,7 @@ from robot_agents.tuning.claims import (
 )
 from robot_agents.tuning.grasp_claim import SLIP_BOUND, grasp_claim
 from robot_agents.tuning.timestep import SweepResult, sweep_timestep
-
-
-def after_random_actions(cls: type[ra.Agent], mode: str, sim_freq: int, seed: int = 0, seconds: float = 10.0) -> Scene:
-    """A scene of ``cls`` after ``seconds`` of uniform random actions (``seed``), as the
-    sweep's random claim leaves it."""
-    scene = Scene(cls, control_modes=mode, sim_freq=sim_freq)
-    scene.reset()
-    agent = scene.agents[0]
-    rng = np.random.default_rng(seed)
-    space = agent.action_space
-    for _ in range(round(seconds * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
-    return scene
+from tests.random_actions import after_random_actions
 
 
 def settled_speed(cls: type[ra.Agent], mode: str, sim_freq: int, seed: int = 0) -> tuple[float, str]:

@@ -375,17 +375,11 @@ def folded_press(cls: type[ra.Agent]) -> tuple[float, float]:
     1, ``pd_joint_target_delta_pos``, 10 s) and its settle phase (3 s of one hold
     command) at the robot's 1 kHz: the fastest joint speed after it (rad/s or m/s) and
     the deepest contact between two of the robot's own geoms (m)."""
-    from robot_agents.sim.scene import Scene
-    from robot_agents.tuning.claims import RANDOM_SECONDS, SETTLE_SECONDS, hold_action
+    from robot_agents.tuning.claims import SETTLE_SECONDS, hold_action
+    from tests.random_actions import after_random_actions
 
-    scene = Scene(cls, control_modes="pd_joint_target_delta_pos", sim_freq=1000)
-    scene.reset()
+    scene = after_random_actions(cls, "pd_joint_target_delta_pos", 1000, seed=1)
     agent = scene.agents[0]
-    rng = np.random.default_rng(1)
-    space = agent.action_space
-    for _ in range(round(RANDOM_SECONDS * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
     hold = hold_action(agent)
     for _ in range(round(SETTLE_SECONDS * scene.control_freq)):
         agent.set_action(hold)

@@ -20,6 +20,11 @@ PickCube, per env (all envs of a batch at once):
    *raise* the cube straight up (to the goal's height, at least one edge above the
    table), *carry* it to the goal and stop commanding once it is there; the tool moves
    at most 0.05 reach per step.
+3. *Base assist* (robots with a base): where the arm alone cannot put the turned tool
+   a tenth of the reach ahead and behind along the base's heading (Stretch: lift and
+   telescope span a plane across it), the base drives the tool's moves that way, in
+   the turn and in every end-effector stage, and the arm holds its place along the
+   heading (:meth:`Arm.plan_base_assist`, :meth:`Arm.base_share`).
 
 PushCube: the gripper closed (a bare flange as it is), the same kind of turn, fingers
 down, to above the push start behind the cube (on the far side from the goal, clear of
@@ -54,6 +59,7 @@ import mujoco
 import numpy as np
 
 import robot_agents as ra
+from robot_agents.controllers.base_vel import PDBaseVelController
 from robot_agents.envs.tasks.layout import tool_arm
 from robot_agents.kinematics import linear_followers
 from robot_agents.kinematics.rotations import pose_inverse, pose_multiply, quat_to_matrix, rotation_error
@@ -131,6 +137,11 @@ class Arm:
         # all of the gripper's joints: its controller may drive any one of them (a
         # leader the others follow through an equality), not necessarily the first
         self.gripper_joints = set(self.agent.part_joints[gripper]) if gripper else set()
+        self.control_dt = 1.0 / env.control_freq
+        #: Per env: whether the base carries the tool's moves along its heading (see
+        #: :meth:`plan_base_assist`); off until a solver plans it.
+        self.assist = np.zeros(env.num_envs, dtype=bool)
+        self.has_base = self.agent.mobile.planar is not None  # a Base part on planar joints
 
     def set_mode(self, mode: str) -> None:
         """Switch the control mode and find which of its controllers drives the arm and
@@ -138,17 +149,22 @@ class Arm:
         self.env.set_control_mode(mode)
         self.controller = self.agent.controller
         self.from_target = "target" in mode
-        self.arm_name = self.gripper = None
+        self.arm_name = self.gripper = self.base = None
         for name, controller in self.controller.parts.items():
             joints = controller.config.joint_names
             if self.arm_joint in joints:
                 self.arm_name = name
             if self.gripper_joints & set(joints):
                 self.gripper = name
+            if isinstance(controller, PDBaseVelController):
+                self.base = name
 
-    def action(self, arm_raw: np.ndarray, gripper_open: np.ndarray | None = None) -> np.ndarray:
-        """The whole action from the arm's raw command ``(num_envs, k)`` and the
-        gripper's state (``True``: open); other parts hold still."""
+    def action(
+        self, arm_raw: np.ndarray, gripper_open: np.ndarray | None = None, base_speed: np.ndarray | None = None
+    ) -> np.ndarray:
+        """The whole action from the arm's raw command ``(num_envs, k)``, the gripper's
+        state (``True``: open) and the base's forward speed ``(num_envs,)`` (m/s; needs
+        a base part); other parts hold still."""
         n = self.env.num_envs
         action = np.zeros((n, self.controller.action_dim))
         for name, controller in self.controller.parts.items():
@@ -159,7 +175,69 @@ class Arm:
                 # every gripper: +1 opens, -1 closes (unit_high / unit_low in raw units)
                 raw = np.where(gripper_open[:, None], controller.unit_high, controller.unit_low)
                 action[:, slot] = controller.from_raw(raw)
+            elif name == self.base and base_speed is not None:
+                raw = np.zeros((n, controller.action_dim))  # forward first, then (lateral and) turn
+                raw[:, 0] = base_speed
+                action[:, slot] = controller.from_raw(raw)
         return action
+
+    # -- the base's share of the tool's moves ---------------------------------------------------
+    def heading(self) -> np.ndarray:
+        """World directions ``(num_envs, 3)`` the base drives forward along (horizontal)."""
+        yaw = self.agent.base_rot
+        return np.stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)], axis=1)
+
+    def plan_base_assist(self, position: np.ndarray, quat: np.ndarray, probe: float) -> None:
+        """Decide per env whether the base carries the tool's moves along its heading:
+        where the arm alone cannot put the tool ``probe`` m ahead of ``position`` and
+        behind it along the heading with the orientation ``quat`` (within 1 cm; Stretch:
+        lift and telescope span a plane across its heading, and its wrist reaches
+        2.4 cm either side of that plane)."""
+        self.assist[:] = False
+        if not self.has_base:
+            return
+        for sign in (1.0, -1.0):
+            shifted = position + sign * probe * self.heading()
+            q = self.solve(shifted, quat)
+            self.assist |= np.linalg.norm(self.tool_at(q) - shifted, axis=1) > 0.01
+
+    def tool_at(self, q: np.ndarray) -> np.ndarray:
+        """Tool positions ``(num_envs, 3)`` with the arm's joints at ``q`` ``(num_envs, k)``
+        (the rest of the robot as it is; joints that follow an arm joint with it)."""
+        full = self.agent.qpos.copy()
+        full[:, self.q_index] = q
+        for follower_q, _, column, offset, slope in self.followers:
+            full[:, follower_q] = offset + slope * q[:, column]
+        tool: np.ndarray = self.agent.frame_pose(self.ee, qpos=full)[:, :3]
+        return tool
+
+    def base_share(self, wanted: np.ndarray, speed: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Split a move of the tool to ``wanted`` (``(num_envs, 3)``, world): in envs the
+        base assists, the part along its heading goes to the base (at most ``speed`` m and
+        its top speed this step). The moves start from where the arm's controller holds
+        the tool (:meth:`commanded_tool`), not from the measured tool: a tool held back
+        by what it pushes does not drive the base on. The tool position the arm is to
+        go to and the base's forward speed ``(num_envs,)`` (m/s)."""
+        if not self.assist.any():
+            return wanted, np.zeros(len(wanted))
+        heading = self.heading()
+        along = np.where(self.assist, np.sum((wanted - self.commanded_tool()) * heading, axis=1), 0.0)
+        top = float(self.controller.parts[self.base].raw_high[0]) * self.control_dt if self.base else 0.0
+        limit = np.minimum(np.broadcast_to(np.asarray(speed, dtype=float).reshape(-1), along.shape), top)
+        drive = np.clip(along, -limit, limit)
+        return wanted - along[:, None] * heading, drive / self.control_dt
+
+    def commanded_tool(self) -> np.ndarray:
+        """Where the arm's controller holds the tool, ``(num_envs, 3)`` (world): its
+        target in target-delta modes, the measured tool otherwise."""
+        tool = self.agent.frame_pose(self.ee)
+        if not self.from_target:
+            measured: np.ndarray = tool[:, :3]
+            return measured
+        root = pose_multiply(tool, pose_inverse(self.agent.frame_pose(self.ee, relative_to=self.command_frame)))
+        target = self.controller.parts[self.arm_name].observe()["target_ee_pose"]
+        held: np.ndarray = pose_multiply(root, target)[:, :3]
+        return held
 
     def tool(self) -> np.ndarray:
         return self.agent.frame_pose(self.ee)
@@ -215,6 +293,31 @@ class Arm:
         solution: np.ndarray = q[:, self.q_index]
         return solution
 
+    def arm_jacobian(self, q: np.ndarray, rows: int) -> np.ndarray:
+        """The tool's Jacobian ``(num_envs, rows, k)`` over the arm's joints at the robot's
+        joints ``q`` ``(num_envs, nq)``, joints that follow an arm joint moving with it."""
+        full_jacobian = self.agent.frame_jacobian(self.ee, qpos=q)[:, :rows]
+        jacobian = full_jacobian[:, :, self.v_index]
+        for _, follower_v, column, _, slope in self.followers:  # coupled joints move with their leader
+            jacobian[:, :, column] += slope * full_jacobian[:, :, follower_v]
+        return jacobian
+
+    def solve_with_base(self, position: np.ndarray, quat: np.ndarray, probe: float) -> np.ndarray:
+        """:meth:`solve`, after :meth:`plan_base_assist` (with ``probe``); envs the base
+        assists solve for ``position`` moved along the heading by what the arm alone
+        leaves short that way (the base drives there: :meth:`ramp`'s ``tool_goal``), so
+        that the arm's joints need not bend towards a point off their reach."""
+        self.plan_base_assist(position, quat, probe)
+        q = self.solve(position, quat)
+        if not self.assist.any():
+            return q
+        heading = self.heading()
+        short = np.sum((position - self.tool_at(q)) * heading, axis=1)
+        within = position - np.where(self.assist, short, 0.0)[:, None] * heading
+        again = self.solve(within, quat)
+        out: np.ndarray = np.where(self.assist[:, None], again, q)
+        return out
+
     def _descend(
         self, start: np.ndarray, position: np.ndarray, quat: np.ndarray | None, iterations: int
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -228,10 +331,7 @@ class Arm:
         low, high = self.limits[:, 0], self.limits[:, 1]
         for _ in range(iterations):
             pose = self.agent.frame_pose(self.ee, qpos=q)
-            full_jacobian = self.agent.frame_jacobian(self.ee, qpos=q)[:, :rows]
-            jacobian = full_jacobian[:, :, self.v_index]
-            for _, follower_v, column, _, slope in self.followers:  # coupled joints move with their leader
-                jacobian[:, :, column] += slope * full_jacobian[:, :, follower_v]
+            jacobian = self.arm_jacobian(q, rows)
             error = position - pose[:, :3]
             if quat is not None:
                 error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
@@ -255,14 +355,34 @@ class Arm:
             error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
         return q, np.linalg.norm(error, axis=1)
 
-    def ramp(self, step: Any, goal_q: np.ndarray, steps: int, gripper_open: np.ndarray | None) -> None:
+    def ramp(
+        self,
+        step: Any,
+        goal_q: np.ndarray,
+        steps: int,
+        gripper_open: np.ndarray | None,
+        tool_goal: np.ndarray | None = None,
+    ) -> None:
         """Drive the arm joints to ``goal_q`` along a smooth ramp (joint-position mode),
-        the last 5 steps holding the goal."""
+        the last 5 steps holding the goal. With ``tool_goal`` (world, ``(num_envs, 3)``),
+        envs the base assists (:meth:`plan_base_assist`) also drive the base along its
+        heading by what the arm's solution leaves short of it that way, spread over the ramp."""
         self.set_mode("pd_joint_pos")
         start = self.agent.qpos[:, self.q_index]
+        base_goal = None
+        if tool_goal is not None and self.assist.any():
+            short = tool_goal - self.tool_at(goal_q)
+            heading = self.heading()
+            base_goal = (
+                self.agent.base_pos + np.where(self.assist, np.sum(short * heading, axis=1), 0.0)[:, None] * heading
+            )
         for k in range(steps):
             blend = 0.5 - 0.5 * math.cos(math.pi * min(1.0, (k + 1) / max(1, steps - 5)))
-            step(self.action(start + blend * (goal_q - start), gripper_open))
+            speed = None
+            if base_goal is not None:
+                left = np.sum((base_goal - self.agent.base_pos) * self.heading(), axis=1)
+                speed = left / (self.control_dt * max(1, steps - 5 - k))
+            step(self.action(start + blend * (goal_q - start), gripper_open, speed))
 
 
 def grasp_orientation(
@@ -285,6 +405,13 @@ def grasp_orientation(
         mujoco.mju_mat2Quat(quat, rotation.reshape(-1))
         out[env] = quat
     return out
+
+
+#: How far along its heading the base must be able to spare the arm (in reaches): where
+#: the arm alone cannot move the turned tool this far ahead and behind, the base carries
+#: the tool's moves that way (:meth:`Arm.plan_base_assist`). A tenth of the reach: the
+#: tasks spread cubes and goals about that far from the workspace centre.
+BASE_PROBE = 0.1
 
 
 # -- PickCube ---------------------------------------------------------------------------------
@@ -350,7 +477,14 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     # 1. Turn: joint positions along a ramp to the IK solution above the cube.
     cube = env.body_pose("cube")
     quat = grasp_orientation(arm.tool()[:, 3:], cube[:, 3:], approach, closing)
-    arm.ramp(episode.step, arm.solve(tool_target(cube[:, :3] + above, quat), quat), turn_steps, np.ones(n, dtype=bool))
+    turned = tool_target(cube[:, :3] + above, quat)
+    arm.ramp(
+        episode.step,
+        arm.solve_with_base(turned, quat, BASE_PROBE * layout.reach),
+        turn_steps,
+        np.ones(n, dtype=bool),
+        turned,
+    )
     # 2. End-effector deltas.
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, APPROACH)
@@ -369,11 +503,12 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         target = np.where((stage == CLOSE)[:, None], grasp_at, target)
         target = np.where((stage >= RAISE)[:, None], point + cube_at - cube, target)  # carry the cube
         error = np.linalg.norm(target - point, axis=1)
-        command = arm.ee_command(tool[:, :3] + target - point, quat, speed=SPEED * layout.reach)
+        wanted, drive = arm.base_share(tool[:, :3] + target - point, SPEED * layout.reach)
+        command = arm.ee_command(wanted, quat, speed=SPEED * layout.reach)
         # Near the goal, stop commanding: in a target-delta mode the arm then holds still.
         arrived = (stage == CARRY) & (np.linalg.norm(env.goal_pos - cube, axis=1) < 0.25 * env.goal_threshold)
-        command[arrived] = 0.0
-        episode.step(arm.action(command, stage < CLOSE))
+        command[arrived], drive[arrived] = 0.0, 0.0
+        episode.step(arm.action(command, stage < CLOSE, drive))
         in_stage += 1
         advance = (
             ((stage == APPROACH) & ((error < 0.25 * edge) | (in_stage > 15)))

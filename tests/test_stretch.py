@@ -13,7 +13,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
 from robot_agents.kinematics.rotations import quat_to_matrix
-from robot_agents.robots.stretch.stretch import ARM_JOINTS, HEAD_CAMERA, TELESCOPE
+from robot_agents.robots.stretch.stretch import ARM_JOINTS, HEAD_CAMERA, TELESCOPE, TELESCOPE_FORCE
 
 CUBE_HALF = 0.02
 CUBE_MASS = 0.1
@@ -119,6 +119,55 @@ def test_one_action_extends_every_segment() -> None:
         extension = agent.qpos[0, segments]
         np.testing.assert_allclose(extension, target, atol=1e-3)
         assert extension.sum() == pytest.approx(4 * target, abs=1e-3)
+    scene.close()
+
+
+def test_the_arm_pushes_a_wall_with_the_telescope_force() -> None:
+    """Commanded out to full extension against a static wall 3 cm beyond its reach, the
+    arm stops there and presses on the wall along its extension with the telescope's
+    force limit, 56 N (Menagerie's, on the four segments' sum; our drive on
+    ``joint_arm_l0``, which moves a quarter of the extension, takes 4 x 56 N): each
+    segment's slide carries the whole contact force, and the equalities chaining them
+    leave a quarter of the drive's force to each. (The wall pushes the robot back on
+    its velocity-servoed wheels, about 1 cm/s, and the arm follows it out.)"""
+    scene = ra.Scene("stretch", control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    command = np.array([0.6, 0.02, 0.0, 0.0, 0.0])  # lift 0.6 m, arm in, wrist straight
+    full = scene.world.qpos.copy()
+    full[0, agent.qpos_adr] = configuration(agent, command)
+    frame = resolve_frame(scene.model, "link_grasp_center", agent.prefix)
+    out = command.copy()
+    out[1] = 0.03
+    further = scene.world.qpos.copy()
+    further[0, agent.qpos_adr] = configuration(agent, out)
+    direction = agent.kinematics.pose(further, frame)[0, :3] - agent.kinematics.pose(full, frame)[0, :3]
+    direction /= np.linalg.norm(direction)
+    agent.reset(qpos=configuration(agent, command))
+    model, data = scene.model, scene.world.datas[0]
+    robot_geoms = [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.startswith(agent.prefix)]
+    reach = max(float(data.geom_xpos[g] @ direction) + model.geom_rbound[g] for g in robot_geoms)
+    tool = agent.kinematics.pose(full, frame)[0, :3]
+    wall_at = tool + (reach - float(tool @ direction) + 0.03 + 0.05) * direction  # its face 3 cm beyond the reach
+    wall = ra.Prop("wall", "box", (0.05, 0.05, 0.05), pos=tuple(wall_at), mass=None)
+    scene.close()
+    scene = ra.Scene("stretch", props=[wall], control_modes="pd_joint_pos")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    agent.reset(qpos=configuration(agent, command))
+    extended = command.copy()
+    extended[1] = 0.13  # every segment fully out
+    for _ in range(60):  # 3 s
+        agent.set_action(np.concatenate([extended, [0.0], [0.0, 0.0], [0.0, 0.0]]))
+        scene.step()
+    segments = agent.qpos[0, joint_ids(agent, TELESCOPE)]
+    assert np.all(segments < 0.12), segments  # stopped by the wall, short of full extension
+    # the segments stay together under the load (their equalities carry 56 to 168 N)
+    assert np.ptp(segments) < 1e-3, segments
+    body = lambda name: scene.model.body(name).id  # noqa: E731
+    robot = [b for b in range(scene.model.nbody) if scene.model.body(b).name.startswith(agent.prefix)]
+    force = scene.world.contact_forces([robot], body("wall"))[0, 0]
+    assert float(force @ direction) == pytest.approx(TELESCOPE_FORCE, rel=0.03)
     scene.close()
 
 

@@ -17,7 +17,10 @@ Sources of the numbers:
   Robot's Stretch 3 hardware guide, docs.hello-robot.com); wheel axles 0.17035 m either
   side of ``base_link`` (Menagerie), so :data:`WHEEL_SEPARATION` is 0.3407 m. Base mass
   15 kg, total 23.5 kg (Menagerie's link masses; Hello Robot quotes 23 kg for Stretch).
-- Drives: lift force limit 70 N and telescope 56 N (Menagerie's ``forcerange``); the
+- Drives: lift force limit 70 N and telescope 56 N along the arm's extension
+  (Menagerie's ``forcerange``; Menagerie's actuator drives a tendon, the sum of the four
+  segments, while ours drives ``joint_arm_l0``, which moves a quarter of the extension,
+  so its limit is 4 x 56 = 224 N: the same 56 N at the arm's end); the
   head's position servos kp = 10 N*m/rad with 1 N*m*s/rad of damping, the wrist's
   kp = 20 / 50 / 20 N*m/rad (yaw / pitch / roll) with 0.01 kg*m^2 of armature (Menagerie).
   The lift and telescope PD gains (10000 N/m with 400 N*s/m; 5000 N/m with 150 N*s/m, near
@@ -77,6 +80,8 @@ WHEELS = ("joint_left_wheel", "joint_right_wheel")
 BASE_PATTERN = "root_x_axis_joint|root_y_axis_joint|root_z_rotation_joint"
 #: The telescoping segments, outermost first; ``joint_arm_l0`` leads, the others follow.
 TELESCOPE = ("joint_arm_l3", "joint_arm_l2", "joint_arm_l1", "joint_arm_l0")
+#: The telescope's force limit along the arm's extension (N; Menagerie's tendon ``forcerange``).
+TELESCOPE_FORCE = 56.0
 WRIST = ("joint_wrist_yaw", "joint_wrist_pitch", "joint_wrist_roll")
 #: The arm part's joints in model order: lift, the driven segment, the wrist.
 ARM_JOINTS = ("joint_lift", "joint_arm_l0", *WRIST)
@@ -87,7 +92,8 @@ HEAD_PATTERN = "joint_head_pan|joint_head_tilt"
 STRETCH_DRIVES = (
     VelocityActuator(joints=BASE_PATTERN, damping=(5000.0, 5000.0, 500.0)),
     PDActuator(joints="joint_lift", stiffness=10000.0, damping=400.0, effort_limit=70.0),
-    PDActuator(joints="joint_arm_l0", stiffness=5000.0, damping=150.0, effort_limit=56.0),
+    # 224 N on the lead segment: 56 N along the extension, which moves 4 x as far
+    PDActuator(joints="joint_arm_l0", stiffness=5000.0, damping=150.0, effort_limit=TELESCOPE_FORCE * len(TELESCOPE)),
     PDActuator(joints="joint_wrist_.*", stiffness=(20.0, 50.0, 20.0), damping=(2.0, 3.0, 1.0), effort_limit=5.0),
     PDActuator(joints="joint_gripper_finger_left", stiffness=20.0, damping=0.5, effort_limit=3.0),
     PDActuator(joints=HEAD_PATTERN, stiffness=10.0, damping=1.0, effort_limit=5.0),
@@ -180,17 +186,6 @@ class Stretch(Agent):
     disable_self_collisions = True
     link_materials = {"link_gripper_finger_left": RUBBER_TIP, "link_gripper_finger_right": RUBBER_TIP}
     cameras = (HEAD_CAMERA,)
-    task_limits: ClassVar[Mapping[str, str]] = {
-        "PickCube-v1": (
-            "with the fingers pointing down the arm moves the grasp centre only along base_link's y "
-            "(telescope) and z (lift); across that plane the wrist reaches 4.7 cm (x from -0.045 to "
-            "0.002 m), while the task spreads cubes and goals 12.7 cm either side and the generic solver "
-            "does not drive the base: 14/20 seeds (144/200) at the mobile layout's 0.40 m table (of the 6 "
-            "failures in seeds 0-19, 5 hold the cube 6-13 cm from goals drawn 9-13 cm across the arm's plane, "
-            "1 misses a cube drawn 11 cm off it); "
-            "examples/mobile_pick.py, which drives the base to each cube, lifts it in 50/50 seeds"
-        )
-    }
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "home": Keyframe(
             qpos={
@@ -216,4 +211,4 @@ class Stretch(Agent):
     default_control_mode = "pd_joint_delta_pos"
 
 
-__all__ = ["HEAD_CAMERA", "TELESCOPE", "WHEELS", "WHEEL_RADIUS", "WHEEL_SEPARATION", "Stretch"]
+__all__ = ["HEAD_CAMERA", "TELESCOPE", "TELESCOPE_FORCE", "WHEELS", "WHEEL_RADIUS", "WHEEL_SEPARATION", "Stretch"]

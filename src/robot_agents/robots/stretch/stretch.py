@@ -167,18 +167,17 @@ class Stretch(Agent):
     """
 
     uid = "stretch"
-    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
-    #: step; docs/timestep.md): hold, random actions, end-effector tracking (a 2 cm lift:
-    #: the arm cannot move the tool forward, the base does) and settle (the sweep's 3 s
-    #: hold) hold from 80 Hz down to 1 kHz, penetration from 80 Hz, the grasp, with the
-    #: fingers' near-rigid contacts (``stretch.xml``), from 160 Hz (the 74 mm cube
-    #: moves 0.27-0.90 mm in the 2 s hold at 160 Hz-1 kHz, 2.0 mm at 100 Hz; 7.7-12.5 mm
-    #: with the former contacts). Every claim holds from 160 Hz. Default 160 Hz,
-    #: without the margin of one tried step finer: at 200 Hz (and 320 Hz) the segments
-    #: are still travelling after tests/test_stretch.py's 2 s telescope step (extension
-    #: 2.5 mm short of 4 x the target; 0.9 mm at 160 Hz, 0.5 mm at 500 Hz), and at
-    #: 160 Hz every claim is well inside its bound (grasp 0.52 of 2 mm, penetration 0.006
-    #: of 5 mm). Was 100 Hz, chosen while the grasp failed at every step.
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 20 Hz control, every step;
+    #: docs/timestep.md), rerun 2026-11-28 03:19 UTC with the telescope's full 56 N:
+    #: every claim holds from 160 Hz (settle, end-effector tracking and the grasp fail
+    #: at 100 Hz), at 160 Hz well inside its bound (grasp 0.58 of 2 mm, penetration
+    #: 0.02 of 5 mm, settle 0.0001 rad/s). Default 160 Hz, without the margin of one
+    #: tried step finer: until the telescope pushed with its full force that was because
+    #: the segments were still travelling after tests/test_stretch.py's 2 s telescope
+    #: step at 200 and 320 Hz (2.5 mm short); with it, that test ends within 0.02 /
+    #: 0.01 / 0.10 mm at 160 / 200 / 320 Hz, and the default stays at the largest
+    #: passing step for the claims' margins alone. Was 100 Hz, chosen while the grasp
+    #: failed at every step.
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "stretch.xml"
     actuators = STRETCH_DRIVES

@@ -27,8 +27,9 @@ PickCube, per env (all envs of a batch at once):
    heading (:meth:`Arm.plan_base_assist`, :meth:`Arm.base_share`).
 
 PushCube: the gripper closed (a bare flange as it is), the same kind of turn, fingers
-down, to above the push start behind the cube (on the far side from the goal, clear of
-it); then end-effector deltas: down until the fingertips touch the table, lift them
+down and leaning into the push (back from it where leaning in would put the arm into
+itself: :meth:`Arm.self_contact`), to above the push start behind the cube (on the far
+side from the goal, clear of it); then end-effector deltas: down until the fingertips touch the table, lift them
 off it, push the cube along its line to the goal (:func:`solve_push`).
 
 ReachPose: the same turn straight to the goal pose (position only on arms of fewer
@@ -241,6 +242,28 @@ class Arm:
 
     def tool(self) -> np.ndarray:
         return self.agent.frame_pose(self.ee)
+
+    def self_contact(self, q: np.ndarray) -> np.ndarray:
+        """Per env: would the robot touch itself with the arm's joints at ``q``
+        ``(num_envs, k)`` (the rest of the robot as it is; MuJoCo's collision detection
+        on a scratch copy of the env's state, contacts closer than 1 mm)."""
+        model = self.env.model
+        scratch = mujoco.MjData(model)
+        robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
+        arm_qpos = self.agent.qpos_adr[self.q_index]
+        touching = np.zeros(len(q), dtype=bool)
+        for env, (data, joints) in enumerate(zip(self.env.scene.world.datas, q, strict=True)):
+            scratch.qpos[:] = data.qpos
+            scratch.qpos[arm_qpos] = joints
+            for follower_q, _, column, offset, slope in self.followers:
+                scratch.qpos[self.agent.qpos_adr[follower_q]] = offset + slope * joints[column]
+            mujoco.mj_forward(model, scratch)
+            contacts = scratch.contact[: scratch.ncon]
+            bodies = model.geom_bodyid
+            touching[env] = any(
+                c.dist < -1e-3 and int(bodies[c.geom1]) in robot and int(bodies[c.geom2]) in robot for c in contacts
+            )
+        return touching
 
     def ee_command(
         self, position: np.ndarray, quat: np.ndarray | None, speed: float | np.ndarray = np.inf
@@ -551,7 +574,8 @@ PUSH_SPEED = 0.015
 CLEARANCE, EDGE_MARGIN = 0.08, 0.02
 #: How far the fingers lean from straight down into the push (rad; 17 deg): a wrist
 #: that need not point straight down reaches lower near the arm's base (seeds 0-19:
-#: 0.3 took google_robot 14 -> 18, koch-v1.1 15 -> 20, so100 6 -> 11, spot 18 -> 20 of 20).
+#: 0.3 took google_robot 14 -> 18, koch-v1.1 15 -> 20, so100 6 -> 11, spot 18 -> 20 of 20);
+#: back from it by as much where leaning in has the arm touch itself (:func:`solve_push`).
 TILT = 0.3
 #: How high the fingertips push, over the table, in cube edges (after touching it).
 TIP_HEIGHT = 0.15
@@ -564,19 +588,22 @@ AIM_BEHIND = 0.25
 OFF_LINE, BACK_OFF = 0.2, 1.5
 
 
-def push_orientation(tool_quat: np.ndarray, approach: np.ndarray, closing: np.ndarray, push: np.ndarray) -> np.ndarray:
+def push_orientation(
+    tool_quat: np.ndarray, approach: np.ndarray, closing: np.ndarray, push: np.ndarray, lean: np.ndarray
+) -> np.ndarray:
     """Tool orientations ``(n, 4)`` with the fingers (``approach``, tool frame) pointing
-    down, leaning ``TILT`` into the push direction ``push`` ``(n, 3)``, and the closing
-    axis horizontal, square to it (the way nearer to the tool's closing axis now,
-    ``tool_quat``): the closed fingers push side by side."""
+    down, leaning ``lean`` ``(n,)`` (rad) into the push direction ``push`` ``(n, 3)``
+    (back from it where negative), and the closing axis horizontal, square to it (the
+    way nearer to the tool's closing axis now, ``tool_quat``): the closed fingers push
+    side by side."""
     down = np.array([0.0, 0.0, -1.0])
     tool_basis = np.stack([approach, closing, np.cross(approach, closing)], axis=1)
     out = np.empty((len(tool_quat), 4))
-    for env, (along, now) in enumerate(zip(push, quat_to_matrix(tool_quat), strict=True)):
+    for env, (along, now, tilt) in enumerate(zip(push, quat_to_matrix(tool_quat), lean, strict=True)):
         across = np.cross(down, along)
         if float(across @ (now @ closing)) < 0.0:  # of the two ways, the nearer to the tool's now
             across = -across
-        pointing = math.cos(TILT) * down + math.sin(TILT) * along  # leaning into the push
+        pointing = math.cos(tilt) * down + math.sin(tilt) * along  # leaning into the push
         world_basis = np.stack([pointing, across, np.cross(pointing, across)], axis=1)
         quat = np.empty(4)
         mujoco.mju_mat2Quat(quat, (world_basis @ tool_basis.T).reshape(-1))
@@ -628,7 +655,17 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     behind = cube - push * distance[:, None]
     behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
     above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
-    quat = push_orientation(arm.tool()[:, 3:], approach, closing, push)
+    # Leaning into the push; where that puts the arm into itself at the push start (its
+    # wrist between the fingertips and the arm's own links), leaning back when that does not.
+    low = behind + np.array([0.0, 0.0, 2.0 * half])  # the tool point as it pushes, about
+    lean = np.full(n, TILT)
+    into = push_orientation(arm.tool()[:, 3:], approach, closing, push, lean)
+    blocked = arm.self_contact(arm.solve(low - in_tool(into, point_in_tool), into))
+    if blocked.any():
+        back = push_orientation(arm.tool()[:, 3:], approach, closing, push, -lean)
+        clear = ~arm.self_contact(arm.solve(low - in_tool(back, point_in_tool), back))
+        lean = np.where(blocked & clear, -TILT, TILT)
+    quat = push_orientation(arm.tool()[:, 3:], approach, closing, push, lean)
     arm.ramp(episode.step, arm.solve(above - in_tool(quat, point_in_tool), quat), turn_steps, closed)
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, ABOVE_BEHIND)

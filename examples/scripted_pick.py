@@ -202,14 +202,19 @@ class Arm:
             q = self.solve(shifted, quat)
             self.assist |= np.linalg.norm(self.tool_at(q) - shifted, axis=1) > 0.01
 
-    def tool_at(self, q: np.ndarray) -> np.ndarray:
-        """Tool positions ``(num_envs, 3)`` with the arm's joints at ``q`` ``(num_envs, k)``
-        (the rest of the robot as it is; joints that follow an arm joint with it)."""
+    def robot_qpos(self, q: np.ndarray) -> np.ndarray:
+        """The robot's joint positions ``(num_envs, nq)`` with the arm's joints at ``q``
+        ``(num_envs, k)``, joints that follow an arm joint with it, the rest as they are."""
         full = self.agent.qpos.copy()
         full[:, self.q_index] = q
         for follower_q, _, column, offset, slope in self.followers:
             full[:, follower_q] = offset + slope * q[:, column]
-        tool: np.ndarray = self.agent.frame_pose(self.ee, qpos=full)[:, :3]
+        return full
+
+    def tool_at(self, q: np.ndarray) -> np.ndarray:
+        """Tool positions ``(num_envs, 3)`` with the arm's joints at ``q`` ``(num_envs, k)``
+        (the rest of the robot as it is; joints that follow an arm joint with it)."""
+        tool: np.ndarray = self.agent.frame_pose(self.ee, qpos=self.robot_qpos(q))[:, :3]
         return tool
 
     def base_share(self, wanted: np.ndarray, speed: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -250,13 +255,10 @@ class Arm:
         model = self.env.model
         scratch = mujoco.MjData(model)
         robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
-        arm_qpos = self.agent.qpos_adr[self.q_index]
         touching = np.zeros(len(q), dtype=bool)
-        for env, (data, joints) in enumerate(zip(self.env.scene.world.datas, q, strict=True)):
+        for env, (data, joints) in enumerate(zip(self.env.scene.world.datas, self.robot_qpos(q), strict=True)):
             scratch.qpos[:] = data.qpos
-            scratch.qpos[arm_qpos] = joints
-            for follower_q, _, column, offset, slope in self.followers:
-                scratch.qpos[self.agent.qpos_adr[follower_q]] = offset + slope * joints[column]
+            scratch.qpos[self.agent.qpos_adr] = joints
             mujoco.mj_forward(model, scratch)
             contacts = scratch.contact[: scratch.ncon]
             bodies = model.geom_bodyid

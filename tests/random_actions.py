@@ -3,9 +3,8 @@ that look at what happens next (the settle hold, contacts pressed by the actions
 
 from __future__ import annotations
 
-import numpy as np
-
 import robot_agents as ra
+from robot_agents.checks import run_random_actions
 from robot_agents.sim.scene import Scene
 from robot_agents.tuning.claims import RANDOM_SECONDS
 
@@ -17,10 +16,5 @@ def after_random_actions(
     random actions drawn with ``seed`` (the sweep's random claim: 10 s)."""
     scene = Scene(cls, control_modes=mode, sim_freq=sim_freq)
     scene.reset()
-    agent = scene.agents[0]
-    rng = np.random.default_rng(seed)
-    space = agent.action_space
-    for _ in range(round(seconds * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
+    run_random_actions(scene, seconds, seed)
     return scene

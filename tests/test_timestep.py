@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.checks import hold_action
+from robot_agents.checks import hold_action, run_random_actions
 from robot_agents.cli import cmd_check
 from robot_agents.errors import ConfigError
 from robot_agents.model.compose import Attachment
@@ -219,16 +219,15 @@ def largest_overshoot(cls: type[ra.Agent], mode: str, sim_freq: int, soft_limits
     scene.reset()
     agent = scene.agents[0]
     limits = agent.qpos_limits
-    rng = np.random.default_rng(0)
-    space = agent.action_space
-    worst = 0.0
-    for _ in range(round(10.0 * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
+    worst = [0.0]
+
+    def measure() -> None:
         q = agent.qpos[0]
-        worst = max(worst, float(np.max(np.maximum(q - limits[:, 1], limits[:, 0] - q), initial=0.0)))
+        worst[0] = max(worst[0], float(np.max(np.maximum(q - limits[:, 1], limits[:, 0] - q), initial=0.0)))
+
+    run_random_actions(scene, 10.0, 0, measure)
     scene.close()
-    return worst
+    return worst[0]
 
 
 @pytest.mark.parametrize(

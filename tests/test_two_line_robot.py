@@ -15,6 +15,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.actuators.gains import gains_from_inertia
+from robot_agents.checks import run_random_actions
 from tests.conftest import PENDULUM_MJCF, TWO_LINK_URDF
 
 GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
@@ -35,12 +36,7 @@ def scene_of(cls: type[ra.Agent], **kwargs: object) -> ra.Scene:
 
 
 def run_random(scene: ra.Scene, seconds: float, seed: int = 0) -> None:
-    agent = scene.agents[0]
-    rng = np.random.default_rng(seed)
-    space = agent.action_space
-    for _ in range(round(seconds * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
-        scene.step()
+    run_random_actions(scene, seconds, seed)
     assert not np.any(scene.world.instability_counts()), "MuJoCo reset an env (instability)"
     assert np.all(np.isfinite(scene.world.get_state()))
 

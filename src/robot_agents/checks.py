@@ -173,6 +173,22 @@ def check_holds(cls: type[Agent], seconds: float = 2.0) -> CheckResult:
     )
 
 
+def run_random_actions(
+    scene: Scene, seconds: float, seed: int = 0, after_step: Callable[[], None] | None = None
+) -> None:
+    """Step ``scene`` for ``seconds`` with uniformly random actions of its first robot
+    (drawn from ``np.random.default_rng(seed)`` within its action space), calling
+    ``after_step`` after each control step."""
+    agent = scene.agents[0]
+    rng = np.random.default_rng(seed)
+    space = agent.action_space
+    for _ in range(round(seconds * scene.control_freq)):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+        if after_step is not None:
+            after_step()
+
+
 def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) -> CheckResult:
     """``seconds`` of uniformly random actions in every mode without instability."""
     failed: list[str] = []
@@ -183,12 +199,7 @@ def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) 
             failed.append(f"{mode} ({err})")
             continue
         scene.reset()
-        agent = scene.agents[0]
-        rng = np.random.default_rng(seed)
-        space = agent.action_space
-        for _ in range(round(seconds * scene.control_freq)):
-            agent.set_action(rng.uniform(space.low, space.high))
-            scene.step()
+        run_random_actions(scene, seconds, seed)
         if scene.world.unstable_steps.any() or not np.all(np.isfinite(scene.world.get_state())):
             failed.append(mode)
         scene.close()

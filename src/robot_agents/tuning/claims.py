@@ -66,6 +66,7 @@ from robot_agents.checks import (
     hold_drift,
     keeps_targets,
     load_settle_steps,
+    run_random_actions,
     standing_leg_joints,
 )
 from robot_agents.controllers.ee import PDEEController
@@ -247,17 +248,19 @@ def _random(
         scene.reset()
         agent = scene.agents[0]
         limits = agent.qpos_limits
-        rng = np.random.default_rng(seed)
-        space = agent.action_space
-        for _ in range(round(RANDOM_SECONDS * control_freq)):
-            agent.set_action(rng.uniform(space.low, space.high))
-            scene.step()
+
+        def measure(
+            scene: Scene = scene, agent: Agent = agent, limits: np.ndarray = limits, where: str = where
+        ) -> None:
+            nonlocal overshoot, over_where
             depth.measure(scene)
             q = agent.qpos[0]
             beyond = np.maximum(q - limits[:, 1], limits[:, 0] - q)
             past = float(np.max(beyond, initial=0.0))
             if past > overshoot:
                 overshoot, over_where = past, f"{where}: {agent.joint_names[int(np.argmax(beyond))]}"
+
+        run_random_actions(scene, RANDOM_SECONDS, seed, measure)
         settles = _commands_motion(agent) and not any(
             isinstance(c, PDEEController) for c in agent.controller.parts.values()
         )

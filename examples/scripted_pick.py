@@ -233,17 +233,22 @@ class Arm:
         drive = np.clip(along, -limit, limit)
         return wanted - along[:, None] * heading, drive / self.control_dt
 
+    def held_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The measured tool pose (world), the command frame's world pose, and where the
+        arm's controller holds the tool in that frame (its target in target-delta modes,
+        the measured tool otherwise), each ``(num_envs, 7)``."""
+        tool = self.agent.frame_pose(self.ee)
+        tool_in_frame = self.agent.frame_pose(self.ee, relative_to=self.command_frame)
+        frame = pose_multiply(tool, pose_inverse(tool_in_frame))
+        held = self.controller.parts[self.arm_name].observe()["target_ee_pose"] if self.from_target else tool_in_frame
+        return tool, frame, held
+
     def commanded_tool(self) -> np.ndarray:
         """Where the arm's controller holds the tool, ``(num_envs, 3)`` (world): its
         target in target-delta modes, the measured tool otherwise."""
-        tool = self.agent.frame_pose(self.ee)
-        if not self.from_target:
-            measured: np.ndarray = tool[:, :3]
-            return measured
-        root = pose_multiply(tool, pose_inverse(self.agent.frame_pose(self.ee, relative_to=self.command_frame)))
-        target = self.controller.parts[self.arm_name].observe()["target_ee_pose"]
-        held: np.ndarray = pose_multiply(root, target)[:, :3]
-        return held
+        tool, frame, held = self.held_pose()
+        position: np.ndarray = pose_multiply(frame, held)[:, :3] if self.from_target else tool[:, :3]
+        return position
 
     def tool(self) -> np.ndarray:
         return self.agent.frame_pose(self.ee)
@@ -255,13 +260,13 @@ class Arm:
         model = self.env.model
         scratch = mujoco.MjData(model)
         robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
+        bodies = model.geom_bodyid
         touching = np.zeros(len(q), dtype=bool)
         for env, (data, joints) in enumerate(zip(self.env.scene.world.datas, self.robot_qpos(q), strict=True)):
             scratch.qpos[:] = data.qpos
             scratch.qpos[self.agent.qpos_adr] = joints
             mujoco.mj_forward(model, scratch)
             contacts = scratch.contact[: scratch.ncon]
-            bodies = model.geom_bodyid
             touching[env] = any(
                 c.dist < -1e-3 and int(bodies[c.geom1]) in robot and int(bodies[c.geom2]) in robot for c in contacts
             )
@@ -275,12 +280,9 @@ class Arm:
         in target-delta modes, from the measured tool otherwise, in the command frame,
         shortened (not clipped per axis, which would bend the path) to at most ``speed``
         (m per step; a number, or ``(num_envs, 1)`` per env) and what one action may command."""
-        tool = self.agent.frame_pose(self.ee)
-        tool_in_root = self.agent.frame_pose(self.ee, relative_to=self.command_frame)
-        root = pose_multiply(tool, pose_inverse(tool_in_root))
+        tool, root, base = self.held_pose()
         wanted = pose_multiply(pose_inverse(root), np.concatenate([position, tool[:, 3:] if quat is None else quat], 1))
         controller = self.controller.parts[self.arm_name]
-        base = controller.observe()["target_ee_pose"] if self.from_target else tool_in_root
         high = controller.raw_high
         step = shorten(wanted[:, :3] - base[:, :3], np.minimum(high[:3], speed))
         if controller.action_dim == 3:
@@ -660,14 +662,13 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     # Leaning into the push; where that puts the arm into itself at the push start (its
     # wrist between the fingertips and the arm's own links), leaning back when that does not.
     low = behind + np.array([0.0, 0.0, 2.0 * half])  # the tool point as it pushes, about
-    lean = np.full(n, TILT)
-    into = push_orientation(arm.tool()[:, 3:], approach, closing, push, lean)
-    blocked = arm.self_contact(arm.solve(low - in_tool(into, point_in_tool), into))
+    now = arm.tool()[:, 3:]
+    quat = push_orientation(now, approach, closing, push, np.full(n, TILT))
+    blocked = arm.self_contact(arm.solve(low - in_tool(quat, point_in_tool), quat))
     if blocked.any():
-        back = push_orientation(arm.tool()[:, 3:], approach, closing, push, -lean)
+        back = push_orientation(now, approach, closing, push, np.full(n, -TILT))
         clear = ~arm.self_contact(arm.solve(low - in_tool(back, point_in_tool), back))
-        lean = np.where(blocked & clear, -TILT, TILT)
-    quat = push_orientation(arm.tool()[:, 3:], approach, closing, push, lean)
+        quat = np.where((blocked & clear)[:, None], back, quat)
     arm.ramp(episode.step, arm.solve(above - in_tool(quat, point_in_tool), quat), turn_steps, closed)
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, ABOVE_BEHIND)

@@ -64,7 +64,7 @@ from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
-from robot_agents.parts import Arm, Base, EndEffector, Gripper, Hand, Head, Legs, PowerGrasp, Torso
+from robot_agents.parts import Arm, Base, Body, EndEffector, Gripper, Hand, Head, Legs, PowerGrasp, Torso
 from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
 from robot_agents.sensors import CameraConfig, SegmentationEntry, TouchSensorConfig
 from robot_agents.sim import BatchedWorld, Scene
@@ -78,6 +78,7 @@ __all__ = [
     "Attachment",
     "Base",
     "BatchedWorld",
+    "Body",
     "CameraConfig",
     "CommandFrame",
     "CompilerSettings",

@@ -257,7 +257,8 @@ def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> Check
     worst = int(np.argmax(share))
     detail = (
         f"largest kp / (4 I / dt^2) = {share[worst]:.3f} at {gains.joints[worst]} "
-        f"(kp {stiffness[worst]:.4g}, largest stable about {bound[worst]:.4g}; dt {timestep:g} s)"
+        f"(kp {stiffness[worst]:.4g}; the check passes below {STABLE_SHARE:g} of that bound, "
+        f"kp < {STABLE_SHARE * bound[worst]:.4g}; dt {timestep:g} s)"
     )
     return CheckResult("PD drives stable at the physics step", bool(share[worst] < STABLE_SHARE), detail)
 

@@ -18,6 +18,8 @@ from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.robot_source import resolve_robot
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
+from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS
 
 MAX_SECONDS = 60.0
 """Upper bound of ``demo --seconds`` (simulated seconds per pose)."""
@@ -166,7 +168,7 @@ def cmd_check(
     cls = resolve_robot(spec, floating)
     cmd_info(spec, out, floating)
     if sweep:
-        from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, sweep_timestep
+        from robot_agents.tuning.timestep import sweep_timestep
 
         swept = sweep_timestep(cls, substeps=substeps or DEFAULT_SUBSTEPS, stop_after=None)
         best = swept.largest_passing
@@ -254,7 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--substeps",
         default=None,
         help="with --sweep: physics substeps per control step to try, comma-separated "
-        "(default 2,4,5,8,10,16,20,25,40,50: 40 Hz-1 kHz at 20 Hz control; e.g. 50,100,200 for up to 4 kHz)",
+        f"(default {','.join(map(str, DEFAULT_SUBSTEPS))}: {DEFAULT_CONTROL_FREQ * min(DEFAULT_SUBSTEPS):g} Hz-"
+        f"{DEFAULT_CONTROL_FREQ * max(DEFAULT_SUBSTEPS) / 1000:g} kHz at {DEFAULT_CONTROL_FREQ:g} Hz control; "
+        "e.g. 50,100,200 for up to 4 kHz)",
     )
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"

@@ -347,7 +347,9 @@ class PDJointPosVelController(PDJointPosController):
         self.target_qvel = np.array(state["target_qvel"], dtype=np.float64)
 
     def describe(self) -> str:
-        return f"PD joint {'delta ' if self.config.use_delta else ''}position + velocity"
+        cfg = self.config
+        kind = f"{'delta ' if cfg.use_delta else ''}position + velocity"
+        return f"PD joint {kind}{' (normalized)' if cfg.normalize_action else ''}"
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -3,6 +3,7 @@
 from robot_agents.parts.declaration import (
     Arm,
     Base,
+    Body,
     EndEffector,
     Gripper,
     Hand,
@@ -18,6 +19,7 @@ from robot_agents.parts.grasp import grasped
 __all__ = [
     "Arm",
     "Base",
+    "Body",
     "EndEffector",
     "Gripper",
     "Hand",

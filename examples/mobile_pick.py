@@ -14,7 +14,7 @@ for every part (arm: tool displacement; gripper: -1 closes, +1 opens; base: velo
    (backwards when the goal is behind it), then turns to the goal heading. The arm
    holds its pose: a zero end-effector displacement in the frame that moves with the base.
 2. **Pick.** Along the way the fingers point at rest (``env.layout.gripper``: from
-   above for Spot and the Google Robot, from the side for Stretch): the grasp point to
+   above for Spot, the Google Robot and Fetch, from the side for Stretch): the grasp point to
    a stand-off short of the cube, onto the cube, close the gripper, lift 10 cm.
 3. **Report**: success as the task scores it (the cube grasped, 5 cm up).
 

@@ -136,6 +136,11 @@ def test_render_rgb_array() -> None:
     batched = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, render_mode="rgb_array", render_size=(32, 32))
     batched.reset(seed=0)
     assert batched.render().shape == (2, 32, 32, 3)
+    # wider than the scene's offscreen framebuffer (1280 x 960): it is enlarged, as for cameras
+    wide = ra.make_env("Empty-v1", robot_uids="panda", render_mode="rgb_array", render_size=(1500, 16))
+    wide.reset(seed=0)
+    assert wide.render().shape == (16, 1500, 3)
+    wide.close()
 
 
 def test_reset_options_keyframe_and_env_ids() -> None:

@@ -305,3 +305,181 @@ def test_unknown_gripper_and_finger_names(pendulum_file: Path) -> None:
     cls = make_pendulum_class(pendulum_file, parts=gripper("elbow", ("link1", "lnk2")))
     with pytest.raises(ra.UnknownNameError, match=r"fingers.*Did you mean 'link2'"):
         ra.Scene(cls)
+
+
+def test_scene_reset_checks_every_robot_before_rewinding_any_env() -> None:
+    scene = ra.Scene(("panda", "widowx250s"))
+    scene.reset()
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        for agent in scene.agents:
+            agent.set_action(rng.uniform(-1, 1, agent.action_space.shape))
+        scene.step()
+    before = scene.get_state()
+    for kwargs, fragment in (
+        ({"qpos": [None, np.zeros(2)]}, "Scene.reset (WidowX250S): expected qpos of shape (8,)"),
+        ({"qpos": [np.full(9, 10.0), None]}, "Scene.reset (Panda): qpos of joint 'panda_joint1' is 10"),
+        ({"qpos": [None]}, "one qpos (or None) per robot (2), got 1"),
+        ({"qpos": 5}, "one qpos (or None) per robot (2), got 5"),
+    ):
+        with pytest.raises(ra.StateError) as caught:
+            scene.reset(**kwargs)  # type: ignore[arg-type]
+        assert fragment in str(caught.value)
+        after = scene.get_state()
+        np.testing.assert_array_equal(before["physics"], after["physics"])
+        for was, now in zip(before["agents"], after["agents"], strict=True):
+            for part, state in was["controller"].items():
+                for key, value in state.items():
+                    np.testing.assert_array_equal(value, now["controller"][part][key])
+    scene.close()
+
+
+@pytest.mark.parametrize(
+    ("mount_pose", "fragment"),
+    [
+        ((math.nan, 0, 0, 1, 0, 0, 0), "(NaN or inf)"),
+        ((0, 0, 0), "expected 7 finite numbers (x, y, z, qw, qx, qy, qz)"),
+        ((0, 0, 0, 0, 0, 0, 0), "expected a unit quaternion (qw, qx, qy, qz), got (0.0, 0.0, 0.0, 0.0) (zero)"),
+        ("0000000", "expected 7 finite numbers"),
+        ((0, 0, 0, True, 0, 0, 0), "expected 7 finite numbers"),
+    ],
+)
+def test_mount_pose_is_checked_with_the_declaration(pendulum_file: Path, mount_pose: object, fragment: str) -> None:
+    cls = make_pendulum_class(pendulum_file, uid="test_bad_mount", mount_pose=mount_pose)
+    with pytest.raises(ra.ConfigError) as caught:
+        cls.check()
+    assert "Pendulum.mount_pose" in str(caught.value) and fragment in str(caught.value)
+    with pytest.raises(ra.ConfigError, match=r"Pendulum\.mount_pose"):
+        ra.register_agent()(make_pendulum_class(pendulum_file, uid="test_bad_mount", mount_pose=mount_pose))
+    assert "test_bad_mount" not in ra.list_agents()
+
+
+def test_a_non_unit_mount_quaternion_is_normalized(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, mount_pose=(0.1, 0, 0.2, 2.0, 0, 0, 0))
+    assert cls.check().mount_pose == (0.1, 0.0, 0.2, 1.0, 0.0, 0.0, 0.0)
+    scene = ra.Scene(cls)
+    np.testing.assert_allclose(scene.agents[0].base_pose[0, 3:], [1, 0, 0, 0], atol=1e-12)
+    scene.close()
+
+
+@pytest.mark.parametrize(
+    ("attrs", "message"),
+    [
+        ({"fix_root_link": "yes"}, "Pendulum: expected fix_root_link to be a bool, got 'yes'."),
+        ({"disable_self_collisions": 1}, "Pendulum: expected disable_self_collisions to be a bool, got 1."),
+        ({"gravity_compensation": "yes"}, "expected gravity_compensation to be a bool, None or a tuple of body names"),
+        ({"mjcf_path": None, "urdf_path": 5}, "Pendulum.urdf_path: expected a file path (str or pathlib.Path), got 5."),
+        ({"mjcf_path": 5}, "Pendulum.mjcf_path: expected a file path (str or pathlib.Path), got 5."),
+    ],
+)
+def test_declared_flags_and_paths_are_typed(pendulum_file: Path, attrs: dict[str, object], message: str) -> None:
+    cls = make_pendulum_class(pendulum_file, uid="test_bad_flag", **attrs)
+    with pytest.raises(ra.ConfigError) as caught:
+        ra.register_agent()(cls)
+    assert message in str(caught.value)
+    with pytest.raises(ra.ConfigError) as caught:
+        ra.Scene(cls)
+    assert message in str(caught.value)
+
+
+def test_set_state_refuses_absurd_speeds(env) -> None:  # type: ignore[no-untyped-def]
+    u = env.unwrapped
+    state = u.get_state()
+    physics = state["physics"].copy()
+    physics[1, 1 + u.model.nq + 3] = 1e7  # env 1, the 4th joint speed
+    assert_unchanged(
+        env,
+        lambda: u.set_state({**state, "physics": physics}),
+        ra.StateError,
+        "Scene.set_state: expected joint speeds below 10000 (rad/s or m/s)",
+        "got up to 1e+07",
+    )
+    agent_state = u.agent.get_state()
+    assert_unchanged(
+        env,
+        lambda: u.agent.set_state({**agent_state, "qvel": np.full_like(agent_state["qvel"], 1e7)}),
+        ra.StateError,
+        "Panda.set_state: expected joint speeds below 10000",
+    )
+
+
+def test_set_state_refuses_a_zero_base_quaternion() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="anymal_c")
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    agent = env.unwrapped.agent
+    state = agent.get_state()
+    for bad in ([0, 0, 0.5, 0, 0, 0, 0], [0, 0, 0.5, 1e-12, 0, 0, 0]):
+        assert_unchanged(
+            env,
+            lambda bad=bad: agent.set_state({**state, "base_pose": np.array(bad)}),
+            ra.StateError,
+            "AnymalC.set_state: expected base_pose (x, y, z, qw, qx, qy, qz) with a unit quaternion",
+        )
+    agent.set_state(state)  # a get_state() pose is restored bit for bit
+    np.testing.assert_array_equal(agent.base_pose, state["base_pose"])
+    agent.set_state({**state, "base_pose": np.array([0, 0, 0.6, 2.0, 0, 0, 0])})  # normalized
+    np.testing.assert_allclose(agent.base_pose[0, 3:], [1, 0, 0, 0], atol=1e-12)
+    env.close()
+
+
+def test_make_env_rejects_a_render_mode_the_task_does_not_offer() -> None:
+    for mode in ("human", "rgb"):
+        with pytest.raises(ra.UnknownNameError) as caught:
+            ra.make_env("Empty-v1", robot_uids="panda", render_mode=mode)
+        assert f"make_env('Empty-v1'): unknown render_mode '{mode}'" in str(caught.value)
+        assert "Available: 'rgb_array'." in str(caught.value)
+
+
+def test_misspelt_keywords_are_named_with_suggestions() -> None:
+    import gymnasium
+
+    with pytest.raises(ra.UnknownNameError) as caught:
+        ra.make_env("Empty-v1", robot_uids="panda", contol_mode="pd_joint_pos")
+    message = str(caught.value)
+    assert "make_env('Empty-v1'): unknown keyword argument 'contol_mode'. Did you mean 'control_mode'" in message
+    assert "'render_size'" in message and "'robot_uids'" in message
+    with pytest.raises(ra.UnknownNameError, match=r"unknown keyword argument 'robot_uid'\. Did you mean 'robot_uids'"):
+        gymnasium.make_vec(
+            "robot_agents/PickCube-v1", num_envs=2, vectorization_mode="vector_entry_point", robot_uid="panda"
+        )
+    # a task's own keywords are accepted and suggested
+    with pytest.raises(ra.UnknownNameError, match=r"PickCubeEnv: unknown keyword argument 'reward_mod'.*'reward_mode'"):
+        gymnasium.make("robot_agents/PickCube-v1", reward_mod="dense")
+    with pytest.raises(ra.UnknownNameError, match=r"EmptyEnv: unknown keyword argument 'sleeep'.*Did you mean 'sleep'"):
+        ra.envs.EmptyEnv(sleeep=True)
+
+
+@pytest.mark.parametrize("size", ["ab", 5, None, (-1, 10), (100000, 100000), (0, 0), (10.5, 3), (True, 5), (1, 2, 3)])
+def test_render_size_is_checked(size: object) -> None:
+    with pytest.raises(ra.ConfigError) as caught:
+        ra.make_env("Empty-v1", robot_uids="panda", render_mode="rgb_array", render_size=size)
+    assert (
+        f"EmptyEnv: expected render_size to be (width, height), integer numbers of pixels in [1, 8192], got {size!r}."
+        in str(caught.value)
+    )
+
+
+def test_arm_joint_pos_setter_checks_the_joint_limits(env) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    assert_unchanged(
+        env,
+        lambda: setattr(agent, "arm_joint_pos", np.full(7, 10.0)),
+        ra.StateError,
+        "Panda.arm_joint_pos: qpos of joint 'panda_joint1' is 10, outside its limits [-2.8973, 2.8973].",
+    )
+    assert_unchanged(
+        env,
+        lambda: agent.manipulator.set_arm_joint_pos(np.full(7, math.nan)),
+        ra.StateError,
+        "Panda.arm_joint_pos: arm joint positions contains NaN or inf.",
+    )
+    assert_unchanged(
+        env,
+        lambda: agent.set_gripper_target_state("closed"),
+        ra.StateError,
+        "Panda.set_gripper_target_state: expected a state in [0, 1] or 2 of them, got 'closed'.",
+    )
+    inside = agent.keyframe_qpos(agent.default_keyframe())[:7]
+    agent.arm_joint_pos = inside
+    np.testing.assert_allclose(agent.arm_joint_pos, np.broadcast_to(inside, (2, 7)))

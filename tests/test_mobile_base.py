@@ -149,3 +149,21 @@ def test_the_float_wrap_is_the_array_wrap_bit_for_bit() -> None:
     angles = np.concatenate([seams, near, rng.uniform(-20, 20, 20000), rng.uniform(-1e6, 1e6, 2000)])
     floats = np.array([wrap_angle_float(float(a)) for a in angles])
     assert floats.tobytes() == wrap_angle(angles).tobytes()
+
+
+def test_set_base_pose_checks_limited_base_joints(tmp_path: Path) -> None:
+    path = tmp_path / "fenced.xml"
+    path.write_text(MOBILE_MJCF.replace('name="root_x" type="slide"', 'name="root_x" type="slide" range="-1 1"'))
+    scene = ra.Scene(mobile_robot(path, holonomic=True))
+    scene.reset()
+    agent = scene.agents[0]
+    before = scene.get_state()["physics"]
+    with pytest.raises(
+        ra.StateError,
+        match=r"MobileArm.set_base_pose: qpos of base joint 'root_x' would be 2, outside its limits \[-1, 1\]",
+    ):
+        agent.set_base_pose(xy=[2.0, 0.0])
+    np.testing.assert_array_equal(before, scene.get_state()["physics"])
+    agent.set_base_pose(xy=[0.5, 0.3])
+    np.testing.assert_allclose(agent.base_pos[0, :2], [0.5, 0.3], atol=1e-9)
+    scene.close()

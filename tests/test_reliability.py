@@ -156,12 +156,34 @@ def test_unbounded_joints_get_finite_bounds_and_cannot_disable_others(tmp_path: 
 
 
 def test_a_closed_env_refuses_use() -> None:
-    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=4)
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=4, render_mode="rgb_array", render_size=(32, 24))
     env.reset(seed=0)
+    u, agent = env.unwrapped, env.unwrapped.agent
+    state, agent_state = u.get_state(), agent.get_state()
     env.close()
-    for call in (lambda: env.step(np.zeros((4, 8))), lambda: env.reset(seed=0), lambda: env.unwrapped.set_state({})):
+    for call in (
+        lambda: env.step(np.zeros((4, 8))),
+        lambda: env.reset(seed=0),
+        lambda: u.set_state({}),
+        lambda: u.set_state(state),
+        u.get_state,
+        env.render,
+        lambda: u.set_control_mode("pd_joint_pos"),
+        agent.reset,
+        lambda: agent.set_action(np.zeros(8)),
+        lambda: agent.set_state(agent_state),
+        lambda: agent.set_control_mode("pd_joint_pos"),
+        lambda: setattr(agent, "arm_joint_pos", np.zeros(7)),
+        agent.open_gripper,
+        lambda: agent.set_gripper_target_state(0.5),
+        u.scene.reset,
+        u.scene.step,
+        u.scene.get_state,
+        lambda: u.scene.set_state(state),
+    ):
         with pytest.raises(ra.StateError, match="closed"):
             call()
+    assert u._renderer is None  # render built no renderer
 
 
 @pytest.mark.parametrize("num_envs", [1, 3])

@@ -29,7 +29,7 @@ from robot_agents.agent.frames import RobotFrames
 from robot_agents.agent.grippers import GripperParts
 from robot_agents.agent.habitat_api import MobileManipulatorAPI
 from robot_agents.agent.index import RobotIndex
-from robot_agents.agent.joint_state import JointState
+from robot_agents.agent.joint_state import JointState, JointWrite
 from robot_agents.agent.legs import STANDING_TILT, LegParts
 from robot_agents.agent.mobile import MobileBase
 from robot_agents.controllers.base import ControllerContext
@@ -111,6 +111,12 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         # (active mode, its last base velocity part or None), for after_step
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
+
+    def _check_open(self, where: str) -> None:
+        """Raise :class:`StateError` once the simulation this robot is bound to was closed
+        (its env's or scene's ``close()``)."""
+        if self.world.closed:
+            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
 
     # ------------------------------------------------------------------ names and sizes
     @property
@@ -225,7 +231,9 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     def set_control_mode(self, mode: str) -> None:
         """Activate ``mode``: the declared drive settings with the mode's overrides (every
         time), holding the measured pose."""
-        self.control.activate(mode, f"{type(self).__name__}.set_control_mode")
+        where = f"{type(self).__name__}.set_control_mode"
+        self._check_open(where)
+        self.control.activate(mode, where)
 
     def controller_for(self, mode: Any, where: str = "") -> CombinedController:
         return self.control.controller_for(mode, where or type(self).__name__)
@@ -252,6 +260,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     def set_action(self, action: Any) -> None:
         """Validate ``action``, turn it into joint targets and those into controls.
         Nothing is changed when the action is rejected."""
+        if self.world.closed:
+            self._check_open(f"{type(self).__name__}.set_action")
         control = self.control
         control.active.set_action(control.checked_action(action), self.world)
 
@@ -321,6 +331,20 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         (``(nq,)`` / ``(dof,)`` or one row per env), then hold that pose. Every input is
         checked before anything is written."""
         where = f"{type(self).__name__}.reset"
+        self.apply_reset(self.prepare_reset(keyframe, qpos, qvel, env_ids, where))
+
+    def prepare_reset(
+        self,
+        keyframe: str | None,
+        qpos: npt.ArrayLike | None,
+        qvel: npt.ArrayLike | None,
+        env_ids: npt.ArrayLike | None,
+        where: str,
+    ) -> JointWrite:
+        """Check :meth:`reset`'s input and return the joint write it makes (for
+        :meth:`apply_reset`); nothing is written, so a caller resetting several robots
+        can check them all first."""
+        self._check_open(where)
         ids = self.state.env_ids(env_ids, where)
         name = keyframe if keyframe is not None else (self.default_keyframe() if qpos is None else None)
         frame = None
@@ -330,8 +354,12 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
             frame = self._resolved_keyframes[name]
         if frame is None and qpos is None:
             raise StateError(f"{where}: {type(self).__name__} has no keyframes; pass qpos of shape ({self.nq},).")
-        self.state.write(ids, qpos, qvel, frame, where)
-        self.control.active.reset(ids, self.world)
+        return self.state.prepare(ids, qpos, qvel, frame, where)
+
+    def apply_reset(self, write: JointWrite) -> None:
+        """Write a reset :meth:`prepare_reset` checked, then hold that pose."""
+        self.state.apply(write)
+        self.control.active.reset(write.ids, self.world)
 
     def perturbed_qpos(self, env_ids: npt.NDArray[np.int64], std: float, rng: np.random.Generator) -> FloatArray:
         """The measured ``qpos`` of ``env_ids`` plus Gaussian noise of ``std`` (rad / m;
@@ -376,6 +404,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; everything is checked before anything is written."""
         where = f"{type(self).__name__}.set_state"
+        self._check_open(where)
         checked = self.state.check_state(state, where)
         mode = state["control_mode"]
         self.controller_for(mode, where).check_state(state["controller"], where)

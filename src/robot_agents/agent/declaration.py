@@ -11,6 +11,8 @@ end effectors, fingers, keyframes (names, sizes, limits, quaternions) and contro
 from __future__ import annotations
 
 import dataclasses
+import math
+import os
 import re
 import warnings
 import weakref
@@ -124,6 +126,10 @@ def composition(cls: type[AgentDefinition]) -> Composition:
 
 def model_path(cls: type[AgentDefinition]) -> Path:
     """The declared model file (not checked for existence)."""
+    for attr in ("mjcf_path", "urdf_path"):
+        value = getattr(cls, attr)
+        if value is not None and not isinstance(value, (str, os.PathLike)):
+            raise ConfigError(f"{cls.__name__}.{attr}: expected a file path (str or pathlib.Path), got {value!r}.")
     paths = [p for p in (cls.mjcf_path, cls.urdf_path) if p is not None]
     if len(paths) != 1:
         raise ConfigError(
@@ -131,6 +137,28 @@ def model_path(cls: type[AgentDefinition]) -> Path:
             f"urdf_path={cls.urdf_path!r}."
         )
     return Path(paths[0])
+
+
+def mount_pose(cls: type[AgentDefinition]) -> tuple[float, ...]:
+    """The declared ``mount_pose`` checked: 7 finite numbers ``(x, y, z, qw, qx, qy, qz)``
+    (m) with a nonzero quaternion, returned with the quaternion normalized (as
+    ``robot_poses`` are)."""
+    where = f"{cls.__name__}.mount_pose"
+    value = cls.mount_pose
+    form = "7 finite numbers (x, y, z, qw, qx, qy, qz) (m, unit quaternion)"
+    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, np.ndarray)):
+        raise ConfigError(f"{where}: expected {form}, got {value!r}.")
+    if len(value) != 7 or not all(
+        isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in value
+    ):
+        raise ConfigError(f"{where}: expected {form}, got {value!r}.")
+    pose = tuple(float(v) for v in value)
+    if not all(math.isfinite(v) for v in pose):
+        raise ConfigError(f"{where}: expected {form}, got {value!r} (NaN or inf).")
+    norm = math.sqrt(sum(q * q for q in pose[3:]))
+    if norm < 1e-9:
+        raise ConfigError(f"{where}: expected a unit quaternion (qw, qx, qy, qz), got {pose[3:]} (zero).")
+    return (*pose[:3], *(q / norm for q in pose[3:]))
 
 
 def mode_parts(cls: type[AgentDefinition], modes: Mapping[str, ModeConfig], mode: str) -> dict[str, ControllerConfig]:
@@ -148,6 +176,23 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     freq = cls.sim_freq
     if freq is not None and (isinstance(freq, bool) or not isinstance(freq, int) or freq <= 0):
         raise ConfigError(f"{name}.sim_freq: expected a positive integer (Hz) or None, got {freq!r}.")
+    for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators"):
+        if not isinstance(getattr(cls, flag), bool):
+            raise ConfigError(f"{name}: expected {flag} to be a bool, got {getattr(cls, flag)!r}.")
+    gravcomp = cls.gravity_compensation
+    if not (
+        gravcomp is None
+        or isinstance(gravcomp, bool)
+        or (
+            isinstance(gravcomp, Sequence)
+            and not isinstance(gravcomp, str)
+            and all(isinstance(b, str) for b in gravcomp)
+        )
+    ):
+        raise ConfigError(
+            f"{name}: expected gravity_compensation to be a bool, None or a tuple of body names, got {gravcomp!r}."
+        )
+    mount_pose(cls)
     if cls.friction_cone not in (None, *FRICTION_CONES):
         raise ConfigError(f"{name}.friction_cone: expected one of {FRICTION_CONES} or None, got {cls.friction_cone!r}.")
     ratio = cls.impratio
@@ -312,7 +357,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     if not cls.keyframes and index.free_joint is not None:
         base = resting_base(model, index, keyframes["default"].qpos)
         keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
-    mount = tuple(float(v) for v in cls.mount_pose)
+    mount = mount_pose(cls)
     from robot_agents.agent.definition import AgentDefinition  # (imports this module)
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO

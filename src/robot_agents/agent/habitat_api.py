@@ -31,6 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent.manipulator import ManipulatorView, MobileManipulatorParams
+from robot_agents.errors import StateError
 
 if TYPE_CHECKING:
     from robot_agents.agent.agent import Agent
@@ -72,6 +73,8 @@ class MobileManipulatorAPI:
     ) -> None:
         """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
         where = f"{type(self).__name__}.set_base_pose"
+        if self.world.closed:
+            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
         self.mobile.set(xy, yaw, env_ids, where)
         self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
 

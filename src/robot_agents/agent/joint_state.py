@@ -9,6 +9,7 @@ by a random rotation instead of adding to their entries.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -17,7 +18,7 @@ import numpy.typing as npt
 
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.errors import StateError
-from robot_agents.limits import MAX_SPEED
+from robot_agents.limits import check_speeds
 
 if TYPE_CHECKING:
     from robot_agents.keyframe import ResolvedKeyframe
@@ -29,6 +30,18 @@ IntArray = npt.NDArray[np.int64]
 #: How far a restored state's joints may lie beyond their limits (rad or m): contacts
 #: and limit constraints are soft, so a simulated state can be slightly outside.
 STATE_LIMIT_MARGIN = 0.05
+
+
+@dataclass(frozen=True)
+class JointWrite:
+    """A checked joint-state write (:meth:`JointState.prepare`): rows of ``qpos`` at
+    model addresses ``qpos_adr`` and of ``qvel`` at ``dof_adr``, for envs ``ids``."""
+
+    ids: IntArray
+    qpos_adr: IntArray
+    qpos: FloatArray
+    dof_adr: IntArray
+    qvel: FloatArray
 
 
 class JointState:
@@ -132,24 +145,22 @@ class JointState:
         mujoco.mju_mulQuat(pose[3:], mount[3:], base[3:])
         return pose
 
-    def write(
+    def prepare(
         self,
         ids: IntArray,
         qpos: Any,
         qvel: Any,
         frame: ResolvedKeyframe | None,
         where: str,
-    ) -> None:
-        """Set joints (and, with a keyframe, a free base) of ``ids``; all checked first."""
+    ) -> JointWrite:
+        """Check a write of joints (and, with a keyframe, a free base) of ``ids`` and
+        return it, ready for :meth:`apply`; nothing is written."""
         n = len(ids)
         source_qpos = qpos if qpos is not None else frame.qpos if frame is not None else None
         new_qpos = self.checked_qpos(source_qpos, n, where)
         if qvel is not None:
             new_qvel = self.batch(qvel, n, self.index.nv, "qvel", where)
-            if np.any(np.abs(new_qvel) > MAX_SPEED):
-                raise StateError(
-                    f"{where}: expected joint speeds below {MAX_SPEED:g} (rad/s or m/s), got up to {np.abs(new_qvel).max():.3g}."
-                )
+            check_speeds(new_qvel, where, "qvel")
         else:
             row = frame.qvel if frame is not None else np.zeros(self.index.nv)
             new_qvel = np.broadcast_to(row, (n, self.index.nv))
@@ -160,7 +171,22 @@ class JointState:
             new_qvel = np.concatenate([new_qvel, np.zeros((n, 6))], axis=1)
             qpos_adr = np.concatenate([qpos_adr, self._free_qpos])
             dof_adr = np.concatenate([dof_adr, self._free_dofs])
-        self.world.write_joint_state(ids, qpos_adr, new_qpos, dof_adr, np.asarray(new_qvel))
+        return JointWrite(ids, qpos_adr, new_qpos, dof_adr, np.asarray(new_qvel))
+
+    def apply(self, write: JointWrite) -> None:
+        """Write what :meth:`prepare` checked."""
+        self.world.write_joint_state(write.ids, write.qpos_adr, write.qpos, write.dof_adr, write.qvel)
+
+    def write(
+        self,
+        ids: IntArray,
+        qpos: Any,
+        qvel: Any,
+        frame: ResolvedKeyframe | None,
+        where: str,
+    ) -> None:
+        """Set joints (and, with a keyframe, a free base) of ``ids``; all checked first."""
+        self.apply(self.prepare(ids, qpos, qvel, frame, where))
 
     def perturbed(self, env_ids: IntArray, std: float, rng: np.random.Generator) -> FloatArray:
         """Measured ``qpos`` of ``env_ids`` plus noise (``std`` rad or m), clipped to the limits."""
@@ -193,8 +219,23 @@ class JointState:
                 f"{where}: qpos entry {entry} of env {env} is {qpos[env, entry]:.6g}, more than {STATE_LIMIT_MARGIN} "
                 f"beyond its limits [{low[entry]:.6g}, {high[entry]:.6g}] (a state get_state() cannot have given)."
             )
+        for start, _ in self._balls:
+            if np.any(np.linalg.norm(qpos[:, start : start + 4], axis=1) < 1e-9):
+                raise StateError(f"{where}: a ball joint's quaternion (qpos {start}-{start + 3}) is zero.")
         qvel = self.batch(state["qvel"], self.num_envs, self.index.nv, "qvel", where)
+        check_speeds(qvel, where, "qvel")
         base = self.batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None
+        if base is not None and len(self._free_qpos):
+            norms = np.linalg.norm(base[:, 3:], axis=1)
+            if np.any(norms < 1e-9):
+                env = int(np.argmax(norms < 1e-9))
+                raise StateError(
+                    f"{where}: expected base_pose (x, y, z, qw, qx, qy, qz) with a unit quaternion, got "
+                    f"{base[env, 3:].tolist()} in env {env}."
+                )
+            # a restored get_state() quaternion is unit to rounding and kept bit for bit
+            off = np.abs(norms - 1.0) > 1e-9
+            base[off, 3:] /= norms[off, None]
         return qpos, qvel, base
 
     def write_state(self, qpos: FloatArray, qvel: FloatArray, base: FloatArray | None) -> None:

@@ -154,6 +154,15 @@ class MobileBase:
                 ),
                 axis=1,
             )
+            for k, joint in enumerate((x, y, turn)):
+                low, high = joint.range
+                outside = (values[:, k] < low - 1e-9) | (values[:, k] > high + 1e-9)
+                if joint.limited and outside.any():
+                    value = values[outside, k][0]
+                    raise StateError(
+                        f"{where}: qpos of base joint {joint.name!r} would be {value:.6g}, outside its limits "
+                        f"[{low:.6g}, {high:.6g}]."
+                    )
             qpos_adr = [x.qpos_adr, y.qpos_adr, turn.qpos_adr]
             dof_adr = [x.dof_adr, y.dof_adr, turn.dof_adr]
             self.world.write_joint_state(ids, qpos_adr, values, dof_adr, np.zeros((n, 3)))

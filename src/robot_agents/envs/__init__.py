@@ -5,11 +5,12 @@ vectorization_mode="vector_entry_point", robot_uids="panda")``."""
 
 from __future__ import annotations
 
-from typing import Any
+import importlib
+from typing import Any, cast
 
 import gymnasium as gym
 
-from robot_agents.envs.base_env import RobotEnv
+from robot_agents.envs.base_env import RobotEnv, task_keywords
 from robot_agents.envs.empty import EmptyEnv
 from robot_agents.envs.vector import RobotVectorEnv, vector_entry_point
 from robot_agents.errors import UnknownNameError
@@ -23,6 +24,9 @@ TASKS = {
     "PushCube-v1": "robot_agents.envs.tasks.push_cube:PushCubeEnv",
     "MobilePickCube-v1": "robot_agents.envs.tasks.mobile_pick_cube:MobilePickCubeEnv",
 }
+
+#: Keywords of ``gymnasium.make`` itself that :func:`make_env` passes on.
+GYM_MAKE_KEYWORDS = ("disable_env_checker",)
 
 
 def register_envs() -> None:
@@ -41,10 +45,18 @@ def register_envs() -> None:
             )
 
 
+def task_class(name: str) -> type[RobotEnv]:
+    """The class of registered task ``name`` (a key of :data:`TASKS`)."""
+    module, attribute = TASKS[name].split(":")
+    return cast("type[RobotEnv]", getattr(importlib.import_module(module), attribute))
+
+
 def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     """Make a robot_agents task, e.g. ``make_env("Empty-v1", robot_uids="panda")``.
 
-    Keyword arguments go to the task (see :class:`RobotEnv`). ``max_episode_steps`` is
+    Keyword arguments go to the task (see :class:`RobotEnv` and the task's own); one
+    it does not take, or a ``render_mode`` it does not offer, raises
+    :class:`UnknownNameError` before anything is built. ``max_episode_steps`` is
     the task's own limit (truncation per env, ``(num_envs,)``, at any batch size), not
     Gymnasium's ``TimeLimit`` wrapper.
     """
@@ -54,6 +66,16 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     name = env_id.split("/", 1)[1] if env_id.startswith(NAMESPACE + "/") else env_id
     if name not in TASKS:
         raise UnknownNameError("make_env", "env id", env_id, TASKS)
+    task = task_class(name)
+    where = f"make_env({env_id!r})"
+    accepted = task_keywords(task)
+    for key in sorted(kwargs):
+        if key not in accepted and key not in GYM_MAKE_KEYWORDS:
+            raise UnknownNameError(where, "keyword argument", key, [*accepted, *GYM_MAKE_KEYWORDS])
+    render_mode = kwargs.get("render_mode")
+    modes = task.metadata["render_modes"]
+    if render_mode is not None and render_mode not in modes:  # gymnasium would wrap "human" around "rgb_array"
+        raise UnknownNameError(where, "render_mode", str(render_mode), modes)
     steps = kwargs.pop("max_episode_steps", -1)
     env = gym.make(f"{NAMESPACE}/{name}", **kwargs)
     if steps != -1:

@@ -9,6 +9,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
@@ -25,7 +26,7 @@ from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop
-from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.camera import MAX_SIZE, CameraConfig
 from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
@@ -33,6 +34,44 @@ from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
 
 FloatArray = npt.NDArray[np.float64]
+
+
+def task_keywords(cls: type[RobotEnv]) -> list[str]:
+    """The keyword arguments task class ``cls`` accepts: those of its ``__init__`` and,
+    while an ``__init__`` forwards ``**kwargs``, of its base classes' up to
+    :class:`RobotEnv` (whose ``**unknown`` only reports misspellings)."""
+    names: list[str] = []
+    for klass in cls.__mro__:
+        if "__init__" not in vars(klass):
+            continue
+        parameters = inspect.signature(vars(klass)["__init__"]).parameters.values()
+        names += [
+            p.name
+            for p in parameters
+            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "self" and p.name not in names
+        ]
+        if klass is RobotEnv or not any(p.kind is p.VAR_KEYWORD for p in parameters):
+            break
+    return names
+
+
+def check_render_size(size: Any, where: str) -> tuple[int, int]:
+    """``render_size`` ``(width, height)`` as two whole numbers of pixels in ``[1,
+    MAX_SIZE]`` (the rule camera sizes follow); raises :class:`ConfigError`."""
+    valid = (
+        isinstance(size, (tuple, list, np.ndarray))
+        and len(size) == 2
+        and all(
+            isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) and 1 <= v <= MAX_SIZE
+            for v in size
+        )
+    )
+    if not valid:
+        raise ConfigError(
+            f"{where}: expected render_size to be (width, height), integer numbers of pixels in [1, {MAX_SIZE}], "
+            f"got {size!r}."
+        )
+    return int(size[0]), int(size[1])
 
 
 class RobotEnv(gym.Env[Any, Any]):
@@ -49,7 +88,8 @@ class RobotEnv(gym.Env[Any, Any]):
         sim_freq / control_freq: physics / control rates in Hz; ``sim_freq=None``: the
             robots' declared default step (``AgentDefinition.sim_freq``), else 500 Hz.
         render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
-        render_size: ``(width, height)`` of rendered frames in pixels.
+        render_size: ``(width, height)`` of rendered frames in pixels, each in ``[1,
+            8192]`` (the offscreen framebuffer is enlarged to hold them).
         max_episode_steps: episodes are truncated after this many steps (``None``: never).
         robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
             keyframe, drawn from the env's seeded RNG.
@@ -104,10 +144,15 @@ class RobotEnv(gym.Env[Any, Any]):
         base_dynamics: str | None = None,
         render_only_visuals: bool = True,
         sleep: bool = False,
+        **unknown: Any,
     ) -> None:
+        if unknown:  # a misspelt keyword (gymnasium.make passes every keyword here)
+            given = sorted(unknown)[0]
+            raise UnknownNameError(type(self).__name__, "keyword argument", given, task_keywords(type(self)))
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
+        size = check_render_size(render_size, type(self).__name__)
         if not (
             isinstance(robot_init_qpos_noise, (int, float))
             and not isinstance(robot_init_qpos_noise, bool)
@@ -139,7 +184,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.obs_mode = obs_mode
         self._sensor_obs = SensorObservation(self.scene.cameras, mode, type(self).__name__) if mode.visual else None
         self.render_mode = render_mode
-        self.render_size = (int(render_size[0]), int(render_size[1]))
+        self.render_size = size
         self.max_episode_steps = self.default_max_episode_steps
         self.set_max_episode_steps(max_episode_steps)
         self.robot_init_qpos_noise = float(robot_init_qpos_noise)
@@ -433,6 +478,7 @@ class RobotEnv(gym.Env[Any, Any]):
 
     def get_state(self) -> dict[str, Any]:
         """Exact state (physics, controllers, episode step counts) for :meth:`set_state`."""
+        self._check_open(f"{type(self).__name__}.get_state")
         return {**self.scene.get_state(), "elapsed_steps": self.elapsed_steps.copy()}
 
     def set_state(self, state: Mapping[str, Any]) -> None:
@@ -463,11 +509,16 @@ class RobotEnv(gym.Env[Any, Any]):
     def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
         camera that frames the robots from their extent at the last reset."""
+        self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
             return None
         if self._renderer is None:
             width, height = self.render_size
+            # the offscreen framebuffer must hold the frame (as it is raised for cameras)
+            frame_buffer = self.scene.render_model.vis.global_
+            frame_buffer.offwidth = max(int(frame_buffer.offwidth), width)
+            frame_buffer.offheight = max(int(frame_buffer.offheight), height)
             self._renderer = make_renderer(self.scene.render_model, width, height)
         if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
             lower, upper = self._render_bounds()

@@ -30,6 +30,9 @@ class SimBackend(Protocol):
     substeps: int
     #: Controls of every env, ``(num_envs, nu)``, written by the drive stage.
     ctrl: FloatArray
+    #: Set by :meth:`close`: the robots bound to a closed backend refuse resets, state
+    #: restores, actions and mode switches.
+    closed: bool
 
     @property
     def qpos(self) -> FloatArray:
@@ -106,4 +109,4 @@ class SimBackend(Protocol):
         """How often each env blew up (MuJoCo reset it) since its last reset."""
 
     def close(self) -> None:
-        """Release threads and buffers."""
+        """Release threads and buffers; sets :attr:`closed`."""

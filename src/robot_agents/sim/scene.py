@@ -231,6 +231,8 @@ class Scene:
     # ------------------------------------------------------------------ stepping
     def step(self) -> None:
         """One control step: every robot's substep hooks, then the physics substeps."""
+        if self.world.closed:
+            self._check_open("Scene.step")
         agents = self.agents
         if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
             agent = agents[0]
@@ -261,14 +263,26 @@ class Scene:
     ) -> None:
         """Reset the envs (all by default): props and time to their initial state, each
         robot to a keyframe (default: its first) or to the given ``qpos``."""
-        ids = self.agents[0].state.env_ids(env_ids, "Scene.reset")
-        frames = self.check_keyframes(keyframes, "Scene.reset")
-        positions = list(qpos) if qpos is not None else [None] * len(self.agents)
-        if len(positions) != len(self.agents):
-            raise StateError(f"Scene.reset: expected one qpos per robot ({len(self.agents)}), got {len(positions)}.")
+        where = "Scene.reset"
+        self._check_open(where)
+        ids = self.agents[0].state.env_ids(env_ids, where)
+        frames = self.check_keyframes(keyframes, where)
+        n = len(self.agents)
+        if qpos is None:
+            positions: list[Any] = [None] * n
+        elif isinstance(qpos, (Sequence, np.ndarray)) and not isinstance(qpos, str) and len(qpos) == n:
+            positions = list(qpos)
+        else:
+            given = f"{len(qpos)}" if isinstance(qpos, (Sequence, np.ndarray)) else repr(qpos)
+            raise StateError(f"{where}: expected a sequence of one qpos (or None) per robot ({n}), got {given}.")
+        # every robot's input is checked before any env is rewound
+        writes = [
+            agent.prepare_reset(frame, position, None, ids, f"{where} ({type(agent).__name__})")
+            for agent, frame, position in zip(self.agents, frames, positions, strict=True)
+        ]
         self.world.reset_envs(ids, self._initial_state)  # also clears MuJoCo's warning counters
-        for agent, frame, position in zip(self.agents, frames, positions, strict=True):
-            agent.reset(keyframe=frame, qpos=position, env_ids=ids)
+        for agent, write in zip(self.agents, writes, strict=True):
+            agent.apply_reset(write)
 
     def check_keyframes(self, keyframes: Any, where: str) -> list[str | None]:
         """One keyframe name (or ``None``: the default) per robot, checked."""
@@ -292,6 +306,7 @@ class Scene:
         (MuJoCo's integration state), the island-sleep counters ``(num_envs, ntree)``
         (``sleep``; an older state without them restores the rest) plus each robot's
         control mode and controller state."""
+        self._check_open("Scene.get_state")
         return {
             "physics": self.world.get_state(),
             "sleep": self.world.get_sleep_state(),
@@ -300,6 +315,7 @@ class Scene:
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`. The state is checked before anything is written."""
+        self._check_open("Scene.set_state")
         if not isinstance(state, Mapping) or "physics" not in state or "agents" not in state:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
         physics = self.world.check_state(state["physics"], "Scene.set_state")
@@ -315,6 +331,11 @@ class Scene:
             agent.controller.set_state(agent_state["controller"])
         self.world.set_state(physics, sleep)
 
+    def _check_open(self, where: str) -> None:
+        if self.world.closed:
+            raise StateError(f"{where}: this scene is closed; make a new one.")
+
     def close(self) -> None:
+        """Release the renderers and threads; the scene (and its robots) refuse further use."""
         self.cameras.close()
         self.world.close()

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
-from robot_agents.limits import MAX_SPEED
+from robot_agents.limits import MAX_SPEED, check_speeds
 from robot_agents.sim.render_mirror import RenderMirror
 
 FloatArray = npt.NDArray[np.float64]
@@ -118,6 +118,8 @@ class BatchedWorld:
         self.substeps = int(substeps)
         self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
         self.ctrl = np.zeros((self.num_envs, model.nu))
+        #: Set by :meth:`close` (the robots bound to this world then refuse writes).
+        self.closed = False
         self.state_size = mujoco.mj_stateSize(model, STATE_SPEC)
         #: Length of one env's :meth:`get_sleep_state`.
         self.sleep_size = sum(getattr(self.datas[0], name).size for name in SLEEP_ARRAYS) + len(SLEEP_COUNTS)
@@ -444,6 +446,8 @@ class BatchedWorld:
         array = array.astype(np.float64, copy=False)
         if not np.all(np.isfinite(array)):
             raise StateError(f"{where}: the physics state contains NaN or inf.")
+        nq, nv = self.model.nq, self.model.nv
+        check_speeds(array[:, 1 + nq : 1 + nq + nv], where, "the physics state's qvel")  # after time and qpos
         return array
 
     def get_sleep_state(self) -> npt.NDArray[np.int64]:
@@ -497,6 +501,8 @@ class BatchedWorld:
                 self._set_sleep_state(data, row)
 
     def close(self) -> None:
+        """Stop the stepping threads; the world is :attr:`closed` from then on."""
+        self.closed = True
         if self._pool is not None:
             self._pool.shutdown(wait=True)
             self._pool = None

@@ -25,7 +25,7 @@ import numpy as np
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
-from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only
+from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
@@ -357,6 +357,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             part_joints,
             {d.joint: d.velocity_limit for d in drives},
             torque_only=torque_only(model, drives),
+            undamped=undamped(model, drives),
         )
     )
     if not modes:

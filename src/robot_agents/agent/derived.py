@@ -38,6 +38,33 @@ def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> li
     return out
 
 
+def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
+    """Driven joints whose drive has neither stiffness nor damping once a velocity mode
+    relaxes its stiffness: an affine actuator (a file's ``<position>`` without ``kv``, a
+    motor) or an explicit PD without damping. Such a drive cannot follow velocity
+    targets; MuJoCo's ``pid`` and ``dcmotor`` drives take velocity inputs and can."""
+    out = []
+    for drive in drives:
+        if drive.kind in (DriveKind.PID, DriveKind.DCMOTOR):
+            continue
+        damping = drive.damping
+        if drive.kind is DriveKind.AFFINE and not drive.source.startswith(DERIVED_SOURCE):
+            joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+            actuator = next(
+                (
+                    a
+                    for a in range(getattr(model, "nactuator", model.nu))
+                    if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
+                    and model.actuator_trnid[a, 0] == joint
+                ),
+                None,
+            )
+            damping = -float(model.actuator_biasprm[actuator, 2]) if actuator is not None else 0.0
+        if not damping > 0.0:
+            out.append(drive.joint)
+    return out
+
+
 def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
     """Parts of a robot that declares none: its driven joints as one arm when they form
     a serial chain (each joint's body below the previous one's), with the chain's last

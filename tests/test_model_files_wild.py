@@ -78,3 +78,33 @@ def test_cli_info_and_check_run_on_a_file_with_undamped_drives(tmp_path: Path) -
         warnings.simplefilter("ignore", RuntimeWarning)
         assert cli_main(["info", str(path)], io.StringIO()) == 0
         assert cli_main(["check", str(path), "--seconds", "0.2"], io.StringIO()) in (0, 1)
+
+
+# A body lying on its side in the file (dm_control's humanoid_CMU: euler="90 0 0").
+ROTATED_ROOT = """<mujoco>
+  <worldbody>
+    <body name="root" pos="0 0 1" euler="90 0 0">
+      {free}
+      <geom type="capsule" fromto="0 0 0 0 0.4 0" size="0.05" mass="2"/>
+      <body name="leg" pos="0 0.4 0">
+        <joint name="knee" axis="1 0 0" range="-90 90"/>
+        <geom type="capsule" fromto="0 0 0 0 0.3 0" size="0.04" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("free", ['<freejoint name="root"/>', ""])
+def test_floating_root_keeps_the_files_orientation_and_rests_on_the_floor(tmp_path: Path, free: str) -> None:
+    path = tmp_path / "rotated.xml"
+    path.write_text(ROTATED_ROOT.format(free=free))
+    checked = two_line(path, fix_root_link=False).check()
+    base = checked.keyframes["default"].base
+    assert base is not None
+    half = np.sqrt(0.5)
+    np.testing.assert_allclose(base[3:], [half, half, 0.0, 0.0], atol=1e-9)  # +90 degrees about x
+    # The chain now points up (+y rotated to +z): the root capsule's lower cap is lowest.
+    np.testing.assert_allclose(base[2], 0.05 + 0.001, atol=1e-9)
+    np.testing.assert_allclose(base[:2], [0.0, 0.0])

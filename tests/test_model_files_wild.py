@@ -108,3 +108,91 @@ def test_floating_root_keeps_the_files_orientation_and_rests_on_the_floor(tmp_pa
     # The chain now points up (+y rotated to +z): the root capsule's lower cap is lowest.
     np.testing.assert_allclose(base[2], 0.05 + 0.001, atol=1e-9)
     np.testing.assert_allclose(base[:2], [0.0, 0.0])
+
+
+# A leg whose actuators drive fixed tendons (dm_control's quadruped and manipulator).
+TENDON_LEG = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="hip" pos="0 0 0.5">
+      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+      <body name="thigh" pos="0 0 -0.05">
+        <joint name="hip_joint" axis="0 1 0" range="-1 1"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.5"/>
+        <body name="shin" pos="0 0 -0.2">
+          <joint name="knee_joint" axis="0 1 0" range="-1 1"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.3"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="lift"><joint joint="hip_joint" coef="1"/><joint joint="knee_joint" coef="-0.5"/></fixed>
+    <fixed name="bend"><joint joint="knee_joint" coef="1"/></fixed>
+  </tendon>
+  <actuator>
+    {actuators}
+  </actuator>
+</mujoco>
+"""
+TENDON_ACTUATORS = '<motor name="lift_drive" tendon="lift" gear="5"/><motor name="bend_drive" tendon="bend" gear="5"/>'
+
+
+def test_tendon_actuators_give_way_to_derived_joint_drives_with_a_note(tmp_path: Path) -> None:
+    path = tmp_path / "tendon_leg.xml"
+    path.write_text(TENDON_LEG.format(actuators=TENDON_ACTUATORS))
+    cls = two_line(path)
+    with pytest.warns(RuntimeWarning, match=r"2 actuator\(s\) \(lift_drive, bend_drive\) drive tendons, not joints"):
+        checked = cls.check()
+    assert [d.joint for d in checked.drives] == ["hip_joint", "knee_joint"]
+    assert checked.derived_gains is not None  # PD drives from the inertia, as for a file without actuators
+    scene = scene_of(cls)
+    agent = scene.agents[0]
+    for mode in checked.modes:
+        agent.set_control_mode(mode)
+        scene.reset()
+        rng = np.random.default_rng(0)
+        for _ in range(20):
+            agent.set_action(rng.uniform(-1, 1, agent.action_space.shape))
+            scene.step()
+    assert not np.any(scene.world.instability_counts())
+    scene.close()
+
+
+def test_a_file_mixing_tendon_and_joint_actuators_names_the_one_setting_needed(tmp_path: Path) -> None:
+    path = tmp_path / "mixed_leg.xml"
+    path.write_text(
+        TENDON_LEG.format(actuators='<motor name="lift_drive" tendon="lift"/><position joint="knee_joint" kp="10"/>')
+    )
+    with pytest.raises(ra.ConfigError, match=r"actuator 'lift_drive' drives a tendon.*alone it is enough"):
+        two_line(path).check()
+    assert two_line(path, replace_file_actuators=True).check().derived_gains is not None
+
+
+ZERO_VISUAL_URDF = """<?xml version="1.0"?>
+<robot name="r">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+  </inertial><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+  </inertial><visual><geometry><sphere radius="0"/></geometry></visual>
+  <collision><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_load_notes_are_given_once_per_robot(tmp_path: Path) -> None:
+    path = tmp_path / "zero_visual.urdf"
+    path.write_text(ZERO_VISUAL_URDF)
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        assert cli_main(["check", str(path), "--seconds", "0.2"], io.StringIO()) == 0
+        cls = two_line(path)
+        cls.check()
+        for _ in range(2):
+            ra.Scene(cls).close()
+        env = ra.make_env("Empty-v1", robot_uids=cls)
+        env.close()
+    notes = [str(w.message) for w in record if "zero-size visual" in str(w.message)]
+    assert len(notes) == 2, notes  # the command line's robot once, the class once

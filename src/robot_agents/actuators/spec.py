@@ -8,6 +8,7 @@ and never kept beside a declared drive on the same joint.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -114,6 +115,25 @@ def apply_actuators(
     joints = [j for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
     names = [j.name for j in joints]
     file_actuators = _file_actuators(spec)
+    if (
+        file_actuators
+        and not replace_file_actuators
+        and not declarations
+        and all(a.trntype != mujoco.mjtTrn.mjTRN_JOINT for a in file_actuators)
+    ):
+        # Every actuator of the file drives a tendon (or a site, a body): nothing for
+        # robot_agents to adopt; the two-line robot gets derived PD drives on its joints.
+        kinds = sorted({a.trntype.name[6:].lower() for a in file_actuators})
+        labels = [a.name or f"#{k}" for k, a in enumerate(file_actuators)]
+        warnings.warn(
+            f"{where}: the model file's {len(labels)} actuator(s) ({', '.join(labels[:3])}"
+            f"{' ...' if len(labels) > 3 else ''}) drive {' and '.join(t + 's' for t in kinds)}, not joints, and "
+            "robot_agents drives joints: replaced them with derived PD drives on the joints (set "
+            "replace_file_actuators = True to say so, or declare actuators to choose the drives).",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        replace_file_actuators = True
     if replace_file_actuators:
         for actuator in file_actuators:
             spec.delete(actuator)
@@ -123,8 +143,10 @@ def apply_actuators(
         label = actuator.name or f"#{file_actuators.index(actuator)}"
         if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT:
             raise ConfigError(
-                f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint; "
-                "robot_agents drives joints: set replace_file_actuators = True and declare the joint drives."
+                f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint, "
+                "and robot_agents drives joints only: set replace_file_actuators = True (alone it is enough: every "
+                "hinge and slide joint then gets a PD drive with gains derived from its inertia), or declare the "
+                "joint drives in actuators."
             )
         if actuator.target in on_joint:
             raise ConfigError(

@@ -209,7 +209,15 @@ def _build(
     derived: DerivedGains | None,
     compiler: CompilerSettings | None = None,
     exclusions: Sequence[tuple[str, str]] = (),
+    quiet: bool = False,
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
+    """The robot's spec and drives. ``quiet``: without the load notes (dropped meshes,
+    bodies and shapes, replaced actuators), which :func:`check` gives once per class;
+    every later build of the same robot would repeat them."""
+    if quiet:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return _build(cls, cameras, derived, compiler, exclusions)
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
@@ -232,7 +240,7 @@ def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | Non
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
-    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions)[0]
+    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions, quiet=True)[0]
 
 
 @dataclass(frozen=True)
@@ -297,7 +305,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     spec, drives = _build(cls, None, None, compiler)
     model, compiler = _compile_with_fallbacks(cls, spec, compiler)
     if compiler is not cls.compiler:
-        spec, drives = _build(cls, None, None, compiler)
+        spec, drives = _build(cls, None, None, compiler, quiet=True)
     index = RobotIndex(model, "", name)
     composed = composition(cls)
     parts = composed.parts
@@ -429,7 +437,7 @@ def _compile_with_fallbacks(
                 RuntimeWarning,
                 stacklevel=4,
             )
-            spec = _build(cls, None, None, compiler)[0]
+            spec = _build(cls, None, None, compiler, quiet=True)[0]
     raise ModelError(f"{name}: the model does not compile.")
 
 

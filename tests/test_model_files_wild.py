@@ -142,7 +142,7 @@ def test_tendon_actuators_give_way_to_derived_joint_drives_with_a_note(tmp_path:
     path = tmp_path / "tendon_leg.xml"
     path.write_text(TENDON_LEG.format(actuators=TENDON_ACTUATORS))
     cls = two_line(path)
-    with pytest.warns(RuntimeWarning, match=r"2 actuator\(s\) \(lift_drive, bend_drive\) drive tendons, not joints"):
+    with pytest.warns(RuntimeWarning, match=r"2 of the model file's actuators \(lift_drive, bend_drive\) drive tendons, not joints"):
         checked = cls.check()
     assert [d.joint for d in checked.drives] == ["hip_joint", "knee_joint"]
     assert checked.derived_gains is not None  # PD drives from the inertia, as for a file without actuators
@@ -159,13 +159,19 @@ def test_tendon_actuators_give_way_to_derived_joint_drives_with_a_note(tmp_path:
     scene.close()
 
 
-def test_a_file_mixing_tendon_and_joint_actuators_names_the_one_setting_needed(tmp_path: Path) -> None:
+def test_a_file_mixing_tendon_and_joint_actuators(tmp_path: Path) -> None:
     path = tmp_path / "mixed_leg.xml"
     path.write_text(
         TENDON_LEG.format(actuators='<motor name="lift_drive" tendon="lift"/><position joint="knee_joint" kp="10"/>')
     )
-    with pytest.raises(ra.ConfigError, match=r"actuator 'lift_drive' drives a tendon.*alone it is enough"):
-        two_line(path).check()
+    # Declaring nothing: all the file's actuators give way to derived joint drives, with a note.
+    with pytest.warns(RuntimeWarning, match=r"\(lift_drive\) drive tendons.*replacing the other 1 file actuators"):
+        checked = two_line(path).check()
+    assert checked.derived_gains is not None and len(checked.drives) == 2
+    # Declaring drives: the message names the one setting that removes the tendon actuator.
+    declared = two_line(path, actuators=(ra.FileActuators(joints=("knee_joint",)),))
+    with pytest.raises(ra.ConfigError, match=r"actuator 'lift_drive' drives a tendon.*replace_file_actuators = True"):
+        declared.check()
     assert two_line(path, replace_file_actuators=True).check().derived_gains is not None
 
 

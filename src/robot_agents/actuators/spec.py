@@ -115,21 +115,21 @@ def apply_actuators(
     joints = [j for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
     names = [j.name for j in joints]
     file_actuators = _file_actuators(spec)
-    if (
-        file_actuators
-        and not replace_file_actuators
-        and not declarations
-        and all(a.trntype != mujoco.mjtTrn.mjTRN_JOINT for a in file_actuators)
-    ):
-        # Every actuator of the file drives a tendon (or a site, a body): nothing for
-        # robot_agents to adopt; the two-line robot gets derived PD drives on its joints.
-        kinds = sorted({a.trntype.name[6:].lower() for a in file_actuators})
-        labels = [a.name or f"#{k}" for k, a in enumerate(file_actuators)]
+    tendons = [a for a in file_actuators if a.trntype != mujoco.mjtTrn.mjTRN_JOINT]
+    if tendons and not replace_file_actuators and not declarations:
+        # Actuators on tendons (or sites, bodies) cannot follow joint targets: a robot that
+        # declares no drives gets what a file without actuators gets, derived PD drives on
+        # its joints, in place of all the file's actuators (a partial set would leave the
+        # tendon-driven joints without a drive).
+        kinds = sorted({a.trntype.name[6:].lower() for a in tendons})
+        labels = [a.name or f"#{file_actuators.index(a)}" for a in tendons]
+        others = len(file_actuators) - len(tendons)
         warnings.warn(
-            f"{where}: the model file's {len(labels)} actuator(s) ({', '.join(labels[:3])}"
+            f"{where}: {len(labels)} of the model file's actuators ({', '.join(labels[:3])}"
             f"{' ...' if len(labels) > 3 else ''}) drive {' and '.join(t + 's' for t in kinds)}, not joints, and "
-            "robot_agents drives joints: replaced them with derived PD drives on the joints (set "
-            "replace_file_actuators = True to say so, or declare actuators to choose the drives).",
+            "robot_agents drives joints: every hinge and slide joint gets a PD drive with gains derived from its "
+            f"inertia instead{f' (replacing the other {others} file actuators too)' if others else ''}; set "
+            "replace_file_actuators = True to say so, or declare actuators to choose the drives.",
             RuntimeWarning,
             stacklevel=4,
         )
@@ -144,9 +144,9 @@ def apply_actuators(
         if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT:
             raise ConfigError(
                 f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint, "
-                "and robot_agents drives joints only: set replace_file_actuators = True (alone it is enough: every "
-                "hinge and slide joint then gets a PD drive with gains derived from its inertia), or declare the "
-                "joint drives in actuators."
+                "and robot_agents drives joints only: set replace_file_actuators = True and declare the joint drives "
+                "in actuators (or declare no actuators: replace_file_actuators = True alone is enough, every hinge "
+                "and slide joint then gets a PD drive with gains derived from its inertia)."
             )
         if actuator.target in on_joint:
             raise ConfigError(

@@ -4,6 +4,7 @@ the two-line definition derives from them, and what it says when it cannot."""
 from __future__ import annotations
 
 import io
+import re
 import warnings
 from pathlib import Path
 
@@ -202,3 +203,44 @@ def test_load_notes_are_given_once_per_robot(tmp_path: Path) -> None:
         env.close()
     notes = [str(w.message) for w in record if "zero-size visual" in str(w.message)]
     assert len(notes) == 2, notes  # the command line's robot once, the class once
+
+
+def inertia_urdf(inertia: str) -> str:
+    """A one-joint arm whose root is a dummy link with ``inertia`` (go1's and tiago's)."""
+    return f"""<?xml version="1.0"?>
+<robot name="r">
+  <!-- a dummy root link -->
+  <link name="dummy">
+    <inertial><mass value="1e-6"/><inertia {inertia}/></inertial>
+  </link>
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+  </inertial><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+  </inertial><collision><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>
+  <joint name="fix" type="fixed"><parent link="dummy"/><child link="base"/></joint>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_singular_dummy_inertia_is_bounded_with_a_note(tmp_path: Path) -> None:
+    path = tmp_path / "singular.urdf"
+    path.write_text(inertia_urdf('ixx="1e-6" ixy="1e-6" ixz="1e-6" iyy="1e-6" iyz="1e-6" izz="1e-6"'))
+    with pytest.warns(RuntimeWarning) as record:
+        checked = two_line(path).check()
+    notes = " ".join(str(w.message) for w in record)
+    assert re.search(r"positive eigenvalues.*'dummy'.*compiled with boundmass=0.001, boundinertia=1e-06", notes)
+    assert checked.compiler is not None and checked.compiler.boundinertia == 1e-6
+
+
+def test_an_indefinite_inertia_names_the_file_link_line_and_fix(tmp_path: Path) -> None:
+    path = tmp_path / "indefinite.urdf"
+    path.write_text(inertia_urdf('ixx="2.4e-8" ixy="6.1e-8" ixz="1.2e-8" iyy="2.8e-8" iyz="7.7e-9" izz="3.8e-8"'))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the bounded retry's note
+        with pytest.raises(ra.ModelError) as caught:
+            two_line(path).check()
+    message = str(caught.value)
+    assert f"link 'dummy' in {str(path)!r} (line 4) is not positive-definite" in message
+    assert "edit that <inertia>, or remove the <inertial>" in message

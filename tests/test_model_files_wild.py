@@ -244,3 +244,21 @@ def test_an_indefinite_inertia_names_the_file_link_line_and_fix(tmp_path: Path) 
     message = str(caught.value)
     assert f"link 'dummy' in {str(path)!r} (line 4) is not positive-definite" in message
     assert "edit that <inertia>, or remove the <inertial>" in message
+
+
+def test_mujocos_urdf_errors_give_the_line_in_the_users_file(tmp_path: Path) -> None:
+    # Comments and the declaration above the bad element: MuJoCo reads the library's
+    # re-serialised copy, whose lines differ; the message gives the user's line.
+    good = ZERO_VISUAL_URDF.replace('<sphere radius="0"/>', '<sphere radius="0.01"/>')
+    bad = good.replace(
+        '<origin xyz="0 0 0.3"/>',
+        '\n    <!-- mounted from\n         the environment -->\n    <origin xyz="$(optenv ARM_XYZ 0 0 0.3)"/>',
+    )
+    path = tmp_path / "xacro_left.urdf"
+    path.write_text(bad)
+    line = next(n for n, text in enumerate(bad.splitlines(), 1) if "$(optenv" in text)
+    with pytest.raises(ra.ModelError) as caught:
+        two_line(path).check()
+    message = str(caught.value)
+    assert f"line {line}" in message and f"line {line} holds an unexpanded xacro expression" in message
+    assert "xacro model.urdf.xacro > model.urdf" in message

@@ -143,7 +143,9 @@ def test_tendon_actuators_give_way_to_derived_joint_drives_with_a_note(tmp_path:
     path = tmp_path / "tendon_leg.xml"
     path.write_text(TENDON_LEG.format(actuators=TENDON_ACTUATORS))
     cls = two_line(path)
-    with pytest.warns(RuntimeWarning, match=r"2 of the model file's actuators \(lift_drive, bend_drive\) drive tendons, not joints"):
+    with pytest.warns(
+        RuntimeWarning, match=r"2 of the model file's actuators \(lift_drive, bend_drive\) drive tendons, not joints"
+    ):
         checked = cls.check()
     assert [d.joint for d in checked.drives] == ["hip_joint", "knee_joint"]
     assert checked.derived_gains is not None  # PD drives from the inertia, as for a file without actuators
@@ -262,3 +264,29 @@ def test_mujocos_urdf_errors_give_the_line_in_the_users_file(tmp_path: Path) -> 
     message = str(caught.value)
     assert f"line {line}" in message and f"line {line} holds an unexpanded xacro expression" in message
     assert "xacro model.urdf.xacro > model.urdf" in message
+
+
+def test_make_env_takes_a_model_file_path_and_module_class(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "hand.xml"
+    path.write_text(UNDAMPED_HAND)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        env = ra.make_env("Empty-v1", robot_uids=str(path))
+    assert env.unwrapped.agent.uid == "hand"  # type: ignore[attr-defined]
+    env.reset(seed=0)
+    env.step(np.zeros(env.action_space.shape))
+    env.close()
+    # module:Class, as the command line takes it
+    (tmp_path / "wild_robots.py").write_text(
+        f"import robot_agents as ra\n\nclass MyHand(ra.Agent):\n    uid = 'my_hand'\n    mjcf_path = {str(path)!r}\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        env = ra.make_env("Empty-v1", robot_uids="wild_robots:MyHand")
+    assert type(env.unwrapped.agent).__name__ == "MyHand"  # type: ignore[attr-defined]
+    env.close()
+    with pytest.raises(ra.ModelError, match="does not exist"):
+        ra.make_env("Empty-v1", robot_uids=str(tmp_path / "missing.urdf"))
+    with pytest.raises(ra.UnknownNameError, match="unknown robot uid 'pandaa'"):
+        ra.make_env("Empty-v1", robot_uids="pandaa")

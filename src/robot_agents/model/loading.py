@@ -19,8 +19,8 @@ import os
 import re
 import warnings
 import xml.etree.ElementTree as ET
-from xml.parsers import expat
 from pathlib import Path
+from xml.parsers import expat
 
 import mujoco
 import numpy as np

@@ -80,10 +80,12 @@ def cmd_list(out: TextIO) -> int:
     return 0
 
 
-def cmd_info(uid: str, out: TextIO, floating: bool = False) -> int:
+def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | None = None) -> int:
+    """Describe the robot ``uid`` names (``cls``: already resolved, so that its load
+    notes are not given twice)."""
     from robot_agents.sim.scene import Scene
 
-    cls = resolve_robot(uid, floating)
+    cls = cls if cls is not None else resolve_robot(uid, floating)
     scene = Scene(cls)
     agent = scene.agents[0]
     out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
@@ -166,7 +168,7 @@ def cmd_check(
     from robot_agents.checks import run_checks
 
     cls = resolve_robot(spec, floating)
-    cmd_info(spec, out, floating)
+    cmd_info(spec, out, floating, cls)
     if sweep:
         from robot_agents.tuning.timestep import sweep_timestep
 

@@ -88,13 +88,18 @@ def get_agent(uid: str) -> type[Agent]:
 
 
 def agent_class(robot: object, where: str) -> type[Agent]:
-    """``robot`` as an Agent class: a registered uid looked up (:func:`get_agent`), an
-    Agent subclass as it is; :class:`ConfigError` (naming ``where``) for anything else."""
+    """``robot`` as an Agent class: a string as the command line reads it
+    (:func:`~robot_agents.robot_source.resolve_robot`: a registered uid, a model file
+    path, or ``module:Class``), an Agent subclass as it is; :class:`ConfigError`
+    (naming ``where``) for anything else."""
     from robot_agents.agent import Agent  # (the agent package imports this module)
+    from robot_agents.robot_source import resolve_robot
 
-    cls = get_agent(robot) if isinstance(robot, str) else robot
+    cls = resolve_robot(robot) if isinstance(robot, str) else robot
     if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot!r}.")
+        raise ConfigError(
+            f"{where}: expected a robot uid, a model file path, module:Class or an Agent subclass, got {robot!r}."
+        )
     return cls
 
 

@@ -1,6 +1,7 @@
 """Name a robot the way a user has it: a registered uid, a model file path (the
 two-line robot: uid from the file name), or ``module:Class`` (a class in an importable
-module). The command line's ``info``, ``demo`` and ``check`` take all three."""
+module). The command line's ``info``, ``demo`` and ``check``, ``make_env``'s
+``robot_uids`` and :class:`~robot_agents.sim.scene.Scene` take all three."""
 
 from __future__ import annotations
 
@@ -33,7 +34,7 @@ def resolve_robot(spec: str, floating: bool = False) -> type[Agent]:
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
         return robot_from_file(path, floating)
-    if ":" in spec:
+    if ":" in spec and not registered:
         module_name, _, class_name = spec.partition(":")
         try:
             module = importlib.import_module(module_name)

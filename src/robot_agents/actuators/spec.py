@@ -8,6 +8,7 @@ and never kept beside a declared drive on the same joint.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -114,6 +115,25 @@ def apply_actuators(
     joints = [j for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
     names = [j.name for j in joints]
     file_actuators = _file_actuators(spec)
+    tendons = [a for a in file_actuators if a.trntype != mujoco.mjtTrn.mjTRN_JOINT]
+    if tendons and not replace_file_actuators and not declarations:
+        # Actuators on tendons (or sites, bodies) cannot follow joint targets: a robot that
+        # declares no drives gets what a file without actuators gets, derived PD drives on
+        # its joints, in place of all the file's actuators (a partial set would leave the
+        # tendon-driven joints without a drive).
+        kinds = sorted({a.trntype.name[6:].lower() for a in tendons})
+        labels = [a.name or f"#{file_actuators.index(a)}" for a in tendons]
+        others = len(file_actuators) - len(tendons)
+        warnings.warn(
+            f"{where}: {len(labels)} of the model file's actuators ({', '.join(labels[:3])}"
+            f"{' ...' if len(labels) > 3 else ''}) drive {' and '.join(t + 's' for t in kinds)}, not joints, and "
+            "robot_agents drives joints: every hinge and slide joint gets a PD drive with gains derived from its "
+            f"inertia instead{f' (replacing the other {others} file actuators too)' if others else ''}; set "
+            "replace_file_actuators = True to say so, or declare actuators to choose the drives.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        replace_file_actuators = True
     if replace_file_actuators:
         for actuator in file_actuators:
             spec.delete(actuator)
@@ -123,8 +143,10 @@ def apply_actuators(
         label = actuator.name or f"#{file_actuators.index(actuator)}"
         if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT:
             raise ConfigError(
-                f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint; "
-                "robot_agents drives joints: set replace_file_actuators = True and declare the joint drives."
+                f"{where}: the model file's actuator {label!r} drives a {actuator.trntype.name[6:].lower()}, not a joint, "
+                "and robot_agents drives joints only: set replace_file_actuators = True and declare the joint drives "
+                "in actuators (or declare no actuators: replace_file_actuators = True alone is enough, every hinge "
+                "and slide joint then gets a PD drive with gains derived from its inertia)."
             )
         if actuator.target in on_joint:
             raise ConfigError(

@@ -27,7 +27,7 @@ import numpy as np
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
-from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only
+from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
@@ -254,7 +254,15 @@ def _build(
     derived: DerivedGains | None,
     compiler: CompilerSettings | None = None,
     exclusions: Sequence[tuple[str, str]] = (),
+    quiet: bool = False,
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
+    """The robot's spec and drives. ``quiet``: without the load notes (dropped meshes,
+    bodies and shapes, replaced actuators), which :func:`check` gives once per class;
+    every later build of the same robot would repeat them."""
+    if quiet:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return _build(cls, cameras, derived, compiler, exclusions)
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
@@ -277,7 +285,7 @@ def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | Non
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
-    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions)[0]
+    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions, quiet=True)[0]
 
 
 @dataclass(frozen=True)
@@ -342,7 +350,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     spec, drives = _build(cls, None, None, compiler)
     model, compiler = _compile_with_fallbacks(cls, spec, compiler)
     if compiler is not cls.compiler:
-        spec, drives = _build(cls, None, None, compiler)
+        spec, drives = _build(cls, None, None, compiler, quiet=True)
     index = RobotIndex(model, "", name)
     composed = composition(cls)
     parts = composed.parts
@@ -402,6 +410,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             part_joints,
             {d.joint: d.velocity_limit for d in drives},
             torque_only=torque_only(model, drives),
+            undamped=undamped(model, drives),
         )
     )
     if not modes:
@@ -444,10 +453,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     return checked
 
 
+_NOT_POSITIVE = "inertia must have positive eigenvalues"
+
 #: Known compile failures of files from the wild and the compiler settings that fix them.
 _FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("balanceinertia", {"balanceinertia": True}),
     ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
+    # a dummy link's all-equal tiny inertia (1e-6 everywhere): bounded, it becomes valid
+    (_NOT_POSITIVE, {"boundmass": 1e-3, "boundinertia": 1e-6}),
 )
 
 
@@ -463,9 +476,12 @@ def _compile_with_fallbacks(
         except ModelError as err:
             fix = next((changes for key, changes in _FALLBACKS if key in str(err)), None)
             if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
+                if _NOT_POSITIVE in str(err):
+                    raise ModelError(_inertia_message(cls, str(err), compiler)) from None
                 raise
             compiler = dataclasses.replace(compiler, **fix)
-            reason = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()[0]
+            lines = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()
+            reason = "; ".join(line.strip() for line in lines[:2] if line.strip())
             warnings.warn(
                 f"{name}: MuJoCo refused the model ({reason}); compiled with "
                 f"{', '.join(f'{k}={v}' for k, v in fix.items())}: declare compiler = CompilerSettings(...) to make "
@@ -473,8 +489,33 @@ def _compile_with_fallbacks(
                 RuntimeWarning,
                 stacklevel=4,
             )
-            spec = _build(cls, None, None, compiler)[0]
+            spec = _build(cls, None, None, compiler, quiet=True)[0]
     raise ModelError(f"{name}: the model does not compile.")
+
+
+def _inertia_message(cls: type[AgentDefinition], error: str, compiler: CompilerSettings) -> str:
+    """Where an inertia MuJoCo cannot use sits (file, link, line) and how to fix it."""
+    found = re.search(r"Element name '([^']*)'", error)
+    element = found.group(1) if found else ""
+    path = model_path(cls)
+    line = 0
+    if element and path.is_file():
+        tag = "link" if path.suffix.lower() == ".urdf" else "body"
+        text = path.read_text(errors="replace")
+        match = re.search(rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(element)}"', text)
+        line = text.count("\n", 0, match.start()) + 1 if match else 0
+    where = f"{'link' if path.suffix.lower() == '.urdf' else 'body'} {element!r}" if element else "a body"
+    tried = (
+        " (also with boundmass / boundinertia, which do not fix it)"
+        if compiler.boundinertia or compiler.boundmass
+        else ""
+    )
+    return (
+        f"{cls.__name__}: the inertia of {where} in {str(path)!r}{f' (line {line})' if line else ''} is not "
+        f"positive-definite: MuJoCo refuses it{tried}. Expected an <inertia> whose matrix has positive eigenvalues "
+        "(ixx, iyy, izz > 0, each at most the sum of the other two, small off-diagonal terms); edit that <inertia>, "
+        "or remove the <inertial> of a link that only carries a frame."
+    )
 
 
 def _resolve_parts(

@@ -38,6 +38,33 @@ def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> li
     return out
 
 
+def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
+    """Driven joints whose drive has neither stiffness nor damping once a velocity mode
+    relaxes its stiffness: an affine actuator (a file's ``<position>`` without ``kv``, a
+    motor) or an explicit PD without damping. Such a drive cannot follow velocity
+    targets; MuJoCo's ``pid`` and ``dcmotor`` drives take velocity inputs and can."""
+    out = []
+    for drive in drives:
+        if drive.kind in (DriveKind.PID, DriveKind.DCMOTOR):
+            continue
+        damping = drive.damping
+        if drive.kind is DriveKind.AFFINE and not drive.source.startswith(DERIVED_SOURCE):
+            joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+            actuator = next(
+                (
+                    a
+                    for a in range(getattr(model, "nactuator", model.nu))
+                    if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
+                    and model.actuator_trnid[a, 0] == joint
+                ),
+                None,
+            )
+            damping = -float(model.actuator_biasprm[actuator, 2]) if actuator is not None else 0.0
+        if not damping > 0.0:
+            out.append(drive.joint)
+    return out
+
+
 def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
     """Parts of a robot that declares none: its driven joints as one arm when they form
     a serial chain (each joint's body below the previous one's), with the chain's last
@@ -104,12 +131,15 @@ def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float
 
 def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> np.ndarray:
     """A floating robot's base pose ``(7,)`` at ``qpos`` that puts its lowest colliding
-    geom 1 mm above the floor (z = 0), upright, at the origin."""
+    geom 1 mm above the floor (z = 0), at the origin, in the file's root orientation
+    (:func:`file_root_orientation`)."""
     data = mujoco.MjData(model)
     data.qpos[index.qpos_adr] = qpos
     free = index.free_joint
+    quat = np.array([1.0, 0.0, 0.0, 0.0])
     if free is not None:
-        data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+        quat = file_root_orientation(model, free.qpos_adr)
+        data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, *quat)
     mujoco.mj_kinematics(model, data)
     lowest = min(
         (
@@ -121,4 +151,14 @@ def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> 
         default=np.inf,
     )
     height = 0.0 if not np.isfinite(lowest) else 0.001 - lowest
-    return np.array([0.0, 0.0, height, 1.0, 0.0, 0.0, 0.0])
+    return np.array([0.0, 0.0, height, *quat])
+
+
+def file_root_orientation(model: mujoco.MjModel, qpos_adr: int) -> np.ndarray:
+    """The unit quaternion ``(w, x, y, z)`` a model file gives its free root: its first
+    keyframe's, else the compiled reference (``qpos0``: the root body's ``quat`` /
+    ``euler`` composed with the free joint's own reference)."""
+    source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
+    quat = np.array(source[qpos_adr + 3 : qpos_adr + 7], dtype=np.float64)
+    norm = float(np.linalg.norm(quat))
+    return quat / norm if np.isfinite(norm) and norm > 1e-9 else np.array([1.0, 0.0, 0.0, 0.0])

@@ -224,6 +224,7 @@ def modes_from_parts(
     part_joints: Mapping[str, Sequence[str]],
     velocity_limits: Mapping[str, float],
     torque_only: Sequence[str] = (),
+    undamped: Sequence[str] = (),
 ) -> dict[str, ModeConfig]:
     """The control-mode table of a robot from its parts.
 
@@ -236,7 +237,11 @@ def modes_from_parts(
     driven joints (rad/s or m/s; ``inf`` where unknown). When any of the main part's
     drives is in ``torque_only`` (motors that cannot follow position targets), the
     table is one mode, ``joint_effort``: normalized efforts within the drives' limits
-    over every driven joint of every part.
+    over every driven joint of every part. Joints in ``undamped`` have drives without
+    damping (a model file's ``<position>`` actuator without ``kv``): a velocity mode
+    relaxes their stiffness and nothing would be left to follow its targets, so the
+    table has no velocity-only mode (``pd_joint_vel``) over them; the position+velocity
+    modes stay (their stiffness follows the positions).
     """
     if not parts:
         return {}
@@ -265,6 +270,8 @@ def modes_from_parts(
             if task.end_effector is None and main.end_effectors:
                 task = replace(task, end_effector=main.end_effectors[0].name)
             table.update(ee_control_modes(group, task, task.modes))
+        if set(undamped) & set(joints):
+            table = {mode: config for mode, config in table.items() if not _velocity_only(config)}
     others: dict[str, ControllerConfig] = {}
     for part in parts:
         if part is main or (isinstance(part, Legs) and part.held):
@@ -304,6 +311,12 @@ def modes_from_parts(
             **{name: body.get(name, config) for name, config in others.items()},
         }
     return combined
+
+
+def _velocity_only(config: ControllerConfig) -> bool:
+    """A config that writes velocity targets without positions and keeps the drives' damping."""
+    kinds = config.target_kinds()
+    return "velocity" in kinds and "position" not in kinds and config.damping is None
 
 
 #: Mobile manipulators with a torso / head: arm deltas, body at absolute targets.

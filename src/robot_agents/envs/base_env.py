@@ -78,7 +78,9 @@ class RobotEnv(gym.Env[Any, Any]):
     """A task with one or more robots in a :class:`~robot_agents.sim.Scene`.
 
     Args:
-        robot_uids: a robot uid / Agent class, or a tuple of them for several robots.
+        robot_uids: a robot uid, a model file path, ``module:Class`` (as the command
+            line reads them: :func:`~robot_agents.robot_source.resolve_robot`) or an
+            Agent class, or a tuple of them for several robots.
         num_envs: parallel copies (``>= 1``).
         control_mode: a mode name for every robot, or one per robot; default: each
             robot's default mode.

@@ -20,6 +20,7 @@ import re
 import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from xml.parsers import expat
 
 import mujoco
 import numpy as np
@@ -165,6 +166,7 @@ def _zero_size(shape: ET.Element) -> bool:
 def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     root = _parse_xml(file, "robot", "a URDF")
     text = file.read_text(errors="replace")
+    source_lines = _element_lines(file, root)
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")
@@ -224,13 +226,57 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     settings.set("fusestatic", "false")
     settings.set("discardvisual", "false")
     settings.set("strippath", "false")
+    serialized = ET.tostring(root, encoding="unicode")
     try:
-        spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
+        spec = mujoco.MjSpec.from_string(serialized)
     except ValueError as err:
-        raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {err}") from None
+        message = _in_source_lines(str(err), serialized, root, source_lines, text)
+        raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {message}") from None
     spec.modelfiledir = str(file.parent)
     _add_mimic_equalities(spec, root)
     return spec
+
+
+def _element_lines(file: Path, root: ET.Element) -> dict[ET.Element, int]:
+    """The line in ``file`` where each element of ``root`` (as parsed) starts: MuJoCo
+    reads the URDF after the library's edits (resolved meshes, dropped shapes), so its
+    line numbers are mapped back through these."""
+    lines: list[int] = []
+    parser = expat.ParserCreate()
+    parser.StartElementHandler = lambda *_: lines.append(parser.CurrentLineNumber)
+    try:
+        with file.open("rb") as stream:
+            parser.ParseFile(stream)
+    except expat.ExpatError:
+        return {}
+    elements = list(root.iter())
+    return dict(zip(elements, lines, strict=True)) if len(elements) == len(lines) else {}
+
+
+def _in_source_lines(
+    message: str, serialized: str, root: ET.Element, source_lines: dict[ET.Element, int], text: str
+) -> str:
+    """MuJoCo's ``message`` about the ``serialized`` URDF with its ``line N`` put back into
+    the user's file (the same element's line there), plus a hint for unexpanded xacro."""
+    found = re.search(r"\bline (\d+)", message)
+    if not found or not source_lines:
+        return message
+    wanted = int(found.group(1))
+    # ElementTree escapes every "<" in text and attribute values: each other "<" (no
+    # comments or declarations are written) starts the next element in document order.
+    starts = [serialized.count("\n", 0, m.start()) + 1 for m in re.finditer(r"<(?![/!?])", serialized)]
+    element = next((e for e, line in zip(root.iter(), starts, strict=False) if line == wanted), None)
+    if element is None or element not in source_lines:
+        return message
+    line = source_lines[element]
+    mapped = (message[: found.start(1)] + str(line) + message[found.end(1) :]).rstrip()
+    source = text.splitlines()[line - 1] if 0 < line <= len(text.splitlines()) else ""
+    if "$(" in source or "${" in source:
+        mapped += (
+            f"; line {line} holds an unexpanded xacro expression ({source.strip()[:120]}): expand the file first "
+            "(xacro model.urdf.xacro > model.urdf) and load the result"
+        )
+    return mapped
 
 
 def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:

@@ -46,7 +46,7 @@ from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Base
-from robot_agents.registry import get_agent
+from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
 
 FloatArray = npt.NDArray[np.float64]
@@ -142,10 +142,7 @@ def robot_class(robot_uids: Any, where: str) -> type[Agent]:
         if len(robot_uids) != 1:
             raise ConfigError(f"{where}: expected one robot, got {robot_uids!r}.")
         specifier = robot_uids[0]
-    cls = get_agent(specifier) if isinstance(specifier, str) else specifier
-    if not (isinstance(cls, type) and issubclass(cls, Agent)):
-        raise ConfigError(f"{where}: expected a robot uid or an Agent subclass, got {robot_uids!r}.")
-    return cls
+    return agent_class(specifier, where)
 
 
 def tool_arm(agent: Agent, where: str) -> Arm:

@@ -483,3 +483,164 @@ def test_arm_joint_pos_setter_checks_the_joint_limits(env) -> None:  # type: ign
     inside = agent.keyframe_qpos(agent.default_keyframe())[:7]
     agent.arm_joint_pos = inside
     np.testing.assert_allclose(agent.arm_joint_pos, np.broadcast_to(inside, (2, 7)))
+
+
+def test_malformed_agent_states_rejected(env) -> None:  # type: ignore[no-untyped-def]
+    u = env.unwrapped
+    state = u.get_state()
+    not_a_list = {**state, "agents": 5}
+    assert_unchanged(env, lambda: u.set_state(not_a_list), ra.StateError, "expected 'agents' to be a list", "got int")
+    not_a_dict = {**state, "agents": ["pd_joint_pos"]}
+    assert_unchanged(
+        env, lambda: u.set_state(not_a_dict), ra.StateError, "agents[0] (panda-0)", "'control_mode' and 'controller'"
+    )
+    no_controller = {**state, "agents": [{"control_mode": state["agents"][0]["control_mode"]}]}
+    assert_unchanged(env, lambda: u.set_state(no_controller), ra.StateError, "agents[0] (panda-0)")
+
+
+@pytest.mark.parametrize("options", [3, "abc", [1, 2]])
+def test_vector_reset_rejects_options_that_are_not_a_dict(options: object) -> None:
+    from robot_agents.envs import RobotVectorEnv
+
+    vec = RobotVectorEnv("Empty-v1", num_envs=2, robot_uids="panda")
+    vec.reset(seed=0)
+    before = vec.env.get_state()
+    with pytest.raises(ra.ConfigError, match=r"RobotVectorEnv.reset: expected options to be a dict"):
+        vec.reset(options=options)  # type: ignore[arg-type]
+    np.testing.assert_array_equal(before["physics"], vec.env.get_state()["physics"])
+    vec.close()
+
+
+@pytest.mark.parametrize(("env_ids", "fragment"), [([5], "[5]"), ("a", "['a']"), ([-1], "[-1]"), ([1, 1], "distinct")])
+def test_camera_rig_checks_env_ids(env, env_ids: object, fragment: str) -> None:  # type: ignore[no-untyped-def]
+    rig = env.unwrapped.scene.cameras
+    world = env.unwrapped.scene.world
+    with pytest.raises(ra.StateError) as caught:
+        rig.capture(world, ("rgb",), env_ids=env_ids)  # type: ignore[arg-type]
+    assert "CameraRig.capture" in str(caught.value) and fragment in str(caught.value)
+
+
+def test_camera_rig_checks_camera_keys_and_textures(env) -> None:  # type: ignore[no-untyped-def]
+    rig = env.unwrapped.scene.cameras
+    with pytest.raises(ra.UnknownNameError, match=r"unknown camera .*Available: 'base_camera'"):
+        rig.camera_id(["base_camera"])  # type: ignore[arg-type]
+    with pytest.raises(ra.UnknownNameError, match="unknown texture"):
+        rig.capture(env.unwrapped.scene.world, 5)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "fragment"),
+    [
+        ({"restarts": "a"}, ra.ConfigError, "restarts to be a whole number >= 0, got 'a'"),
+        ({"restarts": 1.5}, ra.ConfigError, "got 1.5"),
+        ({"restarts": -1}, ra.ConfigError, "got -1"),
+        ({"restarts": True}, ra.ConfigError, "got True"),
+        ({"position_only": "no"}, ra.ConfigError, "position_only to be a bool"),
+        ({"pose": "abc"}, ra.StateError, "expected finite poses of shape (2, 7)"),
+        ({"pose": [[0.4, 0, 0.3, 0, 0, 0, 0]] * 2}, ra.StateError, "non-zero quaternion"),
+    ],
+)
+def test_ik_arguments_checked(env, kwargs: dict[str, object], error: type[Exception], fragment: str) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    arguments: dict[str, object] = {"pose": [[0.4, 0.0, 0.3, 0.0, 1.0, 0.0, 0.0]] * 2, **kwargs}
+    assert_unchanged(
+        env,
+        lambda: agent.calculate_ee_inverse_kinematics(**arguments),
+        error,
+        "Panda.calculate_ee_inverse_kinematics",
+        fragment,
+    )
+
+
+def test_gripper_target_state_rejects_non_numbers(env) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    for bad in ("abc", [0.5, "x"], 2.0):
+        assert_unchanged(
+            env, lambda bad=bad: agent.set_gripper_target_state(bad), ra.StateError, "set_gripper_target_state"
+        )
+
+
+def test_keyframe_qpos_rejects_non_names(env) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    with pytest.raises(ra.UnknownNameError, match=r"Panda.keyframe_qpos: unknown keyframe .*'ready'"):
+        agent.keyframe_qpos(["ready"])  # type: ignore[arg-type]
+
+
+def test_scene_props_and_floor_checked() -> None:
+    with pytest.raises(ra.ConfigError, match=r"props to be a sequence of robot_agents\.Prop, got \[1\]"):
+        ra.Scene("panda", props=[1])  # type: ignore[list-item]
+    with pytest.raises(ra.ConfigError, match="props to be a sequence"):
+        ra.Scene("panda", props=5)  # type: ignore[arg-type]
+    cube = ra.Prop(name="cube", shape="box", size=(0.02, 0.02, 0.02))
+    with pytest.raises(ra.ConfigError, match="single Prop 'cube'"):
+        ra.Scene("panda", props=cube)  # type: ignore[arg-type]
+    with pytest.raises(ra.ConfigError, match="expected floor to be a bool, got 'no'"):
+        ra.Scene("panda", floor="no")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("name", ["control_freq", "sim_freq"])
+def test_rates_are_not_bools(name: str) -> None:
+    with pytest.raises(ra.ConfigError, match=f"expected {name} to be a positive integer \\(Hz\\), got True"):
+        ra.make_env("Empty-v1", robot_uids="panda", **{name: True})
+
+
+def test_frame_names_suggest_world_root_and_end_effectors(env) -> None:  # type: ignore[no-untyped-def]
+    agent = env.unwrapped.agent
+    with pytest.raises(ra.UnknownNameError) as caught:
+        agent.frame_pose("panda_hand", relative_to="rooot")
+    message = str(caught.value)
+    assert "Panda.frame_pose" in message and "Did you mean 'root'" in message
+    assert "'world'" in message and "'panda_link0'" in message
+    with pytest.raises(ra.ConfigError, match="relative_to"):
+        agent.frame_pose("panda_hand", relative_to=["root"])  # type: ignore[arg-type]
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'panda_hand'"):
+        agent.frame_pose("panda_hnd")
+
+
+def test_multi_robot_action_keys_suggest_robot_ids() -> None:
+    env = ra.make_env("Empty-v1", robot_uids=["panda", "widowx250s"])
+    env.reset(seed=0)
+    u = env.unwrapped
+    before = u.get_state()["physics"].copy()
+    sizes = {rid: agent.single_action_space.shape for rid, agent in zip(u.scene.robot_ids, u.agents, strict=True)}
+    with pytest.raises(ra.UnknownNameError, match=r"unknown robot id 'widowx250s-1x'\. Did you mean 'widowx250s-1'"):
+        env.step({"panda-0": np.zeros(sizes["panda-0"]), "widowx250s-1x": np.zeros(sizes["widowx250s-1"])})
+    with pytest.raises(ra.ConfigError, match=r"no action for \['widowx250s-1'\]"):
+        env.step({"panda-0": np.zeros(sizes["panda-0"])})
+    with pytest.raises(ra.ConfigError, match="expected a dict of actions"):
+        env.step(np.zeros(3))
+    np.testing.assert_array_equal(before, u.get_state()["physics"])
+    env.close()
+
+
+def test_huge_finite_actions_step_without_warnings(env) -> None:  # type: ignore[no-untyped-def]
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        env.step(np.full(8, 1e308))  # finite: accepted (the controller clips it)
+        with pytest.raises(ra.ActionError, match="NaN or inf"):
+            env.step(np.array([np.inf, -np.inf, 0, 0, 0, 0, 0, 0]))
+
+
+def test_too_many_envs_is_a_clean_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    import mujoco
+
+    from robot_agents.sim.world import BatchedWorld
+
+    scene = ra.Scene("panda")
+    real = mujoco.MjData
+    made = []
+
+    def scarce(model: mujoco.MjModel) -> mujoco.MjData:  # memory runs out at the fourth
+        if len(made) == 3:
+            raise mujoco.FatalError("Could not allocate memory")
+        made.append(1)
+        return real(model)
+
+    monkeypatch.setattr(mujoco, "MjData", scarce)
+    with pytest.raises(ra.ConfigError) as caught:
+        BatchedWorld(scene.model, num_envs=10**9, substeps=1)
+    message = str(caught.value)
+    assert "num_envs=1000000000" in message and "MiB each" in message and "3 were allocated" in message
+    assert "Could not allocate memory" in message

@@ -183,6 +183,9 @@ def test_base_dynamics_can_be_switched_per_robot(wheeled_file: Path) -> None:
     assert planar(agent)[0] == pytest.approx(0.4, abs=1e-9)
     with pytest.raises(ra.ConfigError, match="dynamic"):
         agent.set_base_dynamics("floating")
+    with pytest.raises(ra.ConfigError, match="refuse_collisions to be a bool"):
+        agent.set_base_dynamics("dynamic", refuse_collisions="no")  # type: ignore[arg-type]
+    assert agent.mobile.dynamics == "kinematic" and agent.mobile.refuse_collisions  # unchanged
     with pytest.raises(ra.ConfigError, match="dynamics"):
         ra.Base(name="b", joints="root_.*", dynamics="teleport")
     with pytest.raises(ra.ConfigError, match="wheels"):

@@ -180,6 +180,9 @@ def test_bad_setups_are_clean_errors() -> None:
         RealRobot("panda", renamed)
     with pytest.raises(ConfigError, match="max_target_step > 0"):
         RealRobot("panda", SimulatedBus("panda"), max_target_step=-1.0)
+    for not_a_distance in (True, "0.1", [0.1, None]):
+        with pytest.raises(ConfigError, match="max_target_step > 0"):
+            RealRobot("panda", SimulatedBus("panda"), max_target_step=not_a_distance)  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="expected a JointBus"):
         RealRobot("panda", object())  # type: ignore[arg-type]
     with pytest.raises(UnknownNameError, match="keyframe"):
@@ -225,6 +228,8 @@ def test_move_to_ramps_to_a_keyframe() -> None:
     assert robot.control_mode == "pd_joint_delta_pos"
     with pytest.raises(UnknownNameError, match="Did you mean 'sleep'"):
         robot.move_to("slep")
+    with pytest.raises(UnknownNameError, match="unknown keyframe"):
+        robot.move_to(["sleep"])  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="steps"):
         robot.move_to("sleep", steps=0)
     robot.close()

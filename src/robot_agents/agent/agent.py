@@ -313,7 +313,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     # ------------------------------------------------------------------ reset / state
     def keyframe_qpos(self, name: str) -> FloatArray:
         """Keyframe ``name`` as the robot's ``qpos`` vector ``(nq,)`` (a copy)."""
-        if name not in self._resolved_keyframes:
+        if not isinstance(name, str) or name not in self._resolved_keyframes:
             raise UnknownNameError(
                 f"{type(self).__name__}.keyframe_qpos", "keyframe", str(name), self._resolved_keyframes
             )

@@ -3,8 +3,9 @@ overrides), switching modes, and checking and applying actions."""
 
 from __future__ import annotations
 
+import contextvars
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -23,6 +24,27 @@ FloatArray = npt.NDArray[np.float64]
 
 #: ``ndarray.sum`` without its Python wrapper (used for a finiteness test only).
 _sum = np.add.reduce
+
+
+def _quiet_runner() -> Callable[..., Any]:
+    """``run(f, *args)``: ``f(*args)`` with NumPy's floating-point warnings off, for the
+    finiteness test's sum (huge finite actions overflow it, then pass the exact check).
+
+    NumPy >= 2 keeps its error state in a context variable: the call runs in a context
+    of its own (one per caller: a context is entered by one thread at a time), which
+    costs a few tens of ns. Older NumPy keeps it per thread: ``np.errstate`` per call."""
+    before = np.geterr()
+    context = contextvars.copy_context()
+    context.run(np.seterr, all="ignore")
+    if np.geterr() == before:
+        return context.run
+    np.seterr(**before)  # NumPy < 2: the thread's state changed; put it back
+
+    def run(function: Callable[..., Any], *args: Any) -> Any:
+        with np.errstate(all="ignore"):
+            return function(*args)
+
+    return run
 
 
 class ControlModes:
@@ -54,6 +76,7 @@ class ControlModes:
         self._built: dict[str, CombinedController] = {}
         self.active: CombinedController
         self.mode = ""
+        self._quiet = _quiet_runner()
 
     def parts_of(self, mode: str) -> dict[str, ControllerConfig]:
         entry = self.modes[mode]
@@ -157,8 +180,9 @@ class ControlModes:
             # one env: a (1, dim) view (cheaper than broadcast_to); nothing writes into it
             array = array[None] if self.num_envs == 1 else np.broadcast_to(array, (self.num_envs, dim))
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
-        # finite values falls through to the exact check).
-        if not math.isfinite(_sum(array, None)) and not np.isfinite(array).all():
+        # finite values falls through to the exact check; the sum runs without NumPy's
+        # overflow / invalid-value warnings).
+        if not math.isfinite(self._quiet(_sum, array, None)) and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
             raise ActionError(f"{self._where()}: expected finite values, got NaN or inf at (env, index) {bad}.")
         problem = active.check_action(array)

@@ -74,14 +74,31 @@ class RobotFrames:
             raise ConfigError(f"{where}: expected a body, site or end-effector name, got {name!r}.")
         if name in self.end_effectors:
             return self.end_effectors[name][0]
-        return resolve_frame(self.model, name, self.index.prefix, where)
+        try:
+            return resolve_frame(self.model, name, self.index.prefix, where)
+        except UnknownNameError as err:
+            available = dict.fromkeys([*self.end_effectors, *err.available])
+            raise UnknownNameError(where, "body, site or end effector", name, available) from None
 
     def reference(self, relative_to: str, where: str) -> FrameRef | None:
+        """The frame poses are given in: ``"world"`` (``None``), ``"root"`` (the root
+        frame), or a body, site or end effector of the robot."""
+        if not isinstance(relative_to, str):
+            raise ConfigError(
+                f"{where}: expected relative_to to be 'world', 'root' or a body, site or end-effector name, "
+                f"got {relative_to!r}."
+            )
         if relative_to == "world":
             return None
         if relative_to == "root":
             return self.root_frame
-        return self.frame(relative_to, where)
+        try:
+            return self.frame(relative_to, where)
+        except UnknownNameError as err:
+            available = dict.fromkeys(["world", "root", *self.end_effectors, *err.available])
+            raise UnknownNameError(
+                where, "relative_to frame ('world', 'root', body, site or end effector)", relative_to, available
+            ) from None
 
     def measured_pose(self, frame: FrameRef, world: SimBackend) -> FloatArray:
         """World pose ``(num_envs, 7)`` of ``frame`` in the simulation's current state

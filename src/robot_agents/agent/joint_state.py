@@ -19,6 +19,7 @@ import numpy.typing as npt
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.errors import StateError
 from robot_agents.limits import check_speeds
+from robot_agents.validation import check_env_ids
 
 if TYPE_CHECKING:
     from robot_agents.keyframe import ResolvedKeyframe
@@ -64,17 +65,7 @@ class JointState:
     # -- input checks -----------------------------------------------------------------------
     def env_ids(self, env_ids: Any, where: str) -> IntArray:
         """``env_ids`` (``None``: all) as distinct ints in ``[0, num_envs)``."""
-        if env_ids is None:
-            return np.arange(self.num_envs)
-        try:
-            ids = np.asarray(env_ids).reshape(-1)
-        except (TypeError, ValueError):
-            raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {env_ids!r}.") from None
-        if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= self.num_envs):
-            raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {ids.tolist()}.")
-        if len(np.unique(ids)) != len(ids):
-            raise StateError(f"{where}: expected distinct env ids, got {ids.tolist()}.")
-        return ids.astype(np.int64)
+        return check_env_ids(env_ids, self.num_envs, where)
 
     def batch(self, value: Any, n_envs: int, size: int, what: str, where: str) -> FloatArray:
         """``value`` as finite float64 ``(n_envs, size)`` (a ``(size,)`` row applies to all)."""

@@ -27,6 +27,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.kinematics.ik import IKSolver
 from robot_agents.kinematics.ik_config import IKConfig
+from robot_agents.validation import check_bool, check_whole
 
 if TYPE_CHECKING:
     from robot_agents.agent.agent import Agent
@@ -299,7 +300,7 @@ class ManipulatorView:
         n = self.agent.state.num_envs
         try:
             fraction = np.asarray(state, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
+        except Exception:  # strings, ragged lists, whatever the input's own __array__ raises
             raise StateError(f"{where}: expected a state in [0, 1] or {n} of them, got {state!r}.") from None
         if fraction.size == 1:
             fraction = np.full(n, fraction[0])
@@ -353,16 +354,31 @@ class ManipulatorView:
         where = f"{self.owner}.calculate_ee_inverse_kinematics"
         self._require_arm("calculate_ee_inverse_kinematics")
         k = self._ee(i, "calculate_ee_inverse_kinematics")
-        targets = np.asarray(pose, dtype=np.float64)
+        position_only = check_bool(position_only, "position_only", where)
+        restarts = check_whole(restarts, "restarts", where, minimum=0)
+        n = self.agent.state.num_envs
+        try:
+            targets = np.asarray(pose, dtype=np.float64)
+        except Exception:  # strings, ragged lists, whatever the input's own __array__ raises
+            raise StateError(
+                f"{where}: expected finite poses of shape ({n}, 7) or positions ({n}, 3), got {pose!r:.80}."
+            ) from None
         if targets.ndim == 1:
             targets = targets[None]
-        n = self.agent.state.num_envs
         if targets.shape not in ((n, 7), (n, 3)) or not np.all(np.isfinite(targets)):
             raise StateError(
                 f"{where}: expected finite poses of shape ({n}, 7) or positions ({n}, 3), got {np.shape(pose)}."
             )
         width = int(targets.shape[-1])
-        if width == 3:
+        if width == 7:
+            norms = np.linalg.norm(targets[:, 3:], axis=1)
+            if np.any(norms < 1e-9):
+                env = int(np.flatnonzero(norms < 1e-9)[0])
+                raise StateError(
+                    f"{where}: expected a non-zero quaternion (w, x, y, z) in every pose, got "
+                    f"{targets[env, 3:].tolist()} for env {env}."
+                )
+        else:
             position_only = True
             targets = np.concatenate([targets, np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))], axis=1)
         if k not in self._solvers:

@@ -15,6 +15,7 @@ import numpy.typing as npt
 
 from robot_agents.agent.index import RobotIndex
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.validation import check_bool
 
 if TYPE_CHECKING:
     from robot_agents.agent.joint_state import JointState
@@ -183,13 +184,15 @@ class MobileBase:
     def set_dynamics(self, dynamics: str, refuse_collisions: bool | None = None) -> None:
         """Switch this robot's base to ``"dynamic"`` or ``"kinematic"`` (and optionally
         turn the collision check of kinematic moves on or off)."""
-        if dynamics not in ("dynamic", "kinematic"):
-            raise ConfigError(f"{self.owner}.set_base_dynamics: expected 'dynamic' or 'kinematic', got {dynamics!r}.")
+        where = f"{self.owner}.set_base_dynamics"
+        if not isinstance(dynamics, str) or dynamics not in ("dynamic", "kinematic"):
+            raise ConfigError(f"{where}: expected 'dynamic' or 'kinematic', got {dynamics!r}.")
         if dynamics == "kinematic" and self.planar is None:
-            raise ConfigError(f"{self.owner}.set_base_dynamics: a kinematic base needs a Base part on planar joints.")
+            raise ConfigError(f"{where}: a kinematic base needs a Base part on planar joints.")
+        refuse = None if refuse_collisions is None else check_bool(refuse_collisions, "refuse_collisions", where)
         self.dynamics = dynamics
-        if refuse_collisions is not None:
-            self.refuse_collisions = bool(refuse_collisions)
+        if refuse is not None:
+            self.refuse_collisions = refuse
 
     @property
     def moves_each_step(self) -> bool:

@@ -472,8 +472,14 @@ class RobotEnv(gym.Env[Any, Any]):
     def _set_multi_action(self, action: Any) -> None:
         ids = self.scene.robot_ids
         if not isinstance(action, Mapping) or set(action) != set(ids):
-            given = sorted(action) if isinstance(action, Mapping) else type(action).__name__
-            raise ConfigError(f"{type(self).__name__}.step: expected a dict of actions keyed by {ids}, got {given}.")
+            where = f"{type(self).__name__}.step"
+            if not isinstance(action, Mapping):
+                raise ConfigError(f"{where}: expected a dict of actions keyed by {ids}, got {type(action).__name__}.")
+            unknown = [key for key in action if key not in ids]
+            if unknown:
+                raise UnknownNameError(f"{where} (actions keyed by robot id)", "robot id", str(unknown[0]), ids)
+            missing = [rid for rid in ids if rid not in action]
+            raise ConfigError(f"{where}: expected a dict of actions keyed by {ids}, got no action for {missing}.")
         checked = [a.validate_action(action[rid]) for rid, a in zip(ids, self.agents, strict=True)]
         for agent, act in zip(self.agents, checked, strict=True):
             agent.set_action(act)

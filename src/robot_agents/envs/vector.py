@@ -142,6 +142,11 @@ class RobotVectorEnv(VectorEnv):
         """Reset every env, or those of ``options["reset_mask"]`` (bool ``(num_envs,)``) /
         ``options["env_ids"]``; ``seed``: an int (env ``i`` gets ``seed + i``), one per env,
         or ``None``."""
+        if options is not None and not isinstance(options, Mapping):
+            raise ConfigError(
+                "RobotVectorEnv.reset: expected options to be a dict (keys 'reset_mask', 'env_ids', 'keyframe'), "
+                f"got {options!r}."
+            )
         options = dict(options or {})
         if "reset_mask" in options:
             mask = np.asarray(options.pop("reset_mask"))

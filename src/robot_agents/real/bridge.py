@@ -127,8 +127,11 @@ class RealRobot:
             return None
         step: FloatArray
         try:
-            step = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)).copy()
-        except (TypeError, ValueError):
+            raw = np.asarray(value)
+            if raw.dtype.kind not in "fiu":  # bools, strings, objects: not distances
+                raise TypeError
+            step = np.broadcast_to(raw.astype(np.float64), (n,)).copy()
+        except Exception:  # also whatever the input's own __array__ raises
             step = np.full(n, np.nan)
         if not np.all(np.isfinite(step)) or np.any(step <= 0):
             raise ConfigError(f"{where}: expected max_target_step > 0 (one number or {n}), got {value!r}.")

@@ -20,6 +20,7 @@ from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.camera_params import camera_params
 from robot_agents.sensors.renderer import CameraRenderer
 from robot_agents.sensors.segmentation import SEGMENTATION_DTYPE, SegmentationEntry
+from robot_agents.validation import check_env_ids
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -82,8 +83,8 @@ class CameraRig:
 
     def camera_id(self, key: str) -> int:
         """MuJoCo camera id of camera ``key``."""
-        if key not in self._ids:
-            raise UnknownNameError("CameraRig", "camera", key, self._ids)
+        if not isinstance(key, str) or key not in self._ids:
+            raise UnknownNameError("CameraRig", "camera", str(key), self._ids)
         return self._ids[key]
 
     def intrinsic(self, key: str) -> FloatArray:
@@ -114,15 +115,21 @@ class CameraRig:
         - ``depth``: ``(N, H, W, 1)`` float32, metres along the optical axis, ``far``
           where nothing is seen;
         - ``segmentation``: ``(N, H, W, 1)`` int16 body ids (``-1`` background).
+
+        ``env_ids``: the envs to render (``None``: all), distinct ids in ``[0, num_envs)``.
         """
-        wanted = tuple(textures)
+        try:
+            wanted = tuple(textures)
+        except TypeError:
+            raise UnknownNameError("CameraRig.capture", "texture", repr(textures), TEXTURES) from None
         for texture in wanted:
-            if texture not in TEXTURES:
-                raise UnknownNameError("CameraRig.capture", "texture", texture, TEXTURES)
+            if not isinstance(texture, str) or texture not in TEXTURES:
+                raise UnknownNameError("CameraRig.capture", "texture", str(texture), TEXTURES)
+        ids = None if env_ids is None else check_env_ids(env_ids, world.num_envs, "CameraRig.capture").tolist()
         if self._renderer is None:
             self._renderer = CameraRenderer(self.model)
         renderer = self._renderer
-        datas = world.render_sources(env_ids)
+        datas = world.render_sources(ids)
         n = len(datas)
         out: dict[str, dict[str, npt.NDArray[np.generic]]] = {}
         for key, camera in self.cameras.items():

@@ -24,6 +24,7 @@ from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sensors.segmentation import segmentation_id_map
 from robot_agents.sim.world import BatchedWorld
+from robot_agents.validation import is_whole
 
 #: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
 #: contacts stable with the implicitfast integrator.
@@ -98,9 +99,15 @@ class Scene:
         render_only_visuals: bool = True,
         sleep: bool = False,
     ) -> None:
-        for flag_name, flag in (("render_only_visuals", render_only_visuals), ("sleep", sleep)):
+        for flag_name, flag in (("floor", floor), ("render_only_visuals", render_only_visuals), ("sleep", sleep)):
             if not isinstance(flag, bool):
                 raise ConfigError(f"Scene: expected {flag_name} to be a bool, got {flag!r}.")
+        if isinstance(props, Prop):
+            raise ConfigError(
+                f"Scene: expected props to be a sequence of Prop, got a single Prop {props.name!r}: put it in a list."
+            )
+        if not isinstance(props, Sequence) or isinstance(props, str) or not all(isinstance(p, Prop) for p in props):
+            raise ConfigError(f"Scene: expected props to be a sequence of robot_agents.Prop, got {props!r:.80}.")
         if isinstance(robots, (str, type)):
             specifiers: list[Any] = [robots]
         elif isinstance(robots, Sequence):
@@ -113,7 +120,7 @@ class Scene:
         if sim_freq is None:
             sim_freq = default_sim_freq(classes)
         for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
-            if not isinstance(value, (int, np.integer)) or value <= 0:
+            if not is_whole(value) or value <= 0:
                 raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
         if sim_freq % control_freq:
             raise ConfigError(
@@ -320,12 +327,26 @@ class Scene:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
         physics = self.world.check_state(state["physics"], "Scene.set_state")
         sleep = self.world.check_sleep_state(state["sleep"], "Scene.set_state") if "sleep" in state else None
-        agent_states = list(state["agents"])
+        agent_states = state["agents"]
+        if not isinstance(agent_states, Sequence) or isinstance(agent_states, str):
+            raise StateError(
+                f"Scene.set_state: expected 'agents' to be a list of {len(self.agents)} agent states "
+                f"(dicts with keys 'control_mode' and 'controller'), got {type(agent_states).__name__}."
+            )
         if len(agent_states) != len(self.agents):
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
-        for agent, agent_state in zip(self.agents, agent_states, strict=True):
-            mode = agent_state.get("control_mode") if isinstance(agent_state, Mapping) else agent_state
-            agent.controller_for(mode, "Scene.set_state").check_state(agent_state.get("controller"), "Scene.set_state")
+        for k, (agent, agent_state) in enumerate(zip(self.agents, agent_states, strict=True)):
+            if (
+                not isinstance(agent_state, Mapping)
+                or "control_mode" not in agent_state
+                or "controller" not in agent_state
+            ):
+                raise StateError(
+                    f"Scene.set_state: expected agents[{k}] ({self.robot_ids[k]}) to be a dict with keys "
+                    f"'control_mode' and 'controller', got {agent_state!r:.80}."
+                )
+            mode = agent_state["control_mode"]
+            agent.controller_for(mode, "Scene.set_state").check_state(agent_state["controller"], "Scene.set_state")
         for agent, agent_state in zip(self.agents, agent_states, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])

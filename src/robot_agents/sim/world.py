@@ -25,6 +25,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.limits import MAX_SPEED, check_speeds
 from robot_agents.sim.render_mirror import RenderMirror
+from robot_agents.validation import is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -99,13 +100,11 @@ class BatchedWorld:
         num_threads: int | None = None,
         render_model: mujoco.MjModel | None = None,
     ) -> None:
-        if not isinstance(num_envs, (int, np.integer)) or isinstance(num_envs, bool) or num_envs < 1:
+        if not is_whole(num_envs) or num_envs < 1:
             raise ConfigError(f"BatchedWorld: expected num_envs to be a whole number >= 1, got {num_envs!r}.")
-        if not isinstance(substeps, (int, np.integer)) or isinstance(substeps, bool) or substeps < 1:
+        if not is_whole(substeps) or substeps < 1:
             raise ConfigError(f"BatchedWorld: expected substeps to be a whole number >= 1, got {substeps!r}.")
-        if num_threads is not None and (
-            not isinstance(num_threads, (int, np.integer)) or isinstance(num_threads, bool) or num_threads < 1
-        ):
+        if num_threads is not None and (not is_whole(num_threads) or num_threads < 1):
             raise ConfigError(
                 f"BatchedWorld: expected num_threads to be a whole number >= 1 or None, got {num_threads!r}."
             )
@@ -116,7 +115,7 @@ class BatchedWorld:
         self.num_envs = int(num_envs)
         self._mirror = None if self.render_model is model else RenderMirror(self.render_model, model, self.num_envs)
         self.substeps = int(substeps)
-        self.datas = [mujoco.MjData(model) for _ in range(self.num_envs)]
+        self.datas = _allocate_datas(model, self.num_envs)
         self.ctrl = np.zeros((self.num_envs, model.nu))
         #: Set by :meth:`close` (the robots bound to this world then refuse writes).
         self.closed = False
@@ -511,3 +510,24 @@ class BatchedWorld:
         pool = getattr(self, "_pool", None)
         if pool is not None:
             pool.shutdown(wait=False)
+
+
+def _allocate_datas(model: mujoco.MjModel, num_envs: int) -> list[mujoco.MjData]:
+    """``num_envs`` MjData of ``model``; MuJoCo's (or Python's) allocation failure
+    becomes a :class:`ConfigError` naming ``num_envs`` and the memory each env takes."""
+    datas: list[mujoco.MjData] = []
+    try:
+        for _ in range(num_envs):
+            datas.append(mujoco.MjData(model))
+    except (mujoco.FatalError, MemoryError) as err:
+        made = len(datas)
+        # each env: the model's arena (contacts, constraints, scratch) plus MjData's own buffer
+        per_env = int(model.narena) + (int(datas[0].nbuffer) if datas else 0)
+        datas.clear()  # give the memory back before raising
+        raise ConfigError(
+            f"BatchedWorld: could not allocate the simulation state of num_envs={num_envs} envs "
+            f"(about {per_env / 2**20:.1f} MiB each, {num_envs * per_env / 2**30:.1f} GiB in all; "
+            f"{made} were allocated when memory ran out: {err}). Use fewer envs "
+            "(or a smaller arena: MJCF <size memory=...>)."
+        ) from None
+    return datas

@@ -19,7 +19,7 @@ from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.robot_source import resolve_robot
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
-from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS
+from robot_agents.tuning import timestep
 
 MAX_SECONDS = 60.0
 """Upper bound of ``demo --seconds`` (simulated seconds per pose)."""
@@ -170,9 +170,7 @@ def cmd_check(
     cls = resolve_robot(spec, floating)
     cmd_info(spec, out, floating, cls)
     if sweep:
-        from robot_agents.tuning.timestep import sweep_timestep
-
-        swept = sweep_timestep(cls, substeps=substeps or DEFAULT_SUBSTEPS, stop_after=None)
+        swept = timestep.sweep_timestep(cls, substeps=substeps or timestep.DEFAULT_SUBSTEPS, stop_after=None)
         best = swept.largest_passing
         out.write(f"\ntime-step sweep (control at {swept.control_freq} Hz):\n{swept.table()}\n\n")
         out.write(
@@ -239,6 +237,7 @@ def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    substeps = timestep.DEFAULT_SUBSTEPS  # the sweep's steps, for --substeps' help
     parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
     parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -258,8 +257,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--substeps",
         default=None,
         help="with --sweep: physics substeps per control step to try, comma-separated "
-        f"(default {','.join(map(str, DEFAULT_SUBSTEPS))}: {DEFAULT_CONTROL_FREQ * min(DEFAULT_SUBSTEPS):g} Hz-"
-        f"{DEFAULT_CONTROL_FREQ * max(DEFAULT_SUBSTEPS) / 1000:g} kHz at {DEFAULT_CONTROL_FREQ:g} Hz control; "
+        f"(default {','.join(map(str, substeps))}: {DEFAULT_CONTROL_FREQ * min(substeps):g} Hz-"
+        f"{DEFAULT_CONTROL_FREQ * max(substeps) / 1000:g} kHz at {DEFAULT_CONTROL_FREQ:g} Hz control; "
         "e.g. 50,100,200 for up to 4 kHz)",
     )
     demo = sub.add_parser(

@@ -26,7 +26,8 @@ def scene_of(cls: type[ra.Agent], **kwargs: object) -> ra.Scene:
         return ra.Scene(cls, **kwargs)  # type: ignore[arg-type]
 
 
-# A two-finger hand driven by <position> actuators without kv (robosuite's grippers).
+# A three-finger hand driven by <position> actuators without kv (as robosuite's hands; three
+# fingers, so that it is not a two-finger Gripper, whose one mode takes no velocities).
 UNDAMPED_HAND = """<mujoco>
   <compiler angle="radian"/>
   <worldbody>
@@ -34,6 +35,10 @@ UNDAMPED_HAND = """<mujoco>
       <geom type="box" size="0.04 0.04 0.01" mass="0.3"/>
       <body name="left" pos="0.02 0 -0.02">
         <joint name="left_joint" axis="0 1 0" range="0 1"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.05" size="0.008" mass="0.05"/>
+      </body>
+      <body name="middle" pos="0 0.02 -0.02">
+        <joint name="middle_joint" axis="1 0 0" range="0 1"/>
         <geom type="capsule" fromto="0 0 0 0 0 -0.05" size="0.008" mass="0.05"/>
       </body>
       <body name="right" pos="-0.02 0 -0.02">
@@ -44,6 +49,7 @@ UNDAMPED_HAND = """<mujoco>
   </worldbody>
   <actuator>
     <position name="left_drive" joint="left_joint" kp="5" ctrlrange="0 1"/>
+    <position name="middle_drive" joint="middle_joint" kp="5" ctrlrange="0 1"/>
     <position name="right_drive" joint="right_joint" kp="5" ctrlrange="-1 0"/>
   </actuator>
 </mujoco>

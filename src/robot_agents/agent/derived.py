@@ -1,5 +1,5 @@
 """What a robot that declares little gets derived from its model: its parts (a serial
-chain is an arm), the motors among its drives, body pairs already touching at its
+chain is an arm, two fingers at its end a gripper), the motors among its drives, body pairs already touching at its
 default pose, and where a floating (or floor-crossing) robot rests on the floor."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import numpy as np
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.agent.index import RobotIndex
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Part
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
 
 #: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
 DERIVED_SOURCE = "derived gains"
@@ -68,14 +68,33 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
 def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
     """Parts of a robot that declares none: its driven joints as one arm when they form
     a serial chain (each joint's body below the previous one's), with the chain's last
-    body as the end effector; otherwise one ``Body`` part over all of them."""
+    body as the end effector; otherwise one ``Body`` part over all of them.
+
+    Two fingers at the chain's end are a ``Gripper`` (see :func:`infer_gripper`): the
+    arm is the chain above them, its end effector ``"ee"`` on the fingers' common parent
+    (the hand), at the midpoint of the fingers' centres of mass when closed."""
     if not driven:
         return ()
+    found = infer_gripper(model, index, driven)
+    if found is not None:
+        gripper, hand, tcp, count = found
+        arm_joints = list(driven[: len(driven) - count])
+        if not arm_joints:
+            return (gripper,)
+        bodies = [int(model.jnt_bodyid[index.joint(j, "infer_parts").id]) for j in arm_joints]
+        if _serial(index, bodies) and int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, hand)) in (
+            index.subtree_bodies(bodies[-1])
+        ):
+            arm = Arm(
+                name="arm",
+                joints=tuple(re.escape(j) for j in arm_joints),
+                end_effectors=(EndEffector(hand, name="ee", pos=tcp),),
+            )
+            return (arm, gripper)
     joints = [index.joint(j, "infer_parts") for j in driven]
     bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
-    serial = all(b in index.subtree_bodies(a) for a, b in itertools.pairwise(bodies))
     patterns = tuple(re.escape(j) for j in driven)
-    if not serial:
+    if not _serial(index, bodies):
         return (Body(name="body", joints=patterns),)
     tip = bodies[-1]
     while True:
@@ -85,6 +104,126 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
         tip = children[0]
     link = model.body(tip).name[len(index.prefix) :]
     return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
+
+
+def _serial(index: RobotIndex, bodies: Sequence[int]) -> bool:
+    """Each body below the previous one."""
+    return all(b in index.subtree_bodies(a) for a, b in itertools.pairwise(bodies))
+
+
+#: Least change of the distance between two fingers over their joints' ranges for them
+#: to count as a gripper (m).
+MIN_FINGER_STROKE = 1e-3
+#: How far past ``closed`` a derived gripper may command its fingers, as a share of its
+#: stroke (so that a grasp keeps pressing when the fingers stop on an object).
+DERIVED_SQUEEZE = 0.1
+
+
+def _joint_followers(model: mujoco.MjModel, leader: int) -> list[tuple[int, np.ndarray]]:
+    """Joints coupled to ``leader`` by an active joint equality (a URDF ``mimic``):
+    ``(joint id, polynomial coefficients)``, the follower at ``sum(c_k * leader^k)``."""
+    out = []
+    for e in range(model.neq):
+        if int(model.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not model.eq_active0[e]:
+            continue
+        if int(model.eq_obj2id[e]) == leader and int(model.eq_obj1id[e]) >= 0:
+            out.append((int(model.eq_obj1id[e]), np.array(model.eq_data[e][:5])))
+    return out
+
+
+def infer_gripper(
+    model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]
+) -> tuple[Gripper, str, tuple[float, float, float], int] | None:
+    """A gripper at the end of ``driven`` (joint names in model order), or ``None``.
+
+    Two fingers: the last driven joint and a joint coupled to it by a joint equality
+    (a URDF ``mimic``), or the last two driven joints, of one kind (slide or hinge),
+    limited, on sibling bodies (one parent: the hand), whose centres of mass come at
+    least :data:`MIN_FINGER_STROKE` closer over their ranges. Each finger's ``open`` is
+    the end of its range where the fingers are farthest apart, ``closed`` the other.
+    Returns the part, the hand's name, the closed fingers' midpoint in the hand's frame
+    (m; the tool point) and how many driven joints the gripper takes (1 or 2)."""
+    names = list(driven)
+    last = index.joint(names[-1], "infer_gripper")
+    candidates: list[tuple[list[int], int, dict[int, np.ndarray]]] = []
+    followers = _joint_followers(model, last.id)
+    if followers:
+        candidates.append(([last.id, followers[0][0]], 1, {followers[0][0]: followers[0][1]}))
+    if len(names) >= 2:
+        candidates.append(([index.joint(names[-2], "infer_gripper").id, last.id], 2, {}))
+    for ids, count, coupled in candidates:
+        found = _gripper_of(model, index, ids, coupled)
+        if found is not None:
+            gripper, hand, tcp = found
+            return gripper, hand, tcp, count
+    return None
+
+
+def _gripper_of(
+    model: mujoco.MjModel, index: RobotIndex, ids: list[int], coupled: dict[int, np.ndarray]
+) -> tuple[Gripper, str, tuple[float, float, float]] | None:
+    """The gripper of two finger joints ``ids`` (the second may follow the first through
+    ``coupled`` polynomials), or ``None`` when they are not two opposing fingers."""
+    kinds = {int(model.jnt_type[j]) for j in ids}
+    if len(kinds) != 1 or kinds.pop() not in (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE)):
+        return None
+    if not all(model.jnt_limited[j] for j in ids):
+        return None
+    bodies = [int(model.jnt_bodyid[j]) for j in ids]
+    parents = {int(model.body_parentid[b]) for b in bodies}
+    if len(parents) != 1 or bodies[0] == bodies[1]:
+        return None
+    hand = parents.pop()
+    data = mujoco.MjData(model)
+    qpos = model.qpos0.copy()
+
+    def place(values: dict[int, float]) -> None:
+        data.qpos[:] = qpos
+        for joint, value in values.items():
+            data.qpos[model.jnt_qposadr[joint]] = value
+            for follower, coef in coupled.items() if joint == ids[0] else ():
+                data.qpos[model.jnt_qposadr[follower]] = float(np.polyval(coef[::-1], value))
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+
+    def spread(values: dict[int, float]) -> float:
+        place(values)
+        return float(np.linalg.norm(data.xipos[bodies[0]] - data.xipos[bodies[1]]))
+
+    def middle(joint: int) -> float:
+        return float(model.jnt_range[joint].mean())
+
+    ends: dict[int, tuple[float, float]] = {}  # joint -> (open, closed)
+    driven_ids = [ids[0]] if coupled else ids
+    for joint in driven_ids:
+        others = {j: middle(j) for j in driven_ids if j != joint}
+        low, high = (float(v) for v in model.jnt_range[joint])
+        far_low, far_high = spread({**others, joint: low}), spread({**others, joint: high})
+        if abs(far_high - far_low) < MIN_FINGER_STROKE:
+            return None
+        ends[joint] = (high, low) if far_high > far_low else (low, high)
+    opened = {j: ends[j][0] for j in driven_ids}
+    closed = {j: ends[j][1] for j in driven_ids}
+    for follower, coef in coupled.items():
+        opened[follower] = float(np.polyval(coef[::-1], opened[ids[0]]))
+        closed[follower] = float(np.polyval(coef[::-1], closed[ids[0]]))
+    place(closed)
+    midpoint = 0.5 * (data.xipos[bodies[0]] + data.xipos[bodies[1]])
+    rotation = data.xmat[hand].reshape(3, 3)
+    tcp = rotation.T @ (midpoint - data.xpos[hand])
+    prefix = len(index.prefix)
+    joint_names = [model.joint(j).name[prefix:] for j in ids]
+    stroke = abs(opened[ids[0]] - closed[ids[0]])
+    gripper = Gripper(
+        name="gripper",
+        joints=tuple(re.escape(j) for j in joint_names),
+        open=tuple(opened[j] for j in ids),
+        closed=tuple(closed[j] for j in ids),
+        squeeze=DERIVED_SQUEEZE * stroke,
+        fingers=tuple(tuple(model.body(b).name[prefix:] for b in index.subtree_bodies(body)) for body in bodies),
+    )
+    point = (round(float(tcp[0]), 9), round(float(tcp[1]), 9), round(float(tcp[2]), 9))  # m, to the nanometre
+    return gripper, model.body(hand).name[prefix:], point
 
 
 def self_contacts(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> tuple[tuple[str, str], ...]:

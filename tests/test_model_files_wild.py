@@ -8,10 +8,12 @@ import re
 import warnings
 from pathlib import Path
 
+import mujoco
 import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.agent.declaration import build_spec
 from robot_agents.cli import main as cli_main
 
 
@@ -296,3 +298,235 @@ def test_make_env_takes_a_model_file_path_and_module_class(tmp_path: Path, monke
         ra.make_env("Empty-v1", robot_uids=str(tmp_path / "missing.urdf"))
     with pytest.raises(ra.UnknownNameError, match="unknown robot uid 'pandaa'"):
         ra.make_env("Empty-v1", robot_uids="pandaa")
+
+
+# A robot (an arm on a hinge, actuated) beside a world that is dropped: a target body with
+# a joint, a mocap marker, and a world geom; ``{world}`` and ``{sections}`` add the
+# elements that refer to them (the dm_control suite's dog.xml and swimmer.xml).
+WORLD_WITH_REFERENCES = """<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1"/>
+    <geom name="goal" type="sphere" pos="1 1 0.05" size="0.05" contype="0" conaffinity="0"/>
+    {world}
+    <body name="arm" pos="0 0 0.2">
+      <joint name="hinge" axis="0 1 0" range="-1 1"/>
+      <geom name="arm_geom" type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.5"/>
+      <site name="arm_site" pos="0.3 0 0"/>
+    </body>
+    <body name="ball" pos="2 0 0.1">
+      <joint name="ball_x" type="slide" axis="1 0 0"/>
+      <geom name="ball_geom" size="0.1" mass="0.2"/>
+      <site name="ball_site"/>
+      <body name="ball_child" pos="0 0 0.2"><geom name="child_geom" size="0.05" mass="0.1"/></body>
+    </body>
+    <body name="marker" mocap="true" pos="0 1 1"><geom size="0.02" contype="0" conaffinity="0"/></body>
+  </worldbody>
+  <actuator><position name="arm_motor" joint="hinge" kp="10" kv="1" ctrlrange="-1 1"/></actuator>
+  {sections}
+</mujoco>"""
+
+# (test id, the world's extra elements, other sections, what the note names)
+REFERENCE_CASES = [
+    (
+        "sensor-object",
+        "",
+        '<sensor><framepos name="s" objtype="body" objname="ball"/></sensor>',
+        "sensor 's' (on body 'ball')",
+    ),
+    (
+        "sensor-reference",
+        "",
+        '<sensor><framepos name="s" objtype="site" objname="arm_site" reftype="xbody" refname="ball_child"/></sensor>',
+        "sensor 's' (on body 'ball_child')",
+    ),
+    (
+        "sensor-world-geom",
+        "",
+        '<sensor><framepos name="s" objtype="geom" objname="goal"/></sensor>',
+        "sensor 's' (on geom 'goal')",
+    ),
+    ("sensor-site", "", '<sensor><touch name="s" site="ball_site"/></sensor>', "sensor 's' (on site 'ball_site')"),
+    ("sensor-joint", "", '<sensor><jointpos name="s" joint="ball_x"/></sensor>', "sensor 's' (on joint 'ball_x')"),
+    (
+        "equality-weld",
+        "",
+        '<equality><weld name="e" body1="marker" body2="arm"/></equality>',
+        "equality 'e' (on body 'marker')",
+    ),
+    (
+        "equality-connect",
+        "",
+        '<equality><connect name="e" body1="arm" body2="ball" anchor="0.3 0 0"/></equality>',
+        "equality 'e' (on body 'ball')",
+    ),
+    (
+        "equality-joint",
+        "",
+        '<equality><joint name="e" joint1="hinge" joint2="ball_x"/></equality>',
+        "equality 'e' (on joint 'ball_x')",
+    ),
+    (
+        "tendon-site-and-its-equality-actuator-sensor",
+        "",
+        '<tendon><spatial name="t"><site site="arm_site"/><site site="ball_site"/></spatial></tendon>'
+        '<equality><tendon name="e" tendon1="t"/></equality>'
+        '<actuator><motor name="m" tendon="t"/></actuator><sensor><actuatorfrc name="s" actuator="m"/></sensor>',
+        "tendon 't' (on site 'ball_site'), actuator 'm' (on tendon 't'), sensor 's' (on actuator 'm'), equality 'e' (on tendon 't')",
+    ),
+    (
+        "tendon-joint",
+        "",
+        '<tendon><fixed name="t"><joint joint="hinge" coef="1"/><joint joint="ball_x" coef="1"/></fixed></tendon>',
+        "tendon 't' (on joint 'ball_x')",
+    ),
+    (
+        "tendon-wrap-geom",
+        "",
+        '<tendon><spatial name="t"><site site="arm_site"/><geom geom="goal"/><site site="arm_site"/></spatial></tendon>',
+        "tendon 't' (on geom 'goal')",
+    ),
+    (
+        "actuator-site",
+        "",
+        '<actuator><motor name="m" site="ball_site" gear="1 0 0 0 0 0"/></actuator>',
+        "actuator 'm' (on site 'ball_site')",
+    ),
+    (
+        "actuator-body",
+        "",
+        '<actuator><adhesion name="m" body="ball_child" ctrlrange="0 1"/></actuator>',
+        "actuator 'm' (on body 'ball_child')",
+    ),
+    (
+        "contact-pair",
+        "",
+        '<contact><pair name="p" geom1="arm_geom" geom2="ball_geom"/></contact>',
+        "contact pair 'p' (on geom 'ball_geom')",
+    ),
+    (
+        "contact-exclude",
+        "",
+        '<contact><exclude name="x" body1="arm" body2="ball"/></contact>',
+        "contact exclude 'x' (on body 'ball')",
+    ),
+    (
+        "tuple",
+        "",
+        '<custom><tuple name="tu"><element objtype="body" objname="ball" prm="1"/></tuple></custom>',
+        "tuple 'tu' (lists body 'ball')",
+    ),
+    (
+        "skin",
+        "",
+        '<deformable><skin name="sk" vertex="0 0 0 0.1 0 0 0 0.1 0" face="0 1 2">'
+        '<bone body="ball" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 1 2" vertweight="1 1 1"/></skin></deformable>',
+        "skin 'sk' (on body 'ball')",
+    ),
+    (
+        "flex",
+        "",
+        '<deformable><flex name="f" dim="1" body="ball ball_child" vertex="0 0 0 0 0 0" element="0 1"/></deformable>',
+        "flex 'f' (on body 'ball')",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("world", "sections", "named"), [c[1:] for c in REFERENCE_CASES], ids=[c[0] for c in REFERENCE_CASES]
+)
+def test_elements_referring_to_the_dropped_world_are_dropped_with_it(
+    tmp_path: Path, world: str, sections: str, named: str
+) -> None:
+    path = tmp_path / "world.xml"
+    path.write_text(WORLD_WITH_REFERENCES.format(world=world, sections=sections))
+    with pytest.warns(
+        RuntimeWarning, match=r"kept top-level body 'arm' as the robot and dropped \['ball', 'marker'\]"
+    ) as notes:
+        checked = two_line(path).check()
+    message = " ".join(str(n.message) for n in notes)
+    assert f"also dropped what refers to them: {named}" in message if named else "also dropped" not in message
+    assert checked.part_joints == {"arm": ("hinge",)}
+    scene = scene_of(two_line(path))
+    scene.reset()
+    scene.step()
+    assert scene.agents[0].joint_names == ("hinge",)
+
+
+def test_a_sensor_on_a_dropped_world_geom_goes_with_it(tmp_path: Path) -> None:
+    # swimmer.xml: one top-level body, a framepos sensor on the world geom "target".
+    path = tmp_path / "swimmer.xml"
+    path.write_text(
+        """<mujoco><worldbody><geom name="target" type="sphere" pos="1 1 0.05" size="0.1"/>
+        <body name="head"><joint name="yaw" axis="0 0 1"/><geom name="nose" size="0.05" mass="0.1"/></body>
+        </worldbody><sensor><framepos name="target_pos" objtype="geom" objname="target"/>
+        <framepos name="nose_pos" objtype="geom" objname="nose"/></sensor></mujoco>"""
+    )
+    with pytest.warns(
+        RuntimeWarning, match=r"dropped the file's world geoms .*sensor 'target_pos' \(on geom 'target'\)"
+    ):
+        two_line(path).check()
+    scene = scene_of(two_line(path))
+    assert [scene.model.sensor(i).name for i in range(scene.model.nsensor)][-1].endswith("nose_pos")
+
+
+def test_a_camera_or_light_targeting_a_dropped_body_stays_fixed_looking_where_it_was(tmp_path: Path) -> None:
+    # dog.xml: a world camera with mode="targetbodycom" on the ball, which is dropped.
+    world = (
+        '<camera name="watch" mode="targetbody" target="ball" pos="1 1 1"/>'
+        '<light name="spot" mode="targetbody" target="ball" pos="2 0 3"/>'
+        '<camera name="other" mode="targetbodycom" target="arm" pos="0 -1 1"/>'
+    )
+    path = tmp_path / "cameras.xml"
+    path.write_text(WORLD_WITH_REFERENCES.format(world=world, sections=""))
+    with pytest.warns(RuntimeWarning, match=r"fixed camera 'watch' \(targeted body 'ball'\), light 'spot'") as notes:
+        ra.Scene(two_line(path)).step()
+    assert "also dropped" not in " ".join(str(n.message) for n in notes)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        model = build_spec(two_line(path)).compile()  # the robot's own model (a scene keeps its root body's tree)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    names = [model.camera(i).name for i in range(model.ncam)]
+    watch = next(i for i, n in enumerate(names) if n.endswith("watch"))
+    other = next(i for i, n in enumerate(names) if n.endswith("other"))
+    assert model.cam_mode[watch] == mujoco.mjtCamLight.mjCAMLIGHT_FIXED
+    assert model.cam_mode[other] == mujoco.mjtCamLight.mjCAMLIGHT_TARGETBODYCOM  # its target is the robot
+    # It looks (along its -z axis) at where the ball was: (2, 0, 0.1) from (1, 1, 1).
+    look = -data.cam_xmat[watch].reshape(3, 3)[:, 2]
+    toward = np.array([2.0, 0.0, 0.1]) - np.array([1.0, 1.0, 1.0])
+    np.testing.assert_allclose(look, toward / np.linalg.norm(toward), atol=1e-6)
+    light = next(i for i in range(model.nlight) if model.light(i).name.endswith("spot"))
+    toward = np.array([2.0, 0.0, 0.1]) - np.array([2.0, 0.0, 3.0])
+    np.testing.assert_allclose(data.light_xdir[light], toward / np.linalg.norm(toward), atol=1e-6)
+
+
+def test_keyframes_fit_the_model_without_the_dropped_world(tmp_path: Path) -> None:
+    # The key holds the ball's slide, the marker's mocap pose, and the ctrl of a motor on
+    # the ball (dropped): the robot keeps its own values.
+    sections = (
+        '<actuator><position name="ball_motor" joint="ball_x" kp="10" kv="1"/></actuator>'
+        '<keyframe><key name="ready" qpos="0.01 0.3" ctrl="0.2 0.7" mpos="0 1 1" mquat="1 0 0 0"/></keyframe>'
+    )
+    path = tmp_path / "keys.xml"
+    path.write_text(WORLD_WITH_REFERENCES.format(world="", sections=sections))
+    with pytest.warns(RuntimeWarning, match=r"actuator 'ball_motor' \(on joint 'ball_x'\)"):
+        checked = two_line(path, root_body="arm").check()
+    np.testing.assert_allclose(checked.keyframes["default"].qpos, [0.01])
+
+
+def test_a_dropped_motor_leaves_a_keyframe_ctrl_that_fits(tmp_path: Path) -> None:
+    # No body is dropped (MuJoCo does not re-map the key): the motor on a tendon that
+    # wraps the world geom goes, and the key's ctrl loses its entry.
+    path = tmp_path / "tendon_ctrl.xml"
+    path.write_text(
+        """<mujoco><worldbody><geom name="post" type="cylinder" size="0.05 0.3" pos="0 0.2 0"/>
+        <body name="arm"><joint name="hinge" axis="0 0 1"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.5"/><site name="tip" pos="0.3 0 0"/>
+        <site name="base" pos="0.05 0 0"/></body></worldbody>
+        <tendon><spatial name="cable"><site site="base"/><geom geom="post"/><site site="tip"/></spatial></tendon>
+        <actuator><position name="hinge_motor" joint="hinge" kp="10" kv="1"/><motor name="cable_motor" tendon="cable"/></actuator>
+        <keyframe><key qpos="0.4" ctrl="0.1 0.9"/></keyframe></mujoco>"""
+    )
+    with pytest.warns(RuntimeWarning, match=r"tendon 'cable' \(on geom 'post'\), actuator 'cable_motor'"):
+        checked = two_line(path).check()
+    np.testing.assert_allclose(checked.keyframes["default"].qpos, [0.4])

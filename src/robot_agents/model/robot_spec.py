@@ -12,6 +12,7 @@ from collections.abc import Iterable, Mapping, Sequence
 import mujoco
 
 from robot_agents.errors import ModelError, UnknownNameError
+from robot_agents.model.dropping import drop_with_dependents
 from robot_agents.model.materials import FrictionMaterial
 
 #: Name of the free joint added to a free-floating robot's root body.
@@ -54,12 +55,21 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
     the scene has its own floor), or other top-level bodies such as a target marker.
     With several top-level bodies the robot is ``chosen`` (the robot's ``root_body``),
     else the one whose subtree holds the file's actuated joints (or, without
-    actuators, the most joints); each dropped body is named in one warning. An
-    ambiguous file raises :class:`ModelError` naming the bodies and the fix."""
-    for geom in list(spec.worldbody.geoms):
-        spec.delete(geom)
+    actuators, the most joints). What refers to a dropped body or world geom (sensors,
+    actuators, tendons, equalities, contact pairs, ...) goes with it, and a camera or
+    light that targets a dropped body becomes fixed (:mod:`robot_agents.model.dropping`);
+    each dropped body and element is named in one warning. An ambiguous file raises
+    :class:`ModelError` naming the bodies and the fix."""
+    world_geoms = list(spec.worldbody.geoms)
     tops = _top_bodies(spec)
     if len(tops) <= 1 and chosen is None:
+        report = drop_with_dependents(spec, [], world_geoms)
+        if report.dropped or report.fixed:
+            warnings.warn(
+                f"{where}: dropped the file's world geoms (the scene has its own floor); {report.sentence()}.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
         return
     names = [b.name for b in tops]
     if chosen is not None:
@@ -79,16 +89,14 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
                 f"set root_body = {names[0]!r} (or another) on the robot class to choose."
             )
         keep = ranked[0]
+    kept = keep.name
     dropped = [b for b in tops if b is not keep]
-    gone = {j.name for b in dropped for j in b.find_all(mujoco.mjtObj.mjOBJ_JOINT)}
-    for actuator in list(spec.actuators):
-        if actuator.target in gone:
-            spec.delete(actuator)
-    for body in dropped:
-        spec.delete(body)
+    dropped_names = [b.name for b in dropped]
+    report = drop_with_dependents(spec, dropped, world_geoms)
+    extra = report.sentence()
     warnings.warn(
-        f"{where}: kept top-level body {keep.name!r} as the robot and dropped {[b.name for b in dropped]} "
-        "(set root_body on the robot class to choose another).",
+        f"{where}: kept top-level body {kept!r} as the robot and dropped {dropped_names} "
+        f"(set root_body on the robot class to choose another){'; ' + extra if extra else ''}.",
         RuntimeWarning,
         stacklevel=3,
     )

@@ -15,6 +15,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.agent.declaration import build_spec
 from robot_agents.cli import main as cli_main
+from robot_agents.robot_source import robot_from_file
 
 
 def two_line(path: Path, **extra: object) -> type[ra.Agent]:
@@ -530,3 +531,42 @@ def test_a_dropped_motor_leaves_a_keyframe_ctrl_that_fits(tmp_path: Path) -> Non
     with pytest.warns(RuntimeWarning, match=r"tendon 'cable' \(on geom 'post'\), actuator 'cable_motor'"):
         checked = two_line(path).check()
     np.testing.assert_allclose(checked.keyframes["default"].qpos, [0.4])
+
+
+_KEYED_ARM = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      {free}
+      <geom type="box" size="0.1 0.1 0.05" mass="2"/>
+      <body name="link1" pos="0 0 0.05">
+        <joint name="j1" axis="0 1 0" range="-1 1"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.02" mass="0.5"/>
+        <body name="link2" pos="0 0 0.3">
+          <joint name="j2" axis="0 1 0" range="-1 1"/>
+          <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.02" mass="0.5"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe><key name="home" qpos="{qpos}" qvel="{qvel}"/></keyframe>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("file_has_free_joint", [False, True], ids=["no-free-joint", "free-joint"])
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+def test_the_files_keyframe_survives_adding_or_removing_the_root_free_joint(
+    tmp_path: Path, file_has_free_joint: bool, floating: bool
+) -> None:
+    """A root free joint added (floating) or removed (fixed) shifts the file's keyframe
+    onto the same joints: MuJoCo would read its values from the start of the new
+    vectors (the added free joint's place), or refuse a key of the old size."""
+    free = "<freejoint/>" if file_has_free_joint else ""
+    base = "0 0 0.5 1 0 0 0 " if file_has_free_joint else ""
+    speeds = "0 0 0 0 0 0 " if file_has_free_joint else ""
+    path = tmp_path / "keyed.xml"
+    path.write_text(_KEYED_ARM.format(free=free, qpos=base + "0.3 -0.5", qvel=speeds + "0 0"))
+    cls = robot_from_file(path, floating=floating)
+    checked = cls.check()
+    np.testing.assert_array_equal(checked.keyframes["default"].qpos, [0.3, -0.5])

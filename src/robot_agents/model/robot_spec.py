@@ -10,6 +10,7 @@ import warnings
 from collections.abc import Iterable, Mapping, Sequence
 
 import mujoco
+import numpy as np
 
 from robot_agents.errors import ModelError, UnknownNameError
 from robot_agents.model.dropping import drop_with_dependents
@@ -116,6 +117,8 @@ def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None
     if fix_root_link:
         for joint in free:
             spec.delete(joint)
+        if free:
+            _shift_keys(spec, drop=True)
     elif not free:
         moving = [j.name for j in root.joints]
         if moving:
@@ -124,6 +127,24 @@ def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None
                 f"joint(s) {moving}; keep fix_root_link = True, or give the file a root body without joints."
             )
         root.add_freejoint(name=ROOT_FREE_JOINT)
+        _shift_keys(spec, drop=False, root_pose=(*root.pos, *root.quat))
+
+
+def _shift_keys(spec: mujoco.MjSpec, drop: bool, root_pose: Sequence[float] = ()) -> None:
+    """Keep the file's keyframes on their joints when the root's free joint (the first
+    7 ``qpos`` and 6 ``qvel``: the root is the first body) is removed (``drop``) or added
+    (its ``qpos`` then the root body's pose in the file, its ``qvel`` zero). MuJoCo
+    itself would read a keyframe's values from the start of the new vectors."""
+    for key in spec.keys:
+        qpos, qvel = np.asarray(key.qpos, dtype=np.float64), np.asarray(key.qvel, dtype=np.float64)
+        if drop:
+            key.qpos = qpos[7:] if qpos.size >= 7 else qpos[:0]
+            key.qvel = qvel[6:] if qvel.size >= 6 else qvel[:0]
+        else:
+            if qpos.size:
+                key.qpos = np.concatenate([np.asarray(root_pose, dtype=np.float64), qpos])
+            if qvel.size:
+                key.qvel = np.concatenate([np.zeros(6), qvel])
 
 
 def set_gravity_compensation(spec: mujoco.MjSpec, bodies: bool | Sequence[str], where: str) -> None:

@@ -76,6 +76,15 @@ def robot(tmp_path: Path, text: str) -> type[ra.Agent]:
     return type("GripperTest", (ra.Agent,), {"uid": "gripper_test", "urdf_path": path})
 
 
+def reset_scene(cls: type[ra.Agent]) -> ra.Scene:
+    """A scene of ``cls`` at its default keyframe (load notes silenced)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        scene = ra.Scene(cls)
+    scene.reset()
+    return scene
+
+
 def opening_after(scene: ra.Scene, command: float, steps: int = 30) -> float:
     """The gripper's opening (0 closed, 1 open) after ``steps`` control steps of
     ``command`` with the arm held."""
@@ -104,10 +113,7 @@ def test_two_sliding_fingers_at_the_chain_end_are_a_gripper(tmp_path: Path, mimi
     np.testing.assert_allclose(ee.pos, (0.0, 0.0, 0.08), atol=1e-9)
     modes = checked.modes
     assert all("gripper" in modes[m] for m in modes if isinstance(modes[m], dict))  # one action in every mode
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        scene = ra.Scene(cls)
-    scene.reset()
+    scene = reset_scene(cls)
     assert opening_after(scene, 1.0) > 0.95
     assert opening_after(scene, -1.0) < 0.05
     left, right = (scene.agents[0].joint_names.index(j) for j in ("left_joint", "right_joint"))
@@ -121,10 +127,7 @@ def test_hinged_jaws_open_where_they_spread(tmp_path: Path) -> None:
     gripper = checked.parts[1]
     assert isinstance(gripper, Gripper)
     assert gripper.open == (0.6, 0.6) and gripper.closed == (0.0, 0.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        scene = ra.Scene(cls)
-    scene.reset()
+    scene = reset_scene(cls)
     assert opening_after(scene, 1.0) > 0.95
     assert opening_after(scene, -1.0) < 0.05
 

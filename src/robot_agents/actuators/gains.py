@@ -13,13 +13,31 @@ response at bandwidth ``f`` gives
 implicitly; the stiffness term is what limits the step), fast enough to track the
 default control rate of 20 Hz. Effort limits come from the file (a URDF's
 ``<limit effort>``, an MJCF's ``actuatorfrcrange``).
+
+A floating robot standing on its legs needs more: its legs' own inertia is small (the
+body is free), and gains from it let the body's weight fold the legs. With the static
+torque ``tau`` each joint carries standing at its keyframe
+(:func:`robot_agents.agent.stance.find_stance`), :func:`stance_gains` raises
+
+    kp = max(kp_inertia, |tau| / STANCE_SAG + sum_i F_i r_i)
+
+so that the joint gives at most :data:`STANCE_SAG` under its load, the load's own
+softening included (a load ``F_i`` at distance ``r_i`` from the axis grows its torque by
+at most ``F_i r_i`` per radian given), and damps it critically against the share of the
+body it carries, ``I_load = sum_i F_i r_i^2 / g``:
+
+    kv = max(kv_inertia, 2 * zeta * sqrt(kp * max(I, I_load)))
+
+``kp`` stays below :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound
+``4 I / dt^2`` (``I`` the leg's own inertia: a swinging leg carries no body), so the
+physics check passes with a factor 2 to spare; where that caps it, the joint sags more.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -30,6 +48,18 @@ from robot_agents.errors import ConfigError
 #: Bandwidth (Hz) and damping ratio of derived gains.
 DEFAULT_BANDWIDTH_HZ = 10.0
 DEFAULT_DAMPING_RATIO = 1.0
+
+
+#: Static sag (rad, or m for slides) a derived drive allows under the load it carries
+#: standing: half of :data:`robot_agents.checks.HOLD_TOLERANCE`. A four-legged stance
+#: is statically indeterminate: when the legs give, load moves between them (a diagonal
+#: pair can take more), so a joint's load may change by its whole static value after
+#: settling, which then moves it by half the tolerance. (A quarter made solo12, whose
+#: file gives 1000 N*m efforts over +-10 rad ranges, blow up under random absolute targets.)
+STANCE_SAG = 0.005
+#: Share of the explicit-stiffness bound ``4 I / dt^2`` that stance gains stay below:
+#: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
+STANCE_STABLE_SHARE = 0.25
 
 
 @dataclass(frozen=True)
@@ -93,3 +123,26 @@ def gains_from_inertia(
         bandwidth_hz=float(bandwidth_hz),
         damping_ratio=float(damping_ratio),
     )
+
+
+def stance_gains(
+    gains: SuggestedGains,
+    torque: npt.ArrayLike,
+    lever: npt.ArrayLike,
+    reflected: npt.ArrayLike,
+    timestep: float,
+    sag: float = STANCE_SAG,
+) -> tuple[SuggestedGains, tuple[str, ...]]:
+    """``gains`` (from :func:`gains_from_inertia`) stiffened to carry a standing robot's
+    weight (see the module doc): ``torque``, ``lever`` and ``reflected`` are ``(n,)``
+    in the order of ``gains.joints`` (:class:`robot_agents.agent.stance.Stance`), the
+    physics step ``timestep`` in s. Returns the gains and the joints whose stiffness the
+    stability bound capped (they sag more than ``sag``)."""
+    tau = np.abs(np.asarray(torque, dtype=np.float64))
+    need = tau / sag + np.asarray(lever, dtype=np.float64)
+    cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
+    load_inertia = np.maximum(gains.inertia, np.asarray(reflected, dtype=np.float64))
+    damping = np.maximum(gains.damping, 2.0 * gains.damping_ratio * np.sqrt(stiffness * load_inertia))
+    capped = tuple(j for j, n, c in zip(gains.joints, need, cap, strict=True) if n > c)
+    return replace(gains, stiffness=stiffness, damping=damping), capped

@@ -25,7 +25,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import gains_from_inertia
+from robot_agents.actuators.gains import SuggestedGains, gains_from_inertia, stance_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.index import RobotIndex
@@ -40,7 +40,7 @@ from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
-from robot_agents.parts.declaration import EndEffector, Gripper, Hand, Part
+from robot_agents.parts.declaration import Body, EndEffector, Gripper, Hand, Legs, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -354,7 +354,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     index = RobotIndex(model, "", name)
     composed = composition(cls)
     parts = composed.parts
-    if not parts and not cls.control_modes:
+    inferred = not parts and not cls.control_modes
+    if inferred:
         parts = infer_parts(model, index, [d.joint for d in drives])
     part_joints = _resolve_parts(cls, parts, index, model)
     default = _composed_default(cls, index)
@@ -390,6 +391,15 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         full = model.qpos0.copy()
         full[index.qpos_adr] = next(iter(keyframes.values())).qpos
         gains = gains_from_inertia(model, [d.joint for d in drives], full)
+        if index.free_joint is not None:
+            gains, legs = _stand(cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler)
+            if legs and inferred and len(parts) == 1 and isinstance(parts[0], Body):
+                # a floating robot standing on bodies below its joints: those joints are its legs
+                rest = [j for j in part_joints[parts[0].name] if j not in legs]
+                parts = (Legs(name="legs", joints=tuple(re.escape(j) for j in legs)),) + (
+                    (Body(name="body", joints=tuple(re.escape(j) for j in rest)),) if rest else ()
+                )
+                part_joints = _resolve_parts(cls, parts, index, model)
         derived = {
             j: (float(kp), float(kv), float(lim))
             for j, kp, kv, lim in zip(gains.joints, gains.stiffness, gains.damping, gains.effort_limit, strict=True)
@@ -417,8 +427,11 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         raise ConfigError(f"{name}: no control mode: declare control_modes, or parts with driven joints.")
     if cls.default_control_mode is not None and cls.default_control_mode not in modes:
         raise UnknownNameError(f"{name}.default_control_mode", "control mode", cls.default_control_mode, modes)
+    # legs carrying the robot take deltas from their targets (a delta from the measured
+    # pose would let them give under the body's weight step by step)
+    derived_mode = "pd_joint_target_delta_pos" if any(isinstance(p, Legs) for p in parts) else "pd_joint_delta_pos"
     default_mode = cls.default_control_mode or (
-        "pd_joint_delta_pos" if not cls.control_modes and "pd_joint_delta_pos" in modes else next(iter(modes))
+        derived_mode if not cls.control_modes and derived_mode in modes else next(iter(modes))
     )
     driven = {d.joint for d in drives}
     for mode in modes:
@@ -451,6 +464,63 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     )
     _CHECKED[cls] = checked
     return checked
+
+
+def _stand(
+    cls: type[AgentDefinition],
+    spec: mujoco.MjSpec,
+    index: RobotIndex,
+    gains: SuggestedGains,
+    qpos: np.ndarray,
+    exclusions: Sequence[tuple[str, str]],
+    compiler: CompilerSettings,
+) -> tuple[SuggestedGains, tuple[str, ...]]:
+    """Derived ``gains`` of a floating robot stiffened to carry its weight where it stands
+    at ``qpos`` (:func:`robot_agents.agent.stance.find_stance`,
+    :func:`robot_agents.actuators.gains.stance_gains`), and the joints that carry it (its
+    legs; empty, with the gains unchanged, for a robot that does not stand on its joints'
+    bodies: a floating arm rests on its base). A note says when its locked body does not
+    come to rest, when a joint's static torque exceeds its effort limit (it cannot stand)
+    and when the stability bound caps a stiffness."""
+    from robot_agents.agent.stance import find_stance
+    from robot_agents.sim.scene import DEFAULT_SIM_FREQ
+
+    name = cls.__name__
+    timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
+    if exclusions:
+        spec = _build(cls, None, None, compiler, exclusions, quiet=True)[0]
+    found = find_stance(spec, index, gains.joints, qpos, timestep, cls.friction_cone or "pyramidal", name)
+    if isinstance(found, str):
+        if "not at rest" in found or "diverged" in found:
+            warnings.warn(
+                f"{name}: {found}; its derived drives keep the gains of its legs' own inertia, which may not carry "
+                "its weight (declare actuators, or a keyframe it stands in).",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+        return gains, ()
+    stiff, capped = stance_gains(gains, found.torque, found.lever, found.reflected, timestep)
+    over = [
+        f"{j} {abs(t):.3g} > {e:.3g}"
+        for j, t, e in zip(found.joints, found.torque, gains.effort_limit, strict=True)
+        if abs(t) > e
+    ]
+    if over:
+        warnings.warn(
+            f"{name}: standing at its default keyframe, joints carry more torque than their effort limits "
+            f"({', '.join(over)}): it cannot stand there (the limits are the file's and stay).",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+    if capped:
+        warnings.warn(
+            f"{name}: the stiffness that would carry its weight is capped by the stability bound at the "
+            f"{timestep:g} s step for {', '.join(capped)}: they give more under the load (add armature to light "
+            "joints, or raise sim_freq).",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+    return stiff, found.legs
 
 
 _NOT_POSITIVE = "inertia must have positive eigenvalues"

@@ -1,0 +1,221 @@
+"""A floating robot whose file has no actuators stands on its derived drives: the static
+torque each joint carries standing at the default keyframe (its joints locked, settled on
+a floor) stiffens its gains, its joints that carry the weight are ``Legs`` and it defaults
+to ``pd_joint_target_delta_pos``. Written here as a small MJCF quadruped whose stance is
+worked out by hand; a fixed-base arm and a floating arm keep the inertia gains."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents import checks
+from robot_agents.actuators.gains import STANCE_SAG, STANCE_STABLE_SHARE, gains_from_inertia
+from robot_agents.agent.declaration import _build
+from robot_agents.agent.stance import GRAVITY, Stance, find_stance
+from robot_agents.parts.declaration import Arm, Legs
+from robot_agents.robot_source import robot_from_file
+
+BODY_MASS = 8.0
+THIGH_MASS, SHIN_MASS, FOOT_MASS = 0.3, 0.2, 0.05
+THIGH = 0.2  # m, vertical
+REACH = 0.1  # m: the foot's horizontal offset from the knee (front legs forward, rear legs back)
+SHIN_DROP = 0.2  # m
+FOOT_RADIUS = 0.02
+TOTAL_MASS = BODY_MASS + 4 * (THIGH_MASS + SHIN_MASS + FOOT_MASS)
+
+
+def quadruped(effort: float = 50.0) -> str:
+    """A box body (8 kg) on four two-hinge legs (hip and knee about y), feet mirrored
+    front / rear so that the stance is symmetric; no actuators."""
+    legs = ""
+    for name, x, y in (("fr", 0.2, -0.12), ("fl", 0.2, 0.12), ("rr", -0.2, -0.12), ("rl", -0.2, 0.12)):
+        dx = REACH if x > 0 else -REACH
+        legs += f"""
+      <body name="{name}_thigh" pos="{x} {y} 0">
+        <joint name="{name}_hip" axis="0 1 0" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
+        <geom type="capsule" size="0.015" fromto="0 0 0 0 0 -{THIGH}" mass="{THIGH_MASS}"/>
+        <body name="{name}_shin" pos="0 0 -{THIGH}">
+          <joint name="{name}_knee" axis="0 1 0" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
+          <geom type="capsule" size="0.012" fromto="0 0 0 {dx} 0 -{SHIN_DROP}" mass="{SHIN_MASS}"/>
+          <geom name="{name}_foot" type="sphere" size="{FOOT_RADIUS}" pos="{dx} 0 -{SHIN_DROP}" mass="{FOOT_MASS}"
+                friction="1.0"/>
+        </body>
+      </body>"""
+    return f"""<mujoco model="stance_quadruped">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="trunk">
+      <geom type="box" size="0.25 0.15 0.05" mass="{BODY_MASS}"/>{legs}
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def arm() -> str:
+    """A three-hinge arm on a base plate; no actuators."""
+    return """<mujoco model="stance_arm">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.03" mass="2"/>
+      <body name="upper" pos="0 0 0.03">
+        <joint name="yaw" axis="0 0 1" range="-3 3" actuatorfrcrange="-30 30"/>
+        <geom type="capsule" size="0.03" fromto="0 0 0 0 0 0.3" mass="1.5"/>
+        <body name="fore" pos="0 0 0.3">
+          <joint name="shoulder" axis="0 1 0" range="-2 2" actuatorfrcrange="-30 30"/>
+          <geom type="capsule" size="0.025" fromto="0 0 0 0.3 0 0" mass="1"/>
+          <body name="hand" pos="0.3 0 0">
+            <joint name="elbow" axis="0 1 0" range="-2 2" actuatorfrcrange="-30 30"/>
+            <geom type="capsule" size="0.02" fromto="0 0 0 0.2 0 0" mass="0.5"/>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def write(tmp_path: Path, name: str, text: str) -> Path:
+    path = tmp_path / f"{name}.xml"
+    path.write_text(text)
+    return path
+
+
+def stance_of(cls: type[ra.Agent]) -> Stance | str:
+    checked = cls.check()
+    spec = _build(cls, None, None, checked.compiler, checked.derived_exclusions, quiet=True)[0]
+    joints = [d.joint for d in checked.drives]
+    return find_stance(spec, checked.index, joints, checked.keyframes["default"].qpos, 0.002)
+
+
+def test_static_torques_match_the_hand_calculation(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "quad_torques", quadruped()), floating=True)
+    found = stance_of(cls)
+    assert isinstance(found, Stance), found
+    weight = TOTAL_MASS * GRAVITY
+    assert found.weight == pytest.approx(weight, rel=1e-6)
+    # symmetric stance: each foot carries a quarter of the weight
+    np.testing.assert_allclose(found.load, weight / 4, rtol=0.02)
+    # knee: the foot's load at REACH, less the shin's and the foot's own weight at their levers;
+    # the lock holds the shin against the floor's push (positive about +y for a foot at +x)
+    share = weight / 4
+    knee = share * REACH - SHIN_MASS * GRAVITY * REACH / 2 - FOOT_MASS * GRAVITY * REACH
+    torque = dict(zip(found.joints, found.torque, strict=True))
+    for leg, sign in (("fr", 1.0), ("fl", 1.0), ("rr", -1.0), ("rl", -1.0)):
+        assert torque[f"{leg}_knee"] == pytest.approx(sign * knee, rel=0.03)
+        assert torque[f"{leg}_hip"] == pytest.approx(sign * knee, rel=0.03)  # vertical thigh: the same lever
+    assert sorted(found.legs) == sorted(found.joints)
+    assert set(found.feet) == {"fr_shin", "fl_shin", "rr_shin", "rl_shin"}
+
+
+def test_derived_quadruped_stands_and_holds(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "quad_stands", quadruped()), floating=True)
+    checked = cls.check()
+    assert [type(p) for p in checked.parts] == [Legs]
+    assert checked.default_mode == "pd_joint_target_delta_pos"
+    found = stance_of(cls)
+    assert isinstance(found, Stance)
+    # each drive gives at most STANCE_SAG under its static torque
+    inertia = gains_from_inertia(checked.index.model, found.joints, _full(checked)).stiffness
+    for joint, tau, lever, kp_inertia in zip(found.joints, found.torque, found.lever, inertia, strict=True):
+        kp = checked.derived_gains[joint][0]
+        assert kp == pytest.approx(max(kp_inertia, abs(tau) / STANCE_SAG + lever), rel=1e-9)
+        assert abs(tau) / kp <= STANCE_SAG
+    standing = checks.check_standing(cls)
+    assert standing is not None and standing.passed, standing
+    holds = checks.check_holds(cls)
+    assert holds.passed, holds.line()
+    stable = checks.check_pd_stability(cls)
+    assert stable.passed, stable.line()
+
+
+def _full(checked: object) -> np.ndarray:
+    model = checked.index.model  # type: ignore[attr-defined]
+    full = model.qpos0.copy()
+    full[checked.index.qpos_adr] = checked.keyframes["default"].qpos  # type: ignore[attr-defined]
+    return np.asarray(full)
+
+
+def test_the_stance_settles_without_bouncing(tmp_path: Path) -> None:
+    """Dropped 1 mm onto its feet at the keyframe, holding it: every foot stays on the
+    floor from touchdown on, and after the landing (0.1 s) the base comes to its sag
+    from one side (no oscillation about it), within a millimetre."""
+    cls = robot_from_file(write(tmp_path, "quad_settles", quadruped()), floating=True)
+    scene = ra.Scene(cls, sim_freq=500, control_freq=500)  # one physics step per control step
+    agent = scene.agents[0]
+    model = scene.model
+    scene.reset()
+    hold = checks.hold_action(agent)
+    heights, touching = [], []
+    for _ in range(1000):  # 2 s
+        agent.set_action(hold)
+        scene.step()
+        heights.append(float(agent.base_pose[0, 2]))
+        data = scene.world.physics_sources([0])[0]
+        bodies = {
+            model.body(int(model.geom_bodyid[g])).name for c in data.contact[: data.ncon] for g in (c.geom1, c.geom2)
+        }
+        touching.append({b for b in bodies if b.endswith("_shin")})
+    scene.close()
+    landed = next(k for k, feet in enumerate(touching) if len(feet) == 4)
+    assert landed < 25
+    assert all(len(feet) == 4 for feet in touching[landed:]), "a foot left the floor"
+    offset = np.array(heights[50:]) - heights[-1]
+    assert np.all(np.abs(offset) < 1e-3)
+    assert np.all(offset >= -1e-6) or np.all(offset <= 1e-6), "the base oscillates about its rest height"
+
+
+def test_a_fixed_arm_keeps_its_inertia_gains(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "stance_fixed_arm", arm()))
+    checked = cls.check()
+    joints = [d.joint for d in checked.drives]
+    gains = gains_from_inertia(checked.index.model, joints, _full(checked))
+    for joint, kp, kv in zip(gains.joints, gains.stiffness, gains.damping, strict=True):
+        assert checked.derived_gains[joint][:2] == (float(kp), float(kv))
+    assert isinstance(checked.parts[0], Arm)
+    assert checked.default_mode == "pd_joint_delta_pos"
+
+
+def test_a_floating_arm_resting_on_its_base_keeps_its_inertia_gains(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "stance_floating_arm", arm()), floating=True)
+    found = stance_of(cls)
+    assert isinstance(found, str) and "do not move" in found
+    checked = cls.check()
+    joints = [d.joint for d in checked.drives]
+    gains = gains_from_inertia(checked.index.model, joints, _full(checked))
+    assert [checked.derived_gains[j][0] for j in joints] == [float(k) for k in gains.stiffness]
+    assert not any(isinstance(p, Legs) for p in checked.parts)
+    assert checked.default_mode == "pd_joint_delta_pos"
+
+
+def test_a_load_beyond_the_effort_limits_is_a_note(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "quad_weak", quadruped(effort=1.0)), floating=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        checked = cls.check()
+    notes = [str(w.message) for w in caught if "cannot stand" in str(w.message)]
+    assert len(notes) == 1 and "fr_knee" in notes[0]
+    assert all(checked.derived_gains[j][2] == 1.0 for j in checked.derived_gains)  # the file's limits stay
+
+
+def test_stance_constants() -> None:
+    assert STANCE_SAG == checks.HOLD_TOLERANCE / 2
+    assert STANCE_STABLE_SHARE == checks.STABLE_SHARE / 2
+
+
+def test_a_stance_needs_a_free_root(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "quad_fixed", quadruped()))
+    checked = cls.check()
+    spec = _build(cls, None, None, checked.compiler, checked.derived_exclusions, quiet=True)[0]
+    assert find_stance(spec, checked.index, [d.joint for d in checked.drives], np.zeros(8), 0.002) == (
+        "its root is fixed"
+    )
+    assert mujoco.mj_name2id(checked.index.model, mujoco.mjtObj.mjOBJ_JOINT, "fr_knee") >= 0

@@ -160,12 +160,14 @@ def tool_rotation(agent: ra.Agent) -> np.ndarray:
 
 
 @pytest.mark.parametrize("mode", ["pd_ee_delta_pose_align", "pd_ee_delta_pose"])
-def test_align_mode_turns_the_tool_about_its_own_axes(mode: str) -> None:
+def test_align_mode_turns_the_tool_about_the_command_frames_axes(mode: str) -> None:
     """A constant rotation command (0.03 rad per step about z for 10 steps) from the rest
-    pose, whose tool z is tilted from torso_lift_link's: in pd_ee_delta_pose_align the tool
-    turns 0.3 rad about its own z (axis within 1 deg, angle within 5 %) and stays put; in
-    pd_ee_delta_pose the same command turns it about torso_lift_link's z instead (0.42 rad
-    about it reaches wrist_flex_joint's limit from rest, hence the small angle)."""
+    pose, whose tool z is tilted from torso_lift_link's: in both modes the tool turns
+    0.3 rad about torso_lift_link's z through the tool point (axis within 1 deg, angle
+    within 5 %) and stays put. ManiSkill 2's ee_align (pd_ee_delta_pose_align) composes
+    ``delta * previous`` and then restores ``previous.p + d``: a turn about the base's axes
+    through the tool, as pd_ee_delta_pose. (0.42 rad about it reaches wrist_flex_joint's
+    limit from rest, hence the small angle.)"""
     scene = ra.Scene("fetch", control_modes=mode)
     scene.reset(keyframes="rest")
     agent = scene.agents[0]
@@ -184,11 +186,8 @@ def test_align_mode_turns_the_tool_about_its_own_axes(mode: str) -> None:
         agent.set_action(action)
         scene.step()
     rotation = tool_rotation(agent)
-    if mode == "pd_ee_delta_pose_align":
-        relative = start_rotation.T @ rotation  # in the tool's own axes
-    else:
-        relative = rotation @ start_rotation.T  # in the world (= torso) axes
-        relative = torso_axes.reshape(3, 3).T @ relative @ torso_axes.reshape(3, 3)
+    relative = rotation @ start_rotation.T  # in the world (= torso) axes
+    relative = torso_axes.reshape(3, 3).T @ relative @ torso_axes.reshape(3, 3)
     angle_axis = np.zeros(3)
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, relative.reshape(-1))
@@ -356,9 +355,9 @@ def test_differential_base_odometry_and_wheels() -> None:
 
 
 def test_align_is_an_optional_rule_mode() -> None:
-    """Not generated unless a TaskSpace lists it; then pd_ee_delta_pose with rotations
-    about the tool's own axes (translation still in the command frame's axes); an
-    unknown name lists it among the choices."""
+    """Not generated unless a TaskSpace lists it; then the same config as
+    pd_ee_delta_pose (ManiSkill 2's ee_align); an unknown name lists it among the
+    choices."""
     from robot_agents.controllers.ee import CommandFrame
     from robot_agents.controllers.rules import JointGroup, ee_control_modes
     from robot_agents.errors import UnknownNameError
@@ -368,8 +367,7 @@ def test_align_is_an_optional_rule_mode() -> None:
     assert "pd_ee_delta_pose_align" not in ee_control_modes(group, task)
     modes = ee_control_modes(group, task, ("pd_ee_delta_pose", "pd_ee_delta_pose_align"))
     align, pose = modes["pd_ee_delta_pose_align"], modes["pd_ee_delta_pose"]
-    assert align.rotation_frame is CommandFrame.EE and pose.rotation_frame is CommandFrame.ROOT
-    assert align.translation_frame is CommandFrame.ROOT
+    assert align == pose and align.rotation_frame is CommandFrame.ROOT
     with pytest.raises(UnknownNameError, match="pd_ee_delta_pose_align"):
         ee_control_modes(group, task, ("pd_ee_align",))
 

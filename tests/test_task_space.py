@@ -227,6 +227,30 @@ def test_sign_conventions(frame: CommandFrame, mode: str) -> None:
     scene.close()
 
 
+def test_a_diagonal_rotation_command_turns_no_more_than_the_per_step_limit() -> None:
+    """The rotation part of a delta-pose action, in units of the per-step limit, is
+    scaled down to length 1 when longer (ManiSkill's rule): a saturated diagonal command
+    turns the target 0.1 rad about the diagonal, not 0.1 rad about each axis (0.17 rad);
+    a command of length <= 1 is taken as it is."""
+    scene = ra.Scene("panda", control_modes="pd_ee_target_delta_pose")
+    agent = scene.agents[0]
+    arm = ee_part(agent)
+    for rotation, expected in (
+        ((1.0, 1.0, 1.0), 0.1),
+        ((0.5, -0.5, 0.0), 0.1 * math.sqrt(0.5)),
+        ((0.0, 0.0, -1.0), 0.1),
+    ):
+        scene.reset(keyframes="rest")
+        start = arm.target_pose[0].copy()
+        agent.set_action(np.array([0.0, 0.0, 0.0, *rotation, 1.0]))
+        turn = rotation_error(arm.target_pose[0, 3:], start[3:])  # root axes (rotation_frame ROOT)
+        assert np.linalg.norm(turn) == pytest.approx(expected, rel=1e-9)
+        np.testing.assert_allclose(
+            turn / np.linalg.norm(turn), np.array(rotation) / np.linalg.norm(rotation), atol=1e-9
+        )
+    scene.close()
+
+
 # ---------------------------------------------------------------------------- tracking
 @pytest.mark.parametrize("mode", ["pd_ee_delta_pos", "pd_ee_target_delta_pos", "pd_ee_delta_pose"])
 def test_constant_delta_command_tracks_within_5_percent(mode: str) -> None:

@@ -23,6 +23,8 @@ One control step of an end-effector controller, per env:
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 import numpy.typing as npt
@@ -116,6 +118,15 @@ class PDEEController(Controller):
             iterations=np.zeros(num_envs, dtype=np.int64),
         )
         self._rotate_about_root = not (isinstance(config, PDEEPoseConfig) and config.rotation_frame is CommandFrame.EE)
+        #: Delta rotations: the largest turn per axis (rad, ``(3,)``); a command whose
+        #: rotation part, in units of it, is longer than 1 is scaled down to length 1 (as
+        #: ManiSkill does), so a diagonal command turns no more than one along an axis.
+        self._turn_limit: tuple[float, float, float] | None = None
+        if isinstance(config, PDEEPoseConfig) and config.use_delta and self.rotation:
+            name = type(config).__name__
+            low, high = per_axis(name, "rot_lower", config.rot_lower), per_axis(name, "rot_upper", config.rot_upper)
+            if np.all(high > 0) and np.array_equal(low, -high):
+                self._turn_limit = (float(high[0]), float(high[1]), float(high[2]))
         # Hot-path state made once: the mode's flags, the tool and root frames bound to
         # the scratch kinematics, per-env scratch poses and views of their parts.
         self._use_delta = config.use_delta
@@ -205,8 +216,13 @@ class PDEEController(Controller):
             else:
                 np.add(base_position, raw[:3], out=position)
             if self.rotation:
-                turn = self._turn
-                rotvec_to_quat_into(turn, raw[3:6], self._axis)
+                turn, rotvec = self._turn, raw[3:6]
+                if self._turn_limit is not None:
+                    lx, ly, lz = self._turn_limit
+                    length = math.sqrt((rotvec[0] / lx) ** 2 + (rotvec[1] / ly) ** 2 + (rotvec[2] / lz) ** 2)
+                    if length > 1.0:
+                        rotvec = rotvec / length
+                rotvec_to_quat_into(turn, rotvec, self._axis)
                 if self._rotate_about_root:
                     mujoco.mju_mulQuat(quat, turn, base_quat)
                 else:

@@ -112,17 +112,19 @@ def ee_control_modes(
     ``pd_ee_pose``               ``[x, y, z, rx, ry, rz]`` absolute, root frame   no
     ``pd_ee_target_delta_pos``   ``[dx, dy, dz]`` on the previous target          yes
     ``pd_ee_target_delta_pose``  ``[dx, dy, dz, rx, ry, rz]`` on the previous one yes
-    ``pd_ee_delta_pose_align``   as ``pd_ee_delta_pose``, rotations about the tool yes
+    ``pd_ee_delta_pose_align``   the same as ``pd_ee_delta_pose``                yes
     ===========================  ===============================================  ==========
 
     Translations are in the command frame (the robot's root unless the end effector
     names another) and rotations (rotation vectors, rad) turn about its axes through
     the tool point; position modes hold the orientation. ``pd_ee_delta_pose_align``
     (only when listed: see :data:`OPTIONAL_EE_MODES`) is ManiSkill 2's ``ee_align``
-    frame: the translation is along the command frame's axes as in
-    ``pd_ee_delta_pose``, the rotation vector is in the tool's own axes at the start of
-    the step (``R' = R exp(r)``), so ``[0, 0, 0, 0, 0, a]`` rolls the tool about its own z
-    whatever its orientation.
+    frame, which its Fetch lists: ``target = delta * previous`` with the position then
+    set to ``previous.p + d``, a turn about the command frame's axes through the tool
+    point, which is what ``pd_ee_delta_pose`` does (ManiSkill 2's ``base`` frame also
+    swung the position about the root; ManiSkill 3 dropped both for
+    ``root_translation:root_aligned_body_rotation``, this library's ``pd_ee_delta_pose``).
+    A turn about the tool's own axes is ``PDEEPoseConfig(rotation_frame=CommandFrame.EE)``.
     """
     step, turn = task.max_translation, task.max_rotation
     position = PDEEPosConfig(
@@ -151,7 +153,7 @@ def ee_control_modes(
         ),
         "pd_ee_target_delta_pos": replace(position, use_target=True),
         "pd_ee_target_delta_pose": replace(pose, use_target=True),
-        "pd_ee_delta_pose_align": replace(pose, rotation_frame=CommandFrame.EE),
+        "pd_ee_delta_pose_align": pose,
     }
     for mode in modes:
         if mode not in table:

@@ -102,7 +102,11 @@ def evaluate(path: Path, floating: bool) -> list[str]:
     pairs = [n for n in notes if "touch at the default keyframe" in str(n.message)]
     if pairs:
         fixes.append(str(pairs[0].message).split(": ")[1].split(" touch")[0] + " excluded at the default pose")
-    note = f"{len(checked.drives)} drives ({checked.drives[0].source.split(' (')[0]}), mode {checked.default_mode}"
+    parts = " + ".join(f"{type(p).__name__} {len(checked.part_joints[p.name])}" for p in checked.parts)
+    note = (
+        f"{len(checked.drives)} drives ({checked.drives[0].source.split(' (')[0]}), parts {parts}, "
+        f"mode {checked.default_mode}"
+    )
     return [
         "yes",
         hold.detail.split(" (")[0].replace("largest drift ", "")

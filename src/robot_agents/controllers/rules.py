@@ -17,7 +17,7 @@ from typing import Any
 
 from robot_agents.controllers.base import ControllerConfig, PerJoint
 from robot_agents.controllers.base_vel import base_modes
-from robot_agents.controllers.ee import CommandFrame, PDEEPosConfig, PDEEPoseConfig
+from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (
     JointEffortConfig,
     PDJointPosConfig,

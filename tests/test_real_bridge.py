@@ -11,6 +11,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError
 from robot_agents.real import JointBus, RealRobot, SimulatedBus
+from robot_agents.real.bridge import MOVE_TOLERANCE
 from robot_agents.sim.scene import Scene
 
 FloatArray = np.ndarray
@@ -220,11 +221,12 @@ def test_move_to_ramps_to_a_keyframe() -> None:
     start = bus.read()[0]
     assert np.abs(start - target).max() > 1.0  # from home to sleep: over a radian on some joint
     before = len(bus.writes)
-    robot.move_to("sleep", steps=40)
-    ramp = np.array([w[0] for w in bus.writes[before:]])
-    assert len(ramp) == 40
-    np.testing.assert_allclose(ramp[-1], target, atol=1e-12)  # the last command is the keyframe
-    assert np.abs(bus.read()[0] - target).max() < 0.1  # the arm got there (its drives lag)
+    left = robot.move_to("sleep", steps=40)
+    sent = np.array([w[0] for w in bus.writes[before:]])
+    assert 40 <= len(sent) <= 80  # the ramp, then the keyframe until the lagging arm is there
+    np.testing.assert_allclose(sent[39:], np.broadcast_to(target, sent[39:].shape), atol=1e-12)
+    assert left == pytest.approx(np.abs(bus.read()[0] - target).max(), abs=1e-12)
+    assert left <= MOVE_TOLERANCE
     assert robot.control_mode == "pd_joint_delta_pos"
     with pytest.raises(UnknownNameError, match="Did you mean 'sleep'"):
         robot.move_to("slep")
@@ -233,6 +235,30 @@ def test_move_to_ramps_to_a_keyframe() -> None:
     with pytest.raises(ConfigError, match="steps"):
         robot.move_to("sleep", steps=0)
     robot.close()
+
+
+def test_move_to_reaches_the_keyframe_in_a_velocity_mode_and_within_max_target_step() -> None:
+    """The ramp runs under the declared drives' position gains (a velocity mode's
+    stiffness is 0: the arm did not move), and the mode's settings are sent again after
+    it; with max_target_step the ramp is lengthened to what the bound allows and the
+    keyframe commanded until the arm is there (it stopped 1.5 rad short before)."""
+    bus = SimulatedBus("panda", keyframe="rest")
+    robot = RealRobot("panda", bus, control_mode="pd_joint_vel")
+    target = robot.agent.keyframe_qpos("ready")[:7]
+    assert robot.move_to("ready", steps=40) <= MOVE_TOLERANCE
+    assert np.abs(bus.read()[0][:7] - target).max() <= MOVE_TOLERANCE
+    assert np.all(bus.agent.drives.stiffness[:7] == 0.0)  # pd_joint_vel's drive settings again
+    robot.close()
+    bus = SimulatedBus("so100", keyframe="rest")
+    robot = RealRobot("so100", bus, control_mode="pd_joint_delta_pos", max_target_step=0.02)
+    target = robot.agent.keyframe_qpos("zero")[:5]
+    assert robot.move_to("zero", steps=5) <= MOVE_TOLERANCE
+    assert np.abs(bus.read()[0][:5] - target).max() <= MOVE_TOLERANCE
+    robot.close()
+    closed = SimulatedBus("so100")
+    closed.close()
+    with pytest.raises(StateError, match="closed"):
+        closed.read()
 
 
 def _obs_difference(uid: str, mode: str, steps: int = 20) -> tuple[float, float]:

@@ -21,6 +21,7 @@ of targets is a simulation feature: the bus receives each step's final targets.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -36,6 +37,10 @@ from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
 
 FloatArray = npt.NDArray[np.float64]
+
+#: How close (rad or m, every driven joint) :meth:`RealRobot.move_to` brings the robot to
+#: a keyframe before holding it: the keyframe hold tolerance of the robot checks.
+MOVE_TOLERANCE = 0.01
 
 
 def bus_columns(driven: list[str], names: list[str], robot: str) -> npt.NDArray[np.int64]:
@@ -213,20 +218,43 @@ class RealRobot:
         self.bus.write(position, targets.velocity[0, self._columns].copy(), targets.effort[0, self._columns].copy())
         return position
 
-    def move_to(self, keyframe: str, steps: int = 40) -> None:
+    def move_to(self, keyframe: str, steps: int = 40) -> float:
         """Bring the robot to ``keyframe`` (its driven joints) along a smooth ramp of
-        ``steps`` position commands from the measured pose (one per control step of
-        the caller's timing: the bus decides how long each takes), then hold it in the
-        active mode. The ramp's commands respect ``max_target_step``."""
-        self._check_open("RealRobot.move_to")
+        position commands from the measured pose (one per control step of the caller's
+        timing: the bus decides how long each takes), then command the keyframe itself
+        until every joint is within :data:`MOVE_TOLERANCE` of it (at most as many
+        commands again), and hold the measured pose in the active mode.
+
+        The ramp runs under the declared drives' position gains (a velocity mode's
+        stiffness is 0, which would not follow it) and the active mode's are sent again
+        after it. It takes ``steps`` commands, or more where ``max_target_step`` needs
+        them (the smoothstep ramp's largest step is 1.5 times the mean); each command
+        is within ``max_target_step`` of the measured pose. Returns the largest distance
+        (rad or m) left between the measured joints and the keyframe at the end (a
+        robot that lags or is blocked stops short: check it against your tolerance)."""
+        where = "RealRobot.move_to"
+        self._check_open(where)
         agent = self.agent
         robot_qpos = agent.keyframe_qpos(keyframe)  # raises UnknownNameError
         if not (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 1):
-            raise ConfigError(f"RealRobot.move_to: expected steps as a whole number >= 1, got {steps!r}.")
+            raise ConfigError(f"{where}: expected steps as a whole number >= 1, got {steps!r}.")
+        drives, columns = agent.drives, self._columns
+        stiffness = drives.declared_stiffness[columns]
+        if np.any(stiffness <= 0.0):
+            limp = [str(self.bus.joint_names[int(i)]) for i in np.flatnonzero(stiffness <= 0.0)]
+            raise ConfigError(
+                f"{where}: joints {limp} have no position stiffness in their declared drives, so a ramp of "
+                "position commands would not move them; move them in a velocity mode instead."
+            )
         local = {int(adr): i for i, adr in enumerate(agent.index.qpos_adr)}
         target = robot_qpos[[local[int(adr)] for adr in self._qpos_adr]]
         self.sync()
         start = self._measured.copy()
+        if self._max_step is not None:
+            # (max_target_step: a bound per joint, or one for all)
+            share = float(np.max(np.abs(target - start) / self._max_step, initial=0.0))
+            steps = max(steps, math.ceil(1.5 * share))
+        self.bus.set_gains(stiffness, drives.declared_damping[columns], drives.declared_effort_limit[columns])
         zeros = np.zeros_like(start)
         for step in range(1, steps + 1):
             s = step / steps
@@ -234,7 +262,15 @@ class RealRobot:
             if self._max_step is not None:
                 self.sync()
             self.bus.write(self._limited(position), zeros, zeros)
-        self.set_control_mode(agent.control_mode)
+        # then the keyframe itself, until the joints are there (a lagging drive, commands
+        # held back by max_target_step), for as many commands again at most
+        for _ in range(steps):
+            self.sync()
+            if np.max(np.abs(self._measured - target), initial=0.0) <= MOVE_TOLERANCE:
+                break
+            self.bus.write(self._limited(target.copy()), zeros, zeros)
+        self.set_control_mode(agent.control_mode)  # reads the bus: the measured end pose
+        return float(np.max(np.abs(self._measured - target), initial=0.0))
 
     def _limited(self, position: FloatArray) -> FloatArray:
         """``position`` (bus order) clipped in place to ``max_target_step`` from the

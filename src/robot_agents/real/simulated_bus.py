@@ -58,6 +58,8 @@ class SimulatedBus:
         return self._names
 
     def read(self) -> tuple[FloatArray, FloatArray]:
+        if self._closed:
+            raise StateError("SimulatedBus.read: this bus is closed.")
         drives = self.agent.drives
         return self.scene.world.qpos[0, drives.qpos_adr].copy(), self.scene.world.qvel[0, drives.dof_adr].copy()
 

@@ -313,6 +313,18 @@ def test_success_earns_the_largest_reward() -> None:
     info = u.evaluate()
     d = np.linalg.norm(u.agent.tcp_pose[1, :3] - u.body_pose("cube")[1, :3])
     assert u.compute_reward(info)[1] == pytest.approx(1.0 - math.tanh(d / (0.2 * u.layout.reach)))
+    # At the goal with the arm moving at 0.3 rad/s (too fast to count as still): the
+    # reaching term plus ManiSkill's static term 1 - tanh(5 * |arm qvel|), no success.
+    poses[0, :3] = u.goal_pos[0]
+    u.place_body("cube", poses[:1], [0])
+    qvel = np.zeros_like(u.agent.qvel[:1])
+    qvel[0, :2] = (0.18, 0.24)  # |arm qvel| = 0.3 rad/s
+    u.agent.reset(qpos=u.agent.qpos[0], qvel=qvel[0], env_ids=[0])
+    info = u.evaluate()
+    assert not info["success"][0] and info["is_obj_placed"][0] and not info["is_grasped"][0]
+    d = np.linalg.norm(u.agent.tcp_pose[0, :3] - u.body_pose("cube")[0, :3])
+    expected = 1.0 - math.tanh(d / (0.2 * u.layout.reach)) + 1.0 - math.tanh(5.0 * 0.3)
+    assert u.compute_reward(info)[0] == pytest.approx(expected, rel=1e-12)
 
 
 # -- API ----------------------------------------------------------------------------------------

@@ -7,7 +7,7 @@ with every length scaled by the robot's reach ``R`` and the cube by its gripper.
 Randomization (each env from its own stream, :meth:`RobotEnv.env_rng`): the cube's
 centre uniformly within ``0.1 R`` of the workspace centre on the table, turned
 uniformly about z; the goal's x, y likewise, its height above the resting cube's
-centre uniform in ``[0, 0.3 R]``, drawn again while it lies within twice the
+centre uniform in ``[0, 0.2 R]``, drawn again while it lies within twice the
 success threshold of the cube.
 
 Success: the cube's centre within ``1.25`` half-edges of the goal (2.5 cm for the
@@ -15,7 +15,8 @@ Panda's 4 cm cube) and the arm still (every arm joint slower than 0.2 rad/s or m
 
 Dense reward (ManiSkill's, lengths in units of ``0.2 R``): ``1 - tanh(|tcp - cube|)``
 for reaching, ``+ 1`` while grasped, ``+ (1 - tanh(|cube - goal|))`` while grasped,
-``+ (1 - tanh(|arm qvel|))`` once the cube is at the goal; 5 on success. ``dense``
+``+ (1 - tanh(5 s/rad * |arm qvel|))`` once the cube is at the goal (ManiSkill's
+factor: joint speeds are not lengths); 5 on success. ``dense``
 lies in ``[0, 5]``, ``normalized_dense`` is it divided by 5, ``sparse`` is 1 on
 success and 0 otherwise.
 """
@@ -42,6 +43,9 @@ GOAL_HEIGHT = 0.2
 GOAL_THRESHOLD = 1.25
 #: Joint speed below which the arm counts as still (rad/s or m/s).
 STATIC_SPEED = 0.2
+#: The static reward's factor on the arm's joint speed (s/rad): ManiSkill's
+#: ``1 - tanh(5 * |qvel|)``, kept as it is since a speed is not a length.
+STATIC_REWARD_GAIN = 5.0
 
 
 def needs_gripper(cls: type[Agent], task: str) -> None:
@@ -113,7 +117,7 @@ class PickCubeEnv(TableTopEnv):
         reward += grasped
         reward += (1.0 - np.tanh(info["obj_to_goal_dist"] / self.length_scale)) * grasped
         speed = np.linalg.norm(self.agent.qvel[:, self.arm_dofs], axis=1)
-        reward += (1.0 - np.tanh(speed)) * info["is_obj_placed"]
+        reward += (1.0 - np.tanh(STATIC_REWARD_GAIN * speed)) * info["is_obj_placed"]
         return self.reward(reward, info["success"])
 
     def _extra_obs(self) -> dict[str, FloatArray]:

@@ -18,15 +18,16 @@ A real-robot driver or another backend consumes the same :class:`JointTargets`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
-from robot_agents.errors import ConfigError, ModelError, UnknownNameError
+from robot_agents.errors import ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.indexing import index_selector
 
 FloatArray = npt.NDArray[np.float64]
@@ -236,6 +237,42 @@ class Drives:
         self._has_bias = bool(np.any(self._d))
         self._uses_velocity = uses_velocity
         self._uses_effort = uses_effort
+
+    # -- the targets as state ----------------------------------------------------------------
+    def get_target_state(self) -> dict[str, FloatArray]:
+        """Copies of the targets, ``position`` / ``velocity`` / ``effort`` ``(num_envs, n)``:
+        part of an exact state, since joints no action writes (held legs) keep theirs."""
+        targets = self.targets
+        return {
+            "position": targets.position.copy(),
+            "velocity": targets.velocity.copy(),
+            "effort": targets.effort.copy(),
+        }
+
+    def check_target_state(self, state: Any, where: str) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Validate :meth:`get_target_state`'s dict (shapes, finite values) without applying it."""
+        shape = self.targets.position.shape
+        if not isinstance(state, Mapping) or any(k not in state for k in ("position", "velocity", "effort")):
+            raise StateError(
+                f"{where}: expected drive targets as a dict with position, velocity, effort; got {state!r:.80}."
+            )
+        arrays = []
+        for key in ("position", "velocity", "effort"):
+            try:
+                array = np.array(state[key], dtype=np.float64)
+            except (TypeError, ValueError):
+                array = np.full(1, np.nan)
+            if array.shape != shape or not np.all(np.isfinite(array)):
+                raise StateError(
+                    f"{where}: expected finite drive {key} targets of shape {shape}, got {state[key]!r:.80}."
+                )
+            arrays.append(array)
+        return arrays[0], arrays[1], arrays[2]
+
+    def set_target_state(self, checked: tuple[FloatArray, FloatArray, FloatArray]) -> None:
+        """Restore what :meth:`check_target_state` returned."""
+        targets = self.targets
+        targets.position[...], targets.velocity[...], targets.effort[...] = checked
 
     # -- targets -> ctrl ------------------------------------------------------------------
     def hold(self, env_ids: IntArray, qpos: FloatArray) -> None:

@@ -392,13 +392,15 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         return arrays
 
     def get_state(self) -> dict[str, Any]:
-        """The robot's own state: joint state, base pose, control mode and controller state."""
+        """The robot's own state: joint state, base pose, control mode, controller state
+        and drive targets."""
         return {
             "qpos": self.qpos,
             "qvel": self.qvel,
             "base_pose": self.base_pose,
             "control_mode": self.control_mode,
             "controller": self.controller.get_state(),
+            "drives": self.drives.get_target_state(),
         }
 
     def set_state(self, state: Mapping[str, Any]) -> None:
@@ -408,9 +410,12 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         checked = self.state.check_state(state, where)
         mode = state["control_mode"]
         self.controller_for(mode, where).check_state(state["controller"], where)
+        targets = self.drives.check_target_state(state["drives"], where) if "drives" in state else None
         self.set_control_mode(mode)
         self.state.write_state(*checked)
         self.controller.set_state(state["controller"])
+        if targets is not None:  # joints no action writes (held legs) keep theirs
+            self.drives.set_target_state(targets)
         self.drives.write(self.world.ctrl)
 
     # ------------------------------------------------------------------ part helpers

@@ -126,6 +126,9 @@ class RobotEnv(gym.Env[Any, Any]):
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": DEFAULT_CONTROL_FREQ}
     default_max_episode_steps: ClassVar[int | None] = 200
+    #: Names of the task's per-episode arrays (``(num_envs, ...)``, drawn at reset: a
+    #: goal), saved and restored by :meth:`get_state` / :meth:`set_state`.
+    episode_state: ClassVar[tuple[str, ...]] = ()
 
     def __init__(
         self,
@@ -485,13 +488,65 @@ class RobotEnv(gym.Env[Any, Any]):
             agent.set_action(act)
 
     def get_state(self) -> dict[str, Any]:
-        """Exact state (physics, controllers, episode step counts) for :meth:`set_state`."""
+        """Exact state for :meth:`set_state`: the scene's (physics, sensors, controllers,
+        drive targets), the episode step counts, the task's per-episode arrays
+        (:attr:`episode_state`: its goals) and each env's random stream (the draws of
+        its next resets)."""
         self._check_open(f"{type(self).__name__}.get_state")
-        return {**self.scene.get_state(), "elapsed_steps": self.elapsed_steps.copy()}
+        return {
+            **self.scene.get_state(),
+            "elapsed_steps": self.elapsed_steps.copy(),
+            "episode": {name: np.array(getattr(self, name), dtype=np.float64) for name in self.episode_state},
+            "rng": [None if rng is None else rng.bit_generator.state for rng in self._env_rngs],
+        }
+
+    def _check_episode_state(self, state: Any, where: str) -> dict[str, FloatArray]:
+        """Validate :meth:`get_state`'s ``episode`` dict: every name of
+        :attr:`episode_state`, each an array of the current one's shape, finite."""
+        if not isinstance(state, Mapping) or sorted(state) != sorted(self.episode_state):
+            raise StateError(
+                f"{where}: expected 'episode' to be a dict with keys {list(self.episode_state)}, got {state!r:.80}."
+            )
+        checked = {}
+        for name in self.episode_state:
+            shape = np.shape(getattr(self, name))
+            try:
+                array = np.array(state[name], dtype=np.float64)
+            except (TypeError, ValueError):
+                array = np.full(1, np.nan)
+            if array.shape != shape or not np.all(np.isfinite(array)):
+                raise StateError(
+                    f"{where}: expected episode {name!r} as finite numbers of shape {shape}, got {state[name]!r:.80}."
+                )
+            checked[name] = array
+        return checked
+
+    def _check_rng_state(self, state: Any, where: str) -> list[np.random.Generator | None]:
+        """:meth:`get_state`'s ``rng`` list (``None`` or a bit generator's state per env)
+        as generators, made without touching the env's own."""
+        if not isinstance(state, Sequence) or isinstance(state, str) or len(state) != self.num_envs:
+            raise StateError(
+                f"{where}: expected 'rng' to be a list of {self.num_envs} random states, got {state!r:.80}."
+            )
+        out: list[np.random.Generator | None] = []
+        for env, entry in enumerate(state):
+            if entry is None:
+                out.append(None)
+                continue
+            try:
+                bit_generator = getattr(np.random, str(entry["bit_generator"]))()
+                bit_generator.state = entry
+            except Exception:  # a malformed state: whatever NumPy raises
+                raise StateError(
+                    f"{where}: expected rng[{env}] to be None or a NumPy bit generator's state, got {entry!r:.80}."
+                ) from None
+            out.append(np.random.Generator(bit_generator))
+        return out
 
     def set_state(self, state: Mapping[str, Any]) -> None:
-        """Restore :meth:`get_state`; continuing with the same actions is bit-identical.
-        Everything is checked before anything is written."""
+        """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
+        through later resets too (an older state without the task's arrays or the random
+        streams restores the rest). Everything is checked before anything is written."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         steps = None
@@ -510,9 +565,20 @@ class RobotEnv(gym.Env[Any, Any]):
                     f"{where}: expected elapsed_steps as {self.num_envs} whole numbers >= 0, got {state['elapsed_steps']!r}."
                 )
             steps = raw.astype(np.int64)
+        episode = (
+            self._check_episode_state(state["episode"], where)
+            if isinstance(state, Mapping) and "episode" in state
+            else None
+        )
+        rngs = self._check_rng_state(state["rng"], where) if isinstance(state, Mapping) and "rng" in state else None
         self.scene.set_state(state)
         if steps is not None:
             self.elapsed_steps = steps
+        if episode is not None:
+            for name, array in episode.items():
+                getattr(self, name)[...] = array
+        if rngs is not None:
+            self._env_rngs = rngs
 
     def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a

@@ -311,13 +311,22 @@ class Scene:
     def get_state(self) -> dict[str, Any]:
         """Everything for a bit-identical continuation: physics state ``(num_envs, n)``
         (MuJoCo's integration state), the island-sleep counters ``(num_envs, ntree)``
-        (``sleep``; an older state without them restores the rest) plus each robot's
-        control mode and controller state."""
+        (``sleep``), the sensor readings ``(num_envs, nsensordata)`` (``sensors``: what
+        the last step measured; an older state without these restores the rest) plus
+        each robot's control mode, controller state and drive targets."""
         self._check_open("Scene.get_state")
         return {
             "physics": self.world.get_state(),
             "sleep": self.world.get_sleep_state(),
-            "agents": [{"control_mode": a.control_mode, "controller": a.controller.get_state()} for a in self.agents],
+            "sensors": self.world.get_sensor_state(),
+            "agents": [
+                {
+                    "control_mode": a.control_mode,
+                    "controller": a.controller.get_state(),
+                    "drives": a.drives.get_target_state(),
+                }
+                for a in self.agents
+            ],
         }
 
     def set_state(self, state: Mapping[str, Any]) -> None:
@@ -327,6 +336,7 @@ class Scene:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
         physics = self.world.check_state(state["physics"], "Scene.set_state")
         sleep = self.world.check_sleep_state(state["sleep"], "Scene.set_state") if "sleep" in state else None
+        sensors = self.world.check_sensor_state(state["sensors"], "Scene.set_state") if "sensors" in state else None
         agent_states = state["agents"]
         if not isinstance(agent_states, Sequence) or isinstance(agent_states, str):
             raise StateError(
@@ -347,10 +357,18 @@ class Scene:
                 )
             mode = agent_state["control_mode"]
             agent.controller_for(mode, "Scene.set_state").check_state(agent_state["controller"], "Scene.set_state")
-        for agent, agent_state in zip(self.agents, agent_states, strict=True):
+        drive_targets = [
+            agent.drives.check_target_state(agent_state["drives"], f"Scene.set_state (agents[{k}])")
+            if "drives" in agent_state
+            else None
+            for k, (agent, agent_state) in enumerate(zip(self.agents, agent_states, strict=True))
+        ]
+        for agent, agent_state, targets in zip(self.agents, agent_states, drive_targets, strict=True):
             agent.set_control_mode(agent_state["control_mode"])
             agent.controller.set_state(agent_state["controller"])
-        self.world.set_state(physics, sleep)
+            if targets is not None:  # joints no action writes (held legs) keep theirs
+                agent.drives.set_target_state(targets)
+        self.world.set_state(physics, sleep, sensors)
 
     def _check_open(self, where: str) -> None:
         if self.world.closed:

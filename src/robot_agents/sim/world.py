@@ -483,11 +483,32 @@ class BatchedWorld:
         for k, name in enumerate(SLEEP_COUNTS):
             setattr(data, name, int(row[start + k]))
 
-    def set_state(self, state: npt.ArrayLike, sleep: npt.ArrayLike | None = None) -> None:
-        """Restore :meth:`get_state` (and, when given, :meth:`get_sleep_state`); the
-        continuation is bit-identical."""
+    def get_sensor_state(self) -> FloatArray:
+        """Each env's sensor readings, ``(num_envs, nsensordata)``: what the last step
+        measured (a step ends with poses updated, not sensors), which the forward pass
+        of a restore would recompute at the restored state instead."""
+        return np.array([data.sensordata for data in self.datas], dtype=np.float64).reshape(self.num_envs, -1)
+
+    def check_sensor_state(self, state: npt.ArrayLike, where: str = "BatchedWorld.set_state") -> FloatArray:
+        """Validate :meth:`get_sensor_state`'s array (shape, finite) without applying it."""
+        try:
+            array = np.array(state, dtype=np.float64)
+        except (TypeError, ValueError):
+            array = np.full(1, np.nan)
+        expected = (self.num_envs, int(self.model.nsensordata))
+        if array.shape != expected or not np.all(np.isfinite(array)):
+            raise StateError(f"{where}: expected finite sensor readings of shape {expected}, got {state!r:.80}.")
+        return array
+
+    def set_state(
+        self, state: npt.ArrayLike, sleep: npt.ArrayLike | None = None, sensors: npt.ArrayLike | None = None
+    ) -> None:
+        """Restore :meth:`get_state` (and, when given, :meth:`get_sleep_state` and
+        :meth:`get_sensor_state`); the continuation is bit-identical, and so are the
+        observations (sensor readings as saved)."""
         array = self.check_state(state)
         counters = None if sleep is None else self.check_sleep_state(sleep)
+        readings = None if sensors is None else self.check_sensor_state(sensors)
         for i, data in enumerate(self.datas):
             mujoco.mj_setState(self.model, data, array[i], STATE_SPEC)
             self.ctrl[i] = data.ctrl
@@ -498,6 +519,10 @@ class BatchedWorld:
             # enabled there is nothing asleep to restore)
             for data, row in zip(self.datas, counters, strict=True):
                 self._set_sleep_state(data, row)
+        if readings is not None:
+            for data, row in zip(self.datas, readings, strict=True):
+                data.sensordata[:] = row
+            self._cache.clear()
 
     def close(self) -> None:
         """Stop the stepping threads; the world is :attr:`closed` from then on."""

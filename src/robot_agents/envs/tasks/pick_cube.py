@@ -61,6 +61,7 @@ class PickCubeEnv(TableTopEnv):
     """Pick the cube and hold it still at the goal (see the module doc)."""
 
     default_max_episode_steps = 100
+    episode_state = ("goal_pos",)
     max_reward = 5.0
 
     def _check_robot(self, cls: type[Agent]) -> None:

@@ -46,6 +46,7 @@ class PushCubeEnv(TableTopEnv):
     """Push the cube into the goal disc (see the module doc)."""
 
     default_max_episode_steps = 100
+    episode_state = ("goal_pos",)
     max_reward = 3.0
 
     def _check_robot(self, cls: type[Agent]) -> None:

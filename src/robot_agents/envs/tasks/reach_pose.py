@@ -55,6 +55,7 @@ class ReachPoseEnv(TableTopEnv):
     """Bring the tool to the goal pose (see the module doc)."""
 
     default_max_episode_steps = 100
+    episode_state = ("goal_pose",)
 
     def _check_robot(self, cls: type[Agent]) -> None:
         if not any(isinstance(p, Arm) and p.end_effectors for p in cls.check().parts):

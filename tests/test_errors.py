@@ -644,3 +644,49 @@ def test_too_many_envs_is_a_clean_error(monkeypatch: pytest.MonkeyPatch) -> None
     message = str(caught.value)
     assert "num_envs=1000000000" in message and "MiB each" in message and "3 were allocated" in message
     assert "Could not allocate memory" in message
+
+
+# -- found by the code review (2026-11-28) ------------------------------------------------------
+@pytest.mark.parametrize(
+    ("make", "fragment"),
+    [
+        (lambda: ra.IKConfig(damping="x"), "damping"),  # type: ignore[arg-type]
+        (lambda: ra.IKConfig(max_iterations=True), "max_iterations"),
+        (lambda: ra.IKConfig(null_space_gain=2.0), "null_space_gain"),
+        (lambda: ra.Attachment(ra.get_agent("panda"), at="tip", pos=None), "pos"),  # type: ignore[arg-type]
+        (lambda: ra.Attachment(ra.get_agent("panda"), at="tip", pos=("a", 0, 0)), "pos"),  # type: ignore[arg-type]
+    ],
+)
+def test_public_configs_raise_library_errors(make: Callable[[], object], fragment: str) -> None:
+    """IKConfig and Attachment raised raw TypeError / ValueError for these."""
+    with pytest.raises(ra.ConfigError, match=fragment):
+        make()
+
+
+def test_helpers_raise_library_errors() -> None:
+    from robot_agents.actuators import gains_from_inertia
+    from robot_agents.kinematics.rotations import matrix_to_quat
+
+    scene = ra.Scene("panda")
+    with pytest.raises(ra.ConfigError, match="qpos"):
+        gains_from_inertia(scene.model, ["panda-0/panda_joint1"], qpos=[1.0, 2.0])
+    with pytest.raises(ra.ConfigError, match="bandwidth"):
+        gains_from_inertia(scene.model, ["panda-0/panda_joint1"], bandwidth_hz=True)  # type: ignore[arg-type]
+    with pytest.raises(ra.ConfigError, match="3, 3"):
+        matrix_to_quat(np.eye(4))
+    scene.close()
+
+
+def test_world_writes_refuse_env_ids_out_of_range() -> None:
+    """A negative id indexed the env list from its end: env 1 was written."""
+    scene = ra.Scene("panda", num_envs=2)
+    scene.reset()
+    world = scene.world
+    before = world.get_state()
+    adr = scene.agents[0].qpos_adr[:1]
+    with pytest.raises(ra.StateError, match="env ids"):
+        world.write_joint_state([-1], adr, np.zeros((1, 1)), scene.agents[0].dof_adr[:1], np.zeros((1, 1)))
+    with pytest.raises(ra.StateError, match="env ids"):
+        world.sync_ctrl([2])
+    np.testing.assert_array_equal(world.get_state(), before)
+    scene.close()

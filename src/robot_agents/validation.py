@@ -38,6 +38,28 @@ def check_whole(
     return int(value)
 
 
+def check_real(
+    value: Any,
+    name: str,
+    where: str,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    error: type[RobotAgentsError] = ConfigError,
+) -> float:
+    """``value`` as a ``float`` if it is a finite real number (not a ``bool``) within
+    ``[minimum, maximum]`` (either bound may be left open)."""
+    real = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+    if (
+        not real
+        or not np.isfinite(value)
+        or (minimum is not None and value < minimum)
+        or (maximum is not None and value > maximum)
+    ):
+        bounds = f" in [{minimum if minimum is not None else '-inf'}, {maximum if maximum is not None else 'inf'}]"
+        raise error(f"{where}: expected {name} to be a finite number{bounds}, got {value!r}.")
+    return float(value)
+
+
 def check_env_ids(env_ids: Any, num_envs: int, where: str, error: type[RobotAgentsError] = StateError) -> IntArray:
     """``env_ids`` (``None``: all) as distinct ints in ``[0, num_envs)``, ``int64``."""
     if env_ids is None:

@@ -11,6 +11,7 @@ from robot_agents.actuators.config import (
     VelocityActuator,
 )
 from robot_agents.actuators.drives import DriveOverride, Drives, JointTargets
+from robot_agents.actuators.gains import SuggestedGains, gains_from_inertia
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 
 __all__ = [
@@ -25,5 +26,7 @@ __all__ = [
     "MotorActuator",
     "PDActuator",
     "PIDActuator",
+    "SuggestedGains",
     "VelocityActuator",
+    "gains_from_inertia",
 ]

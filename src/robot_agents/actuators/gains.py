@@ -44,6 +44,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.validation import check_real
 
 #: Bandwidth (Hz) and damping ratio of derived gains.
 DEFAULT_BANDWIDTH_HZ = 10.0
@@ -88,13 +89,15 @@ def gains_from_inertia(
 ) -> SuggestedGains:
     """Critically damped PD gains for hinge and slide ``joints`` of ``model`` at
     configuration ``qpos`` (``(nq,)``; default: the model's reference pose)."""
-    if not (isinstance(bandwidth_hz, (int, float)) and math.isfinite(bandwidth_hz) and bandwidth_hz > 0):
+    if check_real(bandwidth_hz, "bandwidth_hz", "gains_from_inertia", minimum=0.0) <= 0.0:
         raise ConfigError(f"gains_from_inertia: expected a bandwidth > 0 Hz, got {bandwidth_hz!r}.")
-    if not (isinstance(damping_ratio, (int, float)) and math.isfinite(damping_ratio) and damping_ratio >= 0):
-        raise ConfigError(f"gains_from_inertia: expected a damping ratio >= 0, got {damping_ratio!r}.")
+    check_real(damping_ratio, "damping_ratio", "gains_from_inertia", minimum=0.0)
     data = mujoco.MjData(model)
     if qpos is not None:
-        data.qpos[:] = np.asarray(qpos, dtype=np.float64).reshape(model.nq)
+        try:
+            data.qpos[:] = np.asarray(qpos, dtype=np.float64).reshape(model.nq)
+        except (TypeError, ValueError):
+            raise ConfigError(f"gains_from_inertia: expected qpos as {model.nq} numbers, got {qpos!r:.80}.") from None
     mujoco.mj_forward(model, data)
     inertia_matrix = np.zeros((model.nv, model.nv))
     try:

@@ -196,8 +196,8 @@ class RobotIndex:
         by_id = {j.id: j.name for j in self.joints}
         out = []
         for eq in range(model.neq):
-            if int(model.eq_type[eq]) != int(mujoco.mjtEq.mjEQ_JOINT):
-                continue
+            if int(model.eq_type[eq]) != int(mujoco.mjtEq.mjEQ_JOINT) or not model.eq_active0[eq]:
+                continue  # (an inactive equality couples nothing, as IK and the derived gripper read it)
             follower, leader = int(model.eq_obj1id[eq]), int(model.eq_obj2id[eq])
             if follower in by_id and leader in by_id:
                 out.append(Coupling(by_id[follower], by_id[leader], tuple(float(c) for c in model.eq_data[eq, :5])))

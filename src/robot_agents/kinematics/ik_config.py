@@ -10,6 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.validation import check_real, check_whole
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -52,14 +53,11 @@ class IKConfig:
             "max_task_step": self.max_task_step,
         }
         for name, value in positive.items():
-            if not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"IKConfig.{name}: expected a finite value > 0, got {value!r}.")
-        if not (math.isfinite(self.damping) and self.damping >= 0):
-            raise ConfigError(f"IKConfig.damping: expected a finite value >= 0, got {self.damping!r}.")
-        if not (math.isfinite(self.null_space_gain) and 0 <= self.null_space_gain <= 1):
-            raise ConfigError(f"IKConfig.null_space_gain: expected a value in [0, 1], got {self.null_space_gain!r}.")
-        if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):
-            raise ConfigError(f"IKConfig.max_iterations: expected an int >= 1, got {self.max_iterations!r}.")
+            if check_real(value, name, "IKConfig", minimum=0.0) <= 0.0:
+                raise ConfigError(f"IKConfig: expected {name} to be a finite value > 0, got {value!r}.")
+        check_real(self.damping, "damping", "IKConfig", minimum=0.0)
+        check_real(self.null_space_gain, "null_space_gain", "IKConfig", minimum=0.0, maximum=1.0)
+        check_whole(self.max_iterations, "max_iterations", "IKConfig", minimum=1)
 
 
 @dataclass(frozen=True)

@@ -194,7 +194,7 @@ def matrix_to_quat(matrix: npt.ArrayLike) -> FloatArray:
     one ``mju_mat2Quat`` per matrix."""
     matrices = np.asarray(matrix, dtype=np.float64)
     if matrices.shape[-2:] != (3, 3):
-        raise ValueError(f"matrix_to_quat: expected rotation matrices (..., 3, 3), got shape {matrices.shape}.")
+        raise ConfigError(f"matrix_to_quat: expected rotation matrices (..., 3, 3), got shape {matrices.shape}.")
     flat = np.ascontiguousarray(matrices.reshape(-1, 9))
     out = np.empty((flat.shape[0], 4))
     for row, quat in zip(flat, out, strict=True):

@@ -46,10 +46,16 @@ class Attachment:
             raise ConfigError(
                 f"Attachment({self.piece.__name__}): expected 'at' to name a body or site, got {self.at!r}."
             )
-        pos = tuple(float(v) for v in self.pos)
-        quat = tuple(float(v) for v in self.quat)
+        try:
+            pos = tuple(float(v) for v in self.pos)
+            quat = tuple(float(v) for v in self.quat)
+        except (TypeError, ValueError):
+            pos, quat = (), ()
         if len(pos) != 3 or len(quat) != 4 or not all(math.isfinite(v) for v in pos + quat):
-            raise ConfigError(f"Attachment({self.piece.__name__}): expected pos (3) and quat (4) finite numbers.")
+            raise ConfigError(
+                f"Attachment({self.piece.__name__}): expected pos (3) and quat (4) finite numbers, got "
+                f"pos={self.pos!r}, quat={self.quat!r}."
+            )
         norm = math.sqrt(sum(q * q for q in quat))
         if norm < 1e-9:
             raise ConfigError(f"Attachment({self.piece.__name__}): expected a unit quaternion, got {self.quat!r}.")

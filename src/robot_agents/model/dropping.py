@@ -25,6 +25,7 @@ MuJoCo re-maps ``qpos``, ``qvel``, ``mpos`` and ``mquat`` when a body is deleted
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -229,7 +230,13 @@ def _fixed_poses(spec: mujoco.MjSpec, gone_bodies: set[str]) -> dict[tuple[str, 
         return {}
     try:
         model = spec.copy().compile()
-    except Exception:  # the whole file does not compile: such cameras are dropped instead
+    except ValueError as err:  # MuJoCo's compile error: such cameras and lights are dropped instead
+        warnings.warn(
+            f"cameras / lights {[n for _, n in wanted]} target dropped bodies and the whole file does not compile "
+            f"({str(err).splitlines()[0]}): they are dropped with them.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
         return {}
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)

@@ -395,7 +395,7 @@ class BatchedWorld:
             _derive(model, data, forward)
             self._cache.clear()
             return
-        ids = np.asarray(env_ids, dtype=np.int64).reshape(-1).tolist()
+        ids = self._ids(env_ids, "BatchedWorld.write_joint_state")
         datas, ctrl = self.datas, self.ctrl
         data_qpos, data_qvel = self._env_arrays("qpos"), self._env_arrays("qvel")
         warmstarts, data_ctrl = self._env_arrays("qacc_warmstart"), self._env_arrays("ctrl")
@@ -407,10 +407,18 @@ class BatchedWorld:
             _derive(model, datas[env], forward)
         self._cache.clear()
 
+    def _ids(self, env_ids: npt.ArrayLike, where: str) -> list[int]:
+        """``env_ids`` as a list of ints, each in ``[0, num_envs)`` (a negative id would
+        index the env list from its end): cheap, for the per-step writes' batched path."""
+        ids: list[int] = np.asarray(env_ids, dtype=np.int64).reshape(-1).tolist()
+        if ids and (min(ids) < 0 or max(ids) >= self.num_envs):
+            raise StateError(f"{where}: expected env ids in [0, {self.num_envs}), got {ids}.")
+        return ids
+
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
         """Reset ``env_ids`` to one integration ``state`` ``(state_size,)`` (MuJoCo's
         warning counters are cleared too)."""
-        for env in np.asarray(env_ids, dtype=np.int64).reshape(-1):
+        for env in self._ids(env_ids, "BatchedWorld.reset_envs"):
             data = self.datas[env]
             mujoco.mj_resetData(self.model, data)
             mujoco.mj_setState(self.model, data, state, STATE_SPEC)
@@ -420,7 +428,7 @@ class BatchedWorld:
     def sync_ctrl(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Copy the ``ctrl`` buffer into the envs' controls now (before the next step
         would), e.g. so that a forward pass sees the actuator forces."""
-        ids = range(self.num_envs) if env_ids is None else np.asarray(env_ids, dtype=np.int64).reshape(-1)
+        ids = range(self.num_envs) if env_ids is None else self._ids(env_ids, "BatchedWorld.sync_ctrl")
         for env in ids:
             self.datas[env].ctrl[:] = self.ctrl[env]
             mujoco.mj_forward(self.model, self.datas[env])

@@ -32,8 +32,15 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
+from robot_agents.sim.start_contacts import StartContacts
 
 FloatArray = npt.NDArray[np.float64]
+
+#: Reset noise may start a robot no deeper in itself or in something fixed than its
+#: noiseless reset pose does, plus this (m): MuJoCo's contacts hold at rest within it.
+START_PENETRATION = 1e-3
+#: Draws of an env's reset noise before the shallowest is taken.
+NOISE_DRAWS = 20
 
 
 def task_keywords(cls: type[RobotEnv]) -> list[str]:
@@ -193,6 +200,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.max_episode_steps = self.default_max_episode_steps
         self.set_max_episode_steps(max_episode_steps)
         self.robot_init_qpos_noise = float(robot_init_qpos_noise)
+        self._start_contacts: StartContacts | None = None
         if not isinstance(raise_on_instability, bool):
             raise ConfigError(
                 f"{type(self).__name__}: expected raise_on_instability to be a bool, got {raise_on_instability!r}."
@@ -357,15 +365,48 @@ class RobotEnv(gym.Env[Any, Any]):
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
             for agent in self.agents:
-                rows = [
-                    agent.perturbed_qpos(ids[k : k + 1], self.robot_init_qpos_noise, self.env_rng(int(env)))
-                    for k, env in enumerate(ids)
-                ]
+                rows = [self._noisy_start(agent, ids[k : k + 1], int(env)) for k, env in enumerate(ids)]
                 agent.reset(qpos=np.concatenate(rows), env_ids=ids)
         self._initialize_episode(ids)
         self.elapsed_steps[ids] = 0
         self._render_camera = None
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
+
+    @property
+    def start_contacts(self) -> StartContacts:
+        """Penetration checks of configurations before they are simulated (made once)."""
+        if self._start_contacts is None:
+            self._start_contacts = StartContacts(self.scene.model)
+        return self._start_contacts
+
+    def robot_geoms(self, agent: Agent | None = None) -> npt.NDArray[np.bool_]:
+        """Geoms of ``agent``'s bodies (default: of every robot), a ``(ngeom,)`` mask."""
+        contacts = self.start_contacts
+        agents = self.agents if agent is None else [agent]
+        return contacts.body_geoms([b for a in agents for b in a.index.subtree_bodies(a.index.root_body_id)])
+
+    def _noisy_start(self, agent: Agent, env_ids: npt.NDArray[np.int64], env: int) -> FloatArray:
+        """``agent``'s reset pose in ``env`` plus the reset noise, ``(1, nq)``: drawn from
+        the env's stream again (up to :data:`NOISE_DRAWS` times, then the shallowest
+        draw) while it would start a link deeper in the robot itself or in something
+        fixed (the floor, a table) than the noiseless pose does, by more than
+        :data:`START_PENETRATION` (the SO-100's and Koch's jaws rest just above the table:
+        0.02 rad of noise put one 8 mm into it)."""
+        contacts = self.start_contacts
+        robot = self.robot_geoms(agent)
+        others = robot | contacts.static_geoms
+        qpos = self.scene.world.datas[env].qpos.copy()
+        allowed = contacts.deepest(qpos, robot, others) + START_PENETRATION
+        best: tuple[float, FloatArray] | None = None
+        for _ in range(NOISE_DRAWS):
+            row = agent.perturbed_qpos(env_ids, self.robot_init_qpos_noise, self.env_rng(env))
+            qpos[agent.qpos_adr] = row[0]
+            depth = contacts.deepest(qpos, robot, others)
+            if depth <= allowed:
+                return row
+            if best is None or depth < best[0]:
+                best = (depth, row)
+        return best[1] if best is not None else agent.state.qpos[env_ids]
 
     def _check_seed(self, seed: Any, where: str) -> list[int | None]:
         """The seed of each env (``None``: keep its stream)."""

@@ -32,7 +32,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.markers import Marker, goal_sphere
 from robot_agents.envs.tasks.layout import FloatArray
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_cube_pose
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Gripper
@@ -82,9 +82,8 @@ class PickCubeEnv(TableTopEnv):
         poses = np.empty((len(env_ids), 7))
         for row, env in enumerate(env_ids):
             rng = self.env_rng(int(env))
-            cube = np.array([*rng.uniform(-s, s, 2), h + half])
-            poses[row, :3] = cube
-            poses[row, 3:] = random_yaw_quats(rng, 1)[0]
+            poses[row] = self.clear_pose("cube", int(env), lambda rng: random_cube_pose(rng, layout))
+            cube = poses[row, :3]
             while True:
                 goal = np.array([*rng.uniform(-s, s, 2), h + half + rng.uniform(0.0, GOAL_HEIGHT * layout.reach)])
                 if np.linalg.norm(goal - cube) > 2.0 * self.goal_threshold:

@@ -30,7 +30,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.markers import Marker, goal_disc
 from robot_agents.envs.tasks.layout import FloatArray
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_cube_pose
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm
@@ -63,13 +63,12 @@ class PushCubeEnv(TableTopEnv):
 
     def _initialize_episode(self, env_ids: npt.NDArray[np.int64]) -> None:
         layout = self.layout
-        s, half, h, r = layout.spawn_half_size, layout.cube_half_size, layout.table_height, layout.reach
+        h, r = layout.table_height, layout.reach
         poses = np.empty((len(env_ids), 7))
         for row, env in enumerate(env_ids):
             rng = self.env_rng(int(env))
-            cube = np.array([*rng.uniform(-s, s, 2), h + half])
-            poses[row, :3] = cube
-            poses[row, 3:] = random_yaw_quats(rng, 1)[0]
+            poses[row] = self.clear_pose("cube", int(env), lambda rng: random_cube_pose(rng, layout))
+            cube = poses[row, :3]
             offset = np.array([rng.uniform(*GOAL_AHEAD) * r, rng.uniform(-GOAL_ASIDE, GOAL_ASIDE) * r, 0.0])
             self.goal_pos[env] = np.array([cube[0], cube[1], h]) + offset
         self.place_body("cube", poses, env_ids)

@@ -5,7 +5,7 @@ camera placed by the robot's layout (:mod:`robot_agents.envs.tasks.layout`), and
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -26,6 +26,9 @@ from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sim.scene import RobotSpecifier
+
+#: Draws of a prop's start pose before its spawn region counts as covered by the robot.
+PLACEMENT_DRAWS = 100
 
 IntArray = npt.NDArray[np.int64]
 
@@ -182,6 +185,26 @@ class TableTopEnv(RobotEnv):
         _, qpos_adr, qvel_adr = self.free_body(name)
         self.scene.world.write_joint_state(ids, qpos_adr, rows, qvel_adr, np.zeros((len(ids), 6)))
 
+    def clear_pose(self, name: str, env: int, draw: Callable[[np.random.Generator], FloatArray]) -> FloatArray:
+        """A pose ``(7,)`` for free prop ``name`` in ``env`` from ``draw(rng)`` (the env's
+        random stream), drawn again while the prop would start inside a robot at its
+        reset pose (a cube under the Koch's resting jaw), up to :data:`PLACEMENT_DRAWS`
+        times."""
+        contacts = self.start_contacts
+        body, qpos_adr, _ = self.free_body(name)
+        prop, robots = contacts.body_geoms([body]), self.robot_geoms()
+        qpos = self.scene.world.datas[env].qpos.copy()
+        rng = self.env_rng(env)
+        for _ in range(PLACEMENT_DRAWS):
+            pose = draw(rng)
+            qpos[qpos_adr] = pose
+            if contacts.deepest(qpos, prop, robots) == 0.0:
+                return pose
+        raise ConfigError(
+            f"{type(self).__name__}: no place for {name!r} clear of the robot in env {env} after {PLACEMENT_DRAWS} "
+            "draws over the spawn region; the robot's reset pose covers it."
+        )
+
     def body_pose(self, name: str) -> FloatArray:
         """World pose ``(num_envs, 7)`` of a scene body."""
         return self.scene.body_pose(name)
@@ -194,6 +217,13 @@ class TableTopEnv(RobotEnv):
         if self.reward_mode == "dense":
             return dense
         return dense / self.max_reward
+
+
+def random_cube_pose(rng: np.random.Generator, layout: TableTopLayout) -> FloatArray:
+    """A cube resting on the table ``(7,)``: its centre uniform within the spawn square
+    about the workspace centre, turned about z (:func:`random_yaw_quats`)."""
+    s, half = layout.spawn_half_size, layout.cube_half_size
+    return np.array([*rng.uniform(-s, s, 2), layout.table_height + half, *random_yaw_quats(rng, 1)[0]])
 
 
 def random_yaw_quats(rng: np.random.Generator, count: int) -> FloatArray:

@@ -60,6 +60,20 @@ def check_real(
     return float(value)
 
 
+def check_array(
+    value: Any, shape: tuple[int, ...], what: str, where: str, error: type[RobotAgentsError] = StateError
+) -> npt.NDArray[np.float64]:
+    """``value`` as a float64 array (a copy) if it has ``shape`` and only finite values;
+    else ``error`` naming ``where`` and ``what`` it should be."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        array = np.full(1, np.nan)
+    if array.shape != shape or not np.all(np.isfinite(array)):
+        raise error(f"{where}: expected {what} as finite numbers of shape {shape}, got {value!r:.80}.")
+    return array
+
+
 def check_env_ids(env_ids: Any, num_envs: int, where: str, error: type[RobotAgentsError] = StateError) -> IntArray:
     """``env_ids`` (``None``: all) as distinct ints in ``[0, num_envs)``, ``int64``."""
     if env_ids is None:

@@ -29,6 +29,7 @@ import numpy.typing as npt
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.errors import ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.indexing import index_selector
+from robot_agents.validation import check_array
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -256,18 +257,10 @@ class Drives:
             raise StateError(
                 f"{where}: expected drive targets as a dict with position, velocity, effort; got {state!r:.80}."
             )
-        arrays = []
-        for key in ("position", "velocity", "effort"):
-            try:
-                array = np.array(state[key], dtype=np.float64)
-            except (TypeError, ValueError):
-                array = np.full(1, np.nan)
-            if array.shape != shape or not np.all(np.isfinite(array)):
-                raise StateError(
-                    f"{where}: expected finite drive {key} targets of shape {shape}, got {state[key]!r:.80}."
-                )
-            arrays.append(array)
-        return arrays[0], arrays[1], arrays[2]
+        position, velocity, effort = (
+            check_array(state[key], shape, f"drive {key} targets", where) for key in ("position", "velocity", "effort")
+        )
+        return position, velocity, effort
 
     def set_target_state(self, checked: tuple[FloatArray, FloatArray, FloatArray]) -> None:
         """Restore what :meth:`check_target_state` returned."""

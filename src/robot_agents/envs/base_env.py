@@ -33,6 +33,7 @@ from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
 from robot_agents.sim.start_contacts import StartContacts
+from robot_agents.validation import check_array
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -548,19 +549,10 @@ class RobotEnv(gym.Env[Any, Any]):
             raise StateError(
                 f"{where}: expected 'episode' to be a dict with keys {list(self.episode_state)}, got {state!r:.80}."
             )
-        checked = {}
-        for name in self.episode_state:
-            shape = np.shape(getattr(self, name))
-            try:
-                array = np.array(state[name], dtype=np.float64)
-            except (TypeError, ValueError):
-                array = np.full(1, np.nan)
-            if array.shape != shape or not np.all(np.isfinite(array)):
-                raise StateError(
-                    f"{where}: expected episode {name!r} as finite numbers of shape {shape}, got {state[name]!r:.80}."
-                )
-            checked[name] = array
-        return checked
+        return {
+            name: check_array(state[name], np.shape(getattr(self, name)), f"episode {name!r}", where)
+            for name in self.episode_state
+        }
 
     def _check_rng_state(self, state: Any, where: str) -> list[np.random.Generator | None]:
         """:meth:`get_state`'s ``rng`` list (``None`` or a bit generator's state per env)

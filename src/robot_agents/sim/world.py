@@ -25,7 +25,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.limits import MAX_SPEED, check_speeds
 from robot_agents.sim.render_mirror import RenderMirror
-from robot_agents.validation import is_whole
+from robot_agents.validation import check_array, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -499,14 +499,7 @@ class BatchedWorld:
 
     def check_sensor_state(self, state: npt.ArrayLike, where: str = "BatchedWorld.set_state") -> FloatArray:
         """Validate :meth:`get_sensor_state`'s array (shape, finite) without applying it."""
-        try:
-            array = np.array(state, dtype=np.float64)
-        except (TypeError, ValueError):
-            array = np.full(1, np.nan)
-        expected = (self.num_envs, int(self.model.nsensordata))
-        if array.shape != expected or not np.all(np.isfinite(array)):
-            raise StateError(f"{where}: expected finite sensor readings of shape {expected}, got {state!r:.80}.")
-        return array
+        return check_array(state, (self.num_envs, int(self.model.nsensordata)), "sensor readings", where)
 
     def set_state(
         self, state: npt.ArrayLike, sleep: npt.ArrayLike | None = None, sensors: npt.ArrayLike | None = None

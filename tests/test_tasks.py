@@ -220,6 +220,104 @@ def test_reach_goals_are_reachable_poses_away_from_the_table() -> None:
     assert env.with_orientation and not ra.make_env("ReachPose-v1", robot_uids="so100").unwrapped.with_orientation
 
 
+# -- clear starts -------------------------------------------------------------------------------
+def deepest_contacts(env: Any) -> dict[tuple[str, str], float]:
+    """Deepest penetration (m) per body pair over every env right after a reset
+    (``mj_forward`` on a copy of each env's positions)."""
+    model = env.model
+    data = mujoco.MjData(model)
+    deepest: dict[tuple[str, str], float] = {}
+    for source in env.scene.world.physics_sources():
+        data.qpos[:] = source.qpos
+        if model.nmocap:
+            data.mocap_pos[:], data.mocap_quat[:] = source.mocap_pos, source.mocap_quat
+        mujoco.mj_forward(model, data)
+        for contact in data.contact[: data.ncon]:
+            a, b = sorted(model.body(int(model.geom_bodyid[g])).name for g in (contact.geom1, contact.geom2))
+            deepest[(a, b)] = max(deepest.get((a, b), 0.0), -float(contact.dist))
+    return deepest
+
+
+CLEAR_START_CASES = [(task, uid) for task in TASKS for uid in robots_for(task)] + [
+    ("MobilePickCube-v1", uid) for uid in MOBILE if _has_gripper(uid)
+]
+
+
+@pytest.mark.parametrize(("task", "uid"), CLEAR_START_CASES)
+def test_resets_start_clear_of_the_table_the_cube_and_the_robot_itself(task: str, uid: str) -> None:
+    """Right after 100 seeded resets (with the default reset noise) nothing in the scene
+    penetrates anything more than 1 mm: the robot's reset noise is drawn again where it
+    would put the robot into the table (the Koch's rest jaw hangs 15 mm over it), the
+    cube where it would overlap the robot at its reset pose (the Koch's cube is 22 mm
+    tall: about half of its spawn square lies under the jaw). Every robot each task takes."""
+    env = ra.make_env(task, robot_uids=uid, num_envs=100).unwrapped
+    env.reset(seed=0)
+    deep = {pair: round(depth * 1e3, 1) for pair, depth in deepest_contacts(env).items() if depth > 1e-3}
+    assert not deep, f"{task} {uid}: penetrations (mm) right after reset: {deep}"
+    env.close()
+
+
+@pytest.mark.parametrize("uid", ["anymal_c", "unitree_go2", "unitree_h1", "koch-v1.1"])
+def test_reset_noise_is_drawn_again_where_it_would_put_the_robot_into_the_floor(uid: str) -> None:
+    """Empty-v1 too (the rule is the base env's): legs that stand on the floor at the
+    keyframe, and the Koch's low jaw, are not pushed into it by the noise (up to 16 mm
+    before), and every env still gets noise of its own."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, num_envs=100).unwrapped
+    env.reset(seed=0)
+    deep = {pair: round(depth * 1e3, 1) for pair, depth in deepest_contacts(env).items() if depth > 1e-3}
+    assert not deep, f"{uid}: penetrations (mm) right after reset: {deep}"
+    qpos = env.agent.qpos
+    keyframe = env.agent.keyframe_qpos(env.agent.keyframe_names()[0])
+    assert len({tuple(row) for row in qpos}) == 100 and not np.any(np.all(qpos == keyframe, axis=1))
+    env.close()
+
+
+def test_redrawn_resets_keep_one_stream_per_env(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With draws made again (the Koch's cube under its jaw, its noise into the table),
+    env i of a batch seeded s still draws what a single env seeded s + i draws, and the
+    same seed gives the same episode."""
+    from robot_agents.envs.clearance import Clearance
+
+    rejected = {"cube": 0, "noise": 0}
+    body_clear, robots_clear = Clearance.body_clear_of_robots, Clearance.robots_clear
+
+    def counted_body(self: Clearance, *args: Any) -> bool:
+        clear = body_clear(self, *args)
+        rejected["cube"] += not clear
+        return clear
+
+    def counted_robots(self: Clearance, *args: Any) -> bool:
+        clear = robots_clear(self, *args)
+        rejected["noise"] += not clear
+        return clear
+
+    monkeypatch.setattr(Clearance, "body_clear_of_robots", counted_body)
+    monkeypatch.setattr(Clearance, "robots_clear", counted_robots)
+    batch = ra.make_env("PickCube-v1", robot_uids="koch-v1.1", num_envs=12).unwrapped
+    batch.reset(seed=3)
+    cube, goal, qpos = batch.body_pose("cube"), batch.goal_pos.copy(), batch.agent.qpos
+    assert rejected["cube"] > 0 and rejected["noise"] > 0  # the redraws happened
+    batch.reset(seed=3)
+    np.testing.assert_array_equal(batch.body_pose("cube"), cube)
+    np.testing.assert_array_equal(batch.agent.qpos, qpos)
+    single = ra.make_env("PickCube-v1", robot_uids="koch-v1.1").unwrapped
+    for i in range(12):
+        single.reset(seed=3 + i)
+        np.testing.assert_array_equal(single.body_pose("cube")[0], cube[i])
+        np.testing.assert_array_equal(single.goal_pos[0], goal[i])
+        np.testing.assert_array_equal(single.agent.qpos[0], qpos[i])
+
+
+def test_a_prop_drawn_only_inside_the_robot_raises() -> None:
+    env = ra.make_env("PickCube-v1", robot_uids="koch-v1.1", robot_init_qpos_noise=0.0).unwrapped
+    env.reset(seed=0)
+    jaw = env.data.xpos[env.model.body(f"{env.agent.prefix}fixed_jaw").id].copy()
+    with pytest.raises(ra.ConfigError, match=r"100 poses of 'cube' drawn in env 0 all overlap the robot"):
+        env.draw_clear_pose("cube", 0, lambda rng: [*jaw, 1.0, 0.0, 0.0, 0.0])
+    clear = env.draw_cube_pose(0)  # the spawn square has room
+    assert abs(clear[2] - env.layout.table_height - env.layout.cube_half_size) < 1e-12
+
+
 # -- success ------------------------------------------------------------------------------------
 def test_pick_cube_success_by_hand() -> None:
     env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=3, robot_init_qpos_noise=0.0).unwrapped
@@ -296,37 +394,6 @@ def test_rewards_finite_and_bounded_in_every_mode(task: str) -> None:
         env.close()
     with pytest.raises(ra.ConfigError, match="reward_mode"):
         ra.make_env(task, robot_uids="panda", reward_mode="shaped")
-
-
-def _start_penetrations(env: Any) -> list[tuple[int, str, str, float]]:
-    """Contacts deeper than 1 mm in each env's state, found independently: mj_forward on
-    a copy (env, body, body, depth in m)."""
-    u = env.unwrapped
-    model = u.model
-    data = mujoco.MjData(model)
-    found = []
-    for i, source in enumerate(u.scene.world.datas):
-        data.qpos[:] = source.qpos
-        mujoco.mj_forward(model, data)
-        for c in data.contact[: data.ncon]:
-            if c.dist < -1e-3:
-                bodies = (model.body(model.geom_bodyid[c.geom1]).name, model.body(model.geom_bodyid[c.geom2]).name)
-                found.append((i, *bodies, -float(c.dist)))
-    return found
-
-
-@pytest.mark.parametrize("task", TASKS)
-@pytest.mark.parametrize("uid", ["koch-v1.1", "so100", "panda"])
-def test_resets_start_nothing_inside_the_robot(task: str, uid: str) -> None:
-    """The Koch rests with its jaw 15 mm over the table and takes a 22 mm cube: cubes
-    were drawn under the jaw (52 of 100 envs) and the reset noise put the jaw into the
-    table (17 of 100 in ReachPose); the SO-100 had 1 of 100. Cubes are drawn again
-    while they would start inside a robot, noise while it would start a link deeper
-    in the table or the robot than the noiseless pose does."""
-    env = ra.make_env(task, robot_uids=uid, num_envs=100)
-    env.reset(seed=0)
-    assert _start_penetrations(env) == []
-    env.close()
 
 
 def test_success_earns_the_largest_reward() -> None:

@@ -21,6 +21,7 @@ import numpy.typing as npt
 from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
+from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
@@ -32,16 +33,15 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.sim.start_contacts import StartContacts
 from robot_agents.validation import check_array
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Reset noise may start a robot no deeper in itself or in something fixed than its
-#: noiseless reset pose does, plus this (m): MuJoCo's contacts hold at rest within it.
-START_PENETRATION = 1e-3
-#: Draws of an env's reset noise before the shallowest is taken.
-NOISE_DRAWS = 20
+#: Draws of a robot's reset noise per env before the noiseless keyframe is kept instead.
+RESET_NOISE_DRAWS = 32
+#: How much deeper (m) than at its noiseless keyframe the noise may put a robot geom
+#: into a fixed geom (floor, table, static props) or another robot geom.
+RESET_PENETRATION_TOLERANCE = 1e-3
 
 
 def task_keywords(cls: type[RobotEnv]) -> list[str]:
@@ -102,7 +102,10 @@ class RobotEnv(gym.Env[Any, Any]):
             8192]`` (the offscreen framebuffer is enlarged to hold them).
         max_episode_steps: episodes are truncated after this many steps (``None``: never).
         robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
-            keyframe, drawn from the env's seeded RNG.
+            keyframe, drawn from the env's seeded RNG; drawn again (up to
+            :data:`RESET_NOISE_DRAWS` times, then the keyframe) while it puts a robot
+            geom more than 1 mm deeper into the fixed scene (floor, table) or a robot
+            than the keyframe does.
         num_threads: stepping threads for ``num_envs > 1``.
         robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's mount (one
             per robot); default: each robot's ``mount_pose``.
@@ -201,7 +204,7 @@ class RobotEnv(gym.Env[Any, Any]):
         self.max_episode_steps = self.default_max_episode_steps
         self.set_max_episode_steps(max_episode_steps)
         self.robot_init_qpos_noise = float(robot_init_qpos_noise)
-        self._start_contacts: StartContacts | None = None
+        self._clearance: Clearance | None = None
         if not isinstance(raise_on_instability, bool):
             raise ConfigError(
                 f"{type(self).__name__}: expected raise_on_instability to be a bool, got {raise_on_instability!r}."
@@ -365,49 +368,46 @@ class RobotEnv(gym.Env[Any, Any]):
                 self._env_rngs[env] = seeding.np_random(seeds[env])[0]
         self.scene.reset(env_ids=ids, keyframes=keyframe)
         if self.robot_init_qpos_noise > 0:
-            for agent in self.agents:
-                rows = [self._noisy_start(agent, ids[k : k + 1], int(env)) for k, env in enumerate(ids)]
-                agent.reset(qpos=np.concatenate(rows), env_ids=ids)
+            self._perturb_robots(ids)
         self._initialize_episode(ids)
         self.elapsed_steps[ids] = 0
         self._render_camera = None
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
 
+    def _perturb_robots(self, ids: npt.NDArray[np.int64]) -> None:
+        """Add each env's reset noise to the robots' keyframe pose (every robot's draw,
+        one robot after the other, from the env's stream); drawn again while it puts a
+        robot geom more than :data:`RESET_PENETRATION_TOLERANCE` deeper into a fixed
+        geom or another robot geom than the noiseless keyframe does (up to
+        :data:`RESET_NOISE_DRAWS` draws, then the keyframe itself)."""
+        clearance = self.clearance
+        std = self.robot_init_qpos_noise
+        rows = [np.empty((len(ids), agent.qpos_adr.size)) for agent in self.agents]
+        for k, (env, source) in enumerate(zip(ids, self.scene.world.physics_sources(ids.tolist()), strict=True)):
+            one, rng = ids[k : k + 1], self.env_rng(int(env))
+            clearance.load(source)
+            keyframe = clearance.data.qpos.copy()
+            allowed = clearance.keyframe_depths()
+            draws = [keyframe[agent.qpos_adr] for agent in self.agents]  # the fallback: the keyframe
+            for _ in range(RESET_NOISE_DRAWS):
+                candidate = [agent.perturbed_qpos(one, std, rng)[0] for agent in self.agents]
+                qpos = keyframe.copy()
+                for agent, row in zip(self.agents, candidate, strict=True):
+                    qpos[agent.qpos_adr] = row
+                if clearance.robots_clear(qpos, allowed, RESET_PENETRATION_TOLERANCE):
+                    draws = candidate
+                    break
+            for agent_rows, row in zip(rows, draws, strict=True):
+                agent_rows[k] = row
+        for agent, agent_rows in zip(self.agents, rows, strict=True):
+            agent.reset(qpos=agent_rows, env_ids=ids)
+
     @property
-    def start_contacts(self) -> StartContacts:
-        """Penetration checks of configurations before they are simulated (made once)."""
-        if self._start_contacts is None:
-            self._start_contacts = StartContacts(self.scene.model)
-        return self._start_contacts
-
-    def robot_geoms(self, agent: Agent | None = None) -> npt.NDArray[np.bool_]:
-        """Geoms of ``agent``'s bodies (default: of every robot), a ``(ngeom,)`` mask."""
-        contacts = self.start_contacts
-        agents = self.agents if agent is None else [agent]
-        return contacts.body_geoms([b for a in agents for b in a.index.subtree_bodies(a.index.root_body_id)])
-
-    def _noisy_start(self, agent: Agent, env_ids: npt.NDArray[np.int64], env: int) -> FloatArray:
-        """``agent``'s reset pose in ``env`` plus the reset noise, ``(1, nq)``: drawn from
-        the env's stream again (up to :data:`NOISE_DRAWS` times, then the shallowest
-        draw) while it would start a link deeper in the robot itself or in something
-        fixed (the floor, a table) than the noiseless pose does, by more than
-        :data:`START_PENETRATION` (the SO-100's and Koch's jaws rest just above the table:
-        0.02 rad of noise put one 8 mm into it)."""
-        contacts = self.start_contacts
-        robot = self.robot_geoms(agent)
-        others = robot | contacts.static_geoms
-        qpos = self.scene.world.datas[env].qpos.copy()
-        allowed = contacts.deepest(qpos, robot, others) + START_PENETRATION
-        best: tuple[float, FloatArray] | None = None
-        for _ in range(NOISE_DRAWS):
-            row = agent.perturbed_qpos(env_ids, self.robot_init_qpos_noise, self.env_rng(env))
-            qpos[agent.qpos_adr] = row[0]
-            depth = contacts.deepest(qpos, robot, others)
-            if depth <= allowed:
-                return row
-            if best is None or depth < best[0]:
-                best = (depth, row)
-        return best[1] if best is not None else agent.state.qpos[env_ids]
+    def clearance(self) -> Clearance:
+        """The collision checks resets make (:class:`~robot_agents.envs.clearance.Clearance`)."""
+        if self._clearance is None:
+            self._clearance = Clearance(self.model, self.agents)
+        return self._clearance
 
     def _check_seed(self, seed: Any, where: str) -> list[int | None]:
         """The seed of each env (``None``: keep its stream)."""

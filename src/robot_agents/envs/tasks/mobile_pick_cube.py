@@ -7,9 +7,10 @@ it stands to work at the table, on the floor, facing it. Episodes start away fro
 
 Randomization (each env from its own stream, :meth:`RobotEnv.env_rng`): the cube as in
 PickCube (centre uniformly within ``0.1 R`` of the workspace centre, turned uniformly
-about z); the base ``1.0 .. 1.5 m`` from the stance, in a direction up to 45 deg either
-side of straight away from the table, turned up to 45 deg either way from the stance's
-heading (the arm at its default keyframe).
+about z, drawn again while it would touch the robot standing at its stance); the base
+``1.0 .. 1.5 m`` from the stance, in a direction up to 45 deg either side of straight
+away from the table, turned up to 45 deg either way from the stance's heading (the arm
+at its default keyframe).
 
 Success: the cube grasped (``agent.is_grasping``) with its centre at least 5 cm above
 where it rested on the table.
@@ -31,7 +32,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.tasks.layout import FloatArray
 from robot_agents.envs.tasks.pick_cube import needs_gripper
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_yaw_quats
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Base
@@ -69,12 +70,10 @@ class MobilePickCubeEnv(TableTopEnv):
         self.cube_rest_z = self.layout.table_height + self.layout.cube_half_size
 
     def _initialize_episode(self, env_ids: npt.NDArray[np.int64]) -> None:
-        s, h = self.layout.spawn_half_size, self.cube_rest_z
         cubes, starts, yaws = np.empty((len(env_ids), 7)), np.empty((len(env_ids), 2)), np.empty(len(env_ids))
         for row, env in enumerate(env_ids):
             rng = self.env_rng(int(env))
-            cubes[row, :3] = [*rng.uniform(-s, s, 2), h]
-            cubes[row, 3:] = random_yaw_quats(rng, 1)[0]
+            cubes[row] = self.draw_cube_pose(int(env))  # clear of the robot at its stance
             distance = rng.uniform(*START_DISTANCE)
             bearing = math.pi + rng.uniform(-START_BEARING, START_BEARING)  # the table lies along +x
             starts[row] = self.stance_xy + distance * np.array([math.cos(bearing), math.sin(bearing)])

@@ -6,9 +6,10 @@ with every length scaled by the robot's reach ``R`` and the cube by its gripper.
 
 Randomization (each env from its own stream, :meth:`RobotEnv.env_rng`): the cube's
 centre uniformly within ``0.1 R`` of the workspace centre on the table, turned
-uniformly about z; the goal's x, y likewise, its height above the resting cube's
-centre uniform in ``[0, 0.2 R]``, drawn again while it lies within twice the
-success threshold of the cube.
+uniformly about z, drawn again while it would touch the robot
+(:meth:`TableTopEnv.draw_cube_pose`); the goal's x, y uniform within ``0.1 R``, its
+height above the resting cube's centre uniform in ``[0, 0.2 R]`` (``GOAL_HEIGHT``),
+drawn again while it lies within twice the success threshold of the cube.
 
 Success: the cube's centre within ``1.25`` half-edges of the goal (2.5 cm for the
 Panda's 4 cm cube) and the arm still (every arm joint slower than 0.2 rad/s or m/s).
@@ -32,7 +33,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.markers import Marker, goal_sphere
 from robot_agents.envs.tasks.layout import FloatArray
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_cube_pose
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Gripper
@@ -82,7 +83,7 @@ class PickCubeEnv(TableTopEnv):
         poses = np.empty((len(env_ids), 7))
         for row, env in enumerate(env_ids):
             rng = self.env_rng(int(env))
-            poses[row] = self.clear_pose("cube", int(env), lambda rng: random_cube_pose(rng, layout))
+            poses[row] = self.draw_cube_pose(int(env))
             cube = poses[row, :3]
             while True:
                 goal = np.array([*rng.uniform(-s, s, 2), h + half + rng.uniform(0.0, GOAL_HEIGHT * layout.reach)])

@@ -5,7 +5,8 @@ the robot's definition (:mod:`.table_top`). ManiSkill's PushCube, with every len
 scaled by the robot's reach ``R`` (the cube by its gripper, if it has one).
 
 Randomization (each env from its own stream): the cube's centre uniformly within
-``0.1 R`` of the workspace centre on the table, turned uniformly about z; the goal
+``0.1 R`` of the workspace centre on the table, turned uniformly about z, drawn again
+while it would touch the robot (:meth:`TableTopEnv.draw_cube_pose`); the goal
 region, a disc of radius ``0.1 R`` on the table, centred ``[0.15 R, 0.25 R]`` ahead of
 the cube (away from the robot, world +x) and up to ``0.05 R`` to either side.
 
@@ -30,7 +31,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.markers import Marker, goal_disc
 from robot_agents.envs.tasks.layout import FloatArray
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop, random_cube_pose
+from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm
@@ -67,7 +68,7 @@ class PushCubeEnv(TableTopEnv):
         poses = np.empty((len(env_ids), 7))
         for row, env in enumerate(env_ids):
             rng = self.env_rng(int(env))
-            poses[row] = self.clear_pose("cube", int(env), lambda rng: random_cube_pose(rng, layout))
+            poses[row] = self.draw_cube_pose(int(env))
             cube = poses[row, :3]
             offset = np.array([rng.uniform(*GOAL_AHEAD) * r, rng.uniform(-GOAL_ASIDE, GOAL_ASIDE) * r, 0.0])
             self.goal_pos[env] = np.array([cube[0], cube[1], h]) + offset

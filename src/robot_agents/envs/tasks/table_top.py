@@ -27,8 +27,8 @@ from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sim.scene import RobotSpecifier
 
-#: Draws of a prop's start pose before its spawn region counts as covered by the robot.
-PLACEMENT_DRAWS = 100
+#: Draws of a prop's pose per env before a reset gives up: the robot blocks the region.
+SPAWN_DRAWS = 100
 
 IntArray = npt.NDArray[np.int64]
 
@@ -185,25 +185,39 @@ class TableTopEnv(RobotEnv):
         _, qpos_adr, qvel_adr = self.free_body(name)
         self.scene.world.write_joint_state(ids, qpos_adr, rows, qvel_adr, np.zeros((len(ids), 6)))
 
-    def clear_pose(self, name: str, env: int, draw: Callable[[np.random.Generator], FloatArray]) -> FloatArray:
-        """A pose ``(7,)`` for free prop ``name`` in ``env`` from ``draw(rng)`` (the env's
-        random stream), drawn again while the prop would start inside a robot at its
-        reset pose (a cube under the Koch's resting jaw), up to :data:`PLACEMENT_DRAWS`
-        times."""
-        contacts = self.start_contacts
+    def draw_clear_pose(
+        self, name: str, env: int, draw: Callable[[np.random.Generator], npt.ArrayLike], region: str = ""
+    ) -> FloatArray:
+        """A world pose ``(7,)`` of free prop ``name`` in env ``env``, from ``draw(rng)``
+        on the env's stream, drawn again while the prop there would overlap a robot at
+        its pose in the env now (a contact with a robot geom at a distance below 0);
+        after :data:`SPAWN_DRAWS` draws, :class:`ConfigError` (``region`` says where the
+        prop is drawn). Nothing is written: the task places the pose (:meth:`place_body`)."""
         body, qpos_adr, _ = self.free_body(name)
-        prop, robots = contacts.body_geoms([body]), self.robot_geoms()
-        qpos = self.scene.world.datas[env].qpos.copy()
+        clearance = self.clearance
+        clearance.load(self.scene.world.physics_sources([env])[0])
         rng = self.env_rng(env)
-        for _ in range(PLACEMENT_DRAWS):
-            pose = draw(rng)
-            qpos[qpos_adr] = pose
-            if contacts.deepest(qpos, prop, robots) == 0.0:
+        for _ in range(SPAWN_DRAWS):
+            pose = np.asarray(draw(rng), dtype=np.float64).reshape(7)
+            if clearance.body_clear_of_robots(body, qpos_adr, pose):
                 return pose
+        where = f" {region}" if region else ""
         raise ConfigError(
-            f"{type(self).__name__}: no place for {name!r} clear of the robot in env {env} after {PLACEMENT_DRAWS} "
-            "draws over the spawn region; the robot's reset pose covers it."
+            f"{type(self).__name__}.reset: {SPAWN_DRAWS} poses of {name!r} drawn{where} in env {env} all overlap "
+            f"the robot at its reset pose; expected a spawn region the robot leaves free (check robot_poses "
+            f"and the reset keyframe)."
         )
+
+    def draw_cube_pose(self, env: int, name: str = "cube") -> FloatArray:
+        """A resting pose ``(7,)`` of cube ``name`` in env ``env``: its centre uniform over
+        the spawn square (``spawn_half_size`` about the workspace centre), turned uniformly
+        about z, drawn again while it would overlap the robot (:meth:`draw_clear_pose`)."""
+        s, z = self.layout.spawn_half_size, self.layout.table_height + self.layout.cube_half_size
+
+        def draw(rng: np.random.Generator) -> FloatArray:
+            return np.concatenate([rng.uniform(-s, s, 2), [z], random_yaw_quats(rng, 1)[0]])
+
+        return self.draw_clear_pose(name, env, draw, f"within {s:.4f} m of the workspace centre")
 
     def body_pose(self, name: str) -> FloatArray:
         """World pose ``(num_envs, 7)`` of a scene body."""
@@ -217,13 +231,6 @@ class TableTopEnv(RobotEnv):
         if self.reward_mode == "dense":
             return dense
         return dense / self.max_reward
-
-
-def random_cube_pose(rng: np.random.Generator, layout: TableTopLayout) -> FloatArray:
-    """A cube resting on the table ``(7,)``: its centre uniform within the spawn square
-    about the workspace centre, turned about z (:func:`random_yaw_quats`)."""
-    s, half = layout.spawn_half_size, layout.cube_half_size
-    return np.array([*rng.uniform(-s, s, 2), layout.table_height + half, *random_yaw_quats(rng, 1)[0]])
 
 
 def random_yaw_quats(rng: np.random.Generator, count: int) -> FloatArray:

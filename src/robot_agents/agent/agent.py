@@ -112,12 +112,6 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
-    def _check_open(self, where: str) -> None:
-        """Raise :class:`StateError` once the simulation this robot is bound to was closed
-        (its env's or scene's ``close()``)."""
-        if self.world.closed:
-            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
-
     # ------------------------------------------------------------------ names and sizes
     @property
     def joint_names(self) -> tuple[str, ...]:

@@ -57,6 +57,12 @@ class MobileManipulatorAPI:
     grippers: GripperParts
     _manipulator: ManipulatorView | None
 
+    def _check_open(self, where: str) -> None:
+        """Raise :class:`StateError` once the simulation this robot is bound to was closed
+        (its env's or scene's ``close()``)."""
+        if self.world.closed:
+            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
+
     # ------------------------------------------------------------------ mobile base (Habitat's names)
     @property
     def base_pos(self) -> FloatArray:
@@ -73,8 +79,7 @@ class MobileManipulatorAPI:
     ) -> None:
         """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
         where = f"{type(self).__name__}.set_base_pose"
-        if self.world.closed:
-            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
+        self._check_open(where)
         self.mobile.set(xy, yaw, env_ids, where)
         self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
 
@@ -98,6 +103,8 @@ class MobileManipulatorAPI:
 
     @arm_joint_pos.setter
     def arm_joint_pos(self, values: npt.ArrayLike) -> None:
+        """Teleport the arm joints to ``values`` ``(n,)`` or ``(num_envs, n)`` (rad / m;
+        within their limits, else :class:`StateError`) at rest, and hold them there."""
         self.manipulator.set_arm_joint_pos(values)
 
     @property
@@ -116,11 +123,13 @@ class MobileManipulatorAPI:
         return self.manipulator.gripper_joint_pos
 
     def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
-        """Put the gripper joints at the open state (teleport) and hold them there."""
+        """Put the gripper joints of ``env_ids`` (default: every env) at the open state
+        (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there."""
         self.manipulator.open_gripper(env_ids)
 
     def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
-        """Put the gripper joints at the closed state (teleport) and hold them there."""
+        """Put the gripper joints of ``env_ids`` (default: every env) at the closed state
+        (``params.gripper_closed_state``, rad / m; teleport, at rest) and hold them there."""
         self.manipulator.close_gripper(env_ids)
 
     def set_gripper_target_state(self, state: npt.ArrayLike) -> None:

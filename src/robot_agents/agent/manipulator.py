@@ -210,7 +210,9 @@ class ManipulatorView:
         return value
 
     def set_arm_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
-        """Teleport the arm joints (velocities zero) and hold them there."""
+        """Teleport the arm joints of ``env_ids`` (default: every env) to ``values``
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero)
+        and hold them there."""
         where = f"{self.owner}.arm_joint_pos"
         self._require_arm("arm_joint_pos")
         self._write(self._arm_qpos, self._arm_dof, values, env_ids, where, "arm joint positions")

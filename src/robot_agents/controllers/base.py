@@ -264,7 +264,9 @@ class Controller(abc.ABC):
 
     @abc.abstractmethod
     def apply(self, raw: FloatArray, sim: SimView) -> None:
-        """Like :meth:`set_action` for an action already clipped and de-normalized (:meth:`to_raw`)."""
+        """Like :meth:`set_action` for an action already clipped and de-normalized
+        (:meth:`to_raw`): ``raw`` ``(num_envs, action_dim)`` in the controller's physical
+        units (rad, m, rad/s, m/s, N*m, N, or a pose's m and rad)."""
 
     @property
     def checks_actions(self) -> bool:

@@ -690,3 +690,35 @@ def test_world_writes_refuse_env_ids_out_of_range() -> None:
         world.sync_ctrl([2])
     np.testing.assert_array_equal(world.get_state(), before)
     scene.close()
+
+
+def test_render_datas_allocate_with_a_clean_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The render mirror's MjData (made at the first render of a scene with
+    visual-only geoms) go through the same allocation as the simulated ones."""
+    import mujoco
+
+    scene = ra.Scene("panda", num_envs=2)  # its visual-only geoms: a separate render model
+    scene.reset()
+    assert scene.world.render_model is not scene.model
+
+    def scarce(model: mujoco.MjModel) -> mujoco.MjData:
+        raise mujoco.FatalError("Could not allocate memory")
+
+    monkeypatch.setattr(mujoco, "MjData", scarce)
+    with pytest.raises(ra.ConfigError, match="num_envs=2"):
+        scene.world.render_sources()
+    monkeypatch.undo()
+    scene.close()
+
+
+def test_a_bool_is_not_a_gripper_state() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="fetch")
+    env.reset(seed=0)
+    agent = env.unwrapped.agent
+    before = agent.drives.get_target_state()
+    with pytest.raises(ra.StateError, match="expected a state in"):
+        agent.set_gripper_target_state(True)
+    after = agent.drives.get_target_state()
+    assert all(np.array_equal(before[k], after[k]) for k in before)
+    agent.set_gripper_target_state(1.0)  # a number is
+    env.close()

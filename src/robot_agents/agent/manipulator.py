@@ -301,8 +301,10 @@ class ManipulatorView:
         self.agent._check_open(where)
         n = self.agent.state.num_envs
         try:
+            if np.asarray(state).dtype.kind == "b":  # True is not a gripper state
+                raise TypeError
             fraction = np.asarray(state, dtype=np.float64).reshape(-1)
-        except Exception:  # strings, ragged lists, whatever the input's own __array__ raises
+        except Exception:  # strings, bools, ragged lists, whatever the input's own __array__ raises
             raise StateError(f"{where}: expected a state in [0, 1] or {n} of them, got {state!r}.") from None
         if fraction.size == 1:
             fraction = np.full(n, fraction[0])

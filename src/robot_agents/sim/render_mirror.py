@@ -16,6 +16,7 @@ from collections.abc import Iterable, Sequence
 import mujoco
 
 from robot_agents.model.physics_twin import shared_geoms
+from robot_agents.sim.allocation import allocate_datas
 
 #: Fields of elements both models have in the same order (cameras, lights, materials),
 #: copied whole from the simulated model before each picture.
@@ -73,7 +74,7 @@ class RenderMirror:
         :meth:`sync_model`; ``mj_forward`` derives the poses, contacts and sensors drawn
         from it."""
         if self._datas is None:
-            self._datas = [mujoco.MjData(self.model) for _ in range(self.num_envs)]
+            self._datas = allocate_datas(self.model, self.num_envs)  # a clean error when memory runs out
         self.sync_model()
         out = []
         for env in env_ids:

@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.limits import MAX_SPEED, check_speeds
+from robot_agents.sim.allocation import allocate_datas
 from robot_agents.sim.render_mirror import RenderMirror
 from robot_agents.validation import check_array, is_whole
 
@@ -115,7 +116,7 @@ class BatchedWorld:
         self.num_envs = int(num_envs)
         self._mirror = None if self.render_model is model else RenderMirror(self.render_model, model, self.num_envs)
         self.substeps = int(substeps)
-        self.datas = _allocate_datas(model, self.num_envs)
+        self.datas = allocate_datas(model, self.num_envs)
         self.ctrl = np.zeros((self.num_envs, model.nu))
         #: Set by :meth:`close` (the robots bound to this world then refuse writes).
         self.closed = False
@@ -536,24 +537,3 @@ class BatchedWorld:
         pool = getattr(self, "_pool", None)
         if pool is not None:
             pool.shutdown(wait=False)
-
-
-def _allocate_datas(model: mujoco.MjModel, num_envs: int) -> list[mujoco.MjData]:
-    """``num_envs`` MjData of ``model``; MuJoCo's (or Python's) allocation failure
-    becomes a :class:`ConfigError` naming ``num_envs`` and the memory each env takes."""
-    datas: list[mujoco.MjData] = []
-    try:
-        for _ in range(num_envs):
-            datas.append(mujoco.MjData(model))
-    except (mujoco.FatalError, MemoryError) as err:
-        made = len(datas)
-        # each env: the model's arena (contacts, constraints, scratch) plus MjData's own buffer
-        per_env = int(model.narena) + (int(datas[0].nbuffer) if datas else 0)
-        datas.clear()  # give the memory back before raising
-        raise ConfigError(
-            f"BatchedWorld: could not allocate the simulation state of num_envs={num_envs} envs "
-            f"(about {per_env / 2**20:.1f} MiB each, {num_envs * per_env / 2**30:.1f} GiB in all; "
-            f"{made} were allocated when memory ran out: {err}). Use fewer envs "
-            "(or a smaller arena: MJCF <size memory=...>)."
-        ) from None
-    return datas

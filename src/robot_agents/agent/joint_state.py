@@ -168,17 +168,6 @@ class JointState:
         """Write what :meth:`prepare` checked."""
         self.world.write_joint_state(write.ids, write.qpos_adr, write.qpos, write.dof_adr, write.qvel)
 
-    def write(
-        self,
-        ids: IntArray,
-        qpos: Any,
-        qvel: Any,
-        frame: ResolvedKeyframe | None,
-        where: str,
-    ) -> None:
-        """Set joints (and, with a keyframe, a free base) of ``ids``; all checked first."""
-        self.apply(self.prepare(ids, qpos, qvel, frame, where))
-
     def perturbed(self, env_ids: IntArray, std: float, rng: np.random.Generator) -> FloatArray:
         """Measured ``qpos`` of ``env_ids`` plus noise (``std`` rad or m), clipped to the limits."""
         qpos = self.qpos[env_ids]

@@ -87,21 +87,35 @@ class JointState:
     def checked_qpos(self, value: Any, n_envs: int, where: str) -> FloatArray:
         """Joint positions ``(n_envs, nq)`` within the limits, ball quaternions normalized."""
         qpos = self.batch(value, n_envs, self.index.nq, "qpos", where)
-        low, high = self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1]
-        outside = (qpos < low - 1e-9) | (qpos > high + 1e-9)
+        self.check_within_limits(qpos, np.arange(self.index.nq), where)
+        for start, norms in self._ball_norms(qpos, where):
+            qpos[:, start : start + 4] /= norms[:, None]
+        return qpos
+
+    def check_within_limits(self, rows: FloatArray, entries: IntArray, where: str) -> None:
+        """Raise :class:`StateError` when a value of ``rows`` ``(n, k)``, for the robot's
+        ``qpos`` ``entries`` ``(k,)``, lies outside its joint's limits (by more than 1e-9)."""
+        low, high = self.index.qpos_limits[entries, 0], self.index.qpos_limits[entries, 1]
+        outside = (rows < low - 1e-9) | (rows > high + 1e-9)
         if np.any(outside):
-            env, entry = np.argwhere(outside)[0]
+            env, k = np.argwhere(outside)[0]
+            entry = int(entries[k])
             joint = next(j for j in self.index.joints if j.qpos_start <= entry < j.qpos_start + j.nq)
             raise StateError(
-                f"{where}: qpos of joint {joint.name!r} is {qpos[env, entry]:.6g}, outside its limits "
-                f"[{low[entry]:.6g}, {high[entry]:.6g}]."
+                f"{where}: qpos of joint {joint.name!r} is {rows[env, k]:.6g}, outside its limits "
+                f"[{low[k]:.6g}, {high[k]:.6g}]."
             )
+
+    def _ball_norms(self, qpos: FloatArray, where: str) -> list[tuple[int, FloatArray]]:
+        """Each ball joint's ``qpos`` start and its quaternions' norms ``(n,)`` in ``qpos``
+        ``(n, nq)``; :class:`StateError` for a zero quaternion."""
+        out = []
         for start, _ in self._balls:
             norms = np.linalg.norm(qpos[:, start : start + 4], axis=1)
             if np.any(norms < 1e-9):
                 raise StateError(f"{where}: a ball joint's quaternion (qpos {start}-{start + 3}) is zero.")
-            qpos[:, start : start + 4] /= norms[:, None]
-        return qpos
+            out.append((start, norms))
+        return out
 
     # -- reads ----------------------------------------------------------------------------
     @property
@@ -199,9 +213,7 @@ class JointState:
                 f"{where}: qpos entry {entry} of env {env} is {qpos[env, entry]:.6g}, more than {STATE_LIMIT_MARGIN} "
                 f"beyond its limits [{low[entry]:.6g}, {high[entry]:.6g}] (a state get_state() cannot have given)."
             )
-        for start, _ in self._balls:
-            if np.any(np.linalg.norm(qpos[:, start : start + 4], axis=1) < 1e-9):
-                raise StateError(f"{where}: a ball joint's quaternion (qpos {start}-{start + 3}) is zero.")
+        self._ball_norms(qpos, where)
         qvel = self.batch(state["qvel"], self.num_envs, self.index.nv, "qvel", where)
         check_speeds(qvel, where, "qvel")
         base = self.batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None

@@ -250,26 +250,11 @@ class ManipulatorView:
         state = agent.state
         ids = state.env_ids(env_ids, where)
         rows = state.batch(values, len(ids), len(qpos_adr), what, where)
-        self._check_limits(qpos_adr, rows, where)
+        by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
+        state.check_within_limits(rows, np.array([by_adr[int(a)] for a in qpos_adr], dtype=np.int64), where)
         self.agent.world.write_joint_state(ids, qpos_adr, rows, dof_adr, np.zeros((len(ids), len(dof_adr))))
         self.agent.drives.hold(ids, np.asarray(self.agent.world.qpos)[ids])
         self.agent.controller.reset(ids, self.agent.world)
-
-    def _check_limits(self, qpos_adr: npt.NDArray[np.int64], rows: FloatArray, where: str) -> None:
-        """Raise :class:`StateError` when a value in ``rows`` ``(n, k)`` for the joints at
-        ``qpos_adr`` lies outside that joint's limits (as :meth:`Agent.reset` does)."""
-        index = self.agent.index
-        by_adr = {int(a): k for k, a in enumerate(index.qpos_adr)}
-        columns = [by_adr[int(a)] for a in qpos_adr]
-        low, high = index.qpos_limits[columns, 0], index.qpos_limits[columns, 1]
-        outside = (rows < low - 1e-9) | (rows > high + 1e-9)
-        if np.any(outside):
-            env, k = np.argwhere(outside)[0]
-            joint = next(j for j in index.joints if j.qpos_start <= columns[k] < j.qpos_start + j.nq)
-            raise StateError(
-                f"{where}: qpos of joint {joint.name!r} is {rows[env, k]:.6g}, outside its limits "
-                f"[{low[k]:.6g}, {high[k]:.6g}]."
-            )
 
     # -- gripper -----------------------------------------------------------------------
     def _require_gripper(self, where: str) -> None:

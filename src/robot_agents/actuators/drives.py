@@ -35,6 +35,10 @@ FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 
 
+#: Checked drive targets of a state: ``position``, ``velocity``, ``effort`` ``(num_envs, n)``.
+DriveTargetState = tuple[FloatArray, FloatArray, FloatArray]
+
+
 class JointTargets:
     """What a control mode asks of each driven joint, per env: ``position``,
     ``velocity`` and ``effort``, each ``(num_envs, n)`` in joint units."""
@@ -250,7 +254,7 @@ class Drives:
             "effort": targets.effort.copy(),
         }
 
-    def check_target_state(self, state: Any, where: str) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def check_target_state(self, state: Any, where: str) -> DriveTargetState:
         """Validate :meth:`get_target_state`'s dict (shapes, finite values) without applying it."""
         shape = self.targets.position.shape
         if not isinstance(state, Mapping) or any(k not in state for k in ("position", "velocity", "effort")):
@@ -262,7 +266,7 @@ class Drives:
         )
         return position, velocity, effort
 
-    def set_target_state(self, checked: tuple[FloatArray, FloatArray, FloatArray]) -> None:
+    def set_target_state(self, checked: DriveTargetState) -> None:
         """Restore what :meth:`check_target_state` returned."""
         targets = self.targets
         targets.position[...], targets.velocity[...], targets.effort[...] = checked

@@ -21,7 +21,7 @@ import gymnasium as gym
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.actuators.drives import Drives
+from robot_agents.actuators.drives import Drives, DriveTargetState
 from robot_agents.agent import declaration
 from robot_agents.agent.control import ControlModes
 from robot_agents.agent.definition import AgentDefinition
@@ -402,15 +402,25 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         checked = self.state.check_state(state, where)
-        mode = state["control_mode"]
-        self.controller_for(mode, where).check_state(state["controller"], where)
-        targets = self.drives.check_target_state(state["drives"], where) if "drives" in state else None
-        self.set_control_mode(mode)
+        targets = self.check_control_state(state, where)
+        self.restore_control_state(state, targets)
         self.state.write_state(*checked)
+        self.drives.write(self.world.ctrl)
+
+    def check_control_state(self, state: Mapping[str, Any], where: str) -> DriveTargetState | None:
+        """Validate the control part of a state (``control_mode``, ``controller`` and,
+        when present, ``drives``: :meth:`get_state`'s keys) without applying it; returns
+        the checked drive targets for :meth:`restore_control_state`."""
+        self.controller_for(state["control_mode"], where).check_state(state["controller"], where)
+        return self.drives.check_target_state(state["drives"], where) if "drives" in state else None
+
+    def restore_control_state(self, state: Mapping[str, Any], targets: DriveTargetState | None) -> None:
+        """Activate the state's control mode and restore its controller state and drive
+        targets (checked by :meth:`check_control_state`)."""
+        self.set_control_mode(state["control_mode"])
         self.controller.set_state(state["controller"])
         if targets is not None:  # joints no action writes (held legs) keep theirs
             self.drives.set_target_state(targets)
-        self.drives.write(self.world.ctrl)
 
     # ------------------------------------------------------------------ part helpers
     def is_static(self, threshold: float = 0.2) -> BoolArray:

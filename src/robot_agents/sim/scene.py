@@ -345,6 +345,7 @@ class Scene:
             )
         if len(agent_states) != len(self.agents):
             raise StateError(f"Scene.set_state: expected {len(self.agents)} agent states, got {len(agent_states)}.")
+        drive_targets = []
         for k, (agent, agent_state) in enumerate(zip(self.agents, agent_states, strict=True)):
             if (
                 not isinstance(agent_state, Mapping)
@@ -355,19 +356,9 @@ class Scene:
                     f"Scene.set_state: expected agents[{k}] ({self.robot_ids[k]}) to be a dict with keys "
                     f"'control_mode' and 'controller', got {agent_state!r:.80}."
                 )
-            mode = agent_state["control_mode"]
-            agent.controller_for(mode, "Scene.set_state").check_state(agent_state["controller"], "Scene.set_state")
-        drive_targets = [
-            agent.drives.check_target_state(agent_state["drives"], f"Scene.set_state (agents[{k}])")
-            if "drives" in agent_state
-            else None
-            for k, (agent, agent_state) in enumerate(zip(self.agents, agent_states, strict=True))
-        ]
+            drive_targets.append(agent.check_control_state(agent_state, f"Scene.set_state (agents[{k}])"))
         for agent, agent_state, targets in zip(self.agents, agent_states, drive_targets, strict=True):
-            agent.set_control_mode(agent_state["control_mode"])
-            agent.controller.set_state(agent_state["controller"])
-            if targets is not None:  # joints no action writes (held legs) keep theirs
-                agent.drives.set_target_state(targets)
+            agent.restore_control_state(agent_state, targets)
         self.world.set_state(physics, sleep, sensors)
 
     def _check_open(self, where: str) -> None:

@@ -6,12 +6,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
 
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DriveKind
 from robot_agents.agent import Agent
+from robot_agents.agent.derived import joint_actuator
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController, PDJointVelConfig
@@ -242,13 +242,12 @@ def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> Check
     gains = gains_from_inertia(model, [d.joint for d in affine], full)
     stiffness = []
     for drive in affine:
-        actuator = next(
-            a
-            for a in range(getattr(model, "nactuator", model.nu))
-            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
-            and model.actuator_trnid[a, 0] == mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+        actuator = joint_actuator(model, drive.joint)  # an affine or explicit drive always has one
+        kp = (
+            -float(model.actuator_biasprm[actuator, 1]) * float(model.actuator_gear[actuator, 0]) ** 2
+            if actuator is not None
+            else 0.0
         )
-        kp = -float(model.actuator_biasprm[actuator, 1]) * float(model.actuator_gear[actuator, 0]) ** 2
         stiffness.append(drive.stiffness if drive.stiffness > 0 or drive.kind is DriveKind.EXPLICIT else kp)
     if not any(k > 0 for k in stiffness):
         return CheckResult("PD drives stable at the physics step", True, "no PD drives (motors take efforts)")

@@ -20,19 +20,29 @@ from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
 DERIVED_SOURCE = "derived gains"
 
 
+def joint_actuator(model: mujoco.MjModel, joint: str) -> int | None:
+    """The id of the first actuator that drives joint ``joint`` (its full name) directly,
+    or ``None``."""
+    joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+    return next(
+        (
+            a
+            for a in range(getattr(model, "nactuator", model.nu))
+            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
+            and model.actuator_trnid[a, 0] == joint_id
+        ),
+        None,
+    )
+
+
 def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
     """Driven joints whose drive is an affine actuator without stiffness or damping (a motor)."""
     out = []
     for drive in drives:
         if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED_SOURCE):
             continue
-        joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
-        actuators = [
-            a
-            for a in range(getattr(model, "nactuator", model.nu))
-            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT) and model.actuator_trnid[a, 0] == joint
-        ]
-        bias = model.actuator_biasprm[actuators[0]] if actuators else None
+        actuator = joint_actuator(model, drive.joint)
+        bias = model.actuator_biasprm[actuator] if actuator is not None else None
         if bias is not None and bias[1] == 0.0 and bias[2] == 0.0:  # no stiffness, no damping: a motor
             out.append(drive.joint)
     return out
@@ -49,16 +59,7 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
             continue
         damping = drive.damping
         if drive.kind is DriveKind.AFFINE and not drive.source.startswith(DERIVED_SOURCE):
-            joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
-            actuator = next(
-                (
-                    a
-                    for a in range(getattr(model, "nactuator", model.nu))
-                    if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
-                    and model.actuator_trnid[a, 0] == joint
-                ),
-                None,
-            )
+            actuator = joint_actuator(model, drive.joint)
             damping = -float(model.actuator_biasprm[actuator, 2]) if actuator is not None else 0.0
         if not damping > 0.0:
             out.append(drive.joint)
@@ -119,18 +120,6 @@ MIN_FINGER_STROKE = 1e-3
 DERIVED_SQUEEZE = 0.1
 
 
-def _joint_followers(model: mujoco.MjModel, leader: int) -> list[tuple[int, np.ndarray]]:
-    """Joints coupled to ``leader`` by an active joint equality (a URDF ``mimic``):
-    ``(joint id, polynomial coefficients)``, the follower at ``sum(c_k * leader^k)``."""
-    out = []
-    for e in range(model.neq):
-        if int(model.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not model.eq_active0[e]:
-            continue
-        if int(model.eq_obj2id[e]) == leader and int(model.eq_obj1id[e]) >= 0:
-            out.append((int(model.eq_obj1id[e]), np.array(model.eq_data[e][:5])))
-    return out
-
-
 def infer_gripper(
     model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]
 ) -> tuple[Gripper, str, tuple[float, float, float], int] | None:
@@ -146,9 +135,11 @@ def infer_gripper(
     names = list(driven)
     last = index.joint(names[-1], "infer_gripper")
     candidates: list[tuple[list[int], int, dict[int, np.ndarray]]] = []
-    followers = _joint_followers(model, last.id)
+    # joints coupled to the last by an active joint equality (a URDF mimic): the index's couplings
+    followers = [c for c in index.couplings if c.leader == last.name]
     if followers:
-        candidates.append(([last.id, followers[0][0]], 1, {followers[0][0]: followers[0][1]}))
+        follower = index.joint(followers[0].follower, "infer_gripper").id
+        candidates.append(([last.id, follower], 1, {follower: np.array(followers[0].coef)}))
     if len(names) >= 2:
         candidates.append(([index.joint(names[-2], "infer_gripper").id, last.id], 2, {}))
     for ids, count, coupled in candidates:

@@ -27,7 +27,7 @@ from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
 from robot_agents.model.scene import Prop
-from robot_agents.sensors.camera import MAX_SIZE, CameraConfig
+from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
 from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
@@ -66,14 +66,7 @@ def task_keywords(cls: type[RobotEnv]) -> list[str]:
 def check_render_size(size: Any, where: str) -> tuple[int, int]:
     """``render_size`` ``(width, height)`` as two whole numbers of pixels in ``[1,
     MAX_SIZE]`` (the rule camera sizes follow); raises :class:`ConfigError`."""
-    valid = (
-        isinstance(size, (tuple, list, np.ndarray))
-        and len(size) == 2
-        and all(
-            isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) and 1 <= v <= MAX_SIZE
-            for v in size
-        )
-    )
+    valid = isinstance(size, (tuple, list, np.ndarray)) and len(size) == 2 and all(is_pixel_count(v) for v in size)
     if not valid:
         raise ConfigError(
             f"{where}: expected render_size to be (width, height), integer numbers of pixels in [1, {MAX_SIZE}], "

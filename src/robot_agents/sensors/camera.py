@@ -25,6 +25,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.rotations import look_at_quat
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
+from robot_agents.validation import is_whole
 
 FloatArray = npt.NDArray[np.float64]
 Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
@@ -33,6 +34,14 @@ Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[fl
 DEFAULT_FOVY = 90.0
 #: Largest image side (pixels) accepted; MuJoCo's offscreen buffer is sized to fit.
 MAX_SIZE = 8192
+
+
+def is_pixel_count(value: object) -> bool:
+    """``value`` is an image side MuJoCo can render: a whole number (not a bool) of
+    pixels in ``[1, MAX_SIZE]``."""
+    return is_whole(value) and 1 <= value <= MAX_SIZE  # type: ignore[operator]
+
+
 #: The mount name of cameras fixed in the world frame.
 WORLD = "world"
 
@@ -84,7 +93,7 @@ class CameraConfig:
         object.__setattr__(self, "quat", unit_quat_tuple(self.quat, where))
         for name in ("width", "height"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_SIZE:
+            if not is_pixel_count(value):
                 raise ConfigError(
                     f"{where}: expected {name} to be an integer number of pixels in [1, {MAX_SIZE}], got {value!r}."
                 )

@@ -194,10 +194,11 @@ def _hit(refs: list[Ref], gone: dict[Any, set[str]]) -> Ref | None:
     return next(((kind, name) for kind, name in refs if name and name in gone.get(kind, ())), None)
 
 
-def _dependents(spec: mujoco.MjSpec, gone: dict[Any, set[str]]) -> list[tuple[str, Any, str, Ref]]:
+def _dependents(spec: mujoco.MjSpec, gone: dict[Any, set[str]]) -> list[tuple[str, Any, str, Ref, int]]:
     """Every element referring to a gone object (a fixed point: what refers to those goes too),
-    as (kind label, the element, its label, the reference); ``gone`` gains their names."""
-    found: list[tuple[str, Any, str, Ref]] = []
+    as (kind label, the element, its label, the reference, its index in the spec's list of
+    its kind); ``gone`` gains their names."""
+    found: list[tuple[str, Any, str, Ref, int]] = []
     seen: set[tuple[str, int]] = set()
     changed = True
     while changed:
@@ -210,7 +211,7 @@ def _dependents(spec: mujoco.MjSpec, gone: dict[Any, set[str]]) -> list[tuple[st
                 if hit is None:
                     continue
                 seen.add((label, index))
-                found.append((label, element, _label(label, element, index), hit))
+                found.append((label, element, _label(label, element, index), hit, index))
                 if element.name:
                     gone.setdefault(own, set()).add(element.name)
                 changed = True
@@ -271,18 +272,18 @@ def drop_with_dependents(
     found = _dependents(spec, gone)
     report.dropped = [
         f"{text} ({'lists' if label == 'tuple' else 'on'} {_KIND_NAMES.get(ref[0], 'object')} {ref[1]!r})"
-        for label, _element, text, ref in found
+        for label, _element, text, ref, _index in found
     ]
     poses = _fixed_poses(spec, gone[_O.mjOBJ_BODY])
     actuators_before = [(a.dyntype, a.actdim) for a in spec.actuators]
-    dropped_actuators = {i for i, a in enumerate(spec.actuators) if _hit(_actuator_refs(a), gone) is not None}
+    dropped_actuators = {index for label, *_, index in found if label == "actuator"}
     keys_before = [(len(k.ctrl), len(k.act)) for k in spec.keys]
 
     # The dependents first, while every element still exists (what refers to others
     # before them: sensors before the actuators they read, actuators before their
     # tendons); then the keyframes' ctrl and act cut to the remaining actuators; then the
     # bodies (MuJoCo re-maps the keyframes' qpos, qvel, mpos and mquat) and world geoms.
-    for _text, element, _label_text, _ref in sorted(found, key=lambda f: _DELETE_ORDER.index(f[0])):
+    for _text, element, _label_text, _ref, _index in sorted(found, key=lambda f: _DELETE_ORDER.index(f[0])):
         spec.delete(element)
     _trim_keys(spec, actuators_before, dropped_actuators, keys_before)
     for body in bodies:

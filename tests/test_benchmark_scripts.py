@@ -34,6 +34,21 @@ RUNS = {
     ): ("| `fetch` | `pd_joint_delta_pos`"),
     ("sim_options.py", "so100", "--blocks", "1", "--steps", "5", "--variants", "visual geoms simulated"): "| yes |",
     ("batch_stepping.py", "--num-envs", "2", "--rounds", "1"): "BatchedWorld",
+    ("thread_schedules.py", "--num-envs", "3", "--rounds", "1"): "| 3 | ",
+    (
+        "core_scaling.py",
+        "--robots",
+        "so100",
+        "--num-envs",
+        "2",
+        "--threads",
+        "1",
+        "2",
+        "--rounds",
+        "1",
+        "--block",
+        "2",
+    ): ("| `so100` | 2 | 2 |"),
     ("render_throughput.py", "--rounds", "1", "--block", "1", "--num-envs", "1"): "capture fps",
     ("default_step_speedup.py", "so100", "--rounds", "1"): "| `so100`",
     ("pose_sync_cost.py",): "| `fetch` |",
@@ -57,3 +72,16 @@ def test_benchmark_script_runs(command: tuple[str, ...]) -> None:
     )
     assert run.returncode == 0, run.stderr[-2000:]
     assert RUNS[command] in run.stdout, run.stdout[-2000:]
+
+
+def test_render_backends_saves_frames_and_compares_them(tmp_path: Path) -> None:
+    """The script's two halves: frames saved in this process's backend, then compared
+    with themselves (every texture identical)."""
+    frames = tmp_path / "frames.npz"
+    script = str(BENCHMARKS / "render_backends.py")
+    for args in (["--save", str(frames), "--rounds", "1"], ["--compare", str(frames), str(frames)]):
+        run = subprocess.run([sys.executable, script, *args], capture_output=True, text=True, timeout=300, check=False)
+        assert run.returncode == 0, run.stderr[-2000:]
+    rows = [line for line in run.stdout.splitlines() if "/" in line and "backend" not in line]
+    assert len(rows) >= 4 * 4, run.stdout
+    assert all(("100.000%" in r) or ("mean |A-B| 0.00" in r) or ("max 0.00 mm" in r) for r in rows), run.stdout

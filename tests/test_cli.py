@@ -268,3 +268,17 @@ def test_check_sweeps_the_substeps_asked_for(tmp_path: Path, capsys: pytest.Capt
     for bad in ("0,10", "ten", ""):
         assert main(["check", str(urdf), "--sweep", "--substeps", bad]) == 2
         assert "--substeps: expected whole numbers >= 1" in capsys.readouterr().err
+
+
+def test_demo_holds_keyframes_in_a_mode_without_absolute_joint_targets(tmp_path: Path, pendulum_file: Path) -> None:
+    """A robot without ``pd_joint_pos`` is reset to each keyframe and held there with
+    the hold action of its mode: with asymmetric normalized delta bounds an all-zero
+    action would step every joint by the middle of its range (here 0.05 rad a step)."""
+    from robot_agents.demo import run_demo
+    from tests.conftest import make_pendulum_class
+
+    delta = robot_agents.PDJointPosConfig(joint_names=("shoulder", "elbow"), lower=-0.05, upper=0.15, use_delta=True)
+    cls = make_pendulum_class(pendulum_file, uid="test_demo_delta_pendulum", control_modes={"delta": delta})
+    summary = run_demo(cls, tmp_path / "demo.gif", seconds_per_pose=1.0, size=(160, 120))
+    assert summary.control_mode == "delta" and summary.finite
+    assert summary.max_abs_qvel < 0.01, summary.lines()  # 0.35 rad/s with an all-zero action

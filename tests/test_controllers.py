@@ -226,3 +226,28 @@ def test_per_joint_gain_length_checked(pendulum_file: object) -> None:
     )
     with pytest.raises(ra.ConfigError, match=r"stiffness: expected 1 or 2 values"):
         ra.Scene(cls)
+
+
+def test_hold_action_commands_zero_under_asymmetric_normalized_bounds(pendulum_file: object) -> None:
+    """``checks.hold_action`` asks for no motion in every mode: with asymmetric bounds a
+    normalized zero is not a raw zero (it is the middle of the range), so the hold must
+    map raw zero through the mode's normalization."""
+    from robot_agents.checks import hold_action
+    from tests.conftest import make_pendulum_class
+
+    velocity = ra.PDJointVelConfig(joint_names=("shoulder",), lower=-0.5, upper=1.5)
+    delta = ra.PDJointPosConfig(joint_names=("elbow",), lower=-0.05, upper=0.15, use_delta=True)
+    cls = make_pendulum_class(pendulum_file, control_modes={"m": {"a": velocity, "b": delta}})  # type: ignore[arg-type]
+    scene = ra.Scene(cls)
+    scene.reset()
+    agent = scene.agents[0]
+    hold = hold_action(agent)
+    np.testing.assert_allclose(hold, [-0.5, -0.5])  # raw 0 in [-0.5, 1.5] and in [-0.05, 0.15]
+    parts = agent.controller.parts
+    np.testing.assert_allclose([parts["a"].to_raw(hold[None, :1])[0, 0], parts["b"].to_raw(hold[None, 1:])[0, 0]], 0.0)
+    start = agent.qpos[0].copy()
+    for _ in range(20):
+        agent.set_action(hold)
+        scene.step()
+    np.testing.assert_allclose(agent.qpos[0], start, atol=1e-3)  # held, not driven at 0.5 rad/s
+    scene.close()

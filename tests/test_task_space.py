@@ -517,3 +517,36 @@ def test_failed_ik_never_moves_the_tool_farther_than_its_target() -> None:
         result.position_error, np.linalg.norm(reached[:, :3] - targets[:, :3], axis=1), atol=1e-9
     )
     scene.close()
+
+
+def test_hold_action_holds_a_normalized_absolute_pose_mode() -> None:
+    """``checks.hold_action`` in an absolute end-effector mode whose actions are
+    normalized: the held pose goes through the mode's normalization (a raw pose read as a
+    normalized action would command a target near the workspace's middle), and
+    ``checks.raw_hold`` maps it back to the pose."""
+    from robot_agents.checks import hold_action, raw_hold
+
+    class NormalizedPosePanda(Panda):
+        uid = "test_panda_normalized_ee_pose"
+        control_modes = {
+            "ee": {
+                "arm": replace(ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"], normalize_action=True),  # type: ignore[type-var]
+                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
+            }
+        }
+        default_control_mode = "ee"
+
+    scene = ra.Scene(NormalizedPosePanda)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    start = agent.qpos[0].copy()
+    arm = agent.controller.parts["arm"]
+    hold = hold_action(agent)
+    assert np.all(np.abs(hold) <= 1.0)
+    pose = arm.target_pose[0]  # type: ignore[attr-defined]
+    np.testing.assert_allclose(raw_hold(arm, hold[agent.controller.slices["arm"]])[:3], pose[:3], atol=1e-12)  # type: ignore[arg-type]
+    for _ in range(20):
+        agent.set_action(hold)
+        scene.step()
+    np.testing.assert_allclose(agent.qpos[0, :7], start[:7], atol=2e-3)
+    scene.close()

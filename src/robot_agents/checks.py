@@ -46,7 +46,8 @@ class CheckResult:
 def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
     """The action that asks the robot to stay where it is (env ``env``), in any mode:
     absolute joint targets at the measured pose, the end effector's current target for
-    absolute end-effector modes, zero deltas, velocities and efforts otherwise.
+    absolute end-effector modes, zero deltas, velocities and efforts otherwise (each
+    normalized where its mode is, whatever its bounds).
 
     To hold a pose, take it once and repeat it: taken again at every step, absolute
     targets would follow a joint that gives under its load (a leg carrying the body)
@@ -64,11 +65,23 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
             rotation = pose[3:] if controller.quaternion_input else quat_to_rotvec(pose[3:])
             raw = np.concatenate([pose[:3], rotation]) if controller.rotation else pose[:3]
         else:
-            raw = np.zeros(controller.action_dim)  # zero delta / velocity / effort (symmetric bounds)
-        if config.normalize_action and isinstance(config, PDJointPosConfig) and not config.use_delta:
-            raw = controller.from_raw(raw)
-        parts.append(raw)
+            raw = np.zeros(controller.action_dim)  # zero delta / velocity / effort
+        # The action that commands ``raw``: with symmetric bounds a raw zero is a normalized
+        # zero (exactly); with asymmetric ones, or a normalized absolute mode, it is not.
+        parts.append(controller.from_raw(raw) if config.normalize_action else raw)
     return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def raw_hold(controller: PDEEController, hold: np.ndarray) -> np.ndarray:
+    """The raw command (m, rad; not normalized) of an end-effector controller's slice
+    ``hold`` of :func:`hold_action`, a new array of shape ``(action_dim,)``: zero for
+    delta modes, the held pose for absolute ones (un-normalized where the mode is)."""
+    if controller.config.use_delta:
+        return np.zeros(controller.action_dim)
+    if controller.config.normalize_action:
+        raw: np.ndarray = controller.to_raw(np.asarray(hold, dtype=float)[None])[0]
+        return raw
+    return np.array(hold, dtype=float)
 
 
 def standing_leg_joints(cls: type[Agent]) -> tuple[str, ...]:

@@ -20,6 +20,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.agent.index import JointKind
+from robot_agents.checks import hold_action
 from robot_agents.controllers.joint import PDJointPosConfig
 from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.parts.declaration import Gripper
@@ -109,12 +110,9 @@ def run_demo(
     peak_speed = 0.0
     step_count = 0
 
-    def advance(target: npt.NDArray[np.float64] | None) -> None:
+    def advance(action: npt.NDArray[np.float64]) -> None:
         nonlocal peak_speed, step_count
-        if target is not None:
-            agent.set_action(target)
-        else:
-            agent.set_action(np.zeros(agent.controller.action_dim))
+        agent.set_action(action)
         scene.step()
         peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
         if step_count % record_every == 0:
@@ -136,13 +134,14 @@ def run_demo(
     for name, _ in [*poses[1:], *poses[:1]]:
         goal = agent.keyframe_qpos(name)
         begin = agent.qpos[0]
+        hold = None if position_mode else hold_action(agent)  # taken once: the pose reached
         for i in range(steps_per_pose):
-            if position_mode:
+            if hold is None:
                 blend = min(1.0, (i + 1) / (0.6 * steps_per_pose))
                 smooth = blend * blend * (3 - 2 * blend)
                 advance(_action_for(agent, begin + smooth * (goal - begin)))
             else:
-                advance(None)
+                advance(hold)
         if not position_mode:
             scene.reset(keyframes=name)
         results.append(KeyframeResult(name, float(np.max(np.abs(agent.qpos[0] - goal)))))

@@ -66,6 +66,7 @@ from robot_agents.checks import (
     hold_drift,
     keeps_targets,
     load_settle_steps,
+    raw_hold,
     run_random_actions,
     standing_leg_joints,
 )
@@ -371,7 +372,7 @@ def _ee_tracking(cls: type[Agent], sim_freq: int, control_freq: int, depth: Pene
     for controller in controllers:
         hold = hold_action_of(agent, controller)
         if isinstance(controller, PDEEController):
-            raw = hold.copy() if not controller.config.use_delta else np.zeros(controller.action_dim)
+            raw = raw_hold(controller, hold)
             raw[axis] += EE_MOVE
             first.append(controller.from_raw(raw))
         else:

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.checks import hold_action
+from robot_agents.checks import hold_action, raw_hold
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
@@ -133,8 +133,7 @@ def _grasp_at(
     def act(lift: float = 0.0, measured: Penetration = impact) -> None:
         action = hold_action(agent)
         if lift:
-            hold = action[ee_slot].copy()
-            raw = hold if not ee_controller.config.use_delta else np.zeros(ee_controller.action_dim)
+            raw = raw_hold(ee_controller, action[ee_slot])
             raw[2] += lift
             action[ee_slot] = ee_controller.from_raw(raw)
         if slot is not None and close is not None:

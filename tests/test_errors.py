@@ -277,6 +277,22 @@ def test_scene_argument_errors() -> None:
         ra.make_env("Empty-v1", obs_mode="rgbdd")
 
 
+def test_reset_arguments_in_the_other_order_say_which_keyword_to_use() -> None:
+    """``Scene.reset`` takes env ids first, ``Agent.reset`` a keyframe first: each call
+    in the other's order names the keyword to use, and changes nothing."""
+    scene = ra.Scene("panda", num_envs=2)
+    scene.reset()
+    before = scene.world.get_state().copy()
+    with pytest.raises(ra.StateError, match=r"got 'rest'; a keyframe goes by keyword: reset\(keyframes='rest'\)"):
+        scene.reset("rest")  # type: ignore[arg-type]
+    with pytest.raises(
+        ra.StateError, match=r"got \[0\]; env ids go by keyword: reset\(env_ids=...\). Keyframes: 'rest'"
+    ):
+        scene.agents[0].reset([0])  # type: ignore[arg-type]
+    np.testing.assert_array_equal(scene.world.get_state(), before)
+    scene.close()
+
+
 def test_bad_controller_state_rejected(env) -> None:  # type: ignore[no-untyped-def]
     u = env.unwrapped
     state = u.get_state()

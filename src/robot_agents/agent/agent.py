@@ -343,8 +343,13 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         name = keyframe if keyframe is not None else (self.default_keyframe() if qpos is None else None)
         frame = None
         if name is not None:
-            if not isinstance(name, str) or name not in self._resolved_keyframes:
-                raise UnknownNameError(where, "keyframe", str(name), self._resolved_keyframes)
+            if not isinstance(name, str):  # agent.reset([0]): the first argument is the keyframe
+                raise StateError(
+                    f"{where}: expected a keyframe name (str) or None as the first argument, got {name!r}; "
+                    f"env ids go by keyword: reset(env_ids=...). Keyframes: {', '.join(map(repr, self._resolved_keyframes))}."
+                )
+            if name not in self._resolved_keyframes:
+                raise UnknownNameError(where, "keyframe", name, self._resolved_keyframes)
             frame = self._resolved_keyframes[name]
         if frame is None and qpos is None:
             raise StateError(f"{where}: {type(self).__name__} has no keyframes; pass qpos of shape ({self.nq},).")

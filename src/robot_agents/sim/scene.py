@@ -272,6 +272,11 @@ class Scene:
         robot to a keyframe (default: its first) or to the given ``qpos``."""
         where = "Scene.reset"
         self._check_open(where)
+        if isinstance(env_ids, str):  # scene.reset("rest"): the first argument is env_ids
+            raise StateError(
+                f"{where}: expected env ids (a sequence of ints or None) as the first argument, got {env_ids!r}; "
+                f"a keyframe goes by keyword: reset(keyframes={env_ids!r})."
+            )
         ids = self.agents[0].state.env_ids(env_ids, where)
         frames = self.check_keyframes(keyframes, where)
         n = len(self.agents)

@@ -6,6 +6,7 @@ worked out by hand; a fixed-base arm and a floating arm keep the inertia gains."
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 
@@ -15,7 +16,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents import checks
-from robot_agents.actuators.gains import STANCE_SAG, STANCE_STABLE_SHARE, gains_from_inertia
+from robot_agents.actuators.gains import STANCE_DAMPING_SHARE, STANCE_SAG, STANCE_STABLE_SHARE, gains_from_inertia
 from robot_agents.agent.declaration import _build
 from robot_agents.agent.stance import GRAVITY, Stance, find_stance
 from robot_agents.parts.declaration import Arm, Legs
@@ -219,3 +220,148 @@ def test_a_stance_needs_a_free_root(tmp_path: Path) -> None:
         "its root is fixed"
     )
     assert mujoco.mj_name2id(checked.index.model, mujoco.mjtObj.mjOBJ_JOINT, "fr_knee") >= 0
+
+
+# dm_control's quadruped couples each leg's joints by tendon equalities (solref 0.005 / 0.5:
+# stiff at a 2 ms step, half-critical); with the stance drives' damping far beyond the
+# explicit bound it hopped. Here each leg's hip and knee are coupled the same way.
+COUPLING_SOLREF = "0.005 0.5"
+
+
+def coupled_quadruped() -> str:
+    """:func:`quadruped` with ``(hip + knee) / 2`` of each leg held at 0 (its keyframe
+    value) by a soft tendon equality, as dm_control's quadruped couples its legs."""
+    legs = ("fr", "fl", "rr", "rl")
+    tendons = "".join(
+        f'<fixed name="{leg}_couple"><joint joint="{leg}_hip" coef="0.5"/><joint joint="{leg}_knee" coef="0.5"/></fixed>'
+        for leg in legs
+    )
+    equalities = "".join(
+        f'<tendon name="{leg}_couple" tendon1="{leg}_couple" solref="{COUPLING_SOLREF}" solimp="0.95 0.99 0.01"/>'
+        for leg in legs
+    )
+    return quadruped().replace(
+        "</worldbody>", f"</worldbody>\n  <tendon>{tendons}</tendon>\n  <equality>{equalities}</equality>"
+    )
+
+
+def _free_inertia(checked: object) -> dict[str, float]:
+    """``1 / (M^-1)_ii`` of each driven joint at the default keyframe (kg*m^2)."""
+    model = checked.index.model  # type: ignore[attr-defined]
+    data = mujoco.MjData(model)
+    data.qpos[:] = _full(checked)
+    mujoco.mj_forward(model, data)
+    full = np.zeros((model.nv, model.nv))
+    try:
+        mujoco.mj_fullM(model, data, full)  # MuJoCo >= 3.5
+    except TypeError:
+        mujoco.mj_fullM(model, full, data.qM)
+    mobility = np.diag(np.linalg.inv(full))
+    return {j: 1.0 / float(mobility[model.joint(j).dofadr[0]]) for j in checked.derived_gains}  # type: ignore[attr-defined]
+
+
+def test_free_inertia_is_what_a_force_at_the_joint_meets(tmp_path: Path) -> None:
+    cls = robot_from_file(write(tmp_path, "quad_free_inertia", quadruped()), floating=True)
+    checked = cls.check()
+    joints = [d.joint for d in checked.drives]
+    gains = gains_from_inertia(checked.index.model, joints, _full(checked))
+    assert gains.free_inertia is not None and gains.passive_damping is not None
+    expected = _free_inertia(checked)
+    np.testing.assert_allclose(gains.free_inertia, [expected[j] for j in joints], rtol=1e-9)
+    # the body and the other joints free, a leg swings more easily than with them held
+    assert np.all(gains.free_inertia < gains.inertia)
+    np.testing.assert_array_equal(gains.passive_damping, 0.0)
+
+
+def test_stance_damping_stays_within_the_constraint_solvers_bound(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``dt (kv + b) <= I_free``: a joint's damping takes at most its whole velocity in one
+    step, so contact and equality forces, sized for ``M``, are off by at most 2. (The
+    inertia gains, critical at 10 Hz on the held inertia, stay a floor.)"""
+    cls = robot_from_file(write(tmp_path, "quad_damping_bound", coupled_quadruped()), floating=True)
+    checked = cls.check()
+    free = _free_inertia(checked)
+    model = checked.index.model
+    floor = gains_from_inertia(model, list(checked.derived_gains), _full(checked)).as_dict()
+    from robot_agents.actuators import gains as gains_module
+
+    monkeypatch.setattr(gains_module, "STANCE_DAMPING_SHARE", math.inf)
+    unbounded = robot_from_file(write(tmp_path, "quad_damping_unbounded", coupled_quadruped()), floating=True)
+    critical = unbounded.check().derived_gains
+    for joint, (kp, kv, _limit) in checked.derived_gains.items():
+        assert kp == critical[joint][0]  # the stiffness is not touched
+        b = float(model.dof_damping[model.joint(joint).dofadr[0]])
+        bound = STANCE_DAMPING_SHARE * 2.0 * free[joint] / 0.002 - b
+        assert kv == pytest.approx(max(floor[joint][1], min(critical[joint][1], bound)), rel=1e-9)
+        assert critical[joint][1] > 3 * bound  # critical against the carried body: far beyond
+
+
+def test_legs_coupled_by_equalities_stand_with_bounded_damping(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Tendon equalities coupling each leg's joints: with the damping critical against the
+    carried body (``dt kv / I_free`` up to 3.8 here) the robot hops (the hold drifts 0.015
+    rad, the base moves 50 mm); within the bound it stands still."""
+    from robot_agents.actuators import gains as gains_module
+
+    monkeypatch.setattr(gains_module, "STANCE_DAMPING_SHARE", math.inf)
+    unbounded = robot_from_file(write(tmp_path, "quad_coupled_unbounded", coupled_quadruped()), floating=True)
+    hops = checks.check_standing(unbounded)
+    assert hops is not None and not hops.passed, hops  # the base moved 50 mm
+    assert not checks.check_holds(unbounded).passed  # 0.015 rad
+    monkeypatch.undo()
+    cls = robot_from_file(write(tmp_path, "quad_coupled", coupled_quadruped()), floating=True)
+    standing = checks.check_standing(cls)
+    assert standing is not None and standing.passed, standing
+    assert standing.detail.startswith("base moved 0.0 mm"), standing
+    holds = checks.check_holds(cls)
+    assert holds.passed, holds.line()
+    assert checks.check_pd_stability(cls).passed
+
+
+def head_quadruped() -> str:
+    """:func:`quadruped` with a neck hinge carrying a 1.5 kg head ahead of the body: a
+    joint that carries weight but stands on no foot (dm_control's dog: neck, tail, jaw)."""
+    neck = """
+      <body name="neck" pos="0.25 0 0.05">
+        <joint name="neck_pitch" axis="0 1 0" range="-1 1"/>
+        <geom type="capsule" size="0.02" fromto="0 0 0 0.15 0 0.1" mass="0.5"/>
+        <body name="head" pos="0.15 0 0.1">
+          <geom type="sphere" size="0.05" mass="1.5"/>
+        </body>
+      </body>"""
+    body = f'<geom type="box" size="0.25 0.15 0.05" mass="{BODY_MASS}"/>'
+    return quadruped().replace(body, body + neck)
+
+
+def test_a_head_on_standing_legs_holds_its_target(tmp_path: Path) -> None:
+    """The neck is a ``Body`` part beside the ``Legs``; with deltas from the measured pose
+    its head's weight walked it down step by step (0.22 rad over the 2 s hold); with deltas
+    from its targets, as the legs', it holds."""
+    cls = robot_from_file(write(tmp_path, "quad_head", head_quadruped()), floating=True)
+    checked = cls.check()
+    assert [type(p).__name__ for p in checked.parts] == ["Legs", "Body"]
+    assert checked.part_joints["body"] == ("neck_pitch",)
+    for mode, config in checked.modes.items():
+        body = config["body"]  # type: ignore[index]
+        assert body.use_target, mode  # type: ignore[union-attr]
+    holds = checks.check_holds(cls)
+    assert holds.passed, holds.line()
+    standing = checks.check_standing(cls)
+    assert standing is not None and standing.passed, standing
+
+
+def test_derived_drives_ignore_the_files_actuator_defaults(tmp_path: Path) -> None:
+    """A file's default ``<general>`` (dm_control's ``dyntype="filter"``) is for its own
+    actuators: the derived PD drives have gear 1 and no activation dynamics."""
+    text = quadruped().replace(
+        '<compiler angle="radian"/>',
+        '<compiler angle="radian"/>\n  <default><general dyntype="filter" dynprm="0.1" gear="10"/></default>',
+    )
+    cls = robot_from_file(write(tmp_path, "quad_actuator_defaults", text), floating=True)
+    scene = ra.Scene(cls)
+    model = scene.model
+    assert model.nu == 8
+    np.testing.assert_array_equal(model.actuator_dyntype, int(mujoco.mjtDyn.mjDYN_NONE))
+    np.testing.assert_array_equal(model.actuator_gear[:, 0], 1.0)
+    assert model.na == 0
+    scene.close()

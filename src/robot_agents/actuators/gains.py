@@ -26,11 +26,16 @@ softening included (a load ``F_i`` at distance ``r_i`` from the axis grows its t
 at most ``F_i r_i`` per radian given), and damps it critically against the share of the
 body it carries, ``I_load = sum_i F_i r_i^2 / g``:
 
-    kv = max(kv_inertia, 2 * zeta * sqrt(kp * max(I, I_load)))
+    kv = max(kv_inertia, min(2 * zeta * sqrt(kp * max(I, I_load)), I_free / dt - b))
 
 ``kp`` stays below :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound
 ``4 I / dt^2`` (``I`` the leg's own inertia: a swinging leg carries no body), so the
 physics check passes with a factor 2 to spare; where that caps it, the joint sags more.
+``kv`` stays below :data:`STANCE_DAMPING_SHARE` of the explicit-damping bound
+``2 I_free / dt``, less the file's own joint damping ``b`` (``I_free = 1 / (M^-1)_ii``, the
+inertia the joint presents with everything else free): MuJoCo's constraint solver sizes
+contact and equality forces for ``M``, not for the ``M + dt D`` its implicit damping
+integrates, and far beyond that bound a stance bounces on its feet.
 """
 
 from __future__ import annotations
@@ -61,11 +66,27 @@ STANCE_SAG = 0.005
 #: Share of the explicit-stiffness bound ``4 I / dt^2`` that stance gains stay below:
 #: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
 STANCE_STABLE_SHARE = 0.25
+#: Share of the explicit-damping bound ``2 I_free / dt`` that a joint's whole damping in a
+#: stance (its drive's ``kv`` and the file's own ``b``) stays below: ``dt (kv + b) <= I_free``.
+#: MuJoCo integrates damping implicitly, but its constraint solver sizes contact and
+#: equality forces for ``M``, before that update: a joint damped by ``D`` answers a force
+#: ``1 + dt D / I_free`` times more weakly than the solver expects (``I_free = 1 / (M^-1)_ii``;
+#: Sherman-Morrison), here at most twice. Far beyond, a standing robot bounces:
+#: dm_control's quadruped (tendon equalities coupling each leg's joints) hopped 15 cm,
+#: its dog rocked on its front feet and walked back 5 cm in 5 s.
+STANCE_DAMPING_SHARE = 0.5
 
 
 @dataclass(frozen=True)
 class SuggestedGains:
-    """Gains for some joints (arrays ``(n,)`` in the order of ``joints``)."""
+    """Gains for some joints (arrays ``(n,)`` in the order of ``joints``).
+
+    ``inertia`` is each joint's effective inertia, the diagonal of the joint-space inertia
+    matrix ``M`` (kg*m^2, or kg for slides: every other joint held). ``free_inertia`` is
+    ``1 / (M^-1)_ii``, the inertia the joint presents with every other degree of freedom
+    free (a floating base's too): what a force at the joint meets in MuJoCo's constraint
+    solver. ``passive_damping`` is the file's own joint damping (N*m*s/rad or N*s/m).
+    ``None``: not computed; ``inertia`` and no damping stand in for them."""
 
     joints: tuple[str, ...]
     stiffness: npt.NDArray[np.float64]
@@ -74,6 +95,8 @@ class SuggestedGains:
     inertia: npt.NDArray[np.float64]
     bandwidth_hz: float
     damping_ratio: float
+    free_inertia: npt.NDArray[np.float64] | None = None
+    passive_damping: npt.NDArray[np.float64] | None = None
 
     def as_dict(self) -> dict[str, tuple[float, float]]:
         """``joint -> (stiffness, damping)``."""
@@ -114,6 +137,9 @@ def gains_from_inertia(
         ids.append(joint)
     dofs = model.jnt_dofadr[ids]
     inertia = np.maximum(np.diag(inertia_matrix)[dofs], 1e-9)
+    # (M^-1)_ii >= 1 / M_ii for a positive-definite M: the free inertia is at most the held one
+    mobility = np.diag(np.linalg.inv(inertia_matrix))[dofs]
+    free_inertia = np.clip(1.0 / np.maximum(mobility, 1e-300), 1e-9, inertia)
     omega = 2.0 * math.pi * bandwidth_hz
     limited = model.jnt_actfrclimited[ids].astype(bool)
     effort = np.where(limited, np.abs(model.jnt_actfrcrange[ids]).max(axis=1), np.inf)
@@ -125,6 +151,8 @@ def gains_from_inertia(
         inertia=inertia,
         bandwidth_hz=float(bandwidth_hz),
         damping_ratio=float(damping_ratio),
+        free_inertia=free_inertia,
+        passive_damping=np.array(model.dof_damping[dofs], dtype=np.float64),
     )
 
 
@@ -146,6 +174,10 @@ def stance_gains(
     cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
     stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
     load_inertia = np.maximum(gains.inertia, np.asarray(reflected, dtype=np.float64))
-    damping = np.maximum(gains.damping, 2.0 * gains.damping_ratio * np.sqrt(stiffness * load_inertia))
+    critical = 2.0 * gains.damping_ratio * np.sqrt(stiffness * load_inertia)
+    free = gains.inertia if gains.free_inertia is None else gains.free_inertia
+    passive = np.zeros(len(gains.joints)) if gains.passive_damping is None else gains.passive_damping
+    damping_cap = STANCE_DAMPING_SHARE * 2.0 * free / timestep - passive
+    damping = np.maximum(gains.damping, np.minimum(critical, damping_cap))
     capped = tuple(j for j, n, c in zip(gains.joints, need, cap, strict=True) if n > c)
     return replace(gains, stiffness=stiffness, damping=damping), capped

@@ -220,12 +220,18 @@ def _actuator_name(joint: str, taken: set[str]) -> str:
 
 def _add_affine(spec: mujoco.MjSpec, joint: str, taken: set[str], kp: float, kv: float, limit: float) -> None:
     """A ``general`` actuator in joint units: gain ``g`` (kp, else kv, else 1), bias
-    ``(0, -kp, -kv)``, force clamped to ``limit``."""
+    ``(0, -kp, -kv)``, force clamped to ``limit``. Gear 1 and no activation dynamics are
+    set explicitly: a file's default ``<general>`` (dm_control's ``dyntype="filter"``, a
+    ``gear``) is meant for its own actuators, not for these drives."""
     gain = kp if kp > 0 else (kv if kv > 0 else 1.0)
     spec.add_actuator(
         name=_actuator_name(joint, taken),
         target=joint,
         trntype=mujoco.mjtTrn.mjTRN_JOINT,
+        gear=[1.0] + [0.0] * 5,
+        dyntype=mujoco.mjtDyn.mjDYN_NONE,
+        dynprm=[1.0] + [0.0] * 9,
+        actlimited=0,
         gaintype=mujoco.mjtGain.mjGAIN_FIXED,
         biastype=mujoco.mjtBias.mjBIAS_AFFINE,
         gainprm=[gain] + [0.0] * 9,

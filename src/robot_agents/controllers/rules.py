@@ -275,6 +275,9 @@ def modes_from_parts(
         if set(undamped) & set(joints):
             table = {mode: config for mode, config in table.items() if not _velocity_only(config)}
     others: dict[str, ControllerConfig] = {}
+    # a robot standing on its legs has no gravity compensation (it would lighten the body
+    # the legs carry): every part riding on it carries its own weight, as the legs do
+    standing = any(isinstance(p, Legs) and not p.held for p in parts)
     for part in parts:
         if part is main or (isinstance(part, Legs) and part.held):
             continue  # held legs: no action, their drives keep the reset pose
@@ -290,12 +293,13 @@ def modes_from_parts(
         else:
             moving = tuple(j for j in names if j in driven)
             if moving:
-                # legs that carry the robot take deltas from their targets: a zero delta
-                # from the measured pose would let them give under its weight step by step
+                # legs that carry the robot, and the parts riding on them (a head, a tail),
+                # take deltas from their targets: a zero delta from the measured pose would
+                # let them give under their weight step by step
                 others[part.name] = PDJointPosConfig(
                     joint_names=moving,
                     use_delta=True,
-                    use_target=isinstance(part, Legs),
+                    use_target=standing,
                     lower=-part.max_delta,
                     upper=part.max_delta,
                 )

@@ -288,6 +288,9 @@ def test_ambiguous_or_folding_structures_get_no_gripper(tmp_path: Path) -> None:
     extra += joint("camera_pan", "revolute", "hand", "camera", "0.03 0 0.02", "0 0 1", -1, 1).format(mimic="")
     checked = robot(tmp_path, urdf(extra + linkage())).check()
     assert not any(isinstance(p, Gripper) for p in checked.parts)
-    # a jaw that never comes near the fixed jaw (it leans away over its whole range) is not one
-    checked = robot(tmp_path, urdf(one_jaw(-0.8, -0.4))).check()
-    assert not any(isinstance(p, Gripper) for p in checked.parts)
+    # a jaw that never comes near the fixed jaw (it leans away over its whole range) is not
+    # one, nor one that turns half a turn or more (a flange: KUKA iiwa's joint 7 was taken
+    # for a jaw closing on link 6 at one end of its +-3.05 rad before this rule)
+    for low, high in ((-0.8, -0.4), (-2.0, 1.2)):
+        checked = robot(tmp_path, urdf(one_jaw(low, high))).check()
+        assert not any(isinstance(p, Gripper) for p in checked.parts)

@@ -236,6 +236,8 @@ JAW_CLOSED_SHARE = 0.25
 #: Points per edge of the grid sampled on a primitive geom's surface (a box's faces, a
 #: cylinder's or capsule's side) to measure distances between geometries.
 _SURFACE_GRID = 9
+#: Positions over a one-jaw gripper's range at which its gap must shrink steadily.
+_JAW_SAMPLES = 9
 _HINGE_OR_SLIDE = (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE))
 
 
@@ -332,15 +334,20 @@ def _one_jaw_gripper(
     The jaw's tip is the point of its geometry farthest from the hinge's axis; its gap
     is the distance from the tip to the nearest point of the fixed jaw's geometry (mesh
     vertices, points on primitive surfaces). ``closed`` is the end of the range where
-    the gap is smallest, ``open`` the other. It is a gripper when the gap shrinks by at
-    least :data:`MIN_FINGER_STROKE`, to at most :data:`JAW_CLOSED_SHARE` of the open gap,
-    and the closed tip is farther from the hand's origin than the hinge (the jaw closes
-    forward, onto a fixed jaw past the hinge, not back onto the link it hangs from).
+    the gap is smallest, ``open`` the other. It is a gripper when the range is less than
+    half a turn (a wrist or a flange turns more), the gap shrinks by at least
+    :data:`MIN_FINGER_STROKE` to at most :data:`JAW_CLOSED_SHARE` of the open gap, and
+    steadily (it grows by less than :data:`MIN_FINGER_STROKE` between any two of
+    :data:`_JAW_SAMPLES` positions from open to closed), and the closed tip is farther
+    from the hand's origin than the hinge (the jaw closes forward, onto a fixed jaw past
+    the hinge, not back onto the link it hangs from).
     Returns the part, the hand's name and the point where the closed jaws meet (the
     closed tip and its nearest fixed point's midpoint, moved along the axis to the
     middle of the jaw's width) in the hand's frame (m)."""
     if int(model.jnt_type[joint]) != int(mujoco.mjtJoint.mjJNT_HINGE) or not model.jnt_limited[joint]:
         return None
+    if float(np.ptp(model.jnt_range[joint])) >= math.pi:
+        return None  # it turns half a turn or more: a wrist or a flange, not a jaw
     mover = int(model.jnt_bodyid[joint])
     hand = int(model.body_parentid[mover])
     if hand <= 0:
@@ -381,6 +388,9 @@ def _one_jaw_gripper(
     gap_open, gap_closed = max(gap_low, gap_high), min(gap_low, gap_high)
     if gap_open - gap_closed < MIN_FINGER_STROKE or gap_closed > JAW_CLOSED_SHARE * gap_open:
         return None
+    gaps = [gap(float(v))[0] for v in np.linspace(opened, closed, _JAW_SAMPLES)]
+    if any(later > earlier + MIN_FINGER_STROKE for earlier, later in itertools.pairwise(gaps)):
+        return None  # the tip does not close steadily onto the fixed jaw
     _, tip, nearest = gap(closed)
     origin = data.xpos[hand]
     if np.linalg.norm(tip - origin) <= np.linalg.norm(data.xanchor[joint] - origin):

@@ -1,6 +1,7 @@
 """What a robot that declares little gets derived from its model: its parts (a serial
-chain is an arm, two fingers at its end a gripper), the motors among its drives, body pairs already touching at its
-default pose, and where a floating (or floor-crossing) robot rests on the floor."""
+chain is an arm, two fingers, a mimic linkage or one jaw at its end a gripper), the
+motors among its drives, body pairs already touching at its default pose, and where a
+floating (or floor-crossing) robot rests on the floor."""
 
 from __future__ import annotations
 
@@ -71,9 +72,10 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
     a serial chain (each joint's body below the previous one's), with the chain's last
     body as the end effector; otherwise one ``Body`` part over all of them.
 
-    Two fingers at the chain's end are a ``Gripper`` (see :func:`infer_gripper`): the
-    arm is the chain above them, its end effector ``"ee"`` on the fingers' common parent
-    (the hand), at the midpoint of the fingers' centres of mass when closed."""
+    Two fingers, a mimic linkage or one jaw at the chain's end are a ``Gripper`` (see
+    :func:`infer_gripper`): the arm is the chain above them, its end effector ``"ee"`` on
+    the hand at the gripper's tool point (two fingers and a linkage: the midpoint of the
+    fingers' centres of mass when closed; one jaw: where it meets the fixed jaw)."""
     if not driven:
         return ()
     found = infer_gripper(model, index, driven)
@@ -250,8 +252,9 @@ def _linkage_gripper(
     The hand is the deepest body above every one of these joints' bodies that none of
     them moves; the joints below it must be exactly these. The fingers are the two
     bodies (with collision geometry in their subtrees), below different children of the
-    hand, whose centres of mass come closest together over the leader's range: with a
-    four-bar or any other linkage, the links that carry the pads. ``open`` is the
+    hand, whose centres of mass's distance changes most over the leader's range: with a
+    four-bar or any other linkage, the links that carry the pads (a knuckle's centre of
+    mass, nearer its hinge, moves less). ``open`` is the
     leader's end where they are farthest apart, each follower's ``open`` / ``closed``
     its coupling's value there. Returns the part, the hand's name and the closed fingers'
     midpoint in the hand's frame (m)."""

@@ -294,3 +294,90 @@ def test_ambiguous_or_folding_structures_get_no_gripper(tmp_path: Path) -> None:
     for low, high in ((-0.8, -0.4), (-2.0, 1.2)):
         checked = robot(tmp_path, urdf(one_jaw(low, high))).check()
         assert not any(isinstance(p, Gripper) for p in checked.parts)
+
+
+#: One jaw and a linkage written in MJCF with round geoms (capsules, cylinders, spheres):
+#: the same rules, the gap measured on points sampled on the primitives' surfaces.
+MJCF_ONE_JAW = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="hand" pos="0 0 0.1">
+      <geom type="box" size="0.02 0.08 0.02" mass="0.3"/>
+      <geom type="capsule" fromto="0 -0.01 0.03 0 -0.01 0.11" size="0.005" mass="0.05"/>
+      <body name="jaw" pos="0 0.02 0.03">
+        <joint name="jaw_joint" axis="1 0 0" range="-0.5 0.3"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.07" size="0.005" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+MJCF_LINKAGE = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="hand" pos="0 0 0.1">
+      <geom type="box" size="0.02 0.08 0.02" mass="0.3"/>
+      <body name="left_knuckle" pos="0 0.03 0.025">
+        <joint name="leader" axis="-1 0 0" range="0 0.8"/>
+        <geom type="cylinder" fromto="0 0 0 0 0 0.03" size="0.004" mass="0.02"/>
+        <body name="left_finger" pos="0 0 0.03">
+          <joint name="left_finger_joint" axis="1 0 0" range="0 0.8"/>
+          <geom type="sphere" pos="0 -0.02 0.02" size="0.008" mass="0.03"/>
+        </body>
+      </body>
+      <body name="right_knuckle" pos="0 -0.03 0.025">
+        <joint name="right_knuckle_joint" axis="1 0 0" range="0 0.8"/>
+        <geom type="cylinder" fromto="0 0 0 0 0 0.03" size="0.004" mass="0.02"/>
+        <body name="right_finger" pos="0 0 0.03">
+          <joint name="right_finger_joint" axis="-1 0 0" range="0 0.8"/>
+          <geom type="sphere" pos="0 0.02 0.02" size="0.008" mass="0.03"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <joint joint1="left_finger_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+    <joint joint1="right_knuckle_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+    <joint joint1="right_finger_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+  </equality>
+</mujoco>
+"""
+
+
+def mjcf_robot(tmp_path: Path, text: str) -> type[ra.Agent]:
+    path = tmp_path / "robot.xml"
+    path.write_text(text)
+    return type("GripperTest", (ra.Agent,), {"uid": "gripper_test", "mjcf_path": path})
+
+
+def test_mjcf_one_jaw_and_linkage_with_round_geoms(tmp_path: Path) -> None:
+    cls = mjcf_robot(tmp_path, MJCF_ONE_JAW)
+    checked = cls.check()
+    (jaw,) = checked.parts
+    assert isinstance(jaw, Gripper)
+    assert checked.part_joints == {"gripper": ("jaw_joint",)}
+    assert jaw.open == (-0.5,) and jaw.closed == (0.3,)
+    assert jaw.fingers == (("jaw",), ("hand",))
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0) > 0.95
+    assert opening_after(scene, -1.0) < 0.05
+
+    cls = mjcf_robot(tmp_path, MJCF_LINKAGE)
+    checked = cls.check()
+    (linkage_part,) = checked.parts
+    assert isinstance(linkage_part, Gripper)
+    assert checked.part_joints["gripper"] == (
+        "leader",
+        "left_finger_joint",
+        "right_knuckle_joint",
+        "right_finger_joint",
+    )
+    assert linkage_part.open == (0.8,) * 4 and linkage_part.closed == (0.0,) * 4
+    assert linkage_part.fingers == (("left_finger",), ("right_finger",))
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0, 60) > 0.95
+    opened = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opening_after(scene, -1.0, 60) < 0.05
+    closed = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opened - closed == pytest.approx(2 * 0.03 * np.sin(0.8), abs=2e-3)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -90,7 +91,7 @@ def opening_after(scene: ra.Scene, command: float, steps: int = 30) -> float:
     ``command`` with the arm held."""
     agent = scene.agents[0]
     action = np.zeros((1, agent.action_space.shape[-1]))
-    action[0, agent.controller.slices["gripper"]] = command
+    action[0, agent.controller.slices.get("gripper", slice(None))] = command  # (a gripper alone: its one action)
     for _ in range(steps):
         agent.set_action(action)
         scene.step()
@@ -147,3 +148,236 @@ def test_fingers_that_do_not_oppose_stay_in_the_arm(tmp_path: Path) -> None:
     fingers += joint("jb", "prismatic", "hand", "b", "0 -0.03 0.05", "1 0 0", 0.0, 0.04).format(mimic="")
     checked = robot(tmp_path, urdf(fingers)).check()
     assert [type(p).__name__ for p in checked.parts] == ["Body"]
+
+
+def linkage() -> str:
+    """A four-bar-like linkage on each side, as xArm's and Robotiq's grippers: one driven
+    outer knuckle (0 closed, 0.8 open, hinged 4.5 cm up on the hand, 3 cm long), the
+    other side's knuckle, both inner knuckles and both fingers (hinged at the knuckles'
+    tips, turning back so that they stay upright) following it through mimics."""
+    out = ""
+    for side, sign in (("left", 1), ("right", -1)):
+        axis = "-1 0 0" if sign > 0 else "1 0 0"
+        back = "1 0 0" if sign > 0 else "-1 0 0"
+        out += link(f"{side}_outer", 0.02, com="0 0 0.015", box="0.01 0.006 0.03")
+        out += link(f"{side}_inner", 0.02, com="0.015 0 0.015", box="0.006 0.006 0.03")
+        out += link(f"{side}_finger", 0.03, com=f"0 {-sign * 0.024} 0.02", box="0.02 0.006 0.04")
+        mimic = '<mimic joint="left_outer_joint" multiplier="1" offset="0"/>'
+        out += joint(f"{side}_outer_joint", "revolute", "hand", f"{side}_outer", f"0 {sign * 0.03} 0.045", axis, 0, 0.8)
+        out = out.format(mimic="" if side == "left" else mimic)
+        out += joint(f"{side}_inner_joint", "revolute", "hand", f"{side}_inner", f"0 {sign * 0.02} 0.05", axis, 0, 0.8)
+        out = out.format(mimic=mimic)
+        out += joint(f"{side}_finger_joint", "revolute", f"{side}_outer", f"{side}_finger", "0 0 0.03", back, 0, 0.8)
+        out = out.format(mimic=mimic)
+    return out
+
+
+def one_jaw(low: float = -0.5, high: float = 0.3) -> str:
+    """A fixed jaw (a plate welded to the hand, from 4 to 12 cm up) and a moving jaw
+    (a 7 cm plate hinged 5 cm up, 3 cm beside it) that turns onto it: upright at 0,
+    touching it near 0.3 rad, leaning away at -0.5 rad."""
+    out = link("fixed_jaw", 0.05, com="0 -0.01 0.08", box="0.03 0.01 0.08")
+    out += '  <joint name="fixed_jaw_weld" type="fixed"><parent link="hand"/><child link="fixed_jaw"/></joint>\n'
+    out += link("moving_jaw", 0.05, com="0 0 0.035", box="0.03 0.01 0.07")
+    out += joint("jaw_joint", "revolute", "hand", "moving_jaw", "0 0.02 0.05", "1 0 0", low, high).format(mimic="")
+    return out
+
+
+def finger_distance(scene: ra.Scene, fingers: tuple[str, str]) -> float:
+    """The distance between two of the robot's bodies' centres of mass in env 0 (m)."""
+    model = scene.model
+    data = mujoco.MjData(model)
+    data.qpos[:] = scene.world.qpos[0]
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    a, b = (int(model.body(scene.agents[0].prefix + f).id) for f in fingers)
+    return float(np.linalg.norm(data.xipos[a] - data.xipos[b]))
+
+
+def test_a_mimic_linkage_is_a_gripper_of_one_action(tmp_path: Path) -> None:
+    cls = robot(tmp_path, urdf(linkage()))
+    checked = cls.check()
+    arm, gripper = checked.parts
+    assert isinstance(arm, Arm) and isinstance(gripper, Gripper)
+    followers = (
+        "left_finger_joint",
+        "left_inner_joint",
+        "right_outer_joint",
+        "right_finger_joint",
+        "right_inner_joint",
+    )
+    assert checked.part_joints["arm"] == ("shoulder", "elbow")
+    assert checked.part_joints["gripper"] == ("left_outer_joint", *followers)  # the leader, then model order
+    assert gripper.open == (0.8,) * 6 and gripper.closed == (0.0,) * 6
+    assert gripper.squeeze == pytest.approx(0.08)
+    assert gripper.fingers == (("left_finger",), ("right_finger",))  # the links whose distance changes most
+    # the tool point: between the closed fingers' centres of mass (upright, 3 cm above the knuckles' hinges)
+    np.testing.assert_allclose(arm.end_effectors[0].pos, (0.0, 0.0, 0.045 + 0.03 + 0.02), atol=1e-9)
+    assert all(len(checked.modes[m]["gripper"].joint_names) == 1 for m in checked.modes)  # type: ignore[index]
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0, 60) > 0.95
+    opened = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opening_after(scene, -1.0, 60) < 0.05
+    closed = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opened - closed == pytest.approx(2 * 0.03 * np.sin(0.8), abs=2e-3)  # the knuckles' tips' stroke
+    agent = scene.agents[0]
+    q = agent.qpos[0]
+    for name in followers:  # each follower at its coupling's value
+        assert q[agent.joint_names.index(name)] == pytest.approx(
+            q[agent.joint_names.index("left_outer_joint")], abs=0.02
+        )
+
+
+def test_one_jaw_turning_onto_a_fixed_jaw_is_a_gripper(tmp_path: Path) -> None:
+    cls = robot(tmp_path, urdf(one_jaw()))
+    checked = cls.check()
+    arm, gripper = checked.parts
+    assert isinstance(arm, Arm) and isinstance(gripper, Gripper)
+    assert checked.part_joints == {"arm": ("shoulder", "elbow"), "gripper": ("jaw_joint",)}
+    assert gripper.open == (-0.5,) and gripper.closed == (0.3,)  # the tip nearest the fixed jaw at 0.3
+    assert gripper.fingers == (("moving_jaw",), ("hand", "fixed_jaw"))
+    # the tool point: where the closed tip meets the fixed jaw, in the hand's frame
+    ee = arm.end_effectors[0]
+    assert ee.link == "hand"
+    tip = np.array(
+        [0.0, 0.02 - 0.07 * np.sin(0.3) + 0.005 * np.cos(0.3), 0.05 + 0.07 * np.cos(0.3) + 0.005 * np.sin(0.3)]
+    )
+    assert abs(ee.pos[0]) < 1e-9
+    assert np.linalg.norm(np.array(ee.pos) - tip) < 0.01
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0) > 0.95
+    opened = finger_distance(scene, ("moving_jaw", "fixed_jaw"))
+    assert opening_after(scene, -1.0) < 0.05
+    closed = finger_distance(scene, ("moving_jaw", "fixed_jaw"))
+    assert opened - closed > 0.02
+
+
+@pytest.mark.parametrize("fingers", ["linkage", "one jaw"])
+def test_the_inferred_gripper_grasps_a_box_when_closed_on_it(tmp_path: Path, fingers: str) -> None:
+    """The gripper alone, fingers up: a 2 cm box stands on the hand between the open
+    fingers; closing squeezes it from two sides, opening lets it go."""
+    text = urdf(linkage() if fingers == "linkage" else one_jaw(), arm=False)
+    cls = robot(tmp_path, text)
+    centre = (0.0, 0.0, 0.08) if fingers == "linkage" else (0.0, 0.0, 0.09)
+    box = ra.Prop("box", "box", (0.01, 0.01, 0.04 if fingers == "linkage" else 0.05), pos=centre, mass=0.02)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        scene = ra.Scene(cls, props=[box])
+    scene.reset()
+    agent = scene.agents[0]
+    assert opening_after(scene, 1.0, 20) > 0.95
+    assert not agent.is_grasping("box")[0]
+    opening = opening_after(scene, -1.0, 40)
+    assert 0.05 < opening < 0.9  # stopped on the box
+    assert agent.is_grasping("box")[0]
+    opening_after(scene, 1.0, 20)
+    assert not agent.is_grasping("box")[0]
+
+
+def test_ambiguous_or_folding_structures_get_no_gripper(tmp_path: Path) -> None:
+    """An elbow folding back onto its upper link is not a jaw, and a linkage with
+    another joint below its hand is ambiguous: both stay in the arm, as before."""
+    elbow = link("upper", com="0 0 0.15", box="0.04 0.04 0.3") + link("fore", com="0 0 0.15", box="0.04 0.04 0.3")
+    elbow += joint("shoulder", "revolute", "base", "upper", "0 0 0.05", "0 1 0", -1.5, 1.5).format(mimic="")
+    elbow += joint("elbow", "revolute", "upper", "fore", "0 0 0.3", "0 1 0", 0.0, 3.0).format(mimic="")
+    text = f'<robot name="gripper_test">\n{link("base", 2.0, box="0.1 0.1 0.05")}{elbow}</robot>\n'
+    checked = robot(tmp_path, text).check()
+    assert [type(p).__name__ for p in checked.parts] == ["Arm"]
+    assert checked.part_joints["arm"] == ("shoulder", "elbow")
+    extra = link("camera", 0.02, box="0.01 0.01 0.01")
+    extra += joint("camera_pan", "revolute", "hand", "camera", "0.03 0 0.02", "0 0 1", -1, 1).format(mimic="")
+    checked = robot(tmp_path, urdf(extra + linkage())).check()
+    assert not any(isinstance(p, Gripper) for p in checked.parts)
+    # a jaw that never comes near the fixed jaw (it leans away over its whole range) is not
+    # one, nor one that turns half a turn or more (a flange: KUKA iiwa's joint 7 was taken
+    # for a jaw closing on link 6 at one end of its +-3.05 rad before this rule)
+    for low, high in ((-0.8, -0.4), (-2.0, 1.2)):
+        checked = robot(tmp_path, urdf(one_jaw(low, high))).check()
+        assert not any(isinstance(p, Gripper) for p in checked.parts)
+
+
+#: One jaw and a linkage written in MJCF with round geoms (capsules, cylinders, spheres):
+#: the same rules, the gap measured on points sampled on the primitives' surfaces.
+MJCF_ONE_JAW = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="hand" pos="0 0 0.1">
+      <geom type="box" size="0.02 0.08 0.02" mass="0.3"/>
+      <geom type="capsule" fromto="0 -0.01 0.03 0 -0.01 0.11" size="0.005" mass="0.05"/>
+      <body name="jaw" pos="0 0.02 0.03">
+        <joint name="jaw_joint" axis="1 0 0" range="-0.5 0.3"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.07" size="0.005" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+MJCF_LINKAGE = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="hand" pos="0 0 0.1">
+      <geom type="box" size="0.02 0.08 0.02" mass="0.3"/>
+      <body name="left_knuckle" pos="0 0.03 0.025">
+        <joint name="leader" axis="-1 0 0" range="0 0.8"/>
+        <geom type="cylinder" fromto="0 0 0 0 0 0.03" size="0.004" mass="0.02"/>
+        <body name="left_finger" pos="0 0 0.03">
+          <joint name="left_finger_joint" axis="1 0 0" range="0 0.8"/>
+          <geom type="sphere" pos="0 -0.02 0.02" size="0.008" mass="0.03"/>
+        </body>
+      </body>
+      <body name="right_knuckle" pos="0 -0.03 0.025">
+        <joint name="right_knuckle_joint" axis="1 0 0" range="0 0.8"/>
+        <geom type="cylinder" fromto="0 0 0 0 0 0.03" size="0.004" mass="0.02"/>
+        <body name="right_finger" pos="0 0 0.03">
+          <joint name="right_finger_joint" axis="-1 0 0" range="0 0.8"/>
+          <geom type="sphere" pos="0 0.02 0.02" size="0.008" mass="0.03"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <joint joint1="left_finger_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+    <joint joint1="right_knuckle_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+    <joint joint1="right_finger_joint" joint2="leader" polycoef="0 1 0 0 0"/>
+  </equality>
+</mujoco>
+"""
+
+
+def mjcf_robot(tmp_path: Path, text: str) -> type[ra.Agent]:
+    path = tmp_path / "robot.xml"
+    path.write_text(text)
+    return type("GripperTest", (ra.Agent,), {"uid": "gripper_test", "mjcf_path": path})
+
+
+def test_mjcf_one_jaw_and_linkage_with_round_geoms(tmp_path: Path) -> None:
+    cls = mjcf_robot(tmp_path, MJCF_ONE_JAW)
+    checked = cls.check()
+    (jaw,) = checked.parts
+    assert isinstance(jaw, Gripper)
+    assert checked.part_joints == {"gripper": ("jaw_joint",)}
+    assert jaw.open == (-0.5,) and jaw.closed == (0.3,)
+    assert jaw.fingers == (("jaw",), ("hand",))
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0) > 0.95
+    assert opening_after(scene, -1.0) < 0.05
+
+    cls = mjcf_robot(tmp_path, MJCF_LINKAGE)
+    checked = cls.check()
+    (linkage_part,) = checked.parts
+    assert isinstance(linkage_part, Gripper)
+    assert checked.part_joints["gripper"] == (
+        "leader",
+        "left_finger_joint",
+        "right_knuckle_joint",
+        "right_finger_joint",
+    )
+    assert linkage_part.open == (0.8,) * 4 and linkage_part.closed == (0.0,) * 4
+    assert linkage_part.fingers == (("left_finger",), ("right_finger",))
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0, 60) > 0.95
+    opened = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opening_after(scene, -1.0, 60) < 0.05
+    closed = finger_distance(scene, ("left_finger", "right_finger"))
+    assert opened - closed == pytest.approx(2 * 0.03 * np.sin(0.8), abs=2e-3)

@@ -1,6 +1,7 @@
 """What a robot that declares little gets derived from its model: its parts (a serial
-chain is an arm, two fingers at its end a gripper), the motors among its drives, body pairs already touching at its
-default pose, and where a floating (or floor-crossing) robot rests on the floor."""
+chain is an arm, two fingers, a mimic linkage or one jaw at its end a gripper), the
+motors among its drives, body pairs already touching at its default pose, and where a
+floating (or floor-crossing) robot rests on the floor."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
-from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.index import Coupling, RobotIndex
 from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
 
 #: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
@@ -71,9 +72,10 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
     a serial chain (each joint's body below the previous one's), with the chain's last
     body as the end effector; otherwise one ``Body`` part over all of them.
 
-    Two fingers at the chain's end are a ``Gripper`` (see :func:`infer_gripper`): the
-    arm is the chain above them, its end effector ``"ee"`` on the fingers' common parent
-    (the hand), at the midpoint of the fingers' centres of mass when closed."""
+    Two fingers, a mimic linkage or one jaw at the chain's end are a ``Gripper`` (see
+    :func:`infer_gripper`): the arm is the chain above them, its end effector ``"ee"`` on
+    the hand at the gripper's tool point (two fingers and a linkage: the midpoint of the
+    fingers' centres of mass when closed; one jaw: where it meets the fixed jaw)."""
     if not driven:
         return ()
     found = infer_gripper(model, index, driven)
@@ -130,8 +132,14 @@ def infer_gripper(
     limited, on sibling bodies (one parent: the hand), whose centres of mass come at
     least :data:`MIN_FINGER_STROKE` closer over their ranges. Each finger's ``open`` is
     the end of its range where the fingers are farthest apart, ``closed`` the other.
-    Returns the part, the hand's name, the closed fingers' midpoint in the hand's frame
-    (m; the tool point) and how many driven joints the gripper takes (1 or 2)."""
+
+    When these find none: a linkage, the last driven joint leading two or more undriven
+    followers (:func:`_linkage_gripper`), or one jaw, the last driven joint a hinge
+    coupled to nothing that turns a jaw against a fixed jaw on its parent
+    (:func:`_one_jaw_gripper`); each takes one driven joint.
+    Returns the part, the hand's name, the tool point in the hand's frame (m: the closed
+    fingers' midpoint, or where one jaw meets the fixed jaw) and how many driven joints
+    the gripper takes (1 or 2)."""
     names = list(driven)
     last = index.joint(names[-1], "infer_gripper")
     candidates: list[tuple[list[int], int, dict[int, np.ndarray]]] = []
@@ -147,6 +155,13 @@ def infer_gripper(
         if found is not None:
             gripper, hand, tcp = found
             return gripper, hand, tcp, count
+    linked = [c for c in index.couplings if last.name in (c.leader, c.follower)]
+    later = _linkage_gripper(model, index, names, last.id, followers) if len(followers) >= 2 else None
+    if later is None and not linked:
+        later = _one_jaw_gripper(model, index, last.id)
+    if later is not None:
+        gripper, hand, tcp = later
+        return gripper, hand, tcp, 1
     return None
 
 
@@ -213,8 +228,264 @@ def _gripper_of(
         squeeze=DERIVED_SQUEEZE * stroke,
         fingers=tuple(tuple(model.body(b).name[prefix:] for b in index.subtree_bodies(body)) for body in bodies),
     )
-    point = (round(float(tcp[0]), 9), round(float(tcp[1]), 9), round(float(tcp[2]), 9))  # m, to the nanometre
-    return gripper, model.body(hand).name[prefix:], point
+    return gripper, model.body(hand).name[prefix:], _rounded(tcp)
+
+
+#: How close to the fixed jaw a one-jaw gripper's moving jaw must close, as a share of
+#: its tip's gap when open: the tip of a jaw closes onto the fixed jaw, an elbow or a
+#: wrist that turns past its neighbour link does not come that close.
+JAW_CLOSED_SHARE = 0.25
+#: Points per edge of the grid sampled on a primitive geom's surface (a box's faces, a
+#: cylinder's or capsule's side) to measure distances between geometries.
+_SURFACE_GRID = 9
+#: Positions over a one-jaw gripper's range at which its gap must shrink steadily.
+_JAW_SAMPLES = 9
+_HINGE_OR_SLIDE = (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE))
+
+
+def _linkage_gripper(
+    model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], leader: int, followers: Sequence[Coupling]
+) -> tuple[Gripper, str, tuple[float, float, float]] | None:
+    """The linkage gripper of joint ``leader`` (a driven joint) and the undriven joints
+    that follow it (``followers``: their couplings, e.g. URDF mimics), or ``None``.
+
+    The hand is the deepest body above every one of these joints' bodies that none of
+    them moves; the joints below it must be exactly these. The fingers are the two
+    bodies (with collision geometry in their subtrees), below different children of the
+    hand, whose centres of mass's distance changes most over the leader's range: with a
+    four-bar or any other linkage, the links that carry the pads (a knuckle's centre of
+    mass, nearer its hinge, moves less). ``open`` is the
+    leader's end where they are farthest apart, each follower's ``open`` / ``closed``
+    its coupling's value there. Returns the part, the hand's name and the closed fingers'
+    midpoint in the hand's frame (m)."""
+    where = "infer_gripper"
+    ids = [leader, *sorted(index.joint(c.follower, where).id for c in followers)]
+    if any(int(model.jnt_type[j]) not in _HINGE_OR_SLIDE for j in ids) or not model.jnt_limited[leader]:
+        return None
+    prefix = len(index.prefix)
+    if any(model.joint(j).name[prefix:] in driven for j in ids[1:]):
+        return None  # a follower with its own drive: not a passive linkage
+    coefs = {index.joint(c.follower, where).id: np.array(c.coef) for c in followers}
+    moved = {int(model.jnt_bodyid[j]) for j in ids}
+    hand = int(model.body_parentid[model.jnt_bodyid[leader]])
+    while hand > 0 and (hand in moved or not moved <= set(index.subtree_bodies(hand))):
+        hand = int(model.body_parentid[hand])
+    if hand <= 0:
+        return None
+    below = [b for b in index.subtree_bodies(hand) if b != hand]
+    if any(int(model.jnt_bodyid[j.id]) in below and j.id not in ids for j in index.joints):
+        return None  # other joints below the hand: ambiguous
+    data = mujoco.MjData(model)
+    qpos = model.qpos0.copy()
+
+    def place(value: float) -> np.ndarray:
+        """The bodies' centres of mass (world, m) with the leader at ``value``."""
+        data.qpos[:] = qpos
+        data.qpos[model.jnt_qposadr[leader]] = value
+        for follower, coef in coefs.items():
+            data.qpos[model.jnt_qposadr[follower]] = float(np.polyval(coef[::-1], value))
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        return np.array(data.xipos, dtype=np.float64)
+
+    def branch(body: int) -> int:
+        while int(model.body_parentid[body]) != hand:
+            body = int(model.body_parentid[body])
+        return body
+
+    solid = [b for b in below if any(_colliding_geoms(model, index.subtree_bodies(b)))]
+    low, high = (float(v) for v in model.jnt_range[leader])
+    at_low, at_high = place(low), place(high)
+    best: tuple[float, int, int] | None = None
+    for a, b in itertools.combinations(solid, 2):
+        if branch(a) == branch(b):
+            continue
+        change = float(np.linalg.norm(at_high[a] - at_high[b]) - np.linalg.norm(at_low[a] - at_low[b]))
+        if best is None or abs(change) > abs(best[0]):
+            best = (change, a, b)
+    if best is None or abs(best[0]) < MIN_FINGER_STROKE:
+        return None
+    change, first, second = best
+    opened, closed = (high, low) if change > 0 else (low, high)
+    at_closed = place(closed)
+    rotation = data.xmat[hand].reshape(3, 3)
+    tcp = rotation.T @ (0.5 * (at_closed[first] + at_closed[second]) - data.xpos[hand])
+    ends = [(opened, closed)] + [
+        (float(np.polyval(coefs[j][::-1], opened)), float(np.polyval(coefs[j][::-1], closed))) for j in ids[1:]
+    ]
+    gripper = Gripper(
+        name="gripper",
+        joints=tuple(re.escape(model.joint(j).name[prefix:]) for j in ids),
+        open=tuple(o for o, _ in ends),
+        closed=tuple(c for _, c in ends),
+        squeeze=DERIVED_SQUEEZE * abs(opened - closed),
+        fingers=tuple(
+            tuple(model.body(b).name[prefix:] for b in index.subtree_bodies(finger)) for finger in (first, second)
+        ),
+    )
+    return gripper, model.body(hand).name[prefix:], _rounded(tcp)
+
+
+def _one_jaw_gripper(
+    model: mujoco.MjModel, index: RobotIndex, joint: int
+) -> tuple[Gripper, str, tuple[float, float, float]] | None:
+    """The one-jaw gripper of hinge ``joint`` (coupled to no other joint), or ``None``:
+    a moving jaw (the joint's body and what is fixed to it) that turns against a fixed
+    jaw on its parent (the hand: the parent body and what is fixed to it; no other joint
+    below it). Both need collision geometry.
+
+    The jaw's tip is the point of its geometry farthest from the hinge's axis; its gap
+    is the distance from the tip to the nearest point of the fixed jaw's geometry (mesh
+    vertices, points on primitive surfaces). ``closed`` is the end of the range where
+    the gap is smallest, ``open`` the other. It is a gripper when the range is less than
+    half a turn (a wrist or a flange turns more), the gap shrinks by at least
+    :data:`MIN_FINGER_STROKE` to at most :data:`JAW_CLOSED_SHARE` of the open gap, and
+    steadily (it grows by less than :data:`MIN_FINGER_STROKE` between any two of
+    :data:`_JAW_SAMPLES` positions from open to closed), and the closed tip is farther
+    from the hand's origin than the hinge (the jaw closes forward, onto a fixed jaw past
+    the hinge, not back onto the link it hangs from).
+    Returns the part, the hand's name and the point where the closed jaws meet (the
+    closed tip and its nearest fixed point's midpoint, moved along the axis to the
+    middle of the jaw's width) in the hand's frame (m)."""
+    if int(model.jnt_type[joint]) != int(mujoco.mjtJoint.mjJNT_HINGE) or not model.jnt_limited[joint]:
+        return None
+    if float(np.ptp(model.jnt_range[joint])) >= math.pi:
+        return None  # it turns half a turn or more: a wrist or a flange, not a jaw
+    mover = int(model.jnt_bodyid[joint])
+    hand = int(model.body_parentid[mover])
+    if hand <= 0:
+        return None
+    moving = index.subtree_bodies(mover)
+    fixed = [b for b in index.subtree_bodies(hand) if b not in moving]
+    if any(int(model.jnt_bodyid[j.id]) in moving + fixed[1:] and j.id != joint for j in index.joints):
+        return None  # another joint on the jaw or beside it: not one jaw
+    moving_geoms, fixed_geoms = _colliding_geoms(model, moving), _colliding_geoms(model, fixed)
+    if not moving_geoms or not fixed_geoms:
+        return None
+    data = mujoco.MjData(model)
+    data.qpos[:] = model.qpos0
+    mujoco.mj_kinematics(model, data)
+    jaw = _world_points(model, data, moving_geoms)
+    axis, anchor = data.xaxis[joint].copy(), data.xanchor[joint].copy()
+    arm = jaw - anchor
+    radius = np.linalg.norm(arm - np.outer(arm @ axis, axis), axis=1)
+    rotation = data.xmat[mover].reshape(3, 3)
+    far = int(np.argmax(radius))
+    tip_local = rotation.T @ (jaw[far] - data.xpos[mover])
+    along = arm @ axis
+    centring = 0.5 * (along.min() + along.max()) - along[far]  # from the tip to the middle of the jaw's width (m)
+    fixed_points = _world_points(model, data, fixed_geoms)  # the joint does not move them
+
+    def gap(value: float) -> tuple[float, np.ndarray, np.ndarray]:
+        """The tip's distance to the fixed jaw (m), the tip and its nearest fixed point."""
+        data.qpos[model.jnt_qposadr[joint]] = value
+        mujoco.mj_kinematics(model, data)
+        tip = data.xpos[mover] + data.xmat[mover].reshape(3, 3) @ tip_local
+        distances = np.linalg.norm(fixed_points - tip, axis=1)
+        nearest = int(np.argmin(distances))
+        return float(distances[nearest]), tip, fixed_points[nearest]
+
+    low, high = (float(v) for v in model.jnt_range[joint])
+    (gap_low, *_), (gap_high, *_) = gap(low), gap(high)
+    opened, closed = (low, high) if gap_low > gap_high else (high, low)
+    gap_open, gap_closed = max(gap_low, gap_high), min(gap_low, gap_high)
+    if gap_open - gap_closed < MIN_FINGER_STROKE or gap_closed > JAW_CLOSED_SHARE * gap_open:
+        return None
+    gaps = [gap(float(v))[0] for v in np.linspace(opened, closed, _JAW_SAMPLES)]
+    if any(later > earlier + MIN_FINGER_STROKE for earlier, later in itertools.pairwise(gaps)):
+        return None  # the tip does not close steadily onto the fixed jaw
+    _, tip, nearest = gap(closed)
+    origin = data.xpos[hand]
+    if np.linalg.norm(tip - origin) <= np.linalg.norm(data.xanchor[joint] - origin):
+        return None  # the jaw folds back onto the link it hangs from: an elbow, not a jaw
+    hand_rotation = data.xmat[hand].reshape(3, 3)
+    tcp = hand_rotation.T @ (0.5 * (tip + nearest) + centring * data.xaxis[joint] - origin)
+    prefix = len(index.prefix)
+    gripper = Gripper(
+        name="gripper",
+        joints=(re.escape(model.joint(joint).name[prefix:]),),
+        open=(opened,),
+        closed=(closed,),
+        squeeze=DERIVED_SQUEEZE * abs(opened - closed),
+        fingers=(tuple(model.body(b).name[prefix:] for b in moving), tuple(model.body(b).name[prefix:] for b in fixed)),
+    )
+    return gripper, model.body(hand).name[prefix:], _rounded(tcp)
+
+
+def _rounded(point: np.ndarray) -> tuple[float, float, float]:
+    """A point (m) rounded to the nanometre."""
+    return (round(float(point[0]), 9), round(float(point[1]), 9), round(float(point[2]), 9))
+
+
+def _colliding_geoms(model: mujoco.MjModel, bodies: Sequence[int]) -> list[int]:
+    """The geoms of ``bodies`` that collide (a nonzero ``contype`` or ``conaffinity``)."""
+    chosen = set(bodies)
+    return [
+        g
+        for g in range(model.ngeom)
+        if int(model.geom_bodyid[g]) in chosen and (model.geom_contype[g] or model.geom_conaffinity[g])
+    ]
+
+
+def _world_points(model: mujoco.MjModel, data: mujoco.MjData, geoms: Sequence[int]) -> np.ndarray:
+    """Points on the surfaces of ``geoms`` in the world (m, ``(n, 3)``) after kinematics."""
+    out = [data.geom_xpos[g] + _surface_points(model, g) @ data.geom_xmat[g].reshape(3, 3).T for g in geoms]
+    return np.concatenate(out) if out else np.zeros((0, 3))
+
+
+def _surface_points(model: mujoco.MjModel, geom: int) -> np.ndarray:
+    """Points on the surface of ``geom`` in its own frame (m, ``(n, 3)``): a mesh's
+    vertices; a grid of :data:`_SURFACE_GRID` points per edge on a box's faces and on a
+    sphere's, capsule's, cylinder's or ellipsoid's surface; the corners and face grids
+    of the bounding box of anything else."""
+    kind = int(model.geom_type[geom])
+    size = model.geom_size[geom]
+    if kind == int(mujoco.mjtGeom.mjGEOM_MESH):
+        mesh = int(model.geom_dataid[geom])
+        start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
+        return np.asarray(model.mesh_vert[start : start + count], dtype=np.float64)
+    n = _SURFACE_GRID
+    t = np.linspace(-1.0, 1.0, n)
+    angles = np.linspace(0.0, 2.0 * math.pi, 2 * n, endpoint=False)
+    ring = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    if kind in (int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID)):
+        polar = np.linspace(0.0, math.pi, n)
+        unit = np.array([(math.sin(p) * c, math.sin(p) * s, math.cos(p)) for p in polar for c, s in ring])
+        scale = size[:3] if kind == int(mujoco.mjtGeom.mjGEOM_ELLIPSOID) else np.full(3, size[0])
+        return np.asarray(unit * scale, dtype=np.float64)
+    if kind in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)):
+        radius, half = float(size[0]), float(size[1])
+        side = np.array([(radius * c, radius * s, half * z) for z in t for c, s in ring])
+        if kind == int(mujoco.mjtGeom.mjGEOM_CAPSULE):
+            polar = np.linspace(0.0, math.pi / 2, n)
+            cap = np.array(
+                [
+                    (radius * math.sin(p) * c, radius * math.sin(p) * s, radius * math.cos(p))
+                    for p in polar
+                    for c, s in ring
+                ]
+            )
+            lift = np.array([0.0, 0.0, half])
+            ends = [cap + lift, cap * (1.0, 1.0, -1.0) - lift]
+        else:
+            disk = np.array([(radius * r * c, radius * r * s, 0.0) for r in np.linspace(0.0, 1.0, n) for c, s in ring])
+            lift = np.array([0.0, 0.0, half])
+            ends = [disk + lift, disk - lift]
+        return np.concatenate([side, *ends])
+    if kind == int(mujoco.mjtGeom.mjGEOM_BOX):
+        centre, half_size = np.zeros(3), np.asarray(size[:3], dtype=np.float64)
+    else:
+        centre, half_size = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+    grid = np.array([(u, v) for u in t for v in t])
+    faces = []
+    for k in range(3):
+        others = [i for i in range(3) if i != k]
+        for sign in (-1.0, 1.0):
+            face = np.zeros((len(grid), 3))
+            face[:, k] = sign
+            face[:, others] = grid
+            faces.append(face)
+    return centre + np.concatenate(faces) * half_size
 
 
 def self_contacts(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> tuple[tuple[str, str], ...]:

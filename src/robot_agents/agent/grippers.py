@@ -69,11 +69,21 @@ class GripperParts:
         target = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) if isinstance(body, str) else -1
         if target < 0:
             raise UnknownNameError(where, "body", str(body), [model.body(b).name for b in range(model.nbody)])
-        groups = [
-            [b for link in finger for b in self.index.subtree_bodies(self.index.body_id(link, where))]
-            for finger in part.finger_links
-        ]
-        return grasped(self.world.contact_forces(groups, target), min_force, max_angle)
+        return grasped(self.world.contact_forces(self.finger_bodies(part, where), target), min_force, max_angle)
+
+    def finger_bodies(self, part: Gripper, where: str) -> list[list[int]]:
+        """The bodies of each finger of ``part``: its links and the bodies below them,
+        less those below another finger's link (a fixed jaw on the hand holds the moving
+        jaw in its subtree, but the moving jaw's contacts are its own)."""
+        links = [[self.index.body_id(link, where) for link in finger] for finger in part.finger_links]
+        below = [{b for link in finger for b in self.index.subtree_bodies(link)} for finger in links]
+        groups = []
+        for i, finger in enumerate(links):
+            others = {
+                b for k, other in enumerate(links) if k != i for link in other if link in below[i] for b in below[k]
+            }
+            groups.append([b for link in finger for b in self.index.subtree_bodies(link) if b not in others])
+        return groups
 
     def within(self, gripper: str | None, opening: float) -> BoolArray:
         """Per env: the opening within the part's tolerance of ``opening`` (0 closed, 1 open)."""

@@ -135,8 +135,10 @@ class Gripper(Part):
             scalar for every joint, or one per matched joint in the part's order).
         squeeze: how far past ``closed`` the action may command the leader (rad or m),
             so that a grasp keeps pressing when the fingers stop on an object.
-        fingers: the links of each finger (a link name, or a tuple of them); a grasp
-            needs opposing contact forces from at least two fingers.
+        fingers: the links of each finger (a link name, or a tuple of them); a finger
+            is its links and the bodies below them, less those below another finger's
+            link (a fixed jaw on the hand does not take the moving jaw's contacts); a
+            grasp needs opposing contact forces from at least two fingers.
         tolerance: how close to ``open`` / ``closed`` counts as open / closed (rad or m).
     """
 

@@ -170,3 +170,28 @@ def test_package_uris_resolve_in_declared_search_paths(tmp_path: Path, monkeypat
     monkeypatch.setenv("ROBOT_AGENTS_PACKAGE_PATH", str(tmp_path / "installed"))
     assert ra.Scene(robot_from_file(path)).model.nmesh == 1
     assert mujoco.mj_name2id(ra.Scene(robot_from_file(path)).model, mujoco.mjtObj.mjOBJ_JOINT, "pkg-0/j") >= 0
+
+
+def test_processes_converting_the_same_mesh_at_once_all_succeed(tmp_path: Path, mesh_cache: Path) -> None:
+    """Two ``robot-agents check`` runs of one model file convert its meshes at the same
+    time: each writes a temporary file of its own before the rename (one shared ``.tmp``
+    name made the later rename fail with FileNotFoundError)."""
+    import os
+    import subprocess
+    import sys
+
+    mesh = tmp_path / "ball.glb"
+    mesh.write_bytes(trimesh.creation.icosphere(subdivisions=5).export(file_type="glb"))  # 20480 faces
+    code = f"from pathlib import Path; from robot_agents.model.meshes import readable_mesh; print(readable_mesh(Path({str(mesh)!r})))"
+    env = {**os.environ, "ROBOT_AGENTS_CACHE": str(mesh_cache)}
+    runs = [
+        subprocess.Popen(
+            [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
+        for _ in range(6)
+    ]
+    results = [(run.wait(timeout=120), run.stdout.read(), run.stderr.read()) for run in runs]  # type: ignore[union-attr]
+    assert all(code == 0 for code, _, _ in results), [err[-500:] for _, _, err in results]
+    targets = {out.strip() for _, out, _ in results}
+    assert len(targets) == 1 and Path(targets.pop()).stat().st_size > 0
+    assert not list((mesh_cache / "meshes").glob("*.tmp"))  # no temporary file left behind

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import tempfile
 from pathlib import Path
 
 from robot_agents.errors import ModelError
@@ -68,7 +69,14 @@ def readable_mesh(path: Path) -> Path:
     if len(getattr(mesh, "faces", ())) == 0:
         raise ModelError(f"mesh {str(path)!r} has no triangles to convert.")
     target.parent.mkdir(parents=True, exist_ok=True)
-    partial = target.with_suffix(".tmp")
-    mesh.export(str(partial), file_type="obj")
-    partial.replace(target)
+    # a temporary file of this conversion's own: two processes (or threads) converting the
+    # same mesh each write theirs, and the last rename wins with identical content
+    handle, name = tempfile.mkstemp(prefix=f"{target.stem}.", suffix=".tmp", dir=target.parent)
+    os.close(handle)
+    partial = Path(name)
+    try:
+        mesh.export(str(partial), file_type="obj")
+        partial.replace(target)
+    finally:
+        partial.unlink(missing_ok=True)
     return target

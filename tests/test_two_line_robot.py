@@ -155,3 +155,46 @@ def test_a_fixed_robot_reaching_into_the_floor_is_mounted_above_it_unless_it_dec
     assert mixed.check().mount_pose[2] == pytest.approx(lifted)
     declared = two_line(path, mount_pose=(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0))
     assert declared.check().mount_pose[2] == 0.0
+
+
+FRICTION_WRIST_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
+  <geom type="cylinder" size="0.04 0.02" mass="1"/>
+  <body name="link" pos="0 0 0.03">
+    <joint name="wrist" axis="0 0 1" range="-2 2" frictionloss="0.5" damping="0.5"/>
+    <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01" mass="0.2"/>
+  </body></body></worldbody></mujoco>"""
+
+
+def test_derived_drives_overcome_the_files_dry_friction(tmp_path: Path) -> None:
+    """A file's ``frictionloss`` stops a joint where the drive's pull falls below it:
+    inertia gains (kp ~ 2.6 N*m/rad for this light link) left it 0.19 rad short of its
+    target; the derived drive is stiffened to stop within FRICTION_STALL (0.005 rad),
+    under the stability bound, and stays stable."""
+    from robot_agents.actuators.gains import FRICTION_STALL, friction_gains
+
+    path = tmp_path / "wrist.xml"
+    path.write_text(FRICTION_WRIST_MJCF)
+    cls = two_line(path)
+    checked = cls.check()
+    model = mujoco.MjModel.from_xml_path(str(path))
+    plain = gains_from_inertia(model, ["wrist"])
+    assert plain.stiffness[0] < 3.0 and plain.passive_friction is not None and plain.passive_friction[0] == 0.5
+    stiff, capped = friction_gains(plain, 0.002)
+    np.testing.assert_allclose(stiff.stiffness, [0.5 / FRICTION_STALL])
+    np.testing.assert_allclose(stiff.damping, [2.0 * math.sqrt(100.0 * plain.inertia[0])])
+    assert capped == ()
+    assert checked.drives[0].stiffness == pytest.approx(100.0)
+    scene = scene_of(cls)
+    scene.reset()
+    agent = scene.agents[0]
+    agent.set_control_mode("pd_joint_pos")
+    for _ in range(scene.control_freq):  # 1 s towards +0.3 rad
+        agent.set_action(np.array([0.3]))
+        scene.step()
+    assert abs(agent.qpos[0, 0] - 0.3) <= FRICTION_STALL * 1.05
+    run_random(scene, 3.0)
+    # too light for the stiffness friction asks: capped by the step, and named
+    heavy_friction, capped = friction_gains(plain, 0.002, stall=1e-4)
+    assert capped == ("wrist",) and heavy_friction.stiffness[0] == pytest.approx(
+        0.25 * 4.0 * plain.inertia[0] / 0.002**2
+    )

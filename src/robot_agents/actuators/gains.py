@@ -14,6 +14,11 @@ implicitly; the stiffness term is what limits the step), fast enough to track th
 default control rate of 20 Hz. Effort limits come from the file (a URDF's
 ``<limit effort>``, an MJCF's ``actuatorfrcrange``).
 
+A joint its file gives dry friction (``frictionloss``) stops where the drive's pull
+falls below it, ``friction / kp`` from the target: :func:`friction_gains` raises ``kp``
+to ``friction / FRICTION_STALL`` (capped by the stability bound below) and ``kv`` to
+critical for it.
+
 A floating robot standing on its legs needs more: its legs' own inertia is small (the
 body is free), and gains from it let the body's weight fold the legs. With the static
 torque ``tau`` each joint carries standing at its keyframe
@@ -63,6 +68,10 @@ DEFAULT_DAMPING_RATIO = 1.0
 #: settling, which then moves it by half the tolerance. (A quarter made solo12, whose
 #: file gives 1000 N*m efforts over +-10 rad ranges, blow up under random absolute targets.)
 STANCE_SAG = 0.005
+#: How far from its target a derived drive may leave a joint that its file gives dry
+#: friction (``frictionloss``), rad or m: as far as a standing leg may sag
+#: (:data:`STANCE_SAG`), half the keyframe-hold tolerance.
+FRICTION_STALL = STANCE_SAG
 #: Share of the explicit-stiffness bound ``4 I / dt^2`` that stance gains stay below:
 #: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
 STANCE_STABLE_SHARE = 0.25
@@ -85,7 +94,8 @@ class SuggestedGains:
     matrix ``M`` (kg*m^2, or kg for slides: every other joint held). ``free_inertia`` is
     ``1 / (M^-1)_ii``, the inertia the joint presents with every other degree of freedom
     free (a floating base's too): what a force at the joint meets in MuJoCo's constraint
-    solver. ``passive_damping`` is the file's own joint damping (N*m*s/rad or N*s/m).
+    solver. ``passive_damping`` is the file's own joint damping (N*m*s/rad or N*s/m),
+    ``passive_friction`` its dry friction (``frictionloss``, N*m or N).
     ``None``: not computed; ``inertia`` and no damping stand in for them."""
 
     joints: tuple[str, ...]
@@ -97,6 +107,7 @@ class SuggestedGains:
     damping_ratio: float
     free_inertia: npt.NDArray[np.float64] | None = None
     passive_damping: npt.NDArray[np.float64] | None = None
+    passive_friction: npt.NDArray[np.float64] | None = None
 
     def as_dict(self) -> dict[str, tuple[float, float]]:
         """``joint -> (stiffness, damping)``."""
@@ -153,7 +164,28 @@ def gains_from_inertia(
         damping_ratio=float(damping_ratio),
         free_inertia=free_inertia,
         passive_damping=np.array(model.dof_damping[dofs], dtype=np.float64),
+        passive_friction=np.array(model.dof_frictionloss[dofs], dtype=np.float64),
     )
+
+
+def friction_gains(
+    gains: SuggestedGains, timestep: float, stall: float = FRICTION_STALL
+) -> tuple[SuggestedGains, tuple[str, ...]]:
+    """``gains`` stiffened so that each joint's dry friction (``gains.passive_friction``,
+    the file's ``frictionloss``) stops it at most ``stall`` (rad or m) from its target:
+    ``kp >= friction / stall``, below :data:`STANCE_STABLE_SHARE` of the explicit-stiffness
+    bound ``4 I / dt^2`` (``timestep`` in s), with ``kv`` critical for the new ``kp``
+    (``2 zeta sqrt(kp I)``; the file's own damping adds to it). Inertia gains stiff
+    enough already are kept. Returns the gains and the joints whose stiffness the bound
+    capped (friction stops them up to ``friction / kp`` from their targets)."""
+    if gains.passive_friction is None:
+        return gains, ()
+    need = gains.passive_friction / stall
+    cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
+    damping = np.maximum(gains.damping, 2.0 * gains.damping_ratio * np.sqrt(stiffness * gains.inertia))
+    capped = tuple(j for j, n, c, k in zip(gains.joints, need, cap, gains.stiffness, strict=True) if n > c and n > k)
+    return replace(gains, stiffness=stiffness, damping=damping), capped
 
 
 def stance_gains(

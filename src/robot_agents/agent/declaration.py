@@ -25,7 +25,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import SuggestedGains, gains_from_inertia, stance_gains
+from robot_agents.actuators.gains import SuggestedGains, friction_gains, gains_from_inertia, stance_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.index import RobotIndex
@@ -391,6 +391,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         full = model.qpos0.copy()
         full[index.qpos_adr] = next(iter(keyframes.values())).qpos
         gains = gains_from_inertia(model, [d.joint for d in drives], full)
+        # dry friction in the file (frictionloss) would stall inertia gains short of their targets
+        from robot_agents.sim.scene import DEFAULT_SIM_FREQ
+
+        gains, _ = friction_gains(gains, 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ))
         if index.free_joint is not None:
             gains, legs = _stand(cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler)
             if legs and inferred and len(parts) == 1 and isinstance(parts[0], Body):

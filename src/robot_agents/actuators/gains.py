@@ -31,7 +31,7 @@ softening included (a load ``F_i`` at distance ``r_i`` from the axis grows its t
 at most ``F_i r_i`` per radian given), and damps it critically against the share of the
 body it carries, ``I_load = sum_i F_i r_i^2 / g``:
 
-    kv = max(kv_inertia, min(2 * zeta * sqrt(kp * max(I, I_load)), I_free / dt - b))
+    kv = max(kv_inertia, min(2 * zeta * sqrt(kp * max(I, I_load)), 2 I_free / dt - b))
 
 ``kp`` stays below :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound
 ``4 I / dt^2`` (``I`` the leg's own inertia: a swinging leg carries no body), so the
@@ -76,14 +76,17 @@ FRICTION_STALL = STANCE_SAG
 #: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
 STANCE_STABLE_SHARE = 0.25
 #: Share of the explicit-damping bound ``2 I_free / dt`` that a joint's whole damping in a
-#: stance (its drive's ``kv`` and the file's own ``b``) stays below: ``dt (kv + b) <= I_free``.
+#: stance (its drive's ``kv`` and the file's own ``b``) stays below: ``dt (kv + b) <= 2 I_free``.
 #: MuJoCo integrates damping implicitly, but its constraint solver sizes contact and
 #: equality forces for ``M``, before that update: a joint damped by ``D`` answers a force
 #: ``1 + dt D / I_free`` times more weakly than the solver expects (``I_free = 1 / (M^-1)_ii``;
-#: Sherman-Morrison), here at most twice. Far beyond, a standing robot bounces:
+#: Sherman-Morrison), here at most 3 times. Far beyond, a standing robot bounces:
 #: dm_control's quadruped (tendon equalities coupling each leg's joints) hopped 15 cm,
-#: its dog rocked on its front feet and walked back 5 cm in 5 s.
-STANCE_DAMPING_SHARE = 0.5
+#: its dog rocked on its front feet and walked back 5 cm in 5 s. Half the bound (at most
+#: twice) also stood them, but left example-robot-data's Solo12 too little damping for
+#: random absolute targets (MuJoCo reset it in ``pd_joint_pos`` after 1.5 s); the whole
+#: bound stands them and keeps Solo12 stable.
+STANCE_DAMPING_SHARE = 1.0
 
 
 @dataclass(frozen=True)

@@ -85,3 +85,23 @@ def test_render_backends_saves_frames_and_compares_them(tmp_path: Path) -> None:
     rows = [line for line in run.stdout.splitlines() if "/" in line and "backend" not in line]
     assert len(rows) >= 4 * 4, run.stdout
     assert all(("100.000%" in r) or ("mean |A-B| 0.00" in r) or ("max 0.00 mm" in r) for r in rows), run.stdout
+
+
+def test_friction_drives_lists_a_files_frictional_joints(tmp_path: Path) -> None:
+    """The script on a written one-joint wrist with dry friction: both tables, the floor's
+    stiffness (0.5 N*m / 0.005 rad = 100 N*m/rad)."""
+    from tests.test_two_line_robot import FRICTION_WRIST_MJCF
+
+    path = tmp_path / "wrist.xml"
+    path.write_text(FRICTION_WRIST_MJCF)
+    run = subprocess.run(
+        [sys.executable, "friction_drives.py", str(path), "--seconds", "1"],
+        cwd=BENCHMARKS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "| `wrist` | 0.5 |" in run.stdout and "| 100 | 0.0050 |" in run.stdout, run.stdout
+    assert "Step towards the range end" in run.stdout, run.stdout

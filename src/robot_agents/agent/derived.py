@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import mujoco
 import numpy as np
@@ -114,6 +114,8 @@ def _serial(index: RobotIndex, bodies: Sequence[int]) -> bool:
     return all(b in index.subtree_bodies(a) for a, b in itertools.pairwise(bodies))
 
 
+#: Joint types a gripper's fingers may move on.
+_HINGE_OR_SLIDE = (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE))
 #: Least change of the distance between two fingers over their joints' ranges for them
 #: to count as a gripper (m).
 MIN_FINGER_STROKE = 1e-3
@@ -142,12 +144,12 @@ def infer_gripper(
     the gripper takes (1 or 2)."""
     names = list(driven)
     last = index.joint(names[-1], "infer_gripper")
-    candidates: list[tuple[list[int], int, dict[int, np.ndarray]]] = []
+    candidates: list[tuple[list[int], int, dict[int, Coupling]]] = []
     # joints coupled to the last by an active joint equality (a URDF mimic): the index's couplings
     followers = [c for c in index.couplings if c.leader == last.name]
     if followers:
         follower = index.joint(followers[0].follower, "infer_gripper").id
-        candidates.append(([last.id, follower], 1, {follower: np.array(followers[0].coef)}))
+        candidates.append(([last.id, follower], 1, {follower: followers[0]}))
     if len(names) >= 2:
         candidates.append(([index.joint(names[-2], "infer_gripper").id, last.id], 2, {}))
     for ids, count, coupled in candidates:
@@ -166,12 +168,12 @@ def infer_gripper(
 
 
 def _gripper_of(
-    model: mujoco.MjModel, index: RobotIndex, ids: list[int], coupled: dict[int, np.ndarray]
+    model: mujoco.MjModel, index: RobotIndex, ids: list[int], coupled: dict[int, Coupling]
 ) -> tuple[Gripper, str, tuple[float, float, float]] | None:
     """The gripper of two finger joints ``ids`` (the second may follow the first through
-    ``coupled`` polynomials), or ``None`` when they are not two opposing fingers."""
+    its ``coupled`` coupling), or ``None`` when they are not two opposing fingers."""
     kinds = {int(model.jnt_type[j]) for j in ids}
-    if len(kinds) != 1 or kinds.pop() not in (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE)):
+    if len(kinds) != 1 or kinds.pop() not in _HINGE_OR_SLIDE:
         return None
     if not all(model.jnt_limited[j] for j in ids):
         return None
@@ -181,19 +183,9 @@ def _gripper_of(
         return None
     hand = parents.pop()
     data = mujoco.MjData(model)
-    qpos = model.qpos0.copy()
-
-    def place(values: dict[int, float]) -> None:
-        data.qpos[:] = qpos
-        for joint, value in values.items():
-            data.qpos[model.jnt_qposadr[joint]] = value
-            for follower, coef in coupled.items() if joint == ids[0] else ():
-                data.qpos[model.jnt_qposadr[follower]] = float(np.polyval(coef[::-1], value))
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
 
     def spread(values: dict[int, float]) -> float:
-        place(values)
+        _place(model, data, values, ids[0], coupled)
         return float(np.linalg.norm(data.xipos[bodies[0]] - data.xipos[bodies[1]]))
 
     def middle(joint: int) -> float:
@@ -210,10 +202,10 @@ def _gripper_of(
         ends[joint] = (high, low) if far_high > far_low else (low, high)
     opened = {j: ends[j][0] for j in driven_ids}
     closed = {j: ends[j][1] for j in driven_ids}
-    for follower, coef in coupled.items():
-        opened[follower] = float(np.polyval(coef[::-1], opened[ids[0]]))
-        closed[follower] = float(np.polyval(coef[::-1], closed[ids[0]]))
-    place(closed)
+    for follower, coupling in coupled.items():
+        opened[follower] = coupling.follow(opened[ids[0]])
+        closed[follower] = coupling.follow(closed[ids[0]])
+    _place(model, data, closed, ids[0], coupled)
     midpoint = 0.5 * (data.xipos[bodies[0]] + data.xipos[bodies[1]])
     rotation = data.xmat[hand].reshape(3, 3)
     tcp = rotation.T @ (midpoint - data.xpos[hand])
@@ -240,7 +232,6 @@ JAW_CLOSED_SHARE = 0.25
 _SURFACE_GRID = 9
 #: Positions over a one-jaw gripper's range at which its gap must shrink steadily.
 _JAW_SAMPLES = 9
-_HINGE_OR_SLIDE = (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE))
 
 
 def _linkage_gripper(
@@ -265,7 +256,7 @@ def _linkage_gripper(
     prefix = len(index.prefix)
     if any(model.joint(j).name[prefix:] in driven for j in ids[1:]):
         return None  # a follower with its own drive: not a passive linkage
-    coefs = {index.joint(c.follower, where).id: np.array(c.coef) for c in followers}
+    coupled = {index.joint(c.follower, where).id: c for c in followers}
     moved = {int(model.jnt_bodyid[j]) for j in ids}
     hand = int(model.body_parentid[model.jnt_bodyid[leader]])
     while hand > 0 and (hand in moved or not moved <= set(index.subtree_bodies(hand))):
@@ -276,16 +267,10 @@ def _linkage_gripper(
     if any(int(model.jnt_bodyid[j.id]) in below and j.id not in ids for j in index.joints):
         return None  # other joints below the hand: ambiguous
     data = mujoco.MjData(model)
-    qpos = model.qpos0.copy()
 
     def place(value: float) -> np.ndarray:
         """The bodies' centres of mass (world, m) with the leader at ``value``."""
-        data.qpos[:] = qpos
-        data.qpos[model.jnt_qposadr[leader]] = value
-        for follower, coef in coefs.items():
-            data.qpos[model.jnt_qposadr[follower]] = float(np.polyval(coef[::-1], value))
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
+        _place(model, data, {leader: value}, leader, coupled)
         return np.array(data.xipos, dtype=np.float64)
 
     def branch(body: int) -> int:
@@ -310,9 +295,7 @@ def _linkage_gripper(
     at_closed = place(closed)
     rotation = data.xmat[hand].reshape(3, 3)
     tcp = rotation.T @ (0.5 * (at_closed[first] + at_closed[second]) - data.xpos[hand])
-    ends = [(opened, closed)] + [
-        (float(np.polyval(coefs[j][::-1], opened)), float(np.polyval(coefs[j][::-1], closed))) for j in ids[1:]
-    ]
+    ends = [(opened, closed)] + [(coupled[j].follow(opened), coupled[j].follow(closed)) for j in ids[1:]]
     gripper = Gripper(
         name="gripper",
         joints=tuple(re.escape(model.joint(j).name[prefix:]) for j in ids),
@@ -410,6 +393,26 @@ def _one_jaw_gripper(
         fingers=(tuple(model.body(b).name[prefix:] for b in moving), tuple(model.body(b).name[prefix:] for b in fixed)),
     )
     return gripper, model.body(hand).name[prefix:], _rounded(tcp)
+
+
+def _place(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    values: Mapping[int, float],
+    leader: int,
+    coupled: Mapping[int, Coupling],
+) -> None:
+    """``data`` at the model's reference pose with the joints ``values`` (joint id ->
+    rad or m) set and each ``coupled`` follower (joint id -> its coupling) where its
+    coupling puts it for ``leader``'s value; body poses and centres of mass computed."""
+    data.qpos[:] = model.qpos0
+    for joint, value in values.items():
+        data.qpos[model.jnt_qposadr[joint]] = value
+    if leader in values:
+        for follower, coupling in coupled.items():
+            data.qpos[model.jnt_qposadr[follower]] = coupling.follow(values[leader])
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
 
 
 def _rounded(point: np.ndarray) -> tuple[float, float, float]:

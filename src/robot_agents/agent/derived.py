@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import mujoco
 import numpy as np
@@ -278,7 +278,7 @@ def _linkage_gripper(
             body = int(model.body_parentid[body])
         return body
 
-    solid = [b for b in below if any(_colliding_geoms(model, index.subtree_bodies(b)))]
+    solid = [b for b in below if any(colliding_geoms(model, index.subtree_bodies(b)))]
     low, high = (float(v) for v in model.jnt_range[leader])
     at_low, at_high = place(low), place(high)
     best: tuple[float, int, int] | None = None
@@ -342,7 +342,7 @@ def _one_jaw_gripper(
     fixed = [b for b in index.subtree_bodies(hand) if b not in moving]
     if any(int(model.jnt_bodyid[j.id]) in moving + fixed[1:] and j.id != joint for j in index.joints):
         return None  # another joint on the jaw or beside it: not one jaw
-    moving_geoms, fixed_geoms = _colliding_geoms(model, moving), _colliding_geoms(model, fixed)
+    moving_geoms, fixed_geoms = colliding_geoms(model, moving), colliding_geoms(model, fixed)
     if not moving_geoms or not fixed_geoms:
         return None
     data = mujoco.MjData(model)
@@ -420,8 +420,9 @@ def _rounded(point: np.ndarray) -> tuple[float, float, float]:
     return (round(float(point[0]), 9), round(float(point[1]), 9), round(float(point[2]), 9))
 
 
-def _colliding_geoms(model: mujoco.MjModel, bodies: Sequence[int]) -> list[int]:
-    """The geoms of ``bodies`` that collide (a nonzero ``contype`` or ``conaffinity``)."""
+def colliding_geoms(model: mujoco.MjModel, bodies: Iterable[int]) -> list[int]:
+    """The geoms of ``bodies`` (body ids) that collide (a nonzero ``contype`` or
+    ``conaffinity``), in model order."""
     chosen = set(bodies)
     return [
         g

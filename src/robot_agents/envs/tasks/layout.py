@@ -43,6 +43,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.agent.derived import colliding_geoms
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Base
@@ -266,9 +267,7 @@ def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) 
     in ``data``'s configuration."""
     bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
     boxes = []
-    for g in range(model.ngeom):
-        if int(model.geom_bodyid[g]) not in bodies or not (model.geom_contype[g] or model.geom_conaffinity[g]):
-            continue
+    for g in colliding_geoms(model, bodies):
         rotation = data.geom_xmat[g].reshape(3, 3)
         centre = data.geom_xpos[g] + rotation @ model.geom_aabb[g, :3]
         half = np.abs(rotation) @ model.geom_aabb[g, 3:]
@@ -307,11 +306,7 @@ def _gripper_geometry(
     nearest_points, gaps = [], []
     for finger in gripper.finger_links[:2]:
         bodies = {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, where))}
-        geoms = [
-            g
-            for g in range(model.ngeom)
-            if int(model.geom_bodyid[g]) in bodies and (model.geom_contype[g] or model.geom_conaffinity[g])
-        ]
+        geoms = colliding_geoms(model, bodies)
         if not geoms:
             return None
         best, best_point = np.inf, np.zeros(3)

@@ -171,6 +171,14 @@ def gains_from_inertia(
     )
 
 
+def _stiffness_cap(gains: SuggestedGains, timestep: float) -> npt.NDArray[np.float64]:
+    """The stiffness (N*m/rad or N/m) derived gains may raise each joint to: a
+    :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound ``4 I / dt^2`` at the
+    physics step ``timestep`` (s)."""
+    cap: npt.NDArray[np.float64] = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    return cap
+
+
 def friction_gains(
     gains: SuggestedGains, timestep: float, stall: float = FRICTION_STALL
 ) -> tuple[SuggestedGains, tuple[str, ...]]:
@@ -184,7 +192,7 @@ def friction_gains(
     if gains.passive_friction is None:
         return gains, ()
     need = gains.passive_friction / stall
-    cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    cap = _stiffness_cap(gains, timestep)
     stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
     raised = stiffness > gains.stiffness  # other joints keep their gains bit for bit
     critical = 2.0 * gains.damping_ratio * np.sqrt(stiffness * gains.inertia)
@@ -208,7 +216,7 @@ def stance_gains(
     stability bound capped (they sag more than ``sag``)."""
     tau = np.abs(np.asarray(torque, dtype=np.float64))
     need = tau / sag + np.asarray(lever, dtype=np.float64)
-    cap = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    cap = _stiffness_cap(gains, timestep)
     stiffness = np.maximum(gains.stiffness, np.minimum(need, cap))
     load_inertia = np.maximum(gains.inertia, np.asarray(reflected, dtype=np.float64))
     critical = 2.0 * gains.damping_ratio * np.sqrt(stiffness * load_inertia)

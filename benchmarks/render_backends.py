@@ -45,18 +45,9 @@ TEXTURES = ("rgb", "depth", "segmentation")
 NUM_ENVS = 2
 
 
-def gl_renderer_name() -> str:
-    try:
-        from OpenGL import GL  # type: ignore[import-untyped]
-
-        name = GL.glGetString(GL.GL_RENDERER)
-        return name.decode() if isinstance(name, bytes) else str(name)
-    except Exception as err:  # only informative
-        return f"unknown ({type(err).__name__})"
-
-
 def save(path: Path, rounds: int) -> None:
     import robot_agents as ra
+    from render_throughput import gl_renderer_name  # a script beside this one
     from robot_agents import gl_backend
 
     arrays: dict[str, np.ndarray] = {}
@@ -70,7 +61,7 @@ def save(path: Path, rounds: int) -> None:
         for _ in range(5):
             env.step(zero)
         frames = scene.cameras.capture(scene.world, TEXTURES)
-        renderer = renderer or gl_renderer_name()
+        renderer = renderer or gl_renderer_name(env.unwrapped)
         for camera, textures in frames.items():
             for texture, image in textures.items():
                 arrays[f"{label}/{camera}/{texture}"] = np.asarray(image)

@@ -25,13 +25,13 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import time
 from typing import Any
 
 import mujoco
 import numpy as np
 
 import robot_agents as ra
+from render_throughput import interleaved, stepper  # a script beside this one: one way to time loops
 
 
 def make(robot: str, num_envs: int, threads: int) -> Any:
@@ -71,18 +71,11 @@ def main() -> None:
             rng = np.random.default_rng(0)
             shape = envs[0].action_space.shape
             actions = [rng.uniform(-1, 1, shape).astype(np.float32) for _ in range(args.block)]
-            totals = [0.0] * len(envs)
-            for round_ in range(args.rounds + 1):
-                for i, env in enumerate(envs):
-                    start = time.perf_counter()
-                    for action in actions:
-                        env.step(action)
-                    if round_:  # the first round warms up
-                        totals[i] += time.perf_counter() - start
+            steps = interleaved([stepper(env, actions) for env in envs], args.rounds, args.block)
             states = [env.unwrapped.get_state()["physics"] for env in envs]
             for i, t in enumerate(threads):
-                rate = args.rounds * args.block * num_envs / totals[i]
-                speedup = totals[0] / totals[i]
+                rate = steps[i] * num_envs
+                speedup = steps[i] / steps[0]
                 same = np.array_equal(states[0], states[i])
                 print(
                     f"| `{robot}` | {num_envs} | {t} | {rate:.0f} | {speedup:.2f}x | {speedup / t:.2f} | {'yes' if same else 'NO'} |",

@@ -31,7 +31,6 @@ import functools
 import itertools
 import os
 import threading
-import time
 from collections.abc import Callable
 
 import mujoco
@@ -39,6 +38,7 @@ import numpy as np
 from mujoco import rollout
 
 import robot_agents as ra
+from render_throughput import interleaved  # a script beside this one: one way to time loops
 from robot_agents.sim.world import BatchedWorld
 
 
@@ -103,6 +103,16 @@ class BarrierThreads:
             thread.join()
 
 
+def repeated(call: Callable[[], object]) -> Callable[[int], None]:
+    """A loop of ``count`` calls of ``call``, as :func:`render_throughput.interleaved` times them."""
+
+    def loop(count: int) -> None:
+        for _ in range(count):
+            call()
+
+    return loop
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--num-envs", type=int, nargs="+", default=[16, 64, 256])
@@ -139,22 +149,16 @@ def main() -> None:
         loops: dict[str, Callable[[], object]] = {name: world.step for name, world in worlds.items()}
         loops["rollout"] = functools.partial(pool.rollout, model, scratch, initial, controls)
         block = max(2, 2048 // n)
-        totals = dict.fromkeys(loops, 0.0)
-        for round_ in range(args.rounds + 1):
-            for name, loop in loops.items():
-                start = time.perf_counter()
-                for _ in range(block):
-                    loop()
-                if round_:
-                    totals[name] += time.perf_counter() - start
+        calls = dict(
+            zip(loops, interleaved([repeated(loop) for loop in loops.values()], args.rounds, block), strict=True)
+        )
         cells = []
-        for name, total in totals.items():
+        for name, per_second in calls.items():
             same = name == "rollout" or all(
                 np.array_equal(a.qpos, b.qpos) and np.array_equal(a.qvel, b.qvel)
                 for a, b in zip(reference.datas, worlds[name].datas, strict=True)
             )
-            rate = args.rounds * block * n / total
-            cells.append(f"{rate:.0f} ({totals['current'] / total:.2f}x){'' if same else ' DIFFERS'}")
+            cells.append(f"{per_second * n:.0f} ({per_second / calls['current']:.2f}x){'' if same else ' DIFFERS'}")
         print(f"| {n} | " + " | ".join(cells) + " |", flush=True)
         for barrier in barriers:
             barrier.close()

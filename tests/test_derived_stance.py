@@ -365,3 +365,62 @@ def test_derived_drives_ignore_the_files_actuator_defaults(tmp_path: Path) -> No
     np.testing.assert_array_equal(model.actuator_gear[:, 0], 1.0)
     assert model.na == 0
     scene.close()
+
+
+def quadruped_drawn_y_up() -> str:
+    """:func:`quadruped` written in a frame whose up is +y (as some URDFs are, e.g.
+    pybullet's ``laikago_toes.urdf``): every point ``(x, y, z)`` becomes ``(x, z, -y)``
+    (a turn of -90 deg about x), the root body unturned."""
+    legs = ""
+    for name, x, y in (("fr", 0.2, -0.12), ("fl", 0.2, 0.12), ("rr", -0.2, -0.12), ("rl", -0.2, 0.12)):
+        dx = REACH if x > 0 else -REACH
+        legs += f"""
+      <body name="{name}_thigh" pos="{x} 0 {-y}">
+        <joint name="{name}_hip" axis="0 0 -1" range="-1.5 1.5" actuatorfrcrange="-50 50"/>
+        <geom type="capsule" size="0.015" fromto="0 0 0 0 -{THIGH} 0" mass="{THIGH_MASS}"/>
+        <body name="{name}_shin" pos="0 -{THIGH} 0">
+          <joint name="{name}_knee" axis="0 0 -1" range="-1.5 1.5" actuatorfrcrange="-50 50"/>
+          <geom type="capsule" size="0.012" fromto="0 0 0 {dx} -{SHIN_DROP} 0" mass="{SHIN_MASS}"/>
+          <geom name="{name}_foot" type="sphere" size="{FOOT_RADIUS}" pos="{dx} -{SHIN_DROP} 0" mass="{FOOT_MASS}"
+                friction="1.0"/>
+        </body>
+      </body>"""
+    return f"""<mujoco model="stance_quadruped_y_up">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="trunk">
+      <geom type="box" size="0.25 0.05 0.15" mass="{BODY_MASS}"/>{legs}
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+#: A mount turned +90 deg about x: the y-up file's +y becomes the world's +z.
+Y_UP_MOUNT = (0.0, 0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0)
+
+
+def test_a_mount_turns_a_file_drawn_y_up_onto_its_feet(tmp_path: Path) -> None:
+    """Two lines leave a y-up file lying on its side (its legs carry nothing, no Legs);
+    a third, ``mount_pose`` turned about x, stands it: the derived keyframe rests 1 mm
+    above the floor in the turned frame, the stance is the z-up file's (same static
+    torques, same derived gains) and the robot holds and stands."""
+    path = write(tmp_path, "quad_y_up", quadruped_drawn_y_up())
+    lying = robot_from_file(path, floating=True).check()
+    assert not any(isinstance(p, Legs) for p in lying.parts)
+    upright = type("QuadYUp", (robot_from_file(path, floating=True),), {"mount_pose": Y_UP_MOUNT})
+    checked = upright.check()
+    assert [type(p) for p in checked.parts] == [Legs]
+    assert checked.default_mode == "pd_joint_target_delta_pos"
+    reference = robot_from_file(write(tmp_path, "quad_z_up", quadruped()), floating=True).check()
+    for joint, gains in reference.derived_gains.items():  # type: ignore[union-attr]
+        assert checked.derived_gains[joint] == pytest.approx(gains, rel=1e-3), joint  # type: ignore[index]
+    # the default keyframe's base, composed with the mount, rests 1 mm above the floor like the z-up robot's
+    base = checked.keyframes["default"].base
+    world = np.empty(3)
+    mujoco.mju_rotVecQuat(world, base[:3], np.array(Y_UP_MOUNT[3:]))
+    assert world == pytest.approx(reference.keyframes["default"].base[:3], abs=1e-9)
+    standing = checks.check_standing(upright)
+    assert standing is not None and standing.passed, standing
+    holds = checks.check_holds(upright)
+    assert holds.passed, holds.line()

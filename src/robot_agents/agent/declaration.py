@@ -363,10 +363,12 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     keyframes = {}
     for key, frame in frames.items():
         keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
-    if not cls.keyframes and index.free_joint is not None:
-        base = resting_base(model, index, keyframes["default"].qpos)
-        keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
     mount = mount_pose(cls)
+    # a floating robot's mount turns it (a file drawn y-up stands under a mount turned about x)
+    mount_quat = None if tuple(mount[3:]) == (1.0, 0.0, 0.0, 0.0) else np.array(mount[3:])
+    if not cls.keyframes and index.free_joint is not None:
+        base = resting_base(model, index, keyframes["default"].qpos, mount_quat)
+        keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
     from robot_agents.agent.definition import AgentDefinition  # (imports this module)
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
@@ -396,7 +398,9 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
         gains, _ = friction_gains(gains, 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ))
         if index.free_joint is not None:
-            gains, legs = _stand(cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler)
+            gains, legs = _stand(
+                cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler, mount_quat
+            )
             if legs and inferred and len(parts) == 1 and isinstance(parts[0], Body):
                 # a floating robot standing on bodies below its joints: those joints are its legs
                 rest = [j for j in part_joints[parts[0].name] if j not in legs]
@@ -478,6 +482,7 @@ def _stand(
     qpos: np.ndarray,
     exclusions: Sequence[tuple[str, str]],
     compiler: CompilerSettings,
+    mount_quat: np.ndarray | None = None,
 ) -> tuple[SuggestedGains, tuple[str, ...]]:
     """Derived ``gains`` of a floating robot stiffened to carry its weight where it stands
     at ``qpos`` (:func:`robot_agents.agent.stance.find_stance`,
@@ -493,7 +498,7 @@ def _stand(
     timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
     if exclusions:
         spec = _build(cls, None, None, compiler, exclusions, quiet=True)[0]
-    found = find_stance(spec, index, gains.joints, qpos, timestep, cls.friction_cone or "pyramidal", name)
+    found = find_stance(spec, index, gains.joints, qpos, timestep, cls.friction_cone or "pyramidal", name, mount_quat)
     if isinstance(found, str):
         if "not at rest" in found or "diverged" in found:
             warnings.warn(

@@ -35,7 +35,9 @@ class AgentDefinition:
         mount_pose: where a scene puts the robot's root by default, ``(x, y, z, qw, qx,
             qy, qz)`` (m): a hand or gripper mounted above the floor; ``make_env(...,
             robot_poses=...)`` overrides it. Undeclared, a fixed-base robot that would
-            reach into the floor is raised to rest on it.
+            reach into the floor is raised to rest on it. A floating robot's mount
+            orientation turns its derived keyframe and stance: ``(0, 0, 0, 0.7071068,
+            0.7071068, 0, 0)`` stands a file drawn y-up.
         compiler: MuJoCo compiler settings for the file (angle units, balanceinertia,
             boundmass, meshdir, package search paths; see :class:`CompilerSettings`).
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a

@@ -12,6 +12,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.agent.index import Coupling, RobotIndex
@@ -534,17 +535,28 @@ def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float
     return z + float(rotation[2] @ center) - float(np.abs(rotation[2]) @ half)
 
 
-def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> np.ndarray:
+def resting_base(
+    model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray, mount_quat: npt.ArrayLike | None = None
+) -> np.ndarray:
     """A floating robot's base pose ``(7,)`` at ``qpos`` that puts its lowest colliding
     geom 1 mm above the floor (z = 0), at the origin, in the file's root orientation
-    (:func:`file_root_orientation`)."""
+    (:func:`file_root_orientation`).
+
+    ``mount_quat`` ``(4,)`` (w, x, y, z): the orientation of the mount the base pose is
+    relative to (a scene composes mount and base, :meth:`JointState.keyframe_base`). The
+    lowest point is then found with the robot turned by the mount (a file drawn y-up
+    stands upright under a mount turned +90 deg about x), and the returned position is in
+    the mount's frame, so that the composed base still rests 1 mm above the floor."""
     data = mujoco.MjData(model)
     data.qpos[index.qpos_adr] = qpos
     free = index.free_joint
     quat = np.array([1.0, 0.0, 0.0, 0.0])
+    turned = mount_quat is not None and not np.array_equal(np.asarray(mount_quat, dtype=np.float64), quat)
     if free is not None:
         quat = file_root_orientation(model, free.qpos_adr)
         data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, *quat)
+        if turned:
+            mujoco.mju_mulQuat(data.qpos[free.qpos_adr + 3 : free.qpos_adr + 7], np.asarray(mount_quat, float), quat)
     mujoco.mj_kinematics(model, data)
     lowest = min(
         (
@@ -556,7 +568,12 @@ def resting_base(model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray) -> 
         default=np.inf,
     )
     height = 0.0 if not np.isfinite(lowest) else 0.001 - lowest
-    return np.array([0.0, 0.0, height, *quat])
+    position = np.array([0.0, 0.0, height])
+    if turned and free is not None:  # (0, 0, height) in the world, written in the mount's frame
+        inverse = np.empty(4)
+        mujoco.mju_negQuat(inverse, np.asarray(mount_quat, float))
+        mujoco.mju_rotVecQuat(position, np.array([0.0, 0.0, height]), inverse)
+    return np.array([*position, *quat])
 
 
 def file_root_orientation(model: mujoco.MjModel, qpos_adr: int) -> np.ndarray:

@@ -85,12 +85,14 @@ def find_stance(
     timestep: float,
     cone: str = "pyramidal",
     where: str = "stance",
+    mount_quat: npt.ArrayLike | None = None,
 ) -> Stance | str:
     """The stance of the floating robot of ``spec`` (its own compiled model indexed by
     ``index``) with ``joints`` locked at ``qpos`` (the robot's ``(nq,)``), settled
     :data:`STANCE_SETTLE_SECONDS` at ``timestep`` (s) on a floor like the scene's; or a
     sentence saying why there is none (nothing or its root on the floor, not at rest).
-    ``spec`` is not modified."""
+    ``mount_quat`` ``(4,)``: the orientation of the robot's mount (w, x, y, z), which turns
+    it (:func:`~robot_agents.agent.derived.resting_base`). ``spec`` is not modified."""
     model = index.model
     free = index.free_joint
     if free is None:
@@ -125,7 +127,13 @@ def find_stance(
     data = mujoco.MjData(locked)
     data.qpos[:] = locked.qpos0
     data.qpos[index.qpos_adr] = joint_q
-    data.qpos[free.qpos_adr : free.qpos_adr + 7] = resting_base(model, index, joint_q)
+    base = resting_base(model, index, joint_q, mount_quat)
+    if mount_quat is not None:  # the world pose of the base the mount turns (the robot stands at the origin)
+        world = np.empty(7)
+        mujoco.mju_rotVecQuat(world[:3], base[:3], np.asarray(mount_quat, dtype=np.float64))
+        mujoco.mju_mulQuat(world[3:], np.asarray(mount_quat, dtype=np.float64), base[3:])
+        base = world
+    data.qpos[free.qpos_adr : free.qpos_adr + 7] = base
     for _ in range(round(STANCE_SETTLE_SECONDS / timestep)):
         mujoco.mj_step(locked, data)
     base_v = data.qvel[free.dof_adr : free.dof_adr + 6]  # the locked model adds a geom and equalities: same layout

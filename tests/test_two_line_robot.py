@@ -198,3 +198,43 @@ def test_derived_drives_overcome_the_files_dry_friction(tmp_path: Path) -> None:
     assert capped == ("wrist",) and heavy_friction.stiffness[0] == pytest.approx(
         0.25 * 4.0 * plain.inertia[0] / 0.002**2
     )
+
+
+FRICTION_FINGERTIP_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
+  <geom type="cylinder" size="0.04 0.02" mass="1"/>
+  <body name="finger" pos="0 0 0.05">
+    <joint name="tip" axis="0 0 1" range="-1 1" frictionloss="0.5"/>
+    <geom type="sphere" pos="0.01 0 0" size="0.004" mass="0.002"/>
+  </body></body></worldbody></mujoco>"""
+
+
+def test_a_derived_drive_whose_friction_floor_the_bound_caps_gets_a_load_note(tmp_path: Path) -> None:
+    """A 2 g fingertip 1 cm from its axis (I ~ 2e-7 kg*m^2) with 0.5 N*m of dry friction:
+    stopping within FRICTION_STALL asks kp = 100 N*m/rad, the stability bound at 2 ms
+    allows I / dt^2 ~ 0.05; the drive gets the bound and the class check says so (which
+    joint, the kp wanted and given, how far friction may stop it, why)."""
+    from robot_agents.actuators.gains import FRICTION_STALL
+
+    path = tmp_path / "fingertip.xml"
+    path.write_text(FRICTION_FINGERTIP_MJCF)
+    cls = two_line(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        checked = cls.check()
+    inertia = gains_from_inertia(mujoco.MjModel.from_xml_path(str(path)), ["tip"]).inertia[0]
+    cap = 0.25 * 4.0 * inertia / 0.002**2
+    assert checked.drives[0].stiffness == pytest.approx(cap)
+    notes = [w for w in caught if "dry friction" in str(w.message)]
+    assert len(notes) == 1 and issubclass(notes[0].category, RuntimeWarning)
+    note = str(notes[0].message)
+    assert "TwoLine" in note and "stability bound at the 0.002 s step" in note
+    assert f"tip (frictionloss 0.5 N*m: kp {0.5 / FRICTION_STALL:.3g} N*m/rad wanted, {cap:.3g} given" in note
+    assert f"up to {0.5 / cap:.3g} rad from its target" in note
+    assert "raise sim_freq" in note
+    # the friction test's wrist, heavy enough for its floor, gets no such note
+    heavy = tmp_path / "wrist.xml"
+    heavy.write_text(FRICTION_WRIST_MJCF)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        two_line(heavy).check()
+    assert not [w for w in caught if "dry friction" in str(w.message)]

@@ -14,9 +14,8 @@ from robot_agents.agent import Agent
 from robot_agents.agent.derived import joint_actuator
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
-from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosVelController, PDJointVelConfig
+from robot_agents.controllers.joint import PDJointPosConfig, PDJointVelConfig
 from robot_agents.errors import RobotAgentsError
-from robot_agents.kinematics.rotations import quat_to_rotvec
 from robot_agents.sim.scene import Scene, default_sim_freq
 
 #: A keyframe is held when no joint drifts more than this over the hold (rad or m).
@@ -54,21 +53,10 @@ def hold_action(agent: Agent, env: int = 0) -> np.ndarray:
     all the way down."""
     parts = []
     for controller in agent.controller.parts.values():
-        config = controller.config
-        if isinstance(config, PDJointPosConfig) and not config.use_delta:
-            index = [agent.joint_names.index(j) for j in config.joint_names][: controller.action_dim]
-            raw = agent.qpos[env, index]
-            if isinstance(controller, PDJointPosVelController):
-                raw = np.concatenate([raw, np.zeros(len(index))])
-        elif isinstance(controller, PDEEController) and not config.use_delta:  # type: ignore[attr-defined]
-            pose = controller.target_pose[env]  # the measured tool pose (command frame) since the reset
-            rotation = pose[3:] if controller.quaternion_input else quat_to_rotvec(pose[3:])
-            raw = np.concatenate([pose[:3], rotation]) if controller.rotation else pose[:3]
-        else:
-            raw = np.zeros(controller.action_dim)  # zero delta / velocity / effort
+        raw = controller.hold_raw(agent.world)[env]  # each controller's hold, raw (m, rad, ...)
         # The action that commands ``raw``: with symmetric bounds a raw zero is a normalized
         # zero (exactly); with asymmetric ones, or a normalized absolute mode, it is not.
-        parts.append(controller.from_raw(raw) if config.normalize_action else raw)
+        parts.append(controller.from_raw(raw) if controller.config.normalize_action else raw)
     return np.concatenate(parts) if parts else np.zeros(0)
 
 

@@ -16,8 +16,8 @@ default control rate of 20 Hz. Effort limits come from the file (a URDF's
 
 A joint its file gives dry friction (``frictionloss``) stops where the drive's pull
 falls below it, ``friction / kp`` from the target: :func:`friction_gains` raises ``kp``
-to ``friction / FRICTION_STALL`` (capped by the stability bound below) and ``kv`` to
-critical for it.
+to ``friction / FRICTION_STALL`` (capped by the stability bound below; a derived robot's
+class check gives a note for each joint so capped) and ``kv`` to critical for it.
 
 A floating robot standing on its legs needs more: its legs' own inertia is small (the
 body is free), and gains from it let the body's weight fold the legs. With the static
@@ -188,7 +188,8 @@ def friction_gains(
     bound ``4 I / dt^2`` (``timestep`` in s), with ``kv`` critical for the new ``kp``
     (``2 zeta sqrt(kp I)``; the file's own damping adds to it). Inertia gains stiff
     enough already are kept. Returns the gains and the joints whose stiffness the bound
-    capped (friction stops them up to ``friction / kp`` from their targets)."""
+    capped (friction stops them up to ``friction / kp`` from their targets; a derived
+    robot's class check reports them in a load note)."""
     if gains.passive_friction is None:
         return gains, ()
     need = gains.passive_friction / stall

@@ -25,10 +25,16 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import SuggestedGains, friction_gains, gains_from_inertia, stance_gains
+from robot_agents.actuators.gains import (
+    FRICTION_STALL,
+    SuggestedGains,
+    friction_gains,
+    gains_from_inertia,
+    stance_gains,
+)
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
-from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
@@ -396,7 +402,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         # dry friction in the file (frictionloss) would stall inertia gains short of their targets
         from robot_agents.sim.scene import DEFAULT_SIM_FREQ
 
-        gains, _ = friction_gains(gains, 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ))
+        timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
+        gains, capped = friction_gains(gains, timestep)
+        if capped:
+            _note_friction_cap(name, index, gains, capped, timestep)
         if index.free_joint is not None:
             gains, legs = _stand(
                 cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler, mount_quat
@@ -472,6 +481,32 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     )
     _CHECKED[cls] = checked
     return checked
+
+
+def _note_friction_cap(
+    name: str, index: RobotIndex, gains: SuggestedGains, capped: Sequence[str], timestep: float
+) -> None:
+    """A load note for derived drives whose friction floor (:func:`friction_gains`) the
+    stability bound at ``timestep`` (s) capped: per joint of ``capped``, its dry friction,
+    the ``kp`` that friction asks for, the ``kp`` given, and how far friction may stop it."""
+    friction = gains.passive_friction if gains.passive_friction is not None else np.zeros(len(gains.joints))
+    lines = []
+    for joint in capped:
+        i = gains.joints.index(joint)
+        slide = index.joint(joint, name).kind is JointKind.SLIDE
+        force, stiffness, length = ("N", "N/m", "m") if slide else ("N*m", "N*m/rad", "rad")
+        wanted, given = friction[i] / FRICTION_STALL, gains.stiffness[i]
+        lines.append(
+            f"{joint} (frictionloss {friction[i]:.3g} {force}: kp {wanted:.3g} {stiffness} wanted, {given:.3g} given; "
+            f"friction may stop it up to {friction[i] / given:.3g} {length} from its target)"
+        )
+    warnings.warn(
+        f"{name}: its derived drives cannot hold every joint within {FRICTION_STALL:g} rad (m) of its target against "
+        f"the file's dry friction: the stability bound at the {timestep:g} s step caps kp for {', '.join(lines)}. "
+        "Add armature to light joints, or raise sim_freq.",
+        RuntimeWarning,
+        stacklevel=4,
+    )
 
 
 def _stand(

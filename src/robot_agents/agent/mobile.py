@@ -137,7 +137,11 @@ class MobileBase:
     def set(
         self, xy: npt.ArrayLike | None, yaw: npt.ArrayLike | None, env_ids: npt.ArrayLike | None, where: str
     ) -> None:
-        """Teleport the base (kinematic write; velocities of the base set to zero)."""
+        """Teleport the base of envs ``env_ids`` (all by default; ``n`` of them) to ``xy``
+        (m, in the world: ``(2,)`` for every env or ``(n, 2)``) and ``yaw`` (rad about the
+        world's z: a number or ``(n,)``); ``None`` keeps the current value. A kinematic write
+        of the base joints (planar joints, or the free root at its current height), their
+        velocities set to zero; ``where`` names the caller in errors."""
         self._require(where)
         ids = self.state.env_ids(env_ids, where)
         n = len(ids)

@@ -268,6 +268,13 @@ class Controller(abc.ABC):
         (:meth:`to_raw`): ``raw`` ``(num_envs, action_dim)`` in the controller's physical
         units (rad, m, rad/s, m/s, N*m, N, or a pose's m and rad)."""
 
+    def hold_raw(self, sim: SimView) -> FloatArray:
+        """The raw action (physical units, not normalized) that asks this controller's
+        joints to stay where they are, a new array ``(num_envs, action_dim)``: zero
+        (delta, velocity, effort) unless a controller of absolute targets overrides it
+        with the measured pose or its current target."""
+        return np.zeros((self.num_envs, self.action_dim))
+
     @property
     def checks_actions(self) -> bool:
         """True when :meth:`check_raw_action` can reject an action within the bounds."""

@@ -49,7 +49,7 @@ from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import BoundFrame, FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKSolver
 from robot_agents.kinematics.ik_config import IKResult
-from robot_agents.kinematics.rotations import rotvec_to_quat_into
+from robot_agents.kinematics.rotations import quat_to_rotvec, rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]
 
@@ -290,6 +290,24 @@ class PDEEController(Controller):
         else:
             targets.position[:, self._columns] = solution
         self.target_qpos[:] = solution
+
+    def hold_raw(self, sim: SimView) -> FloatArray:
+        """Absolute modes: the current target pose (the measured tool pose, in the command
+        frame, since the reset): position (m) and, where the mode commands it, rotation
+        (a rotation vector in rad, or a ``w, x, y, z`` quaternion for quaternion input),
+        ``(num_envs, action_dim)``; delta modes: zero."""
+        if self.config.use_delta:
+            return super().hold_raw(sim)
+        pose = self.target_pose
+        if not self.rotation:
+            position: FloatArray = pose[:, :3].copy()
+            return position
+        if self.quaternion_input:
+            rotation = pose[:, 3:]
+        else:  # one pose at a time, the same arithmetic as for a single pose
+            rotation = np.stack([quat_to_rotvec(quat) for quat in pose[:, 3:]]).reshape(-1, 3)
+        held: FloatArray = np.concatenate([pose[:, :3], rotation], axis=1)
+        return held
 
     # -- lifecycle ------------------------------------------------------------------------
     def reset(self, env_ids: IntArray, sim: SimView) -> None:

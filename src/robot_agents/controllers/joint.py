@@ -182,6 +182,14 @@ class PDJointPosController(Controller):
         self.target_qpos[env_ids] = measured
         self._previous_target[env_ids] = measured
 
+    def hold_raw(self, sim: SimView) -> FloatArray:
+        """Absolute modes: the measured positions of the action's joints (the leader alone
+        for mimic joints), ``(num_envs, action_dim)`` in rad or m; delta modes: zero."""
+        if self.config.use_delta:
+            return super().hold_raw(sim)
+        held: FloatArray = sim.qpos[:, self.binding.qpos_adr[: self._action_joints]]
+        return held
+
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         change = raw if self._plain else raw * self._multipliers_row  # (N, 1) * (1, n) -> (N, n)
         if self._base == self._ABSOLUTE:
@@ -323,6 +331,15 @@ class PDJointPosVelController(PDJointPosController):
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
         super().reset(env_ids, sim)
         self.target_qvel[env_ids] = 0.0
+
+    def hold_raw(self, sim: SimView) -> FloatArray:
+        """Absolute modes: the measured positions (rad or m) and zero velocities,
+        ``(num_envs, 2 n)``; delta modes: zero."""
+        if self.config.use_delta:
+            return super().hold_raw(sim)
+        positions = sim.qpos[:, self.binding.qpos_adr]
+        held: FloatArray = np.concatenate([positions, np.zeros_like(positions)], axis=1)
+        return held
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         n = self.binding.size

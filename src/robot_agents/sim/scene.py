@@ -268,8 +268,12 @@ class Scene:
         keyframes: str | Sequence[str | None] | None = None,
         qpos: Sequence[npt.ArrayLike | None] | None = None,
     ) -> None:
-        """Reset the envs (all by default): props and time to their initial state, each
-        robot to a keyframe (default: its first) or to the given ``qpos``."""
+        """Reset the envs ``env_ids`` (a sequence of env indices; all by default): props and
+        time to their initial state, each robot to a keyframe (``keyframes``: one name for
+        every robot or one per robot, ``None`` for its first) or to the given ``qpos`` (one
+        entry per robot, each ``(nq,)`` for every env or ``(len(env_ids), nq)``, rad / m;
+        ``None`` entries take the keyframe). Every robot's input is checked before any env
+        is rewound."""
         where = "Scene.reset"
         self._check_open(where)
         if isinstance(env_ids, str):  # scene.reset("rest"): the first argument is env_ids

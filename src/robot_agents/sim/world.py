@@ -380,9 +380,12 @@ class BatchedWorld:
         qvel: FloatArray,
         forward: bool = True,
     ) -> None:
-        """Set ``qpos[adr]`` / ``qvel[adr]`` of ``env_ids`` (rows of ``qpos`` / ``qvel``),
-        clear the solver's warm start and recompute derived quantities (``forward=False``:
-        body and camera poses only, as after a step: ``mj_kinematics``, ``mj_camlight``)."""
+        """Set ``qpos[qpos_adr]`` and ``qvel[dof_adr]`` of the ``n`` envs ``env_ids``
+        (``(n,)`` ints): ``qpos`` ``(n, len(qpos_adr))`` (rad, m, unit quaternions) and
+        ``qvel`` ``(n, len(dof_adr))`` (rad/s, m/s), one row per env in ``env_ids`` order;
+        copy the ``ctrl`` buffer into those envs' controls, clear the solver's warm start
+        and recompute derived quantities (``forward=False``: body and camera poses only, as
+        after a step: ``mj_kinematics``, ``mj_camlight``)."""
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
         if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
@@ -417,8 +420,10 @@ class BatchedWorld:
         return ids
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
-        """Reset ``env_ids`` to one integration ``state`` ``(state_size,)`` (MuJoCo's
-        warning counters are cleared too)."""
+        """Reset the envs ``env_ids`` (``(n,)`` ints) to one integration ``state``
+        ``(state_size,)`` (MuJoCo's ``mjSTATE_INTEGRATION`` layout: time in s, ``qpos``,
+        ``qvel``, activations, ...) and take their controls as the ``ctrl`` buffer's rows
+        (MuJoCo's warning counters are cleared too)."""
         for env in self._ids(env_ids, "BatchedWorld.reset_envs"):
             data = self.datas[env]
             mujoco.mj_resetData(self.model, data)
@@ -427,8 +432,9 @@ class BatchedWorld:
         self._cache.clear()
 
     def sync_ctrl(self, env_ids: npt.ArrayLike | None = None) -> None:
-        """Copy the ``ctrl`` buffer into the envs' controls now (before the next step
-        would), e.g. so that a forward pass sees the actuator forces."""
+        """Copy the ``ctrl`` buffer's rows (``(num_envs, nu)``, the actuators' units) into
+        the controls of envs ``env_ids`` (``(n,)`` ints; all by default) now, before the
+        next step would, and run a forward pass so that it sees the actuator forces."""
         ids = range(self.num_envs) if env_ids is None else self._ids(env_ids, "BatchedWorld.sync_ctrl")
         for env in ids:
             self.datas[env].ctrl[:] = self.ctrl[env]
@@ -505,9 +511,11 @@ class BatchedWorld:
     def set_state(
         self, state: npt.ArrayLike, sleep: npt.ArrayLike | None = None, sensors: npt.ArrayLike | None = None
     ) -> None:
-        """Restore :meth:`get_state` (and, when given, :meth:`get_sleep_state` and
-        :meth:`get_sensor_state`); the continuation is bit-identical, and so are the
-        observations (sensor readings as saved)."""
+        """Restore :meth:`get_state`'s ``(num_envs, state_size)`` (and, when given,
+        :meth:`get_sleep_state`'s ``(num_envs, sleep_size)`` integers and
+        :meth:`get_sensor_state`'s ``(num_envs, nsensordata)`` readings) in every env; the
+        continuation is bit-identical, and so are the observations (sensor readings as
+        saved)."""
         array = self.check_state(state)
         counters = None if sleep is None else self.check_sleep_state(sleep)
         readings = None if sensors is None else self.check_sensor_state(sensors)

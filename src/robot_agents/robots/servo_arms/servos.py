@@ -11,6 +11,9 @@ Sources of the numbers:
 
 - Dynamixel XL430-W250-T (ROBOTIS e-manual): gear ratio 258.5 : 1; stall torque
   1.5 N*m and no-load speed 61 rev/min at 12 V (the Koch v1.1 follower's supply).
+- Dynamixel XM430-W350-T (ROBOTIS e-manual): gear ratio 353.5 : 1; stall torque
+  4.1 N*m and no-load speed 46 rev/min (4.82 rad/s) at 12 V (the WidowX 250 S's supply,
+  :mod:`robot_agents.robots.widowx.widowx250s`).
 - Dynamixel XL330-M288-T (ROBOTIS e-manual): gear ratio 288.35 : 1; stall torque
   0.52 N*m and no-load speed 103 rev/min at 5 V (the follower's step-down converter).
 - Feetech STS3215, 7.4 V version (the SO-100 follower's servo; Feetech / DFRobot
@@ -29,6 +32,15 @@ Sources of the numbers:
   ``J = 2.39e-8 * (5.80e-3 / 1.80e-3) ** 0.898 = 6.8e-8`` kg*m^2, the exponent fitted
   to the two identified servos; times ``258.5**2``: 0.0046 kg*m^2. Its friction is the
   XL330's share of stall torque (3.5 %): 0.05 N*m.
+- XM430-W350: not identified either; its rotor inertia comes from a second rule, the
+  WidowX 250 S's (:func:`rotor_armature`): the identified armatures of three other
+  DYNAMIXELs (BAM's ``params/mx64``, ``mx106``, ``xl330`` ``m1.json``: 0.01195, 0.02661,
+  0.00173 kg*m^2 at 200:1, 225:1, 288.35:1) give rotor inertias of 1.0e-5 .. 1.4e-5
+  kg*m^2 per N*m of motor-side stall torque; with their mean (1.18e-5) the XM430-W350's
+  rotor is 1.37e-7 kg*m^2, 0.0171 kg*m^2 at the joint (x 353.5^2; an estimate, +-30 %).
+  For the XL430-W250 the same rule gives 6.9e-8 and 0.00458 kg*m^2, which the WidowX uses
+  (the interpolation above: 0.0046). Its friction is the XL330's share of stall torque
+  (3.5 %): 0.14 N*m (the WidowX's drives model no friction).
 
 Gains (:func:`critically_damped_gains`): each joint is treated as a rigid inertia ``I``
 (its armature plus the diagonal of the joint-space mass matrix at the arm's rest pose)
@@ -85,7 +97,8 @@ class Servo:
     friction: float
 
 
-#: Dynamixel XL430-W250-T at 12 V (Koch v1.1 joints 1 and 2).
+#: Dynamixel XL430-W250-T at 12 V (Koch v1.1 joints 1 and 2; WidowX 250 S wrist rotate
+#: and gripper).
 XL430_W250 = Servo(
     model="Dynamixel XL430-W250-T (12 V)",
     gear_ratio=258.5,
@@ -93,6 +106,28 @@ XL430_W250 = Servo(
     no_load_speed=rpm(61.0),
     armature=0.0046,
     friction=0.05,
+)
+#: Rotor inertia per N*m of motor-side stall torque (kg*m^2 / (N*m)), the mean over
+#: Rhoban BAM's identified MX-64, MX-106 and XL330-M288 (see the module docstring).
+ROTOR_INERTIA_PER_TORQUE = 1.18e-5
+
+
+def rotor_armature(stall_torque: float, gear_ratio: float) -> float:
+    """Reflected rotor inertia (kg*m^2) of a servo with output stall torque
+    ``stall_torque`` (N*m) and gear ratio ``gear_ratio``, estimated from its motor-side
+    stall torque with :data:`ROTOR_INERTIA_PER_TORQUE`."""
+    return ROTOR_INERTIA_PER_TORQUE * (stall_torque / gear_ratio) * gear_ratio**2
+
+
+#: Dynamixel XM430-W350-T at 12 V (WidowX 250 S waist to wrist angle); armature and
+#: friction estimated (see the module docstring).
+XM430_W350 = Servo(
+    model="Dynamixel XM430-W350-T (12 V)",
+    gear_ratio=353.5,
+    stall_torque=4.1,
+    no_load_speed=rpm(46.0),
+    armature=rotor_armature(4.1, 353.5),
+    friction=0.14,
 )
 #: Dynamixel XL330-M288-T at 5 V (Koch v1.1 joints 3 to 6).
 XL330_M288 = Servo(
@@ -124,6 +159,7 @@ def critically_damped_gains(
 ) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """PD gains ``(kp, kv)`` per joint for effective inertias ``inertia`` (kg*m^2):
     ``kp = I w**2`` (N*m/rad) and ``kv = 2 zeta I w`` (N*m*s/rad)."""
+    # gains_from_inertia's rule, on tabled rest inertias (known before compiling) at 40 rad/s, not its 10 Hz.
     kp = tuple(i * bandwidth**2 for i in inertia)
     kv = tuple(2.0 * damping_ratio * i * bandwidth for i in inertia)
     return kp, kv
@@ -137,11 +173,14 @@ def servo_values(servos: Sequence[Servo], field: str) -> tuple[float, ...]:
 __all__ = [
     "BANDWIDTH",
     "DAMPING_RATIO",
+    "ROTOR_INERTIA_PER_TORQUE",
     "STS3215",
     "XL330_M288",
     "XL430_W250",
+    "XM430_W350",
     "Servo",
     "critically_damped_gains",
+    "rotor_armature",
     "rpm",
     "servo_values",
 ]

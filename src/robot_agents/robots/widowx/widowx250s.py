@@ -12,10 +12,11 @@ Sources of the numbers:
   XM430-W350 on waist, shoulder (two, master + shadow), elbow (two), forearm roll and
   wrist angle; XL430-W250 on wrist rotate and the gripper. (Not XM540-W270: those drive
   the larger ViperX 300 S.)
-- Torque and speed limits (ROBOTIS e-Manual, at the arm's 12 V supply): XM430-W350
-  4.1 N*m stall, 46 rev/min (4.82 rad/s) no load, gear ratio 353.5:1; XL430-W250
-  1.5 N*m, 61 rev/min (6.39 rad/s), 258.5:1. Shoulder and elbow have two servos each:
-  8.2 N*m.
+- Torque and speed limits and gear ratios (ROBOTIS e-Manual, at the arm's 12 V supply):
+  :data:`~robot_agents.robots.servo_arms.servos.XM430_W350` (4.1 N*m stall, 46 rev/min,
+  4.82 rad/s, no load, 353.5:1) and :data:`~robot_agents.robots.servo_arms.servos.XL430_W250`
+  (1.5 N*m, 61 rev/min, 6.39 rad/s, 258.5:1), cited in :mod:`robot_agents.robots.servo_arms.servos`.
+  Shoulder and elbow have two servos each: 8.2 N*m.
 - Servo loop (the drives' stiffness and damping), from the same datasheets and the
   servos' factory position P gain (XM430: 800, XL430: 640; ROBOTIS control tables): the
   firmware's P-only position loop commands PWM = (P / 128) * error [pulses] out of a
@@ -26,19 +27,18 @@ Sources of the numbers:
   position D gain (4000) is left out, so its damping is a lower bound. Paired servos add.
   An estimate of the real loop (which also limits acceleration through its profile
   settings), not an identification.
-- Armature (reflected rotor inertia; ROBOTIS does not publish rotor inertias): the
-  identified armatures of three other DYNAMIXELs (Rhoban's BAM, ``params/mx64``,
-  ``mx106``, ``xl330`` ``m1.json``: 0.01195, 0.02661, 0.00173 kg*m^2 at 200:1, 225:1,
-  288.35:1) give rotor inertias of 1.0e-5 .. 1.4e-5 kg*m^2 per N*m of motor-side stall
-  torque (stall torque / gear ratio); with their mean (1.18e-5) the XM430-W350's rotor is
-  1.37e-7 kg*m^2, 0.0172 kg*m^2 at the joint (x 353.5^2), and the XL430-W250's 6.9e-8,
-  0.0046 kg*m^2 (an estimate, +-30 %). Paired servos add.
+- Armature (reflected rotor inertia; ROBOTIS does not publish rotor inertias): estimated
+  from each servo's motor-side stall torque by
+  :func:`~robot_agents.robots.servo_arms.servos.rotor_armature` (the mean rotor inertia
+  per N*m of three DYNAMIXELs identified by Rhoban's BAM; sources there): 0.0171 kg*m^2
+  per XM430-W350, 0.00458 per XL430-W250 (estimates, +-30 %; the Koch's XL430 armature,
+  0.0046, comes from another interpolation). Paired servos add.
 - Gripper: one XL430-W250 turns a horn (radius 0.014 m, links 0.024 m; Interbotix
   ``interbotix_xsarm_control/config/wx250s.yaml``) that slides both fingers, 0.015 ..
   0.037 m each (30 .. 74 mm between the pads, Trossen's specification). Per finger, at
   the horn's mid stroke: force limit 1.5 / (2 * 0.014) = 54 N, speed 6.39 * 0.014 =
   0.089 m/s, stiffness 5.5 / (2 * 0.014^2) = 14100 N/m, damping 600 N*s/m, armature
-  0.0046 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
+  0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
 - Keyframes: ``home`` is Menagerie's keyframe of the wx250s; ``zero`` is Interbotix's
   home pose (every joint at 0, the arm stretched out); ``sleep`` is Interbotix's sleep
   pose (``sleep_positions`` of the same config file).
@@ -73,6 +73,7 @@ from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
+from robot_agents.robots.servo_arms.servos import XL430_W250, XM430_W350, Servo, rotor_armature
 from robot_agents.sensors import CameraConfig
 
 ASSETS = Path(__file__).parent / "assets"
@@ -83,14 +84,8 @@ ARM_PATTERN = "|".join(ARM_JOINTS)
 FINGER_PATTERN = "left_finger|right_finger"
 
 # --------------------------------------------------------------------------- servos
-#: DYNAMIXEL datasheet numbers at 12 V: stall torque (N*m), no-load speed (rad/s), gear ratio.
-XM430_W350 = (4.1, 46.0 * 2.0 * math.pi / 60.0, 353.5)
-XL430_W250 = (1.5, 61.0 * 2.0 * math.pi / 60.0, 258.5)
 #: Factory position P gains (control-table units) of the XM430 and the XL430.
 XM430_P_GAIN, XL430_P_GAIN = 800.0, 640.0
-#: Rotor inertia per N*m of motor-side stall torque (kg*m^2 / (N*m)), the mean over
-#: Rhoban BAM's identified MX-64, MX-106 and XL330-M288 (see the module docstring).
-ROTOR_INERTIA_PER_TORQUE = 1.18e-5
 #: Gripper horn radius (m), Interbotix's wx250s control config.
 HORN_RADIUS = 0.014
 
@@ -102,12 +97,14 @@ def servo_stiffness(stall_torque: float, p_gain: float) -> float:
     return stall_torque / saturating_error
 
 
-def servo_armature(stall_torque: float, gear_ratio: float) -> float:
-    """Reflected rotor inertia (kg*m^2) estimated from the motor-side stall torque."""
-    return ROTOR_INERTIA_PER_TORQUE * (stall_torque / gear_ratio) * gear_ratio**2
+def servo_armature(servo: Servo) -> float:
+    """Reflected rotor inertia (kg*m^2) of ``servo`` estimated from its motor-side stall
+    torque (:func:`~robot_agents.robots.servo_arms.servos.rotor_armature`; for the XL430
+    this is not ``servo.armature``, the Koch's interpolated figure)."""
+    return rotor_armature(servo.stall_torque, servo.gear_ratio)
 
 
-#: Servos per arm joint (waist .. wrist_rotate): (datasheet, P gain, count).
+#: Servos per arm joint (waist .. wrist_rotate): (servo, P gain, count).
 _ARM_SERVOS = (
     (XM430_W350, XM430_P_GAIN, 1),
     (XM430_W350, XM430_P_GAIN, 2),
@@ -116,20 +113,20 @@ _ARM_SERVOS = (
     (XM430_W350, XM430_P_GAIN, 1),
     (XL430_W250, XL430_P_GAIN, 1),
 )
-ARM_EFFORT = tuple(n * s[0] for s, _, n in _ARM_SERVOS)
-ARM_VELOCITY = tuple(s[1] for s, _, _ in _ARM_SERVOS)
-ARM_STIFFNESS = tuple(n * servo_stiffness(s[0], p) for s, p, n in _ARM_SERVOS)
-ARM_DAMPING = tuple(n * s[0] / s[1] for s, _, n in _ARM_SERVOS)
-ARM_ARMATURE = tuple(n * servo_armature(s[0], s[2]) for s, _, n in _ARM_SERVOS)
+ARM_EFFORT = tuple(n * s.stall_torque for s, _, n in _ARM_SERVOS)
+ARM_VELOCITY = tuple(s.no_load_speed for s, _, _ in _ARM_SERVOS)
+ARM_STIFFNESS = tuple(n * servo_stiffness(s.stall_torque, p) for s, p, n in _ARM_SERVOS)
+ARM_DAMPING = tuple(n * s.stall_torque / s.no_load_speed for s, _, n in _ARM_SERVOS)
+ARM_ARMATURE = tuple(n * servo_armature(s) for s, _, n in _ARM_SERVOS)
 
 #: Per finger: the gripper servo's torque, speed, gains and rotor inertia through the horn
 #: (each finger takes half of the horn's torque and inertia).
 _LEVER = 2.0 * HORN_RADIUS**2
-FINGER_EFFORT = XL430_W250[0] / (2.0 * HORN_RADIUS)
-FINGER_VELOCITY = XL430_W250[1] * HORN_RADIUS
-FINGER_STIFFNESS = servo_stiffness(XL430_W250[0], XL430_P_GAIN) / _LEVER
-FINGER_DAMPING = XL430_W250[0] / XL430_W250[1] / _LEVER
-FINGER_ARMATURE = servo_armature(XL430_W250[0], XL430_W250[2]) / _LEVER
+FINGER_EFFORT = XL430_W250.stall_torque / (2.0 * HORN_RADIUS)
+FINGER_VELOCITY = XL430_W250.no_load_speed * HORN_RADIUS
+FINGER_STIFFNESS = servo_stiffness(XL430_W250.stall_torque, XL430_P_GAIN) / _LEVER
+FINGER_DAMPING = XL430_W250.stall_torque / XL430_W250.no_load_speed / _LEVER
+FINGER_ARMATURE = servo_armature(XL430_W250) / _LEVER
 
 #: The arm's drives: DYNAMIXEL position loops (see the module docstring).
 WX250S_ARM_DRIVES = PDActuator(

@@ -22,7 +22,10 @@ Sources of the numbers:
 - Reflected inertia (armature) and Coulomb friction, identified on pendulum test
   benches by Rhoban's BAM ("Better Actuator Models", github.com/Rhoban/bam, Apache-2.0),
   Coulomb-viscous model ``m1``: STS3215 7.4 V armature 0.0261 kg*m^2, friction
-  0.0515 N*m; XL330 armature 0.00199 kg*m^2, friction 0.0182 N*m; MX-64 (200 : 1,
+  0.0515 N*m; XL330 armature 0.00199 kg*m^2, friction 0.0182 N*m (``bam/params/xl330/
+  m1.json`` at commit 11bb7ec, 2026-07-22; that file's fit has moved between 0.0015 and
+  0.0020 kg*m^2 over the repository's history, so the XL330 armature is good to about
+  +-15 %); MX-64 (200 : 1,
   6.0 N*m) armature 0.01195 kg*m^2. Divided by ``N**2`` they are rotor-side inertias
   of 2.2e-7 (STS3215) and 2.4e-8 kg*m^2 (XL330-M288), plausible for 20 mm and 12 mm
   motors with their first gear stages (BAM does not name the XL330 variant; the M077's
@@ -35,7 +38,8 @@ Sources of the numbers:
 - XM430-W350: not identified either; its rotor inertia comes from a second rule, the
   WidowX 250 S's (:func:`rotor_armature`): the identified armatures of three other
   DYNAMIXELs (BAM's ``params/mx64``, ``mx106``, ``xl330`` ``m1.json``: 0.01195, 0.02661,
-  0.00173 kg*m^2 at 200:1, 225:1, 288.35:1) give rotor inertias of 1.0e-5 .. 1.4e-5
+  0.00173 kg*m^2 at 200:1, 225:1, 288.35:1; the XL330's from an earlier fit of that file
+  than the 0.00199 above, commit 16837b3) give rotor inertias of 1.0e-5 .. 1.4e-5
   kg*m^2 per N*m of motor-side stall torque; with their mean (1.18e-5) the XM430-W350's
   rotor is 1.37e-7 kg*m^2, 0.0171 kg*m^2 at the joint (x 353.5^2; an estimate, +-30 %).
   For the XL430-W250 the same rule gives 6.9e-8 and 0.00458 kg*m^2, which the WidowX uses

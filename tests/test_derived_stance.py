@@ -424,3 +424,33 @@ def test_a_mount_turns_a_file_drawn_y_up_onto_its_feet(tmp_path: Path) -> None:
     assert standing is not None and standing.passed, standing
     holds = checks.check_holds(upright)
     assert holds.passed, holds.line()
+
+
+def test_the_command_line_stands_a_y_up_file_with_up_y(tmp_path: Path) -> None:
+    """``robot-agents check FILE --floating --up y`` runs every check on the turned robot
+    (standing included) and passes; ``--up`` is refused for a registered uid, and
+    ``robot_from_file`` names the up axes it knows."""
+    import io
+
+    from robot_agents import cli
+    from robot_agents.robot_source import UP_AXES
+
+    path = write(tmp_path, "quad_cli_y_up", quadruped_drawn_y_up())
+    out = io.StringIO()
+    status = cli.main(["check", str(path), "--floating", "--up", "y", "--seconds", "1"], out)
+    text = out.getvalue()
+    assert status == 0, text
+    assert "[PASS] stands 5 s on its legs" in text
+    assert UP_AXES["y"] == pytest.approx(Y_UP_MOUNT[3:])
+    assert cli.main(["info", "panda", "--up", "y"], io.StringIO()) == 2
+    with pytest.raises(ra.UnknownNameError, match="up axis 'w'. Available: 'x', 'y', 'z'"):
+        robot_from_file(path, floating=True, up="w")
+
+
+@pytest.mark.parametrize("axis", ["x", "y", "z"])
+def test_each_up_axis_turns_that_axis_up(axis: str) -> None:
+    from robot_agents.robot_source import UP_AXES
+
+    turned = np.empty(3)
+    mujoco.mju_rotVecQuat(turned, np.eye(3)["xyz".index(axis)], np.array(UP_AXES[axis]))
+    np.testing.assert_allclose(turned, [0.0, 0.0, 1.0], atol=1e-15)

@@ -17,7 +17,7 @@ from robot_agents.agent.declaration import composition
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
-from robot_agents.robot_source import resolve_robot
+from robot_agents.robot_source import UP_AXES, resolve_robot
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning import timestep
 
@@ -80,12 +80,12 @@ def cmd_list(out: TextIO) -> int:
     return 0
 
 
-def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | None = None) -> int:
+def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | None = None, up: str = "z") -> int:
     """Describe the robot ``uid`` names (``cls``: already resolved, so that its load
     notes are not given twice)."""
     from robot_agents.sim.scene import Scene
 
-    cls = cls if cls is not None else resolve_robot(uid, floating)
+    cls = cls if cls is not None else resolve_robot(uid, floating, up)
     scene = Scene(cls)
     agent = scene.agents[0]
     out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
@@ -140,11 +140,11 @@ def _sensor_lines(cls: type[Agent]) -> list[str]:
     return ["sensors:", *lines] if lines else ["sensors: none"]
 
 
-def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = False) -> int:
+def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = False, up: str = "z") -> int:
     """Check the arguments (before anything is simulated), run the demo and print its summary."""
     seconds_per_pose = parse_seconds(seconds)
     output_path = check_output_path(output)
-    cls = resolve_robot(uid, floating)  # an unknown robot fails here, before the demo's imports
+    cls = resolve_robot(uid, floating, up)  # an unknown robot fails here, before the demo's imports
     cls.check()
 
     from robot_agents.demo import run_demo
@@ -161,13 +161,14 @@ def cmd_check(
     seconds: float = 5.0,
     sweep: bool = False,
     substeps: Sequence[int] | None = None,
+    up: str = "z",
 ) -> int:
     """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a
     failure. ``sweep``: instead, the time-step sweep's table (exit 1 when no step passes),
     over ``substeps`` per control step (default: the sweep's)."""
     from robot_agents.checks import run_checks
 
-    cls = resolve_robot(spec, floating)
+    cls = resolve_robot(spec, floating, up)
     cmd_info(spec, out, floating, cls)
     if sweep:
         swept = timestep.sweep_timestep(cls, substeps=substeps or timestep.DEFAULT_SUBSTEPS, stop_after=None)
@@ -243,12 +244,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
     robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
+    up_help = "a model file's up axis (default z): a file drawn y-up stands with --up y"
     info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
     info.add_argument("uid", help=robot_help)
     info.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    info.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
     check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
     check.add_argument("uid", help=robot_help)
     check.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    check.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
     check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
@@ -266,6 +270,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument("uid", nargs="?", default="panda", help=robot_help)
     demo.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    demo.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
     demo.add_argument(
         "--output",
         "-o",
@@ -287,13 +292,19 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "list":
             return cmd_list(stream)
         if args.command == "info":
-            return cmd_info(args.uid, stream, args.floating)
+            return cmd_info(args.uid, stream, args.floating, up=args.up)
         if args.command == "check":
             return cmd_check(
-                args.uid, stream, args.floating, parse_seconds(args.seconds), args.sweep, parse_substeps(args.substeps)
+                args.uid,
+                stream,
+                args.floating,
+                parse_seconds(args.seconds),
+                args.sweep,
+                parse_substeps(args.substeps),
+                args.up,
             )
         default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
-        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating)
+        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")
         return 2

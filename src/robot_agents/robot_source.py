@@ -6,34 +6,59 @@ module). The command line's ``info``, ``demo`` and ``check``, ``make_env``'s
 from __future__ import annotations
 
 import importlib
+import math
 from pathlib import Path
 
 from robot_agents.agent import Agent
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.registry import get_agent, list_agents
 
 MODEL_SUFFIXES = (".urdf", ".xml", ".mjcf")
 
 
-def robot_from_file(path: str | Path, floating: bool = False) -> type[Agent]:
+#: The mount orientation ``(w, x, y, z)`` that stands a file drawn with this axis up:
+#: ``"y"`` turns +90 deg about x (the file's +y becomes the world's +z; some URDFs, e.g.
+#: pybullet's ``laikago_toes.urdf``), ``"x"`` -90 deg about y (+x becomes +z).
+UP_AXES: dict[str, tuple[float, float, float, float]] = {
+    "z": (1.0, 0.0, 0.0, 0.0),
+    "y": (math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0),
+    "x": (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0),
+}
+
+
+def robot_from_file(path: str | Path, floating: bool = False, up: str = "z") -> type[Agent]:
     """The two-line robot of a model file: everything else derived (see
-    :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint."""
+    :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
+    ``up`` (a key of :data:`UP_AXES`) names the file's up axis when it is not z: the robot
+    then gets the ``mount_pose`` that turns that axis up (a floating robot's derived
+    keyframe and stance follow its mount)."""
+    if up not in UP_AXES:
+        raise UnknownNameError("robot_from_file", "up axis", str(up), UP_AXES)
     file = Path(path)
     field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
     name = "".join(part.capitalize() for part in file.stem.replace("-", "_").split("_")) or "Robot"
-    return type(name, (Agent,), {"uid": file.stem, field: file, "fix_root_link": not floating})
+    attributes: dict[str, object] = {"uid": file.stem, field: file, "fix_root_link": not floating}
+    if up != "z":
+        attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
+    return type(name, (Agent,), attributes)
 
 
-def resolve_robot(spec: str, floating: bool = False) -> type[Agent]:
+def resolve_robot(spec: str, floating: bool = False, up: str = "z") -> type[Agent]:
     """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
     directory or file without a model suffix that happens to share a registered uid's
-    name does not hide the uid)."""
+    name does not hide the uid); ``floating`` and ``up``: see :func:`robot_from_file`
+    (model files only)."""
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
-        return robot_from_file(path, floating)
+        return robot_from_file(path, floating, up)
+    if up != "z":
+        raise ConfigError(
+            f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "
+            "(declare its mount_pose instead)."
+        )
     if ":" in spec and not registered:
         module_name, _, class_name = spec.partition(":")
         try:

@@ -443,7 +443,7 @@ def test_the_command_line_stands_a_y_up_file_with_up_y(tmp_path: Path) -> None:
     assert "[PASS] stands 5 s on its legs" in text
     assert UP_AXES["y"] == pytest.approx(Y_UP_MOUNT[3:])
     assert cli.main(["info", "panda", "--up", "y"], io.StringIO()) == 2
-    with pytest.raises(ra.UnknownNameError, match="up axis 'w'. Available: 'x', 'y', 'z'"):
+    with pytest.raises(ra.UnknownNameError, match=r"up axis 'w'\. Available: 'x', 'y', 'z'"):
         robot_from_file(path, floating=True, up="w")
 
 

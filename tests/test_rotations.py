@@ -26,12 +26,16 @@ from robot_agents.kinematics.rotations import (
     quat_rotate,
     quat_to_matrix,
     quat_to_rotvec,
+    quat_to_yaw,
     relative_pose,
     relative_pose_into,
     rotation_error,
     rotation_error_into,
     rotvec_to_quat,
     rotvec_to_quat_into,
+    yaw_to_quat,
+    z_rotation_angle,
+    z_rotation_quat,
 )
 
 
@@ -235,6 +239,30 @@ def test_single_pose_helpers_agree_with_batched() -> None:
         alias = pa.copy()
         relative_pose_into(alias, pb, alias)
         np.testing.assert_allclose(alias, ba, atol=1e-12)
+
+
+# ------------------------------------------------------------------ yaw
+def test_yaw_quats_are_rotations_about_z_and_round_trip() -> None:
+    rng = np.random.default_rng(13)
+    yaws = np.concatenate((rng.uniform(-math.pi, math.pi, 40), [0.0, math.pi / 2, -math.pi / 2, 3.0, -3.0]))
+    quats = yaw_to_quat(yaws)
+    assert quats.shape == (len(yaws), 4)
+    assert yaw_to_quat(0.5).shape == (4,)
+    assert yaw_to_quat(np.zeros((2, 3))).shape == (2, 3, 4)
+    assert_same_rotation(quats, rotvec_to_quat(yaws[:, None] * np.array([0.0, 0.0, 1.0])))
+    np.testing.assert_allclose(quat_to_yaw(quats), yaws, atol=1e-12)
+    for yaw, quat in zip(yaws, quats, strict=True):
+        np.testing.assert_allclose(z_rotation_quat(float(yaw)), quat, atol=1e-15)
+        assert z_rotation_angle(quat) == pytest.approx(yaw, abs=1e-12)
+    # beyond half a turn the single-value angle is not wrapped: 2 atan2(z, w)
+    assert z_rotation_angle(z_rotation_quat(5.0)) == pytest.approx(5.0, abs=1e-12)
+
+
+def test_quat_to_yaw_is_the_heading_of_the_rotated_x_axis() -> None:
+    quats = random_quats(np.random.default_rng(14), 50)
+    x_axes = quat_to_matrix(quats)[:, :, 0]
+    np.testing.assert_allclose(quat_to_yaw(quats), np.arctan2(x_axes[:, 1], x_axes[:, 0]), atol=1e-12)
+    np.testing.assert_array_equal(quat_to_yaw(-quats), quat_to_yaw(quats))
 
 
 # ------------------------------------------------------------------ cameras

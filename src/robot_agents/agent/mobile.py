@@ -15,6 +15,7 @@ import numpy.typing as npt
 
 from robot_agents.agent.index import RobotIndex
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.kinematics.rotations import quat_to_yaw, z_rotation_angle
 from robot_agents.validation import check_bool
 
 if TYPE_CHECKING:
@@ -91,7 +92,9 @@ class MobileBase:
             self.kind = "planar" if self.planar is not None else "free"
         mount = state.mount_pose
         self._mount_xy = np.array(mount[:2])
-        self._mount_yaw = 2.0 * math.atan2(float(mount[6]), float(mount[3]))  # yaw of a z-rotation quaternion
+        self._mount_yaw = z_rotation_angle(mount[3:])
+        # cos and sin of the mount's yaw, for the per-step wheel kinematics
+        self._mount_cos, self._mount_sin = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
 
     def _require(self, where: str) -> None:
         if self.kind == "fixed":
@@ -101,11 +104,7 @@ class MobileBase:
     def yaw(self) -> FloatArray:
         """``base_rot``: yaw (rad) about world +z, ``(num_envs,)``, in ``(-pi, pi]``."""
         self._require(f"{self.owner}.base_rot")
-        quat = self.world.body_poses(self._base_body())[:, 0, 3:]
-        yaw = np.arctan2(
-            2 * (quat[:, 0] * quat[:, 3] + quat[:, 1] * quat[:, 2]), 1 - 2 * (quat[:, 2] ** 2 + quat[:, 3] ** 2)
-        )
-        return wrap_angle(yaw)
+        return wrap_angle(quat_to_yaw(self.world.body_poses(self._base_body())[:, 0, 3:]))
 
     def _base_body(self) -> int:
         """The body the base joints move (the root for a floating robot)."""
@@ -320,7 +319,7 @@ class MobileBase:
         turn = wrap_angle(end[:, 2] - start[:, 2])
         heading = start[:, 2] + self._mount_yaw + 0.5 * turn
         # the slides move along the mount frame's axes; the heading is world yaw
-        c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
+        c, s = self._mount_cos, self._mount_sin
         moved_x, moved_y = end[:, 0] - start[:, 0], end[:, 1] - start[:, 1]
         dx = c * moved_x - s * moved_y
         dy = s * moved_x + c * moved_y
@@ -348,7 +347,7 @@ class MobileBase:
         x0, y0, yaw0 = float(start[0]), float(start[1]), float(start[2])
         turn = wrap_angle_float(float(end[2]) - yaw0)
         heading = yaw0 + self._mount_yaw + 0.5 * turn
-        c, s = math.cos(self._mount_yaw), math.sin(self._mount_yaw)
+        c, s = self._mount_cos, self._mount_sin
         moved_x, moved_y = float(end[0]) - x0, float(end[1]) - y0
         dx = c * moved_x - s * moved_y
         dy = s * moved_x + c * moved_y

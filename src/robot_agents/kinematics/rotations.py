@@ -30,6 +30,9 @@ Two kinds of functions:
   the single-pose :func:`relative_pose`, ``rotation_error_into`` the single-pose
   :func:`rotation_error`.
 
+Yaw (rotations about +z): :func:`yaw_to_quat` and :func:`quat_to_yaw` (batched, numpy);
+:func:`z_rotation_quat` and :func:`z_rotation_angle` (one value, Python's ``math``).
+
 Cameras (MuJoCo / OpenGL camera axes: x right, y up, looking along -z):
 :func:`look_at_quat`, :func:`look_at_xyaxes` and :data:`GL_TO_CV`.
 """
@@ -186,6 +189,41 @@ def relative_pose(pose: npt.ArrayLike, reference: npt.ArrayLike) -> FloatArray:
     """``pose`` expressed in the frame ``reference`` (both ``(..., 7)`` in the same outer
     frame): ``reference^-1 * pose``."""
     return pose_multiply(pose_inverse(reference), pose)
+
+
+def quat_to_yaw(q: npt.ArrayLike) -> FloatArray:
+    """Heading (rad, in ``[-pi, pi]``) of unit quaternions ``(..., 4)``, shape ``(...)``:
+    the angle about +z of the rotated x axis projected onto the xy-plane (the yaw of a
+    z-y-x Euler decomposition), ``atan2(2 (w z + x y), 1 - 2 (y^2 + z^2))``."""
+    q = np.asarray(q, dtype=np.float64)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out: FloatArray = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y**2 + z**2))
+    return out
+
+
+def yaw_to_quat(yaw: npt.ArrayLike) -> FloatArray:
+    """Unit quaternions ``(..., 4)`` ``(cos(yaw/2), 0, 0, sin(yaw/2))`` of rotations by
+    ``yaw`` (rad, shape ``(...)``) about +z (NumPy's ``cos`` / ``sin``; one Python float:
+    :func:`z_rotation_quat`)."""
+    half = np.asarray(yaw, dtype=np.float64) / 2
+    zero = np.zeros(half.shape)
+    return np.stack((np.cos(half), zero, zero, np.sin(half)), axis=-1)
+
+
+# -- single values, with Python's math module -----------------------------------------------
+def z_rotation_quat(yaw: float) -> FloatArray:
+    """Unit quaternion ``(4,)`` ``(cos(yaw/2), 0, 0, sin(yaw/2))`` of one rotation by
+    ``yaw`` (rad) about +z, with ``math.cos`` / ``math.sin`` (:func:`yaw_to_quat` is the
+    batched form, with NumPy's)."""
+    return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+
+def z_rotation_angle(quat: Sequence[float] | FloatArray) -> float:
+    """Angle (rad, in ``[-2 pi, 2 pi]``) of one rotation about +z given as its unit
+    quaternion ``(w, 0, 0, z)`` ``(4,)``: ``2 atan2(z, w)``, the inverse of
+    :func:`z_rotation_quat` on ``(-2 pi, 2 pi]``. Ignores ``x`` and ``y``: for any other
+    rotation use :func:`quat_to_yaw`."""
+    return 2.0 * math.atan2(float(quat[3]), float(quat[0]))
 
 
 # -- single values, with MuJoCo's C helpers (no numpy per-call overhead) -------------------

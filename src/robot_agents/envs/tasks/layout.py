@@ -45,6 +45,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.agent.derived import colliding_geoms
 from robot_agents.errors import ConfigError
+from robot_agents.kinematics.rotations import z_rotation_quat
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Base
 from robot_agents.registry import agent_class
@@ -163,10 +164,6 @@ def table_top_layout(cls: type[Agent]) -> TableTopLayout:
     return cached
 
 
-def _yaw_quat(yaw: float) -> FloatArray:
-    return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
-
-
 def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     where = f"table_top_layout({cls.__name__})"
     probe = Scene(cls, props=[Prop("layout_probe", "sphere", (1e-4,), mass=1e-3)])
@@ -206,7 +203,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
     finally:
         probe.close()
-    turn = _yaw_quat(yaw)
+    turn = z_rotation_quat(yaw)
     mount = np.asarray(cls.check().mount_pose, dtype=np.float64)
     cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
     cube_edge = max(cube_edge, MIN_CUBE_EDGE)

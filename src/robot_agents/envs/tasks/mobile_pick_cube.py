@@ -34,6 +34,7 @@ from robot_agents.envs.tasks.layout import FloatArray
 from robot_agents.envs.tasks.pick_cube import needs_gripper
 from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop
 from robot_agents.errors import ConfigError
+from robot_agents.kinematics.rotations import z_rotation_angle
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Base
 
@@ -65,7 +66,7 @@ class MobilePickCubeEnv(TableTopEnv):
         pose = self.layout.robot_pose
         #: Where the base stands to work at the table: ground point (x, y) and yaw.
         self.stance_xy = np.array(pose[:2])
-        self.stance_yaw = 2.0 * math.atan2(pose[6], pose[3])
+        self.stance_yaw = z_rotation_angle(pose[3:])
         #: Resting height of the cube's centre (m).
         self.cube_rest_z = self.layout.table_height + self.layout.cube_half_size
 

@@ -22,6 +22,7 @@ from robot_agents.envs.tasks.layout import (
     tool_arm,
 )
 from robot_agents.errors import ConfigError
+from robot_agents.kinematics.rotations import yaw_to_quat
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
@@ -235,5 +236,4 @@ class TableTopEnv(RobotEnv):
 
 def random_yaw_quats(rng: np.random.Generator, count: int) -> FloatArray:
     """``count`` rotations about z, uniform over a quarter turn (a cube's symmetry)."""
-    yaw = rng.uniform(-math.pi / 4, math.pi / 4, count)
-    return np.stack([np.cos(yaw / 2), np.zeros(count), np.zeros(count), np.sin(yaw / 2)], axis=1)
+    return yaw_to_quat(rng.uniform(-math.pi / 4, math.pi / 4, count))

@@ -241,6 +241,16 @@ def test_single_pose_helpers_agree_with_batched() -> None:
         np.testing.assert_allclose(alias, ba, atol=1e-12)
 
 
+def test_rotation_error_into_with_scratch_gives_the_same_bits() -> None:
+    rng = np.random.default_rng(12)
+    targets, currents = random_quats(rng, 20), random_quats(rng, 20)
+    scratch, with_scratch, without = np.empty(4), np.empty(3), np.empty(3)
+    for target, current in zip(targets, currents, strict=True):
+        rotation_error_into(without, target, current)
+        rotation_error_into(with_scratch, target, current, scratch)
+        assert with_scratch.tobytes() == without.tobytes()
+
+
 # ------------------------------------------------------------------ yaw
 def test_yaw_quats_are_rotations_about_z_and_round_trip() -> None:
     rng = np.random.default_rng(13)

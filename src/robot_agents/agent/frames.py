@@ -111,7 +111,8 @@ class RobotFrames:
             offset = np.asarray(frame.offset)
             offset_position, offset_quat = offset[:3], offset[3:]
             # MuJoCo's quaternion functions per env (the arithmetic of the one-env
-            # observation), the additions and copies once for all envs (the same bits)
+            # observation, state_obs.pose_entries), the additions and copies once for all
+            # envs (the same bits; per env, 256 envs took 430 us instead of 329)
             shifted, turned = np.empty((len(pose), 3)), np.empty((len(pose), 4))
             for row, shift, turn in zip(pose, shifted, turned, strict=True):
                 quat = row[3:]

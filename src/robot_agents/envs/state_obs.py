@@ -67,6 +67,8 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
     def offset_pose() -> list[FloatArray]:
         if frame.kind is not FrameKind.BODY:
             mujoco.mju_mat2Quat(quat, matrix)
+        # the arithmetic of RobotFrames.measured_pose (which batches the additions over
+        # envs), written out: a helper call would add to every one-env step
         mujoco.mju_rotVecQuat(shifted, offset_position, quat)
         np.add(position, shifted, out=out_position)
         mujoco.mju_mulQuat(out_quat, quat, offset_quat)

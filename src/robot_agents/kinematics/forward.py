@@ -118,6 +118,7 @@ class BoundFrame:
             origin_position, origin_quat = self._origin_parts
             self._origin_into(origin_position, origin_quat)
             offset_position, offset_quat = self._offset_parts
+            # not the observation's offset arithmetic (state_obs.pose_entries): mju_mulPose renormalizes the quaternion when |norm - 1| > 1e-15
             mujoco.mju_mulPose(position, quat, origin_position, origin_quat, offset_position, offset_quat)
         else:
             self._origin_into(position, quat)

@@ -17,7 +17,6 @@ quaternions; robots resolve every keyframe when they are checked or registered.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -27,6 +26,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import as_patterns, match
+from robot_agents.validation import check_quat, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.agent.index import RobotIndex
@@ -87,11 +87,7 @@ class Keyframe:
         if self.qvel is not None:
             object.__setattr__(self, "qvel", _as_values("qvel", self.qvel))
         object.__setattr__(self, "base_pos", _as_floats("base_pos", self.base_pos, 3))
-        quat = _as_floats("base_quat", self.base_quat, 4)
-        norm = math.sqrt(sum(q * q for q in quat))
-        if norm < 1e-9:
-            raise ConfigError(f"Keyframe.base_quat: expected a unit quaternion (w, x, y, z), got {quat}.")
-        object.__setattr__(self, "base_quat", tuple(q / norm for q in quat))
+        object.__setattr__(self, "base_quat", check_quat(self.base_quat, "Keyframe.base_quat"))
 
     @property
     def by_name(self) -> bool:
@@ -218,7 +214,7 @@ def _check_limits(qpos: FloatArray, index: RobotIndex, where: str) -> None:
             continue
         low, high = index.qpos_limits[start]
         value = float(qpos[start])
-        if value < low - 1e-9 or value > high + 1e-9:
+        if outside_limits(value, low, high):
             raise ConfigError(
                 f"{where}: joint {joint.name!r} at {value:.6g} is outside its limits [{low:.6g}, {high:.6g}]."
             )

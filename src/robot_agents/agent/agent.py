@@ -39,6 +39,7 @@ from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.kinematics.forward import FrameRef, Kinematics
 from robot_agents.parts.declaration import Arm, Base, Gripper, Legs, Part
 from robot_agents.sensors.touch import TouchReader
+from robot_agents.validation import is_real
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -463,7 +464,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
 
 def _check_threshold(where: str, name: str, value: Any, upper: float = math.inf) -> None:
-    if not (isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)):
+    if not is_real(value):
         raise ConfigError(f"{where}: expected {name} to be a number, got {value!r}.")
     if not (math.isfinite(float(value)) and 0.0 <= float(value) <= upper):
         raise ConfigError(f"{where}: expected {name} in [0, {upper:g}], got {value!r}.")

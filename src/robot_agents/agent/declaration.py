@@ -11,7 +11,6 @@ end effectors, fingers, keyframes (names, sizes, limits, quaternions) and contro
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import re
 import warnings
@@ -51,6 +50,7 @@ from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
 from robot_agents.sensors.touch import TouchSensorConfig
+from robot_agents.validation import check_pose
 
 if TYPE_CHECKING:
     from robot_agents.agent.definition import AgentDefinition
@@ -149,22 +149,7 @@ def mount_pose(cls: type[AgentDefinition]) -> tuple[float, ...]:
     """The declared ``mount_pose`` checked: 7 finite numbers ``(x, y, z, qw, qx, qy, qz)``
     (m) with a nonzero quaternion, returned with the quaternion normalized (as
     ``robot_poses`` are)."""
-    where = f"{cls.__name__}.mount_pose"
-    value = cls.mount_pose
-    form = "7 finite numbers (x, y, z, qw, qx, qy, qz) (m, unit quaternion)"
-    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, np.ndarray)):
-        raise ConfigError(f"{where}: expected {form}, got {value!r}.")
-    if len(value) != 7 or not all(
-        isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in value
-    ):
-        raise ConfigError(f"{where}: expected {form}, got {value!r}.")
-    pose = tuple(float(v) for v in value)
-    if not all(math.isfinite(v) for v in pose):
-        raise ConfigError(f"{where}: expected {form}, got {value!r} (NaN or inf).")
-    norm = math.sqrt(sum(q * q for q in pose[3:]))
-    if norm < 1e-9:
-        raise ConfigError(f"{where}: expected a unit quaternion (qw, qx, qy, qz), got {pose[3:]} (zero).")
-    return (*pose[:3], *(q / norm for q in pose[3:]))
+    return check_pose(cls.mount_pose, f"{cls.__name__}.mount_pose")
 
 
 def mode_parts(cls: type[AgentDefinition], modes: Mapping[str, ModeConfig], mode: str) -> dict[str, ControllerConfig]:

@@ -31,7 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent.manipulator import ManipulatorView, MobileManipulatorParams
-from robot_agents.errors import StateError
+from robot_agents.validation import check_open
 
 if TYPE_CHECKING:
     from robot_agents.agent.agent import Agent
@@ -60,8 +60,7 @@ class MobileManipulatorAPI:
     def _check_open(self, where: str) -> None:
         """Raise :class:`StateError` once the simulation this robot is bound to was closed
         (its env's or scene's ``close()``)."""
-        if self.world.closed:
-            raise StateError(f"{where}: the env (scene) of this {type(self).__name__} is closed; make a new one.")
+        check_open(self.world.closed, f"the env (scene) of this {type(self).__name__}", where)
 
     # ------------------------------------------------------------------ mobile base (Habitat's names)
     @property

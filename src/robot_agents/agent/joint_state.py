@@ -19,7 +19,7 @@ import numpy.typing as npt
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.errors import StateError
 from robot_agents.limits import check_speeds
-from robot_agents.validation import check_env_ids
+from robot_agents.validation import POSE_AXES, check_env_ids, check_quat_rows, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.keyframe import ResolvedKeyframe
@@ -96,7 +96,7 @@ class JointState:
         """Raise :class:`StateError` when a value of ``rows`` ``(n, k)``, for the robot's
         ``qpos`` ``entries`` ``(k,)``, lies outside its joint's limits (by more than 1e-9)."""
         low, high = self.index.qpos_limits[entries, 0], self.index.qpos_limits[entries, 1]
-        outside = (rows < low - 1e-9) | (rows > high + 1e-9)
+        outside = outside_limits(rows, low, high)
         if np.any(outside):
             env, k = np.argwhere(outside)[0]
             entry = int(entries[k])
@@ -111,10 +111,8 @@ class JointState:
         ``(n, nq)``; :class:`StateError` for a zero quaternion."""
         out = []
         for start, _ in self._balls:
-            norms = np.linalg.norm(qpos[:, start : start + 4], axis=1)
-            if np.any(norms < 1e-9):
-                raise StateError(f"{where}: a ball joint's quaternion (qpos {start}-{start + 3}) is zero.")
-            out.append((start, norms))
+            what = f"qpos {start}-{start + 3} (a ball joint's (w, x, y, z))"
+            out.append((start, check_quat_rows(qpos[:, start : start + 4], what, where)))
         return out
 
     # -- reads ----------------------------------------------------------------------------
@@ -206,7 +204,7 @@ class JointState:
             raise StateError(f"{where}: expected keys qpos, qvel, control_mode, controller; missing {missing}.")
         qpos = self.batch(state["qpos"], self.num_envs, self.index.nq, "qpos", where)
         low, high = self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1]
-        far = (qpos < low - STATE_LIMIT_MARGIN) | (qpos > high + STATE_LIMIT_MARGIN)
+        far = outside_limits(qpos, low, high, STATE_LIMIT_MARGIN)
         if np.any(far):
             env, entry = np.argwhere(far)[0]
             raise StateError(
@@ -218,13 +216,7 @@ class JointState:
         check_speeds(qvel, where, "qvel")
         base = self.batch(state["base_pose"], self.num_envs, 7, "base_pose", where) if "base_pose" in state else None
         if base is not None and len(self._free_qpos):
-            norms = np.linalg.norm(base[:, 3:], axis=1)
-            if np.any(norms < 1e-9):
-                env = int(np.argmax(norms < 1e-9))
-                raise StateError(
-                    f"{where}: expected base_pose (x, y, z, qw, qx, qy, qz) with a unit quaternion, got "
-                    f"{base[env, 3:].tolist()} in env {env}."
-                )
+            norms = check_quat_rows(base[:, 3:], f"base_pose {POSE_AXES}", where)
             # a restored get_state() quaternion is unit to rounding and kept bit for bit
             off = np.abs(norms - 1.0) > 1e-9
             base[off, 3:] /= norms[off, None]

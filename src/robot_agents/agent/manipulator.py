@@ -27,7 +27,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.kinematics.ik import IKSolver
 from robot_agents.kinematics.ik_config import IKConfig
-from robot_agents.validation import check_bool, check_whole
+from robot_agents.validation import POSE_AXES, check_bool, check_quat_rows, check_whole, is_whole
 
 if TYPE_CHECKING:
     from robot_agents.agent.agent import Agent
@@ -175,7 +175,7 @@ class ManipulatorView:
             raise ConfigError(f"{self.owner}.{where}: the robot has no Arm part.")
 
     def _ee(self, i: int, where: str) -> int:
-        if not isinstance(i, (int, np.integer)) or not 0 <= i < len(self._ee_frames):
+        if not is_whole(i) or not 0 <= i < len(self._ee_frames):
             raise ConfigError(
                 f"{self.owner}.{where}: expected an end-effector index in [0, {len(self._ee_frames)}), got {i!r}."
             )
@@ -360,13 +360,7 @@ class ManipulatorView:
             )
         width = int(targets.shape[-1])
         if width == 7:
-            norms = np.linalg.norm(targets[:, 3:], axis=1)
-            if np.any(norms < 1e-9):
-                env = int(np.flatnonzero(norms < 1e-9)[0])
-                raise StateError(
-                    f"{where}: expected a non-zero quaternion (w, x, y, z) in every pose, got "
-                    f"{targets[env, 3:].tolist()} for env {env}."
-                )
+            check_quat_rows(targets[:, 3:], f"poses {POSE_AXES}", where)
         else:
             position_only = True
             targets = np.concatenate([targets, np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))], axis=1)

@@ -16,7 +16,7 @@ import numpy.typing as npt
 from robot_agents.agent.index import RobotIndex
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.kinematics.rotations import quat_to_yaw, z_rotation_angle
-from robot_agents.validation import check_bool
+from robot_agents.validation import check_bool, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.agent.joint_state import JointState
@@ -160,7 +160,7 @@ class MobileBase:
             )
             for k, joint in enumerate((x, y, turn)):
                 low, high = joint.range
-                outside = (values[:, k] < low - 1e-9) | (values[:, k] > high + 1e-9)
+                outside = outside_limits(values[:, k], low, high)
                 if joint.limited and outside.any():
                     value = values[outside, k][0]
                     raise StateError(

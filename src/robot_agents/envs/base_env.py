@@ -10,7 +10,6 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 from __future__ import annotations
 
 import inspect
-import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -33,7 +32,7 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.validation import check_array
+from robot_agents.validation import check_array, check_bool, check_open, check_real, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -162,16 +161,7 @@ class RobotEnv(gym.Env[Any, Any]):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
         size = check_render_size(render_size, type(self).__name__)
-        if not (
-            isinstance(robot_init_qpos_noise, (int, float))
-            and not isinstance(robot_init_qpos_noise, bool)
-            and math.isfinite(robot_init_qpos_noise)
-            and robot_init_qpos_noise >= 0
-        ):
-            raise ConfigError(
-                f"{type(self).__name__}: expected robot_init_qpos_noise to be a finite number >= 0 (rad or m), "
-                f"got {robot_init_qpos_noise!r}."
-            )
+        noise = check_real(robot_init_qpos_noise, "robot_init_qpos_noise", type(self).__name__, 0.0, unit=" (rad or m)")
         self.scene = Scene(
             robot_uids,
             num_envs=num_envs,
@@ -196,13 +186,9 @@ class RobotEnv(gym.Env[Any, Any]):
         self.render_size = size
         self.max_episode_steps = self.default_max_episode_steps
         self.set_max_episode_steps(max_episode_steps)
-        self.robot_init_qpos_noise = float(robot_init_qpos_noise)
+        self.robot_init_qpos_noise = noise
         self._clearance: Clearance | None = None
-        if not isinstance(raise_on_instability, bool):
-            raise ConfigError(
-                f"{type(self).__name__}: expected raise_on_instability to be a bool, got {raise_on_instability!r}."
-            )
-        self.raise_on_instability = raise_on_instability
+        self.raise_on_instability = check_bool(raise_on_instability, "raise_on_instability", type(self).__name__)
         self.metadata = {**self.metadata, "render_fps": self.control_freq}
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
         self._env_rngs: list[np.random.Generator | None] = [None] * self.num_envs
@@ -318,7 +304,7 @@ class RobotEnv(gym.Env[Any, Any]):
         action and observation spaces (the controller's targets are observed)."""
         where = f"{type(self).__name__}.set_control_mode"
         self._check_open(where)
-        if not (isinstance(robot, (int, np.integer)) and not isinstance(robot, bool) and 0 <= robot < len(self.agents)):
+        if not (is_whole(robot) and 0 <= robot < len(self.agents)):
             raise ConfigError(f"{where}: expected robot to be an index in [0, {len(self.agents)}), got {robot!r}.")
         self.agents[robot].set_control_mode(mode)
         self.action_space = self._build_action_space()
@@ -406,7 +392,7 @@ class RobotEnv(gym.Env[Any, Any]):
         """The seed of each env (``None``: keep its stream)."""
 
         def valid(value: Any) -> bool:
-            return bool(isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 0)
+            return bool(is_whole(value) and value >= 0)
 
         if seed is None:
             return [None] * self.num_envs
@@ -632,15 +618,14 @@ class RobotEnv(gym.Env[Any, Any]):
 
     def set_max_episode_steps(self, steps: int | None) -> None:
         """Truncate episodes after ``steps`` steps (``None``: never; ``-1``: the task's default)."""
-        if steps is not None and not (isinstance(steps, (int, np.integer)) and not isinstance(steps, bool)):
+        if steps is not None and not is_whole(steps):
             raise ConfigError(f"{type(self).__name__}: expected max_episode_steps to be an int or None, got {steps!r}.")
         if steps is not None and steps != -1 and steps < 1:
             raise ConfigError(f"{type(self).__name__}: expected max_episode_steps >= 1, got {steps!r}.")
         self.max_episode_steps = self.default_max_episode_steps if steps == -1 else steps
 
     def _check_open(self, where: str) -> None:
-        if self._closed:
-            raise StateError(f"{where}: this env is closed; make a new one.")
+        check_open(self._closed, "this env", where)
 
     def close(self) -> None:
         if self._renderer is not None:

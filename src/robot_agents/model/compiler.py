@@ -18,6 +18,7 @@ from pathlib import Path
 import mujoco
 
 from robot_agents.errors import ConfigError
+from robot_agents.validation import is_real
 
 #: Folders searched for ``package://<pkg>/...`` meshes, besides the model's own (os.pathsep-separated).
 PACKAGE_PATH_VARIABLE = "ROBOT_AGENTS_PACKAGE_PATH"
@@ -54,7 +55,7 @@ class CompilerSettings:
             raise ConfigError(f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}.")
         for name in ("boundmass", "boundinertia"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            if not (is_real(value) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"CompilerSettings.{name}: expected a finite number >= 0, got {value!r}.")
         object.__setattr__(self, "package_paths", tuple(self.package_paths))
 

@@ -6,7 +6,6 @@ equalities and default classes come along, renamed with the prefix.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,6 +14,7 @@ import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
 from robot_agents.model.compiling import mujoco_messages
+from robot_agents.validation import check_quat, check_vector
 
 
 @dataclass(frozen=True)
@@ -46,21 +46,9 @@ class Attachment:
             raise ConfigError(
                 f"Attachment({self.piece.__name__}): expected 'at' to name a body or site, got {self.at!r}."
             )
-        try:
-            pos = tuple(float(v) for v in self.pos)
-            quat = tuple(float(v) for v in self.quat)
-        except (TypeError, ValueError):
-            pos, quat = (), ()
-        if len(pos) != 3 or len(quat) != 4 or not all(math.isfinite(v) for v in pos + quat):
-            raise ConfigError(
-                f"Attachment({self.piece.__name__}): expected pos (3) and quat (4) finite numbers, got "
-                f"pos={self.pos!r}, quat={self.quat!r}."
-            )
-        norm = math.sqrt(sum(q * q for q in quat))
-        if norm < 1e-9:
-            raise ConfigError(f"Attachment({self.piece.__name__}): expected a unit quaternion, got {self.quat!r}.")
-        object.__setattr__(self, "pos", pos)
-        object.__setattr__(self, "quat", tuple(q / norm for q in quat))
+        where = f"Attachment({self.piece.__name__})"
+        object.__setattr__(self, "pos", check_vector(self.pos, 3, "(x, y, z) (m)", f"{where}.pos"))
+        object.__setattr__(self, "quat", check_quat(self.quat, f"{where}.quat"))
 
 
 def attach(parent: mujoco.MjSpec, child: mujoco.MjSpec, attachment: Attachment, where: str) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from robot_agents.errors import ConfigError
+from robot_agents.validation import is_real
 
 
 @dataclass(frozen=True)
@@ -24,7 +25,7 @@ class FrictionMaterial:
     def __post_init__(self) -> None:
         for name in ("sliding", "torsional", "rolling"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and value >= 0):
+            if not (is_real(value) and value >= 0):
                 raise ConfigError(f"FrictionMaterial.{name}: expected a number >= 0, got {value!r}.")
 
     def as_mujoco(self) -> list[float]:

@@ -19,6 +19,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import Patterns, as_patterns
+from robot_agents.validation import check_quat, is_real
 
 
 class PartKind(Enum):
@@ -66,11 +67,7 @@ class EndEffector:
         if not self.name:
             object.__setattr__(self, "name", self.link)
         object.__setattr__(self, "pos", _vector(f"EndEffector {self.name!r}.pos", self.pos, 3))
-        quat = _vector(f"EndEffector {self.name!r}.quat", self.quat, 4)
-        norm = math.sqrt(sum(q * q for q in quat))
-        if norm < 1e-9:
-            raise ConfigError(f"EndEffector {self.name!r}.quat: expected a unit quaternion, got {self.quat!r}.")
-        object.__setattr__(self, "quat", tuple(q / norm for q in quat))
+        object.__setattr__(self, "quat", check_quat(self.quat, f"EndEffector {self.name!r}.quat"))
 
     @property
     def has_offset(self) -> bool:
@@ -103,7 +100,7 @@ class Part:
         if not isinstance(self.name, str) or not self.name or "/" in self.name:
             raise ConfigError(f"{type(self).__name__}: expected a part name without '/', got {self.name!r}.")
         object.__setattr__(self, "joints", as_patterns(self.joints, f"{where}.joints"))
-        if not (isinstance(self.max_delta, (int, float)) and 0 < self.max_delta < math.inf):
+        if not (is_real(self.max_delta) and 0 < self.max_delta < math.inf):
             raise ConfigError(f"{where}.max_delta: expected a positive number (rad or m), got {self.max_delta!r}.")
 
 
@@ -197,7 +194,7 @@ class PowerGrasp:
         if not isinstance(self.link, str) or not self.link:
             raise ConfigError(f"{where}.link: expected the palm link's name, got {self.link!r}.")
         object.__setattr__(self, "cube_centre", _vector(f"{where}.cube_centre", self.cube_centre, 3))
-        if not (isinstance(self.cube_edge, (int, float)) and 0.0 < self.cube_edge < math.inf):
+        if not (is_real(self.cube_edge) and 0.0 < self.cube_edge < math.inf):
             raise ConfigError(f"{where}.cube_edge: expected a positive length (m), got {self.cube_edge!r}.")
         outward = _vector(f"{where}.outward", self.outward, 3)
         norm = math.sqrt(sum(v * v for v in outward))

@@ -35,6 +35,7 @@ from robot_agents.kinematics import linear_followers
 from robot_agents.real.bus import JointBus
 from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
+from robot_agents.validation import check_open, check_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -236,8 +237,7 @@ class RealRobot:
         self._check_open(where)
         agent = self.agent
         robot_qpos = agent.keyframe_qpos(keyframe)  # raises UnknownNameError
-        if not (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 1):
-            raise ConfigError(f"{where}: expected steps as a whole number >= 1, got {steps!r}.")
+        steps = check_whole(steps, "steps", where, minimum=1)
         drives, columns = agent.drives, self._columns
         stiffness = drives.declared_stiffness[columns]
         if np.any(stiffness <= 0.0):
@@ -280,8 +280,7 @@ class RealRobot:
         return position
 
     def _check_open(self, where: str) -> None:
-        if self._closed:
-            raise StateError(f"{where}: this RealRobot is closed; make a new one.")
+        check_open(self._closed, "this RealRobot", where)
 
     def close(self) -> None:
         """Close the bus and the controllers' scene."""

@@ -25,7 +25,7 @@ import numpy.typing as npt
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.rotations import look_at_quat
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
-from robot_agents.validation import is_whole
+from robot_agents.validation import is_real, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
@@ -191,8 +191,4 @@ class CameraConfig:
 
 
 def _finite(value: Any) -> bool:
-    return (
-        isinstance(value, (int, float, np.integer, np.floating))
-        and not isinstance(value, bool)
-        and math.isfinite(value)
-    )
+    return is_real(value) and math.isfinite(value)

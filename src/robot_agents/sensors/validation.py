@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from robot_agents.errors import ConfigError
-from robot_agents.kinematics.rotations import quat_normalize
+from robot_agents.validation import check_quat
 
 
 def float_tuple(value: Any, size: int, what: str, where: str) -> tuple[float, ...]:
@@ -23,9 +23,6 @@ def float_tuple(value: Any, size: int, what: str, where: str) -> tuple[float, ..
 
 def unit_quat_tuple(value: Any, where: str) -> tuple[float, float, float, float]:
     """``value`` (4 finite numbers, not all zero) as a unit quaternion ``(w, x, y, z)``
-    with its sign kept, or a ConfigError naming ``where``."""
-    quat = np.array(float_tuple(value, 4, "quat (w, x, y, z)", where))
-    if np.linalg.norm(quat) < 1e-9:
-        raise ConfigError(f"{where}: expected a non-zero quaternion, got {value!r}.")
-    w, x, y, z = (float(q) for q in quat_normalize(quat))
-    return (w, x, y, z)
+    with its sign kept, or a ConfigError naming ``where``'s ``quat``
+    (:func:`~robot_agents.validation.check_quat`)."""
+    return check_quat(value, f"{where}.quat")

@@ -24,7 +24,7 @@ from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sensors.segmentation import segmentation_id_map
 from robot_agents.sim.world import BatchedWorld
-from robot_agents.validation import is_whole
+from robot_agents.validation import POSE_AXES, check_open, check_pose, is_whole
 
 #: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
 #: contacts stable with the implicitfast integrator.
@@ -175,24 +175,11 @@ class Scene:
         n = len(mounts)
         if poses is None:
             return [(m[0], m[1] + (i - (n - 1) / 2) * 1.0, *m[2:]) for i, m in enumerate(mounts)]
-        try:
-            result = [tuple(float(v) for v in p) for p in poses]
-        except (TypeError, ValueError):
+        if isinstance(poses, (str, bytes)) or not isinstance(poses, (Sequence, np.ndarray)) or len(poses) != n:
             raise ConfigError(
-                f"Scene.robot_poses: expected {n} poses of 7 numbers (x, y, z, qw, qx, qy, qz), got {poses!r}."
-            ) from None
-        if len(result) != n or any(len(p) != 7 for p in result) or not np.all(np.isfinite(result)):
-            raise ConfigError(
-                f"Scene.robot_poses: expected {n} poses of 7 finite numbers (x, y, z, qw, qx, qy, qz), got {poses!r}."
+                f"Scene.robot_poses: expected {n} poses of 7 finite numbers {POSE_AXES} (one per robot), got {poses!r}."
             )
-        for k, pose in enumerate(result):
-            norm = float(np.linalg.norm(pose[3:]))
-            if norm < 1e-9:
-                raise ConfigError(
-                    f"Scene.robot_poses[{k}]: expected a unit quaternion (qw, qx, qy, qz), got {pose[3:]}."
-                )
-            result[k] = (*pose[:3], *(q / norm for q in pose[3:]))
-        return result
+        return [check_pose(pose, f"Scene.robot_poses[{k}]") for k, pose in enumerate(poses)]
 
     @staticmethod
     def _modes(modes: str | Sequence[str | None] | None, n: int) -> list[str | None]:
@@ -371,8 +358,7 @@ class Scene:
         self.world.set_state(physics, sleep, sensors)
 
     def _check_open(self, where: str) -> None:
-        if self.world.closed:
-            raise StateError(f"{where}: this scene is closed; make a new one.")
+        check_open(self.world.closed, "this scene", where)
 
     def close(self) -> None:
         """Release the renderers and threads; the scene (and its robots) refuse further use."""

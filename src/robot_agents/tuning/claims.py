@@ -74,6 +74,7 @@ from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene
+from robot_agents.validation import is_whole
 
 #: Seconds each keyframe is held.
 HOLD_SECONDS = 2.0
@@ -405,7 +406,7 @@ def checked_seeds(seeds: Sequence[int], where: str) -> tuple[int, ...]:
     """``seeds`` as a tuple of ints, or a :class:`ConfigError` naming what was given."""
     if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Sequence):
         raise ConfigError(f"{where}: expected a sequence of int seeds (e.g. (0, 1, 2)), got {seeds!r}.")
-    if not seeds or not all(isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0 for s in seeds):
+    if not seeds or not all(is_whole(s) and s >= 0 for s in seeds):
         raise ConfigError(f"{where}: expected one or more int seeds >= 0, got {list(seeds)!r}.")
     return tuple(int(s) for s in seeds)
 

@@ -34,9 +34,9 @@ import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.errors import ConfigError
 from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
+from robot_agents.validation import check_whole
 
 #: ``kv * dt / I`` at and above which a clamped drive can cycle between its limits.
 CYCLE_RATIO = 2.0
@@ -100,8 +100,7 @@ def drive_cycle_bounds(
     keyframe and ``samples`` uniform draws of the hinge and slide joints within their
     limits (unlimited ones: one turn, or +-pi m), from ``seed``."""
     cls = agent_class(robot, "drive_cycle_bounds")
-    if not (isinstance(samples, int) and samples >= 0):
-        raise ConfigError(f"drive_cycle_bounds: expected samples >= 0 (an int), got {samples!r}.")
+    samples = check_whole(samples, "samples", "drive_cycle_bounds")
     scene = Scene(cls)
     try:
         scene.reset()

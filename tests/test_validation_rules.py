@@ -1,0 +1,179 @@
+"""One rule per input check: poses and quaternions, numbers and flags, joint limits and
+closed objects are checked by :mod:`robot_agents.validation`, the same way everywhere.
+These tests pin the rules that became uniform (a bool or a string is no longer taken
+for a number where some entry points took it)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import robot_agents as ra
+from robot_agents.errors import ConfigError, StateError
+from robot_agents.real import RealRobot, SimulatedBus
+from robot_agents.robots.panda.panda import PandaHand
+from robot_agents.tuning.cycles import drive_cycle_bounds
+from robot_agents.validation import (
+    check_open,
+    check_pose,
+    check_quat,
+    check_quat_rows,
+    check_real,
+    check_vector,
+    outside_limits,
+)
+from tests.conftest import make_pendulum_class
+
+BAD_NUMBERS = [
+    ((True, 0, 0, 0), "(True, 0, 0, 0)"),
+    (("1", 0, 0, 0), "('1', 0, 0, 0)"),
+    ([[1, 0], [0, 0]], "[[1, 0], [0, 0]]"),
+    (np.array([[1.0, 0.0], [0.0, 0.0]]), "array("),
+    ("1000", "'1000'"),
+    ((1, 0, 0), "(1, 0, 0)"),
+    (5, "5"),
+]
+
+
+@pytest.mark.parametrize(("value", "given"), BAD_NUMBERS)
+def test_check_quat_takes_only_four_real_numbers(value: Any, given: str) -> None:
+    with pytest.raises(ConfigError) as caught:
+        check_quat(value, "Here.quat")
+    message = str(caught.value)
+    assert message.startswith("Here.quat: expected 4 finite numbers (w, x, y, z) (a quaternion), got ")
+    assert given in message
+
+
+def test_check_quat_and_check_pose_normalize_as_the_declarations_did() -> None:
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        quat = tuple(float(q) for q in rng.normal(size=4))
+        norm = math.sqrt(sum(q * q for q in quat))
+        assert check_quat(quat, "q") == tuple(q / norm for q in quat)
+        assert check_quat(np.array(quat), "q") == tuple(q / norm for q in quat)
+        assert check_pose((0.1, 0.2, 0.3, *quat), "p") == (0.1, 0.2, 0.3, *(q / norm for q in quat))
+    assert check_quat((np.float32(2.0), np.int64(0), 0, 0), "q") == (1.0, 0.0, 0.0, 0.0)
+    assert check_quat((-2.0, 0, 0, 0), "q") == (-1.0, 0.0, 0.0, 0.0)  # the sign is kept
+
+
+@pytest.mark.parametrize("quat", [(0, 0, 0, 0), (1e-12, 0, 0, 0)])
+def test_a_zero_quaternion_is_refused_the_same_way_everywhere(quat: tuple[float, ...]) -> None:
+    with pytest.raises(ConfigError, match=r"q: expected a unit quaternion \(w, x, y, z\), got .* \(zero\)") as caught:
+        check_quat(quat, "q")
+    assert "non-zero quaternion" in str(caught.value)
+    with pytest.raises(ConfigError, match=r"p: expected a unit quaternion \(qw, qx, qy, qz\), got .* \(zero\)"):
+        check_pose((0, 0, 0, *quat), "p")
+    with pytest.raises(StateError, match=r"w: expected rows with a unit quaternion, got .* in env 1 \(zero\)"):
+        check_quat_rows(np.array([[1.0, 0, 0, 0], quat]), "rows", "w")
+
+
+def test_check_vector_and_check_pose_name_nan() -> None:
+    with pytest.raises(ConfigError, match=r"v: expected 3 finite numbers \(x, y, z\) \(m\), got .* \(NaN or inf\)"):
+        check_vector((0.0, math.inf, 0.0), 3, "(x, y, z) (m)", "v")
+    with pytest.raises(ConfigError, match=r"p: expected 7 finite numbers \(x, y, z, qw, qx, qy, qz\)"):
+        check_pose((0, 0, 0, 1, 0, 0, math.nan), "p")
+
+
+def test_limits_and_closed_objects_have_one_rule() -> None:
+    np.testing.assert_array_equal(
+        outside_limits([-1.0 - 2e-9, -1.0 - 5e-10, 1.0 + 5e-10, 1.0 + 2e-9], -1.0, 1.0), [True, False, False, True]
+    )
+    assert not outside_limits(5.0, -1.0, 1.0, margin=10.0)
+    check_open(False, "this thing", "T.f")
+    with pytest.raises(StateError, match=r"^T\.f: this thing is closed; make a new one\.$"):
+        check_open(True, "this thing", "T.f")
+    assert check_real(np.float32(0.5), "x", "w", 0.0, unit=" (m)") == 0.5
+    with pytest.raises(ConfigError, match=r"w: expected x to be a finite number in \[0.0, inf\] \(m\), got -1"):
+        check_real(-1, "x", "w", 0.0, unit=" (m)")
+
+
+# ---------------------------------------------------------------- the entry points that became stricter
+@pytest.mark.parametrize("pose", [(0, 0, 0, True, 0, 0, 0), (0, 0, "0.5", 1, 0, 0, 0)])
+def test_robot_poses_refuse_bools_and_strings(pose: tuple[object, ...]) -> None:
+    with pytest.raises(ConfigError, match=r"Scene\.robot_poses\[0\]: expected 7 finite numbers"):
+        ra.Scene("panda", robot_poses=[pose])  # type: ignore[list-item]
+    with pytest.raises(ConfigError, match=r"Scene\.robot_poses: expected 1 poses of 7 finite numbers"):
+        ra.Scene("panda", robot_poses=(p for p in [pose]))  # type: ignore[arg-type]
+
+
+def test_robot_poses_take_an_array_and_normalize_its_quaternions() -> None:
+    scene = ra.Scene("panda", robot_poses=np.array([[0.1, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0]]))  # type: ignore[arg-type]
+    scene.reset()
+    np.testing.assert_array_equal(scene.agents[0].base_pose[0], [0.1, 0, 0, 1, 0, 0, 0])
+    scene.close()
+
+
+def test_attachments_refuse_bools_and_strings() -> None:
+    with pytest.raises(ConfigError, match=r"Attachment\(PandaHand\)\.quat: expected 4 finite numbers"):
+        ra.Attachment(PandaHand, at="x", quat=(True, 0, 0, 0))
+    with pytest.raises(ConfigError, match=r"Attachment\(PandaHand\)\.pos: expected 3 finite numbers \(x, y, z\)"):
+        ra.Attachment(PandaHand, at="x", pos=("0.1", 0, 0))  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"Attachment\(PandaHand\)\.quat: expected a unit quaternion"):
+        ra.Attachment(PandaHand, at="x", quat=(0, 0, 0, 0))
+    assert ra.Attachment(PandaHand, at="x", quat=(0, 0, 0, 3)).quat == (0.0, 0.0, 0.0, 1.0)
+
+
+def test_keyframe_end_effector_and_sensor_quaternions_refuse_bools_and_nesting() -> None:
+    with pytest.raises(ConfigError, match=r"Keyframe\.base_quat: expected 4 finite numbers"):
+        ra.Keyframe(qpos=(0.0,), base_quat=(True, 0, 0, 0))
+    with pytest.raises(ConfigError, match=r"Keyframe\.base_quat: expected 4 finite numbers"):
+        ra.Keyframe(qpos=(0.0,), base_quat=np.eye(2))  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"EndEffector 'tool'\.quat: expected 4 finite numbers"):
+        ra.EndEffector("tool", quat=(1, 0, 0, False))
+    with pytest.raises(ConfigError, match=r"CameraConfig 'cam'\.quat: expected 4 finite numbers"):
+        ra.CameraConfig("cam", quat=[[1, 0], [0, 0]])  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"CameraConfig 'cam'\.quat: expected 4 finite numbers"):
+        ra.CameraConfig("cam", quat=(True, 0, 0, 0))
+
+
+def test_declared_numbers_refuse_bools() -> None:
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.sliding: expected a number >= 0, got True"):
+        ra.FrictionMaterial(sliding=True)
+    with pytest.raises(ConfigError, match=r"CompilerSettings\.boundmass: expected a finite number >= 0, got True"):
+        ra.CompilerSettings(boundmass=True)
+    with pytest.raises(ConfigError, match=r"max_delta: expected a positive number \(rad or m\), got True"):
+        ra.Arm(name="arm", joints=".*", max_delta=True)
+    with pytest.raises(ConfigError, match=r"PowerGrasp\.cube_edge: expected a positive length \(m\), got True"):
+        ra.PowerGrasp("base_link", (0.04, 0.0, 0.0), True, (1.0, 0.0, 0.0))
+    with pytest.raises(ConfigError, match=r"drive_cycle_bounds: expected samples to be a whole number >= 0, got True"):
+        drive_cycle_bounds("panda", samples=True)
+
+
+def test_an_end_effector_index_is_not_a_bool() -> None:
+    scene = ra.Scene("panda")
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.ee_transform(np.int64(0)).shape == (1, 4, 4)
+    with pytest.raises(ConfigError, match=r"expected an end-effector index in \[0, 1\), got False"):
+        agent.ee_transform(False)  # was taken as index 0
+    scene.close()
+
+
+def test_mount_pose_messages_keep_their_form(pendulum_file: Path) -> None:
+    cls = make_pendulum_class(pendulum_file, uid="test_zero_mount", mount_pose=(0, 0, 0, 0, 0, 0, 0))
+    with pytest.raises(ConfigError) as caught:
+        cls.check()
+    assert str(caught.value).startswith(
+        "Pendulum.mount_pose: expected a unit quaternion (qw, qx, qy, qz), got (0.0, 0.0, 0.0, 0.0) (zero)."
+    )
+
+
+# ---------------------------------------------------------------- the entry points that became looser
+def test_numpy_scalars_are_taken_where_python_numbers_were() -> None:
+    env = ra.RobotEnv(robot_uids="panda", robot_init_qpos_noise=np.float32(0.25), raise_on_instability=np.True_)  # type: ignore[arg-type]
+    assert env.robot_init_qpos_noise == 0.25 and type(env.robot_init_qpos_noise) is float
+    assert env.raise_on_instability is True
+    env.close()
+    with pytest.raises(ConfigError, match=r"robot_init_qpos_noise to be a finite number in \[0.0, inf\] \(rad or m\)"):
+        ra.make_env("Empty-v1", robot_uids="panda", robot_init_qpos_noise=True)
+    with pytest.raises(ConfigError, match=r"expected raise_on_instability to be a bool \(True or False\), got 1"):
+        ra.make_env("Empty-v1", robot_uids="panda", raise_on_instability=1)
+    robot = RealRobot("widowx250s", SimulatedBus("widowx250s"), control_mode="pd_joint_delta_pos")
+    assert robot.move_to("sleep", steps=np.int64(5)) >= 0.0
+    with pytest.raises(ConfigError, match=r"RealRobot\.move_to: expected steps to be a whole number >= 1, got True"):
+        robot.move_to("sleep", steps=True)
+    robot.close()

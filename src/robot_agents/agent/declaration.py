@@ -24,24 +24,19 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import (
-    FRICTION_STALL,
-    SuggestedGains,
-    friction_gains,
-    gains_from_inertia,
-    stance_gains,
-)
+from robot_agents.actuators.gains import friction_gains, gains_from_inertia
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
-from robot_agents.agent.index import JointKind, RobotIndex
+from robot_agents.agent.derived_drives import note_friction_cap, stand
+from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
-from robot_agents.errors import ConfigError, ModelError, UnknownNameError
+from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
 from robot_agents.kinematics.forward import resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
-from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
+from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
@@ -339,7 +334,9 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     name = cls.__name__
     compiler = cls.compiler
     spec, drives = _build(cls, None, None, compiler)
-    model, compiler = _compile_with_fallbacks(cls, spec, compiler)
+    model, compiler = compile_with_fallbacks(
+        name, spec, compiler, lambda settings: _build(cls, None, None, settings, quiet=True)[0], model_path(cls)
+    )
     if compiler is not cls.compiler:
         spec, drives = _build(cls, None, None, compiler, quiet=True)
     index = RobotIndex(model, "", name)
@@ -390,10 +387,19 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
         gains, capped = friction_gains(gains, timestep)
         if capped:
-            _note_friction_cap(name, index, gains, capped, timestep)
+            note_friction_cap(name, index, gains, capped, timestep)
         if index.free_joint is not None:
-            gains, legs = _stand(
-                cls, spec, index, gains, next(iter(keyframes.values())).qpos, exclusions, compiler, mount_quat
+            # the stance is found with the robot's self-collision filtering
+            filtered = _build(cls, None, None, compiler, exclusions, quiet=True)[0] if exclusions else spec
+            gains, legs = stand(
+                name,
+                filtered,
+                index,
+                gains,
+                next(iter(keyframes.values())).qpos,
+                timestep,
+                cls.friction_cone or "pyramidal",
+                mount_quat,
             )
             if legs and inferred and len(parts) == 1 and isinstance(parts[0], Body):
                 # a floating robot standing on bodies below its joints: those joints are its legs
@@ -466,155 +472,6 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     )
     _CHECKED[cls] = checked
     return checked
-
-
-def _note_friction_cap(
-    name: str, index: RobotIndex, gains: SuggestedGains, capped: Sequence[str], timestep: float
-) -> None:
-    """A load note for derived drives whose friction floor (:func:`friction_gains`) the
-    stability bound at ``timestep`` (s) capped: per joint of ``capped``, its dry friction,
-    the ``kp`` that friction asks for, the ``kp`` given, and how far friction may stop it."""
-    friction = gains.passive_friction if gains.passive_friction is not None else np.zeros(len(gains.joints))
-    lines = []
-    for joint in capped:
-        i = gains.joints.index(joint)
-        slide = index.joint(joint, name).kind is JointKind.SLIDE
-        force, stiffness, length = ("N", "N/m", "m") if slide else ("N*m", "N*m/rad", "rad")
-        wanted, given = friction[i] / FRICTION_STALL, gains.stiffness[i]
-        lines.append(
-            f"{joint} (frictionloss {friction[i]:.3g} {force}: kp {wanted:.3g} {stiffness} wanted, {given:.3g} given; "
-            f"friction may stop it up to {friction[i] / given:.3g} {length} from its target)"
-        )
-    warnings.warn(
-        f"{name}: its derived drives cannot hold every joint within {FRICTION_STALL:g} rad (m) of its target against "
-        f"the file's dry friction: the stability bound at the {timestep:g} s step caps kp for {', '.join(lines)}. "
-        "Add armature to light joints, or raise sim_freq.",
-        RuntimeWarning,
-        stacklevel=4,
-    )
-
-
-def _stand(
-    cls: type[AgentDefinition],
-    spec: mujoco.MjSpec,
-    index: RobotIndex,
-    gains: SuggestedGains,
-    qpos: np.ndarray,
-    exclusions: Sequence[tuple[str, str]],
-    compiler: CompilerSettings,
-    mount_quat: np.ndarray | None = None,
-) -> tuple[SuggestedGains, tuple[str, ...]]:
-    """Derived ``gains`` of a floating robot stiffened to carry its weight where it stands
-    at ``qpos`` (:func:`robot_agents.agent.stance.find_stance`,
-    :func:`robot_agents.actuators.gains.stance_gains`), and the joints that carry it (its
-    legs; empty, with the gains unchanged, for a robot that does not stand on its joints'
-    bodies: a floating arm rests on its base). A note says when its locked body does not
-    come to rest, when a joint's static torque exceeds its effort limit (it cannot stand)
-    and when the stability bound caps a stiffness."""
-    from robot_agents.agent.stance import find_stance
-    from robot_agents.sim.scene import DEFAULT_SIM_FREQ
-
-    name = cls.__name__
-    timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
-    if exclusions:
-        spec = _build(cls, None, None, compiler, exclusions, quiet=True)[0]
-    found = find_stance(spec, index, gains.joints, qpos, timestep, cls.friction_cone or "pyramidal", name, mount_quat)
-    if isinstance(found, str):
-        if "not at rest" in found or "diverged" in found:
-            warnings.warn(
-                f"{name}: {found}; its derived drives keep the gains of its legs' own inertia, which may not carry "
-                "its weight (declare actuators, or a keyframe it stands in).",
-                RuntimeWarning,
-                stacklevel=4,
-            )
-        return gains, ()
-    stiff, capped = stance_gains(gains, found.torque, found.lever, found.reflected, timestep)
-    over = [
-        f"{j} {abs(t):.3g} > {e:.3g}"
-        for j, t, e in zip(found.joints, found.torque, gains.effort_limit, strict=True)
-        if abs(t) > e
-    ]
-    if over:
-        warnings.warn(
-            f"{name}: standing at its default keyframe, joints carry more torque than their effort limits "
-            f"({', '.join(over)}): it cannot stand there (the limits are the file's and stay).",
-            RuntimeWarning,
-            stacklevel=4,
-        )
-    if capped:
-        warnings.warn(
-            f"{name}: the stiffness that would carry its weight is capped by the stability bound at the "
-            f"{timestep:g} s step for {', '.join(capped)}: they give more under the load (add armature to light "
-            "joints, or raise sim_freq).",
-            RuntimeWarning,
-            stacklevel=4,
-        )
-    return stiff, found.legs
-
-
-_NOT_POSITIVE = "inertia must have positive eigenvalues"
-
-#: Known compile failures of files from the wild and the compiler settings that fix them.
-_FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
-    ("balanceinertia", {"balanceinertia": True}),
-    ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
-    # a dummy link's all-equal tiny inertia (1e-6 everywhere): bounded, it becomes valid
-    (_NOT_POSITIVE, {"boundmass": 1e-3, "boundinertia": 1e-6}),
-)
-
-
-def _compile_with_fallbacks(
-    cls: type[AgentDefinition], spec: mujoco.MjSpec, compiler: CompilerSettings
-) -> tuple[mujoco.MjModel, CompilerSettings]:
-    """Compile; on a known failure (inertia triangle inequality, massless moving body)
-    rebuild with the setting that fixes it and say so in one warning."""
-    name = cls.__name__
-    for _ in range(len(_FALLBACKS) + 1):
-        try:
-            return compile_spec(spec, name), compiler
-        except ModelError as err:
-            fix = next((changes for key, changes in _FALLBACKS if key in str(err)), None)
-            if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
-                if _NOT_POSITIVE in str(err):
-                    raise ModelError(_inertia_message(cls, str(err), compiler)) from None
-                raise
-            compiler = dataclasses.replace(compiler, **fix)
-            lines = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()
-            reason = "; ".join(line.strip() for line in lines[:2] if line.strip())
-            warnings.warn(
-                f"{name}: MuJoCo refused the model ({reason}); compiled with "
-                f"{', '.join(f'{k}={v}' for k, v in fix.items())}: declare compiler = CompilerSettings(...) to make "
-                "this explicit, or fix the file.",
-                RuntimeWarning,
-                stacklevel=4,
-            )
-            spec = _build(cls, None, None, compiler, quiet=True)[0]
-    raise ModelError(f"{name}: the model does not compile.")
-
-
-def _inertia_message(cls: type[AgentDefinition], error: str, compiler: CompilerSettings) -> str:
-    """Where an inertia MuJoCo cannot use sits (file, link, line) and how to fix it."""
-    found = re.search(r"Element name '([^']*)'", error)
-    element = found.group(1) if found else ""
-    path = model_path(cls)
-    line = 0
-    if element and path.is_file():
-        tag = "link" if path.suffix.lower() == ".urdf" else "body"
-        text = path.read_text(errors="replace")
-        match = re.search(rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(element)}"', text)
-        line = text.count("\n", 0, match.start()) + 1 if match else 0
-    where = f"{'link' if path.suffix.lower() == '.urdf' else 'body'} {element!r}" if element else "a body"
-    tried = (
-        " (also with boundmass / boundinertia, which do not fix it)"
-        if compiler.boundinertia or compiler.boundmass
-        else ""
-    )
-    return (
-        f"{cls.__name__}: the inertia of {where} in {str(path)!r}{f' (line {line})' if line else ''} is not "
-        f"positive-definite: MuJoCo refuses it{tried}. Expected an <inertia> whose matrix has positive eigenvalues "
-        "(ixx, iyy, izz > 0, each at most the sum of the other two, small off-diagonal terms); edit that <inertia>, "
-        "or remove the <inertial> of a link that only carries a frame."
-    )
 
 
 def _resolve_parts(

@@ -1,0 +1,87 @@
+"""Compiling a model file from the wild: the known compile failures and the compiler
+settings that fix them (:data:`FALLBACKS`), tried one after another with a note
+(:func:`compile_with_fallbacks`), and an inertia MuJoCo cannot use located in its file
+(:func:`inertia_message`)."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import mujoco
+
+from robot_agents.errors import ModelError
+from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.compiling import compile_spec
+
+NOT_POSITIVE = "inertia must have positive eigenvalues"
+
+#: Known compile failures of files from the wild and the compiler settings that fix them.
+FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("balanceinertia", {"balanceinertia": True}),
+    ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
+    # a dummy link's all-equal tiny inertia (1e-6 everywhere): bounded, it becomes valid
+    (NOT_POSITIVE, {"boundmass": 1e-3, "boundinertia": 1e-6}),
+)
+
+
+def compile_with_fallbacks(
+    name: str,
+    spec: mujoco.MjSpec,
+    compiler: CompilerSettings,
+    rebuild: Callable[[CompilerSettings], mujoco.MjSpec],
+    path: Path,
+) -> tuple[mujoco.MjModel, CompilerSettings]:
+    """Compile; on a known failure (inertia triangle inequality, massless moving body)
+    rebuild with the setting that fixes it and say so in one warning. ``name``: the
+    robot's; ``rebuild``: its spec built again with other compiler settings; ``path``:
+    its model file (for an inertia's line)."""
+    for _ in range(len(FALLBACKS) + 1):
+        try:
+            return compile_spec(spec, name), compiler
+        except ModelError as err:
+            fix = next((changes for key, changes in FALLBACKS if key in str(err)), None)
+            if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
+                if NOT_POSITIVE in str(err):
+                    raise ModelError(inertia_message(name, path, str(err), compiler)) from None
+                raise
+            compiler = dataclasses.replace(compiler, **fix)
+            lines = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()
+            reason = "; ".join(line.strip() for line in lines[:2] if line.strip())
+            warnings.warn(
+                f"{name}: MuJoCo refused the model ({reason}); compiled with "
+                f"{', '.join(f'{k}={v}' for k, v in fix.items())}: declare compiler = CompilerSettings(...) to make "
+                "this explicit, or fix the file.",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+            spec = rebuild(compiler)
+    raise ModelError(f"{name}: the model does not compile.")
+
+
+def inertia_message(name: str, path: Path, error: str, compiler: CompilerSettings) -> str:
+    """Where an inertia MuJoCo cannot use sits (file, link, line) and how to fix it."""
+    found = re.search(r"Element name '([^']*)'", error)
+    element = found.group(1) if found else ""
+    line = 0
+    if element and path.is_file():
+        tag = "link" if path.suffix.lower() == ".urdf" else "body"
+        text = path.read_text(errors="replace")
+        match = re.search(rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(element)}"', text)
+        line = text.count("\n", 0, match.start()) + 1 if match else 0
+    where = f"{'link' if path.suffix.lower() == '.urdf' else 'body'} {element!r}" if element else "a body"
+    tried = (
+        " (also with boundmass / boundinertia, which do not fix it)"
+        if compiler.boundinertia or compiler.boundmass
+        else ""
+    )
+    return (
+        f"{name}: the inertia of {where} in {str(path)!r}{f' (line {line})' if line else ''} is not "
+        f"positive-definite: MuJoCo refuses it{tried}. Expected an <inertia> whose matrix has positive eigenvalues "
+        "(ixx, iyy, izz > 0, each at most the sum of the other two, small off-diagonal terms); edit that <inertia>, "
+        "or remove the <inertial> of a link that only carries a frame."
+    )

@@ -7,6 +7,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.checks import LOAD_SETTLE_SECONDS, hold_drift, keeps_targets, standing_leg_joints
+from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.joint import UNBOUNDED_TARGET
 
 ROBOTS = ra.list_agents()
@@ -176,3 +177,30 @@ def test_default_mode_holds_every_keyframe_for_five_seconds(uid: str, keyframe: 
     assert worst < 0.01, f"{uid} drifted {worst:.4f} rad/m from keyframe {keyframe!r}"
     assert np.all(agent.is_static())
     scene.close()
+
+
+@pytest.mark.parametrize(
+    ("config", "keeps"),
+    [
+        (ra.PDJointPosConfig(joint_names=("j",)), True),
+        (ra.PDJointPosConfig(joint_names=("j",), use_delta=True, lower=-0.1, upper=0.1), False),
+        (ra.PDJointPosConfig(joint_names=("j",), use_delta=True, use_target=True, lower=-0.1, upper=0.1), True),
+        (ra.PDJointPosVelConfig(joint_names=("j",), use_delta=True, lower=-0.1, upper=0.1), False),
+        (ra.PDJointVelConfig(joint_names=("j",)), False),
+        (ra.JointEffortConfig(joint_names=("j",)), True),
+    ],
+)
+def test_each_config_says_whether_its_hold_keeps_the_targets(config: ControllerConfig, keeps: bool) -> None:
+    """``keeps_targets`` (what the standing claims ask of a legged robot's mode) is each
+    config's answer: a delta from the measured pose or a zero velocity lets a loaded joint
+    give; absolute, target-delta and effort modes (and the base's velocity) do not."""
+    assert config.keeps_targets is keeps
+
+
+def test_keeps_targets_asks_every_part_of_the_mode() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="anymal_c").unwrapped
+    env.agent.set_control_mode("pd_joint_target_delta_pos")
+    assert keeps_targets(env.agent)
+    env.agent.set_control_mode("pd_joint_delta_pos")
+    assert not keeps_targets(env.agent)
+    env.close()

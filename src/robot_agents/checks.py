@@ -14,7 +14,6 @@ from robot_agents.agent import Agent
 from robot_agents.agent.derived import joint_actuator
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
-from robot_agents.controllers.joint import PDJointPosConfig, PDJointVelConfig
 from robot_agents.errors import RobotAgentsError
 from robot_agents.sim.scene import Scene, default_sim_freq
 
@@ -90,13 +89,7 @@ def keeps_targets(agent: Agent) -> bool:
     absolute and target-delta joint modes, end-effector modes. A delta from the measured
     pose, or a zero velocity, lets a joint under a load it carries (a leg under the body)
     give without end: in such modes a robot standing on its legs cannot hold a pose."""
-    for controller in agent.controller.parts.values():
-        config = controller.config
-        if isinstance(config, PDJointVelConfig) or (
-            isinstance(config, PDJointPosConfig) and config.use_delta and not config.use_target
-        ):
-            return False
-    return True
+    return all(controller.config.keeps_targets for controller in agent.controller.parts.values())
 
 
 def hold_drift(

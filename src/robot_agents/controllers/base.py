@@ -186,6 +186,14 @@ class ControllerConfig(abc.ABC):
         """The target kinds the controller writes (see :attr:`writes`)."""
         return self.writes
 
+    @property
+    def keeps_targets(self) -> bool:
+        """Whether the mode's hold action keeps the joint targets where they were taken
+        (absolute and target-delta joint modes, end-effector modes, a base's velocity),
+        rather than following the measured pose or a zero velocity, which lets a joint
+        under a load it carries (a leg under the body) give without end."""
+        return True
+
     @abc.abstractmethod
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         """Make the controller for these joints of a compiled model."""

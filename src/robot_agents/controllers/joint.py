@@ -68,6 +68,11 @@ class PDJointPosConfig(ControllerConfig):
                 f"got lower={self.lower}, upper={self.upper}."
             )
 
+    @property
+    def keeps_targets(self) -> bool:
+        """Absolute and target-delta modes keep the targets; a delta from the measured pose does not."""
+        return not (self.use_delta and not self.use_target)
+
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDJointPosController(self, binding, context)
 
@@ -96,6 +101,11 @@ class PDJointPosMimicConfig(PDJointPosConfig):
                 raise ConfigError(
                     f"PDJointPosMimicConfig.{field}: expected {len(self.joint_names)} values (one per joint), got {len(values)}."
                 )
+
+    @property
+    def keeps_targets(self) -> bool:
+        """Absolute and target-delta modes keep the targets; a delta from the measured pose does not."""
+        return not (self.use_delta and not self.use_target)
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDJointPosController(self, binding, context)
@@ -253,6 +263,11 @@ class PDJointVelConfig(ControllerConfig):
     writes: ClassVar[tuple[str, ...]] = ("velocity",)
     lower: PerJoint = -1.0
     upper: PerJoint = 1.0
+
+    @property
+    def keeps_targets(self) -> bool:
+        """A zero velocity lets a loaded joint give."""
+        return False
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDJointVelController(self, binding, context)

@@ -177,3 +177,20 @@ def test_numpy_scalars_are_taken_where_python_numbers_were() -> None:
     with pytest.raises(ConfigError, match=r"RealRobot\.move_to: expected steps to be a whole number >= 1, got True"):
         robot.move_to("sleep", steps=True)
     robot.close()
+
+
+@pytest.mark.parametrize("value", [True, (1.0, True), "10", (), [[1.0, 2.0]], np.ones((2, 2))])
+def test_per_joint_values_are_numbers_or_tuples_of_numbers(value: Any) -> None:
+    """Drive and mode gains (``PerJoint``) take one number or a flat sequence of numbers:
+    a bool is not a gain (it was taken as 1), nor a string, an empty or a nested list."""
+    with pytest.raises(ConfigError, match=r"PDActuator\.stiffness: expected a number or a tuple of numbers"):
+        ra.PDActuator(joints="j", stiffness=value)
+    with pytest.raises(ConfigError, match=r"PDJointPosConfig\.damping: expected a number or a tuple of numbers"):
+        ra.PDJointPosConfig(joint_names=("j",), damping=value)
+
+
+def test_per_joint_values_take_numpy_numbers_and_arrays() -> None:
+    actuator = ra.PDActuator(joints="j", stiffness=np.array([1.0, 2.0]), damping=np.float32(3.0))
+    assert actuator.damping == 3.0
+    with pytest.raises(ConfigError, match=r"PDActuator\.armature: expected finite values >= 0, got -1"):
+        ra.PDActuator(joints="j", stiffness=1.0, armature=-1)

@@ -194,3 +194,17 @@ def check_open(closed: bool, what: str, where: str) -> None:
     """:class:`StateError` naming ``where`` once ``what`` (e.g. ``"this env"``) is closed."""
     if closed:
         raise StateError(f"{where}: {what} is closed; make a new one.")
+
+
+def check_per_joint(value: Any, where: str, minimum: float = 0.0) -> None:
+    """Raise :class:`ConfigError` naming ``where`` (e.g. ``"PDActuator.stiffness"``)
+    unless ``value`` is one real number or a non-empty sequence of them (a per-joint
+    value; no bools, no strings), all finite and at least ``minimum``."""
+    entries = (
+        list(value) if isinstance(value, (Sequence, np.ndarray)) and not isinstance(value, (str, bytes)) else [value]
+    )
+    if not entries or not all(is_real(v) for v in entries):
+        raise ConfigError(f"{where}: expected a number or a tuple of numbers, got {value!r}.")
+    array = np.asarray(entries, dtype=np.float64).reshape(-1)
+    if not np.all(np.isfinite(array)) or np.any(array < minimum):
+        raise ConfigError(f"{where}: expected finite values >= {minimum:g}, got {value!r}.")

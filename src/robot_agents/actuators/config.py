@@ -19,23 +19,37 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import Patterns, as_patterns
+from robot_agents.validation import check_per_joint, is_real
 
 #: A scalar for every matched joint, or one value per matched joint (in model order).
 PerJoint = float | tuple[float, ...]
+FloatArray = npt.NDArray[np.float64]
+
+
+def per_joint(owner: str, field: str, value: PerJoint | None, n: int, default: float | None = None) -> FloatArray:
+    """A scalar or per-joint tuple broadcast to a float64 array ``(n,)`` (the ``n``
+    joints in model order; ``None`` gives ``default`` for every joint)."""
+    if value is None:
+        if default is None:
+            raise ConfigError(f"{owner}.{field}: expected a number or {n} numbers (one per joint), got None.")
+        return np.full(n, default)
+    array = np.asarray(value, dtype=np.float64).reshape(-1)
+    if array.size == 1:
+        return np.full(n, float(array[0]))
+    if array.size != n:
+        raise ConfigError(
+            f"{owner}.{field}: expected 1 or {n} values (one per joint), got {array.size}: {array.tolist()}."
+        )
+    return array
 
 
 def _check_per_joint(owner: str, name: str, value: PerJoint | None, minimum: float = 0.0) -> None:
-    if value is None:
-        return
-    try:
-        array = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{owner}.{name}: expected a number or a tuple of numbers, got {value!r}.") from None
-    if array.size == 0 or not np.all(np.isfinite(array)) or np.any(array < minimum):
-        raise ConfigError(f"{owner}.{name}: expected finite values >= {minimum:g}, got {value!r}.")
+    if value is not None:
+        check_per_joint(value, f"{owner}.{name}", minimum)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -111,7 +125,7 @@ class PIDActuator(ActuatorConfig):
         super().__post_init__()
         for name in ("stiffness", "damping", "integral_gain", "integral_limit"):
             value = getattr(self, name)
-            if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            if value is not None and not (is_real(value) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"{type(self).__name__}.{name}: expected a finite number >= 0, got {value!r}.")
         if self.stiffness <= 0:
             raise ConfigError(f"{type(self).__name__}.stiffness: expected > 0, got {self.stiffness!r}.")
@@ -133,7 +147,7 @@ class DCMotorActuator(ActuatorConfig):
         super().__post_init__()
         for name in ("motor_constant", "resistance", "stiffness", "damping"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            if not (is_real(value) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"{type(self).__name__}.{name}: expected a finite number >= 0, got {value!r}.")
         if self.motor_constant <= 0 or self.resistance <= 0:
             raise ConfigError(f"{type(self).__name__}: expected motor_constant > 0 and resistance > 0.")

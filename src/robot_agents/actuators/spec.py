@@ -22,9 +22,9 @@ from robot_agents.actuators.config import (
     FileActuators,
     MotorActuator,
     PDActuator,
-    PerJoint,
     PIDActuator,
     VelocityActuator,
+    per_joint,
 )
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import claim
@@ -62,18 +62,6 @@ class DriveDeclaration:
     damping: float = 0.0
     effort_limit: float = np.inf
     velocity_limit: float = np.inf
-
-
-def per_joint(owner: str, field: str, value: PerJoint | None, n: int, default: float) -> np.ndarray:
-    """A scalar or per-joint tuple as a float64 array ``(n,)`` (``default`` for ``None``)."""
-    if value is None:
-        return np.full(n, default)
-    array = np.asarray(value, dtype=np.float64).reshape(-1)
-    if array.size == 1:
-        return np.full(n, float(array[0]))
-    if array.size != n:
-        raise ConfigError(f"{owner}.{field}: expected 1 or {n} values (one per matched joint), got {array.size}.")
-    return array
 
 
 def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:

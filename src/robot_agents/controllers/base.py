@@ -22,15 +22,15 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.actuators.config import PerJoint
 from robot_agents.actuators.drives import JointTargets
 from robot_agents.errors import ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
+from robot_agents.validation import check_per_joint
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
-#: A scalar applied to every joint, or one value per joint.
-PerJoint = float | tuple[float, ...]
 
 
 class SimView(Protocol):
@@ -89,18 +89,6 @@ def one_pass_clip_exact(low: FloatArray, high: FloatArray) -> bool:
     each returns is not specified across NumPy versions and SIMD paths), so no bound may
     be zero (NaN bounds never occur: they are rejected earlier)."""
     return not (np.any(low == 0.0) or np.any(high == 0.0))
-
-
-def per_joint(owner: str, field: str, value: PerJoint, n: int) -> FloatArray:
-    """Broadcast a scalar or per-joint tuple to a float64 array of shape ``(n,)``."""
-    array = np.asarray(value, dtype=np.float64).reshape(-1)
-    if array.size == 1:
-        return np.full(n, float(array[0]))
-    if array.size != n:
-        raise ConfigError(
-            f"{owner}.{field}: expected 1 or {n} values (one per joint), got {array.size}: {array.tolist()}."
-        )
-    return array
 
 
 @dataclass(frozen=True)
@@ -166,14 +154,8 @@ class ControllerConfig(abc.ABC):
     def __post_init__(self) -> None:
         for name in ("stiffness", "damping", "effort_limit"):
             value = getattr(self, name)
-            if value is None:
-                continue
-            try:
-                array = np.asarray(value, dtype=np.float64).reshape(-1)
-            except (TypeError, ValueError):
-                array = np.array([np.nan])
-            if array.size == 0 or not np.all(np.isfinite(array)) or np.any(array < 0):
-                raise ConfigError(f"{type(self).__name__}.{name}: expected finite values >= 0, got {value!r}.")
+            if value is not None:
+                check_per_joint(value, f"{type(self).__name__}.{name}")
         if isinstance(self.joint_names, str) or not isinstance(self.joint_names, Sequence):
             raise ConfigError(
                 f"{type(self).__name__}.joint_names: expected a tuple of joint names, got {self.joint_names!r}."

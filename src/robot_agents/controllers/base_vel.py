@@ -19,15 +19,14 @@ from typing import ClassVar
 
 import numpy as np
 
+from robot_agents.actuators.config import PerJoint, per_joint
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
     ControllerContext,
     FloatArray,
     JointBinding,
-    PerJoint,
     SimView,
-    per_joint,
 )
 from robot_agents.controllers.joint import PDJointVelController
 from robot_agents.errors import ConfigError

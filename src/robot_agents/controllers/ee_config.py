@@ -9,13 +9,13 @@ from enum import Enum
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.actuators.config import per_joint
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
     ControllerContext,
     FloatArray,
     JointBinding,
-    per_joint,
 )
 from robot_agents.controllers.task_space import WorkspaceBox
 from robot_agents.errors import ConfigError

@@ -13,6 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from robot_agents.actuators.config import PerJoint, per_joint
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
@@ -20,11 +21,9 @@ from robot_agents.controllers.base import (
     FloatArray,
     IntArray,
     JointBinding,
-    PerJoint,
     SimView,
     clip_ufunc,
     one_pass_clip_exact,
-    per_joint,
 )
 from robot_agents.errors import ConfigError
 

@@ -8,6 +8,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from robot_agents.actuators.config import PerJoint
 from robot_agents.controllers.base import (
     Controller,
     ControllerConfig,
@@ -15,7 +16,6 @@ from robot_agents.controllers.base import (
     FloatArray,
     IntArray,
     JointBinding,
-    PerJoint,
     SimView,
 )
 

@@ -15,7 +15,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from robot_agents.controllers.base import ControllerConfig, PerJoint
+from robot_agents.actuators.config import PerJoint
+from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.base_vel import base_modes
 from robot_agents.controllers.ee import PDEEPosConfig, PDEEPoseConfig
 from robot_agents.controllers.joint import (

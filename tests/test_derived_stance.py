@@ -31,28 +31,38 @@ FOOT_RADIUS = 0.02
 TOTAL_MASS = BODY_MASS + 4 * (THIGH_MASS + SHIN_MASS + FOOT_MASS)
 
 
-def quadruped(effort: float = 50.0) -> str:
+def quadruped(effort: float = 50.0, y_up: bool = False) -> str:
     """A box body (8 kg) on four two-hinge legs (hip and knee about y), feet mirrored
-    front / rear so that the stance is symmetric; no actuators."""
+    front / rear so that the stance is symmetric; no actuators. ``y_up``: the same robot
+    written in a frame whose up is +y (as some URDFs are, e.g. pybullet's
+    ``laikago_toes.urdf``): every point and axis ``(x, y, z)`` becomes ``(x, z, -y)`` (a
+    turn of -90 deg about x), the root body unturned."""
+
+    def v(x: float, y: float, z: float) -> str:
+        return " ".join(f"{c:g}" for c in ((x, z, -y) if y_up else (x, y, z)))
+
+    def half_sizes(x: float, y: float, z: float) -> str:
+        return " ".join(f"{c:g}" for c in ((x, z, y) if y_up else (x, y, z)))
+
     legs = ""
     for name, x, y in (("fr", 0.2, -0.12), ("fl", 0.2, 0.12), ("rr", -0.2, -0.12), ("rl", -0.2, 0.12)):
         dx = REACH if x > 0 else -REACH
         legs += f"""
-      <body name="{name}_thigh" pos="{x} {y} 0">
-        <joint name="{name}_hip" axis="0 1 0" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
-        <geom type="capsule" size="0.015" fromto="0 0 0 0 0 -{THIGH}" mass="{THIGH_MASS}"/>
-        <body name="{name}_shin" pos="0 0 -{THIGH}">
-          <joint name="{name}_knee" axis="0 1 0" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
-          <geom type="capsule" size="0.012" fromto="0 0 0 {dx} 0 -{SHIN_DROP}" mass="{SHIN_MASS}"/>
-          <geom name="{name}_foot" type="sphere" size="{FOOT_RADIUS}" pos="{dx} 0 -{SHIN_DROP}" mass="{FOOT_MASS}"
+      <body name="{name}_thigh" pos="{v(x, y, 0)}">
+        <joint name="{name}_hip" axis="{v(0, 1, 0)}" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
+        <geom type="capsule" size="0.015" fromto="0 0 0 {v(0, 0, -THIGH)}" mass="{THIGH_MASS}"/>
+        <body name="{name}_shin" pos="{v(0, 0, -THIGH)}">
+          <joint name="{name}_knee" axis="{v(0, 1, 0)}" range="-1.5 1.5" actuatorfrcrange="-{effort} {effort}"/>
+          <geom type="capsule" size="0.012" fromto="0 0 0 {v(dx, 0, -SHIN_DROP)}" mass="{SHIN_MASS}"/>
+          <geom name="{name}_foot" type="sphere" size="{FOOT_RADIUS}" pos="{v(dx, 0, -SHIN_DROP)}" mass="{FOOT_MASS}"
                 friction="1.0"/>
         </body>
       </body>"""
-    return f"""<mujoco model="stance_quadruped">
+    return f"""<mujoco model="stance_quadruped{"_y_up" if y_up else ""}">
   <compiler angle="radian"/>
   <worldbody>
     <body name="trunk">
-      <geom type="box" size="0.25 0.15 0.05" mass="{BODY_MASS}"/>{legs}
+      <geom type="box" size="{half_sizes(0.25, 0.15, 0.05)}" mass="{BODY_MASS}"/>{legs}
     </body>
   </worldbody>
 </mujoco>
@@ -367,35 +377,6 @@ def test_derived_drives_ignore_the_files_actuator_defaults(tmp_path: Path) -> No
     scene.close()
 
 
-def quadruped_drawn_y_up() -> str:
-    """:func:`quadruped` written in a frame whose up is +y (as some URDFs are, e.g.
-    pybullet's ``laikago_toes.urdf``): every point ``(x, y, z)`` becomes ``(x, z, -y)``
-    (a turn of -90 deg about x), the root body unturned."""
-    legs = ""
-    for name, x, y in (("fr", 0.2, -0.12), ("fl", 0.2, 0.12), ("rr", -0.2, -0.12), ("rl", -0.2, 0.12)):
-        dx = REACH if x > 0 else -REACH
-        legs += f"""
-      <body name="{name}_thigh" pos="{x} 0 {-y}">
-        <joint name="{name}_hip" axis="0 0 -1" range="-1.5 1.5" actuatorfrcrange="-50 50"/>
-        <geom type="capsule" size="0.015" fromto="0 0 0 0 -{THIGH} 0" mass="{THIGH_MASS}"/>
-        <body name="{name}_shin" pos="0 -{THIGH} 0">
-          <joint name="{name}_knee" axis="0 0 -1" range="-1.5 1.5" actuatorfrcrange="-50 50"/>
-          <geom type="capsule" size="0.012" fromto="0 0 0 {dx} -{SHIN_DROP} 0" mass="{SHIN_MASS}"/>
-          <geom name="{name}_foot" type="sphere" size="{FOOT_RADIUS}" pos="{dx} -{SHIN_DROP} 0" mass="{FOOT_MASS}"
-                friction="1.0"/>
-        </body>
-      </body>"""
-    return f"""<mujoco model="stance_quadruped_y_up">
-  <compiler angle="radian"/>
-  <worldbody>
-    <body name="trunk">
-      <geom type="box" size="0.25 0.05 0.15" mass="{BODY_MASS}"/>{legs}
-    </body>
-  </worldbody>
-</mujoco>
-"""
-
-
 #: A mount turned +90 deg about x: the y-up file's +y becomes the world's +z.
 Y_UP_MOUNT = (0.0, 0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0)
 
@@ -405,7 +386,7 @@ def test_a_mount_turns_a_file_drawn_y_up_onto_its_feet(tmp_path: Path) -> None:
     a third, ``mount_pose`` turned about x, stands it: the derived keyframe rests 1 mm
     above the floor in the turned frame, the stance is the z-up file's (same static
     torques, same derived gains) and the robot holds and stands."""
-    path = write(tmp_path, "quad_y_up", quadruped_drawn_y_up())
+    path = write(tmp_path, "quad_y_up", quadruped(y_up=True))
     lying = robot_from_file(path, floating=True).check()
     assert not any(isinstance(p, Legs) for p in lying.parts)
     upright = type("QuadYUp", (robot_from_file(path, floating=True),), {"mount_pose": Y_UP_MOUNT})
@@ -435,7 +416,7 @@ def test_the_command_line_stands_a_y_up_file_with_up_y(tmp_path: Path) -> None:
     from robot_agents import cli
     from robot_agents.robot_source import UP_AXES
 
-    path = write(tmp_path, "quad_cli_y_up", quadruped_drawn_y_up())
+    path = write(tmp_path, "quad_cli_y_up", quadruped(y_up=True))
     out = io.StringIO()
     status = cli.main(["check", str(path), "--floating", "--up", "y", "--seconds", "1"], out)
     text = out.getvalue()

@@ -227,3 +227,15 @@ def test_a_missing_coacd_names_the_extra(monkeypatch: pytest.MonkeyPatch, tmp_pa
     vertices, faces = _prism(_U, _U_CAP)
     with pytest.raises(decompose.DecompositionUnavailable, match=r"robot-agents\[meshes\]"):
         decompose.convex_pieces(vertices, faces)
+
+
+def test_non_convex_fingers_are_noted(loaded: tuple[type[ra.Agent], type[ra.Agent], list[str]]) -> None:
+    plain, split, _ = loaded
+    jaws = (ra.Gripper(name="gripper", joints=("knob_joint",), open=1.0, closed=-1.0, fingers=("base", "knob")),)
+    with pytest.warns(RuntimeWarning, match=r"non-convex meshes 'u_mesh' \(hull/volume 1.33\).*convex_decomposition"):
+        decompose.note_nonconvex_fingers("Plain", plain.build_spec().compile(), jaws)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        decompose.note_nonconvex_fingers("Split", split.build_spec().compile(), jaws)  # split: nothing to note
+        knob = (ra.Gripper(name="gripper", joints=("knob_joint",), open=1.0, closed=-1.0, fingers=("knob", "knob")),)
+        decompose.note_nonconvex_fingers("Plain", plain.build_spec().compile(), knob)  # a capsule finger

@@ -23,8 +23,9 @@ import hashlib
 import os
 import tempfile
 import time
-import zipfile
 import warnings
+import zipfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,6 +34,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError
 from robot_agents.model.meshes import cache_dir
+from robot_agents.parts.declaration import Gripper, Part
 
 #: A mesh is markedly non-convex when its convex hull's volume exceeds its own by more
 #: than this factor. Tessellated convex shapes read 1.00-1.03 (the Z1's ``link06``
@@ -126,6 +128,33 @@ def nonconvex_geoms(model: mujoco.MjModel, bodies: set[int] | None = None) -> li
         if ratio > NONCONVEX_RATIO:
             found.append((geom, ratio))
     return found
+
+
+def note_nonconvex_fingers(name: str, model: mujoco.MjModel, parts: Sequence[Part]) -> None:
+    """A note (RuntimeWarning) when a gripper's finger bodies collide through markedly
+    non-convex meshes (their hulls fill the space between the jaws, so it may not hold
+    what it closes on), suggesting ``convex_decomposition``. Cheap: volumes only."""
+    bodies = {
+        mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, link)
+        for part in parts
+        if isinstance(part, Gripper)
+        for finger in part.finger_links
+        for link in finger
+    }
+    found = nonconvex_geoms(model, bodies - {-1}) if bodies else []
+    if not found:
+        return
+    meshes = {
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_MESH, int(model.geom_dataid[g])): ratio for g, ratio in found
+    }
+    described = ", ".join(f"{mesh!r} (hull/volume {ratio:.2f})" for mesh, ratio in meshes.items())
+    warnings.warn(
+        f"{name}: its gripper's fingers collide through non-convex meshes {described}; MuJoCo collides a mesh as its "
+        "convex hull, which fills the space between the jaws, so the gripper may not hold what it closes on. Set "
+        f"convex_decomposition = True to split them into convex pieces ({INSTALL_HINT}; seconds per mesh, cached).",
+        RuntimeWarning,
+        stacklevel=4,
+    )
 
 
 def _parameters() -> str:

@@ -36,6 +36,7 @@ from robot_agents.kinematics.forward import resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment, attach
+from robot_agents.model.decompose import decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
@@ -162,7 +163,7 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     freq = cls.sim_freq
     if freq is not None and (isinstance(freq, bool) or not isinstance(freq, int) or freq <= 0):
         raise ConfigError(f"{name}.sim_freq: expected a positive integer (Hz) or None, got {freq!r}.")
-    for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators"):
+    for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators", "convex_decomposition"):
         if not isinstance(getattr(cls, flag), bool):
             raise ConfigError(f"{name}: expected {flag} to be a bool, got {getattr(cls, flag)!r}.")
     gravcomp = cls.gravity_compensation
@@ -234,6 +235,11 @@ def _raw_spec(cls: type[AgentDefinition], where: str, compiler: CompilerSettings
     return spec
 
 
+def _decomposes(cls: type[AgentDefinition]) -> bool:
+    """Whether the robot or a piece mounted on it asks for ``convex_decomposition``."""
+    return cls.convex_decomposition or any(piece.convex_decomposition for _, piece in composition(cls).pieces)
+
+
 def _build(
     cls: type[AgentDefinition],
     cameras: Sequence[CameraConfig] | None,
@@ -261,6 +267,8 @@ def _build(
     robot_spec.set_self_collisions(
         spec, cls.disable_self_collisions, (*parts.self_collision_exclusions, *exclusions), where
     )
+    if _decomposes(cls):
+        decompose(spec, where)
     drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__)
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
@@ -345,6 +353,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     inferred = not parts and not cls.control_modes
     if inferred:
         parts = infer_parts(model, index, [d.joint for d in drives])
+        if not _decomposes(cls):
+            note_nonconvex_fingers(name, model, parts)
     part_joints = _resolve_parts(cls, parts, index, model)
     default = _composed_default(cls, index)
     frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}

@@ -51,6 +51,12 @@ class AgentDefinition:
             generated from the parts.
         default_control_mode: defaults to the first control mode.
         disable_self_collisions / self_collision_exclusions: contact filtering.
+        convex_decomposition: split each markedly non-convex colliding mesh (a jaw with
+            a notch: MuJoCo collides a mesh as its convex hull) into convex pieces for
+            contacts, with CoACD (the ``robot-agents[meshes]`` extra; seconds per mesh,
+            cached on disk); the drawn meshes, masses and inertias stay the same. It
+            applies to the whole composed robot when the robot or a mounted piece sets
+            it (:mod:`robot_agents.model.decompose`).
         gravity_compensation: ``True`` (every body), ``False``, or body names; ``None``
             means ``fix_root_link`` (on for fixed-base arms, off for free robots).
         link_materials / default_material: friction per body / for every other geom.
@@ -84,6 +90,7 @@ class AgentDefinition:
     control_modes: ClassVar[Mapping[str, ModeConfig]] = {}
     default_control_mode: ClassVar[str | None] = None
     disable_self_collisions: ClassVar[bool] = False
+    convex_decomposition: ClassVar[bool] = False
     self_collision_exclusions: ClassVar[tuple[tuple[str, str], ...]] = ()
     gravity_compensation: ClassVar[bool | tuple[str, ...] | None] = None
     link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {}

@@ -1,8 +1,9 @@
 """Every benchmark script still runs (on its smallest setting): the figures in the docs
 come from them, and a script that no longer runs cannot be rerun. Not a speed test:
 nothing here is timed. Left out: vs_maniskill.py and task_throughput's peer rows (need
-mani-skill), public_models.py (downloads a wheel), timestep_sweep.py (the sweep has its
-own tests in test_timestep.py)."""
+mani-skill), public_models.py (downloads a wheel), convex_grasp.py (needs a public model
+file: example-robot-data's Z1), timestep_sweep.py (the sweep has its own tests in
+test_timestep.py)."""
 
 from __future__ import annotations
 

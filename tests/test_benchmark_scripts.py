@@ -1,12 +1,12 @@
 """Every benchmark script still runs (on its smallest setting): the figures in the docs
 come from them, and a script that no longer runs cannot be rerun. Not a speed test:
 nothing here is timed. Left out: vs_maniskill.py and task_throughput's peer rows (need
-mani-skill), public_models.py (downloads a wheel), convex_grasp.py (needs a public model
-file: example-robot-data's Z1), timestep_sweep.py (the sweep has its own tests in
-test_timestep.py)."""
+mani-skill), public_models.py (downloads a wheel), timestep_sweep.py (the sweep has its
+own tests in test_timestep.py)."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -106,3 +106,25 @@ def test_friction_drives_lists_a_files_frictional_joints(tmp_path: Path) -> None
     assert run.returncode == 0, run.stderr[-2000:]
     assert "| `wrist` | 0.5 |" in run.stdout and "| 100 | 0.0050 |" in run.stdout, run.stdout
     assert "Step towards the range end" in run.stdout, run.stdout
+
+
+def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
+    """The script on the one-jaw fixture of test_derived_gripper (boxes only: nothing to
+    split, so both runs print the same row); its figures in the docs come from the Z1."""
+    from tests.test_derived_gripper import one_jaw, urdf
+
+    path = tmp_path / "one_jaw.urdf"
+    path.write_text(urdf(one_jaw()))
+    env = {**os.environ, "ROBOT_AGENTS_CACHE": str(tmp_path / "cache")}
+    run = subprocess.run(
+        [sys.executable, "convex_grasp.py", str(path), "--edges", "0.01", "--open", "-0.5", "--depth", "0"],
+        cwd=BENCHMARKS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+        env=env,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    rows = [line for line in run.stdout.splitlines() if line.startswith(("| no | 10 |", "| yes | 10 |"))]
+    assert len(rows) == 2 and rows[0].split("|")[3:] == rows[1].split("|")[3:], run.stdout

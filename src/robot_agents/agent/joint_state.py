@@ -33,6 +33,17 @@ IntArray = npt.NDArray[np.int64]
 STATE_LIMIT_MARGIN = 0.05
 
 
+def mounted_pose(mount: FloatArray, base: FloatArray) -> FloatArray:
+    """The world pose ``(7,)`` of a free base given as ``base`` ``(7,)`` relative to a
+    mount at ``mount`` ``(7,)`` (both ``x, y, z`` in m, then a unit quaternion ``w, x, y,
+    z``): ``mount * base`` with MuJoCo's quaternion functions, not renormalized."""
+    pose = np.empty(7)
+    mujoco.mju_rotVecQuat(pose[:3], base[:3], mount[3:])
+    pose[:3] += mount[:3]
+    mujoco.mju_mulQuat(pose[3:], mount[3:], base[3:])
+    return pose
+
+
 @dataclass(frozen=True)
 class JointWrite:
     """A checked joint-state write (:meth:`JointState.prepare`): rows of ``qpos`` at
@@ -141,12 +152,7 @@ class JointState:
     # -- writes ---------------------------------------------------------------------------
     def keyframe_base(self, base: FloatArray) -> FloatArray:
         """World pose of a keyframe's base ``(7,)`` given relative to the mount."""
-        mount = self.mount_pose
-        pose = np.empty(7)
-        mujoco.mju_rotVecQuat(pose[:3], base[:3], mount[3:])
-        pose[:3] += mount[:3]
-        mujoco.mju_mulQuat(pose[3:], mount[3:], base[3:])
-        return pose
+        return mounted_pose(self.mount_pose, base)
 
     def prepare(
         self,

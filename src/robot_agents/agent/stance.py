@@ -22,6 +22,7 @@ import numpy.typing as npt
 
 from robot_agents.agent.derived import resting_base
 from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.joint_state import mounted_pose
 from robot_agents.model.compiling import compile_spec
 from robot_agents.model.scene import FLOOR_SOLIMP, FLOOR_SOLMIX, FLOOR_SOLREF
 
@@ -129,10 +130,7 @@ def find_stance(
     data.qpos[index.qpos_adr] = joint_q
     base = resting_base(model, index, joint_q, mount_quat)
     if mount_quat is not None:  # the world pose of the base the mount turns (the robot stands at the origin)
-        world = np.empty(7)
-        mujoco.mju_rotVecQuat(world[:3], base[:3], np.asarray(mount_quat, dtype=np.float64))
-        mujoco.mju_mulQuat(world[3:], np.asarray(mount_quat, dtype=np.float64), base[3:])
-        base = world
+        base = mounted_pose(np.array([0.0, 0.0, 0.0, *np.asarray(mount_quat, dtype=np.float64)]), base)
     data.qpos[free.qpos_adr : free.qpos_adr + 7] = base
     for _ in range(round(STANCE_SETTLE_SECONDS / timestep)):
         mujoco.mj_step(locked, data)

@@ -20,20 +20,17 @@ decomposition's parameters: a second load reads them back in milliseconds.
 from __future__ import annotations
 
 import hashlib
-import os
-import tempfile
 import time
 import warnings
 import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from robot_agents.errors import ModelError
-from robot_agents.model.meshes import cache_dir
+from robot_agents.model.meshes import cache_dir, write_cache_file
 from robot_agents.parts.declaration import Gripper, Part
 
 #: A mesh is markedly non-convex when its convex hull's volume exceeds its own by more
@@ -47,6 +44,20 @@ COACD_SEED = 0
 #: Geom group of the convex pieces: MuJoCo draws groups 0-2 by default, so 3 is not drawn.
 PIECE_GROUP = 3
 INSTALL_HINT = "pip install 'robot-agents[meshes]' (coacd)"
+#: What a piece copies from the geom it replaces in contacts.
+_CONTACT_SETTINGS = (
+    "contype",
+    "conaffinity",
+    "condim",
+    "priority",
+    "friction",
+    "solmix",
+    "solref",
+    "solimp",
+    "margin",
+    "gap",
+    "rgba",
+)
 
 
 class DecompositionUnavailable(ModelError):
@@ -198,16 +209,8 @@ def convex_pieces(vertices: np.ndarray, faces: np.ndarray) -> tuple[list[tuple[n
     coacd.set_log_level("error")
     parts = coacd.run_coacd(coacd.Mesh(vertices, faces), threshold=COACD_THRESHOLD, seed=COACD_SEED)
     pieces = [(np.asarray(v, dtype=np.float64), np.asarray(f, dtype=np.int32)) for v, f in parts]
-    target.parent.mkdir(parents=True, exist_ok=True)
-    # a temporary file of this process's own, renamed into place (see meshes.readable_mesh)
-    handle, name = tempfile.mkstemp(prefix=f"{target.stem}.", suffix=".npz", dir=target.parent)
-    os.close(handle)
-    partial = Path(name)
-    try:
-        np.savez(partial, *(array for piece in pieces for array in piece))
-        partial.replace(target)
-    finally:
-        partial.unlink(missing_ok=True)
+    # np.savez adds ".npz" to a name without it: the temporary file keeps that suffix
+    write_cache_file(target, lambda partial: np.savez(partial, *(a for piece in pieces for a in piece)), ".npz")
     return pieces, False
 
 
@@ -227,7 +230,7 @@ def decompose(spec: mujoco.MjSpec, where: str) -> list[Split]:
         return []
     by_id = {geom.id: geom for geom in spec.geoms}
     splits: list[Split] = []
-    pieces_of: dict[int, tuple[list[tuple[np.ndarray, np.ndarray]], float]] = {}
+    pieces_of: dict[int, list[tuple[np.ndarray, np.ndarray]]] = {}  # by mesh id: one split per mesh
     for geom_id, ratio in nonconvex_geoms(model):
         mesh_id = int(model.geom_dataid[geom_id])
         original = by_id[geom_id]
@@ -235,12 +238,12 @@ def decompose(spec: mujoco.MjSpec, where: str) -> list[Split]:
             began = time.perf_counter()
             pieces, cached = convex_pieces(*mesh_arrays(model, mesh_id))
             seconds = 0.0 if cached else time.perf_counter() - began
-            pieces_of[mesh_id] = (pieces, seconds)
+            pieces_of[mesh_id] = pieces
             mesh_name = original.meshname
             for k, (vertices, faces) in enumerate(pieces):
                 spec.add_mesh(name=f"{mesh_name}__convex{k}", uservert=vertices.ravel(), userface=faces.ravel())
             splits.append(Split(mesh_name, len(pieces), ratio, seconds))
-        pieces = pieces_of[mesh_id][0]
+        pieces = pieces_of[mesh_id]
         body = original.parent
         for k in range(len(pieces)):
             piece = body.add_geom(
@@ -250,9 +253,7 @@ def decompose(spec: mujoco.MjSpec, where: str) -> list[Split]:
                 pos=model.geom_pos[geom_id],
                 quat=model.geom_quat[geom_id],
             )
-            for attr in ("contype", "conaffinity", "condim", "priority", "friction", "solmix", "solref", "solimp"):
-                setattr(piece, attr, getattr(original, attr))
-            for attr in ("margin", "gap", "rgba"):
+            for attr in _CONTACT_SETTINGS:
                 setattr(piece, attr, getattr(original, attr))
             piece.group = PIECE_GROUP
             piece.density = 0.0

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from robot_agents.errors import ModelError
@@ -68,15 +69,21 @@ def readable_mesh(path: Path) -> Path:
         raise ModelError(f"mesh {str(path)!r} could not be read for conversion: {err}") from None
     if len(getattr(mesh, "faces", ())) == 0:
         raise ModelError(f"mesh {str(path)!r} has no triangles to convert.")
+    write_cache_file(target, lambda partial: mesh.export(str(partial), file_type="obj"))
+    return target
+
+
+def write_cache_file(target: Path, write: Callable[[Path], object], suffix: str = ".tmp") -> None:
+    """Put a cache entry at ``target``: ``write`` fills a temporary file of this call's own
+    (named ``...suffix``) beside it, which is then renamed into place, so two processes (or
+    threads) making the same entry each write theirs and the last rename wins with
+    identical content; a reader never sees a half-written file."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    # a temporary file of this conversion's own: two processes (or threads) converting the
-    # same mesh each write theirs, and the last rename wins with identical content
-    handle, name = tempfile.mkstemp(prefix=f"{target.stem}.", suffix=".tmp", dir=target.parent)
+    handle, name = tempfile.mkstemp(prefix=f"{target.stem}.", suffix=suffix, dir=target.parent)
     os.close(handle)
     partial = Path(name)
     try:
-        mesh.export(str(partial), file_type="obj")
+        write(partial)
         partial.replace(target)
     finally:
         partial.unlink(missing_ok=True)
-    return target

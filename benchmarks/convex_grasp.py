@@ -10,11 +10,19 @@ target then ramps at 1 rad/s to the derived ``closed + squeeze`` over 2 s while 
 cube is weightless (its weight balanced by an applied force), and the cube is held 2 s
 under gravity. Printed per cube: the deepest contact penetration at the start (the
 hull filling the mouth), the jaw's angle after closing, the cube's slip relative to
-the hand over the hold, the deepest penetration during the hold, and the bodies
-touching the cube at the end.
+the hand over the hold, the deepest penetration during the hold, the jaw drive's torque
+and the largest contact normal force on the cube at the end, and the bodies touching
+the cube at the end.
+
+``--pads`` declares the built-in Panda's fingertip contact on the jaw's and the hand's
+geoms (``link_materials`` of :data:`PAD`: ``solref`` 0.002 s, which MuJoCo raises to two
+physics steps, ``solimp`` 0.95 0.99 0.001, priority over the cube), which the derived
+gripper of a file does not get. MuJoCo's contacts are soft (``ra.FrictionMaterial``'s
+docstring): at rest a contact pressed with force F sinks about ``(1 - d) / d * F / (m k)``
+deep, so a light cube under a strong squeeze sinks into the jaws.
 
 Usage: ``python benchmarks/convex_grasp.py PATH/z1.urdf [--edges 0.012 0.016 0.02 0.024]
-[--depth 0.015] [--open -0.9]`` (example-robot-data's Unitree Z1: ``pip download
+[--depth 0.015] [--open -0.9] [--pads] [--plain]`` (example-robot-data's Unitree Z1: ``pip download
 --no-deps example-robot-data``; the decomposition is cached, see ``robot_agents.model.decompose``).
 """
 
@@ -32,13 +40,27 @@ from robot_agents.parts.declaration import Arm, Gripper
 
 SECONDS = 2.0
 RAMP = 1.0  # rad/s
+#: The built-in Panda's fingertip contact (``robots/panda/assets/panda_defaults.xml``:
+#: ``solref`` 0.002 s, ``solimp`` 0.95 0.99 0.001), as a material a file's robot can declare.
+PAD = ra.FrictionMaterial(solref=(0.002, 1.0), solimp=(0.95, 0.99, 0.001))
 
 
-def robot(path: Path, decomposed: bool) -> type[ra.Agent]:
-    attributes = {"uid": f"{path.stem}_{'convex' if decomposed else 'plain'}", "urdf_path": path}
+def robot(path: Path, decomposed: bool, pads: bool = False) -> type[ra.Agent]:
+    """The two-line robot of ``path``; ``decomposed``: with ``convex_decomposition``;
+    ``pads``: the jaw's and the hand's colliding geoms get :data:`PAD`."""
+    attributes: dict[str, object] = {"uid": f"{path.stem}_{'convex' if decomposed else 'plain'}", "urdf_path": path}
     if decomposed:
         attributes["convex_decomposition"] = True
-    return type("Convex" if decomposed else "Plain", (ra.Agent,), attributes)
+    cls = type("Convex" if decomposed else "Plain", (ra.Agent,), attributes)
+    if not pads:
+        return cls
+    checked = cls.check()
+    arm = next(p for p in checked.parts if isinstance(p, Arm))
+    gripper = next(p for p in checked.parts if isinstance(p, Gripper))
+    model = cls.build_spec().compile()
+    jaw_body = model.body(model.jnt_bodyid[model.joint(checked.part_joints[gripper.name][0]).id]).name
+    materials = {jaw_body: PAD, arm.end_effectors[0].link: PAD}
+    return type(f"{cls.__name__}Pads", (cls,), {"uid": f"{cls.uid}_pads", "link_materials": materials})
 
 
 def run(cls: type[ra.Agent], edge: float, depth: float, opened: float) -> str:
@@ -113,6 +135,12 @@ def run(cls: type[ra.Agent], edge: float, depth: float, opened: float) -> str:
         mujoco.mj_step(model, data)
         slip = max(slip, float(np.linalg.norm(relative() - start)))
         hold_depth = max(hold_depth, deepest())
+    force, largest = np.zeros(6), 0.0
+    for i, c in enumerate(data.contact[: data.ncon]):
+        if cube in (model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]):
+            mujoco.mj_contactForce(model, data, i, force)
+            largest = max(largest, float(force[0]))
+    torque = abs(float(data.actuator_force[jaw_actuator]))
     touching = sorted(
         {
             model.body(int(b)).name
@@ -123,7 +151,8 @@ def run(cls: type[ra.Agent], edge: float, depth: float, opened: float) -> str:
     )
     return (
         f"| {'yes' if cls.convex_decomposition else 'no'} | {edge * 1000:.0f} | {at_start * 1000:.1f} | {jaw_angle:.3f} "
-        f"| {slip * 1000:.1f} | {hold_depth * 1000:.1f} | {', '.join(touching) or 'nothing (lost)'} |"
+        f"| {slip * 1000:.1f} | {hold_depth * 1000:.1f} | {torque:.1f} | {largest:.1f} "
+        f"| {', '.join(touching) or 'nothing (lost)'} |"
     )
 
 
@@ -133,15 +162,20 @@ def main() -> None:
     parser.add_argument("--edges", type=float, nargs="*", default=[0.012, 0.016, 0.02, 0.024], help="cube edges (m)")
     parser.add_argument("--depth", type=float, default=0.015, help="cube centre from the tool point into the mouth (m)")
     parser.add_argument("--open", type=float, default=-0.9, help="the jaw's angle before closing (rad)")
+    parser.add_argument("--pads", action="store_true", help="the jaws get the Panda's fingertip contact parameters")
+    parser.add_argument("--plain", action="store_true", help="also run without the decomposition")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     print(
-        "| decomposed | cube edge (mm) | penetration at start (mm) | jaw after closing (rad) | slip over 2 s hold (mm) "
-        "| deepest penetration in the hold (mm) | touching at the end |"
+        f"contact: {'the Panda fingertip pads on the jaws' if args.pads else 'as the file gives it (MuJoCo defaults)'}"
     )
-    print("|---|---|---|---|---|---|---|")
-    for decomposed in (False, True):
-        cls = robot(args.path.resolve(), decomposed)
+    print(
+        "| decomposed | cube edge (mm) | penetration at start (mm) | jaw after closing (rad) | slip over 2 s hold (mm) "
+        "| deepest penetration in the hold (mm) | jaw torque (N*m) | largest contact force (N) | touching at the end |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for decomposed in (False, True) if args.plain else (True,):
+        cls = robot(args.path.resolve(), decomposed, args.pads)
         for edge in args.edges:
             print(run(cls, edge, args.depth, args.open), flush=True)
 

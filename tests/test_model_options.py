@@ -6,6 +6,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import pytest
 
 import robot_agents as ra
 from tests.conftest import make_pendulum_class
@@ -128,3 +129,47 @@ def test_urdf_mimic_joint_becomes_a_coupling(tmp_path: Path) -> None:
         agent.set_action([0.0])  # normalized 0 -> 0.02 m
         scene.step()
     np.testing.assert_allclose(agent.qpos[0], [0.02, 0.02], atol=1e-3)
+
+
+def test_contact_softness_of_a_material_reaches_links_and_props(pendulum_file: Path) -> None:
+    stiff = ra.FrictionMaterial(sliding=1.2, solref=(0.004, 1.0), solimp=(0.95, 0.99, 0.001))
+    cls = make_pendulum_class(pendulum_file, link_materials={"link2": stiff})
+    ball = ra.Prop("ball", "sphere", (0.01,), pos=(1.0, 0.0, 0.01), mass=0.008, friction=stiff)
+    scene = ra.Scene(cls, props=[ball])
+    model = scene.model
+    for g in robot_geoms(scene, scene.agents[0]):
+        on_pad = model.body(model.geom_bodyid[g]).name.endswith("/link2")
+        np.testing.assert_array_equal(model.geom_solref[g], [0.004, 1.0] if on_pad else [0.02, 1.0])
+        np.testing.assert_array_equal(
+            model.geom_solimp[g], [0.95, 0.99, 0.001, 0.5, 2.0] if on_pad else [0.9, 0.95, 0.001, 0.5, 2.0]
+        )
+        assert model.geom_priority[g] == (1 if on_pad else 0)
+        assert model.geom_friction[g, 0] == (1.2 if on_pad else 1.0)
+    prop = model.geom("ball").id
+    np.testing.assert_array_equal(model.geom_solref[prop], [0.004, 1.0])
+    assert model.geom_priority[prop] == 1
+    # friction only (every built-in robot's materials): no priority, the file's softness
+    plain = ra.Scene(make_pendulum_class(pendulum_file, link_materials={"link2": ra.FrictionMaterial(sliding=2.0)}))
+    assert not plain.model.geom_priority.any()
+
+
+@pytest.mark.parametrize(("timeconst", "impedance"), [(0.02, 0.95), (0.004, 0.99)])
+def test_a_pressed_light_ball_sinks_as_the_soft_contact_predicts(
+    pendulum_file: Path, timeconst: float, impedance: float
+) -> None:
+    """The materials' docstring: at rest a contact pressed with F sinks
+    (1 - d) * (F / m) * timeconst^2 (dampratio 1): an 8 g ball pressed onto the floor
+    with 2 N, MuJoCo's default softness and the Panda's fingertip pads."""
+    mass, radius, push = 0.008, 0.01, 2.0
+    material = ra.FrictionMaterial(solref=(timeconst, 1.0), solimp=(impedance, impedance, 0.001))
+    ball = ra.Prop("ball", "sphere", (radius,), pos=(1.0, 0.0, radius), mass=mass, friction=material)
+    scene = ra.Scene(make_pendulum_class(pendulum_file), props=[ball], sim_freq=500)
+    model, data = scene.model, scene.world.datas[0]
+    body = model.body("ball").id
+    for _ in range(1000):  # 2 s: settled
+        data.xfrc_applied[body, 2] = -push
+        mujoco.mj_step(model, data)
+    depth = radius - data.xpos[body, 2]
+    predicted = (1 - impedance) * (push + mass * 9.81) / mass * timeconst**2
+    np.testing.assert_allclose(depth, predicted, rtol=1e-3)
+    assert abs(data.qvel[model.body_dofadr[body] : model.body_dofadr[body] + 6]).max() < 1e-6

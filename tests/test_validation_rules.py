@@ -194,3 +194,20 @@ def test_per_joint_values_take_numpy_numbers_and_arrays() -> None:
     assert actuator.damping == 3.0
     with pytest.raises(ConfigError, match=r"PDActuator\.armature: expected finite values >= 0, got -1"):
         ra.PDActuator(joints="j", stiffness=1.0, armature=-1)
+
+
+def test_contact_softness_of_a_material_is_checked() -> None:
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solref: expected 2 finite numbers"):
+        ra.FrictionMaterial(solref=(0.01,))  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solref: expected \(timeconst s, dampratio\) both > 0"):
+        ra.FrictionMaterial(solref=(-100.0, 1.0))
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solimp: expected 3 finite numbers"):
+        ra.FrictionMaterial(solimp=(0.9, 0.95, 0.001, 0.5))
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solimp: expected 0 < d_min, d_max < 1"):
+        ra.FrictionMaterial(solimp=(0.9, 1.0, 0.001))
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solimp: expected 0 < d_min, d_max < 1"):
+        ra.FrictionMaterial(solimp=(0.9, 0.95, 0.001, 0.5, 0.5))
+    with pytest.raises(ConfigError, match=r"FrictionMaterial\.solref: expected 2 finite numbers"):
+        ra.FrictionMaterial(solref=(True, 1.0))  # type: ignore[arg-type]
+    direct = ra.FrictionMaterial(solref=[-5000, -50], solimp=np.array([0.9, 0.99, 0.002, 0.4, 3]))  # type: ignore[arg-type]
+    assert direct.solref == (-5000.0, -50.0) and direct.solimp == (0.9, 0.99, 0.002, 0.4, 3.0)

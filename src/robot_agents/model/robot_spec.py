@@ -164,7 +164,8 @@ def set_gravity_compensation(spec: mujoco.MjSpec, bodies: bool | Sequence[str], 
 def set_materials(
     spec: mujoco.MjSpec, materials: Mapping[str, FrictionMaterial], default: FrictionMaterial | None, where: str
 ) -> None:
-    """Set the friction of every colliding geom, per body name (``default`` for the rest)."""
+    """Set the contact material (friction, and contact softness where the material
+    gives it) of every colliding geom, per body name (``default`` for the rest)."""
     all_bodies = robot_bodies(spec)
     _check_names(where, "body (link_materials)", materials, [b.name for b in all_bodies])
     for body in all_bodies:
@@ -173,7 +174,7 @@ def set_materials(
             continue
         for geom in body.geoms:
             if geom.contype or geom.conaffinity:
-                geom.friction = material.as_mujoco()
+                material.apply(geom)
 
 
 def set_self_collisions(

@@ -38,7 +38,8 @@ class Prop:
         size: MuJoCo geom size (m).
         pos: initial position (m); quat: initial orientation ``(w, x, y, z)``.
         mass: kg; ``None`` makes the prop static (welded to the world).
-        rgba: colour; friction: contact material.
+        rgba: colour; friction: contact material (friction, and optionally contact
+            softness: :class:`FrictionMaterial`).
     """
 
     name: str
@@ -196,14 +197,14 @@ def _add_prop(spec: mujoco.MjSpec, prop: Prop) -> None:
     body = spec.worldbody.add_body(name=prop.name, pos=list(prop.pos), quat=list(prop.quat))
     if prop.mass is not None:
         body.add_freejoint(name=f"{prop.name}_free_joint")
-    body.add_geom(
+    geom = body.add_geom(
         name=prop.name,
         type=PRIMITIVE_SHAPES[prop.shape],
         size=list(prop.size) + [0.0] * (3 - len(prop.size)),
         rgba=list(prop.rgba),
-        friction=prop.friction.as_mujoco(),
         **({"mass": prop.mass} if prop.mass is not None else {}),
     )
+    prop.friction.apply(geom)
 
 
 def compile_scene(spec: mujoco.MjSpec) -> mujoco.MjModel:

@@ -239,3 +239,24 @@ def test_non_convex_fingers_are_noted(loaded: tuple[type[ra.Agent], type[ra.Agen
         decompose.note_nonconvex_fingers("Split", split.build_spec().compile(), jaws)  # split: nothing to note
         knob = (ra.Gripper(name="gripper", joints=("knob_joint",), open=1.0, closed=-1.0, fingers=("knob", "knob")),)
         decompose.note_nonconvex_fingers("Plain", plain.build_spec().compile(), knob)  # a capsule finger
+
+
+def test_later_builds_redo_the_decomposition_without_compiling(
+    files: Path, cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _, split = _classes(files)  # a fresh class: its first build plans, the later ones redo the plan
+    planned: list[int] = []
+    plan = decompose._plan
+    monkeypatch.setattr(decompose, "_plan", lambda spec: planned.append(1) or plan(spec))
+    with pytest.warns(RuntimeWarning, match=r"'u_mesh' into 3 .* read from the cache"):
+        models = [split.build_spec().compile() for _ in range(3)]
+    assert planned == [1]  # check()'s build; build_spec's reuse it
+    for later in models[1:]:
+        for field in ("geom_type", "geom_dataid", "geom_pos", "geom_quat", "geom_contype", "geom_group", "mesh_vert"):
+            assert np.array_equal(getattr(later, field), getattr(models[0], field)), field
+    assert models[0].ngeom > loaded_geoms(files)
+
+
+def loaded_geoms(files: Path) -> int:
+    """Geoms of the robot without the decomposition."""
+    return _classes(files)[0].build_spec().compile().ngeom

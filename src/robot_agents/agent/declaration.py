@@ -36,7 +36,7 @@ from robot_agents.kinematics.forward import resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment, attach
-from robot_agents.model.decompose import decompose, note_nonconvex_fingers
+from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
@@ -240,6 +240,11 @@ def _decomposes(cls: type[AgentDefinition]) -> bool:
     return cls.convex_decomposition or any(piece.convex_decomposition for _, piece in composition(cls).pieces)
 
 
+#: Each class's decomposition per compiler settings, redone on its later builds without
+#: compiling the spec again (:func:`robot_agents.model.decompose.decompose`).
+_DECOMPOSED: weakref.WeakKeyDictionary[type, dict[CompilerSettings, Decomposition]] = weakref.WeakKeyDictionary()
+
+
 def _build(
     cls: type[AgentDefinition],
     cameras: Sequence[CameraConfig] | None,
@@ -268,7 +273,9 @@ def _build(
         spec, cls.disable_self_collisions, (*parts.self_collision_exclusions, *exclusions), where
     )
     if _decomposes(cls):
-        decompose(spec, where)
+        settings = compiler if compiler is not None else cls.compiler
+        done = _DECOMPOSED.setdefault(cls, {})
+        done[settings] = decompose(spec, where, done.get(settings))
     drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__)
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")

@@ -20,11 +20,12 @@ import numpy.typing as npt
 from gymnasium.utils import seeding
 
 from robot_agents.agent import Agent
+from robot_agents.envs import episode_checks
 from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
-from robot_agents.errors import ConfigError, PhysicsError, StateError, UnknownNameError
+from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -32,7 +33,7 @@ from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.validation import check_array, check_bool, check_open, check_real, is_whole
+from robot_agents.validation import check_bool, check_open, check_real, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -330,7 +331,7 @@ class RobotEnv(gym.Env[Any, Any]):
         where = f"{type(self).__name__}.reset"
         self._check_open(where)
         # Everything is checked before the RNG is re-seeded or any env is touched.
-        seeds = self._check_seed(seed, where)
+        seeds = episode_checks.check_seeds(seed, self.num_envs, where)
         if options is not None and not isinstance(options, Mapping):
             raise ConfigError(f"{where}: expected options to be a dict (keys 'env_ids', 'keyframe'), got {options!r}.")
         options = dict(options or {})
@@ -387,28 +388,6 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._clearance is None:
             self._clearance = Clearance(self.model, self.agents)
         return self._clearance
-
-    def _check_seed(self, seed: Any, where: str) -> list[int | None]:
-        """The seed of each env (``None``: keep its stream)."""
-
-        def valid(value: Any) -> bool:
-            return bool(is_whole(value) and value >= 0)
-
-        if seed is None:
-            return [None] * self.num_envs
-        if valid(seed):
-            return [int(seed) + i for i in range(self.num_envs)]
-        if (
-            isinstance(seed, Sequence)
-            and not isinstance(seed, str)
-            and len(seed) == self.num_envs
-            and all(s is None or valid(s) for s in seed)
-        ):
-            return [None if s is None else int(s) for s in seed]
-        raise ConfigError(
-            f"{where}: expected seed to be an int >= 0, None, or a list of {self.num_envs} ints >= 0 or None "
-            f"(one per env), got {seed!r}."
-        )
 
     def _override_base_dynamics(self, dynamics: str) -> None:
         """``base_dynamics=``: every robot with a planar ``Base`` runs ``"dynamic"`` or
@@ -521,68 +500,21 @@ class RobotEnv(gym.Env[Any, Any]):
             "rng": [None if rng is None else rng.bit_generator.state for rng in self._env_rngs],
         }
 
-    def _check_episode_state(self, state: Any, where: str) -> dict[str, FloatArray]:
-        """Validate :meth:`get_state`'s ``episode`` dict: every name of
-        :attr:`episode_state`, each an array of the current one's shape, finite."""
-        if not isinstance(state, Mapping) or sorted(state) != sorted(self.episode_state):
-            raise StateError(
-                f"{where}: expected 'episode' to be a dict with keys {list(self.episode_state)}, got {state!r:.80}."
-            )
-        return {
-            name: check_array(state[name], np.shape(getattr(self, name)), f"episode {name!r}", where)
-            for name in self.episode_state
-        }
-
-    def _check_rng_state(self, state: Any, where: str) -> list[np.random.Generator | None]:
-        """:meth:`get_state`'s ``rng`` list (``None`` or a bit generator's state per env)
-        as generators, made without touching the env's own."""
-        if not isinstance(state, Sequence) or isinstance(state, str) or len(state) != self.num_envs:
-            raise StateError(
-                f"{where}: expected 'rng' to be a list of {self.num_envs} random states, got {state!r:.80}."
-            )
-        out: list[np.random.Generator | None] = []
-        for env, entry in enumerate(state):
-            if entry is None:
-                out.append(None)
-                continue
-            try:
-                bit_generator = getattr(np.random, str(entry["bit_generator"]))()
-                bit_generator.state = entry
-            except Exception:  # a malformed state: whatever NumPy raises
-                raise StateError(
-                    f"{where}: expected rng[{env}] to be None or a NumPy bit generator's state, got {entry!r:.80}."
-                ) from None
-            out.append(np.random.Generator(bit_generator))
-        return out
-
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
         through later resets too (an older state without the task's arrays or the random
         streams restores the rest). Everything is checked before anything is written."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
-        steps = None
-        if isinstance(state, Mapping) and "elapsed_steps" in state:
-            try:
-                raw = np.asarray(state["elapsed_steps"], dtype=np.float64).reshape(-1)
-            except (TypeError, ValueError):
-                raw = np.array([np.nan])
-            if (
-                raw.shape != (self.num_envs,)
-                or not np.all(np.isfinite(raw))
-                or np.any(raw < 0)
-                or np.any(raw != np.round(raw))
-            ):
-                raise StateError(
-                    f"{where}: expected elapsed_steps as {self.num_envs} whole numbers >= 0, got {state['elapsed_steps']!r}."
-                )
-            steps = raw.astype(np.int64)
-        episode = (
-            self._check_episode_state(state["episode"], where)
-            if isinstance(state, Mapping) and "episode" in state
+        given = state if isinstance(state, Mapping) else {}
+        steps = (
+            episode_checks.check_elapsed_steps(given["elapsed_steps"], self.num_envs, where)
+            if "elapsed_steps" in given
             else None
         )
-        rngs = self._check_rng_state(state["rng"], where) if isinstance(state, Mapping) and "rng" in state else None
+        shapes = {name: np.shape(getattr(self, name)) for name in self.episode_state}
+        episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
+        rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
         self.scene.set_state(state)
         if steps is not None:
             self.elapsed_steps = steps

@@ -1,0 +1,79 @@
+"""What an env keeps per episode beyond the scene's state, checked as it comes in: the
+seeds of a reset, and :meth:`RobotEnv.set_state`'s step counts, task arrays and random
+streams (each check raises before anything is written, so a rejected call changes
+nothing)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from robot_agents.errors import ConfigError, StateError
+from robot_agents.validation import check_array, is_whole
+
+
+def check_seeds(seed: Any, num_envs: int, where: str) -> list[int | None]:
+    """The seed of each env (``None``: keep its stream) from a reset's ``seed``: an int
+    ``s >= 0`` seeds env ``i`` with ``s + i``; a list gives one per env."""
+
+    def valid(value: Any) -> bool:
+        return bool(is_whole(value) and value >= 0)
+
+    if seed is None:
+        return [None] * num_envs
+    if valid(seed):
+        return [int(seed) + i for i in range(num_envs)]
+    if (
+        isinstance(seed, Sequence)
+        and not isinstance(seed, str)
+        and len(seed) == num_envs
+        and all(s is None or valid(s) for s in seed)
+    ):
+        return [None if s is None else int(s) for s in seed]
+    raise ConfigError(
+        f"{where}: expected seed to be an int >= 0, None, or a list of {num_envs} ints >= 0 or None "
+        f"(one per env), got {seed!r}."
+    )
+
+
+def check_elapsed_steps(value: Any, num_envs: int, where: str) -> npt.NDArray[np.int64]:
+    """A state's ``elapsed_steps``: ``num_envs`` whole numbers >= 0."""
+    try:
+        raw = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raw = np.array([np.nan])
+    if raw.shape != (num_envs,) or not np.all(np.isfinite(raw)) or np.any(raw < 0) or np.any(raw != np.round(raw)):
+        raise StateError(f"{where}: expected elapsed_steps as {num_envs} whole numbers >= 0, got {value!r}.")
+    return raw.astype(np.int64)
+
+
+def check_arrays(state: Any, shapes: Mapping[str, tuple[int, ...]], where: str) -> dict[str, npt.NDArray[np.float64]]:
+    """A state's ``episode`` dict: exactly the task's per-episode array names
+    (``shapes``' keys), each finite and of its shape."""
+    if not isinstance(state, Mapping) or sorted(state) != sorted(shapes):
+        raise StateError(f"{where}: expected 'episode' to be a dict with keys {list(shapes)}, got {state!r:.80}.")
+    return {name: check_array(state[name], shape, f"episode {name!r}", where) for name, shape in shapes.items()}
+
+
+def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generator | None]:
+    """A state's ``rng`` list (``None`` or a bit generator's state per env) as new
+    generators (the env's own are untouched until the state is written)."""
+    if not isinstance(state, Sequence) or isinstance(state, str) or len(state) != num_envs:
+        raise StateError(f"{where}: expected 'rng' to be a list of {num_envs} random states, got {state!r:.80}.")
+    out: list[np.random.Generator | None] = []
+    for env, entry in enumerate(state):
+        if entry is None:
+            out.append(None)
+            continue
+        try:
+            bit_generator = getattr(np.random, str(entry["bit_generator"]))()
+            bit_generator.state = entry
+        except Exception:  # a malformed state: whatever NumPy raises
+            raise StateError(
+                f"{where}: expected rng[{env}] to be None or a NumPy bit generator's state, got {entry!r:.80}."
+            ) from None
+        out.append(np.random.Generator(bit_generator))
+    return out

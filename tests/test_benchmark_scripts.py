@@ -134,3 +134,22 @@ def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
     assert len(rows) == 2 and rows[0].split("|")[3:] == rows[1].split("|")[3:], outputs[0]
     assert "the Panda fingertip pads on the jaws" in outputs[1], outputs[1]
     assert len([line for line in outputs[1].splitlines() if line.startswith("| yes | 10 |")]) == 1, outputs[1]
+
+
+def test_derived_ee_modes_runs_on_a_written_arm(tmp_path: Path) -> None:
+    """The script on the six-joint arm of test_derived_task_space (its figures in the
+    docs come from the mani-skill wheel's arms and the Unitree Z1)."""
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "arm6.urdf"
+    path.write_text(arm_urdf(6))
+    run = subprocess.run(
+        [sys.executable, "derived_ee_modes.py", str(path), "--trials", "3"],
+        cwd=BENCHMARKS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "| arm6.urdf | 6 |" in run.stdout and "| 3/3 |" in run.stdout, run.stdout

@@ -16,11 +16,19 @@ import pytest
 
 import robot_agents as ra
 from robot_agents import checks
-from robot_agents.actuators.gains import STANCE_DAMPING_SHARE, STANCE_SAG, STANCE_STABLE_SHARE, gains_from_inertia
+from robot_agents.actuators.gains import (
+    STANCE_DAMPING_SHARE,
+    STANCE_SAG,
+    STANCE_STABLE_SHARE,
+    gains_from_inertia,
+    gains_over_configurations,
+)
 from robot_agents.agent.declaration import _build
+from robot_agents.agent.derived_drives import drive_configurations
 from robot_agents.agent.stance import GRAVITY, Stance, find_stance
 from robot_agents.parts.declaration import Arm, Legs
 from robot_agents.robot_source import robot_from_file
+from robot_agents.sim.scene import DEFAULT_SIM_FREQ
 
 BODY_MASS = 8.0
 THIGH_MASS, SHIN_MASS, FOOT_MASS = 0.3, 0.2, 0.05
@@ -185,10 +193,13 @@ def test_the_stance_settles_without_bouncing(tmp_path: Path) -> None:
 
 
 def test_a_fixed_arm_keeps_its_inertia_gains(tmp_path: Path) -> None:
+    """No stance for a fixed arm: its gains are the inertia gains over its joints' ranges."""
     cls = robot_from_file(write(tmp_path, "stance_fixed_arm", arm()))
     checked = cls.check()
     joints = [d.joint for d in checked.drives]
-    gains = gains_from_inertia(checked.index.model, joints, _full(checked))
+    model = checked.index.model
+    configurations = drive_configurations(model, checked.index, joints, _full(checked))
+    gains = gains_over_configurations(model, joints, configurations, 1.0 / DEFAULT_SIM_FREQ)
     for joint, kp, kv in zip(gains.joints, gains.stiffness, gains.damping, strict=True):
         assert checked.derived_gains[joint][:2] == (float(kp), float(kv))
     assert isinstance(checked.parts[0], Arm)

@@ -99,7 +99,10 @@ class SuggestedGains:
     free (a floating base's too): what a force at the joint meets in MuJoCo's constraint
     solver. ``passive_damping`` is the file's own joint damping (N*m*s/rad or N*s/m),
     ``passive_friction`` its dry friction (``frictionloss``, N*m or N).
-    ``None``: not computed; ``inertia`` and no damping stand in for them."""
+    ``least_inertia`` is the smallest ``inertia`` over the configurations gains were
+    derived over (:func:`gains_over_configurations`), the one the explicit-stiffness
+    bound is taken at. ``None``: not computed; ``inertia`` and no damping stand in for
+    them."""
 
     joints: tuple[str, ...]
     stiffness: npt.NDArray[np.float64]
@@ -111,6 +114,7 @@ class SuggestedGains:
     free_inertia: npt.NDArray[np.float64] | None = None
     passive_damping: npt.NDArray[np.float64] | None = None
     passive_friction: npt.NDArray[np.float64] | None = None
+    least_inertia: npt.NDArray[np.float64] | None = None
 
     def as_dict(self) -> dict[str, tuple[float, float]]:
         """``joint -> (stiffness, damping)``."""
@@ -171,11 +175,45 @@ def gains_from_inertia(
     )
 
 
+def gains_over_configurations(
+    model: mujoco.MjModel,
+    joints: Sequence[str],
+    configurations: npt.ArrayLike,
+    timestep: float,
+    bandwidth_hz: float = DEFAULT_BANDWIDTH_HZ,
+    damping_ratio: float = DEFAULT_DAMPING_RATIO,
+) -> SuggestedGains:
+    """PD gains for hinge and slide ``joints`` that reach ``bandwidth_hz``, at least
+    critically damped, in every one of ``configurations`` (``(k, nq)``): a joint's
+    effective inertia changes with the pose (an arm's first joint carries little when
+    the arm points up, much when it is stretched out), so the stiffness is taken at its
+    largest inertia over them, ``I_max * omega^2``, with damping critical there
+    (``2 zeta sqrt(kp I_max)``: overdamped where the inertia is smaller; MuJoCo's
+    ``implicitfast`` integrates it implicitly), but at most :data:`STANCE_STABLE_SHARE`
+    of the explicit-stiffness bound ``4 I_min / dt^2`` at the smallest inertia
+    (``timestep`` in s). The first configuration is the reference: its gains are
+    :func:`gains_from_inertia`'s (files' damping and friction, free inertia), and the
+    stiffness never falls below them."""
+    rows = np.atleast_2d(np.asarray(configurations, dtype=np.float64))
+    each = [gains_from_inertia(model, joints, row, bandwidth_hz, damping_ratio) for row in rows]
+    first = each[0]
+    largest = np.max([g.inertia for g in each], axis=0)
+    least = np.min([g.inertia for g in each], axis=0)
+    omega = 2.0 * math.pi * bandwidth_hz
+    cap = STANCE_STABLE_SHARE * 4.0 * least / timestep**2
+    free = largest * omega**2 <= cap  # uncapped: the formulas of gains_from_inertia, at the largest inertia
+    stiffness = np.where(free, largest * omega**2, cap)
+    damping = np.where(free, 2.0 * damping_ratio * largest * omega, 2.0 * damping_ratio * np.sqrt(cap * largest))
+    stiffness, damping = np.maximum(stiffness, first.stiffness), np.maximum(damping, first.damping)
+    return replace(first, stiffness=stiffness, damping=damping, inertia=largest, least_inertia=least)
+
+
 def _stiffness_cap(gains: SuggestedGains, timestep: float) -> npt.NDArray[np.float64]:
     """The stiffness (N*m/rad or N/m) derived gains may raise each joint to: a
     :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound ``4 I / dt^2`` at the
     physics step ``timestep`` (s)."""
-    cap: npt.NDArray[np.float64] = STANCE_STABLE_SHARE * 4.0 * gains.inertia / timestep**2
+    inertia = gains.inertia if gains.least_inertia is None else gains.least_inertia
+    cap: npt.NDArray[np.float64] = STANCE_STABLE_SHARE * 4.0 * inertia / timestep**2
     return cap
 
 

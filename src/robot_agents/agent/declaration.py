@@ -24,10 +24,11 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import friction_gains, gains_from_inertia
+from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
-from robot_agents.agent.derived_drives import note_friction_cap, stand
+from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
+from robot_agents.agent.derived_task_space import derive_task_space
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, UnknownNameError
@@ -41,7 +42,7 @@ from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
-from robot_agents.parts.declaration import Body, EndEffector, Gripper, Hand, Legs, Part
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Legs, Part
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -235,6 +236,22 @@ def _raw_spec(cls: type[AgentDefinition], where: str, compiler: CompilerSettings
     return spec
 
 
+def _with_task_space(
+    part: Part,
+    model: mujoco.MjModel,
+    index: RobotIndex,
+    part_joints: Mapping[str, Sequence[str]],
+    keyframe: np.ndarray,
+    name: str,
+) -> Part:
+    """A derived arm with the task space measured on it (end-effector modes), when it
+    gets one (:func:`~robot_agents.agent.derived_task_space.derive_task_space`)."""
+    if not isinstance(part, Arm) or part.task_space is not None:
+        return part
+    space = derive_task_space(model, index, part, part_joints[part.name], keyframe, name)
+    return part if space is None else dataclasses.replace(part, task_space=space)
+
+
 def _decomposes(cls: type[AgentDefinition]) -> bool:
     """Whether the robot or a piece mounted on it asks for ``convex_decomposition``."""
     return cls.convex_decomposition or any(piece.convex_decomposition for _, piece in composition(cls).pieces)
@@ -397,11 +414,16 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     if drives and all(d.source.startswith(DERIVED_SOURCE) for d in drives):
         full = model.qpos0.copy()
         full[index.qpos_adr] = next(iter(keyframes.values())).qpos
-        gains = gains_from_inertia(model, [d.joint for d in drives], full)
-        # dry friction in the file (frictionloss) would stall inertia gains short of their targets
         from robot_agents.sim.scene import DEFAULT_SIM_FREQ
 
         timestep = 1.0 / int(cls.sim_freq or DEFAULT_SIM_FREQ)
+        driven_joints = [d.joint for d in drives]
+        if index.free_joint is None:  # a fixed base: gains that hold over the joints' whole ranges
+            configurations = drive_configurations(model, index, driven_joints, full)
+            gains = gains_over_configurations(model, driven_joints, configurations, timestep)
+        else:  # a floating robot: gains at its pose (its stance stiffens the legs below)
+            gains = gains_from_inertia(model, driven_joints, full)
+        # dry friction in the file (frictionloss) would stall inertia gains short of their targets
         gains, capped = friction_gains(gains, timestep)
         if capped:
             note_friction_cap(name, index, gains, capped, timestep)
@@ -435,6 +457,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             )
             for d in drives
         ]
+    if inferred and not torque_only(model, drives):
+        # an arm the file implies gets a task space (end-effector modes) measured on it
+        keyframe = next(iter(keyframes.values())).qpos
+        parts = tuple(_with_task_space(part, model, index, part_joints, keyframe, name) for part in parts)
     from robot_agents.controllers.rules import modes_from_parts
 
     modes: dict[str, ModeConfig] = (

@@ -1,5 +1,6 @@
 """What a robot's derived drives learn from its file at check time, beyond its
-inertia: the load note for joints whose dry-friction floor the stability bound capped
+inertia: the configurations a fixed robot's gains are derived over
+(:func:`drive_configurations`), the load note for joints whose dry-friction floor the stability bound capped
 (:func:`note_friction_cap`), and a floating robot's stance (:func:`stand`), which
 stiffens the legs that carry its weight. Called by
 :func:`robot_agents.agent.declaration.check` (their warnings' ``stacklevel`` counts that
@@ -16,6 +17,33 @@ import numpy as np
 from robot_agents.actuators.gains import FRICTION_STALL, SuggestedGains, stance_gains
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.agent.stance import find_stance
+
+#: Configurations a fixed robot's derived gains are taken over, besides its default
+#: keyframe (fixed seed: the gains are deterministic).
+DRIVE_SAMPLES = 256
+
+
+def drive_configurations(
+    model: mujoco.MjModel, index: RobotIndex, joints: Sequence[str], reference: np.ndarray
+) -> np.ndarray:
+    """``(DRIVE_SAMPLES + 1, nq)`` configurations: ``reference`` (the robot's default
+    keyframe in the model's ``qpos``) first, then :data:`DRIVE_SAMPLES` with each of the
+    hinge and slide ``joints`` drawn uniformly within its limits (``±pi`` for an
+    unlimited hinge; an unlimited slide keeps its reference value), the rest as in
+    ``reference`` (:func:`robot_agents.actuators.gains.gains_over_configurations`)."""
+    rng = np.random.default_rng(0)
+    out = np.tile(reference, (DRIVE_SAMPLES + 1, 1))
+    for name in joints:
+        joint = index.joint(name, "drive_configurations")
+        j = joint.id
+        if model.jnt_limited[j]:
+            low, high = model.jnt_range[j]
+        elif joint.kind is JointKind.HINGE:
+            low, high = -np.pi, np.pi
+        else:
+            continue
+        out[1:, model.jnt_qposadr[j]] = rng.uniform(low, high, DRIVE_SAMPLES)
+    return out
 
 
 def note_friction_cap(

@@ -28,7 +28,7 @@ Sources of the numbers:
 - Tool centre point ``tcp``: the URDF's ``gripper_tcp`` on ``link_6`` (-0.008, 0,
   -0.065) m, between the finger tips. End-effector modes command its position only
   (5 DoF): ``pd_ee_delta_pos`` and ``pd_ee_target_delta_pos``, 2 cm per step at most,
-  the held orientation only a soft preference of IK (:mod:`.five_dof`).
+  the held orientation only a soft preference of IK (:data:`robot_agents.kinematics.ik_config.POSITION_IK`).
 
 The arm faces -y of its root (the URDF's frame); ManiSkill mounts it turned 90 deg
 about z, which ``robot_poses`` reproduces.
@@ -42,9 +42,9 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
-from robot_agents.robots.servo_arms.five_dof import POSITION_IK
 from robot_agents.robots.servo_arms.servos import XL330_M288, XL430_W250, critically_damped_gains, servo_values
 
 ASSETS = Path(__file__).parent / "assets"

@@ -1,0 +1,108 @@
+"""The end-effector task space of an arm a model file implies (a robot that declares
+no parts), so that a two-line robot has the end-effector control modes a declared arm
+has (``pd_ee_delta_pose``, ``pd_ee_pose`` ...).
+
+Measured on the arm itself, at the robot's default keyframe, in its root frame (the
+frame end-effector commands are given in):
+
+- **Reach**: :data:`REACH_SAMPLES` configurations are drawn with a fixed seed
+  uniformly within the arm joints' limits (``±pi`` for an unlimited hinge), the other
+  joints at the keyframe; the reach is the farthest the tool point gets from the arm's
+  first joint (the keyframe's tool point included), as the task layout measures it
+  (:mod:`robot_agents.envs.tasks.layout`).
+- **Absolute positions** (``pd_ee_pose``'s bounds): the box around the sampled tool
+  points, grown by :data:`BOUNDS_MARGIN` of the reach on every side.
+- **Deltas**: :data:`TRANSLATION_PER_REACH` of the reach per step (ManiSkill's Panda:
+  0.1 m at a reach of about 0.95 m), rounded to 1 mm; :data:`MAX_ROTATION` rad per
+  step (ManiSkill's).
+- **Modes**: an arm of 6 joints or more gets every end-effector mode with the default
+  IK; one of 3-5 joints the two position modes with
+  :data:`~robot_agents.kinematics.ik_config.POSITION_IK` (as the SO-100 and the Koch);
+  one of fewer joints, or with a ball or free joint, none.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+
+from robot_agents.agent.frames import RobotFrames
+from robot_agents.agent.index import RobotIndex
+from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.kinematics.ik_config import POSITION_IK
+from robot_agents.kinematics.rotations import quat_conjugate, quat_rotate
+from robot_agents.parts.declaration import Arm
+
+#: Configurations drawn to measure the reach and the box (fixed seed: deterministic).
+REACH_SAMPLES = 1024
+#: Largest translation of one delta action, as a share of the reach.
+TRANSLATION_PER_REACH = 0.1
+#: Largest rotation of one delta action (rad).
+MAX_ROTATION = 0.1
+#: How far the absolute-position box reaches past the sampled tool points, as a share of the reach.
+BOUNDS_MARGIN = 0.05
+#: Arm joints needed for the position modes / for every end-effector mode.
+POSITION_JOINTS, POSE_JOINTS = 3, 6
+_ONE_DOF = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+
+
+def derive_task_space(
+    model: mujoco.MjModel, index: RobotIndex, arm: Arm, joints: Sequence[str], keyframe: np.ndarray, where: str
+) -> TaskSpace | None:
+    """The task space of ``arm`` (see the module's description), or ``None`` when it
+    gets no end-effector modes (fewer than 3 joints, a joint that is not a hinge or a
+    slide, a slide without limits, or a tool that does not move).
+
+    Args:
+        model: the robot's own compiled model (alone, at the origin).
+        index: its names and addresses.
+        arm: the derived arm (its first end effector is the tool).
+        joints: the arm's joint names, root to tip.
+        keyframe: the robot's default keyframe ``(nq,)`` of the robot.
+        where: the robot, for messages.
+    """
+    ids = [index.joint(name, where).id for name in joints]
+    if len(ids) < POSITION_JOINTS or not arm.end_effectors:
+        return None
+    if any(int(model.jnt_type[j]) not in _ONE_DOF for j in ids):
+        return None
+    if any(int(model.jnt_type[j]) == mujoco.mjtJoint.mjJNT_SLIDE and not model.jnt_limited[j] for j in ids):
+        return None
+    frames = RobotFrames(model, index, arm.end_effectors[:1], where)
+    tool, command = frames.end_effectors[arm.end_effectors[0].name]
+    rest = model.qpos0.copy()
+    rest[index.qpos_adr] = keyframe
+    configs = np.tile(rest, (REACH_SAMPLES + 1, 1))  # the last row: the keyframe itself
+    rng = np.random.default_rng(0)
+    for j in ids:
+        low, high = model.jnt_range[j] if model.jnt_limited[j] else (-math.pi, math.pi)
+        configs[:REACH_SAMPLES, model.jnt_qposadr[j]] = rng.uniform(low, high, REACH_SAMPLES)
+    poses = frames.kinematics.poses(configs, [tool, command])  # (n, 2, 7)
+    # the tool point in the command frame, and the arm's first joint at the keyframe
+    inverse = quat_conjugate(poses[:, 1, 3:])
+    points = quat_rotate(inverse, poses[:, 0, :3] - poses[:, 1, :3])
+    data = mujoco.MjData(model)
+    data.qpos[:] = rest
+    mujoco.mj_kinematics(model, data)
+    shoulder = quat_rotate(inverse[-1], data.xanchor[ids[0]] - poses[-1, 1, :3])
+    reach = float(np.max(np.linalg.norm(points - shoulder, axis=1)))
+    if not reach > 1e-3:
+        return None
+    margin = BOUNDS_MARGIN * reach
+    box = WorkspaceBox(
+        lower=tuple(float(v) for v in points.min(axis=0) - margin),  # type: ignore[arg-type]
+        upper=tuple(float(v) for v in points.max(axis=0) + margin),  # type: ignore[arg-type]
+    )
+    translation = max(round(TRANSLATION_PER_REACH * reach, 3), 0.001)
+    if len(ids) >= POSE_JOINTS:
+        return TaskSpace(position_bounds=box, max_translation=translation, max_rotation=MAX_ROTATION)
+    return TaskSpace(
+        position_bounds=box,
+        max_translation=translation,
+        max_rotation=MAX_ROTATION,
+        ik=POSITION_IK,
+        modes=("pd_ee_delta_pos", "pd_ee_target_delta_pos"),
+    )

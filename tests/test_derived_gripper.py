@@ -122,6 +122,27 @@ def test_two_sliding_fingers_at_the_chain_end_are_a_gripper(tmp_path: Path, mimi
     assert abs(qpos[left] - qpos[right]) < 1e-3  # both fingers closed
 
 
+def test_the_tool_point_is_between_the_fingers_pads(tmp_path: Path) -> None:
+    """Fingers whose mass sits low (at 1 cm) and whose collision box (the pad) reaches
+    from 4 to 10 cm: the tool point is between the pads' centres, 7 cm past the finger
+    joints, not between the centres of mass."""
+    out = ""
+    for side, y in (("left", 0.01), ("right", -0.01)):
+        out += (
+            f'<link name="{side}_finger"><inertial><origin xyz="0 0 0.01"/><mass value="0.05"/>'
+            '<inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>'
+            '<collision><origin xyz="0 0 0.07"/><geometry><box size="0.01 0.01 0.06"/></geometry></collision></link>\n'
+        )
+        axis = "0 1 0" if side == "left" else "0 -1 0"
+        out += joint(f"{side}_joint", "prismatic", "hand", f"{side}_finger", f"0 {y} 0.05", axis, 0.0, 0.04).format(
+            mimic=""
+        )
+    checked = robot(tmp_path, urdf(out)).check()
+    arm = checked.parts[0]
+    assert isinstance(arm, Arm)
+    np.testing.assert_allclose(arm.end_effectors[0].pos, (0.0, 0.0, 0.05 + 0.07), atol=1e-9)
+
+
 def test_hinged_jaws_open_where_they_spread(tmp_path: Path) -> None:
     cls = robot(tmp_path, urdf(hinge_jaws()))
     checked = cls.check()

@@ -13,6 +13,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.checks import check_random_actions
 from robot_agents.controllers.rules import EE_MODES
+from robot_agents.envs.tasks.layout import UPRIGHT_AHEAD, table_top_layout
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import quat_angle, quat_conjugate, quat_multiply, quat_to_rotvec
 from tests.ik_check import assert_ik_reaches_random_targets
@@ -29,9 +30,10 @@ JOINTS = (
 BASE_HEIGHT = 0.1
 
 
-def arm_urdf(joints: int) -> str:
+def arm_urdf(joints: int, elbow: tuple[float, float] | None = None) -> str:
     """A serial arm of the first ``joints`` of :data:`JOINTS`: each link a box along z
-    of its length (1 kg per metre), each joint at the top of the previous link."""
+    of its length (1 kg per metre), each joint at the top of the previous link;
+    ``elbow``: the elbow's limits (rad) instead of ``±2.5``."""
     links = [
         '<link name="base"><inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
         f'<collision><origin xyz="0 0 {BASE_HEIGHT / 2}"/><geometry><box size="0.1 0.1 {BASE_HEIGHT}"/></geometry></collision></link>'
@@ -39,6 +41,7 @@ def arm_urdf(joints: int) -> str:
     parts, parent, offset = [], "base", BASE_HEIGHT
     for name, axis, limit, length in JOINTS[:joints]:
         child = f"{name}_link"
+        low, high = elbow if name == "elbow" and elbow is not None else (-limit, limit)
         mass = max(length, 0.05)
         inertia = mass * length**2 / 12 + 1e-4
         links.append(
@@ -50,15 +53,15 @@ def arm_urdf(joints: int) -> str:
         parts.append(
             f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
             f'<origin xyz="0 0 {offset}"/><axis xyz="{axis}"/>'
-            f'<limit lower="{-limit}" upper="{limit}" effort="100" velocity="3"/></joint>'
+            f'<limit lower="{low}" upper="{high}" effort="100" velocity="3"/></joint>'
         )
         parent, offset = child, length
     return f'<robot name="arm{joints}">{"".join(links)}{"".join(parts)}</robot>'
 
 
-def two_line(tmp_path: Path, joints: int) -> type[ra.Agent]:
+def two_line(tmp_path: Path, joints: int, elbow: tuple[float, float] | None = None) -> type[ra.Agent]:
     path = tmp_path / f"arm{joints}.urdf"
-    path.write_text(arm_urdf(joints))
+    path.write_text(arm_urdf(joints, elbow))
     return type(f"Arm{joints}", (ra.Agent,), {"uid": f"derived_arm{joints}", "urdf_path": path})
 
 
@@ -174,3 +177,25 @@ def test_ik_reaches_random_targets_of_the_derived_arm(tmp_path: Path) -> None:
 def test_random_actions_in_every_derived_mode_stay_stable(tmp_path: Path, joints: int) -> None:
     result = check_random_actions(two_line(tmp_path, joints), seconds=3.0)
     assert result.passed, result.detail
+
+
+def test_a_default_outside_the_limits_lands_inside_them(tmp_path: Path) -> None:
+    """An elbow whose range excludes the file's zero pose ([-2.5, -0.1], as a Panda's
+    fourth joint): the default keyframe puts it a tenth of the range inside the nearer
+    stop (-0.34 rad), not on it (where the arm is stretched straight)."""
+    checked = two_line(tmp_path, 6, elbow=(-2.5, -0.1)).check()
+    default = checked.keyframes["default"].qpos
+    elbow = checked.index.joint_names.index("elbow")
+    assert default[elbow] == pytest.approx(-0.1 - 0.1 * 2.4)
+    assert np.count_nonzero(default) == 1  # the joints whose zero lies inside stay at zero
+
+
+def test_an_upright_arm_faces_a_workspace_ahead_of_it(tmp_path: Path) -> None:
+    """The task layout of an arm whose default keyframe holds its tool up (the written
+    arm, every joint at zero): the workspace centre 0.5 reach ahead of the shoulder,
+    where the arm reaches down to the table (the built-in arms keep theirs: tests/test_tasks.py)."""
+    cls = two_line(tmp_path, 6)
+    layout = table_top_layout(cls)
+    shoulder_x = layout.robot_pose[0]  # the shoulder is on the root's vertical axis
+    assert layout.rest_tcp[0] == pytest.approx(shoulder_x, abs=1e-6)  # the tool straight above it
+    assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)  # centre at the origin

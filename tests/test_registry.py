@@ -79,3 +79,21 @@ def test_register_rejects_non_agents_and_bad_definitions(pendulum_file: Path) ->
     with pytest.raises(ra.UnknownNameError, match="pd_joint_pos"):
         ra.register_agent()(bad_default)
     assert "bad_default" not in ra.list_agents()
+
+
+def test_register_without_parentheses_or_with_the_class(pendulum_file: Path) -> None:
+    """``@register_agent`` bare and ``register_agent(cls)`` register the class under its
+    own uid (the latter was once a decorator factory taking the class as a uid, which
+    silently registered nothing)."""
+    bare = make_pendulum_class(pendulum_file, uid="bare_pendulum")
+    direct = make_pendulum_class(pendulum_file, uid="direct_pendulum")
+    try:
+        assert ra.register_agent(bare) is bare
+        assert ra.get_agent("bare_pendulum") is bare
+        assert ra.register_agent(direct, override=True) is direct
+        assert ra.get_agent("direct_pendulum") is direct
+    finally:
+        ra.unregister_agent("bare_pendulum")
+        ra.unregister_agent("direct_pendulum")
+    with pytest.raises(ra.RegistryError, match=r"expected a uid string or an Agent subclass, got 3"):
+        ra.register_agent(3)  # type: ignore[arg-type]

@@ -104,15 +104,24 @@ class ResolvedKeyframe:
     base: FloatArray
 
 
+#: How far inside its range (a share of it) a joint whose default value lies outside
+#: its limits is set (:func:`default_qpos`).
+INSIDE_LIMITS = 0.1
+
+
 def default_qpos(index: RobotIndex) -> FloatArray:
     """The robot's default ``qpos`` ``(nq,)``: the file's first keyframe if it has one,
-    else the model's reference pose (``qpos0``; identity quaternions for ball joints),
-    clipped into the joint limits (a model's zero pose may lie outside them)."""
+    else the model's reference pose (``qpos0``; identity quaternions for ball joints).
+    A value outside its joint's limits (a model's zero pose may lie outside them) is
+    moved :data:`INSIDE_LIMITS` of the range inside the nearer limit: resting on a stop,
+    a drive would press into it, and an arm with its elbow at a stop is stretched
+    straight (a singular pose, where IK and end-effector modes stall)."""
     model = index.model
     source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
-    default: FloatArray = np.clip(
-        np.array(source[index.qpos_adr], dtype=np.float64), index.qpos_limits[:, 0], index.qpos_limits[:, 1]
-    )
+    values = np.array(source[index.qpos_adr], dtype=np.float64)
+    low, high = index.qpos_limits[:, 0], index.qpos_limits[:, 1]
+    inside = INSIDE_LIMITS * np.where(np.isfinite(high - low), high - low, 0.0)
+    default: FloatArray = np.where(values < low, low + inside, np.where(values > high, high - inside, values))
     return default
 
 

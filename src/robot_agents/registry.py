@@ -23,11 +23,14 @@ _REGISTRY: dict[str, type[Agent]] = {}
 _REMOVED: set[str] = set()
 
 
-def register_agent(uid: str | None = None, *, override: bool = False):  # type: ignore[no-untyped-def]
-    """Class decorator that registers an :class:`~robot_agents.agent.Agent` subclass.
+def register_agent(uid: str | type | None = None, *, override: bool = False):  # type: ignore[no-untyped-def]
+    """Class decorator that registers an :class:`~robot_agents.agent.Agent` subclass:
+    ``@register_agent()``, ``@register_agent("my_uid")``, or bare ``@register_agent``;
+    ``register_agent(MyRobot)`` registers a class defined elsewhere (and returns it).
 
     Args:
-        uid: the id to register under; defaults to the class attribute ``uid``.
+        uid: the id to register under; defaults to the class attribute ``uid``. A class
+            here is the class to register, under its own ``uid``.
         override: replace an agent already registered under that id.
 
     Raises:
@@ -40,7 +43,7 @@ def register_agent(uid: str | None = None, *, override: bool = False):  # type: 
 
         if not (isinstance(cls, type) and issubclass(cls, Agent)):
             raise RegistryError(f"register_agent: expected a subclass of robot_agents.Agent, got {cls!r}.")
-        key = uid if uid is not None else getattr(cls, "uid", None)
+        key = uid if isinstance(uid, str) else getattr(cls, "uid", None)
         if not isinstance(key, str) or not key:
             raise RegistryError(
                 f"register_agent({cls.__name__}): expected a non-empty string uid (argument or class attribute), got {key!r}."
@@ -51,12 +54,16 @@ def register_agent(uid: str | None = None, *, override: bool = False):  # type: 
                 f"{_REGISTRY[key].__module__}.{_REGISTRY[key].__qualname__}; pass override=True to replace it."
             )
         cls.check()
-        if uid is not None and cls.uid != uid:
+        if isinstance(uid, str) and cls.uid != uid:
             cls.uid = uid
         _REGISTRY[key] = cls
         _REMOVED.discard(key)
         return cls
 
+    if isinstance(uid, type):  # @register_agent without parentheses, or register_agent(cls)
+        return decorator(uid)
+    if uid is not None and not isinstance(uid, str):
+        raise RegistryError(f"register_agent: expected a uid string or an Agent subclass, got {uid!r}.")
     return decorator
 
 

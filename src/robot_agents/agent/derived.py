@@ -76,7 +76,8 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
     Two fingers, a mimic linkage or one jaw at the chain's end are a ``Gripper`` (see
     :func:`infer_gripper`): the arm is the chain above them, its end effector ``"ee"`` on
     the hand at the gripper's tool point (two fingers and a linkage: the midpoint of the
-    fingers' centres of mass when closed; one jaw: where it meets the fixed jaw)."""
+    centres of the closed fingers' colliding geometry, :func:`_finger_centre`; one jaw:
+    where it meets the fixed jaw)."""
     if not driven:
         return ()
     found = infer_gripper(model, index, driven)
@@ -207,7 +208,7 @@ def _gripper_of(
         opened[follower] = coupling.follow(opened[ids[0]])
         closed[follower] = coupling.follow(closed[ids[0]])
     _place(model, data, closed, ids[0], coupled)
-    midpoint = 0.5 * (data.xipos[bodies[0]] + data.xipos[bodies[1]])
+    midpoint = 0.5 * (_finger_centre(model, data, index, bodies[0]) + _finger_centre(model, data, index, bodies[1]))
     rotation = data.xmat[hand].reshape(3, 3)
     tcp = rotation.T @ (midpoint - data.xpos[hand])
     prefix = len(index.prefix)
@@ -222,6 +223,22 @@ def _gripper_of(
         fingers=tuple(tuple(model.body(b).name[prefix:] for b in index.subtree_bodies(body)) for body in bodies),
     )
     return gripper, model.body(hand).name[prefix:], _rounded(tcp)
+
+
+def _finger_centre(model: mujoco.MjModel, data: mujoco.MjData, index: RobotIndex, body: int) -> np.ndarray:
+    """The centre (world, m) of the box around a finger's colliding geoms (its body and
+    the bodies below it), as ``data`` places them: the middle of its pads, where a
+    grasp holds an object; the finger's centre of mass when nothing on it collides."""
+    corners = []
+    for geom in colliding_geoms(model, index.subtree_bodies(body)):
+        centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+        rotation = data.geom_xmat[geom].reshape(3, 3)
+        for signs in itertools.product((-1.0, 1.0), repeat=3):
+            corners.append(data.geom_xpos[geom] + rotation @ (centre + np.array(signs) * half))
+    if not corners:
+        return np.array(data.xipos[body])
+    points = np.array(corners)
+    return np.asarray(0.5 * (points.min(axis=0) + points.max(axis=0)))
 
 
 #: How close to the fixed jaw a one-jaw gripper's moving jaw must close, as a share of
@@ -293,9 +310,10 @@ def _linkage_gripper(
         return None
     change, first, second = best
     opened, closed = (high, low) if change > 0 else (low, high)
-    at_closed = place(closed)
+    place(closed)
     rotation = data.xmat[hand].reshape(3, 3)
-    tcp = rotation.T @ (0.5 * (at_closed[first] + at_closed[second]) - data.xpos[hand])
+    middle = 0.5 * (_finger_centre(model, data, index, first) + _finger_centre(model, data, index, second))
+    tcp = rotation.T @ (middle - data.xpos[hand])
     ends = [(opened, closed)] + [(coupled[j].follow(opened), coupled[j].follow(closed)) for j in ids[1:]]
     gripper = Gripper(
         name="gripper",

@@ -12,7 +12,11 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   above its shoulder keeps its heading).
 - **Placement**: the robot stands on the table top, at its own ``mount_pose`` above
   it, moved so that its default keyframe's tool is above the world origin: the
-  *workspace centre*, where cubes and goals are drawn around. The table top is at
+  *workspace centre*, where cubes and goals are drawn around. An arm that turns on a
+  hinge and whose default keyframe holds the tool up (within :data:`UPRIGHT_SHARE`
+  ``R`` of its shoulder, horizontally: the pose every joint at zero gives most model
+  files) has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the
+  built-in arms rest their tools 0.25-0.65 R ahead). The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
@@ -44,6 +48,7 @@ import numpy.typing as npt
 
 from robot_agents.agent import Agent
 from robot_agents.agent.derived import colliding_geoms
+from robot_agents.agent.index import JointKind
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import z_rotation_quat
 from robot_agents.model.scene import Prop
@@ -72,6 +77,11 @@ TOOL_ABOVE_TABLE = 0.25
 #: Mobile robots: clearance between the base's turning circle and the table, and
 #: between a cube drawn nearest the robot and the table's edge, as shares of the reach.
 TABLE_CLEARANCE = 0.02
+#: An arm whose rest tool lies within this share of the reach of its shoulder,
+#: horizontally, holds it up (the built-in arms rest it 0.25-0.65 R ahead) ...
+UPRIGHT_SHARE = 0.2
+#: ... and gets its workspace centre this share of the reach ahead of its shoulder.
+UPRIGHT_AHEAD = 0.5
 #: Geoms lower than the table top plus this (m) sweep the floor around the table.
 LOW_GEOM_MARGIN = 0.01
 
@@ -195,6 +205,8 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             raise ConfigError(f"{where}: the end effector does not move away from the arm's first joint.")
         ahead = (rest_tcp - shoulder)[:2]
         yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
+        # an arm turning on a hinge with its tool held up: the workspace lies ahead of it
+        upright_turning = np.linalg.norm(ahead) < UPRIGHT_SHARE * reach and joints[0].kind is JointKind.HINGE
         base = next((p for p in agent.parts_by_name.values() if isinstance(p, Base)), None)
         if base is not None:
             turn_joint = agent.index.joint(agent.part_joints[base.name][-1], where)
@@ -215,6 +227,9 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     mujoco.mju_rotVecQuat(rest_turned, rest_tcp, turn)
     centre = rest_turned.copy()
     turning_radius = 0.0
+    if base is None and upright_turning:
+        mujoco.mju_rotVecQuat(centre, shoulder, turn)
+        centre[0] += UPRIGHT_AHEAD * reach
     if base is None:
         table_height = TABLE_HEIGHT * reach
         shift = np.array([-centre[0], -centre[1], table_height])

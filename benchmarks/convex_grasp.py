@@ -14,15 +14,16 @@ the hand over the hold, the deepest penetration during the hold, the jaw drive's
 and the largest contact normal force on the cube at the end, and the bodies touching
 the cube at the end.
 
-``--pads`` declares the built-in Panda's fingertip contact on the jaw's and the hand's
-geoms (``link_materials`` of :data:`PAD`: ``solref`` 0.002 s, which MuJoCo raises to two
-physics steps, ``solimp`` 0.95 0.99 0.001, priority over the cube), which the derived
-gripper of a file does not get. MuJoCo's contacts are soft (``ra.FrictionMaterial``'s
-docstring): at rest a contact pressed with force F sinks about ``(1 - d) / d * F / (m k)``
-deep, so a light cube under a strong squeeze sinks into the jaws.
+The derived gripper's jaws have the built-in Panda's stiff fingertip contact
+(``solref`` 0.002 s, which MuJoCo raises to two physics steps, ``solimp`` 0.95 0.99 0.001,
+priority over the cube: ``robot_spec.set_pad_contact``). ``--soft`` declares MuJoCo's
+default contact on them instead (``link_materials`` of :data:`SOFT`), as a file's gripper
+had before 2026-11-28: MuJoCo's contacts are soft (``ra.FrictionMaterial``'s docstring),
+pressed with force F a contact at rest sinks ``(1 - d) (F / m) timeconst^2`` deep, so a
+light cube under a squeeze sinks into soft jaws.
 
 Usage: ``python benchmarks/convex_grasp.py PATH/z1.urdf [--edges 0.012 0.016 0.02 0.024]
-[--depth 0.015] [--open -0.9] [--pads] [--plain]`` (example-robot-data's Unitree Z1: ``pip download
+[--depth 0.015] [--open -0.9] [--soft] [--plain]`` (example-robot-data's Unitree Z1: ``pip download
 --no-deps example-robot-data``; the decomposition is cached, see ``robot_agents.model.decompose``).
 """
 
@@ -40,27 +41,26 @@ from robot_agents.parts.declaration import Arm, Gripper
 
 SECONDS = 2.0
 RAMP = 1.0  # rad/s
-#: The built-in Panda's fingertip contact (``robots/panda/assets/panda_defaults.xml``:
-#: ``solref`` 0.002 s, ``solimp`` 0.95 0.99 0.001), as a material a file's robot can declare.
-PAD = ra.FrictionMaterial(solref=(0.002, 1.0), solimp=(0.95, 0.99, 0.001))
+#: MuJoCo's default contact (``solref`` 0.02 s, ``solimp`` 0.9 0.95 0.001), declared on the jaws.
+SOFT = ra.FrictionMaterial(solref=(0.02, 1.0), solimp=(0.9, 0.95, 0.001))
 
 
-def robot(path: Path, decomposed: bool, pads: bool = False) -> type[ra.Agent]:
+def robot(path: Path, decomposed: bool, soft: bool = False) -> type[ra.Agent]:
     """The two-line robot of ``path``; ``decomposed``: with ``convex_decomposition``;
-    ``pads``: the jaw's and the hand's colliding geoms get :data:`PAD`."""
+    ``soft``: the jaw's and the hand's colliding geoms get :data:`SOFT`."""
     attributes: dict[str, object] = {"uid": f"{path.stem}_{'convex' if decomposed else 'plain'}", "urdf_path": path}
     if decomposed:
         attributes["convex_decomposition"] = True
     cls = type("Convex" if decomposed else "Plain", (ra.Agent,), attributes)
-    if not pads:
+    if not soft:
         return cls
     checked = cls.check()
     arm = next(p for p in checked.parts if isinstance(p, Arm))
     gripper = next(p for p in checked.parts if isinstance(p, Gripper))
     model = cls.build_spec().compile()
     jaw_body = model.body(model.jnt_bodyid[model.joint(checked.part_joints[gripper.name][0]).id]).name
-    materials = {jaw_body: PAD, arm.end_effectors[0].link: PAD}
-    return type(f"{cls.__name__}Pads", (cls,), {"uid": f"{cls.uid}_pads", "link_materials": materials})
+    materials = {jaw_body: SOFT, arm.end_effectors[0].link: SOFT}
+    return type(f"{cls.__name__}Soft", (cls,), {"uid": f"{cls.uid}_soft", "link_materials": materials})
 
 
 def run(cls: type[ra.Agent], edge: float, depth: float, opened: float) -> str:
@@ -162,20 +162,18 @@ def main() -> None:
     parser.add_argument("--edges", type=float, nargs="*", default=[0.012, 0.016, 0.02, 0.024], help="cube edges (m)")
     parser.add_argument("--depth", type=float, default=0.015, help="cube centre from the tool point into the mouth (m)")
     parser.add_argument("--open", type=float, default=-0.9, help="the jaw's angle before closing (rad)")
-    parser.add_argument("--pads", action="store_true", help="the jaws get the Panda's fingertip contact parameters")
+    parser.add_argument("--soft", action="store_true", help="the jaws get MuJoCo's default contact parameters")
     parser.add_argument("--plain", action="store_true", help="also run without the decomposition")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    print(
-        f"contact: {'the Panda fingertip pads on the jaws' if args.pads else 'as the file gives it (MuJoCo defaults)'}"
-    )
+    print(f"contact: {'MuJoCo defaults on the jaws' if args.soft else 'the derived gripper pads'}")
     print(
         "| decomposed | cube edge (mm) | penetration at start (mm) | jaw after closing (rad) | slip over 2 s hold (mm) "
         "| deepest penetration in the hold (mm) | jaw torque (N*m) | largest contact force (N) | touching at the end |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     for decomposed in (False, True) if args.plain else (True,):
-        cls = robot(args.path.resolve(), decomposed, args.pads)
+        cls = robot(args.path.resolve(), decomposed, args.soft)
         for edge in args.edges:
             print(run(cls, edge, args.depth, args.open), flush=True)
 

@@ -449,6 +449,8 @@ APPROACH, DESCEND, CLOSE, RAISE, CARRY = range(5)
 SPEED = 0.05
 #: How far below the cube's centre the grasp point goes, in cube edges.
 DEPTH = 0.2
+#: How far above the table the open fingers' tips stay while the tool descends (m).
+TIP_CLEARANCE = 0.002
 
 
 def record(env: Any, frames: list[np.ndarray] | None) -> None:
@@ -527,6 +529,8 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         lifted = cube.copy()
         lifted[:, 2] = np.maximum(env.goal_pos[:, 2], rest_z + edge)
         deeper = cube - DEPTH * edge * np.array([0.0, 0.0, 1.0])
+        # the fingertips stay above the table (they would press on it and stall the fingers)
+        deeper[:, 2] = np.maximum(deeper[:, 2], layout.table_height + geometry.tip_reach + TIP_CLEARANCE)
         cube_at = np.where((stage == RAISE)[:, None], lifted, env.goal_pos)  # where the cube goes next
         target = np.where((stage == APPROACH)[:, None], cube + above, deeper)
         target = np.where((stage == CLOSE)[:, None], grasp_at, target)

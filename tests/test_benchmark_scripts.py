@@ -110,15 +110,15 @@ def test_friction_drives_lists_a_files_frictional_joints(tmp_path: Path) -> None
 
 def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
     """The script on the one-jaw fixture of test_derived_gripper (boxes only: nothing to
-    split, so both runs print the same row), and with the pads declared as a material
-    (the jaws' geoms get them); its figures in the docs come from the Z1."""
+    split, so both runs print the same row), and with MuJoCo's default contact declared
+    on the jaws; its figures in the docs come from the Z1."""
     from tests.test_derived_gripper import one_jaw, urdf
 
     path = tmp_path / "one_jaw.urdf"
     path.write_text(urdf(one_jaw()))
     env = {**os.environ, "ROBOT_AGENTS_CACHE": str(tmp_path / "cache")}
     outputs = []
-    for extra in ("--plain", "--pads"):
+    for extra in ("--plain", "--soft"):
         run = subprocess.run(
             [sys.executable, "convex_grasp.py", str(path), "--edges", "0.01", "--open", "-0.5", "--depth", "0", extra],
             cwd=BENCHMARKS,
@@ -132,7 +132,7 @@ def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
         outputs.append(run.stdout)
     rows = [line for line in outputs[0].splitlines() if line.startswith(("| no | 10 |", "| yes | 10 |"))]
     assert len(rows) == 2 and rows[0].split("|")[3:] == rows[1].split("|")[3:], outputs[0]
-    assert "the Panda fingertip pads on the jaws" in outputs[1], outputs[1]
+    assert "MuJoCo defaults on the jaws" in outputs[1], outputs[1]
     assert len([line for line in outputs[1].splitlines() if line.startswith("| yes | 10 |")]) == 1, outputs[1]
 
 

@@ -5,6 +5,7 @@ checked against the geometry, and the derived drive opens and closes the fingers
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 
@@ -402,3 +403,35 @@ def test_mjcf_one_jaw_and_linkage_with_round_geoms(tmp_path: Path) -> None:
     assert opening_after(scene, -1.0, 60) < 0.05
     closed = finger_distance(scene, ("left_finger", "right_finger"))
     assert opened - closed == pytest.approx(2 * 0.03 * np.sin(0.8), abs=2e-3)
+
+
+def test_a_derived_gripper_gets_pads_and_its_motors_force(tmp_path: Path) -> None:
+    """The sliding fingers (20 N effort limit in the file, 4 cm stroke, 50 g each): their
+    colliding geoms get the built-in Panda's stiff fingertip contact with priority, the
+    file's friction kept; the finger drive presses with the whole effort limit a full
+    stroke from its target (kp 20 / 0.04 = 500 N/m, where 10 Hz on the finger alone
+    gave 0.05 * (2 pi 10)^2 = 197 N/m); a link_materials entry wins over the pads."""
+    cls = robot(tmp_path, urdf(slide_fingers(mimic=True)))
+    checked = cls.check()
+    assert checked.derived_pads == ("left_finger", "right_finger")
+    assert checked.derived_gains is not None
+    kp, kv, effort = checked.derived_gains["left_joint"]
+    assert kp == pytest.approx(20.0 / 0.04) and effort == 20.0
+    assert kv == pytest.approx(2.0 * math.sqrt(kp * 0.05), rel=1e-3)  # critical on the 50 g finger
+    scene = reset_scene(cls)
+    model = scene.model
+    for g in range(model.ngeom):
+        body = model.body(model.geom_bodyid[g]).name.split("/")[-1]
+        if not (model.geom_contype[g] or model.geom_conaffinity[g]) or body == "world":
+            continue
+        finger = body in ("left_finger", "right_finger")
+        assert model.geom_priority[g] == (1 if finger else 0), body
+        np.testing.assert_array_equal(model.geom_solref[g], [0.002, 1.0] if finger else [0.02, 1.0])
+        np.testing.assert_array_equal(model.geom_friction[g], [1.0, 0.005, 0.0001])
+    soft = ra.FrictionMaterial(sliding=0.8)
+    declared = type("Declared", (cls,), {"uid": "gripper_declared", "link_materials": {"left_finger": soft}})
+    model = reset_scene(declared).model
+    left = [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.endswith("/left_finger")]
+    right = [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.endswith("/right_finger")]
+    assert all(model.geom_priority[g] == 0 and model.geom_friction[g, 0] == 0.8 for g in left)
+    assert all(model.geom_priority[g] == 1 for g in right)

@@ -46,7 +46,7 @@ integrates, and far beyond that bound a stance bounces on its feet.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -206,6 +206,32 @@ def gains_over_configurations(
     damping = np.where(free, 2.0 * damping_ratio * largest * omega, 2.0 * damping_ratio * np.sqrt(cap * largest))
     stiffness, damping = np.maximum(stiffness, first.stiffness), np.maximum(damping, first.damping)
     return replace(first, stiffness=stiffness, damping=damping, inertia=largest, least_inertia=least)
+
+
+def grip_gains(
+    gains: SuggestedGains, strokes: Mapping[str, float], timestep: float
+) -> tuple[SuggestedGains, tuple[str, ...]]:
+    """``gains`` with each gripper joint of ``strokes`` (joint -> its open-to-closed
+    travel, rad or m) stiff enough to press with its whole effort limit when commanded
+    a full stroke past where it stands: ``kp >= effort / stroke``, so a grasp holds
+    with the force the file's motor gives, not with what a 10 Hz spring on a light
+    finger gives (a Panda finger of 15 g: 59 N/m, 1.4 N on a 4 cm cube); at most
+    :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound (``timestep`` in s),
+    damping critical for the new stiffness. Joints without an effort limit keep their
+    gains. Returns the gains and the joints stiffened."""
+    cap = _stiffness_cap(gains, timestep)
+    stiffness, damping = gains.stiffness.copy(), gains.damping.copy()
+    raised = []
+    for i, joint in enumerate(gains.joints):
+        stroke, effort = strokes.get(joint), gains.effort_limit[i]
+        if stroke is None or not stroke > 0.0 or not math.isfinite(effort):
+            continue
+        wanted = min(effort / stroke, cap[i])
+        if wanted > stiffness[i]:
+            stiffness[i] = wanted
+            damping[i] = max(damping[i], 2.0 * gains.damping_ratio * math.sqrt(wanted * gains.inertia[i]))
+            raised.append(joint)
+    return replace(gains, stiffness=stiffness, damping=damping), tuple(raised)
 
 
 def _stiffness_cap(gains: SuggestedGains, timestep: float) -> npt.NDArray[np.float64]:

@@ -24,12 +24,12 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.config import ActuatorConfig
-from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations
+from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations, grip_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
 from robot_agents.agent.derived_task_space import derive_task_space
-from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
@@ -269,14 +269,16 @@ def _build(
     compiler: CompilerSettings | None = None,
     exclusions: Sequence[tuple[str, str]] = (),
     quiet: bool = False,
+    pads: Sequence[str] = (),
 ) -> tuple[mujoco.MjSpec, list[DriveDeclaration]]:
     """The robot's spec and drives. ``quiet``: without the load notes (dropped meshes,
     bodies and shapes, replaced actuators), which :func:`check` gives once per class;
-    every later build of the same robot would repeat them."""
+    every later build of the same robot would repeat them. ``pads``: bodies that get
+    stiff pad contact (a derived gripper's fingers, :attr:`CheckedRobot.derived_pads`)."""
     if quiet:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            return _build(cls, cameras, derived, compiler, exclusions)
+            return _build(cls, cameras, derived, compiler, exclusions, pads=pads)
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
@@ -286,6 +288,7 @@ def _build(
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
+    robot_spec.set_pad_contact(spec, [b for b in pads if b not in parts.link_materials], where)
     robot_spec.set_self_collisions(
         spec, cls.disable_self_collisions, (*parts.self_collision_exclusions, *exclusions), where
     )
@@ -303,7 +306,15 @@ def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | Non
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
     checked = check(cls)
-    return _build(cls, cameras, checked.derived_gains, checked.compiler, checked.derived_exclusions, quiet=True)[0]
+    return _build(
+        cls,
+        cameras,
+        checked.derived_gains,
+        checked.compiler,
+        checked.derived_exclusions,
+        quiet=True,
+        pads=checked.derived_pads,
+    )[0]
 
 
 @dataclass(frozen=True)
@@ -329,6 +340,10 @@ class CheckedRobot:
             ``mount_pose``; for a fixed-base robot that declares none and would reach
             more than 5 mm into the floor at its default keyframe (a hand, a gripper),
             raised to rest 1 mm above it.
+        derived_pads: the finger bodies of a gripper the file implies, whose colliding
+            geoms get the built-in Panda's stiff fingertip contact
+            (:func:`robot_agents.model.robot_spec.set_pad_contact`; a body the robot
+            gives a ``link_materials`` entry keeps that instead).
     """
 
     index: RobotIndex
@@ -342,6 +357,7 @@ class CheckedRobot:
     compiler: CompilerSettings | None = None
     derived_exclusions: tuple[tuple[str, str], ...] = ()
     mount_pose: tuple[float, ...] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    derived_pads: tuple[str, ...] = ()
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
@@ -423,6 +439,21 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             gains = gains_over_configurations(model, driven_joints, configurations, timestep)
         else:  # a floating robot: gains at its pose (its stance stiffens the legs below)
             gains = gains_from_inertia(model, driven_joints, full)
+        # sliding fingers press with their motor's force, not a light finger's spring (hinged
+        # jaws and linkages keep their inertia gains: their torque reaches the object
+        # through levers, and a linkage's loop gives under a full-effort squeeze)
+        strokes: dict[str, float] = {}
+        for gripper in (p for p in parts if isinstance(p, Gripper)):
+            names = part_joints[gripper.name]
+            opened, closed = gripper.positions(len(names))
+            strokes.update(
+                {
+                    j: float(abs(o - c))
+                    for j, o, c in zip(names, opened, closed, strict=True)
+                    if index.joint(j, name).kind is JointKind.SLIDE
+                }
+            )
+        gains, _ = grip_gains(gains, strokes, timestep)
         # dry friction in the file (frictionloss) would stall inertia gains short of their targets
         gains, capped = friction_gains(gains, timestep)
         if capped:
@@ -512,6 +543,11 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         compiler,
         exclusions,
         mount,
+        derived_pads=tuple(
+            dict.fromkeys(
+                link for p in parts if inferred and isinstance(p, Gripper) for f in p.finger_links for link in f
+            )
+        ),
     )
     _CHECKED[cls] = checked
     return checked

@@ -12,6 +12,11 @@ from robot_agents.validation import check_vector, is_real
 #: MuJoCo's ``priority`` a geom gets when its material sets ``solref`` or ``solimp``, so
 #: that its values win the mix against a geom of lower priority (a prop, a file's default).
 STIFF_PRIORITY = 1
+#: The contact of the built-in Panda's fingertips (``robots/panda/assets/panda_defaults.xml``),
+#: which a gripper a model file implies gets on its fingers (``solref``: MuJoCo raises the
+#: 0.002 s to two physics steps; ``solimp``: impedance 0.95 at contact, 0.99 past 1 mm).
+PAD_SOLREF = (0.002, 1.0)
+PAD_SOLIMP = (0.95, 0.99, 0.001)
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError, UnknownNameError
 from robot_agents.model.dropping import drop_with_dependents
-from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.materials import PAD_SOLIMP, PAD_SOLREF, STIFF_PRIORITY, FrictionMaterial
 
 #: Name of the free joint added to a free-floating robot's root body.
 ROOT_FREE_JOINT = "root_free_joint"
@@ -175,6 +175,23 @@ def set_materials(
         for geom in body.geoms:
             if geom.contype or geom.conaffinity:
                 material.apply(geom)
+
+
+def set_pad_contact(spec: mujoco.MjSpec, bodies: Iterable[str], where: str) -> None:
+    """Give the colliding geoms of ``bodies`` (a derived gripper's fingers) stiff pad
+    contact: ``priority`` :data:`~robot_agents.model.materials.STIFF_PRIORITY` with
+    :data:`~robot_agents.model.materials.PAD_SOLREF` and
+    :data:`~robot_agents.model.materials.PAD_SOLIMP`; their friction stays the file's."""
+    names = set(bodies)
+    _check_names(where, "body (gripper fingers)", names, [b.name for b in robot_bodies(spec)])
+    for body in robot_bodies(spec):
+        if body.name not in names:
+            continue
+        for geom in body.geoms:
+            if geom.contype or geom.conaffinity:
+                geom.priority = STIFF_PRIORITY
+                geom.solref = list(PAD_SOLREF)
+                geom.solimp = [*PAD_SOLIMP, 0.5, 2.0]
 
 
 def set_self_collisions(

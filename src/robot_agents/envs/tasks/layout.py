@@ -36,6 +36,7 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
 
 from __future__ import annotations
 
+import itertools
 import math
 import weakref
 from collections.abc import Sequence
@@ -98,12 +99,16 @@ class GripperGeometry:
             the approach axis.
         approach_axis: unit vector from the arm's last joint to the tool point: the way
             the fingers point.
+        tip_reach: how far the open fingers' colliding geometry reaches past the grasp
+            point along the approach axis (m): a grasp from above keeps the grasp point
+            at least this high over the table.
     """
 
     opening: float
     grasp_point: tuple[float, float, float]
     closing_axis: tuple[float, float, float]
     approach_axis: tuple[float, float, float]
+    tip_reach: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -315,12 +320,13 @@ def _gripper_geometry(
     mujoco.mj_kinematics(model, data)
     probe_geom = model.geom("layout_probe").id
     radius = float(model.geom_size[probe_geom, 0])
-    nearest_points, gaps = [], []
+    nearest_points, gaps, finger_geoms = [], [], []
     for finger in gripper.finger_links[:2]:
         bodies = {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, where))}
         geoms = colliding_geoms(model, bodies)
         if not geoms:
             return None
+        finger_geoms.extend(geoms)
         best, best_point = np.inf, np.zeros(3)
         fromto = np.zeros(6)
         for g in geoms:
@@ -343,9 +349,20 @@ def _gripper_geometry(
     closing -= approach * float(closing @ approach)
     closing /= max(float(np.linalg.norm(closing)), 1e-9)
     grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
+    # the fingers' farthest reach along the approach axis (their geoms' box corners)
+    grasp_world = point[:3] + rotation.reshape(3, 3) @ grasp
+    approach_world = rotation.reshape(3, 3) @ approach
+    reach_past = 0.0
+    for g in finger_geoms:
+        centre, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
+        axes = data.geom_xmat[g].reshape(3, 3)
+        for signs in itertools.product((-1.0, 1.0), repeat=3):
+            corner = data.geom_xpos[g] + axes @ (centre + np.array(signs) * half)
+            reach_past = max(reach_past, float((corner - grasp_world) @ approach_world))
     return GripperGeometry(
         opening=opening,
         grasp_point=tuple(grasp.tolist()),
         closing_axis=tuple(closing.tolist()),
         approach_axis=tuple(approach.tolist()),
+        tip_reach=reach_past,
     )

@@ -363,15 +363,14 @@ class _BridgeWidowX250S(WidowX250S):
     sim_freq = 800
     task_limits: ClassVar[Mapping[str, str]] = {
         "PickCube-v1": (
-            "the generic scripted solver succeeds in 0-1 of 20 seeds with the Bridge setups' tuned "
-            "drives (measured; the plain widowx250s: 20/20, with only the Bridge arm drives 2/20, with "
-            "only the Bridge finger drive 13/20): the arm's overdamped joints (kd/kp 0.16-0.28 s, unequal) swerve the "
-            "tool ~6 cm sideways on the way down, the fingertips (22 mm past the TCP) land on the "
-            "table and its friction holds the tool off the cube's centre for the rest of the "
-            "descent, and cubes that are grasped slip out during the raise under the tuned finger "
-            "drive (kp 1000 N/m: ~5 N of squeeze); waiting for the tool to stop before closing, "
-            "holding new targets while the tool lags and keeping the fingertips above the table "
-            "reach 0-5 of 20"
+            "the generic scripted solver succeeds in 6-7 of 20 seeds with the Bridge setups' tuned "
+            "drives (measured 2026-11-28, with the solver keeping the fingertips 2 mm above the table: "
+            "flat table 7/20, sink 6/20; 0-1 of 20 before; the plain widowx250s: 20/20, with only the "
+            "Bridge arm drives 2/20, with only the Bridge finger drive 13/20); measured before the tip clearance: the arm's overdamped joints "
+            "(kd/kp 0.16-0.28 s, unequal) swerve the tool ~6 cm sideways on the way down, and cubes that "
+            "are grasped slip out during the raise under the tuned finger drive (kp 1000 N/m: ~5 N of "
+            "squeeze); waiting for the tool to stop before closing and holding new targets while the "
+            "tool lags reached 0-5 of 20"
         )
     }
 

@@ -13,7 +13,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.checks import check_random_actions
 from robot_agents.controllers.rules import EE_MODES
-from robot_agents.envs.tasks.layout import UPRIGHT_AHEAD, table_top_layout
+from robot_agents.envs.tasks.layout import STRETCHED_SHARE, UPRIGHT_AHEAD, table_top_layout
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import quat_angle, quat_conjugate, quat_multiply, quat_to_rotvec
 from tests.ik_check import assert_ik_reaches_random_targets
@@ -30,10 +30,10 @@ JOINTS = (
 BASE_HEIGHT = 0.1
 
 
-def arm_urdf(joints: int, elbow: tuple[float, float] | None = None) -> str:
+def arm_urdf(joints: int, elbow: tuple[float, float] | None = None, shoulder: tuple[float, float] | None = None) -> str:
     """A serial arm of the first ``joints`` of :data:`JOINTS`: each link a box along z
     of its length (1 kg per metre), each joint at the top of the previous link;
-    ``elbow``: the elbow's limits (rad) instead of ``±2.5``."""
+    ``elbow`` / ``shoulder``: those joints' limits (rad) instead of the table's."""
     links = [
         '<link name="base"><inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
         f'<collision><origin xyz="0 0 {BASE_HEIGHT / 2}"/><geometry><box size="0.1 0.1 {BASE_HEIGHT}"/></geometry></collision></link>'
@@ -41,7 +41,8 @@ def arm_urdf(joints: int, elbow: tuple[float, float] | None = None) -> str:
     parts, parent, offset = [], "base", BASE_HEIGHT
     for name, axis, limit, length in JOINTS[:joints]:
         child = f"{name}_link"
-        low, high = elbow if name == "elbow" and elbow is not None else (-limit, limit)
+        given = {"elbow": elbow, "shoulder": shoulder}.get(name)
+        low, high = given if given is not None else (-limit, limit)
         mass = max(length, 0.05)
         inertia = mass * length**2 / 12 + 1e-4
         links.append(
@@ -59,9 +60,11 @@ def arm_urdf(joints: int, elbow: tuple[float, float] | None = None) -> str:
     return f'<robot name="arm{joints}">{"".join(links)}{"".join(parts)}</robot>'
 
 
-def two_line(tmp_path: Path, joints: int, elbow: tuple[float, float] | None = None) -> type[ra.Agent]:
+def two_line(
+    tmp_path: Path, joints: int, elbow: tuple[float, float] | None = None, shoulder: tuple[float, float] | None = None
+) -> type[ra.Agent]:
     path = tmp_path / f"arm{joints}.urdf"
-    path.write_text(arm_urdf(joints, elbow))
+    path.write_text(arm_urdf(joints, elbow, shoulder))
     return type(f"Arm{joints}", (ra.Agent,), {"uid": f"derived_arm{joints}", "urdf_path": path})
 
 
@@ -199,3 +202,14 @@ def test_an_upright_arm_faces_a_workspace_ahead_of_it(tmp_path: Path) -> None:
     shoulder_x = layout.robot_pose[0]  # the shoulder is on the root's vertical axis
     assert layout.rest_tcp[0] == pytest.approx(shoulder_x, abs=1e-6)  # the tool straight above it
     assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)  # centre at the origin
+
+
+def test_a_stretched_arm_faces_a_workspace_within_reach(tmp_path: Path) -> None:
+    """An arm whose default keyframe holds it stretched out near the horizontal (its
+    shoulder's range [1.5, 1.7] rad excludes zero: 1.52 rad by default, as the Koch's
+    file lies stretched out): the workspace centre 0.5 reach ahead too, not under the
+    tool at the end of its reach."""
+    layout = table_top_layout(two_line(tmp_path, 6, shoulder=(1.5, 1.7)))
+    shoulder_x = layout.robot_pose[0]
+    assert layout.rest_tcp[0] - shoulder_x > STRETCHED_SHARE * layout.reach
+    assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)

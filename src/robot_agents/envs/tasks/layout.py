@@ -15,8 +15,9 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   *workspace centre*, where cubes and goals are drawn around. An arm that turns on a
   hinge and whose default keyframe holds the tool up (within :data:`UPRIGHT_SHARE`
   ``R`` of its shoulder, horizontally: the pose every joint at zero gives most model
-  files) has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the
-  built-in arms rest their tools 0.25-0.65 R ahead). The table top is at
+  files) or stretched out (farther than :data:`STRETCHED_SHARE` ``R``: the Koch's file)
+  has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the built-in
+  arms rest their tools 0.25-0.65 R ahead). The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
@@ -79,9 +80,12 @@ TOOL_ABOVE_TABLE = 0.25
 #: between a cube drawn nearest the robot and the table's edge, as shares of the reach.
 TABLE_CLEARANCE = 0.02
 #: An arm whose rest tool lies within this share of the reach of its shoulder,
-#: horizontally, holds it up (the built-in arms rest it 0.25-0.65 R ahead) ...
+#: horizontally, holds it up, and one whose rest tool lies farther than
+#: :data:`STRETCHED_SHARE` holds it stretched out (the built-in arms rest it 0.25-0.65 R
+#: ahead) ...
 UPRIGHT_SHARE = 0.2
-#: ... and gets its workspace centre this share of the reach ahead of its shoulder.
+STRETCHED_SHARE = 0.7
+#: ... and either gets its workspace centre this share of the reach ahead of its shoulder.
 UPRIGHT_AHEAD = 0.5
 #: Geoms lower than the table top plus this (m) sweep the floor around the table.
 LOW_GEOM_MARGIN = 0.01
@@ -211,7 +215,8 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         ahead = (rest_tcp - shoulder)[:2]
         yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
         # an arm turning on a hinge with its tool held up: the workspace lies ahead of it
-        upright_turning = np.linalg.norm(ahead) < UPRIGHT_SHARE * reach and joints[0].kind is JointKind.HINGE
+        off_centre = not UPRIGHT_SHARE * reach <= np.linalg.norm(ahead) <= STRETCHED_SHARE * reach
+        upright_turning = off_centre and joints[0].kind is JointKind.HINGE
         base = next((p for p in agent.parts_by_name.values() if isinstance(p, Base)), None)
         if base is not None:
             turn_joint = agent.index.joint(agent.part_joints[base.name][-1], where)

@@ -35,7 +35,8 @@ import numpy as np
 
 import robot_agents as ra
 from robot_agents.actuators.gains import gains_from_inertia
-from robot_agents.kinematics.rotations import quat_angle, quat_conjugate, quat_multiply, quat_to_rotvec
+from robot_agents.controllers.task_space import delta_action
+from robot_agents.kinematics.rotations import quat_angle
 
 REACH_SHARE = 0.8  # starting configurations: within this share of each joint's range
 STEP = 0.15  # the target configuration: at most this far per joint (rad or m)
@@ -85,11 +86,9 @@ def trial_row(path: Path, trials: int, keyframe_gains: bool) -> str:
         goal[columns] = np.clip(start[columns] + rng.uniform(-STEP, STEP, len(columns)), low, high)
         before = agent.frame_pose("ee", qpos=start, relative_to="root")[0]
         after = agent.frame_pose("ee", qpos=goal, relative_to="root")[0]
-        move = (after[:3] - before[:3]) / space.max_translation
-        turn = quat_to_rotvec(quat_multiply(after[3:], quat_conjugate(before[3:]))) / space.max_rotation
-        if np.abs(move).max() > 1 or (rotation and np.linalg.norm(turn) > 1):
+        action = delta_action(space, before, after, rotation)
+        if action is None:
             continue
-        action = np.concatenate([move, turn]) if rotation else move
         agent.reset(qpos=goal)
         if scene.world.datas[0].ncon:  # the target pose touches itself: not reachable
             continue

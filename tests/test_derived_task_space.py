@@ -13,9 +13,10 @@ import pytest
 import robot_agents as ra
 from robot_agents.checks import check_random_actions
 from robot_agents.controllers.rules import EE_MODES
+from robot_agents.controllers.task_space import delta_action
 from robot_agents.envs.tasks.layout import STRETCHED_SHARE, UPRIGHT_AHEAD, table_top_layout
 from robot_agents.kinematics.ik_config import POSITION_IK
-from robot_agents.kinematics.rotations import quat_angle, quat_conjugate, quat_multiply, quat_to_rotvec
+from robot_agents.kinematics.rotations import quat_angle
 from tests.ik_check import assert_ik_reaches_random_targets
 
 #: Joints of the written arm: name, axis, limit (rad), the next link's length along z (m).
@@ -105,8 +106,7 @@ def _one_step_targets(
     """``count`` (start qpos, action, target tool pose in the root frame): a random
     configuration within 80 % of the joint ranges, and the tool pose of one 0.15 rad
     (at most, per joint) away, so the target is reachable and near; kept when one
-    normalized delta action reaches it (translations within the per-axis bound, the
-    rotation vector within the bounds' ellipsoid)."""
+    normalized delta action reaches it (:func:`delta_action`)."""
     agent = scene.agents[0]
     rng = np.random.default_rng(seed)
     low, high = agent.qpos_limits[:, 0], agent.qpos_limits[:, 1]
@@ -117,11 +117,9 @@ def _one_step_targets(
         goal = np.clip(start + rng.uniform(-0.15, 0.15, len(start)), low, high)
         before = agent.frame_pose("ee", qpos=start, relative_to="root")[0]
         after = agent.frame_pose("ee", qpos=goal, relative_to="root")[0]
-        move = (after[:3] - before[:3]) / space.max_translation
-        turn = quat_to_rotvec(quat_multiply(after[3:], quat_conjugate(before[3:]))) / space.max_rotation
-        if np.abs(move).max() > 1 or (rotation and np.linalg.norm(turn) > 1):
-            continue
-        out.append((start, np.concatenate([move, turn]) if rotation else move, after))
+        action = delta_action(space, before, after, rotation)
+        if action is not None:
+            out.append((start, action, after))
     return out
 
 
@@ -213,3 +211,22 @@ def test_a_stretched_arm_faces_a_workspace_within_reach(tmp_path: Path) -> None:
     shoulder_x = layout.robot_pose[0]
     assert layout.rest_tcp[0] - shoulder_x > STRETCHED_SHARE * layout.reach
     assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)
+
+
+def test_delta_action_refuses_what_one_step_cannot_do() -> None:
+    space = ra.TaskSpace(
+        position_bounds=ra.WorkspaceBox((-1, -1, -1), (1, 1, 1)), max_translation=0.1, max_rotation=0.1
+    )
+    here = np.array([0.3, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0])
+    there = here.copy()
+    there[:3] += (0.05, -0.1, 0.0)
+    np.testing.assert_allclose(delta_action(space, here, there, rotation=False), [0.5, -1.0, 0.0])
+    there[0] += 0.06  # 0.11 m along x
+    assert delta_action(space, here, there) is None
+    turned = here.copy()
+    turned[3:] = (math.cos(0.04), 0.0, 0.0, math.sin(0.04))  # 0.08 rad about z
+    np.testing.assert_allclose(delta_action(space, here, turned), [0, 0, 0, 0, 0, 0.8], atol=1e-12)
+    turned[3:] = (math.cos(0.04), math.sin(0.04) / math.sqrt(2), 0.0, math.sin(0.04) / math.sqrt(2))
+    assert delta_action(space, here, turned) is not None  # 0.08 rad about a diagonal: inside the ellipsoid
+    turned[3:] = (math.cos(0.06), math.sin(0.06) / math.sqrt(2), 0.0, math.sin(0.06) / math.sqrt(2))
+    assert delta_action(space, here, turned) is None  # 0.12 rad: each axis 0.085, the norm past 0.1

@@ -5,9 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.ik_config import IKConfig
+from robot_agents.kinematics.rotations import quat_conjugate, quat_multiply, quat_to_rotvec
 
 
 @dataclass(frozen=True)
@@ -62,3 +64,25 @@ class TaskSpace:
         "pd_ee_target_delta_pose",
     )
     hold_orientation: bool = True
+
+
+def delta_action(
+    space: TaskSpace, before: npt.ArrayLike, after: npt.ArrayLike, rotation: bool = True
+) -> npt.NDArray[np.float64] | None:
+    """The normalized action of a delta end-effector mode that moves the tool from pose
+    ``before`` to pose ``after`` (each ``(7,)``: position m, quaternion ``w, x, y, z``, in
+    the command frame): ``[dx, dy, dz, rx, ry, rz]`` for ``pd_ee_delta_pose`` /
+    ``pd_ee_target_delta_pose`` (the turn about the command frame's axes through the
+    tool point), ``[dx, dy, dz]`` with ``rotation=False`` (the position modes); ``None``
+    when one action cannot: a translation past ``max_translation`` on an axis, or a turn
+    outside the ``max_rotation`` ellipsoid the controllers clip rotation vectors to."""
+    start, end = np.asarray(before, dtype=np.float64), np.asarray(after, dtype=np.float64)
+    move = (end[:3] - start[:3]) / space.max_translation
+    if np.abs(move).max() > 1.0:
+        return None
+    if not rotation:
+        return move
+    turn = quat_to_rotvec(quat_multiply(end[3:], quat_conjugate(start[3:]))) / space.max_rotation
+    if np.linalg.norm(turn) > 1.0:
+        return None
+    return np.concatenate([move, turn])

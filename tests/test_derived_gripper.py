@@ -435,3 +435,15 @@ def test_a_derived_gripper_gets_pads_and_its_motors_force(tmp_path: Path) -> Non
     right = [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.endswith("/right_finger")]
     assert all(model.geom_priority[g] == 0 and model.geom_friction[g, 0] == 0.8 for g in left)
     assert all(model.geom_priority[g] == 1 for g in right)
+
+
+def test_a_jaw_that_opens_a_little_past_its_widest_is_still_a_jaw(tmp_path: Path) -> None:
+    """The one-jaw fixture opened to -0.85 rad: its tip is farthest from the fixed jaw
+    near -0.75 rad (65 mm) and 4-5 mm closer at the stop, as the SO-100 file's jaw
+    (75.8 mm at 0.9 rad, 72.3 at its 1.1 rad stop). Growing by less than a tenth of the
+    open gap between samples it still closes steadily: a gripper, open at the stop (the
+    1 mm rule alone rejected it)."""
+    checked = robot(tmp_path, urdf(one_jaw(-0.85, 0.3))).check()
+    assert [type(p).__name__ for p in checked.parts] == ["Arm", "Gripper"]
+    gripper = checked.parts[1]
+    assert isinstance(gripper, Gripper) and gripper.open == (-0.85,) and gripper.closed == (0.3,)

@@ -250,6 +250,11 @@ JAW_CLOSED_SHARE = 0.25
 _SURFACE_GRID = 9
 #: Positions over a one-jaw gripper's range at which its gap must shrink steadily.
 _JAW_SAMPLES = 9
+#: How much a one-jaw gripper's gap may grow between two of those positions, as a share
+#: of its open gap: a jaw that opens a little past its widest (the SO-100's file: 75.8 mm
+#: at 0.9 rad, 72.3 mm at its 1.1 rad stop) still closes steadily; an elbow sweeping its
+#: tip past the fixed link does not (its gap grows by more).
+JAW_WIDENING_SHARE = 0.1
 
 
 def _linkage_gripper(
@@ -342,8 +347,9 @@ def _one_jaw_gripper(
     the gap is smallest, ``open`` the other. It is a gripper when the range is less than
     half a turn (a wrist or a flange turns more), the gap shrinks by at least
     :data:`MIN_FINGER_STROKE` to at most :data:`JAW_CLOSED_SHARE` of the open gap, and
-    steadily (it grows by less than :data:`MIN_FINGER_STROKE` between any two of
-    :data:`_JAW_SAMPLES` positions from open to closed), and the closed tip is farther
+    steadily (it grows by less than :data:`MIN_FINGER_STROKE`, or :data:`JAW_WIDENING_SHARE`
+    of the open gap, between any two of :data:`_JAW_SAMPLES` positions from open to
+    closed), and the closed tip is farther
     from the hand's origin than the hinge (the jaw closes forward, onto a fixed jaw past
     the hinge, not back onto the link it hangs from).
     Returns the part, the hand's name and the point where the closed jaws meet (the
@@ -394,7 +400,8 @@ def _one_jaw_gripper(
     if gap_open - gap_closed < MIN_FINGER_STROKE or gap_closed > JAW_CLOSED_SHARE * gap_open:
         return None
     gaps = [gap(float(v))[0] for v in np.linspace(opened, closed, _JAW_SAMPLES)]
-    if any(later > earlier + MIN_FINGER_STROKE for earlier, later in itertools.pairwise(gaps)):
+    slack = max(MIN_FINGER_STROKE, JAW_WIDENING_SHARE * gap_open)
+    if any(later > earlier + slack for earlier, later in itertools.pairwise(gaps)):
         return None  # the tip does not close steadily onto the fixed jaw
     _, tip, nearest = gap(closed)
     origin = data.xpos[hand]

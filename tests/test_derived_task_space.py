@@ -11,12 +11,15 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.actuators.gains import gains_from_inertia
+from robot_agents.agent.derived_drives import drive_configurations
 from robot_agents.checks import check_random_actions
 from robot_agents.controllers.rules import EE_MODES
 from robot_agents.controllers.task_space import delta_action
 from robot_agents.envs.tasks.layout import STRETCHED_SHARE, UPRIGHT_AHEAD, table_top_layout
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import quat_angle
+from robot_agents.sim.scene import DEFAULT_SIM_FREQ
 from tests.ik_check import assert_ik_reaches_random_targets
 
 #: Joints of the written arm: name, axis, limit (rad), the next link's length along z (m).
@@ -29,11 +32,20 @@ JOINTS = (
     ("flange_roll", "0 0 1", 2.8, 0.06),
 )
 BASE_HEIGHT = 0.1
+MOTOR_INERTIA = 0.01  # kg*m^2 each link adds about every axis (see arm_urdf)
 
 
-def arm_urdf(joints: int, elbow: tuple[float, float] | None = None, shoulder: tuple[float, float] | None = None) -> str:
+def arm_urdf(
+    joints: int,
+    elbow: tuple[float, float] | None = None,
+    shoulder: tuple[float, float] | None = None,
+    motor: float = MOTOR_INERTIA,
+    effort: float = 100.0,
+) -> str:
     """A serial arm of the first ``joints`` of :data:`JOINTS`: each link a box along z
-    of its length (1 kg per metre), each joint at the top of the previous link;
+    of its length (1 kg per metre) carrying the next joint's motor (``motor`` kg*m^2
+    about every axis: a housing and rotor, as a URDF's links give no armature), each
+    joint at the top of the previous link with an ``effort`` limit (N*m; 0: none);
     ``elbow`` / ``shoulder``: those joints' limits (rad) instead of the table's."""
     links = [
         '<link name="base"><inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
@@ -45,27 +57,32 @@ def arm_urdf(joints: int, elbow: tuple[float, float] | None = None, shoulder: tu
         given = {"elbow": elbow, "shoulder": shoulder}.get(name)
         low, high = given if given is not None else (-limit, limit)
         mass = max(length, 0.05)
-        inertia = mass * length**2 / 12 + 1e-4
+        inertia = mass * length**2 / 12 + motor
         links.append(
             f'<link name="{child}"><inertial><origin xyz="0 0 {length / 2}"/><mass value="{mass}"/>'
-            f'<inertia ixx="{inertia}" iyy="{inertia}" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial>'
+            f'<inertia ixx="{inertia}" iyy="{inertia}" izz="{motor}" ixy="0" ixz="0" iyz="0"/></inertial>'
             f'<collision><origin xyz="0 0 {length / 2}"/><geometry><box size="0.04 0.04 {length * 0.8}"/></geometry>'
             "</collision></link>"
         )
         parts.append(
             f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
             f'<origin xyz="0 0 {offset}"/><axis xyz="{axis}"/>'
-            f'<limit lower="{low}" upper="{high}" effort="100" velocity="3"/></joint>'
+            f'<limit lower="{low}" upper="{high}" effort="{effort}" velocity="3"/></joint>'
         )
         parent, offset = child, length
     return f'<robot name="arm{joints}">{"".join(links)}{"".join(parts)}</robot>'
 
 
 def two_line(
-    tmp_path: Path, joints: int, elbow: tuple[float, float] | None = None, shoulder: tuple[float, float] | None = None
+    tmp_path: Path,
+    joints: int,
+    elbow: tuple[float, float] | None = None,
+    shoulder: tuple[float, float] | None = None,
+    motor: float = MOTOR_INERTIA,
+    effort: float = 100.0,
 ) -> type[ra.Agent]:
     path = tmp_path / f"arm{joints}.urdf"
-    path.write_text(arm_urdf(joints, elbow, shoulder))
+    path.write_text(arm_urdf(joints, elbow, shoulder, motor, effort))
     return type(f"Arm{joints}", (ra.Agent,), {"uid": f"derived_arm{joints}", "urdf_path": path})
 
 
@@ -126,10 +143,10 @@ def _one_step_targets(
 @pytest.mark.parametrize(("joints", "mode"), [(6, "pd_ee_target_delta_pose"), (5, "pd_ee_target_delta_pos")])
 def test_one_delta_action_lands_on_a_reachable_target(tmp_path: Path, joints: int, mode: str) -> None:
     """From 20 random configurations, one delta action to a reachable pose near by, then
-    its target held 1 s: within 1 mm (and 1 deg for the 6-joint arm's pose). With the
-    drives derived at the default keyframe alone (the arm pointing up: its first joint
-    carries almost nothing there), 7 and 17 of 40 landed (2026-11-28); over the joints'
-    ranges, 40 of 40."""
+    its target held 1 s: within 1 mm (and 1 deg for the 6-joint arm's pose). (With bare
+    links, 1e-4 kg*m^2 about their axes, and the drives derived at the default keyframe
+    alone, 7 and 17 of 40 landed, 2026-11-28; the gains over the ranges and the motors'
+    inertia each make them land.)"""
     cls = two_line(tmp_path, joints)
     space = cls.check().parts[0].task_space  # type: ignore[union-attr]
     assert space is not None
@@ -153,10 +170,11 @@ def test_one_delta_action_lands_on_a_reachable_target(tmp_path: Path, joints: in
 
 
 def test_derived_drives_hold_over_the_whole_range(tmp_path: Path) -> None:
-    """The first joint, whose inertia at the default keyframe (pointing up) is a few
-    hundredths of what it carries stretched out: a 0.03 rad step there settles within
-    1 mrad in 0.5 s (at the keyframe's gains alone it swung on for seconds)."""
-    cls = two_line(tmp_path, 6)
+    """Bare links (1e-4 kg*m^2 about their axes) and no effort limit: the first joint's
+    inertia at the default keyframe (pointing up) is a few hundredths of what it carries
+    stretched out; a 0.03 rad step there settles within 1 mrad in 0.5 s (at the
+    keyframe's gains alone, 2.4 N*m/rad, it swung 9 mrad off after 0.5 s)."""
+    cls = two_line(tmp_path, 6, motor=1e-4, effort=0.0)
     scene = ra.Scene(cls, control_modes="pd_joint_pos", floor=False)
     agent = scene.agents[0]
     stretched = np.array([0.0, 1.5, 0.0, 0.0, 0.0, 0.0])  # the arm held out sideways
@@ -166,6 +184,33 @@ def test_derived_drives_hold_over_the_whole_range(tmp_path: Path) -> None:
         agent.set_action(target[None])
         scene.step()
     assert abs(agent.qpos[0, 0] - target[0]) < 1e-3, agent.qpos[0]
+
+
+def test_clamped_drives_keep_their_damping_explicitly_stable(tmp_path: Path) -> None:
+    """With effort limits, a clamped drive's damping is integrated explicitly: derived
+    gains keep ``kv dt / I`` within 1 (half the bound 2) at each joint's smallest
+    inertia over its ranges, as damped as that lets them be at the largest (critical
+    where it can; a stiffness that bound cannot damp falls back to the keyframe's: the
+    two-line Panda of the mani-skill wheel cycled its first joint at 3.6 rad/s under
+    random position+velocity targets without the bound: the sweep's settle claim)."""
+    cls = two_line(tmp_path, 6, motor=1e-4)
+    checked = cls.check()
+    model, joints = checked.index.model, [d.joint for d in checked.drives]
+    full = model.qpos0.copy()
+    full[checked.index.qpos_adr] = checked.keyframes["default"].qpos
+    configurations = drive_configurations(model, checked.index, joints, full)
+    each = [gains_from_inertia(model, joints, q) for q in configurations]
+    least, largest = np.min([g.inertia for g in each], axis=0), np.max([g.inertia for g in each], axis=0)
+    first = each[0]
+    assert checked.derived_gains is not None
+    dt = 1.0 / DEFAULT_SIM_FREQ
+    for i, joint in enumerate(joints):
+        kp, kv, _ = checked.derived_gains[joint]
+        bound = max(least[i] / dt, first.damping[i])  # never below the keyframe's own gains
+        assert kv <= bound * (1 + 1e-9), (joint, kv, least[i] / dt)
+        # as damped as the bound lets it be at the largest inertia (critical there where it can)
+        wanted = min(2.0 * math.sqrt(kp * largest[i]), bound)
+        assert kv == pytest.approx(max(wanted, first.damping[i]), rel=1e-6), (joint, kp, kv)
 
 
 def test_ik_reaches_random_targets_of_the_derived_arm(tmp_path: Path) -> None:

@@ -75,6 +75,10 @@ FRICTION_STALL = STANCE_SAG
 #: Share of the explicit-stiffness bound ``4 I / dt^2`` that stance gains stay below:
 #: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
 STANCE_STABLE_SHARE = 0.25
+#: The share of the clamped-damping bound ``kv dt / I < 2`` (at a joint's smallest
+#: inertia) that gains derived over configurations keep to, for joints with an effort
+#: limit (:func:`gains_over_configurations`).
+CLAMPED_DAMPING_SHARE = 0.5
 #: Share of the explicit-damping bound ``2 I_free / dt`` that a joint's whole damping in a
 #: stance (its drive's ``kv`` and the file's own ``b``) stays below: ``dt (kv + b) <= 2 I_free``.
 #: MuJoCo integrates damping implicitly, but its constraint solver sizes contact and
@@ -201,6 +205,11 @@ def gains_over_configurations(
     least = np.min([g.inertia for g in each], axis=0)
     omega = 2.0 * math.pi * bandwidth_hz
     cap = STANCE_STABLE_SHARE * 4.0 * least / timestep**2
+    # a joint with an effort limit: while its force is clamped MuJoCo integrates the
+    # damping explicitly, stable only for kv dt / I < 2 at its smallest inertia; keep
+    # kv within half that, and kp low enough to stay critically damped at the largest
+    damping_cap = np.where(np.isfinite(first.effort_limit), CLAMPED_DAMPING_SHARE * 2.0 * least / timestep, np.inf)
+    cap = np.minimum(cap, damping_cap**2 / (4.0 * damping_ratio**2 * largest))
     free = largest * omega**2 <= cap  # uncapped: the formulas of gains_from_inertia, at the largest inertia
     stiffness = np.where(free, largest * omega**2, cap)
     damping = np.where(free, 2.0 * damping_ratio * largest * omega, 2.0 * damping_ratio * np.sqrt(cap * largest))

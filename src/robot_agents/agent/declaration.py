@@ -367,10 +367,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     """Compile the robot alone and check its whole declaration against it (cached per class).
 
     What a robot does not declare is derived here: parts (a serial chain becomes an
-    arm whose last body is the end effector), a ``"default"`` keyframe (the file's own
-    keyframe or the model's pose clipped into the limits; a floating robot resting on
-    the floor), drives (PD gains from the model's inertia when neither the robot nor its
-    file has any), control modes (from the parts) and the default mode (a delta mode).
+    arm whose last body is the end effector, with a task space measured on it; fingers
+    at its end a gripper whose finger geoms get stiff pad contact), a ``"default"``
+    keyframe (the file's own keyframe or the model's pose, values outside the limits
+    moved inside them; a floating robot resting on the floor), drives (PD gains from
+    the model's inertia, over the joints' ranges for a fixed robot, when neither the
+    robot nor its file has any; sliding fingers pressing with their effort limit),
+    control modes (from the parts: joint and end-effector modes) and the default mode
+    (a delta mode).
 
     Raises:
         ConfigError / UnknownNameError / ModelError: what is wrong, where (the robot,

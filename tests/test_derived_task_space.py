@@ -19,7 +19,9 @@ from robot_agents.controllers.task_space import delta_action
 from robot_agents.envs.tasks.layout import STRETCHED_SHARE, UPRIGHT_AHEAD, table_top_layout
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import quat_angle
+from robot_agents.model.robot_spec import STOP_SOLREF
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ
+from tests.conftest import make_pendulum_class
 from tests.ik_check import assert_ik_reaches_random_targets
 
 #: Joints of the written arm: name, axis, limit (rad), the next link's length along z (m).
@@ -275,3 +277,19 @@ def test_delta_action_refuses_what_one_step_cannot_do() -> None:
     assert delta_action(space, here, turned) is not None  # 0.08 rad about a diagonal: inside the ellipsoid
     turned[3:] = (math.cos(0.06), math.sin(0.06) / math.sqrt(2), 0.0, math.sin(0.06) / math.sqrt(2))
     assert delta_action(space, here, turned) is None  # 0.12 rad: each axis 0.085, the norm past 0.1
+
+
+def test_a_derived_robot_gets_stiff_joint_stops(tmp_path: Path, pendulum_file: Path) -> None:
+    """A robot with derived drives: every limited joint gets ``robot_spec.STOP_SOLREF``
+    (the two-line Panda's joint 5 passed its stop by 0.51 rad under random targets at
+    MuJoCo's default 20 ms, 0.12 rad with it: the sweep's random claim); a robot that
+    declares its drives keeps the file's stops."""
+    scene = ra.Scene(two_line(tmp_path, 6), floor=False)
+    model = scene.model
+    limited = [j for j in range(model.njnt) if model.jnt_limited[j]]
+    assert len(limited) == 6
+    for j in limited:
+        np.testing.assert_array_equal(model.jnt_solref[j], STOP_SOLREF)
+    declared = ra.Scene(make_pendulum_class(pendulum_file), floor=False).model
+    for j in range(declared.njnt):
+        np.testing.assert_array_equal(declared.jnt_solref[j], [0.02, 1.0])

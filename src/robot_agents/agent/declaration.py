@@ -289,6 +289,8 @@ def _build(
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
     robot_spec.set_pad_contact(spec, [b for b in pads if b not in parts.link_materials], where)
+    if derived is not None:  # derived drives: the file's stops get stiff too
+        robot_spec.set_stiff_stops(spec)
     robot_spec.set_self_collisions(
         spec, cls.disable_self_collisions, (*parts.self_collision_exclusions, *exclusions), where
     )

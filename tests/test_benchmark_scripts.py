@@ -153,3 +153,25 @@ def test_derived_ee_modes_runs_on_a_written_arm(tmp_path: Path) -> None:
     )
     assert run.returncode == 0, run.stderr[-2000:]
     assert "| arm6.urdf | 6 |" in run.stdout and "| 3/3 |" in run.stdout, run.stdout
+
+
+def test_two_line_tasks_runs_on_a_written_arm(tmp_path: Path) -> None:
+    """The script on the six-joint arm of test_derived_task_space (no gripper: PickCube
+    names what it lacks); its figures in the docs come from the mani-skill wheel's arms."""
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "arm6.urdf"
+    path.write_text(arm_urdf(6))
+    run = subprocess.run(
+        [sys.executable, "two_line_tasks.py", str(path), "--seeds", "2"],
+        cwd=BENCHMARKS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    row = next(line for line in run.stdout.splitlines() if line.startswith("| arm6.urdf |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[1].startswith("- (") and "Gripper" in cells[1], row  # PickCube: no gripper
+    assert cells[2].endswith("/2") and cells[3].endswith("/2"), row  # PushCube and ReachPose ran

@@ -229,16 +229,12 @@ def _finger_centre(model: mujoco.MjModel, data: mujoco.MjData, index: RobotIndex
     """The centre (world, m) of the box around a finger's colliding geoms (its body and
     the bodies below it), as ``data`` places them: the middle of its pads, where a
     grasp holds an object; the finger's centre of mass when nothing on it collides."""
-    corners = []
-    for geom in colliding_geoms(model, index.subtree_bodies(body)):
-        centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
-        rotation = data.geom_xmat[geom].reshape(3, 3)
-        for signs in itertools.product((-1.0, 1.0), repeat=3):
-            corners.append(data.geom_xpos[geom] + rotation @ (centre + np.array(signs) * half))
-    if not corners:
+    boxes = [world_box(model, data, geom) for geom in colliding_geoms(model, index.subtree_bodies(body))]
+    if not boxes:
         return np.array(data.xipos[body])
-    points = np.array(corners)
-    return np.asarray(0.5 * (points.min(axis=0) + points.max(axis=0)))
+    lower = np.min([low for low, _ in boxes], axis=0)
+    upper = np.max([high for _, high in boxes], axis=0)
+    return np.asarray(0.5 * (lower + upper))
 
 
 #: How close to the fixed jaw a one-jaw gripper's moving jaw must close, as a share of
@@ -455,6 +451,22 @@ def colliding_geoms(model: mujoco.MjModel, bodies: Iterable[int]) -> list[int]:
         for g in range(model.ngeom)
         if int(model.geom_bodyid[g]) in chosen and (model.geom_contype[g] or model.geom_conaffinity[g])
     ]
+
+
+def geom_box(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A geom's bounding box (MuJoCo's ``geom_aabb``, in the geom's frame) as ``data``
+    places it: its centre in the world ``(3,)`` (m), the rotation of its axes ``(3, 3)``
+    and its half sizes ``(3,)`` (m)."""
+    rotation = data.geom_xmat[geom].reshape(3, 3)
+    return data.geom_xpos[geom] + rotation @ model.geom_aabb[geom, :3], rotation, model.geom_aabb[geom, 3:]
+
+
+def world_box(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> tuple[np.ndarray, np.ndarray]:
+    """The world axis-aligned box (lower, upper corners, m) around a geom's
+    :func:`geom_box` as ``data`` places it."""
+    centre, rotation, half = geom_box(model, data, geom)
+    extent = np.abs(rotation) @ half
+    return centre - extent, centre + extent
 
 
 def _world_points(model: mujoco.MjModel, data: mujoco.MjData, geoms: Sequence[int]) -> np.ndarray:

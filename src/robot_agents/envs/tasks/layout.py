@@ -37,7 +37,6 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
 
 from __future__ import annotations
 
-import itertools
 import math
 import weakref
 from collections.abc import Sequence
@@ -49,7 +48,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
-from robot_agents.agent.derived import colliding_geoms
+from robot_agents.agent.derived import colliding_geoms, geom_box, world_box
 from robot_agents.agent.index import JointKind
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import z_rotation_quat
@@ -290,10 +289,7 @@ def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) 
     bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
     boxes = []
     for g in colliding_geoms(model, bodies):
-        rotation = data.geom_xmat[g].reshape(3, 3)
-        centre = data.geom_xpos[g] + rotation @ model.geom_aabb[g, :3]
-        half = np.abs(rotation) @ model.geom_aabb[g, 3:]
-        boxes.append((centre - half, centre + half))
+        boxes.append(world_box(model, data, g))
     return boxes
 
 
@@ -354,16 +350,14 @@ def _gripper_geometry(
     closing -= approach * float(closing @ approach)
     closing /= max(float(np.linalg.norm(closing)), 1e-9)
     grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
-    # the fingers' farthest reach along the approach axis (their geoms' box corners)
+    # the fingers' farthest reach along the approach axis (their geoms' boxes)
     grasp_world = point[:3] + rotation.reshape(3, 3) @ grasp
     approach_world = rotation.reshape(3, 3) @ approach
     reach_past = 0.0
     for g in finger_geoms:
-        centre, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
-        axes = data.geom_xmat[g].reshape(3, 3)
-        for signs in itertools.product((-1.0, 1.0), repeat=3):
-            corner = data.geom_xpos[g] + axes @ (centre + np.array(signs) * half)
-            reach_past = max(reach_past, float((corner - grasp_world) @ approach_world))
+        centre, axes, half = geom_box(model, data, g)
+        farthest = (centre - grasp_world) @ approach_world + half @ np.abs(axes.T @ approach_world)
+        reach_past = max(reach_past, float(farthest))
     return GripperGeometry(
         opening=opening,
         grasp_point=tuple(grasp.tolist()),

@@ -95,8 +95,18 @@ class FrictionMaterial:
         ``solimp`` and ``priority`` when set)."""
         geom.friction = self.as_mujoco()
         if self.solref is not None or self.solimp is not None:
-            geom.priority = STIFF_PRIORITY
-            if self.solref is not None:
-                geom.solref = list(self.solref)
-            if self.solimp is not None:
-                geom.solimp = list(self.solimp) + ([0.5, 2.0] if len(self.solimp) == 3 else [])
+            set_contact_softness(geom, self.solref, self.solimp)
+
+
+def set_contact_softness(
+    geom: mujoco.MjsGeom, solref: tuple[float, ...] | None, solimp: tuple[float, ...] | None
+) -> None:
+    """Give ``geom`` (of an ``MjSpec``) ``priority`` :data:`STIFF_PRIORITY` and the given
+    ``solref`` / ``solimp`` (``None``: the geom's own; a 3-number ``solimp`` takes MuJoCo's
+    default midpoint 0.5 and power 2): a :class:`FrictionMaterial`'s softness, and a
+    derived gripper's pads (:func:`robot_agents.model.robot_spec.set_pad_contact`)."""
+    geom.priority = STIFF_PRIORITY
+    if solref is not None:
+        geom.solref = list(solref)
+    if solimp is not None:
+        geom.solimp = list(solimp) + ([0.5, 2.0] if len(solimp) == 3 else [])

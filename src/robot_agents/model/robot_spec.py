@@ -14,7 +14,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError, UnknownNameError
 from robot_agents.model.dropping import drop_with_dependents
-from robot_agents.model.materials import PAD_SOLIMP, PAD_SOLREF, STIFF_PRIORITY, FrictionMaterial
+from robot_agents.model.materials import PAD_SOLIMP, PAD_SOLREF, FrictionMaterial, set_contact_softness
 
 #: Name of the free joint added to a free-floating robot's root body.
 ROOT_FREE_JOINT = "root_free_joint"
@@ -189,9 +189,7 @@ def set_pad_contact(spec: mujoco.MjSpec, bodies: Iterable[str], where: str) -> N
             continue
         for geom in body.geoms:
             if geom.contype or geom.conaffinity:
-                geom.priority = STIFF_PRIORITY
-                geom.solref = list(PAD_SOLREF)
-                geom.solimp = [*PAD_SOLIMP, 0.5, 2.0]
+                set_contact_softness(geom, PAD_SOLREF, PAD_SOLIMP)
 
 
 #: The joint stops a robot with derived drives gets (MuJoCo's ``solreflimit``: 5 ms, as

@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
-from robot_agents.agent.index import Coupling, RobotIndex
+from robot_agents.agent.index import Coupling, JointKind, RobotIndex
 from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
 
 #: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
@@ -440,6 +440,28 @@ def _place(
 def _rounded(point: np.ndarray) -> tuple[float, float, float]:
     """A point (m) rounded to the nanometre."""
     return (round(float(point[0]), 9), round(float(point[1]), 9), round(float(point[2]), 9))
+
+
+def random_configurations(
+    model: mujoco.MjModel, index: RobotIndex, joints: Sequence[str], reference: np.ndarray, count: int, where: str
+) -> np.ndarray:
+    """``(count, nq)`` copies of ``reference`` (the model's ``qpos``) with each hinge and
+    slide of ``joints`` drawn uniformly within its limits (seed 0, in the order given:
+    the same draws every time), ``±pi`` for an unlimited hinge; an unlimited slide
+    keeps its reference value. ``where``: the caller, for messages."""
+    rng = np.random.default_rng(0)
+    out = np.tile(reference, (count, 1))
+    for name in joints:
+        joint = index.joint(name, where)
+        j = joint.id
+        if model.jnt_limited[j]:
+            low, high = model.jnt_range[j]
+        elif joint.kind is JointKind.HINGE:
+            low, high = -np.pi, np.pi
+        else:
+            continue
+        out[:, model.jnt_qposadr[j]] = rng.uniform(low, high, count)
+    return out
 
 
 def colliding_geoms(model: mujoco.MjModel, bodies: Iterable[int]) -> list[int]:

@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.actuators.gains import FRICTION_STALL, SuggestedGains, stance_gains
+from robot_agents.agent.derived import random_configurations
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.agent.stance import find_stance
 
@@ -27,23 +28,11 @@ def drive_configurations(
     model: mujoco.MjModel, index: RobotIndex, joints: Sequence[str], reference: np.ndarray
 ) -> np.ndarray:
     """``(DRIVE_SAMPLES + 1, nq)`` configurations: ``reference`` (the robot's default
-    keyframe in the model's ``qpos``) first, then :data:`DRIVE_SAMPLES` with each of the
-    hinge and slide ``joints`` drawn uniformly within its limits (``±pi`` for an
-    unlimited hinge; an unlimited slide keeps its reference value), the rest as in
-    ``reference`` (:func:`robot_agents.actuators.gains.gains_over_configurations`)."""
-    rng = np.random.default_rng(0)
-    out = np.tile(reference, (DRIVE_SAMPLES + 1, 1))
-    for name in joints:
-        joint = index.joint(name, "drive_configurations")
-        j = joint.id
-        if model.jnt_limited[j]:
-            low, high = model.jnt_range[j]
-        elif joint.kind is JointKind.HINGE:
-            low, high = -np.pi, np.pi
-        else:
-            continue
-        out[1:, model.jnt_qposadr[j]] = rng.uniform(low, high, DRIVE_SAMPLES)
-    return out
+    keyframe in the model's ``qpos``) first, then :data:`DRIVE_SAMPLES` of
+    :func:`~robot_agents.agent.derived.random_configurations` over ``joints``
+    (:func:`robot_agents.actuators.gains.gains_over_configurations`)."""
+    samples = random_configurations(model, index, joints, reference, DRIVE_SAMPLES, "drive_configurations")
+    return np.vstack([reference, samples])
 
 
 def note_friction_cap(

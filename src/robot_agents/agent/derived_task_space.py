@@ -23,12 +23,12 @@ frame end-effector commands are given in):
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 
+from robot_agents.agent.derived import random_configurations
 from robot_agents.agent.frames import RobotFrames
 from robot_agents.agent.index import RobotIndex
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
@@ -75,11 +75,8 @@ def derive_task_space(
     tool, command = frames.end_effectors[arm.end_effectors[0].name]
     rest = model.qpos0.copy()
     rest[index.qpos_adr] = keyframe
-    configs = np.tile(rest, (REACH_SAMPLES + 1, 1))  # the last row: the keyframe itself
-    rng = np.random.default_rng(0)
-    for j in ids:
-        low, high = model.jnt_range[j] if model.jnt_limited[j] else (-math.pi, math.pi)
-        configs[:REACH_SAMPLES, model.jnt_qposadr[j]] = rng.uniform(low, high, REACH_SAMPLES)
+    samples = random_configurations(model, index, joints, rest, REACH_SAMPLES, where)
+    configs = np.vstack([samples, rest])  # the last row: the keyframe itself
     poses = frames.kinematics.poses(configs, [tool, command])  # (n, 2, 7)
     # the tool point in the command frame, and the arm's first joint at the keyframe
     inverse = quat_conjugate(poses[:, 1, 3:])

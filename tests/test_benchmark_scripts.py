@@ -66,13 +66,19 @@ RUNS = {
 }
 
 
-@pytest.mark.parametrize("command", list(RUNS), ids=[" ".join(c[:1] + c[1:3]) for c in RUNS])
-def test_benchmark_script_runs(command: tuple[str, ...]) -> None:
+def run_script(*command: str, env: dict[str, str] | None = None) -> str:
+    """``python COMMAND`` in benchmarks/ (5 min at most); its stdout, once it exits 0."""
     run = subprocess.run(
-        [sys.executable, *command], cwd=BENCHMARKS, capture_output=True, text=True, timeout=300, check=False
+        [sys.executable, *command], cwd=BENCHMARKS, capture_output=True, text=True, timeout=300, check=False, env=env
     )
     assert run.returncode == 0, run.stderr[-2000:]
-    assert RUNS[command] in run.stdout, run.stdout[-2000:]
+    return run.stdout
+
+
+@pytest.mark.parametrize("command", list(RUNS), ids=[" ".join(c[:1] + c[1:3]) for c in RUNS])
+def test_benchmark_script_runs(command: tuple[str, ...]) -> None:
+    stdout = run_script(*command)
+    assert RUNS[command] in stdout, stdout[-2000:]
 
 
 def test_render_backends_saves_frames_and_compares_them(tmp_path: Path) -> None:
@@ -81,11 +87,10 @@ def test_render_backends_saves_frames_and_compares_them(tmp_path: Path) -> None:
     frames = tmp_path / "frames.npz"
     script = str(BENCHMARKS / "render_backends.py")
     for args in (["--save", str(frames), "--rounds", "1"], ["--compare", str(frames), str(frames)]):
-        run = subprocess.run([sys.executable, script, *args], capture_output=True, text=True, timeout=300, check=False)
-        assert run.returncode == 0, run.stderr[-2000:]
-    rows = [line for line in run.stdout.splitlines() if "/" in line and "backend" not in line]
-    assert len(rows) >= 4 * 4, run.stdout
-    assert all(("100.000%" in r) or ("mean |A-B| 0.00" in r) or ("max 0.00 mm" in r) for r in rows), run.stdout
+        stdout = run_script(script, *args)
+    rows = [line for line in stdout.splitlines() if "/" in line and "backend" not in line]
+    assert len(rows) >= 4 * 4, stdout
+    assert all(("100.000%" in r) or ("mean |A-B| 0.00" in r) or ("max 0.00 mm" in r) for r in rows), stdout
 
 
 def test_friction_drives_lists_a_files_frictional_joints(tmp_path: Path) -> None:
@@ -95,17 +100,9 @@ def test_friction_drives_lists_a_files_frictional_joints(tmp_path: Path) -> None
 
     path = tmp_path / "wrist.xml"
     path.write_text(FRICTION_WRIST_MJCF)
-    run = subprocess.run(
-        [sys.executable, "friction_drives.py", str(path), "--seconds", "1"],
-        cwd=BENCHMARKS,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    assert run.returncode == 0, run.stderr[-2000:]
-    assert "| `wrist` | 0.5 |" in run.stdout and "| 100 | 0.0050 |" in run.stdout, run.stdout
-    assert "Step towards the range end" in run.stdout, run.stdout
+    stdout = run_script("friction_drives.py", str(path), "--seconds", "1")
+    assert "| `wrist` | 0.5 |" in stdout and "| 100 | 0.0050 |" in stdout, stdout
+    assert "Step towards the range end" in stdout, stdout
 
 
 def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
@@ -117,19 +114,10 @@ def test_convex_grasp_runs_on_a_written_one_jaw_gripper(tmp_path: Path) -> None:
     path = tmp_path / "one_jaw.urdf"
     path.write_text(urdf(one_jaw()))
     env = {**os.environ, "ROBOT_AGENTS_CACHE": str(tmp_path / "cache")}
-    outputs = []
-    for extra in ("--plain", "--soft"):
-        run = subprocess.run(
-            [sys.executable, "convex_grasp.py", str(path), "--edges", "0.01", "--open", "-0.5", "--depth", "0", extra],
-            cwd=BENCHMARKS,
-            capture_output=True,
-            text=True,
-            timeout=300,
-            check=False,
-            env=env,
-        )
-        assert run.returncode == 0, run.stderr[-2000:]
-        outputs.append(run.stdout)
+    outputs = [
+        run_script("convex_grasp.py", str(path), "--edges", "0.01", "--open", "-0.5", "--depth", "0", extra, env=env)
+        for extra in ("--plain", "--soft")
+    ]
     rows = [line for line in outputs[0].splitlines() if line.startswith(("| no | 10 |", "| yes | 10 |"))]
     assert len(rows) == 2 and rows[0].split("|")[3:] == rows[1].split("|")[3:], outputs[0]
     assert "MuJoCo defaults on the jaws" in outputs[1], outputs[1]
@@ -143,16 +131,8 @@ def test_derived_ee_modes_runs_on_a_written_arm(tmp_path: Path) -> None:
 
     path = tmp_path / "arm6.urdf"
     path.write_text(arm_urdf(6))
-    run = subprocess.run(
-        [sys.executable, "derived_ee_modes.py", str(path), "--trials", "3"],
-        cwd=BENCHMARKS,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    assert run.returncode == 0, run.stderr[-2000:]
-    assert "| arm6.urdf | 6 |" in run.stdout and "| 3/3 |" in run.stdout, run.stdout
+    stdout = run_script("derived_ee_modes.py", str(path), "--trials", "3")
+    assert "| arm6.urdf | 6 |" in stdout and "| 3/3 |" in stdout, stdout
 
 
 def test_two_line_tasks_runs_on_a_written_arm(tmp_path: Path) -> None:
@@ -162,16 +142,8 @@ def test_two_line_tasks_runs_on_a_written_arm(tmp_path: Path) -> None:
 
     path = tmp_path / "arm6.urdf"
     path.write_text(arm_urdf(6))
-    run = subprocess.run(
-        [sys.executable, "two_line_tasks.py", str(path), "--seeds", "2"],
-        cwd=BENCHMARKS,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    assert run.returncode == 0, run.stderr[-2000:]
-    row = next(line for line in run.stdout.splitlines() if line.startswith("| arm6.urdf |"))
+    stdout = run_script("two_line_tasks.py", str(path), "--seeds", "2")
+    row = next(line for line in stdout.splitlines() if line.startswith("| arm6.urdf |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[1].startswith("- (") and "Gripper" in cells[1], row  # PickCube: no gripper
     assert cells[2].endswith("/2") and cells[3].endswith("/2"), row  # PushCube and ReachPose ran

@@ -213,9 +213,10 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             raise ConfigError(f"{where}: the end effector does not move away from the arm's first joint.")
         ahead = (rest_tcp - shoulder)[:2]
         yaw = -math.atan2(ahead[1], ahead[0]) if np.linalg.norm(ahead) > 0.05 * reach else 0.0
-        # an arm turning on a hinge with its tool held up: the workspace lies ahead of it
+        # an arm turning on a hinge with its tool held up or stretched out: the workspace
+        # centre goes UPRIGHT_AHEAD reach ahead of the shoulder, not under that tool
         off_centre = not UPRIGHT_SHARE * reach <= np.linalg.norm(ahead) <= STRETCHED_SHARE * reach
-        upright_turning = off_centre and joints[0].kind is JointKind.HINGE
+        centre_ahead = off_centre and joints[0].kind is JointKind.HINGE
         base = next((p for p in agent.parts_by_name.values() if isinstance(p, Base)), None)
         if base is not None:
             turn_joint = agent.index.joint(agent.part_joints[base.name][-1], where)
@@ -236,7 +237,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     mujoco.mju_rotVecQuat(rest_turned, rest_tcp, turn)
     centre = rest_turned.copy()
     turning_radius = 0.0
-    if base is None and upright_turning:
+    if base is None and centre_ahead:
         mujoco.mju_rotVecQuat(centre, shoulder, turn)
         centre[0] += UPRIGHT_AHEAD * reach
     if base is None:

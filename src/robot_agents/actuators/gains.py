@@ -143,12 +143,7 @@ def gains_from_inertia(
             data.qpos[:] = np.asarray(qpos, dtype=np.float64).reshape(model.nq)
         except (TypeError, ValueError):
             raise ConfigError(f"gains_from_inertia: expected qpos as {model.nq} numbers, got {qpos!r:.80}.") from None
-    mujoco.mj_forward(model, data)
-    inertia_matrix = np.zeros((model.nv, model.nv))
-    try:
-        mujoco.mj_fullM(model, data, inertia_matrix)  # MuJoCo >= 3.5
-    except TypeError:
-        mujoco.mj_fullM(model, inertia_matrix, data.qM)
+    inertia_matrix = _inertia_matrix(model, data)
     ids = []
     for name in joints:
         joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
@@ -179,6 +174,17 @@ def gains_from_inertia(
     )
 
 
+def _inertia_matrix(model: mujoco.MjModel, data: mujoco.MjData) -> npt.NDArray[np.float64]:
+    """The joint-space inertia matrix ``(nv, nv)`` at ``data``'s ``qpos``."""
+    mujoco.mj_forward(model, data)
+    inertia_matrix = np.zeros((model.nv, model.nv))
+    try:
+        mujoco.mj_fullM(model, data, inertia_matrix)  # MuJoCo >= 3.5
+    except TypeError:
+        mujoco.mj_fullM(model, inertia_matrix, data.qM)
+    return inertia_matrix
+
+
 def gains_over_configurations(
     model: mujoco.MjModel,
     joints: Sequence[str],
@@ -199,10 +205,15 @@ def gains_over_configurations(
     :func:`gains_from_inertia`'s (files' damping and friction, free inertia), and the
     stiffness never falls below them."""
     rows = np.atleast_2d(np.asarray(configurations, dtype=np.float64))
-    each = [gains_from_inertia(model, joints, row, bandwidth_hz, damping_ratio) for row in rows]
-    first = each[0]
-    largest = np.max([g.inertia for g in each], axis=0)
-    least = np.min([g.inertia for g in each], axis=0)
+    first = gains_from_inertia(model, joints, rows[0], bandwidth_hz, damping_ratio)  # checks the joints
+    dofs = model.jnt_dofadr[[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) for name in joints]]
+    data = mujoco.MjData(model)  # one scratch for the others: only their inertias are needed
+    inertias = [first.inertia]
+    for row in rows[1:]:
+        data.qpos[:] = row
+        inertias.append(np.maximum(np.diag(_inertia_matrix(model, data))[dofs], 1e-9))
+    largest = np.max(inertias, axis=0)
+    least = np.min(inertias, axis=0)
     omega = 2.0 * math.pi * bandwidth_hz
     cap = STANCE_STABLE_SHARE * 4.0 * least / timestep**2
     # a joint with an effort limit: while its force is clamped MuJoCo integrates the

@@ -7,8 +7,14 @@ registered, and each task it has the parts for (``PickCube-v1`` and ``PushCube-v
 need a gripper or a tool, ``ReachPose-v1`` an arm) runs ``--seeds`` envs (seeds 0 ..
 N-1, one batch) with the generic scripted solver; printed: successes per task.
 
-Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20]`` (the
-``mani-skill`` wheel's arms: ``pip download --no-deps mani-skill==3.0.1`` and unzip
+``--servos`` adds a third line for the files whose servos the library knows: their
+URDFs write ``effort="0"`` (or nothing), so the two-line robot's drives have no effort
+limit and its jaw presses with whatever a 10 Hz spring on its light jaw gives; the third
+line states the datasheet facts of :mod:`robot_agents.robots.servo_arms.servos` with
+``ra.DerivedActuators`` (gains still derived): :data:`SERVOS`.
+
+Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20] [--servos]``
+(the ``mani-skill`` wheel's arms: ``pip download --no-deps mani-skill==3.0.1`` and unzip
 ``mani_skill/assets/robots``).
 """
 
@@ -21,6 +27,7 @@ from pathlib import Path
 
 import robot_agents as ra
 from robot_agents.errors import ConfigError
+from robot_agents.robots.servo_arms.servos import STS3215, XL330_M288, XL430_W250, Servo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import scripted_pick  # (the solvers live with the examples)
@@ -28,16 +35,42 @@ import scripted_pick  # (the solvers live with the examples)
 TASKS = ("PickCube-v1", "PushCube-v1", "ReachPose-v1")
 
 
+def stated(joints: str | None, servo: Servo) -> ra.DerivedActuators:
+    """Derived drives on ``joints`` (``None``: every joint) with ``servo``'s stall torque,
+    no-load speed, reflected inertia and friction."""
+    return ra.DerivedActuators(
+        joints=joints,
+        effort_limit=servo.stall_torque,
+        velocity_limit=servo.no_load_speed,
+        armature=servo.armature,
+        friction=servo.friction,
+    )
+
+
+#: File name -> the servos stated for it with ``--servos`` (the built-in ``so100`` and
+#: ``koch-v1.1`` modules cite the servo models: six STS3215 on the SO-100; XL430-W250 on
+#: the Koch's first two joints, XL330-M288 on the other four and the jaw).
+SERVOS: dict[str, tuple[ra.DerivedActuators, ...]] = {
+    "so100.urdf": (stated(None, STS3215),),
+    "follower_arm_v1.1.urdf": (stated("joint_[12]", XL430_W250), stated("joint_[3-6]", XL330_M288)),
+}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("paths", type=Path, nargs="+", help="model files")
     parser.add_argument("--seeds", type=int, default=20)
+    parser.add_argument("--servos", action="store_true", help="state the servos of the files in SERVOS")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     print("| file | " + " | ".join(TASKS) + " |\n|---|" + "---|" * len(TASKS))
     for path in args.paths:
         uid = f"two_line_{path.stem}"
-        ra.register_agent(type("TwoLine", (ra.Agent,), {"uid": uid, "urdf_path": path.resolve()}), override=True)
+        attrs: dict[str, object] = {"uid": uid, "urdf_path": path.resolve()}
+        servos = SERVOS.get(path.name) if args.servos else None
+        if servos is not None:
+            attrs["actuators"] = servos
+        ra.register_agent(type("TwoLine", (ra.Agent,), attrs), override=True)
         cells = []
         for task in TASKS:
             try:
@@ -45,7 +78,8 @@ def main() -> None:
                 cells.append(f"{successes}/{args.seeds}")
             except ConfigError as error:  # the robot lacks the task's parts
                 cells.append(f"- ({str(error).split(': ', 1)[-1][:60]})")
-        print(f"| {path.name} | " + " | ".join(cells) + " |", flush=True)
+        label = f"{path.name} + servos" if servos is not None else path.name
+        print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
 
 
 if __name__ == "__main__":

@@ -147,3 +147,15 @@ def test_two_line_tasks_runs_on_a_written_arm(tmp_path: Path) -> None:
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[1].startswith("- (") and "Gripper" in cells[1], row  # PickCube: no gripper
     assert cells[2].endswith("/2") and cells[3].endswith("/2"), row  # PushCube and ReachPose ran
+
+
+def test_two_line_tasks_states_servos_for_a_known_file(tmp_path: Path) -> None:
+    """``--servos`` states the SO-100's STS3215 facts for a file named ``so100.urdf``
+    (here the written six-joint arm: ``DerivedActuators()`` takes every joint)."""
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "so100.urdf"
+    path.write_text(arm_urdf(6, effort=0.0))
+    stdout = run_script("two_line_tasks.py", str(path), "--seeds", "1", "--servos")
+    row = next(line for line in stdout.splitlines() if line.startswith("| so100.urdf + servos |"))
+    assert row.rstrip().endswith("/1 |"), row  # ReachPose ran

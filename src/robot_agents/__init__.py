@@ -18,6 +18,7 @@ _configure_gl()
 
 from robot_agents.actuators import (
     DCMotorActuator,
+    DerivedActuators,
     FileActuators,
     MotorActuator,
     PDActuator,
@@ -84,6 +85,7 @@ __all__ = [
     "CompilerSettings",
     "ConfigError",
     "DCMotorActuator",
+    "DerivedActuators",
     "EndEffector",
     "FileActuators",
     "FrictionMaterial",

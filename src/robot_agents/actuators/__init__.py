@@ -4,6 +4,7 @@ that turns joint targets into MuJoCo controls."""
 from robot_agents.actuators.config import (
     ActuatorConfig,
     DCMotorActuator,
+    DerivedActuators,
     FileActuators,
     MotorActuator,
     PDActuator,
@@ -17,6 +18,7 @@ from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 __all__ = [
     "ActuatorConfig",
     "DCMotorActuator",
+    "DerivedActuators",
     "DriveDeclaration",
     "DriveKind",
     "DriveOverride",

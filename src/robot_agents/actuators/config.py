@@ -164,5 +164,47 @@ class FileActuators(ActuatorConfig):
     joints: Patterns = ".*"
 
 
+@dataclass(frozen=True, kw_only=True)
+class DerivedActuators(ActuatorConfig):
+    """PD drives on the matched joints with gains derived from the model's inertia, as a
+    file without actuators gets them (:mod:`robot_agents.actuators.gains`), taking the
+    limits, armature and friction declared here into account: a file that leaves out
+    what a datasheet gives (the mani-skill wheel's ``so100.urdf`` writes ``effort="0"``)
+    gets those facts stated without choosing gains. The effort limit bounds the drives
+    (and, on a gripper the file implies, sets how hard its sliding fingers or hinged
+    jaws press); the armature adds to the inertia the gains are derived from.
+
+    ``joints=None`` (the default) takes every hinge and slide joint that no other
+    declaration claims and the file does not drive, so one joint can be declared
+    outright and the rest derived::
+
+        actuators = (ra.PDActuator(joints="gripper", stiffness=2.0, damping=0.1, effort_limit=1.9),
+                     ra.DerivedActuators(effort_limit=1.9))
+    """
+
+    joints: Patterns | None = None  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        if self.joints is None:  # the rest: resolved against the model (apply_actuators)
+            for name in ("effort_limit", "velocity_limit", "armature", "friction"):
+                _check_per_joint(type(self).__name__, name, getattr(self, name))
+            return
+        super().__post_init__()
+
+    @property
+    def label(self) -> str:
+        if self.joints is None:
+            return "DerivedActuators()"
+        return super().label
+
+
 #: Every declaration kind, for messages.
-ACTUATOR_KINDS = (PDActuator, VelocityActuator, MotorActuator, PIDActuator, DCMotorActuator, FileActuators)
+ACTUATOR_KINDS = (
+    PDActuator,
+    VelocityActuator,
+    MotorActuator,
+    PIDActuator,
+    DCMotorActuator,
+    FileActuators,
+    DerivedActuators,
+)

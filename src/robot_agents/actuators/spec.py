@@ -19,6 +19,7 @@ import numpy as np
 from robot_agents.actuators.config import (
     ActuatorConfig,
     DCMotorActuator,
+    DerivedActuators,
     FileActuators,
     MotorActuator,
     PDActuator,
@@ -92,9 +93,10 @@ def apply_actuators(
     Args:
         declarations: the robot's actuator declarations.
         replace_file_actuators: delete the file's actuators first.
-        derived: when the robot declares no actuators and the file has none, every
-            drivable joint gets a PD drive with these gains (see
-            :mod:`robot_agents.actuators.gains`); ``None``: zero gains for now.
+        derived: gains of derived drives (see :mod:`robot_agents.actuators.gains`):
+            when the robot declares no actuators and the file has none, every drivable
+            joint gets a PD drive with these gains, and so do the joints a
+            :class:`DerivedActuators` claims; ``None``: zero gains for now.
         where: the robot, for messages.
 
     Returns:
@@ -143,7 +145,13 @@ def apply_actuators(
             )
         on_joint[actuator.target] = actuator
 
-    declared = [d for d in declarations if not isinstance(d, FileActuators)]
+    rest = [d for d in declarations if isinstance(d, DerivedActuators) and d.joints is None]
+    if len(rest) > 1:
+        raise ConfigError(
+            f"{where}.actuators: {len(rest)} DerivedActuators() without joints; each takes every joint nobody else "
+            "drives, so declare one (or give each its joints)."
+        )
+    declared = [d for d in declarations if not isinstance(d, FileActuators) and d not in rest]
     adopted = [d for d in declarations if isinstance(d, FileActuators)]
     claims = claim([(d.label, d.joints) for d in declared], names, f"{where}.actuators")
     file_driven = [n for n in names if n in on_joint]
@@ -163,6 +171,22 @@ def apply_actuators(
     for decl, hits in zip(adopted, adopted_claims, strict=True):
         for i in hits:
             claimed_by[file_driven[i]] = decl
+    drivable = drivable_joints(spec)
+    if rest:
+        taken_rest = [n for n in drivable if n not in claimed_by and n not in on_joint]
+        if not taken_rest:
+            raise ConfigError(
+                f"{where}.actuators: DerivedActuators() takes the hinge and slide joints nothing else drives, and "
+                f"there are none: the declarations and the file's actuators drive {sorted(claimed_by) + sorted(on_joint)}."
+            )
+        for joint in taken_rest:
+            claimed_by[joint] = rest[0]
+    for joint, decl in claimed_by.items():
+        if isinstance(decl, DerivedActuators) and joint not in drivable:
+            raise ConfigError(
+                f"{where}.actuators: {decl.label} claims joint {joint!r}, which follows another joint through a "
+                f"joint coupling (a mimic) and gets no drive of its own. Drivable joints: {drivable}."
+            )
 
     drives: dict[str, DriveDeclaration] = {}
     taken = {a.name for a in spec.actuators}
@@ -172,6 +196,19 @@ def apply_actuators(
         if isinstance(decl, FileActuators):
             for joint in matched:
                 drives[joint] = _adopted(on_joint[joint], decl.label, joint)
+        elif isinstance(decl, DerivedActuators):
+            limits = per_joint(decl.label, "effort_limit", decl.effort_limit, len(matched), np.inf)
+            speeds = per_joint(decl.label, "velocity_limit", decl.velocity_limit, len(matched), np.inf)
+            for joint, limit, speed in zip(matched, limits, speeds, strict=True):
+                if np.isfinite(limit):  # the joint's own limit: the derived gains read it from the model
+                    spec.joint(joint).actfrclimited = 1
+                    spec.joint(joint).actfrcrange = [-float(limit), float(limit)]
+                kp, kv, derived_limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
+                limit = min(float(limit), derived_limit)
+                _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
+                drives[joint] = DriveDeclaration(
+                    joint, DriveKind.AFFINE, f"derived gains ({decl.label}; see {_GAINS})", kp, kv, limit, float(speed)
+                )
         else:
             for joint, drive in zip(matched, _add_declared(spec, decl, matched, taken), strict=True):
                 drives[joint] = drive
@@ -183,10 +220,11 @@ def apply_actuators(
         for joint in drivable_joints(spec):
             kp, kv, limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
             _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
-            drives[joint] = DriveDeclaration(
-                joint, DriveKind.AFFINE, "derived gains (see robot_agents.actuators.gains)", kp, kv, limit
-            )
+            drives[joint] = DriveDeclaration(joint, DriveKind.AFFINE, f"derived gains (see {_GAINS})", kp, kv, limit)
     return [drives[n] for n in names if n in drives]
+
+
+_GAINS = "robot_agents.actuators.gains"
 
 
 def _set_joint_properties(spec: mujoco.MjSpec, decl: ActuatorConfig, matched: list[str]) -> None:

@@ -433,7 +433,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 stacklevel=3,
             )
     derived: DerivedGains | None = None
-    if drives and all(d.source.startswith(DERIVED_SOURCE) for d in drives):
+    derived_joints = [d.joint for d in drives if d.source.startswith(DERIVED_SOURCE)]
+    if derived_joints:
         full = model.qpos0.copy()
         full[index.qpos_adr] = next(iter(keyframes.values())).qpos
         from robot_agents.sim.scene import DEFAULT_SIM_FREQ
@@ -442,9 +443,9 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         driven_joints = [d.joint for d in drives]
         if index.free_joint is None:  # a fixed base: gains that hold over the joints' whole ranges
             configurations = drive_configurations(model, index, driven_joints, full)
-            gains = gains_over_configurations(model, driven_joints, configurations, timestep)
+            gains = gains_over_configurations(model, derived_joints, configurations, timestep)
         else:  # a floating robot: gains at its pose (its stance stiffens the legs below)
-            gains = gains_from_inertia(model, driven_joints, full)
+            gains = gains_from_inertia(model, derived_joints, full)
         # sliding fingers press with their motor's force, not a light finger's spring (hinged
         # jaws and linkages keep their inertia gains: their torque reaches the object
         # through levers, and a linkage's loop gives under a full-effort squeeze)
@@ -456,7 +457,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 {
                     j: float(abs(o - c))
                     for j, o, c in zip(names, opened, closed, strict=True)
-                    if index.joint(j, name).kind is JointKind.SLIDE
+                    if j in derived_joints and index.joint(j, name).kind is JointKind.SLIDE
                 }
             )
         gains, _ = grip_gains(gains, strokes, timestep)
@@ -464,7 +465,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         gains, capped = friction_gains(gains, timestep)
         if capped:
             note_friction_cap(name, index, gains, capped, timestep)
-        if index.free_joint is not None:
+        if index.free_joint is not None and len(derived_joints) == len(drives):
             # the stance is found with the robot's self-collision filtering
             filtered = _build(cls, None, None, compiler, exclusions, quiet=True)[0] if exclusions else spec
             gains, legs = stand(
@@ -492,6 +493,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             dataclasses.replace(
                 d, stiffness=derived[d.joint][0], damping=derived[d.joint][1], effort_limit=derived[d.joint][2]
             )
+            if d.joint in derived
+            else d
             for d in drives
         ]
     if inferred and not torque_only(model, drives):

@@ -17,7 +17,9 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   ``R`` of its shoulder, horizontally: the pose every joint at zero gives most model
   files) or stretched out (farther than :data:`STRETCHED_SHARE` ``R``: the Koch's file)
   has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the built-in
-  arms rest their tools 0.25-0.65 R ahead). The table top is at
+  arms rest their tools 0.25-0.65 R ahead), or, when it has a gripper, in the middle of
+  the distances at which its tool reaches pointing down at the heights of cubes and
+  goals, where that is nearer (:func:`_pointing_down_middle`). The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
@@ -84,8 +86,16 @@ TABLE_CLEARANCE = 0.02
 #: ahead) ...
 UPRIGHT_SHARE = 0.2
 STRETCHED_SHARE = 0.7
-#: ... and either gets its workspace centre this share of the reach ahead of its shoulder.
+#: ... and either gets its workspace centre this share of the reach ahead of its shoulder,
+#: or, with a gripper, in the middle of where its tool reaches pointing down at the cube
+#: and goal heights (see :func:`_pointing_down_middle`), where that is nearer.
 UPRIGHT_AHEAD = 0.5
+#: Configurations drawn (fixed seed) to find where an arm's tool reaches pointing down,
+#: the largest tilt from straight down that counts (rad), and the fewest such tool
+#: points that give a measure.
+DOWN_SAMPLES = 8192
+DOWN_TILT = math.radians(20.0)
+DOWN_MIN_POINTS = 10
 #: Geoms lower than the table top plus this (m) sweep the floor around the table.
 LOW_GEOM_MARGIN = 0.01
 
@@ -223,12 +233,18 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             axis = data.xanchor[turn_joint.id].copy()
             boxes = _robot_geom_boxes(agent, model, data)
         gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
+        cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
+        cube_edge = max(cube_edge, MIN_CUBE_EDGE)
+        ahead_distance = UPRIGHT_AHEAD * reach
+        if centre_ahead and base is None and gripper is not None:
+            band = (0.5 * cube_edge, 0.5 * cube_edge + 2.0 * SPAWN_HALF_SIZE * reach)  # cubes' centres to goals
+            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, gripper.approach_axis, band)
+            if middle is not None:
+                ahead_distance = min(ahead_distance, middle)
     finally:
         probe.close()
     turn = z_rotation_quat(yaw)
     mount = np.asarray(cls.check().mount_pose, dtype=np.float64)
-    cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
-    cube_edge = max(cube_edge, MIN_CUBE_EDGE)
     spawn = SPAWN_HALF_SIZE * reach
     # Turn the probe's world (robot at its mount pose) about z, then shift it so that the
     # workspace centre lies at the origin: a fixed robot's mount floor becomes the table
@@ -239,7 +255,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     turning_radius = 0.0
     if base is None and centre_ahead:
         mujoco.mju_rotVecQuat(centre, shoulder, turn)
-        centre[0] += UPRIGHT_AHEAD * reach
+        centre[0] += ahead_distance
     if base is None:
         table_height = TABLE_HEIGHT * reach
         shift = np.array([-centre[0], -centre[1], table_height])
@@ -282,6 +298,45 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         mobile=base is not None,
         turning_radius=turning_radius,
     )
+
+
+def _pointing_down_middle(
+    agent: Agent,
+    tool: Any,
+    joints: Sequence[Any],
+    reference: FloatArray,
+    shoulder: FloatArray,
+    approach: Sequence[float],
+    band: tuple[float, float],
+) -> float | None:
+    """The middle of the horizontal distances (m) from ``shoulder`` at which the tool
+    reaches pointing down (its ``approach`` axis within :data:`DOWN_TILT` of straight
+    down) at heights within ``band`` (m above the floor the robot stands on, which
+    becomes the table top), over :data:`DOWN_SAMPLES` configurations drawn (fixed seed)
+    within the arm joints' limits from ``reference`` (``(nq,)``); ``None`` when fewer
+    than :data:`DOWN_MIN_POINTS` tool points qualify. An arm resting upright can be
+    too short at ``UPRIGHT_AHEAD`` reach to grasp pointing down: a written six-joint arm
+    (1.14 m reach, a short wrist) reached at most 0.62 m ahead that way, and its centre
+    at 0.57 m left a third of its cubes beyond."""
+    rng = np.random.default_rng(1)
+    configs = np.tile(reference, (DOWN_SAMPLES, 1))
+    for joint in joints:
+        if joint.nq != 1:
+            continue
+        low, high = joint.range if joint.limited else (-math.pi, math.pi)
+        configs[:, joint.qpos_adr] = rng.uniform(low, high, DOWN_SAMPLES)
+    poses = agent.kinematics.pose(configs, tool)
+    axis = np.asarray(approach, dtype=np.float64)
+    pointing = np.empty((DOWN_SAMPLES, 3))
+    for k in range(DOWN_SAMPLES):
+        mujoco.mju_rotVecQuat(pointing[k], axis, poses[k, 3:])
+    down = -pointing[:, 2] >= math.cos(DOWN_TILT)
+    height = poses[:, 2]
+    chosen = down & (height >= band[0]) & (height <= band[1])
+    if int(chosen.sum()) < DOWN_MIN_POINTS:
+        return None
+    distance = np.linalg.norm(poses[chosen, :2] - shoulder[:2], axis=1)
+    return float(0.5 * (distance.min() + distance.max()))
 
 
 def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[FloatArray, FloatArray]]:

@@ -17,6 +17,7 @@ from robot_agents.actuators.gains import CLAMPED_DAMPING_SHARE, DEFAULT_BANDWIDT
 from robot_agents.checks import check_random_actions
 from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.sim.scene import DEFAULT_SIM_FREQ
+from tests.conftest import PENDULUM_MJCF
 from tests.test_derived_gripper import slide_fingers, urdf
 from tests.test_derived_task_space import arm_urdf
 
@@ -112,24 +113,10 @@ def test_a_stated_effort_sets_how_hard_derived_fingers_press(tmp_path: Path) -> 
     assert stated.derived_pads == plain.derived_pads != ()
 
 
-FILE_DRIVES_SHOULDER = """
-<mujoco>
-  <worldbody>
-    <body name="base" pos="0 0 1.0">
-      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
-      <body name="link1">
-        <joint name="shoulder" axis="0 1 0" range="-2.5 2.5" armature="0.01"/>
-        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.02" mass="1"/>
-        <body name="link2" pos="0 0 -0.3">
-          <joint name="elbow" axis="0 1 0" range="-2.5 2.5" armature="0.01"/>
-          <geom type="capsule" fromto="0 0 0 0 0 -0.25" size="0.02" mass="0.5"/>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-  <actuator><position name="shoulder_servo" joint="shoulder" kp="50" kv="2"/></actuator>
-</mujoco>
-"""
+#: conftest's pendulum with a position servo of its own on the shoulder, none on the elbow.
+FILE_DRIVES_SHOULDER = PENDULUM_MJCF.replace(
+    "</mujoco>", '<actuator><position name="shoulder_servo" joint="shoulder" kp="50" kv="2"/></actuator></mujoco>'
+)
 
 
 def test_a_file_driving_some_joints_gets_the_rest_derived(tmp_path: Path) -> None:

@@ -185,7 +185,8 @@ def apply_actuators(
         if isinstance(decl, DerivedActuators) and joint not in drivable:
             raise ConfigError(
                 f"{where}.actuators: {decl.label} claims joint {joint!r}, which follows another joint through a "
-                f"joint coupling (a mimic) and gets no drive of its own. Drivable joints: {drivable}."
+                f"joint coupling (a mimic) and gets no drive of its own. Drivable joints: {drivable} "
+                "(DerivedActuators() without joints takes those nothing else drives)."
             )
 
     drives: dict[str, DriveDeclaration] = {}

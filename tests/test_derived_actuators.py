@@ -168,3 +168,23 @@ def test_bad_numbers_are_refused(field: str) -> None:
         ra.DerivedActuators(**{field: -1.0})  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match=f"DerivedActuators.{field}"):
         ra.DerivedActuators(joints="a", **{field: float("nan")})  # type: ignore[arg-type]
+
+
+def test_the_rest_is_the_robots_own_joints_not_a_mounted_pieces(tmp_path: Path) -> None:
+    """A mounted Robotiq 2F-85 drives its two knuckles and leaves its four linkage hinges
+    passive (closed by its loops): ``DerivedActuators()`` takes the arm's own six joints
+    only, and the composed robot stays stable under random actions."""
+    from robot_agents.robots.robotiq.robotiq import Robotiq2F85
+
+    cls = arm_class(
+        tmp_path,
+        actuators=(ra.DerivedActuators(effort_limit=50.0, armature=ARMATURE),),
+        attachments=(ra.Attachment(Robotiq2F85, at="flange_roll_link", prefix="gripper_", pos=(0.0, 0.0, 0.06)),),
+    )
+    checked = cls.check()
+    sources = {d.joint: d.source for d in checked.drives}
+    arm = ["yaw", "shoulder", "elbow", "forearm_roll", "wrist", "flange_roll"]
+    assert [j for j, s in sources.items() if s.startswith("derived gains")] == arm
+    assert sorted(j for j in sources if j not in arm) == ["gripper_left_driver_joint", "gripper_right_driver_joint"]
+    result = check_random_actions(cls, seconds=2.0)
+    assert result.passed, result.detail

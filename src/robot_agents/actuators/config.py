@@ -171,12 +171,13 @@ class DerivedActuators(ActuatorConfig):
     limits, armature and friction declared here into account: a file that leaves out
     what a datasheet gives (the mani-skill wheel's ``so100.urdf`` writes ``effort="0"``)
     gets those facts stated without choosing gains. The effort limit bounds the drives
-    (and, on a gripper the file implies, sets how hard its sliding fingers or hinged
-    jaws press); the armature adds to the inertia the gains are derived from.
+    (and, on a gripper the file implies, how hard its sliding fingers press); the
+    armature adds to the inertia the gains are derived from.
 
-    ``joints=None`` (the default) takes every hinge and slide joint that no other
-    declaration claims and the file does not drive, so one joint can be declared
-    outright and the rest derived::
+    ``joints=None`` (the default) takes every hinge and slide joint of the robot's own
+    model file that no other declaration claims and the file does not drive (a mounted
+    piece's joints are the piece's: those it leaves undriven are passive by its design),
+    so one joint can be declared outright and the rest derived::
 
         actuators = (ra.PDActuator(joints="gripper", stiffness=2.0, damping=0.1, effort_limit=1.9),
                      ra.DerivedActuators(effort_limit=1.9))

@@ -9,7 +9,7 @@ and never kept beside a declared drive on the same joint.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
 
@@ -87,6 +87,7 @@ def apply_actuators(
     replace_file_actuators: bool,
     derived: DerivedGains | None,
     where: str,
+    own_joints: Collection[str] | None = None,
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
 
@@ -98,6 +99,10 @@ def apply_actuators(
             joint gets a PD drive with these gains, and so do the joints a
             :class:`DerivedActuators` claims; ``None``: zero gains for now.
         where: the robot, for messages.
+        own_joints: the joints of the robot's own model file (``None``: every joint),
+            the only ones a ``DerivedActuators()`` without joints takes: a mounted
+            piece's joints are the piece's, and those it leaves undriven are passive by
+            its design (a linkage's followers).
 
     Returns:
         The drive of each driven joint, in the model's joint order.
@@ -173,11 +178,13 @@ def apply_actuators(
             claimed_by[file_driven[i]] = decl
     drivable = drivable_joints(spec)
     if rest:
-        taken_rest = [n for n in drivable if n not in claimed_by and n not in on_joint]
+        own = set(names if own_joints is None else own_joints)
+        taken_rest = [n for n in drivable if n not in claimed_by and n not in on_joint and n in own]
         if not taken_rest:
             raise ConfigError(
-                f"{where}.actuators: DerivedActuators() takes the hinge and slide joints nothing else drives, and "
-                f"there are none: the declarations and the file's actuators drive {sorted(claimed_by) + sorted(on_joint)}."
+                f"{where}.actuators: DerivedActuators() takes the hinge and slide joints of the robot's own model "
+                "file that nothing else drives, and there are none: the declarations and the file's actuators "
+                f"drive {sorted(claimed_by) + sorted(on_joint)}."
             )
         for joint in taken_rest:
             claimed_by[joint] = rest[0]

@@ -228,12 +228,16 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
                 seen[joint] = part
 
 
-def _raw_spec(cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None) -> mujoco.MjSpec:
-    """The model file with every mounted piece attached (no options applied yet)."""
+def _raw_spec(
+    cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None
+) -> tuple[mujoco.MjSpec, frozenset[str]]:
+    """The model file with every mounted piece attached (no options applied yet), and
+    the names of the joints of the robot's own file (not of its pieces)."""
     spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
+    own = frozenset(j.name for j in spec.joints)
     for attachment in cls.attachments:
-        attach(spec, _raw_spec(attachment.piece, where), attachment, where)
-    return spec
+        attach(spec, _raw_spec(attachment.piece, where)[0], attachment, where)
+    return spec, own
 
 
 def _with_task_space(
@@ -282,7 +286,7 @@ def _build(
     validate_definition(cls)
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
-    spec = _raw_spec(cls, where, compiler)
+    spec, own_joints = _raw_spec(cls, where, compiler)
     robot_spec.isolate_robot(spec, cls.root_body, where)
     robot_spec.set_root_joint(spec, cls.fix_root_link, where)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
@@ -298,7 +302,7 @@ def _build(
         settings = compiler if compiler is not None else cls.compiler
         done = _DECOMPOSED.setdefault(cls, {})
         done[settings] = decompose(spec, where, done.get(settings))
-    drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__)
+    drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__, own_joints)
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
     return spec, drives

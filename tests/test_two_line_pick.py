@@ -5,6 +5,7 @@ layout all derived, solved by the scripted solver of ``examples/scripted_pick.py
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -47,12 +48,13 @@ def arm_with_gripper_urdf() -> str:
 
 
 @pytest.fixture
-def two_line_arm(tmp_path: Path) -> type[ra.Agent]:
+def two_line_arm(tmp_path: Path) -> Iterator[type[ra.Agent]]:
     path = tmp_path / "arm_gripper.urdf"
     path.write_text(arm_with_gripper_urdf())
     cls = type("TwoLineArm", (ra.Agent,), {"uid": "two_line_gripper_arm", "urdf_path": path})
     ra.register_agent(cls, override=True)
-    return cls
+    yield cls
+    ra.unregister_agent(cls.uid)  # (the solver suites list every registered robot)
 
 
 def test_an_upright_arm_gets_its_workspace_where_it_grasps_pointing_down(two_line_arm: type[ra.Agent]) -> None:

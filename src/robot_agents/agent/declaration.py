@@ -31,6 +31,7 @@ from robot_agents.agent.derived_drives import drive_configurations, note_frictio
 from robot_agents.agent.derived_task_space import derive_task_space
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
+from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
 from robot_agents.kinematics.forward import resolve_frame
@@ -247,12 +248,24 @@ def _with_task_space(
     part_joints: Mapping[str, Sequence[str]],
     keyframe: np.ndarray,
     name: str,
+    derived: bool = True,
 ) -> Part:
-    """A derived arm with the task space measured on it (end-effector modes), when it
-    gets one (:func:`~robot_agents.agent.derived_task_space.derive_task_space`)."""
-    if not isinstance(part, Arm) or part.task_space is not None:
+    """``part`` with the task space measured on it (end-effector modes,
+    :func:`~robot_agents.agent.derived_task_space.derive_task_space`): a derived arm
+    (``derived``: the parts were inferred) without one when it gets one, and an arm
+    declared with ``MeasuredTaskSpace()``, which must."""
+    if not isinstance(part, Arm):
+        return part
+    asked = isinstance(part.task_space, MeasuredTaskSpace)
+    if not asked and (part.task_space is not None or not derived):
         return part
     space = derive_task_space(model, index, part, part_joints[part.name], keyframe, name)
+    if space is None and asked:
+        raise ConfigError(
+            f"{name}.parts[{part.name!r}]: MeasuredTaskSpace() cannot be measured on this arm: end-effector modes "
+            "need 3 or more hinge or limited slide joints and an end effector that the joints move; got joints "
+            f"{list(part_joints[part.name])} and end effectors {[ee.link for ee in part.end_effectors]}."
+        )
     return part if space is None else dataclasses.replace(part, task_space=space)
 
 
@@ -501,10 +514,11 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             else d
             for d in drives
         ]
-    if inferred and not torque_only(model, drives):
-        # an arm the file implies gets a task space (end-effector modes) measured on it
+    measured = any(isinstance(p, Arm) and isinstance(p.task_space, MeasuredTaskSpace) for p in parts)
+    if (inferred and not torque_only(model, drives)) or measured:
+        # an arm the file implies (or one declared so) gets a task space measured on it
         keyframe = next(iter(keyframes.values())).qpos
-        parts = tuple(_with_task_space(part, model, index, part_joints, keyframe, name) for part in parts)
+        parts = tuple(_with_task_space(part, model, index, part_joints, keyframe, name, inferred) for part in parts)
     from robot_agents.controllers.rules import modes_from_parts
 
     modes: dict[str, ModeConfig] = (

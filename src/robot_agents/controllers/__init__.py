@@ -27,7 +27,7 @@ from robot_agents.controllers.rules import (
     joint_control_modes,
     modes_from_parts,
 )
-from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.controllers.task_space import MeasuredTaskSpace, TaskSpace, WorkspaceBox
 
 __all__ = [
     "EE_MODES",
@@ -39,6 +39,7 @@ __all__ = [
     "JointBinding",
     "JointEffortConfig",
     "JointGroup",
+    "MeasuredTaskSpace",
     "PDBaseVelConfig",
     "PDEEController",
     "PDEEPosConfig",

@@ -66,6 +66,17 @@ class TaskSpace:
     hold_orientation: bool = True
 
 
+@dataclass(frozen=True)
+class MeasuredTaskSpace:
+    """``Arm(task_space=MeasuredTaskSpace())``: the arm's task space measured on its model,
+    as an arm a model file implies gets it
+    (:func:`robot_agents.agent.derived_task_space.derive_task_space`: the reach over
+    seeded configurations, a ``pd_ee_pose`` box around the tool points sampled, a tenth of
+    the reach and 0.1 rad per delta action; every end-effector mode with 6 or more joints,
+    the position modes below). For an arm declared by hand on a model file (a user's arm
+    with a gripper piece mounted) whose workspace nobody has measured."""
+
+
 def delta_action(
     space: TaskSpace, before: npt.ArrayLike, after: npt.ArrayLike, rotation: bool = True
 ) -> npt.NDArray[np.float64] | None:

@@ -16,8 +16,8 @@ PickCube, per env (all envs of a batch at once):
 2. End-effector delta mode, position only (``pd_ee_target_delta_pos``, else
    ``pd_ee_delta_pos``, else the pose modes with the turned orientation held):
    *approach* above the cube, *descend* until the grasp point is a fifth of an edge
-   below the cube's centre (the fingers reach past its middle), *close* the gripper,
-   *raise* the cube straight up (to the goal's height, at least one edge above the
+   below the cube's centre (the fingers reach past its middle), *close* the gripper
+   (at least 10 steps, until it stops closing: :data:`CLOSED_STILL`), *raise* the cube straight up (to the goal's height, at least one edge above the
    table), *carry* it to the goal and stop commanding once it is there; the tool moves
    at most 0.05 reach per step.
 3. *Base assist* (robots with a base): where the arm alone cannot put the turned tool
@@ -445,6 +445,10 @@ BASE_PROBE = 0.1
 
 # -- PickCube ---------------------------------------------------------------------------------
 APPROACH, DESCEND, CLOSE, RAISE, CARRY = range(5)
+#: The raise waits for the gripper to stop closing (its opening, 0 closed to 1 open,
+#: changing less than this in a control step; at most 30 steps): a gripper slower than
+#: the close's 10 steps caught the cube by its top edge on the way up.
+CLOSED_STILL = 0.005
 #: Largest tool speed of the end-effector stages, in reaches per step (0.95 m/s for the Panda).
 SPEED = 0.05
 #: How far below the cube's centre the grasp point goes, in cube edges.
@@ -541,12 +545,14 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         # Near the goal, stop commanding: in a target-delta mode the arm then holds still.
         arrived = (stage == CARRY) & (np.linalg.norm(env.goal_pos - cube, axis=1) < 0.25 * env.goal_threshold)
         command[arrived], drive[arrived] = 0.0, 0.0
+        last_opening = arm.agent.gripper_opening()
         episode.step(arm.action(command, stage < CLOSE, drive))
+        opening = arm.agent.gripper_opening()
         in_stage += 1
         advance = (
             ((stage == APPROACH) & ((error < 0.25 * edge) | (in_stage > 15)))
             | ((stage == DESCEND) & ((error < 0.1 * edge) | (in_stage > 20)))
-            | ((stage == CLOSE) & (in_stage > 10))
+            | ((stage == CLOSE) & (in_stage > 10) & ((abs(opening - last_opening) < CLOSED_STILL) | (in_stage > 30)))
             | ((stage == RAISE) & ((error < 0.25 * edge) | (in_stage > 15)))
         )
         grasp_at = np.where(((stage == DESCEND) & advance)[:, None], target, grasp_at)

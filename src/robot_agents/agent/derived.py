@@ -590,8 +590,7 @@ def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float
         start, count = int(model.mesh_vertadr[mesh]), int(model.mesh_vertnum[mesh])
         vertices = model.mesh_vert[start : start + count]
         return z + float(np.min(vertices @ rotation[2]))
-    center, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
-    return z + float(rotation[2] @ center) - float(np.abs(rotation[2]) @ half)
+    return float(world_box(model, data, geom)[0][2])
 
 
 def resting_base(

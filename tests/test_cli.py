@@ -282,3 +282,18 @@ def test_demo_holds_keyframes_in_a_mode_without_absolute_joint_targets(tmp_path:
     summary = run_demo(cls, tmp_path / "demo.gif", seconds_per_pose=1.0, size=(160, 120))
     assert summary.control_mode == "delta" and summary.finite
     assert summary.max_abs_qvel < 0.01, summary.lines()  # 0.35 rad/s with an all-zero action
+
+
+@pytest.mark.parametrize("effort", [0.0, 40.0])
+def test_info_says_when_a_file_gives_no_effort_limits(tmp_path: Path, effort: float) -> None:
+    """Derived drives without an effort limit (a URDF's ``effort="0"``) get a line naming
+    the joints and how to state the motors'; a file with limits gets none."""
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "arm.urdf"
+    path.write_text(arm_urdf(3, effort=effort))
+    code, text = run("info", str(path))
+    assert code == 0, text
+    line = "  no effort limit for yaw, shoulder, elbow: the model file gives none"
+    assert (line in text) == (effort == 0.0), text
+    assert ("ra.DerivedActuators(effort_limit=" in text) == (effort == 0.0)

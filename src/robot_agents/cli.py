@@ -14,6 +14,7 @@ from typing import TextIO
 import robot_agents
 from robot_agents.agent import Agent
 from robot_agents.agent.declaration import composition
+from robot_agents.agent.derived import DERIVED_SOURCE
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
@@ -101,6 +102,15 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
         drives.setdefault(source, []).append(joint)
     for source, joints in drives.items():
         out.write(f"drive: {source}: {', '.join(joints)}\n")
+    unlimited = [
+        d.joint for d in cls.check().drives if d.source.startswith(DERIVED_SOURCE) and not math.isfinite(d.effort_limit)
+    ]
+    if unlimited:
+        out.write(
+            f"  no effort limit for {', '.join(unlimited)}: the model file gives none; state the motors' with "
+            "actuators = (ra.DerivedActuators(effort_limit=..., armature=...),) "
+            "(docs/using-a-model-file.md, 'Facts a file leaves out')\n"
+        )
     out.write("\n")
     rows = [["joint", "lower", "upper"]]
     rows += [[n, f"{lo:.4f}", f"{hi:.4f}"] for n, (lo, hi) in zip(agent.joint_names, agent.qpos_limits, strict=True)]

@@ -96,6 +96,9 @@ UPRIGHT_AHEAD = 0.5
 DOWN_SAMPLES = 8192
 DOWN_TILT = math.radians(20.0)
 DOWN_MIN_POINTS = 10
+#: Gripper positions, open to closed, over which the fingers' reach past the grasp point
+#: is measured (``GripperGeometry.tip_reach``).
+TIP_REACH_SAMPLES = 9
 #: Geoms lower than the table top plus this (m) sweep the floor around the table.
 LOW_GEOM_MARGIN = 0.01
 
@@ -112,9 +115,9 @@ class GripperGeometry:
             the approach axis.
         approach_axis: unit vector from the arm's last joint to the tool point: the way
             the fingers point.
-        tip_reach: how far the open fingers' colliding geometry reaches past the grasp
-            point along the approach axis (m): a grasp from above keeps the grasp point
-            at least this high over the table.
+        tip_reach: how far the fingers' colliding geometry reaches past the grasp point
+            along the approach axis at any point of their stroke, open to closed (m): a
+            grasp from above keeps the grasp point at least this high over the table.
     """
 
     opening: float
@@ -406,14 +409,21 @@ def _gripper_geometry(
     closing -= approach * float(closing @ approach)
     closing /= max(float(np.linalg.norm(closing)), 1e-9)
     grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
-    # the fingers' farthest reach along the approach axis (their geoms' boxes)
+    # the fingers' farthest reach along the approach axis (their geoms' boxes), over
+    # their stroke from open to closed (a linkage's pads swing out past the tool point
+    # halfway: the Robotiq 2F-85's pressed on the table while closing on a cube)
     grasp_world = point[:3] + rotation.reshape(3, 3) @ grasp
     approach_world = rotation.reshape(3, 3) @ approach
+    _, shut = gripper.positions(len(names))
+    adrs = [agent.qpos_adr[agent.index.joint(name, where).qpos_start] for name in names]
     reach_past = 0.0
-    for g in finger_geoms:
-        centre, axes, half = geom_box(model, data, g)
-        farthest = (centre - grasp_world) @ approach_world + half @ np.abs(axes.T @ approach_world)
-        reach_past = max(reach_past, float(farthest))
+    for share in np.linspace(0.0, 1.0, TIP_REACH_SAMPLES):
+        data.qpos[adrs] = opened + share * (shut - opened)
+        mujoco.mj_kinematics(model, data)
+        for g in finger_geoms:
+            centre, axes, half = geom_box(model, data, g)
+            farthest = (centre - grasp_world) @ approach_world + half @ np.abs(axes.T @ approach_world)
+            reach_past = max(reach_past, float(farthest))
     return GripperGeometry(
         opening=opening,
         grasp_point=tuple(grasp.tolist()),

@@ -507,3 +507,51 @@ def test_task_classes_take_num_envs_second_like_every_env() -> None:
     env = PickCubeEnv("panda", 3, reward_mode="sparse")
     assert env.num_envs == 3 and env.reward_mode == "sparse"
     env.close()
+
+
+def test_the_fingertips_reach_covers_the_whole_stroke() -> None:
+    """The Robotiq 2F-85's pads swing past their open reach while closing: driven from
+    open to closed, the lowest point of the pads' boxes along the approach axis never
+    passes ``tip_reach`` below the grasp point, and it passes the open reach by more
+    than 1 cm on the way (the descent must keep the whole stroke above the table)."""
+    from robot_agents.agent.derived import geom_box
+    from robot_agents.envs.tasks.layout import table_top_layout, tool_arm
+    from robot_agents.kinematics.rotations import quat_to_matrix
+
+    uid = "floating_robotiq_2f_85_gripper"
+    geometry = table_top_layout(ra.get_agent(uid)).gripper
+    assert geometry is not None
+    scene = ra.Scene(uid, control_modes="pd_joint_pos", floor=False)
+    agent = scene.agents[0]
+    model, data = scene.model, scene.world.datas[0]
+    pads = [g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.endswith("_pad")]
+    assert len(pads) >= 2
+    tcp = tool_arm(agent, "test").end_effectors[0].name
+
+    def reach() -> float:
+        tool = agent.frame_pose(tcp)[0]
+        rotation = quat_to_matrix(tool[None, 3:])[0]
+        grasp, approach = (
+            tool[:3] + rotation @ np.array(geometry.grasp_point),
+            rotation @ np.array(geometry.approach_axis),
+        )
+        farthest = -np.inf
+        for g in pads:
+            centre, axes, half = geom_box(model, data, g)
+            farthest = max(farthest, float((centre - grasp) @ approach + half @ np.abs(axes.T @ approach)))
+        return farthest
+
+    scene.reset()
+    action = np.zeros((1, agent.action_space.shape[-1]))
+    action[0, agent.controller.slices["gripper"]] = 1.0  # open
+    for _ in range(20):
+        agent.set_action(action)
+        scene.step()
+    reaches = [reach()]
+    action[0, agent.controller.slices["gripper"]] = -1.0  # close, step by step
+    for _ in range(20):
+        agent.set_action(action)
+        scene.step()
+        reaches.append(reach())
+    assert max(reaches) <= geometry.tip_reach + 1e-3, (max(reaches), geometry.tip_reach)
+    assert max(reaches) > reaches[0] + 0.01, reaches

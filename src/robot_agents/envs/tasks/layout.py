@@ -424,6 +424,8 @@ def _gripper_geometry(
             centre, axes, half = geom_box(model, data, g)
             farthest = (centre - grasp_world) @ approach_world + half @ np.abs(axes.T @ approach_world)
             reach_past = max(reach_past, float(farthest))
+    data.qpos[adrs] = opened  # the gripper open again, as the caller's later measurements expect
+    mujoco.mj_kinematics(model, data)
     return GripperGeometry(
         opening=opening,
         grasp_point=tuple(grasp.tolist()),

@@ -79,3 +79,12 @@ def test_an_arm_it_cannot_be_measured_on_says_why(tmp_path: Path) -> None:
         ConfigError, match=r"parts\['arm'\]: MeasuredTaskSpace\(\) cannot be measured.*'yaw', 'shoulder'"
     ):
         composed(tmp_path, ra.MeasuredTaskSpace(), joints=ARM_JOINTS[:2]).check()
+
+
+def test_an_arm_left_without_drives_is_refused(tmp_path: Path) -> None:
+    """The mounted gripper declares its own actuators, so the arm's joints get none unless
+    the robot declares some: a part no drive moves is an error naming the fix (it was a
+    silent gripper-only action space)."""
+    cls = type("Undriven", (composed(tmp_path, ra.MeasuredTaskSpace()),), {"uid": "undriven_arm", "actuators": ()})
+    with pytest.raises(ConfigError, match=r"parts\['arm'\]: none of its joints .* has a drive.*DerivedActuators\(\)"):
+        cls.check()

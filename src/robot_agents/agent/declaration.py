@@ -519,6 +519,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         # an arm the file implies (or one declared so) gets a task space measured on it
         keyframe = next(iter(keyframes.values())).qpos
         parts = tuple(_with_task_space(part, model, index, part_joints, keyframe, name, inferred) for part in parts)
+    driven = {d.joint for d in drives}
+    for declared in parts:
+        if not any(joint in driven for joint in part_joints[declared.name]):
+            raise ConfigError(
+                f"{name}.parts[{declared.name!r}]: none of its joints {list(part_joints[declared.name])} has a drive, so no "
+                "control mode could move it; declare actuators for them (ra.DerivedActuators() derives gains from "
+                "the model; a mounted piece's actuators drive the piece's joints only)."
+            )
     from robot_agents.controllers.rules import modes_from_parts
 
     modes: dict[str, ModeConfig] = (
@@ -542,7 +550,6 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     default_mode = cls.default_control_mode or (
         derived_mode if not cls.control_modes and derived_mode in modes else next(iter(modes))
     )
-    driven = {d.joint for d in drives}
     for mode in modes:
         for part, config in mode_parts(cls, modes, mode).items():
             for joint in config.joint_names:

@@ -22,6 +22,7 @@ from robot_agents.actuators.gains import (
     STANCE_STABLE_SHARE,
     gains_from_inertia,
     gains_over_configurations,
+    inertia_matrix,
 )
 from robot_agents.agent.declaration import _build
 from robot_agents.agent.derived_drives import drive_configurations
@@ -271,13 +272,7 @@ def _free_inertia(checked: object) -> dict[str, float]:
     model = checked.index.model  # type: ignore[attr-defined]
     data = mujoco.MjData(model)
     data.qpos[:] = _full(checked)
-    mujoco.mj_forward(model, data)
-    full = np.zeros((model.nv, model.nv))
-    try:
-        mujoco.mj_fullM(model, data, full)  # MuJoCo >= 3.5
-    except TypeError:
-        mujoco.mj_fullM(model, full, data.qM)
-    mobility = np.diag(np.linalg.inv(full))
+    mobility = np.diag(np.linalg.inv(inertia_matrix(model, data)))
     return {j: 1.0 / float(mobility[model.joint(j).dofadr[0]]) for j in checked.derived_gains}  # type: ignore[attr-defined]
 
 

@@ -143,7 +143,7 @@ def gains_from_inertia(
             data.qpos[:] = np.asarray(qpos, dtype=np.float64).reshape(model.nq)
         except (TypeError, ValueError):
             raise ConfigError(f"gains_from_inertia: expected qpos as {model.nq} numbers, got {qpos!r:.80}.") from None
-    inertia_matrix = _inertia_matrix(model, data)
+    mass = inertia_matrix(model, data)
     ids = []
     for name in joints:
         joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
@@ -153,9 +153,9 @@ def gains_from_inertia(
             raise ConfigError(f"gains_from_inertia: joint {name!r} is not a hinge or slide joint.")
         ids.append(joint)
     dofs = model.jnt_dofadr[ids]
-    inertia = np.maximum(np.diag(inertia_matrix)[dofs], 1e-9)
+    inertia = np.maximum(np.diag(mass)[dofs], 1e-9)
     # (M^-1)_ii >= 1 / M_ii for a positive-definite M: the free inertia is at most the held one
-    mobility = np.diag(np.linalg.inv(inertia_matrix))[dofs]
+    mobility = np.diag(np.linalg.inv(mass))[dofs]
     free_inertia = np.clip(1.0 / np.maximum(mobility, 1e-300), 1e-9, inertia)
     omega = 2.0 * math.pi * bandwidth_hz
     limited = model.jnt_actfrclimited[ids].astype(bool)
@@ -174,15 +174,15 @@ def gains_from_inertia(
     )
 
 
-def _inertia_matrix(model: mujoco.MjModel, data: mujoco.MjData) -> npt.NDArray[np.float64]:
+def inertia_matrix(model: mujoco.MjModel, data: mujoco.MjData) -> npt.NDArray[np.float64]:
     """The joint-space inertia matrix ``(nv, nv)`` at ``data``'s ``qpos``."""
     mujoco.mj_forward(model, data)
-    inertia_matrix = np.zeros((model.nv, model.nv))
+    matrix = np.zeros((model.nv, model.nv))
     try:
-        mujoco.mj_fullM(model, data, inertia_matrix)  # MuJoCo >= 3.5
+        mujoco.mj_fullM(model, data, matrix)  # MuJoCo >= 3.5
     except TypeError:
-        mujoco.mj_fullM(model, inertia_matrix, data.qM)
-    return inertia_matrix
+        mujoco.mj_fullM(model, matrix, data.qM)
+    return matrix
 
 
 def gains_over_configurations(
@@ -211,7 +211,7 @@ def gains_over_configurations(
     inertias = [first.inertia]
     for row in rows[1:]:
         data.qpos[:] = row
-        inertias.append(np.maximum(np.diag(_inertia_matrix(model, data))[dofs], 1e-9))
+        inertias.append(np.maximum(np.diag(inertia_matrix(model, data))[dofs], 1e-9))
     largest = np.max(inertias, axis=0)
     least = np.min(inertias, axis=0)
     omega = 2.0 * math.pi * bandwidth_hz

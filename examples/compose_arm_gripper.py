@@ -1,12 +1,15 @@
-"""Your arm's model file with a built-in gripper on its flange, in a dozen lines.
+"""Your arm's model file with a built-in gripper on its flange, in a few lines.
 
 ``six_joint_arm.urdf`` stands for a file you have: six joints, no actuators, no effort
-limits. The robot below mounts the built-in Robotiq 2F-85 piece on its flange, states
-the arm's servos (``DerivedActuators``: the gains are still derived from the model's
-inertia, with the stated torque and rotor inertia in them; the gripper brings its own
-drive), and asks for the arm's task space to be measured (``MeasuredTaskSpace``), which
-gives it the end-effector control modes. It then runs the table-top tasks with the
-scripted solvers of ``scripted_pick.py`` and prints the successes::
+limits. The robot below mounts the built-in Robotiq 2F-85 piece on its flange and
+states the arm's servos (``DerivedActuators``: the gains are still derived from the
+model's inertia, with the stated torque and rotor inertia in them; the gripper brings
+its own drive). Everything else is inferred as for the file alone: the arm part (its
+six joints, its end effector the gripper's ``tcp``, its task space measured: the
+end-effector control modes) beside the gripper part the piece declares. Without the
+``actuators`` line the arm's drives are derived with no limits stated. It then runs the
+table-top tasks with the scripted solvers of ``scripted_pick.py`` and prints the
+successes::
 
     python examples/compose_arm_gripper.py --seeds 20
     python examples/compose_arm_gripper.py --seeds 1 --video pick.gif   # one PickCube episode
@@ -37,14 +40,6 @@ class SixJointArm2F85(ra.Agent):
     # the arm's servos: 50 N*m, 0.02 kg*m^2 of reflected rotor inertia each (the file has neither)
     actuators = (ra.DerivedActuators(effort_limit=50.0, armature=0.02),)
     attachments = (ra.Attachment(Robotiq2F85, at="flange_roll_link", prefix="gripper_", pos=(0.0, 0.0, 0.06)),)
-    parts = (
-        ra.Arm(
-            name="arm",
-            joints=("yaw", "shoulder", "elbow", "forearm_roll", "wrist", "flange_roll"),
-            end_effectors=(ra.EndEffector("gripper_robotiq_tcp"),),
-            task_space=ra.MeasuredTaskSpace(),
-        ),
-    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:

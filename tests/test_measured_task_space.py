@@ -81,10 +81,29 @@ def test_an_arm_it_cannot_be_measured_on_says_why(tmp_path: Path) -> None:
         composed(tmp_path, ra.MeasuredTaskSpace(), joints=ARM_JOINTS[:2]).check()
 
 
-def test_an_arm_left_without_drives_is_refused(tmp_path: Path) -> None:
-    """The mounted gripper declares its own actuators, so the arm's joints get none unless
-    the robot declares some: a part no drive moves is an error naming the fix (it was a
-    silent gripper-only action space)."""
-    cls = type("Undriven", (composed(tmp_path, ra.MeasuredTaskSpace()),), {"uid": "undriven_arm", "actuators": ()})
-    with pytest.raises(ConfigError, match=r"parts\['arm'\]: none of its joints .* has a drive.*DerivedActuators\(\)"):
+def test_an_arm_without_drive_declarations_gets_derived_drives(tmp_path: Path) -> None:
+    """The mounted gripper declares its own actuators; the robot declares none and its
+    file has none, so its own joints get derived drives, as the file alone gets them
+    (they were left undriven: a silent gripper-only action space, then an error)."""
+    cls = type("Undeclared", (composed(tmp_path, ra.MeasuredTaskSpace()),), {"uid": "undeclared_arm", "actuators": ()})
+    sources = {d.joint: d.source for d in cls.check().drives}
+    assert [sources[j] for j in ARM_JOINTS] == ["derived gains (see robot_agents.actuators.gains)"] * len(ARM_JOINTS)
+
+
+def test_a_part_left_without_drives_is_refused(tmp_path: Path) -> None:
+    """A part none of whose joints the declared actuators drive is an error naming the
+    fix (here the flange's roll, split off the arm and left out of the actuators)."""
+    arm = ra.Arm(name="arm", joints=ARM_JOINTS[:5], end_effectors=(ra.EndEffector("gripper_robotiq_tcp"),))
+    cls = type(
+        "Undriven",
+        (composed(tmp_path, None),),
+        {
+            "uid": "undriven_roll",
+            "actuators": (ra.DerivedActuators(joints=ARM_JOINTS[:5], effort_limit=50.0),),
+            "parts": (arm, ra.Body(name="roll", joints=ARM_JOINTS[5:])),
+        },
+    )
+    with pytest.raises(
+        ConfigError, match=r"parts\['roll'\]: none of its joints \['flange_roll'\] has a drive.*DerivedActuators\(\)"
+    ):
         cls.check()

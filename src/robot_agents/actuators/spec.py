@@ -88,6 +88,7 @@ def apply_actuators(
     derived: DerivedGains | None,
     where: str,
     own_joints: Collection[str] | None = None,
+    derive_own: bool = False,
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
 
@@ -103,6 +104,11 @@ def apply_actuators(
             the only ones a ``DerivedActuators()`` without joints takes: a mounted
             piece's joints are the piece's, and those it leaves undriven are passive by
             its design (a linkage's followers).
+        derive_own: the robot itself declares no actuators (``declarations`` are its
+            mounted pieces'): when its own file drives none of its own joints either,
+            those joints get derived drives, as a ``DerivedActuators()`` would give
+            them (a user's arm file with a built-in gripper mounted needs no drive
+            declarations, as it needs none alone).
 
     Returns:
         The drive of each driven joint, in the model's joint order.
@@ -150,6 +156,12 @@ def apply_actuators(
             )
         on_joint[actuator.target] = actuator
 
+    own = set(names if own_joints is None else own_joints)
+    implied: DerivedActuators | None = None
+    if derive_own and declarations and not (set(on_joint) & own):
+        # what a robot without pieces gets (the branch at the end), beside its pieces' drives
+        implied = DerivedActuators()
+        declarations = (*declarations, implied)
     rest = [d for d in declarations if isinstance(d, DerivedActuators) and d.joints is None]
     if len(rest) > 1:
         raise ConfigError(
@@ -178,9 +190,8 @@ def apply_actuators(
             claimed_by[file_driven[i]] = decl
     drivable = drivable_joints(spec)
     if rest:
-        own = set(names if own_joints is None else own_joints)
         taken_rest = [n for n in drivable if n not in claimed_by and n not in on_joint and n in own]
-        if not taken_rest:
+        if not taken_rest and implied is None:
             raise ConfigError(
                 f"{where}.actuators: DerivedActuators() takes the hinge and slide joints of the robot's own model "
                 "file that nothing else drives, and there are none: the declarations and the file's actuators "
@@ -214,9 +225,12 @@ def apply_actuators(
                 kp, kv, derived_limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
                 limit = min(float(limit), derived_limit)
                 _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
-                drives[joint] = DriveDeclaration(
-                    joint, DriveKind.AFFINE, f"derived gains ({decl.label}; see {_GAINS})", kp, kv, limit, float(speed)
+                source = (
+                    f"derived gains (see {_GAINS})"
+                    if decl is implied
+                    else f"derived gains ({decl.label}; see {_GAINS})"
                 )
+                drives[joint] = DriveDeclaration(joint, DriveKind.AFFINE, source, kp, kv, limit, float(speed))
         else:
             for joint, drive in zip(matched, _add_declared(spec, decl, matched, taken), strict=True):
                 drives[joint] = drive

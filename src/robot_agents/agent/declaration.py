@@ -34,7 +34,7 @@ from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
-from robot_agents.kinematics.forward import resolve_frame
+from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment, attach
@@ -182,6 +182,8 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
             f"{name}: expected gravity_compensation to be a bool, None or a tuple of body names, got {gravcomp!r}."
         )
     mount_pose(cls)
+    if cls.tcp is not None and (not isinstance(cls.tcp, str) or not cls.tcp):
+        raise ConfigError(f"{name}.tcp: expected a body or site name, or None, got {cls.tcp!r}.")
     if cls.friction_cone not in (None, *FRICTION_CONES):
         raise ConfigError(f"{name}.friction_cone: expected one of {FRICTION_CONES} or None, got {cls.friction_cone!r}.")
     ratio = cls.impratio
@@ -230,13 +232,14 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
 
 
 def _raw_spec(
-    cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None
+    cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None, attached: bool = True
 ) -> tuple[mujoco.MjSpec, frozenset[str]]:
-    """The model file with every mounted piece attached (no options applied yet), and
-    the names of the joints of the robot's own file (not of its pieces)."""
+    """The model file with every mounted piece attached (no options applied yet; the
+    file alone with ``attached=False``), and the names of the joints of the robot's own
+    file (not of its pieces)."""
     spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
     own = frozenset(j.name for j in spec.joints)
-    for attachment in cls.attachments:
+    for attachment in cls.attachments if attached else ():
         attach(spec, _raw_spec(attachment.piece, where)[0], attachment, where)
     return spec, own
 
@@ -315,7 +318,15 @@ def _build(
         settings = compiler if compiler is not None else cls.compiler
         done = _DECOMPOSED.setdefault(cls, {})
         done[settings] = decompose(spec, where, done.get(settings))
-    drives = apply_actuators(spec, parts.actuators, cls.replace_file_actuators, derived, cls.__name__, own_joints)
+    drives = apply_actuators(
+        spec,
+        parts.actuators,
+        cls.replace_file_actuators,
+        derived,
+        cls.__name__,
+        own_joints,
+        derive_own=not cls.actuators,
+    )
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")
     return spec, drives
@@ -387,11 +398,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
     What a robot does not declare is derived here: parts (a serial chain becomes an
     arm whose last body is the end effector, with a task space measured on it; fingers
-    at its end a gripper whose finger geoms get stiff pad contact), a ``"default"``
+    at its end a gripper whose finger geoms get stiff pad contact; with pieces mounted,
+    the robot's own joints are inferred so, beside the pieces' parts, and an arm ends at
+    the ``tcp`` of the piece below it), a ``"default"``
     keyframe (the file's own keyframe or the model's pose, values outside the limits
     moved inside them; a floating robot resting on the floor), drives (PD gains from
     the model's inertia, over the joints' ranges for a fixed robot, when neither the
-    robot nor its file has any; sliding fingers pressing with their effort limit),
+    robot nor its file has any, beside its pieces' drives; sliding fingers pressing with
+    their effort limit),
     control modes (from the parts: joint and end-effector modes) and the default mode
     (a delta mode).
 
@@ -413,11 +427,21 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     index = RobotIndex(model, "", name)
     composed = composition(cls)
     parts = composed.parts
-    inferred = not parts and not cls.control_modes
+    if cls.tcp is not None:
+        resolve_frame(model, cls.tcp, "", f"{name}.tcp")
+    # parts the robot's own joints imply, beside those its pieces declare
+    inferred = not cls.parts and not cls.control_modes
+    own_parts: tuple[Part, ...] = ()
     if inferred:
-        parts = infer_parts(model, index, [d.joint for d in drives])
+        piece_joints, piece_bodies = _piece_names(composed)
+        held = any(isinstance(p, (Gripper, Hand)) for p in parts)  # a piece's gripper is the gripper
+        own_parts = infer_parts(
+            model, index, [d.joint for d in drives if d.joint not in piece_joints], grippers=not held
+        )
+        own_parts = tuple(_to_piece_tool(p, composed, piece_bodies, model, index) for p in own_parts)
         if not _decomposes(cls):
-            note_nonconvex_fingers(name, model, parts)
+            note_nonconvex_fingers(name, model, own_parts)
+        parts = own_parts + parts
     part_joints = _resolve_parts(cls, parts, index, model)
     default = _composed_default(cls, index)
     frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
@@ -518,7 +542,9 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     if (inferred and not torque_only(model, drives)) or measured:
         # an arm the file implies (or one declared so) gets a task space measured on it
         keyframe = next(iter(keyframes.values())).qpos
-        parts = tuple(_with_task_space(part, model, index, part_joints, keyframe, name, inferred) for part in parts)
+        parts = tuple(
+            _with_task_space(part, model, index, part_joints, keyframe, name, part in own_parts) for part in parts
+        )
     driven = {d.joint for d in drives}
     for declared in parts:
         if not any(joint in driven for joint in part_joints[declared.name]):
@@ -578,13 +604,54 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         exclusions,
         mount,
         derived_pads=tuple(
-            dict.fromkeys(
-                link for p in parts if inferred and isinstance(p, Gripper) for f in p.finger_links for link in f
-            )
+            dict.fromkeys(link for p in own_parts if isinstance(p, Gripper) for f in p.finger_links for link in f)
         ),
     )
     _CHECKED[cls] = checked
     return checked
+
+
+def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]:
+    """The joints and bodies of the mounted pieces, as named in the composed model (each
+    piece's own file's, under its full prefix: nested pieces are listed too)."""
+    joints: set[str] = set()
+    bodies: set[str] = set()
+    for prefix, piece in composed.pieces:
+        spec, own = _raw_spec(piece, piece.__name__, piece.compiler, attached=False)
+        joints.update(prefix + joint for joint in own)
+        bodies.update(prefix + body.name for body in spec.bodies if body.name and body.name != "world")
+    return frozenset(joints), frozenset(bodies)
+
+
+def _to_piece_tool(
+    part: Part, composed: Composition, piece_bodies: frozenset[str], model: mujoco.MjModel, index: RobotIndex
+) -> Part:
+    """An inferred arm's end effector on a robot with pieces mounted: the ``tcp`` of the
+    one piece below the arm's last joint that declares one (a gripper's grasp point);
+    else the arm's deepest own body on the way to the end it was inferred at (a camera
+    mount on the flange is not the tool)."""
+    if not isinstance(part, Arm) or not composed.pieces:
+        return part
+    last = [n for n in index.joint_names if re.fullmatch(part.joints[-1], n)][-1]
+    below = set(index.subtree_bodies(int(model.jnt_bodyid[index.joint(last, "composition").id])))
+    tools = []
+    for prefix, piece in composed.pieces:
+        if piece.tcp is None:
+            continue
+        frame = resolve_frame(model, prefix + piece.tcp, "", f"{piece.__name__}.tcp")
+        body = frame.id if frame.kind is FrameKind.BODY else int(model.site_bodyid[frame.id])
+        if body in below:
+            tools.append(prefix + piece.tcp)
+    ee = part.end_effectors[0]
+    if len(set(tools)) == 1:
+        ee = dataclasses.replace(ee, link=tools[0], pos=(0.0, 0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0))
+    else:
+        body = index.body_id(ee.link, "composition")
+        while model.body(body).name in piece_bodies:
+            body = int(model.body_parentid[body])
+        if model.body(body).name != ee.link:
+            ee = dataclasses.replace(ee, link=model.body(body).name, pos=(0.0, 0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0))
+    return dataclasses.replace(part, end_effectors=(ee,))
 
 
 def _resolve_parts(

@@ -46,6 +46,9 @@ class AgentDefinition:
             (end effectors, gripper open / closed, fingers).
         attachments: pieces (other Agent classes) mounted at a body or site; their
             actuators, parts, sensors and default keyframe come along.
+        tcp: a piece's tool centre point, a body or site of its model (a gripper's
+            grasp point, a stick's tip): an arm inferred on a robot the piece is
+            mounted on (one that declares no parts) takes it as its end effector.
         keyframes: name -> :class:`Keyframe` (joints by name); the first is the default.
         control_modes: name -> controller config, or ``{part: config}``; empty:
             generated from the parts.
@@ -86,6 +89,7 @@ class AgentDefinition:
     replace_file_actuators: ClassVar[bool] = False
     parts: ClassVar[tuple[Part, ...]] = ()
     attachments: ClassVar[Sequence[Attachment]] = ()
+    tcp: ClassVar[str | None] = None
     keyframes: ClassVar[Mapping[str, Keyframe]] = {}
     control_modes: ClassVar[Mapping[str, ModeConfig]] = {}
     default_control_mode: ClassVar[str | None] = None

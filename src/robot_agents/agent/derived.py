@@ -68,7 +68,9 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
     return out
 
 
-def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str]) -> tuple[Part, ...]:
+def infer_parts(
+    model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], grippers: bool = True
+) -> tuple[Part, ...]:
     """Parts of a robot that declares none: its driven joints as one arm when they form
     a serial chain (each joint's body below the previous one's), with the chain's last
     body as the end effector; otherwise one ``Body`` part over all of them.
@@ -77,10 +79,11 @@ def infer_parts(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str])
     :func:`infer_gripper`): the arm is the chain above them, its end effector ``"ee"`` on
     the hand at the gripper's tool point (two fingers and a linkage: the midpoint of the
     centres of the closed fingers' colliding geometry, :func:`_finger_centre`; one jaw:
-    where it meets the fixed jaw)."""
+    where it meets the fixed jaw). ``grippers=False``: no gripper is looked for (a
+    mounted piece brings the robot's gripper)."""
     if not driven:
         return ()
-    found = infer_gripper(model, index, driven)
+    found = infer_gripper(model, index, driven) if grippers else None
     if found is not None:
         gripper, hand, tcp, count = found
         arm_joints = list(driven[: len(driven) - count])

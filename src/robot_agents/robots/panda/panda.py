@@ -122,6 +122,7 @@ class PandaHand(Agent):
     """The Franka Hand alone: two mimic fingers, 0-0.04 m each (a piece)."""
 
     mjcf_path = ASSETS / "panda_hand.xml"
+    tcp = "panda_hand_tcp"
     actuators = (PANDA_HAND_DRIVES,)
     parts = (PANDA_GRIPPER,)
     link_materials = {"panda_leftfinger": FINGER_PAD, "panda_rightfinger": FINGER_PAD}
@@ -229,6 +230,7 @@ class PandaStickTool(Agent):
     """A stick on the flange (a piece); its TCP is ``panda_stick_tcp``."""
 
     mjcf_path = ASSETS / "panda_stick_tool.xml"
+    tcp = "panda_stick_tcp"
 
 
 @register_agent()

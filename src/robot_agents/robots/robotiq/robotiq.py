@@ -138,6 +138,7 @@ class Robotiq2F85(Agent):
     """
 
     mjcf_path = ASSETS / "robotiq_2f85.xml"
+    tcp = TCP
     actuators = (ROBOTIQ_DRIVES,)
     parts = (ROBOTIQ_GRIPPER,)
     link_materials = {"right_pad": PAD, "left_pad": PAD}

@@ -181,6 +181,7 @@ class WidowX250SGripper(Agent):
     """The WidowX 250 S gripper bar and fingers alone (a piece; mounted at ``ee_arm_link``)."""
 
     mjcf_path = ASSETS / "wx250s_gripper.xml"
+    tcp = "ee_gripper_link"
     actuators = (WX250S_FINGER_DRIVES,)
     parts = (WX250S_GRIPPER,)
     link_materials = {"left_finger_link": FINGER_PAD, "right_finger_link": FINGER_PAD}

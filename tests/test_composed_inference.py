@@ -1,0 +1,130 @@
+"""A user's arm file with a built-in piece mounted on its flange and nothing else
+declared: the arm's own joints get what the file alone would get (derived drives, an
+arm part with a measured task space), the piece brings its own drives and parts, and the
+arm's end effector is the piece's ``tcp`` (its grasp point)."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from pathlib import Path
+
+import mujoco
+import pytest
+
+import robot_agents as ra
+from robot_agents.agent.declaration import _prefix_part
+from robot_agents.controllers.rules import EE_MODES
+from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.robots.panda.panda import PANDA_GRIPPER, PandaHand, PandaStickTool, RealSenseD415
+from robot_agents.robots.robotiq.robotiq import ROBOTIQ_GRIPPER, Robotiq2F85
+from tests.test_derived_task_space import JOINTS, arm_urdf
+from tests.test_measured_task_space import composed
+from tests.test_scripted_solvers import load_solver
+
+ARM_JOINTS = tuple(name for name, *_ in JOINTS)
+FLANGE = f"{ARM_JOINTS[-1]}_link"
+
+
+def mounted(path: Path, piece: type[ra.Agent], prefix: str = "gripper_", **attrs: object) -> type[ra.Agent]:
+    """The arm file at ``path`` with ``piece`` 6 cm out of its flange, and ``attrs``."""
+    attachment = ra.Attachment(piece, at=FLANGE, prefix=prefix, pos=(0.0, 0.0, 0.06))
+    uid = f"arm_with_{piece.__name__.lower()}"
+    return type(
+        f"ArmWith{piece.__name__}", (ra.Agent,), {"uid": uid, "urdf_path": path, "attachments": (attachment,), **attrs}
+    )
+
+
+@pytest.fixture
+def arm_file(tmp_path: Path) -> Path:
+    """The written six-joint arm: no actuators, no effort limits, as many files come."""
+    path = tmp_path / "arm.urdf"
+    path.write_text(arm_urdf(6, effort=0.0))
+    return path
+
+
+def successes(cls: type[ra.Agent], task: str, seeds: int = 20) -> int:
+    ra.register_agent(cls, override=True)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return int(load_solver().success_rate(task, cls.uid, seeds)[0])
+    finally:
+        ra.unregister_agent(cls.uid)  # (the solver suites list every registered robot)
+
+
+def test_the_arm_is_inferred_and_the_piece_brings_the_gripper(arm_file: Path) -> None:
+    checked = mounted(arm_file, Robotiq2F85).check()
+    arm, gripper = checked.parts
+    assert isinstance(arm, ra.Arm) and checked.part_joints["arm"] == ARM_JOINTS
+    assert [ee.link for ee in arm.end_effectors] == ["gripper_robotiq_tcp"]
+    assert gripper == _prefix_part(ROBOTIQ_GRIPPER, "gripper_")  # the piece's declaration, renamed
+    assert set(EE_MODES) <= set(checked.modes) and checked.default_mode == "pd_joint_delta_pos"
+    sources = {d.joint: d.source for d in checked.drives}
+    assert all(sources[j] == "derived gains (see robot_agents.actuators.gains)" for j in ARM_JOINTS)
+    # the piece's drives as it declares them; its linkage followers stay passive
+    on_piece = [d for d in checked.drives if d.joint.startswith("gripper_")]
+    assert [dataclasses.replace(d, source="") for d in on_piece] == [
+        dataclasses.replace(d, joint=f"gripper_{d.joint}", source="") for d in Robotiq2F85.check().drives
+    ]
+
+
+def test_it_equals_the_composition_declared_by_hand(arm_file: Path, tmp_path: Path) -> None:
+    """With the same stated servos, the inferred robot gets the arm, task space and
+    drives of the robot that declares its arm with MeasuredTaskSpace()."""
+    servos = (ra.DerivedActuators(effort_limit=50.0, armature=0.02),)
+    inferred = mounted(arm_file, Robotiq2F85, actuators=servos).check()
+    declared = composed(tmp_path, ra.MeasuredTaskSpace()).check()
+    assert inferred.drives == declared.drives
+    (arm, _), (by_hand, _) = inferred.parts, declared.parts
+    assert isinstance(arm, ra.Arm) and isinstance(by_hand, ra.Arm)
+    assert arm.task_space == by_hand.task_space
+    assert arm.end_effectors[0].link == by_hand.end_effectors[0].link
+    assert inferred.part_joints["arm"] == declared.part_joints["arm"]
+
+
+def test_the_inferred_composition_picks(arm_file: Path) -> None:
+    """PickCube with the scripted solver: the 2F-85 (19 of 20 measured) and the Franka
+    Hand (20 of 20) on the arm, drives derived, nothing stated."""
+    assert successes(mounted(arm_file, Robotiq2F85), "PickCube-v1") >= 18
+    hand = mounted(arm_file, PandaHand, prefix="")
+    checked = hand.check()
+    assert [p.name for p in checked.parts] == ["arm", "gripper"] and checked.parts[1] == PANDA_GRIPPER
+    assert checked.parts[0].end_effectors[0].link == "panda_hand_tcp"  # type: ignore[attr-defined]
+    assert successes(hand, "PickCube-v1") >= 18
+
+
+def test_a_tool_without_fingers_and_a_camera(arm_file: Path) -> None:
+    """A stick's tcp is the arm's end effector; a camera mount declares none, and the arm
+    ends at its own flange, not inside the mount."""
+    stick = mounted(arm_file, PandaStickTool).check()
+    assert [(p.name, p.end_effectors[0].link) for p in stick.parts] == [("arm", "gripper_panda_stick_tcp")]  # type: ignore[attr-defined]
+    assert set(EE_MODES) <= set(stick.modes)
+    camera = mounted(arm_file, RealSenseD415, prefix="camera_").check()
+    assert [(p.name, p.end_effectors[0].link) for p in camera.parts] == [("arm", FLANGE)]  # type: ignore[attr-defined]
+
+
+def test_a_file_that_drives_its_joints_keeps_its_actuators(arm_file: Path, tmp_path: Path) -> None:
+    """The file's own actuators are adopted and no drive is derived beside them, as for
+    the file alone: the joints it leaves undriven stay so."""
+    spec = mujoco.MjSpec.from_file(str(arm_file))
+    for joint in ARM_JOINTS:
+        spec.add_actuator(name=joint, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT).set_to_position(
+            kp=300.0, kv=30.0
+        )
+    path = tmp_path / "arm_with_actuators.xml"
+    path.write_text(spec.to_xml())
+    cls = type(
+        "FileDriven", (mounted(arm_file, Robotiq2F85),), {"uid": "file_driven", "urdf_path": None, "mjcf_path": path}
+    )
+    sources = {d.joint: d.source for d in cls.check().drives}
+    assert [sources[j] for j in ARM_JOINTS] == [f"the model file (actuator {j!r})" for j in ARM_JOINTS]
+
+
+def test_a_piece_tcp_must_name_a_body_or_site(arm_file: Path) -> None:
+    typo = type("Typo2F85", (Robotiq2F85,), {"tcp": "robotiq_tpc"})
+    with pytest.raises(UnknownNameError, match=r"Typo2F85\.tcp.*robotiq_tpc.*robotiq_tcp"):
+        mounted(arm_file, typo).check()
+    wrong = type("Wrong2F85", (Robotiq2F85,), {"tcp": 3})
+    with pytest.raises(ConfigError, match=r"Wrong2F85\.tcp: expected a body or site name, or None, got 3"):
+        wrong.validate_definition()

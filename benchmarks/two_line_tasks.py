@@ -13,9 +13,16 @@ limit and its jaw presses with whatever a 10 Hz spring on its light jaw gives; t
 line states the datasheet facts of :mod:`robot_agents.robots.servo_arms.servos` with
 ``ra.DerivedActuators`` (gains still derived): :data:`SERVOS`.
 
-Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20] [--servos]``
-(the ``mani-skill`` wheel's arms: ``pip download --no-deps mani-skill==3.0.1`` and unzip
-``mani_skill/assets/robots``).
+``--gripper robotiq_2f85 --at LINK`` (or ``franka_hand``) makes it three lines: a
+built-in gripper piece mounted on each file's link ``LINK`` (its z axis pointing out of
+the flange, as ROS-Industrial's ``tool0`` and UFactory's ``link_eef``), the arm's parts
+and drives inferred from the file (docs/using-a-model-file.md, "Your arm's file with a
+built-in gripper").
+
+Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20] [--servos]
+[--gripper NAME --at LINK]`` (the ``mani-skill`` wheel's arms: ``pip download --no-deps
+mani-skill==3.0.1`` and unzip ``mani_skill/assets/robots``; arm-only files: the
+``example-robot-data`` wheel's ``ur_description`` and ``xarm_description``).
 """
 
 from __future__ import annotations
@@ -27,12 +34,16 @@ from pathlib import Path
 
 import robot_agents as ra
 from robot_agents.errors import ConfigError
+from robot_agents.robots.panda.panda import PandaHand
+from robot_agents.robots.robotiq.robotiq import Robotiq2F85
 from robot_agents.robots.servo_arms.servos import STS3215, XL330_M288, XL430_W250, Servo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import scripted_pick  # (the solvers live with the examples)
 
 TASKS = ("PickCube-v1", "PushCube-v1", "ReachPose-v1")
+#: ``--gripper`` name -> the built-in piece mounted.
+GRIPPERS = {"robotiq_2f85": Robotiq2F85, "franka_hand": PandaHand}
 
 
 def stated(joints: str | None, servo: Servo) -> ra.DerivedActuators:
@@ -61,7 +72,11 @@ def main() -> None:
     parser.add_argument("paths", type=Path, nargs="+", help="model files")
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--servos", action="store_true", help="state the servos of the files in SERVOS")
+    parser.add_argument("--gripper", choices=sorted(GRIPPERS), help="mount this built-in gripper (needs --at)")
+    parser.add_argument("--at", help="the link of each file the gripper is mounted on")
     args = parser.parse_args()
+    if (args.gripper is None) != (args.at is None):
+        parser.error("--gripper and --at go together")
     warnings.simplefilter("ignore")
     print("| file | " + " | ".join(TASKS) + " |\n|---|" + "---|" * len(TASKS))
     for path in args.paths:
@@ -70,6 +85,8 @@ def main() -> None:
         servos = SERVOS.get(path.name) if args.servos else None
         if servos is not None:
             attrs["actuators"] = servos
+        if args.gripper is not None:
+            attrs["attachments"] = (ra.Attachment(GRIPPERS[args.gripper], at=args.at, prefix="gripper_"),)
         ra.register_agent(type("TwoLine", (ra.Agent,), attrs), override=True)
         cells = []
         for task in TASKS:
@@ -79,6 +96,7 @@ def main() -> None:
             except ConfigError as error:  # the robot lacks the task's parts
                 cells.append(f"- ({str(error).split(': ', 1)[-1][:60]})")
         label = f"{path.name} + servos" if servos is not None else path.name
+        label += f" + {args.gripper}" if args.gripper is not None else ""
         print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
 
 

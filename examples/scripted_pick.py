@@ -257,6 +257,18 @@ class Arm:
         """Per env: would the robot touch itself with the arm's joints at ``q``
         ``(num_envs, k)`` (the rest of the robot as it is; MuJoCo's collision detection
         on a scratch copy of the env's state, contacts closer than 1 mm)."""
+        return self._touching(q, lambda mine: mine == 2)
+
+    def scene_contact(self, q: np.ndarray, ignore: str) -> np.ndarray:
+        """Per env: would the robot press into the scene (the table, the floor) with the
+        arm's joints at ``q`` ``(num_envs, k)``, body ``ignore`` (the cube) left out;
+        as :meth:`self_contact`."""
+        skip = self.env.model.body(ignore).id
+        return self._touching(q, lambda mine: mine == 1, skip)
+
+    def _touching(self, q: np.ndarray, counts: Any, skip: int = -1) -> np.ndarray:
+        """Per env: any contact closer than 1 mm at ``q`` whose number of robot bodies
+        (0, 1 or 2) ``counts`` accepts, neither of them body ``skip``."""
         model = self.env.model
         scratch = mujoco.MjData(model)
         robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
@@ -266,10 +278,11 @@ class Arm:
             scratch.qpos[:] = data.qpos
             scratch.qpos[self.agent.qpos_adr] = joints
             mujoco.mj_forward(model, scratch)
-            contacts = scratch.contact[: scratch.ncon]
-            touching[env] = any(
-                c.dist < -1e-3 and int(bodies[c.geom1]) in robot and int(bodies[c.geom2]) in robot for c in contacts
-            )
+            for c in scratch.contact[: scratch.ncon]:
+                pair = (int(bodies[c.geom1]), int(bodies[c.geom2]))
+                if c.dist < -1e-3 and skip not in pair and counts(sum(b in robot for b in pair)):
+                    touching[env] = True
+                    break
         return touching
 
     def ee_command(
@@ -291,7 +304,12 @@ class Arm:
         return np.concatenate([step, shorten(turn, high[3:6])], axis=1)
 
     def solve(
-        self, position: np.ndarray, quat: np.ndarray | None, iterations: int = 200, restarts: int = 8
+        self,
+        position: np.ndarray,
+        quat: np.ndarray | None,
+        iterations: int = 200,
+        restarts: int = 8,
+        refuse: Any = None,
     ) -> np.ndarray:
         """Arm joints ``(num_envs, k)`` that put the tool at ``position`` (and ``quat``):
         damped least squares on the agent's frame pose and Jacobian, from the measured
@@ -302,13 +320,16 @@ class Arm:
         take the first that reaches it (within 1
         cm); where none does, the solution from the measured joints stays (a local
         minimum against joint limits is the usual cause: the WidowX 250 S's shoulder
-        and wrist left the tool 13-16 cm off in 12 of 200 PickCube seeds)."""
-        q, error = self._descend(self.agent.qpos, position, quat, iterations)
+        and wrist left the tool 13-16 cm off in 12 of 200 PickCube seeds). ``refuse``:
+        a test of solutions (arm joints ``(num_envs, k)`` -> ``(num_envs,)`` bools);
+        envs whose solution it refuses try the restarts too."""
+        q, error = self.descend(self.agent.qpos, position, quat, iterations)
         low = np.where(np.isfinite(self.limits[:, 0]), self.limits[:, 0], -np.pi)
         high = np.where(np.isfinite(self.limits[:, 1]), self.limits[:, 1], np.pi)
         rng = np.random.default_rng(0)
+        refused = np.zeros(len(q), dtype=bool) if refuse is None else refuse(q[:, self.q_index])
         for attempt in range(restarts):
-            stuck = error > 0.01
+            stuck = (error > 0.01) | refused
             if not stuck.any():
                 break
             start = q.copy()
@@ -316,8 +337,12 @@ class Arm:
             # joint, far from its stops); then random configurations
             seeds = 0.5 * (low + high) if attempt == 0 else rng.uniform(low, high, (len(q), len(low)))
             start[:, self.q_index] = np.where(stuck[:, None], seeds, q[:, self.q_index])
-            retried, retried_error = self._descend(start, position, quat, iterations)
+            retried, retried_error = self.descend(start, position, quat, iterations)
             better = stuck & (retried_error <= 0.01)  # a restart that reaches it
+            if refuse is not None and better.any():
+                accepted = ~refuse(retried[:, self.q_index])
+                better &= accepted | ~refused  # a refused solution only gives way to an accepted one
+                refused[better] = ~accepted[better]
             q[better], error[better] = retried[better], retried_error[better]
         solution: np.ndarray = q[:, self.q_index]
         return solution
@@ -331,23 +356,23 @@ class Arm:
             jacobian[:, :, column] += slope * full_jacobian[:, :, follower_v]
         return jacobian
 
-    def solve_with_base(self, position: np.ndarray, quat: np.ndarray, probe: float) -> np.ndarray:
+    def solve_with_base(self, position: np.ndarray, quat: np.ndarray, probe: float, refuse: Any = None) -> np.ndarray:
         """:meth:`solve`, after :meth:`plan_base_assist` (with ``probe``); envs the base
         assists solve for ``position`` moved along the heading by what the arm alone
         leaves short that way (the base drives there: :meth:`ramp`'s ``tool_goal``), so
         that the arm's joints need not bend towards a point off their reach."""
         self.plan_base_assist(position, quat, probe)
-        q = self.solve(position, quat)
+        q = self.solve(position, quat, refuse=refuse)
         if not self.assist.any():
             return q
         heading = self.heading()
         short = np.sum((position - self.tool_at(q)) * heading, axis=1)
         within = position - np.where(self.assist, short, 0.0)[:, None] * heading
-        again = self.solve(within, quat)
+        again = self.solve(within, quat, refuse=refuse)
         out: np.ndarray = np.where(self.assist[:, None], again, q)
         return out
 
-    def _descend(
+    def descend(
         self, start: np.ndarray, position: np.ndarray, quat: np.ndarray | None, iterations: int
     ) -> tuple[np.ndarray, np.ndarray]:
         """``iterations`` damped-least-squares steps from the robot's joints ``start``
@@ -455,6 +480,9 @@ SPEED = 0.05
 DEPTH = 0.2
 #: How far above the table the open fingers' tips stay while the tool descends (m).
 TIP_CLEARANCE = 0.002
+#: Damped-least-squares steps from a candidate pose above the cube to the grasp pose
+#: below it, to see whether the arm would meet the table on the way down.
+DESCENT_ITERATIONS = 50
 
 
 def record(env: Any, frames: list[np.ndarray] | None) -> None:
@@ -509,13 +537,27 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     def tool_target(grasp_at: np.ndarray, quat: np.ndarray) -> np.ndarray:
         return grasp_at - in_tool(quat, grasp_point)
 
-    # 1. Turn: joint positions along a ramp to the IK solution above the cube.
+    def lowest(cube: np.ndarray) -> np.ndarray:
+        """Where the grasp point descends to: into the cube, the fingertips above the table."""
+        deeper = cube - DEPTH * edge * np.array([0.0, 0.0, 1.0])
+        deeper[:, 2] = np.maximum(deeper[:, 2], layout.table_height + geometry.tip_reach + TIP_CLEARANCE)
+        return deeper
+
+    # 1. Turn: joint positions along a ramp to the IK solution above the cube, one from
+    # which the descent keeps the arm off the table (an elbow bent down, near the arm's
+    # base, would meet it: the UR3 file with a gripper piece)
     cube = env.body_pose("cube")
     quat = grasp_orientation(arm.tool()[:, 3:], cube[:, 3:], approach, closing)
     turned = tool_target(cube[:, :3] + above, quat)
+    low = tool_target(lowest(cube[:, :3]), quat)
+
+    def descent_meets_table(q: np.ndarray) -> np.ndarray:
+        reached, _ = arm.descend(arm.robot_qpos(q), low, quat, DESCENT_ITERATIONS)
+        return arm.scene_contact(reached[:, arm.q_index], "cube")
+
     arm.ramp(
         episode.step,
-        arm.solve_with_base(turned, quat, BASE_PROBE * layout.reach),
+        arm.solve_with_base(turned, quat, BASE_PROBE * layout.reach, refuse=descent_meets_table),
         turn_steps,
         np.ones(n, dtype=bool),
         turned,
@@ -532,9 +574,8 @@ def solve_pick(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         point = tool[:, :3] + in_tool(tool[:, 3:], grasp_point)
         lifted = cube.copy()
         lifted[:, 2] = np.maximum(env.goal_pos[:, 2], rest_z + edge)
-        deeper = cube - DEPTH * edge * np.array([0.0, 0.0, 1.0])
         # the fingertips stay above the table (they would press on it and stall the fingers)
-        deeper[:, 2] = np.maximum(deeper[:, 2], layout.table_height + geometry.tip_reach + TIP_CLEARANCE)
+        deeper = lowest(cube)
         cube_at = np.where((stage == RAISE)[:, None], lifted, env.goal_pos)  # where the cube goes next
         target = np.where((stage == APPROACH)[:, None], cube + above, deeper)
         target = np.where((stage == CLOSE)[:, None], grasp_at, target)

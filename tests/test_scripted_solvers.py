@@ -140,7 +140,7 @@ def test_the_turns_ik_restarts_where_joint_limits_trap_it(monkeypatch: pytest.Mo
     monkeypatch.setattr(
         solver.Arm,
         "solve",
-        lambda self, position, quat, iterations=200, restarts=0: solve(self, position, quat, 200, 0),
+        lambda self, position, quat, iterations=200, restarts=0, refuse=None: solve(self, position, quat, 200, 0),
     )
     assert solver.success_rate("PickCube-v1", "widowx250s", 1, seed=37)[0] == 0
 

@@ -8,11 +8,12 @@ import warnings
 from collections.abc import Iterator
 from pathlib import Path
 
+import mujoco
 import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.envs.tasks.layout import SPAWN_HALF_SIZE, UPRIGHT_AHEAD, table_top_layout
+from robot_agents.envs.tasks.layout import SPAWN_HALF_SIZE, UPRIGHT_AHEAD, _pressing, table_top_layout
 from tests.test_derived_task_space import JOINTS, arm_urdf
 from tests.test_scripted_solvers import load_solver
 
@@ -80,5 +81,81 @@ def test_the_two_line_arm_picks_the_cube(two_line_arm: type[ra.Agent]) -> None:
         agent = env.agents[0]
         assert [type(p).__name__ for p in agent.parts_by_name.values()] == ["Arm", "Gripper"]
         assert np.all(np.isfinite(agent.qpos))
+    finally:
+        env.close()
+
+
+def folded_arm(tmp_path: Path, keyframes: dict[str, ra.Keyframe] | None = None) -> type[ra.Agent]:
+    """The arm with a gripper, its file drawing the forearm bent 1.2 rad forward at zero
+    (as the xArm7's file folds its tool in near its base); ``keyframes``: declared."""
+    elbow = '<child link="elbow_link"/><origin xyz="0 0 0.3"/>'
+    text = arm_with_gripper_urdf()
+    if elbow not in text:
+        raise AssertionError("the written arm's elbow moved")
+    path = tmp_path / "folded.urdf"
+    path.write_text(text.replace(elbow, elbow.replace('"/>', '" rpy="0 1.2 0"/>')))
+    attrs: dict[str, object] = {"uid": "folded_arm", "urdf_path": path}
+    if keyframes is not None:
+        attrs["keyframes"] = keyframes
+    return type("FoldedArm", (ra.Agent,), attrs)
+
+
+def test_an_arm_resting_as_its_file_draws_it_gets_its_workspace_where_it_points_down(tmp_path: Path) -> None:
+    """Declaring no keyframe, the arm rests as its file draws it, which says nothing of
+    where it works: its centre goes in the middle of where its fingers point down
+    (0.35 m ahead). Declaring that same pose as its keyframe, the centre stays under
+    its tool (0.50 m), as for every built-in robot."""
+    drawn = table_top_layout(folded_arm(tmp_path))
+    declared = table_top_layout(folded_arm(tmp_path, {"rest": ra.Keyframe(qpos={".*": 0.0})}))
+    assert drawn.reach == declared.reach
+    rest_ahead = declared.rest_tcp[0] - declared.robot_pose[0]  # the rest tool, from the root
+    assert -declared.robot_pose[0] == pytest.approx(rest_ahead, abs=0.01)  # the centre under it
+    assert -drawn.robot_pose[0] == pytest.approx(0.35, abs=0.03)
+
+
+def test_poses_pressing_into_the_table_or_the_arm_itself_do_not_count(two_line_arm: type[ra.Agent]) -> None:
+    """The pointing-down measure leaves out configurations in which the robot touches
+    itself or the floor it stands on (the table top) deeper than 1 mm."""
+    scene = ra.Scene(two_line_arm)
+    try:
+        agent, model = scene.agents[0], scene.model
+        robot = set(agent.index.subtree_bodies(agent.index.root_body_id))
+        data = mujoco.MjData(model)
+        qpos = scene.world.qpos[0].copy()
+        shoulder, elbow, wrist = (agent.index.joint(j, "test").qpos_start for j in ("shoulder", "elbow", "wrist"))
+        assert not _pressing(model, data, qpos, robot)  # upright
+        into_table = qpos.copy()
+        into_table[shoulder] = 1.7  # leaning forward down to its stop: the arm's tip reaches below its foot
+        into_table[elbow] = 1.0
+        assert _pressing(model, data, into_table, robot)
+        onto_itself = qpos.copy()
+        onto_itself[elbow], onto_itself[wrist] = 2.5, 1.7  # folded back: the fingers into its foot
+        assert _pressing(model, data, onto_itself, robot)
+    finally:
+        scene.close()
+
+
+def test_the_solver_ik_takes_another_solution_where_one_is_refused(two_line_arm: type[ra.Agent]) -> None:
+    """``Arm.solve(..., refuse=...)`` (the scripted pick refuses a pose above the cube
+    from which the descent would press the arm into the table): refusing the elbow's
+    side of the first solution, the restarts find one bent the other way that still
+    puts the tool on the target."""
+    solver = load_solver()
+    env = ra.make_env("PickCube-v1", robot_uids=two_line_arm.uid, num_envs=4).unwrapped
+    try:
+        env.reset(seed=0)
+        arm = solver.Arm(env)
+        elbow = list(arm.agent.part_joints["arm"]).index("elbow")
+        target = env.body_pose("cube")[:, :3] + np.array([0.0, 0.0, 0.15])
+        first = arm.solve(target, None)
+        assert np.linalg.norm(arm.tool_at(first) - target, axis=1).max() < 0.01
+        side = np.sign(first[:, elbow])
+
+        def same_side(q: np.ndarray) -> np.ndarray:
+            return np.asarray(np.sign(q[:, elbow]) == side)
+
+        other = arm.solve(target, None, refuse=same_side)
+        assert not same_side(other).any()
+        assert np.linalg.norm(arm.tool_at(other) - target, axis=1).max() < 0.01
     finally:
         env.close()

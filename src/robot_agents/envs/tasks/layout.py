@@ -19,7 +19,10 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the built-in
   arms rest their tools 0.25-0.65 R ahead), or, when it has a gripper, in the middle of
   the distances at which its tool reaches pointing down at the heights of cubes and
-  goals, where that is nearer (:func:`_pointing_down_middle`). The table top is at
+  goals, where that is nearer (:func:`_pointing_down_middle`: configurations in which
+  the robot touches itself or the table top are left out). A robot that declares no
+  keyframe (its default is its file's pose) and has a gripper gets its centre there
+  whatever its rest pose. The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
@@ -96,6 +99,9 @@ UPRIGHT_AHEAD = 0.5
 DOWN_SAMPLES = 8192
 DOWN_TILT = math.radians(20.0)
 DOWN_MIN_POINTS = 10
+#: How deep a contact of the robot with itself or the table may be in a configuration
+#: counted as pointing down (m): deeper, the arm would press into it.
+DOWN_CONTACT_DEPTH = 1e-3
 #: Gripper positions, open to closed, over which the fingers' reach past the grasp point
 #: is measured (``GripperGeometry.tip_reach``).
 TIP_REACH_SAMPLES = 9
@@ -239,11 +245,16 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
         cube_edge = max(cube_edge, MIN_CUBE_EDGE)
         ahead_distance = UPRIGHT_AHEAD * reach
-        if centre_ahead and base is None and gripper is not None:
+        # a robot declaring no keyframe rests as its file draws it (every joint at zero):
+        # that pose says nothing of where it works (the xArm7 file folds its tool in 0.2 m
+        # from its base), so with a gripper its centre goes where the tool points down
+        file_rest = not cls.keyframes and joints[0].kind is JointKind.HINGE
+        if (centre_ahead or file_rest) and base is None and gripper is not None:
             band = (0.5 * cube_edge, 0.5 * cube_edge + 2.0 * SPAWN_HALF_SIZE * reach)  # cubes' centres to goals
-            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, gripper.approach_axis, band)
+            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, gripper.approach_axis, band, model)
             if middle is not None:
-                ahead_distance = min(ahead_distance, middle)
+                ahead_distance = middle if file_rest else min(ahead_distance, middle)
+                centre_ahead = True
     finally:
         probe.close()
     turn = z_rotation_quat(yaw)
@@ -311,16 +322,21 @@ def _pointing_down_middle(
     shoulder: FloatArray,
     approach: Sequence[float],
     band: tuple[float, float],
+    model: mujoco.MjModel,
 ) -> float | None:
     """The middle of the horizontal distances (m) from ``shoulder`` at which the tool
     reaches pointing down (its ``approach`` axis within :data:`DOWN_TILT` of straight
     down) at heights within ``band`` (m above the floor the robot stands on, which
-    becomes the table top), over :data:`DOWN_SAMPLES` configurations drawn (fixed seed)
-    within the arm joints' limits from ``reference`` (``(nq,)``); ``None`` when fewer
-    than :data:`DOWN_MIN_POINTS` tool points qualify. An arm resting upright can be
-    too short at ``UPRIGHT_AHEAD`` reach to grasp pointing down: a written six-joint arm
-    (1.14 m reach, a short wrist) reached at most 0.62 m ahead that way, and its centre
-    at 0.57 m left a third of its cubes beyond."""
+    becomes the table top) with the robot clear of itself and of that floor (``model``:
+    the probe scene's; no contact deeper than :data:`DOWN_CONTACT_DEPTH`), over
+    :data:`DOWN_SAMPLES` configurations drawn (fixed seed) within the arm joints' limits
+    from ``reference`` (``(nq,)``); ``None`` when fewer than :data:`DOWN_MIN_POINTS`
+    tool points qualify. An arm resting upright can be too short at ``UPRIGHT_AHEAD``
+    reach to grasp pointing down: a written six-joint arm (1.14 m reach, a short wrist)
+    reached at most 0.62 m ahead that way, and its centre at 0.57 m left a third of its
+    cubes beyond. Near its base a small arm with a large gripper folds onto itself or
+    onto the table to point down (the UR3 file with the Franka Hand: the hand against
+    the upper arm, the elbow on the table)."""
     rng = np.random.default_rng(1)
     configs = np.tile(reference, (DOWN_SAMPLES, 1))
     for joint in joints:
@@ -336,10 +352,32 @@ def _pointing_down_middle(
     down = -pointing[:, 2] >= math.cos(DOWN_TILT)
     height = poses[:, 2]
     chosen = down & (height >= band[0]) & (height <= band[1])
+    robot = set(agent.index.subtree_bodies(agent.index.root_body_id))
+    scratch = mujoco.MjData(model)
+    for sample in np.flatnonzero(chosen).tolist():
+        chosen[sample] = not _pressing(model, scratch, configs[sample], robot)
     if int(chosen.sum()) < DOWN_MIN_POINTS:
         return None
     distance = np.linalg.norm(poses[chosen, :2] - shoulder[:2], axis=1)
     return float(0.5 * (distance.min() + distance.max()))
+
+
+def _pressing(model: mujoco.MjModel, data: mujoco.MjData, qpos: FloatArray, robot: set[int]) -> bool:
+    """Whether the robot at ``qpos`` touches itself or the floor (world geoms) deeper
+    than :data:`DOWN_CONTACT_DEPTH` (MuJoCo's collision detection; self-collision
+    filtering as the robot declares it)."""
+    data.qpos[:] = qpos
+    mujoco.mj_fwdPosition(model, data)
+    bodies = model.geom_bodyid
+    for contact in data.contact[: data.ncon]:
+        first, second = int(bodies[contact.geom1]), int(bodies[contact.geom2])
+        if (
+            contact.dist < -DOWN_CONTACT_DEPTH
+            and (first in robot or second in robot)
+            and {first, second} <= robot | {0}
+        ):
+            return True
+    return False
 
 
 def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[FloatArray, FloatArray]]:

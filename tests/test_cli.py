@@ -222,7 +222,7 @@ def test_check_passes_for_a_builtin_and_a_model_file(tmp_path: Path) -> None:
     assert code == 0, text
     assert "drive: derived gains" in text and "parts: arm (joint_a, joint_b)" in text
     code, text = run("info", str(urdf))
-    assert code == 0 and "end effectors: ee" in text
+    assert code == 0 and "end effectors: ee (tool)" in text
 
 
 def test_check_fails_with_numbers_for_unstable_gains(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

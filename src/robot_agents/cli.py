@@ -93,7 +93,8 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
     out.write(f"model: {cls.model_path()}\n")
     for prefix, piece in composition(cls).pieces:
         out.write(f"  + {piece.__name__} ({piece.model_path().name}){f' as {prefix!r}' if prefix else ''}\n")
-    tools = ", ".join(agent.frames.end_effectors) or "-"
+    links = {ee.name: ee.link for part in cls.check().parts for ee in getattr(part, "end_effectors", ())}
+    tools = ", ".join(f"{n} ({links[n]})" if links.get(n, n) != n else n for n in agent.frames.end_effectors) or "-"
     out.write(f"root: {'fixed' if cls.fix_root_link else 'free'}; end effectors: {tools}\n")
     parts = "; ".join(f"{p} ({', '.join(joints)})" for p, joints in agent.part_joints.items()) or "-"
     out.write(f"parts: {parts}\n")

@@ -13,8 +13,9 @@ limit and its jaw presses with whatever a 10 Hz spring on its light jaw gives; t
 line states the datasheet facts of :mod:`robot_agents.robots.servo_arms.servos` with
 ``ra.DerivedActuators`` (gains still derived): :data:`SERVOS`.
 
-``--gripper robotiq_2f85 --at LINK`` (or ``franka_hand``) makes it three lines: a
-built-in gripper piece mounted on each file's link ``LINK`` (its z axis pointing out of
+``--gripper robotiq_2f85 --at LINK`` (or ``franka_hand``; the command line's options,
+:data:`robot_agents.robots.catalog.BUILTIN_PIECES`) makes it three lines: a built-in
+gripper piece mounted on each file's link ``LINK`` (its z axis pointing out of
 the flange, as ROS-Industrial's ``tool0`` and UFactory's ``link_eef``), the arm's parts
 and drives inferred from the file (docs/using-a-model-file.md, "Your arm's file with a
 built-in gripper").
@@ -34,16 +35,14 @@ from pathlib import Path
 
 import robot_agents as ra
 from robot_agents.errors import ConfigError
-from robot_agents.robots.panda.panda import PandaHand
-from robot_agents.robots.robotiq.robotiq import Robotiq2F85
+from robot_agents.robot_source import robot_from_file
+from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.robots.servo_arms.servos import STS3215, XL330_M288, XL430_W250, Servo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import scripted_pick  # (the solvers live with the examples)
 
 TASKS = ("PickCube-v1", "PushCube-v1", "ReachPose-v1")
-#: ``--gripper`` name -> the built-in piece mounted.
-GRIPPERS = {"robotiq_2f85": Robotiq2F85, "franka_hand": PandaHand}
 
 
 def stated(joints: str | None, servo: Servo) -> ra.DerivedActuators:
@@ -72,7 +71,7 @@ def main() -> None:
     parser.add_argument("paths", type=Path, nargs="+", help="model files")
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--servos", action="store_true", help="state the servos of the files in SERVOS")
-    parser.add_argument("--gripper", choices=sorted(GRIPPERS), help="mount this built-in gripper (needs --at)")
+    parser.add_argument("--gripper", choices=sorted(BUILTIN_PIECES), help="mount this built-in gripper (needs --at)")
     parser.add_argument("--at", help="the link of each file the gripper is mounted on")
     args = parser.parse_args()
     if (args.gripper is None) != (args.at is None):
@@ -81,13 +80,14 @@ def main() -> None:
     print("| file | " + " | ".join(TASKS) + " |\n|---|" + "---|" * len(TASKS))
     for path in args.paths:
         uid = f"two_line_{path.stem}"
-        attrs: dict[str, object] = {"uid": uid, "urdf_path": path.resolve()}
+        attrs: dict[str, object] = {"uid": uid}
         servos = SERVOS.get(path.name) if args.servos else None
         if servos is not None:
             attrs["actuators"] = servos
-        if args.gripper is not None:
-            attrs["attachments"] = (ra.Attachment(GRIPPERS[args.gripper], at=args.at, prefix="gripper_"),)
-        ra.register_agent(type("TwoLine", (ra.Agent,), attrs), override=True)
+        # the file's robot as the command line makes it (--gripper / --at: the piece mounted)
+        ra.register_agent(
+            type("TwoLine", (robot_from_file(path.resolve(), gripper=args.gripper, at=args.at),), attrs), override=True
+        )
         cells = []
         for task in TASKS:
             try:

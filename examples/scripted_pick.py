@@ -60,6 +60,7 @@ import mujoco
 import numpy as np
 
 import robot_agents as ra
+from robot_agents.agent.index import JointKind
 from robot_agents.controllers.base_vel import PDBaseVelController
 from robot_agents.envs.tasks.layout import tool_arm
 from robot_agents.kinematics import linear_followers
@@ -132,6 +133,11 @@ class Arm:
         self.q_index = np.array([j.qpos_start for j in joints])
         self.v_index = np.array([j.dof_start for j in joints])
         self.limits = self.agent.qpos_limits[self.q_index]
+        #: Arm joints a full turn may be added to or taken from within their limits
+        #: (hinges whose range spans 2 pi or more: a UR's +-2 pi), ``(k,)`` bools.
+        self.turns = np.array([j.kind is JointKind.HINGE for j in joints]) & (
+            self.limits[:, 1] - self.limits[:, 0] >= 2.0 * np.pi
+        )
         self.followers = arm_followers(self.agent, self.v_index)
         self.arm_joint = self.agent.part_joints[arm.name][0]
         gripper = self.agent.gripper().name if self.agent.grippers.parts else None
@@ -409,6 +415,21 @@ class Arm:
             error = np.concatenate([error, weight * rotation_error(quat, pose[:, 3:])], axis=1)
         return q, np.linalg.norm(error, axis=1)
 
+    def nearest_turns(self, goal: np.ndarray, start: np.ndarray) -> np.ndarray:
+        """``goal`` ``(num_envs, k)`` with whole turns added to or taken from the joints
+        that allow it (:attr:`turns`) so that each lies nearest ``start`` within its
+        limits: the same pose, less travel (a UR's IK solution 2 pi away is one the
+        ramp's 1.5 s cannot drive, and the arm began the descent still turning)."""
+        shifted = goal.copy()
+        for k in np.flatnonzero(self.turns):
+            low, high = self.limits[k]
+            nearest = goal[:, k] + 2.0 * np.pi * np.round((start[:, k] - goal[:, k]) / (2.0 * np.pi))
+            for candidate in (nearest, nearest - 2.0 * np.pi, nearest + 2.0 * np.pi):
+                closer = (candidate >= low) & (candidate <= high)
+                closer &= np.abs(candidate - start[:, k]) < np.abs(shifted[:, k] - start[:, k])
+                shifted[closer, k] = candidate[closer]
+        return shifted
+
     def ramp(
         self,
         step: Any,
@@ -423,6 +444,7 @@ class Arm:
         heading by what the arm's solution leaves short of it that way, spread over the ramp."""
         self.set_mode("pd_joint_pos")
         start = self.agent.qpos[:, self.q_index]
+        goal_q = self.nearest_turns(goal_q, start)
         base_goal = None
         if tool_goal is not None and self.assist.any():
             short = tool_goal - self.tool_at(goal_q)

@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+import mujoco
 import numpy as np
 import pytest
 from PIL import Image
@@ -297,3 +298,37 @@ def test_info_says_when_a_file_gives_no_effort_limits(tmp_path: Path, effort: fl
     line = "  no effort limit for yaw, shoulder, elbow: the model file gives none"
     assert (line in text) == (effort == 0.0), text
     assert ("ra.DerivedActuators(effort_limit=" in text) == (effort == 0.0)
+
+
+def test_a_model_file_takes_a_builtin_gripper(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--gripper NAME --at LINK``: the file's arm with a built-in piece on its flange,
+    its end effector the piece's tcp; refused with the reason where it cannot be."""
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "arm.urdf"
+    path.write_text(arm_urdf(6))
+    code, text = run("info", str(path), "--gripper", "robotiq_2f85", "--at", "flange_roll_link")
+    assert code == 0, text
+    assert "  + Robotiq2F85 (robotiq_2f85.xml) as 'robotiq_2f85/'" in text
+    assert "end effectors: ee (robotiq_2f85/robotiq_tcp)" in text
+    assert "parts: arm (yaw, shoulder, elbow, forearm_roll, wrist, flange_roll); robotiq_2f85_gripper (" in text
+    for argv, message in (
+        (("--gripper", "franka_hand"), "a gripper and the body it is mounted at go together"),
+        (("--gripper", "franka_hand", "--at", "flange_rol_link"), "Did you mean 'flange_roll_link',"),
+    ):
+        assert run("info", str(path), *argv)[0] == 2
+        assert message in capsys.readouterr().err
+    assert run("info", "panda", "--gripper", "franka_hand", "--at", "panda_link8")[0] == 2
+    assert "is a registered uid or a class (declare its attachments instead)" in capsys.readouterr().err
+
+
+def test_every_builtin_piece_names_its_tcp() -> None:
+    from robot_agents.registry import get_piece
+    from robot_agents.robots.catalog import BUILTIN_PIECES
+
+    for name in BUILTIN_PIECES:
+        piece = get_piece(name)
+        model = mujoco.MjModel.from_xml_path(str(piece.model_path()))
+        assert piece.tcp is not None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, piece.tcp) >= 0, name
+    with pytest.raises(robot_agents.UnknownNameError, match=r"get_piece.*'robotiq'.*robotiq_2f85"):
+        get_piece("robotiq")

@@ -67,7 +67,7 @@ from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.parts import Arm, Base, Body, EndEffector, Gripper, Hand, Head, Legs, PowerGrasp, Torso
-from robot_agents.registry import get_agent, list_agents, register_agent, unregister_agent
+from robot_agents.registry import get_agent, get_piece, list_agents, register_agent, unregister_agent
 from robot_agents.sensors import CameraConfig, SegmentationEntry, TouchSensorConfig
 from robot_agents.sim import BatchedWorld, Scene
 
@@ -134,6 +134,7 @@ __all__ = [
     "combine_parts",
     "ee_control_modes",
     "get_agent",
+    "get_piece",
     "joint_control_modes",
     "list_agents",
     "make_env",

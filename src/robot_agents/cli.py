@@ -19,6 +19,7 @@ from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.robot_source import UP_AXES, resolve_robot
+from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning import timestep
 
@@ -151,11 +152,21 @@ def _sensor_lines(cls: type[Agent]) -> list[str]:
     return ["sensors:", *lines] if lines else ["sensors: none"]
 
 
-def cmd_demo(uid: str, output: str, seconds: str, out: TextIO, floating: bool = False, up: str = "z") -> int:
-    """Check the arguments (before anything is simulated), run the demo and print its summary."""
+def cmd_demo(
+    uid: str,
+    output: str,
+    seconds: str,
+    out: TextIO,
+    floating: bool = False,
+    up: str = "z",
+    cls: type[Agent] | None = None,
+) -> int:
+    """Check the arguments (before anything is simulated), run the demo and print its
+    summary (``cls``: the robot already resolved)."""
     seconds_per_pose = parse_seconds(seconds)
     output_path = check_output_path(output)
-    cls = resolve_robot(uid, floating, up)  # an unknown robot fails here, before the demo's imports
+    # an unknown robot fails here, before the demo's imports
+    cls = cls if cls is not None else resolve_robot(uid, floating, up)
     cls.check()
 
     from robot_agents.demo import run_demo
@@ -173,13 +184,15 @@ def cmd_check(
     sweep: bool = False,
     substeps: Sequence[int] | None = None,
     up: str = "z",
+    cls: type[Agent] | None = None,
 ) -> int:
     """Describe the robot (as ``info``), then run the physics checks; non-zero exit on a
     failure. ``sweep``: instead, the time-step sweep's table (exit 1 when no step passes),
-    over ``substeps`` per control step (default: the sweep's)."""
+    over ``substeps`` per control step (default: the sweep's); ``cls``: the robot
+    already resolved."""
     from robot_agents.checks import run_checks
 
-    cls = resolve_robot(spec, floating, up)
+    cls = cls if cls is not None else resolve_robot(spec, floating, up)
     cmd_info(spec, out, floating, cls)
     if sweep:
         swept = timestep.sweep_timestep(cls, substeps=substeps or timestep.DEFAULT_SUBSTEPS, stop_after=None)
@@ -248,22 +261,38 @@ def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:
         )
 
 
+def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None) -> None:
+    """The robot argument and the options that shape a model file's robot."""
+    robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
+    if default is None:
+        parser.add_argument("uid", help=robot_help)
+    else:
+        parser.add_argument("uid", nargs="?", default=default, help=f"{robot_help} (default: {default})")
+    parser.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
+    parser.add_argument(
+        "--up",
+        default="z",
+        choices=sorted(UP_AXES),
+        help="a model file's up axis (default z): a file drawn y-up stands with --up y",
+    )
+    parser.add_argument(
+        "--gripper",
+        choices=sorted(BUILTIN_PIECES),
+        help="mount this built-in gripper or tool on a model file (with --at; its z axis out of that frame)",
+    )
+    parser.add_argument("--at", help="with --gripper: the model file's body or site it is mounted on (a flange)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     substeps = timestep.DEFAULT_SUBSTEPS  # the sweep's steps, for --substeps' help
     parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
     parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
-    robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
-    up_help = "a model file's up axis (default z): a file drawn y-up stands with --up y"
     info = sub.add_parser("info", help="joints, keyframes, control modes and sensors of a robot")
-    info.add_argument("uid", help=robot_help)
-    info.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
-    info.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
+    _robot_arguments(info)
     check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
-    check.add_argument("uid", help=robot_help)
-    check.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
-    check.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
+    _robot_arguments(check)
     check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
@@ -279,9 +308,7 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
-    demo.add_argument("uid", nargs="?", default="panda", help=robot_help)
-    demo.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
-    demo.add_argument("--up", default="z", choices=sorted(UP_AXES), help=up_help)
+    _robot_arguments(demo, default="panda")
     demo.add_argument(
         "--output",
         "-o",
@@ -302,8 +329,9 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     try:
         if args.command == "list":
             return cmd_list(stream)
+        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at)
         if args.command == "info":
-            return cmd_info(args.uid, stream, args.floating, up=args.up)
+            return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":
             return cmd_check(
                 args.uid,
@@ -313,9 +341,10 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
                 args.sweep,
                 parse_substeps(args.substeps),
                 args.up,
+                cls,
             )
         default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
-        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up)
+        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")
         return 2

@@ -11,7 +11,7 @@ import importlib
 from typing import TYPE_CHECKING, TypeVar
 
 from robot_agents.errors import ConfigError, RegistryError, UnknownNameError
-from robot_agents.robots.catalog import BUILTIN_ROBOTS
+from robot_agents.robots.catalog import BUILTIN_PIECES, BUILTIN_ROBOTS
 
 if TYPE_CHECKING:
     from robot_agents.agent import Agent
@@ -92,6 +92,20 @@ def get_agent(uid: str) -> type[Agent]:
         if found is not None:
             return found
     raise UnknownNameError("get_agent", "robot uid", str(uid), _available())
+
+
+def get_piece(name: str) -> type[Agent]:
+    """The built-in piece called ``name`` (:data:`~robot_agents.robots.catalog.BUILTIN_PIECES`:
+    a gripper or tool to mount with :class:`~robot_agents.model.compose.Attachment`).
+
+    Raises:
+        UnknownNameError: no built-in piece has that name; the message lists close matches.
+    """
+    if not isinstance(name, str) or name not in BUILTIN_PIECES:
+        raise UnknownNameError("get_piece", "piece", str(name), sorted(BUILTIN_PIECES))
+    module, attribute = BUILTIN_PIECES[name].split(":")
+    piece: type[Agent] = getattr(importlib.import_module(module), attribute)
+    return piece
 
 
 def agent_class(robot: object, where: str) -> type[Agent]:

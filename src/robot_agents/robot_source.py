@@ -11,7 +11,8 @@ from pathlib import Path
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.registry import get_agent, list_agents
+from robot_agents.model.compose import Attachment
+from robot_agents.registry import get_agent, get_piece, list_agents
 
 MODEL_SUFFIXES = (".urdf", ".xml", ".mjcf")
 
@@ -26,38 +27,57 @@ UP_AXES: dict[str, tuple[float, float, float, float]] = {
 }
 
 
-def robot_from_file(path: str | Path, floating: bool = False, up: str = "z") -> type[Agent]:
+def robot_from_file(
+    path: str | Path, floating: bool = False, up: str = "z", gripper: str | None = None, at: str | None = None
+) -> type[Agent]:
     """The two-line robot of a model file: everything else derived (see
     :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
     ``up`` (a key of :data:`UP_AXES`) names the file's up axis when it is not z: the robot
     then gets the ``mount_pose`` that turns that axis up (a floating robot's derived
-    keyframe and stance follow its mount)."""
+    keyframe and stance follow its mount). ``gripper``: a built-in piece
+    (:func:`~robot_agents.registry.get_piece`) mounted on the file's body or site ``at``,
+    under the prefix ``"<gripper>/"`` (the three-line robot: the arm's end effector is
+    the piece's ``tcp``)."""
     if up not in UP_AXES:
         raise UnknownNameError("robot_from_file", "up axis", str(up), UP_AXES)
+    if (gripper is None) != (at is None):
+        raise ConfigError(
+            f"robot_from_file: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r}."
+        )
     file = Path(path)
     field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
     name = "".join(part.capitalize() for part in file.stem.replace("-", "_").split("_")) or "Robot"
     attributes: dict[str, object] = {"uid": file.stem, field: file, "fix_root_link": not floating}
     if up != "z":
         attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
+    if gripper is not None and at is not None:
+        attributes["attachments"] = (Attachment(get_piece(gripper), at=at, prefix=f"{gripper}/"),)
+        attributes["uid"] = f"{file.stem}+{gripper}"
     return type(name, (Agent,), attributes)
 
 
-def resolve_robot(spec: str, floating: bool = False, up: str = "z") -> type[Agent]:
+def resolve_robot(
+    spec: str, floating: bool = False, up: str = "z", gripper: str | None = None, at: str | None = None
+) -> type[Agent]:
     """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
     directory or file without a model suffix that happens to share a registered uid's
-    name does not hide the uid); ``floating`` and ``up``: see :func:`robot_from_file`
-    (model files only)."""
+    name does not hide the uid); ``floating``, ``up``, ``gripper`` and ``at``: see
+    :func:`robot_from_file` (model files only)."""
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
-        return robot_from_file(path, floating, up)
+        return robot_from_file(path, floating, up, gripper, at)
     if up != "z":
         raise ConfigError(
             f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "
             "(declare its mount_pose instead)."
+        )
+    if gripper is not None or at is not None:
+        raise ConfigError(
+            f"resolve_robot: a gripper (gripper={gripper!r}, at={at!r}) is mounted on a model file, and {spec!r} "
+            "is a registered uid or a class (declare its attachments instead)."
         )
     if ":" in spec and not registered:
         module_name, _, class_name = spec.partition(":")

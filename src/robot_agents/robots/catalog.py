@@ -1,4 +1,5 @@
-"""The built-in robots by uid: where each one is defined (``module:Class``).
+"""The built-in robots by uid, and the built-in pieces by name: where each one is
+defined (``module:Class``).
 
 Plain data, imported by the registry: a built-in robot's module is imported (and the
 robot registered and checked) only when its uid is first asked for.
@@ -31,4 +32,13 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
+}
+
+#: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name
+#: the command line's ``--gripper`` takes: each declares its ``tcp``, and its root frame's
+#: z axis points out of the flange it is mounted on.
+BUILTIN_PIECES: dict[str, str] = {
+    "robotiq_2f85": "robot_agents.robots.robotiq.robotiq:Robotiq2F85",
+    "franka_hand": "robot_agents.robots.panda.panda:PandaHand",
+    "panda_stick": "robot_agents.robots.panda.panda:PandaStickTool",
 }

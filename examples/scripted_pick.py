@@ -263,18 +263,17 @@ class Arm:
         """Per env: would the robot touch itself with the arm's joints at ``q``
         ``(num_envs, k)`` (the rest of the robot as it is; MuJoCo's collision detection
         on a scratch copy of the env's state, contacts closer than 1 mm)."""
-        return self._touching(q, lambda mine: mine == 2)
+        return self._touching(q, 2)
 
     def scene_contact(self, q: np.ndarray, ignore: str) -> np.ndarray:
         """Per env: would the robot press into the scene (the table, the floor) with the
         arm's joints at ``q`` ``(num_envs, k)``, body ``ignore`` (the cube) left out;
         as :meth:`self_contact`."""
-        skip = self.env.model.body(ignore).id
-        return self._touching(q, lambda mine: mine == 1, skip)
+        return self._touching(q, 1, self.env.model.body(ignore).id)
 
-    def _touching(self, q: np.ndarray, counts: Any, skip: int = -1) -> np.ndarray:
-        """Per env: any contact closer than 1 mm at ``q`` whose number of robot bodies
-        (0, 1 or 2) ``counts`` accepts, neither of them body ``skip``."""
+    def _touching(self, q: np.ndarray, robot_bodies: int, skip: int = -1) -> np.ndarray:
+        """Per env: any contact closer than 1 mm at ``q`` between ``robot_bodies`` (2:
+        both, 1: one) of the robot's bodies and the rest, neither of them body ``skip``."""
         model = self.env.model
         scratch = mujoco.MjData(model)
         robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
@@ -286,7 +285,7 @@ class Arm:
             mujoco.mj_forward(model, scratch)
             for c in scratch.contact[: scratch.ncon]:
                 pair = (int(bodies[c.geom1]), int(bodies[c.geom2]))
-                if c.dist < -1e-3 and skip not in pair and counts(sum(b in robot for b in pair)):
+                if c.dist < -1e-3 and skip not in pair and sum(b in robot for b in pair) == robot_bodies:
                     touching[env] = True
                     break
         return touching

@@ -5,6 +5,7 @@ by reaching targets."""
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -238,23 +239,37 @@ def test_a_default_outside_the_limits_lands_inside_them(tmp_path: Path) -> None:
     assert np.count_nonzero(default) == 1  # the joints whose zero lies inside stay at zero
 
 
+def declaring_its_rest(cls: type[ra.Agent]) -> type[ra.Agent]:
+    """``cls`` with the pose it rests in (its default keyframe) declared as its keyframe."""
+    rest = cls.check().keyframes["default"].qpos
+    names = cls.check().index.joint_names
+    keyframe = ra.Keyframe(qpos={re.escape(n): float(v) for n, v in zip(names, rest, strict=True)})
+    return type(cls.__name__, (cls,), {"uid": f"{cls.uid}_declared", "keyframes": {"rest": keyframe}})
+
+
 def test_an_upright_arm_faces_a_workspace_ahead_of_it(tmp_path: Path) -> None:
-    """The task layout of an arm whose default keyframe holds its tool up (the written
-    arm, every joint at zero): the workspace centre 0.5 reach ahead of the shoulder,
-    where the arm reaches down to the table (the built-in arms keep theirs: tests/test_tasks.py)."""
+    """The task layout of an arm whose keyframe holds its tool up (the written arm,
+    every joint at zero, declared): the workspace centre 0.5 reach ahead of the
+    shoulder, where the arm reaches down to the table (the built-in arms keep theirs:
+    tests/test_tasks.py). Declaring no keyframe, it rests as its file draws it, which
+    says nothing of where it works: its centre goes to the middle of where its flange
+    points down, nearer (PushCube 7 -> 12 of 20, benchmarks/two_line_tasks.py)."""
     cls = two_line(tmp_path, 6)
-    layout = table_top_layout(cls)
+    layout = table_top_layout(declaring_its_rest(cls))
     shoulder_x = layout.robot_pose[0]  # the shoulder is on the root's vertical axis
     assert layout.rest_tcp[0] == pytest.approx(shoulder_x, abs=1e-6)  # the tool straight above it
     assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)  # centre at the origin
+    drawn = table_top_layout(cls)
+    assert drawn.reach == layout.reach
+    assert 0.2 * drawn.reach < -drawn.robot_pose[0] < UPRIGHT_AHEAD * drawn.reach - 0.1
 
 
 def test_a_stretched_arm_faces_a_workspace_within_reach(tmp_path: Path) -> None:
-    """An arm whose default keyframe holds it stretched out near the horizontal (its
-    shoulder's range [1.5, 1.7] rad excludes zero: 1.52 rad by default, as the Koch's
-    file lies stretched out): the workspace centre 0.5 reach ahead too, not under the
+    """An arm whose keyframe holds it stretched out near the horizontal (its shoulder's
+    range [1.5, 1.7] rad excludes zero: 1.52 rad by default, as the Koch's file lies
+    stretched out; declared): the workspace centre 0.5 reach ahead too, not under the
     tool at the end of its reach."""
-    layout = table_top_layout(two_line(tmp_path, 6, shoulder=(1.5, 1.7)))
+    layout = table_top_layout(declaring_its_rest(two_line(tmp_path, 6, shoulder=(1.5, 1.7))))
     shoulder_x = layout.robot_pose[0]
     assert layout.rest_tcp[0] - shoulder_x > STRETCHED_SHARE * layout.reach
     assert 0.0 - shoulder_x == pytest.approx(UPRIGHT_AHEAD * layout.reach, rel=1e-9)

@@ -21,8 +21,8 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   the distances at which its tool reaches pointing down at the heights of cubes and
   goals, where that is nearer (:func:`_pointing_down_middle`: configurations in which
   the robot touches itself or the table top are left out). A robot that declares no
-  keyframe (its default is its file's pose) and has a gripper gets its centre there
-  whatever its rest pose. The table top is at
+  keyframe (its default is its file's pose) gets its centre there whatever its rest
+  pose, with or without a gripper (a bare tool pointing its z down). The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
@@ -99,6 +99,9 @@ UPRIGHT_AHEAD = 0.5
 DOWN_SAMPLES = 8192
 DOWN_TILT = math.radians(20.0)
 DOWN_MIN_POINTS = 10
+#: The axis of a tool frame without a gripper that points at what it touches (its z: a
+#: flange's outward normal, as ROS-Industrial's ``tool0`` and the push solver take it).
+TOOL_AXIS = (0.0, 0.0, 1.0)
 #: How deep a contact of the robot with itself or the table may be in a configuration
 #: counted as pointing down (m): deeper, the arm would press into it.
 DOWN_CONTACT_DEPTH = 1e-3
@@ -247,11 +250,13 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         ahead_distance = UPRIGHT_AHEAD * reach
         # a robot declaring no keyframe rests as its file draws it (every joint at zero):
         # that pose says nothing of where it works (the xArm7 file folds its tool in 0.2 m
-        # from its base), so with a gripper its centre goes where the tool points down
+        # from its base), so its centre goes where its tool points down (a gripper's
+        # approach axis; a bare flange's or a tool's z, as the push solver takes it)
         file_rest = not cls.keyframes and joints[0].kind is JointKind.HINGE
-        if (centre_ahead or file_rest) and base is None and gripper is not None:
+        if base is None and ((centre_ahead and gripper is not None) or file_rest):
             band = (0.5 * cube_edge, 0.5 * cube_edge + 2.0 * SPAWN_HALF_SIZE * reach)  # cubes' centres to goals
-            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, gripper.approach_axis, band, model)
+            approach = gripper.approach_axis if gripper is not None else TOOL_AXIS
+            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, approach, band, model)
             if middle is not None:
                 ahead_distance = middle if file_rest else min(ahead_distance, middle)
                 centre_ahead = True

@@ -195,3 +195,35 @@ def test_processes_converting_the_same_mesh_at_once_all_succeed(tmp_path: Path, 
     targets = {out.strip() for _, out, _ in results}
     assert len(targets) == 1 and Path(targets.pop()).stat().st_size > 0
     assert not list((mesh_cache / "meshes").glob("*.tmp"))  # no temporary file left behind
+
+
+def test_stl_files_mujoco_refuses_are_converted(tmp_path: Path, mesh_cache: Path) -> None:
+    """MuJoCo's STL reader refuses ASCII files and binary ones of more than 200,000
+    faces (the mani-skill wheel's RealSense D415 has 425,160): both are converted to
+    ``.obj`` like the formats it cannot read; a binary STL it reads is left as it is."""
+    from robot_agents.model.meshes import MUJOCO_STL_MAX_FACES, mujoco_reads
+
+    box = trimesh.creation.box((0.08, 0.08, 0.08))
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "ascii.stl").write_text(trimesh.exchange.stl.export_stl_ascii(box))
+    (tmp_path / "meshes" / "binary.stl").write_bytes(trimesh.exchange.stl.export_stl(box))
+    for name, converted in (("ascii", True), ("binary", False)):
+        arm = (
+            f'<visual><geometry><mesh filename="meshes/{name}.stl"/></geometry></visual>'
+            f'<collision><geometry><mesh filename="meshes/{name}.stl"/></geometry></collision>'
+        )
+        path = tmp_path / f"{name}_arm.urdf"
+        path.write_text(urdf(link("base", BOX) + link("arm", arm), joint("j", "base", "arm")))
+        model = ra.Scene(robot_from_file(path)).model
+        vertices = model.mesh_vert[: model.mesh_vertnum[0]]
+        assert np.ptp(vertices, axis=0) == pytest.approx([0.08] * 3, abs=1e-6)
+        assert len(list(mesh_cache.rglob("ascii-*.obj"))) == 1  # converted once
+        assert not list(mesh_cache.rglob("binary-*.obj"))  # read by MuJoCo as it is
+        assert mujoco_reads(tmp_path / "meshes" / f"{name}.stl") is not converted
+    # the face count in a binary header, the file as long as it says: over the limit, converted
+    for faces, read in ((MUJOCO_STL_MAX_FACES, True), (MUJOCO_STL_MAX_FACES + 1, False)):
+        big = tmp_path / f"big_{faces}.stl"
+        with big.open("wb") as stream:
+            stream.write(bytes(80) + faces.to_bytes(4, "little"))
+            stream.truncate(84 + 50 * faces)
+        assert mujoco_reads(big) is read

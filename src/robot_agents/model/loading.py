@@ -27,7 +27,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError
 from robot_agents.model.compiler import CompilerSettings
-from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, readable_mesh
+from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, mujoco_reads, readable_mesh
 
 _URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _DEFAULT_SETTINGS = CompilerSettings()
@@ -87,9 +87,12 @@ def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     base = file.parent / (spec.meshdir or "")
     dropped: list[str] = []
     for mesh in list(spec.meshes):
-        if not mesh.file or Path(mesh.file).suffix.lower() in SUPPORTED_MESH_SUFFIXES:
+        suffix = Path(mesh.file).suffix.lower() if mesh.file else ""
+        if not mesh.file or (suffix in SUPPORTED_MESH_SUFFIXES and suffix != ".stl"):
             continue
         source = Path(mesh.file) if Path(mesh.file).is_absolute() else base / mesh.file
+        if suffix == ".stl" and (not source.is_file() or mujoco_reads(source)):
+            continue  # MuJoCo reads it (or finds it where this does not look, or says it is missing)
         if not source.is_file():
             raise ModelError(f"load_model_spec: mesh {mesh.file!r} of {str(file)!r} was not found at {str(source)!r}.")
         try:

@@ -1,4 +1,6 @@
-"""Meshes MuJoCo cannot read (``.glb``, ``.gltf``, ``.dae``, ``.ply``) converted once
+"""Meshes MuJoCo cannot read (``.glb``, ``.gltf``, ``.dae``, ``.ply``, and STL files its
+reader refuses: ASCII ones, and binary ones of more than 200,000 faces, as the
+RealSense D415 of the mani-skill wheel's ``panda_v3.urdf``, 425,160) converted once
 into ``.obj`` files in a cache, with trimesh (the ``robot-agents[meshes]`` extra:
 trimesh for the formats, pycollada for COLLADA; an extra because most robots ship
 meshes MuJoCo reads, and pycollada pulls in more).
@@ -23,6 +25,11 @@ SUPPORTED_MESH_SUFFIXES = (".stl", ".obj", ".msh")
 #: Formats converted through trimesh.
 CONVERTIBLE_MESH_SUFFIXES = (".glb", ".gltf", ".dae", ".ply")
 INSTALL_HINT = "pip install 'robot-agents[meshes]' (trimesh; pycollada for .dae)"
+#: The most faces MuJoCo's STL reader takes (its decoder refuses a larger file, and any
+#: ASCII STL); MuJoCo reads an ``.obj`` of that size.
+MUJOCO_STL_MAX_FACES = 200_000
+#: Bytes of a binary STL's header (80) and face count (4), and of each face.
+_STL_HEADER, _STL_FACE = 84, 50
 
 
 class MeshConversionUnavailable(ModelError):
@@ -35,17 +42,38 @@ def cache_dir() -> Path:
     return (Path(root) if root else Path.home() / ".cache" / "robot_agents") / "meshes"
 
 
+def mujoco_reads(path: Path) -> bool:
+    """Whether MuJoCo reads the mesh file ``path`` itself: an ``.obj`` or ``.msh``, or a
+    binary STL of 1 to :data:`MUJOCO_STL_MAX_FACES` faces (its header's count, the file
+    at least that long); not an ASCII STL or a larger one. A file that cannot be read
+    counts as read (MuJoCo then says what is wrong with it)."""
+    suffix = path.suffix.lower()
+    if suffix != ".stl":
+        return suffix in SUPPORTED_MESH_SUFFIXES
+    try:
+        with path.open("rb") as stream:
+            header = stream.read(_STL_HEADER)
+        size = path.stat().st_size
+    except OSError:
+        return True
+    if len(header) < _STL_HEADER:
+        return True
+    faces = int.from_bytes(header[80:84], "little")
+    return 1 <= faces <= MUJOCO_STL_MAX_FACES and size >= _STL_HEADER + _STL_FACE * faces
+
+
 def readable_mesh(path: Path) -> Path:
-    """``path`` itself when MuJoCo reads it, else its converted ``.obj`` in the cache.
+    """``path`` itself when MuJoCo reads it (:func:`mujoco_reads`), else its converted
+    ``.obj`` in the cache.
 
     Raises:
         MeshConversionUnavailable: trimesh (or pycollada for ``.dae``) is not installed.
         ModelError: an unknown format, or a file the converter cannot read.
     """
     suffix = path.suffix.lower()
-    if suffix in SUPPORTED_MESH_SUFFIXES:
+    if mujoco_reads(path):
         return path
-    if suffix not in CONVERTIBLE_MESH_SUFFIXES:
+    if suffix not in CONVERTIBLE_MESH_SUFFIXES and suffix != ".stl":
         raise ModelError(
             f"mesh {str(path)!r} has format {suffix or '(none)'!r}; MuJoCo reads {', '.join(SUPPORTED_MESH_SUFFIXES)} "
             f"and the library converts {', '.join(CONVERTIBLE_MESH_SUFFIXES)}."

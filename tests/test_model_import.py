@@ -5,6 +5,7 @@ a note, and what cannot be fixed names the element, the file, the line and the f
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 import mujoco
@@ -227,3 +228,31 @@ def test_stl_files_mujoco_refuses_are_converted(tmp_path: Path, mesh_cache: Path
             stream.write(bytes(80) + faces.to_bytes(4, "little"))
             stream.truncate(84 + 50 * faces)
         assert mujoco_reads(big) is read
+
+
+def test_a_flat_mesh_gets_its_volume_from_its_surface(tmp_path: Path) -> None:
+    """MuJoCo refuses a flat or open mesh ("mesh volume is too small ... Try setting
+    inertia to shell"; example-robot-data's ``alex_nub_hands.urdf``): the named mesh is
+    compiled with shell inertia, with a note naming the setting to declare."""
+    (tmp_path / "meshes").mkdir()
+    flat = trimesh.Trimesh(
+        vertices=[[0, 0, 0], [0.05, 0, 0], [0.05, 0.05, 0], [0, 0.05, 0]], faces=[[0, 1, 2], [0, 2, 3]]
+    )
+    (tmp_path / "meshes" / "plate.stl").write_bytes(trimesh.exchange.stl.export_stl(flat))
+    plate = '<visual><geometry><mesh filename="meshes/plate.stl"/></geometry></visual>'
+    path = tmp_path / "plate_arm.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX + plate), joint("j", "base", "arm")))
+    cls = robot_from_file(path)
+    with pytest.warns(
+        RuntimeWarning, match=r"mesh volume is too small: plate.*compiled with shell_meshes=\('plate',\)"
+    ):
+        model = ra.Scene(cls).model
+    assert model.nmesh == 1 and cls.check().compiler.shell_meshes == ("plate",)
+    declared = type("Plate", (robot_from_file(path),), {"compiler": ra.CompilerSettings(shell_meshes=("plate",))})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # declared: no note
+        ra.Scene(declared)
+    with pytest.raises(ra.ConfigError, match=r"shell_meshes: no mesh 'plat' in the model; meshes: \['plate'\]"):
+        ra.Scene(type("Typo", (robot_from_file(path),), {"compiler": ra.CompilerSettings(shell_meshes=("plat",))}))
+    with pytest.raises(ra.ConfigError, match=r"shell_meshes: expected a tuple of mesh names, got 'plate'"):
+        ra.CompilerSettings(shell_meshes="plate")  # type: ignore[arg-type]

@@ -3,8 +3,8 @@
 Files from the wild need compiler flags MuJoCo does not set by default: inertias that
 violate the triangle inequality (``balanceinertia``), massless dummy links of a mobile
 base (``boundmass`` / ``boundinertia``), MJCF files whose angles are in degrees, meshes
-in another folder, ``package://`` URIs. :class:`CompilerSettings` exposes them; the
-library also fixes the two common compile failures by itself, with a one-line note
+in another folder, ``package://`` URIs, flat meshes. :class:`CompilerSettings` exposes
+them; the library also fixes the common compile failures by itself, with a one-line note
 that says which setting to declare (see :func:`robot_agents.agent.declaration.check`).
 """
 
@@ -40,6 +40,8 @@ class CompilerSettings:
         package_paths: folders searched for ``package://<pkg>/...`` URIs, after the
             model's own folder and its parents (also: the ``ROBOT_AGENTS_PACKAGE_PATH``
             environment variable).
+        shell_meshes: meshes whose volume MuJoCo takes from their surface (``inertia=
+            "shell"``): a flat or open mesh it refuses as "mesh volume is too small".
     """
 
     angle: str | None = None
@@ -49,6 +51,7 @@ class CompilerSettings:
     boundinertia: float = 0.0
     meshdir: str | None = None
     package_paths: tuple[str | Path, ...] = ()
+    shell_meshes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.angle not in (None, "radian", "degree"):
@@ -58,6 +61,11 @@ class CompilerSettings:
             if not (is_real(value) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"CompilerSettings.{name}: expected a finite number >= 0, got {value!r}.")
         object.__setattr__(self, "package_paths", tuple(self.package_paths))
+        if isinstance(self.shell_meshes, str) or not all(isinstance(m, str) and m for m in self.shell_meshes):
+            raise ConfigError(
+                f"CompilerSettings.shell_meshes: expected a tuple of mesh names, got {self.shell_meshes!r}."
+            )
+        object.__setattr__(self, "shell_meshes", tuple(self.shell_meshes))
 
     def search_paths(self) -> list[Path]:
         """Declared package folders, then those of ``ROBOT_AGENTS_PACKAGE_PATH``."""
@@ -77,3 +85,9 @@ class CompilerSettings:
             compiler.boundmass = self.boundmass
         if self.boundinertia:
             compiler.boundinertia = self.boundinertia
+        for name in self.shell_meshes:
+            mesh = spec.mesh(name)
+            if mesh is None:
+                meshes = sorted(m.name for m in spec.meshes)
+                raise ConfigError(f"CompilerSettings.shell_meshes: no mesh {name!r} in the model; meshes: {meshes}.")
+            mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL

@@ -19,8 +19,12 @@ from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compiling import compile_spec
 
 NOT_POSITIVE = "inertia must have positive eigenvalues"
+#: MuJoCo's refusal of a flat or open mesh, followed by the mesh's name.
+SMALL_VOLUME = re.compile(r"mesh volume is too small: (\S+?)\s*\.\s*Try setting inertia to shell")
 
 #: Known compile failures of files from the wild and the compiler settings that fix them.
+#: The most flat meshes the fallbacks give shell inertia, one compile each.
+MAX_SHELL_MESHES = 16
 FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("balanceinertia", {"balanceinertia": True}),
     ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
@@ -36,15 +40,20 @@ def compile_with_fallbacks(
     rebuild: Callable[[CompilerSettings], mujoco.MjSpec],
     path: Path,
 ) -> tuple[mujoco.MjModel, CompilerSettings]:
-    """Compile; on a known failure (inertia triangle inequality, massless moving body)
-    rebuild with the setting that fixes it and say so in one warning. ``name``: the
+    """Compile; on a known failure (inertia triangle inequality, massless moving body, a
+    flat mesh: :data:`SMALL_VOLUME`) rebuild with the setting that fixes it and say so in
+    one warning. ``name``: the
     robot's; ``rebuild``: its spec built again with other compiler settings; ``path``:
     its model file (for an inertia's line)."""
-    for _ in range(len(FALLBACKS) + 1):
+    for _ in range(len(FALLBACKS) + MAX_SHELL_MESHES + 1):
         try:
             return compile_spec(spec, name), compiler
         except ModelError as err:
             fix = next((changes for key, changes in FALLBACKS if key in str(err)), None)
+            small = SMALL_VOLUME.search(str(err))
+            if small is not None and small.group(1) not in compiler.shell_meshes:
+                # MuJoCo's own advice for a flat or open mesh: its volume from its surface
+                fix = {"shell_meshes": (*compiler.shell_meshes, small.group(1))}
             if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
                 if NOT_POSITIVE in str(err):
                     raise ModelError(inertia_message(name, path, str(err), compiler)) from None

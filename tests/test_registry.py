@@ -65,7 +65,7 @@ def test_register_rejects_non_agents_and_bad_definitions(pendulum_file: Path) ->
     no_drives = make_pendulum_class(pendulum_file, uid="no_drives", actuators=(), control_modes={}, parts=())
     no_drives.mjcf_path = pendulum_file.with_name("nothing_moves.xml")
     no_drives.mjcf_path.write_text("<mujoco><worldbody><body><geom size='0.1'/></body></worldbody></mujoco>")
-    with pytest.raises(ra.ModelError, match="no joint"):
+    with pytest.raises(ra.ModelError, match=r"no joint in the compiled model: nothing a robot could move.*ra\.Prop"):
         ra.register_agent()(no_drives)
     bad_keyframe = make_pendulum_class(
         pendulum_file, uid="bad_keyframe", keyframes={"far": ra.Keyframe(qpos={"shoulder": 3.0})}

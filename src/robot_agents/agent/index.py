@@ -129,7 +129,11 @@ class RobotIndex:
             qpos_start += info.nq
             dof_start += info.nv
         if not joints and free is None:
-            raise ModelError(f"{owner}: no joint with prefix {prefix!r} in the compiled model.")
+            raise ModelError(
+                f"{owner}: no joint{f' with prefix {prefix!r}' if prefix else ''} in the compiled model: nothing a "
+                "robot could move (a fixed object, a table or a stage, is part of a scene: a ra.Prop, or a robot "
+                "with fix_root_link=False moves its root on a free joint)."
+            )
         self.joints: tuple[JointInfo, ...] = tuple(joints)
         self.free_joint = free
         self.joint_names: tuple[str, ...] = tuple(j.name for j in joints)

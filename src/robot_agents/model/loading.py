@@ -121,15 +121,84 @@ def _warn_dropped(file: Path, dropped: list[str]) -> None:
         )
 
 
+def _merged_inertial(inertials: list[ET.Element], where: str) -> ET.Element:
+    """One URDF ``<inertial>`` for several: the total mass at the combined centre of
+    mass, the inertias turned into the link's axes and moved there (parallel axes)."""
+    masses, centres, tensors = [], [], []
+    for inertial in inertials:
+        try:
+            mass_element, origin, inertia = inertial.find("mass"), inertial.find("origin"), inertial.find("inertia")
+            mass = float(mass_element.get("value", "0")) if mass_element is not None else 0.0
+            xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
+            rpy = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
+            terms = {k: float(inertia.get(k, "0")) if inertia is not None else 0.0 for k in _INERTIA_TERMS}
+        except ValueError as err:
+            raise ModelError(f"{where}: an <inertial> has a value that is not a number: {err}.") from None
+        if len(xyz) != 3 or len(rpy) != 3:
+            raise ModelError(f"{where}: an <inertial>'s origin needs 3 numbers in xyz and rpy.")
+        tensor = np.array(
+            [
+                [terms["ixx"], terms["ixy"], terms["ixz"]],
+                [terms["ixy"], terms["iyy"], terms["iyz"]],
+                [terms["ixz"], terms["iyz"], terms["izz"]],
+            ]
+        )
+        rotation = _rpy_matrix(*rpy)
+        masses.append(mass)
+        centres.append(np.array(xyz))
+        tensors.append(rotation @ tensor @ rotation.T)
+    total = float(sum(masses))
+    centre: np.ndarray = np.asarray(masses) @ np.asarray(centres) / total if total > 0 else centres[0]
+    combined = np.zeros((3, 3))
+    for mass, position, tensor in zip(masses, centres, tensors, strict=True):
+        offset = position - centre
+        combined += tensor + mass * (float(offset @ offset) * np.eye(3) - np.outer(offset, offset))
+    merged = ET.Element("inertial")
+    ET.SubElement(merged, "origin", xyz=" ".join(repr(float(v)) for v in centre), rpy="0 0 0")
+    ET.SubElement(merged, "mass", value=repr(total))
+    ET.SubElement(
+        merged,
+        "inertia",
+        {k: repr(float(combined[i, j])) for k, (i, j) in zip(_INERTIA_TERMS, _INERTIA_INDEX, strict=True)},
+    )
+    return merged
+
+
+_INERTIA_TERMS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+_INERTIA_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+
+
+def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """URDF's fixed-axis roll, pitch, yaw (rad) as a rotation matrix: Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
+
+
 def _check_links(file: Path, root: ET.Element, text: str) -> None:
-    """Duplicate inertials and zero-size shapes, named with their line and fix."""
+    """Duplicate inertials (merged, with a note) and zero-size shapes, named with their
+    line and fix."""
     for link in root.findall("link"):
         name = link.get("name", "?")
         line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
-        if len(link.findall("inertial")) > 1:
-            raise ModelError(
-                f"load_model_spec: link {name!r} in {str(file)!r} (line {line}) has {len(link.findall('inertial'))} "
-                "<inertial> elements; a link has one: merge them (total mass, combined centre of mass and inertia)."
+        inertials = link.findall("inertial")
+        if len(inertials) > 1:
+            # a link has one: the body they describe together
+            merged = _merged_inertial(inertials, f"load_model_spec: link {name!r} in {str(file)!r} (line {line})")
+            for inertial in inertials:
+                link.remove(inertial)
+            link.insert(0, merged)
+            warnings.warn(
+                f"{str(file)!r}: link {name!r} (line {line}) has {len(inertials)} <inertial> elements; a link has one: "
+                "merged into one (total mass, combined centre of mass and inertia). Merge them in the file to "
+                "silence this.",
+                RuntimeWarning,
+                stacklevel=4,
             )
         for kind in ("visual", "collision"):
             for element in list(link.findall(kind)):

@@ -253,3 +253,60 @@ def test_a_derived_drive_whose_friction_floor_the_bound_caps_gets_a_load_note(tm
         warnings.simplefilter("always")
         two_line(heavy).check()
     assert not [w for w in caught if "dry friction" in str(w.message)]
+
+
+def _arm_with_fingers(fingers: int, joints_per_finger: int) -> str:
+    """The written six-joint arm with a palm on its flange and ``fingers`` fingers of
+    ``joints_per_finger`` hinges each (3 cm links)."""
+    from tests.test_derived_task_space import JOINTS, arm_urdf
+
+    def box_link(name: str, mass: float, size: str, z: float) -> str:
+        return (
+            f'<link name="{name}"><inertial><origin xyz="0 0 {z}"/><mass value="{mass}"/>'
+            '<inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial>'
+            f'<collision><origin xyz="0 0 {z}"/><geometry><box size="{size}"/></geometry></collision></link>'
+        )
+
+    parts = box_link("palm", 0.3, "0.08 0.08 0.02", 0.01)
+    parts += (
+        '<joint name="palm_mount" type="fixed"><parent link="flange_roll_link"/><child link="palm"/>'
+        f'<origin xyz="0 0 {JOINTS[-1][3]}"/></joint>'
+    )
+    for f in range(fingers):
+        parent, offset = "palm", f"{0.03 * (f - 1)} 0 0.02"
+        for k in range(joints_per_finger):
+            child = f"finger{f}_link{k}"
+            parts += box_link(child, 0.02, "0.015 0.015 0.03", 0.015)
+            parts += (
+                f'<joint name="finger{f}_joint{k}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+                f'<origin xyz="{offset}"/><axis xyz="0 1 0"/><limit lower="0" upper="1.5" effort="1" velocity="2"/></joint>'
+            )
+            parent, offset = child, "0 0 0.03"
+    return arm_urdf(6).replace("</robot>", parts + "</robot>")
+
+
+@pytest.mark.parametrize(
+    ("fingers", "per_finger", "parts"),
+    [(3, 2, ["arm", "hand"]), (2, 4, ["arm", "hand"]), (1, 3, ["arm"]), (2, 5, ["body"])],
+)
+def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
+    tmp_path: Path, fingers: int, per_finger: int, parts: list[str]
+) -> None:
+    """A file of an arm with several fingers at its end (the mani-skill wheel's
+    ``xarm7_ability_right_hand.urdf``): the serial start is the arm, its end effector
+    the palm (so it gets end-effector modes), the fingers one ``hand`` part. One finger
+    continues the arm's chain (one arm, as before); branches longer than 4 joints (an
+    arm and a head below a torso) stay one body."""
+    path = tmp_path / "arm_hand.urdf"
+    path.write_text(_arm_with_fingers(fingers, per_finger))
+    checked = two_line(path).check()
+    names = [p.name for p in checked.parts]
+    assert names == parts
+    if parts != ["arm", "hand"]:
+        return
+    assert names == ["arm", "hand"]
+    assert checked.part_joints["arm"] == ("yaw", "shoulder", "elbow", "forearm_roll", "wrist", "flange_roll")
+    assert len(checked.part_joints["hand"]) == fingers * per_finger
+    arm = checked.parts[0]
+    assert isinstance(arm, ra.Arm) and arm.end_effectors[0].link == "palm" and arm.task_space is not None
+    assert {"pd_ee_delta_pose", "pd_joint_delta_pos"} <= set(checked.modes)

@@ -103,7 +103,7 @@ def infer_parts(
     bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
     patterns = tuple(re.escape(j) for j in driven)
     if not _serial(index, bodies):
-        return (Body(name="body", joints=patterns),)
+        return _arm_and_hand(model, index, list(driven), bodies) or (Body(name="body", joints=patterns),)
     tip = bodies[-1]
     while True:
         children = [b for b in range(tip + 1, model.nbody) if int(model.body_parentid[b]) == tip]
@@ -112,6 +112,59 @@ def infer_parts(
         tip = children[0]
     link = model.body(tip).name[len(index.prefix) :]
     return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
+
+
+#: The fewest joints of a serial chain inferred as an arm with a hand at its end, and
+#: the most driven joints of one of that hand's fingers (the Allegro's: 4).
+MIN_ARM_JOINTS = 3
+MAX_FINGER_JOINTS = 4
+
+
+def _arm_and_hand(
+    model: mujoco.MjModel, index: RobotIndex, driven: list[str], bodies: list[int]
+) -> tuple[Part, ...] | None:
+    """An arm with a hand at its end, or ``None``: the driven joints (model order) from
+    the first as far as they form a serial chain (at least :data:`MIN_ARM_JOINTS`) are
+    the arm when every other driven joint lies below its last body, on two or more
+    branches (fingers: serial, at most :data:`MAX_FINGER_JOINTS` driven joints each):
+    those are one ``Body`` part, ``"hand"``, and the arm's end
+    effector ``"ee"`` is the palm, the deepest body above all of them (an arm file with
+    a dexterous hand: the mani-skill wheel's ``xarm7_ability_right_hand.urdf``)."""
+    serial = 1
+    while serial < len(bodies) and bodies[serial] in index.subtree_bodies(bodies[serial - 1]):
+        serial += 1
+    # the longest serial start below whose last body every other driven joint lies (the
+    # chain may run on into the first finger: a thumb's joints follow the wrist's)
+    count = next(
+        (
+            n
+            for n in range(serial, MIN_ARM_JOINTS - 1, -1)
+            if n < len(bodies) and set(bodies[n:]) <= set(index.subtree_bodies(bodies[n - 1]))
+        ),
+        0,
+    )
+    if not count:
+        return None
+    rest = bodies[count:]
+    palm = rest[0]
+    while not set(rest) <= set(index.subtree_bodies(palm)) or palm in rest:
+        palm = int(model.body_parentid[palm])
+    fingers = []
+    for child in (b for b in range(palm + 1, model.nbody) if int(model.body_parentid[b]) == palm):
+        below = set(index.subtree_bodies(child))
+        chain = [b for b in rest if b in below]
+        if chain:
+            fingers.append(chain)
+    # two or more fingers, each a short serial chain (an arm and a head below a torso,
+    # or a gripper on its arm, are not)
+    if len(fingers) < 2 or any(len(f) > MAX_FINGER_JOINTS or not _serial(index, f) for f in fingers):
+        return None
+    arm = Arm(
+        name="arm",
+        joints=tuple(re.escape(j) for j in driven[:count]),
+        end_effectors=(EndEffector(model.body(palm).name[len(index.prefix) :], name="ee"),),
+    )
+    return (arm, Body(name="hand", joints=tuple(re.escape(j) for j in driven[count:])))
 
 
 def _serial(index: RobotIndex, bodies: Sequence[int]) -> bool:

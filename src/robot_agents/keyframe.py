@@ -107,10 +107,6 @@ class ResolvedKeyframe:
 #: How far inside its range (a share of it) a joint whose default value lies outside
 #: its limits is set (:func:`default_qpos`).
 INSIDE_LIMITS = 0.1
-#: How deep a keyframe's contacts may go (m) and the keyframe still count as free of
-#: contacts (``robot-agents check``); a fixed robot that declares no mount and rests
-#: deeper in the floor is raised 1 mm above it.
-KEYFRAME_PENETRATION = 1e-4
 
 
 def default_qpos(index: RobotIndex) -> FloatArray:

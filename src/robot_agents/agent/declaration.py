@@ -26,22 +26,14 @@ import numpy as np
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations, grip_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
-from robot_agents.agent.derived import (
-    DERIVED_SOURCE,
-    RESTING_GAP,
-    infer_parts,
-    resting_base,
-    self_contacts,
-    torque_only,
-    undamped,
-)
+from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
 from robot_agents.agent.derived_task_space import derive_task_space
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.keyframe import KEYFRAME_PENETRATION, Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
+from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
 from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
@@ -376,9 +368,8 @@ class CheckedRobot:
             that declares no self-collision filtering (MoveIt's "default" collisions).
         mount_pose: where a scene puts the robot by default: the declared
             ``mount_pose``; for a fixed-base robot that declares none and would reach
-            into the floor at its default keyframe deeper than a keyframe may press
-            (:data:`~robot_agents.keyframe.KEYFRAME_PENETRATION`: a hand, a gripper, a
-            mobile base's wheels), raised to rest 1 mm above it.
+            more than 5 mm into the floor at its default keyframe (a hand, a gripper),
+            raised to rest 1 mm above it.
         derived_pads: the finger bodies of a gripper the file implies, whose colliding
             geoms get the built-in Panda's stiff fingertip contact
             (:func:`robot_agents.model.robot_spec.set_pad_contact`; a body the robot
@@ -469,7 +460,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
     if index.free_joint is None and not declared_mount:
         lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos)[2])
-        if lift > RESTING_GAP + KEYFRAME_PENETRATION:  # deeper than a keyframe may press into the floor
+        if lift > 0.006:
             mount = (mount[0], mount[1], mount[2] + lift, *mount[3:])
     exclusions: tuple[tuple[str, str], ...] = ()
     if not cls.disable_self_collisions and not composed.self_collision_exclusions:

@@ -649,10 +649,6 @@ def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float
     return float(world_box(model, data, geom)[0][2])
 
 
-#: How high above the floor a resting robot's lowest colliding geom is put (m).
-RESTING_GAP = 0.001
-
-
 def resting_base(
     model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray, mount_quat: npt.ArrayLike | None = None
 ) -> np.ndarray:
@@ -685,7 +681,7 @@ def resting_base(
         ),
         default=np.inf,
     )
-    height = 0.0 if not np.isfinite(lowest) else RESTING_GAP - lowest
+    height = 0.0 if not np.isfinite(lowest) else 0.001 - lowest
     position = np.array([0.0, 0.0, height])
     if turned and free is not None:  # (0, 0, height) in the world, written in the mount's frame
         inverse = np.empty(4)

@@ -22,9 +22,9 @@ NOT_POSITIVE = "inertia must have positive eigenvalues"
 #: MuJoCo's refusal of a flat or open mesh, followed by the mesh's name.
 SMALL_VOLUME = re.compile(r"mesh volume is too small: (\S+?)\s*\.\s*Try setting inertia to shell")
 
-#: Known compile failures of files from the wild and the compiler settings that fix them.
 #: The most flat meshes the fallbacks give shell inertia, one compile each.
 MAX_SHELL_MESHES = 16
+#: Known compile failures of files from the wild and the compiler settings that fix them.
 FALLBACKS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("balanceinertia", {"balanceinertia": True}),
     ("mjMINVAL", {"boundmass": 1e-3, "boundinertia": 1e-6}),
@@ -42,9 +42,8 @@ def compile_with_fallbacks(
 ) -> tuple[mujoco.MjModel, CompilerSettings]:
     """Compile; on a known failure (inertia triangle inequality, massless moving body, a
     flat mesh: :data:`SMALL_VOLUME`) rebuild with the setting that fixes it and say so in
-    one warning. ``name``: the
-    robot's; ``rebuild``: its spec built again with other compiler settings; ``path``:
-    its model file (for an inertia's line)."""
+    one warning. ``name``: the robot's; ``rebuild``: its spec built again with other
+    compiler settings; ``path``: its model file (for an inertia's line)."""
     for _ in range(len(FALLBACKS) + MAX_SHELL_MESHES + 1):
         try:
             return compile_spec(spec, name), compiler

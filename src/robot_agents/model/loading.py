@@ -136,14 +136,10 @@ def _merged_inertial(inertials: list[ET.Element], where: str) -> ET.Element:
             raise ModelError(f"{where}: an <inertial> has a value that is not a number: {err}.") from None
         if len(xyz) != 3 or len(rpy) != 3:
             raise ModelError(f"{where}: an <inertial>'s origin needs 3 numbers in xyz and rpy.")
-        tensor = np.array(
-            [
-                [terms["ixx"], terms["ixy"], terms["ixz"]],
-                [terms["ixy"], terms["iyy"], terms["iyz"]],
-                [terms["ixz"], terms["iyz"], terms["izz"]],
-            ]
-        )
-        rotation = _rpy_matrix(*rpy)
+        tensor = np.zeros((3, 3))
+        for key, (i, j) in zip(_INERTIA_TERMS, _INERTIA_INDEX, strict=True):
+            tensor[i, j] = tensor[j, i] = terms[key]
+        rotation = _rpy_matrix(rpy)
         masses.append(mass)
         centres.append(np.array(xyz))
         tensors.append(rotation @ tensor @ rotation.T)
@@ -168,16 +164,13 @@ _INERTIA_TERMS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _INERTIA_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 
-def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
-    """URDF's fixed-axis roll, pitch, yaw (rad) as a rotation matrix: Rz(yaw) Ry(pitch) Rx(roll)."""
-    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
-    return np.array(
-        [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
-    )
+def _rpy_matrix(rpy: list[float]) -> np.ndarray:
+    """URDF's roll, pitch, yaw (rad, about the fixed x, y, z axes in turn) as a rotation
+    matrix: MuJoCo's extrinsic ``"XYZ"`` Euler sequence."""
+    quat, matrix = np.zeros(4), np.zeros(9)
+    mujoco.mju_euler2Quat(quat, np.asarray(rpy, dtype=np.float64), "XYZ")
+    mujoco.mju_quat2Mat(matrix, quat)
+    return matrix.reshape(3, 3)
 
 
 def _check_links(file: Path, root: ET.Element, text: str) -> None:

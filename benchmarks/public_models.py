@@ -17,6 +17,13 @@ actions in the default mode (stable: no MuJoCo reset, finite state).
 
 Usage: ``python benchmarks/public_models.py [--wheel mani_skill-3.0.1-py3-none-any.whl]``
 (without ``--wheel`` it downloads the wheel; needs network access to PyPI).
+
+``--robosuite robosuite-1.5.2-py3-none-any.whl`` and ``--dm-control
+dm_control-1.0.50-py3-none-any.whl`` (wheels fetched with ``pip download --no-deps``)
+add the MJCF files of those packages: robosuite's arms, grippers, hands and mobile
+bases (written for robosuite to compose: most arms are driven by torque motors, its
+bases by velocity servos) and dm_control's Kinova arm and hand, soccer walkers and two
+suite models. Only the rows of the wheels given are printed when either is given.
 """
 
 from __future__ import annotations
@@ -68,6 +75,32 @@ MODELS = [
     ("arm", "gym:pusher.xml", False),
     ("pendulum", "gym:inverted_double_pendulum.xml", False),
 ]
+RS = "robosuite/models/assets/"
+DMC = "dm_control/"
+#: MJCF files of the robosuite and dm_control wheels (``--robosuite``, ``--dm-control``).
+MJCF_MODELS = [
+    *(("arm", f"rs:robots/{name}/robot.xml", False) for name in ("panda", "ur5e", "iiwa", "sawyer", "kinova3")),
+    *(("arm", f"rs:robots/{name}/robot.xml", False) for name in ("jaco", "xarm7")),
+    ("humanoid upper body", "rs:robots/gr1/robot.xml", False),
+    ("two arms", "rs:robots/baxter/robot.xml", False),
+    ("mobile manipulator", "rs:robots/tiago/robot.xml", False),
+    ("arm", "rs:robots/spot_arm/robot.xml", False),
+    *(
+        ("gripper", f"rs:grippers/{name}.xml", False)
+        for name in ("panda_gripper", "rethink_gripper", "robotiq_gripper_140", "robotiq_gripper_85", "xarm7_gripper")
+    ),
+    *(
+        ("hand", f"rs:grippers/{name}.xml", False)
+        for name in ("robotiq_gripper_s", "jaco_three_finger_gripper", "inspire_right_hand", "fourier_right_hand")
+    ),
+    *(("mobile base", f"rs:bases/{name}.xml", False) for name in ("omron_mobile_base", "floating_legged_base")),
+    ("arm", "dmc:third_party/kinova/jaco_arm.xml", False),
+    ("hand", "dmc:third_party/kinova/jaco_hand.xml", False),
+    ("walker", "dmc:locomotion/soccer/assets/boxhead/boxhead.xml", True),
+    ("walker", "dmc:locomotion/walkers/assets/jumping_ball/jumping_ball_with_head.xml", True),
+    ("arm", "dmc:suite/manipulator.xml", False),
+    ("finger", "dmc:suite/finger.xml", False),
+]
 
 
 def wheel_dir(wheel: str | None, work: Path) -> Path:
@@ -77,10 +110,14 @@ def wheel_dir(wheel: str | None, work: Path) -> Path:
             check=True,
         )
         wheel = str(next(work.glob("mani_skill-*.whl")))
-    out = work / "wheel"
+    return extract(wheel, ROBOTS, work / "wheel")
+
+
+def extract(wheel: str, prefix: str, out: Path) -> Path:
+    """The files under ``prefix`` of a downloaded wheel, unpacked under ``out``."""
     with zipfile.ZipFile(wheel) as archive:
-        archive.extractall(out, [n for n in archive.namelist() if n.startswith(ROBOTS)])
-    return out
+        archive.extractall(out, [n for n in archive.namelist() if n.startswith(prefix)])
+    return out / prefix
 
 
 def evaluate(path: Path, floating: bool) -> list[str]:
@@ -122,15 +159,26 @@ def evaluate(path: Path, floating: bool) -> list[str]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--wheel", default=None, help="a downloaded mani_skill wheel (default: pip download it)")
+    parser.add_argument("--robosuite", default=None, help="a downloaded robosuite wheel: its MJCF robots")
+    parser.add_argument("--dm-control", default=None, help="a downloaded dm_control wheel: its MJCF robots")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        root = wheel_dir(args.wheel, Path(tmp))
+        roots: dict[str, Path] = {}
+        if args.robosuite is not None:
+            roots["rs:"] = extract(args.robosuite, RS, Path(tmp) / "robosuite")
+        if args.dm_control is not None:
+            roots["dmc:"] = extract(args.dm_control, DMC, Path(tmp) / "dm_control")
+        if roots:
+            models = [m for m in MJCF_MODELS if m[1].split(":")[0] + ":" in roots]
+        else:
+            roots = {"gym:": GYM, "": wheel_dir(args.wheel, Path(tmp))}
+            models = MODELS
         print("| category | model | loads | hold drift (2 s) | stable (2 s random) | user lines | load s | notes |")
         print("|---|---|---|---|---|---|---|---|")
-        for category, name, floating in MODELS:
-            path = GYM / name[4:] if name.startswith("gym:") else root / name
-            row = evaluate(path, floating)
-            label = name[4:] if name.startswith("gym:") else name[len(ROBOTS) :]
+        for category, name, floating in models:
+            scheme = name.split(":")[0] + ":" if ":" in name else ""
+            label = name[len(scheme or ROBOTS) :]
+            row = evaluate(roots[scheme] / label, floating)
             print(f"| {category} | {label} | " + " | ".join(row) + " |", flush=True)
 
 

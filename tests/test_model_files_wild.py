@@ -570,3 +570,161 @@ def test_the_files_keyframe_survives_adding_or_removing_the_root_free_joint(
     cls = robot_from_file(path, floating=floating)
     checked = cls.check()
     np.testing.assert_array_equal(checked.keyframes["default"].qpos, [0.3, -0.5])
+
+
+# A two-link arm driven by MuJoCo's default actuators: {first} on the shoulder, {second} on
+# the elbow (robosuite's mobile bases use <velocity>, dm_control's soccer walkers mix
+# motors with velocity servos; a <motor> written bare takes any effort).
+ACTUATED_ARM = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="upper" pos="0 0 0.1">
+      <joint name="shoulder" axis="0 0 1" damping="0.5"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+      <body name="lower" pos="0.3 0 0">
+        <joint name="elbow" axis="0 0 1" range="-2 2" damping="0.5"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.025" mass="0.5"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    {first}
+    {second}
+  </actuator>
+</mujoco>
+"""
+
+
+def actuated_arm(tmp_path: Path, first: str, second: str) -> type[ra.Agent]:
+    path = tmp_path / "actuated.xml"
+    path.write_text(ACTUATED_ARM.format(first=first, second=second))
+    return two_line(path)
+
+
+def test_bare_motors_take_efforts_in_newtons_and_metres_and_the_check_runs(tmp_path: Path) -> None:
+    from robot_agents.checks import check_random_actions
+
+    cls = actuated_arm(tmp_path, '<motor joint="shoulder"/>', '<motor joint="elbow" ctrlrange="-2 2"/>')
+    checked = cls.check()
+    assert list(checked.modes) == ["joint_effort"]
+    # the shoulder's effort has no bound: the actions are efforts (N*m), not normalized
+    assert [d.effort_limit for d in checked.drives] == [np.inf, 2.0]
+    scene = scene_of(cls)
+    space = scene.agents[0].action_space
+    assert np.isinf(space.high[0, 0]) and space.high[0, 1] == 2.0
+    scene.reset()
+    scene.agents[0].set_action(np.array([[0.3, -0.5]]))
+    scene.step()
+    np.testing.assert_allclose(scene.world.datas[0].actuator_force, [0.3, -0.5])
+    scene.close()
+    assert check_random_actions(cls, seconds=0.5).passed  # unbounded entries drawn as Gymnasium draws them
+    # all bounded: normalized as before
+    bounded = actuated_arm(
+        tmp_path, '<motor joint="shoulder" ctrlrange="-1 1"/>', '<motor joint="elbow" ctrlrange="-2 2"/>'
+    )
+    scene = scene_of(bounded)
+    np.testing.assert_array_equal(scene.agents[0].action_space.high, [[1.0, 1.0]])
+    scene.close()
+
+
+def test_random_actions_draw_unbounded_entries_like_gymnasium() -> None:
+    from robot_agents.checks import random_action
+
+    rng = np.random.default_rng(0)
+    low, high = np.array([-1.0, -np.inf, 0.5, -np.inf]), np.array([1.0, np.inf, np.inf, -2.0])
+    drawn = np.array([random_action(low, high, rng) for _ in range(2000)])
+    assert np.isfinite(drawn).all()
+    assert (drawn[:, 0] >= -1).all() and (drawn[:, 0] <= 1).all()
+    assert abs(drawn[:, 1].std() - 1.0) < 0.1  # standard normal
+    assert (drawn[:, 2] >= 0.5).all() and (drawn[:, 3] <= -2.0).all()  # a bound plus or minus an exponential
+    # within finite bounds: exactly rng.uniform, the draws of every existing check
+    np.testing.assert_array_equal(
+        random_action(low[:1], high[:1], np.random.default_rng(3)), np.random.default_rng(3).uniform(low[:1], high[:1])
+    )
+
+
+def test_velocity_servos_get_the_velocity_mode_and_follow_it(tmp_path: Path) -> None:
+    cls = actuated_arm(
+        tmp_path,
+        '<velocity joint="shoulder" kv="20" gear="2" ctrlrange="-3 3"/>',
+        '<velocity joint="elbow" kv="5" ctrlrange="-1 1"/>',
+    )
+    checked = cls.check()
+    assert list(checked.modes) == ["pd_joint_vel"] and checked.default_mode == "pd_joint_vel"
+    # a velocity servo's control is its transmission's speed: the joint's times the gear
+    assert [d.velocity_limit for d in checked.drives] == [1.5, 1.0]
+    scene = scene_of(cls)
+    scene.reset()
+    agent = scene.agents[0]
+    np.testing.assert_array_equal(agent.action_space.high, [[1.0, 1.0]])
+    for _ in range(20):  # one second at +0.5 of the bounds
+        agent.set_action(np.array([[0.5, -0.5]]))
+        scene.step()
+    # the servos against the file's joint damping (0.5): kv * (v* - v) = 0.5 v, the
+    # shoulder's force and speed through its gear of 2 (the elbow turns on the turning
+    # shoulder: within 0.5 %)
+    np.testing.assert_allclose(scene.world.datas[0].qvel, [0.75 * 80 / 80.5, -0.5 * 5 / 5.5], rtol=5e-3)
+    scene.close()
+
+
+def test_a_velocity_servo_beside_a_position_servo_without_damping_is_refused_with_the_joints(tmp_path: Path) -> None:
+    cls = actuated_arm(
+        tmp_path, '<velocity joint="shoulder" kv="20"/>', '<position joint="elbow" kp="20" ctrlrange="-2 2"/>'
+    )
+    with pytest.raises(ra.ConfigError, match=r"\['shoulder'\] have velocity servos .* \['elbow'\] position servos"):
+        cls.check()
+
+
+def test_a_part_beside_the_main_one_with_velocity_servos_takes_velocities() -> None:
+    from robot_agents.controllers.joint import PDJointVelConfig
+    from robot_agents.controllers.rules import modes_from_parts
+
+    parts = (ra.Arm(name="arm", joints=("a1", "a2")), ra.Body(name="base", joints=("x", "y")))
+    modes = modes_from_parts(
+        parts,
+        {"arm": ("a1", "a2"), "base": ("x", "y")},
+        {"a1": 2.0, "a2": 2.0, "x": 0.5, "y": np.inf},
+        velocity_only=("x", "y"),
+    )
+    base = modes["pd_joint_delta_pos"]["base"]  # type: ignore[index]
+    assert isinstance(base, PDJointVelConfig)
+    assert base.lower == (-0.5, -1.0) and base.upper == (0.5, 1.0)  # unknown speeds: 1 m/s
+
+
+def test_general_actuators_without_bias_are_motors_and_autolimits_bound_them(tmp_path: Path) -> None:
+    # dm_control's soccer walker's <general biastype="affine" biasprm="0">, and ranges
+    # written without ctrllimited / forcelimited under autolimits (MuJoCo Menagerie)
+    cls = actuated_arm(
+        tmp_path,
+        '<general joint="shoulder" gear="30" ctrlrange="-1 1" biastype="affine" biasprm="0"/>',
+        '<motor joint="elbow" ctrlrange="-5 5" forcerange="-2 2"/>',
+    )
+    checked = cls.check()
+    assert list(checked.modes) == ["joint_effort"]
+    assert [d.effort_limit for d in checked.drives] == [30.0, 2.0]
+    explicit = actuated_arm(tmp_path, '<motor joint="shoulder" ctrllimited="false" ctrlrange="-1 1"/>', "")
+    assert explicit.check().drives[0].effort_limit == np.inf
+
+
+def test_a_massless_jointed_frame_is_judged_with_the_bodies_welded_to_it(tmp_path: Path) -> None:
+    from robot_agents.checks import check_inertia
+
+    frame = """<mujoco>
+  <worldbody>
+    <body name="base" pos="0 0 0.2">
+      <joint name="slide" type="slide" axis="1 0 0"/>
+      <inertial pos="0 0 0" mass="{frame_mass}" diaginertia="{frame_mass} {frame_mass} {frame_mass}"/>
+      <body name="chassis">
+        <geom type="box" size="0.2 0.1 0.05" mass="{chassis_mass}"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+    path = tmp_path / "frame.xml"
+    path.write_text(frame.format(frame_mass=0, chassis_mass=20))  # robosuite's mobile bases
+    result = check_inertia(two_line(path))
+    assert result.passed, result.detail
+    path.write_text(frame.format(frame_mass=1e-6, chassis_mass=0))  # a placeholder link a gripper would carry
+    result = check_inertia(two_line(path, compiler=ra.CompilerSettings(boundmass=1e-6, boundinertia=1e-6)))
+    assert not result.passed and "base mass 2e-06 kg" in result.detail  # with the chassis bounded to 1e-6

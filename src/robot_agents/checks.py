@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.actuators.gains import gains_from_inertia
 from robot_agents.actuators.spec import DriveKind
@@ -16,6 +18,8 @@ from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import RobotAgentsError
 from robot_agents.sim.scene import Scene, default_sim_freq
+
+FloatArray = npt.NDArray[np.float64]
 
 #: A keyframe is held when no joint drifts more than this over the hold (rad or m).
 HOLD_TOLERANCE = 0.01
@@ -167,17 +171,35 @@ def check_holds(cls: type[Agent], seconds: float = 2.0) -> CheckResult:
     )
 
 
+def random_action(low: npt.NDArray[Any], high: npt.NDArray[Any], rng: np.random.Generator) -> FloatArray:
+    """A uniformly random action within ``[low, high]``; entries without a bound (``inf``)
+    drawn as Gymnasium's ``Box.sample`` draws them: a standard normal where both are
+    unbounded, the bound plus or minus an exponential where one is."""
+    if np.isfinite(low).all() and np.isfinite(high).all():
+        drawn: FloatArray = rng.uniform(low, high)
+        return drawn
+    lower, upper = np.isfinite(low), np.isfinite(high)
+    action = rng.standard_normal(np.shape(low))
+    both = lower & upper
+    action[both] = rng.uniform(low[both], high[both])
+    only_low, only_high = lower & ~upper, upper & ~lower
+    action[only_low] = low[only_low] + rng.exponential(size=int(only_low.sum()))
+    action[only_high] = high[only_high] - rng.exponential(size=int(only_high.sum()))
+    return action
+
+
 def run_random_actions(
     scene: Scene, seconds: float, seed: int = 0, after_step: Callable[[], None] | None = None
 ) -> None:
     """Step ``scene`` for ``seconds`` with uniformly random actions of its first robot
-    (drawn from ``np.random.default_rng(seed)`` within its action space), calling
-    ``after_step`` after each control step."""
+    (drawn from ``np.random.default_rng(seed)`` within its action space; an unbounded
+    entry, efforts a file's motor does not limit, as Gymnasium's ``Box.sample`` draws
+    it: see :func:`random_action`), calling ``after_step`` after each control step."""
     agent = scene.agents[0]
     rng = np.random.default_rng(seed)
     space = agent.action_space
     for _ in range(round(seconds * scene.control_freq)):
-        agent.set_action(rng.uniform(space.low, space.high))
+        agent.set_action(random_action(space.low, space.high, rng))
         scene.step()
         if after_step is not None:
             after_step()
@@ -205,19 +227,25 @@ def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) 
 
 
 def check_inertia(cls: type[Agent]) -> CheckResult:
-    """Moving bodies have plausible masses and physically valid inertias."""
+    """Moving bodies have plausible masses and physically valid inertias. A moving body
+    is judged with the bodies welded to it (a frame, a housing; robosuite's mobile bases
+    put their joints on a massless frame whose welded children carry the mass); an
+    inertia is judged on each body that has mass."""
     checked = cls.check()
     model = checked.index.model
+    weld = model.body_weldid
     bad = []
     for body in range(1, model.nbody):
-        if model.body_weldid[body] != body:
-            continue  # welded to its parent (a frame, a housing): its mass counts there
-        mass = float(model.body_mass[body])
-        inertia = np.sort(model.body_inertia[body])
+        if weld[body] != body:
+            continue
+        mass = float(model.body_mass[weld == body].sum())
         if not (MASS_RANGE[0] <= mass <= MASS_RANGE[1]):
             bad.append(f"{model.body(body).name} mass {mass:.3g} kg")
-        elif inertia[0] + inertia[1] < inertia[2] * (1 - 1e-6) or inertia[0] <= 0:
-            bad.append(f"{model.body(body).name} inertia {inertia.round(6).tolist()}")
+            continue
+        for part in np.flatnonzero(weld == body):
+            inertia = np.sort(model.body_inertia[part])
+            if model.body_mass[part] > 0 and (inertia[0] + inertia[1] < inertia[2] * (1 - 1e-6) or inertia[0] <= 0):
+                bad.append(f"{model.body(part).name} inertia {inertia.round(6).tolist()}")
     detail = "all moving bodies plausible" if not bad else "; ".join(bad[:5]) + (" ..." if len(bad) > 5 else "")
     return CheckResult(f"masses in [{MASS_RANGE[0]:g}, {MASS_RANGE[1]:g}] kg and valid inertias", not bad, detail)
 

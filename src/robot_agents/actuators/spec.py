@@ -352,6 +352,15 @@ def _native(actuator: mujoco.MjsActuator, decl: PIDActuator | DCMotorActuator, o
     return DriveKind.DCMOTOR
 
 
+def _limited(flag: mujoco.mjtLimited, bounds: Sequence[float], autolimits: bool) -> bool:
+    """Whether MuJoCo's compiler limits a range: ``limited="true"``, or ``"auto"`` (the
+    attribute left out) with the compiler's ``autolimits`` on and a range given, as
+    MuJoCo Menagerie's files write it."""
+    if flag == mujoco.mjtLimited.mjLIMITED_AUTO:
+        return autolimits and (float(bounds[0]) != 0.0 or float(bounds[1]) != 0.0)
+    return bool(flag == mujoco.mjtLimited.mjLIMITED_TRUE)
+
+
 def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDeclaration:
     """A file's actuator on ``joint``: affine gain and bias are driven through targets."""
     label = f"{source} (actuator {actuator.name!r})" if actuator.name else source
@@ -365,11 +374,20 @@ def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDecl
             "set replace_file_actuators = True and declare the drive."
         )
     gear = abs(float(actuator.gear[0]))
-    limit = np.inf
-    if actuator.forcelimited == 1:
+    limit = speed = np.inf
+    autolimits = bool(actuator.compiler.autolimits)
+    if _limited(actuator.forcelimited, actuator.forcerange, autolimits):
         limit = gear * max(abs(float(actuator.forcerange[0])), abs(float(actuator.forcerange[1])))
-    if actuator.ctrllimited == 1 and actuator.biastype == mujoco.mjtBias.mjBIAS_NONE:
-        # a motor: the largest control times its gain bounds the effort too
-        reach = gear * abs(float(actuator.gainprm[0])) * max(abs(float(c)) for c in actuator.ctrlrange)
-        limit = min(limit, reach)
-    return DriveDeclaration(joint, DriveKind.AFFINE, label, effort_limit=limit)
+    bias = actuator.biasprm[:3] if actuator.biastype == mujoco.mjtBias.mjBIAS_AFFINE else np.zeros(3)
+    largest_ctrl = np.inf
+    if _limited(actuator.ctrllimited, actuator.ctrlrange, autolimits):
+        largest_ctrl = max(abs(float(c)) for c in actuator.ctrlrange)
+    if bias[1] == 0.0 and bias[2] == 0.0:
+        # a motor (or a general actuator without stiffness or damping: dm_control's
+        # soccer walkers): the largest control times its gain bounds the effort too
+        limit = min(limit, gear * abs(float(actuator.gainprm[0])) * largest_ctrl)
+    elif bias[1] == 0.0 and gear > 0.0:
+        # a velocity servo (force kv * (ctrl - gear * qvel)): its control is the target
+        # speed of its transmission, the joint's times the gear
+        speed = largest_ctrl / gear
+    return DriveDeclaration(joint, DriveKind.AFFINE, label, effort_limit=limit, velocity_limit=speed)

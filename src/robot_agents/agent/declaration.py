@@ -26,7 +26,15 @@ import numpy as np
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations, grip_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
-from robot_agents.agent.derived import DERIVED_SOURCE, infer_parts, resting_base, self_contacts, torque_only, undamped
+from robot_agents.agent.derived import (
+    DERIVED_SOURCE,
+    infer_parts,
+    resting_base,
+    self_contacts,
+    torque_only,
+    undamped,
+    velocity_servos,
+)
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
 from robot_agents.agent.derived_task_space import derive_task_space
 from robot_agents.agent.index import JointKind, RobotIndex
@@ -564,6 +572,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             {d.joint: d.velocity_limit for d in drives},
             torque_only=torque_only(model, drives),
             undamped=undamped(model, drives),
+            velocity_only=velocity_servos(model, drives),
+            effort_limits={d.joint: d.effort_limit for d in drives},
         )
     )
     if not modes:

@@ -50,6 +50,21 @@ def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> li
     return out
 
 
+def velocity_servos(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
+    """Driven joints whose drive is a file's velocity servo (an affine actuator with
+    damping and no stiffness: ``<velocity>``, robosuite's mobile bases). Such a drive
+    follows velocity targets and cannot hold a position."""
+    out = []
+    for drive in drives:
+        if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED_SOURCE):
+            continue
+        actuator = joint_actuator(model, drive.joint)
+        bias = model.actuator_biasprm[actuator] if actuator is not None else None
+        if bias is not None and bias[1] == 0.0 and bias[2] != 0.0:
+            out.append(drive.joint)
+    return out
+
+
 def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
     """Driven joints whose drive has neither stiffness nor damping once a velocity mode
     relaxes its stiffness: an affine actuator (a file's ``<position>`` without ``kv``, a

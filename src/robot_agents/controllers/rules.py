@@ -228,6 +228,8 @@ def modes_from_parts(
     velocity_limits: Mapping[str, float],
     torque_only: Sequence[str] = (),
     undamped: Sequence[str] = (),
+    velocity_only: Sequence[str] = (),
+    effort_limits: Mapping[str, float] | None = None,
 ) -> dict[str, ModeConfig]:
     """The control-mode table of a robot from its parts.
 
@@ -244,14 +246,20 @@ def modes_from_parts(
     damping (a model file's ``<position>`` actuator without ``kv``): a velocity mode
     relaxes their stiffness and nothing would be left to follow its targets, so the
     table has no velocity-only mode (``pd_joint_vel``) over them; the position+velocity
-    modes stay (their stiffness follows the positions).
+    modes stay (their stiffness follows the positions). Joints in ``velocity_only`` have
+    velocity servos (a model file's ``<velocity>`` actuators: damping, no stiffness),
+    which cannot hold a position: a main part with any keeps only ``pd_joint_vel``,
+    another part takes velocity actions. The effort mode's actions are normalized when
+    every drive's effort is bounded, else efforts in N*m or N (a file's ``<motor>``
+    without ``ctrlrange`` or ``forcerange`` takes any effort).
     """
     if not parts:
         return {}
     driven = list(velocity_limits)
     if set(torque_only) & {j for p in parts for j in part_joints[p.name]}:
         every = tuple(j for p in parts for j in part_joints[p.name] if j in driven)
-        return {EFFORT_MODE: JointEffortConfig(joint_names=every)}
+        bounded = effort_limits is None or all(math.isfinite(effort_limits.get(j, math.inf)) for j in every)
+        return {EFFORT_MODE: JointEffortConfig(joint_names=every, normalize_action=bounded)}
     main: Part = next(
         (p for p in parts if isinstance(p, Arm)),
         next(
@@ -275,6 +283,14 @@ def modes_from_parts(
             table.update(ee_control_modes(group, task, task.modes))
         if set(undamped) & set(joints):
             table = {mode: config for mode, config in table.items() if not _velocity_only(config)}
+        if set(velocity_only) & set(joints):
+            table = {mode: config for mode, config in table.items() if _velocity_only(config)}
+            if not table:
+                raise ConfigError(
+                    f"{main.name!r}: joints {sorted(set(velocity_only) & set(joints))} have velocity servos (no "
+                    f"stiffness) and {sorted(set(undamped) & set(joints))} position servos without damping: no "
+                    "joint mode drives both; declare control_modes or actuators."
+                )
     others: dict[str, ControllerConfig] = {}
     # a robot standing on its legs has no gravity compensation (it would lighten the body
     # the legs carry): every part riding on it carries its own weight, as the legs do
@@ -293,7 +309,11 @@ def modes_from_parts(
             )
         else:
             moving = tuple(j for j in names if j in driven)
-            if moving:
+            if moving and set(moving) & set(velocity_only):
+                speeds = _velocity_bounds(part, moving, velocity_limits)
+                lowest: PerJoint = tuple(-v for v in speeds) if isinstance(speeds, tuple) else -speeds
+                others[part.name] = PDJointVelConfig(joint_names=moving, lower=lowest, upper=speeds)
+            elif moving:
                 # legs that carry the robot, and the parts riding on them (a head, a tail),
                 # take deltas from their targets: a zero delta from the measured pose would
                 # let them give under their weight step by step

@@ -96,8 +96,9 @@ MJCF_MODELS = [
     *(("mobile base", f"rs:bases/{name}.xml", False) for name in ("omron_mobile_base", "floating_legged_base")),
     ("arm", "dmc:third_party/kinova/jaco_arm.xml", False),
     ("hand", "dmc:third_party/kinova/jaco_hand.xml", False),
-    ("walker", "dmc:locomotion/soccer/assets/boxhead/boxhead.xml", True),
-    ("walker", "dmc:locomotion/walkers/assets/jumping_ball/jumping_ball_with_head.xml", True),
+    # dm_control gives these walkers their free joint when it composes them
+    ("walker", "dmc:locomotion/soccer/assets/boxhead/boxhead.xml", False),
+    ("walker", "dmc:locomotion/walkers/assets/jumping_ball/jumping_ball_with_head.xml", False),
     ("arm", "dmc:suite/manipulator.xml", False),
     ("finger", "dmc:suite/finger.xml", False),
 ]

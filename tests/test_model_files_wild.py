@@ -595,16 +595,21 @@ ACTUATED_ARM = """<mujoco>
 """
 
 
-def actuated_arm(tmp_path: Path, first: str, second: str) -> type[ra.Agent]:
+def actuated_arm(tmp_path: Path, first: str, second: str, **extra: object) -> type[ra.Agent]:
     path = tmp_path / "actuated.xml"
     path.write_text(ACTUATED_ARM.format(first=first, second=second))
-    return two_line(path)
+    return two_line(path, **extra)
+
+
+#: The file's motors alone (a fixed arm the file drives with motors on every joint gets
+#: PD drives within them otherwise: see the test at the end).
+MOTORS_ALONE = {"actuators": (ra.FileActuators(),)}
 
 
 def test_bare_motors_take_efforts_in_newtons_and_metres_and_the_check_runs(tmp_path: Path) -> None:
     from robot_agents.checks import check_random_actions
 
-    cls = actuated_arm(tmp_path, '<motor joint="shoulder"/>', '<motor joint="elbow" ctrlrange="-2 2"/>')
+    cls = actuated_arm(tmp_path, '<motor joint="shoulder"/>', '<motor joint="elbow" ctrlrange="-2 2"/>', **MOTORS_ALONE)
     checked = cls.check()
     assert list(checked.modes) == ["joint_effort"]
     # the shoulder's effort has no bound: the actions are efforts (N*m), not normalized
@@ -620,7 +625,10 @@ def test_bare_motors_take_efforts_in_newtons_and_metres_and_the_check_runs(tmp_p
     assert check_random_actions(cls, seconds=0.5).passed  # unbounded entries drawn as Gymnasium draws them
     # all bounded: normalized as before
     bounded = actuated_arm(
-        tmp_path, '<motor joint="shoulder" ctrlrange="-1 1"/>', '<motor joint="elbow" ctrlrange="-2 2"/>'
+        tmp_path,
+        '<motor joint="shoulder" ctrlrange="-1 1"/>',
+        '<motor joint="elbow" ctrlrange="-2 2"/>',
+        **MOTORS_ALONE,
     )
     scene = scene_of(bounded)
     np.testing.assert_array_equal(scene.agents[0].action_space.high, [[1.0, 1.0]])
@@ -698,11 +706,14 @@ def test_general_actuators_without_bias_are_motors_and_autolimits_bound_them(tmp
         tmp_path,
         '<general joint="shoulder" gear="30" ctrlrange="-1 1" biastype="affine" biasprm="0"/>',
         '<motor joint="elbow" ctrlrange="-5 5" forcerange="-2 2"/>',
+        **MOTORS_ALONE,
     )
     checked = cls.check()
     assert list(checked.modes) == ["joint_effort"]
     assert [d.effort_limit for d in checked.drives] == [30.0, 2.0]
-    explicit = actuated_arm(tmp_path, '<motor joint="shoulder" ctrllimited="false" ctrlrange="-1 1"/>', "")
+    explicit = actuated_arm(
+        tmp_path, '<motor joint="shoulder" ctrllimited="false" ctrlrange="-1 1"/>', "", **MOTORS_ALONE
+    )
     assert explicit.check().drives[0].effort_limit == np.inf
 
 
@@ -728,3 +739,41 @@ def test_a_massless_jointed_frame_is_judged_with_the_bodies_welded_to_it(tmp_pat
     path.write_text(frame.format(frame_mass=1e-6, chassis_mass=0))  # a placeholder link a gripper would carry
     result = check_inertia(two_line(path, compiler=ra.CompilerSettings(boundmass=1e-6, boundinertia=1e-6)))
     assert not result.passed and "base mass 2e-06 kg" in result.detail  # with the chassis bounded to 1e-6
+
+
+def test_a_fixed_arm_driven_by_motors_gets_pd_drives_within_them_and_keeps_joint_effort(tmp_path: Path) -> None:
+    # robosuite's arms, gymnasium's reacher and pusher: torque motors on every joint
+    cls = actuated_arm(
+        tmp_path, '<motor joint="shoulder" gear="10" ctrlrange="-1 1"/>', '<motor joint="elbow" ctrlrange="-4 4"/>'
+    )
+    with warnings.catch_warnings(record=True) as notes:
+        warnings.simplefilter("always")
+        checked = cls.check()
+    assert any("torque motors" in str(n.message) and "FileActuators" in str(n.message) for n in notes)
+    assert {"pd_joint_pos", "pd_joint_delta_pos", "pd_joint_vel", "joint_effort"} <= set(checked.modes)
+    assert checked.default_mode == "pd_joint_delta_pos"
+    assert all(d.replaces_motor and d.stiffness > 0 and d.damping > 0 for d in checked.drives)
+    assert [d.effort_limit for d in checked.drives] == [10.0, 4.0]  # the motors' gear * control range
+    scene = scene_of(cls)
+    agent, data = scene.agents[0], scene.world.datas[0]
+    scene.reset()
+    for _ in range(20):  # a joint step within the motors' torques
+        agent.set_action(np.array([[0.1, -0.1]]))
+        scene.step()
+    assert np.abs(data.actuator_force).max() <= 10.0 + 1e-9 and np.abs(data.actuator_force[1]) <= 4.0 + 1e-9
+    # joint_effort: the motors' torques, the drives' stiffness and damping relaxed
+    agent.set_control_mode("joint_effort")
+    np.testing.assert_array_equal(agent.action_space.high, [[1.0, 1.0]])
+    agent.set_action(np.array([[0.5, -0.25]]))
+    scene.step()
+    np.testing.assert_allclose(data.actuator_force, [5.0, -1.0], rtol=1e-12)
+    scene.close()
+    # the motors alone, as the file has them
+    kept = two_line(tmp_path / "actuated.xml", actuators=(ra.FileActuators(),))
+    assert list(kept.check().modes) == ["joint_effort"]
+    # a joint without a motor (an underactuated robot: gymnasium's hopper on its root's
+    # slides and hinge, a cart-pole's pole): efforts only, as the file has them
+    passive = actuated_arm(tmp_path, '<motor joint="shoulder" ctrlrange="-1 1"/>', "")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        assert list(passive.check().modes) == ["joint_effort"]

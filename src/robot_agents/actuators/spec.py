@@ -8,6 +8,7 @@ and never kept beside a declared drive on the same joint.
 
 from __future__ import annotations
 
+import re
 import warnings
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
@@ -63,6 +64,9 @@ class DriveDeclaration:
     damping: float = 0.0
     effort_limit: float = np.inf
     velocity_limit: float = np.inf
+    #: The drive stands in for a model file's torque motor (see :func:`apply_actuators`):
+    #: ``joint_effort`` commands the motor's torques through it.
+    replaces_motor: bool = False
 
 
 def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:
@@ -133,6 +137,26 @@ def apply_actuators(
             "replace_file_actuators = True to say so, or declare actuators to choose the drives.",
             RuntimeWarning,
             stacklevel=4,
+        )
+        replace_file_actuators = True
+    motors: dict[str, float] = {}
+    if file_actuators and not replace_file_actuators and not declarations and _fixed_and_motor_driven(spec):
+        derive_own = False  # the motors' joints only: the file leaves no joint undriven
+        # A fixed robot the file drives with torque motors (robosuite's arms, gymnasium's
+        # reacher): PD drives derived as for a file without actuators, each within its
+        # motor's effort, so that joint and end-effector modes work; joint_effort still
+        # commands the motors' torques (the drives' stiffness and damping relaxed).
+        motors = {a.target: _adopted(a, "the model file", a.target).effort_limit for a in file_actuators}
+        warnings.warn(
+            f"{where}: the model file drives {len(motors)} joint(s) with torque motors: each gets a PD drive with "
+            "gains derived from its inertia, its effort within the motor's, for the joint and end-effector modes; "
+            "joint_effort commands the motors' torques. Declare actuators = (ra.FileActuators(),) to keep the "
+            "motors alone.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        declarations = (
+            DerivedActuators(joints=tuple(f"^{re.escape(j)}$" for j in motors), effort_limit=tuple(motors.values())),
         )
         replace_file_actuators = True
     if replace_file_actuators:
@@ -230,7 +254,11 @@ def apply_actuators(
                     if decl is implied
                     else f"derived gains ({decl.label}; see {_GAINS})"
                 )
-                drives[joint] = DriveDeclaration(joint, DriveKind.AFFINE, source, kp, kv, limit, float(speed))
+                if joint in motors:
+                    source = f"derived gains, within the model file's motor (see {_GAINS})"
+                drives[joint] = DriveDeclaration(
+                    joint, DriveKind.AFFINE, source, kp, kv, limit, float(speed), replaces_motor=joint in motors
+                )
         else:
             for joint, drive in zip(matched, _add_declared(spec, decl, matched, taken), strict=True):
                 drives[joint] = drive
@@ -350,6 +378,27 @@ def _native(actuator: mujoco.MjsActuator, decl: PIDActuator | DCMotorActuator, o
         ctrlspec=7,
     )
     return DriveKind.DCMOTOR
+
+
+def _fixed_and_motor_driven(spec: mujoco.MjSpec) -> bool:
+    """A fully actuated robot without a free joint whose file's actuators are all torque
+    motors on joints (affine or no bias without stiffness or damping), one on each of
+    its drivable joints."""
+    if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in spec.joints):
+        return False
+    if set(drivable_joints(spec)) - {a.target for a in spec.actuators}:
+        return False  # underactuated (gymnasium's hopper on its passive root joints, a pendulum): efforts only
+    for actuator in spec.actuators:
+        if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT or actuator.gaintype != mujoco.mjtGain.mjGAIN_FIXED:
+            return False
+        if actuator.biastype == mujoco.mjtBias.mjBIAS_AFFINE:
+            if actuator.biasprm[1] != 0.0 or actuator.biasprm[2] != 0.0:
+                return False
+        elif actuator.biastype != mujoco.mjtBias.mjBIAS_NONE:
+            return False
+        if actuator.dyntype != mujoco.mjtDyn.mjDYN_NONE:
+            return False
+    return True
 
 
 def _limited(flag: mujoco.mjtLimited, bounds: Sequence[float], autolimits: bool) -> bool:

@@ -574,6 +574,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             undamped=undamped(model, drives),
             velocity_only=velocity_servos(model, drives),
             effort_limits={d.joint: d.effort_limit for d in drives},
+            motor_joints=[d.joint for d in drives if d.replaces_motor],
         )
     )
     if not modes:

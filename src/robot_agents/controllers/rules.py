@@ -230,6 +230,7 @@ def modes_from_parts(
     undamped: Sequence[str] = (),
     velocity_only: Sequence[str] = (),
     effort_limits: Mapping[str, float] | None = None,
+    motor_joints: Sequence[str] = (),
 ) -> dict[str, ModeConfig]:
     """The control-mode table of a robot from its parts.
 
@@ -251,14 +252,17 @@ def modes_from_parts(
     which cannot hold a position: a main part with any keeps only ``pd_joint_vel``,
     another part takes velocity actions. The effort mode's actions are normalized when
     every drive's effort is bounded, else efforts in N*m or N (a file's ``<motor>``
-    without ``ctrlrange`` or ``forcerange`` takes any effort).
+    without ``ctrlrange`` or ``forcerange`` takes any effort). Joints in
+    ``motor_joints`` have PD drives standing in for a file's torque motors: the table
+    also has ``joint_effort`` over every driven joint, the drives' stiffness and
+    damping relaxed (the motors' torques).
     """
     if not parts:
         return {}
     driven = list(velocity_limits)
+    every = tuple(j for p in parts for j in part_joints[p.name] if j in driven)
+    bounded = effort_limits is None or all(math.isfinite(effort_limits.get(j, math.inf)) for j in every)
     if set(torque_only) & {j for p in parts for j in part_joints[p.name]}:
-        every = tuple(j for p in parts for j in part_joints[p.name] if j in driven)
-        bounded = effort_limits is None or all(math.isfinite(effort_limits.get(j, math.inf)) for j in every)
         return {EFFORT_MODE: JointEffortConfig(joint_names=every, normalize_action=bounded)}
     main: Part = next(
         (p for p in parts if isinstance(p, Arm)),
@@ -337,6 +341,10 @@ def modes_from_parts(
             main.name: table["pd_joint_delta_pos"],
             **{name: body.get(name, config) for name, config in others.items()},
         }
+    if set(motor_joints) & set(every):
+        combined[EFFORT_MODE] = JointEffortConfig(
+            joint_names=every, normalize_action=bounded, stiffness=0.0, damping=0.0
+        )
     return combined
 
 

@@ -113,10 +113,15 @@ def test_gymnasium_floating_robots_two_lines(name: str, joints: int, motors: int
 
 def test_reacher_keeps_the_arm_and_drops_the_target_marker() -> None:
     cls = two_line(GYM / "reacher.xml")
-    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'body0' as the robot and dropped \['target'\]"):
+    with (
+        pytest.warns(RuntimeWarning, match=r"kept top-level body 'body0' as the robot and dropped \['target'\]"),
+        pytest.warns(RuntimeWarning, match=r"drives 2 joint\(s\) with torque motors"),
+    ):
         scene = ra.Scene(cls)
     assert scene.agents[0].joint_names == ("joint0", "joint1")
     assert scene.model.nu == 2
+    # its two motors are PD drives within their torques, and joint_effort commands those
+    assert {"pd_joint_delta_pos", "joint_effort"} <= set(cls.modes())
     chosen = two_line(GYM / "reacher.xml", root_body="target")
     with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target'"):
         assert ra.Scene(chosen).agents[0].joint_names == ("target_x", "target_y")

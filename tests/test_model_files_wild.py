@@ -777,3 +777,34 @@ def test_a_fixed_arm_driven_by_motors_gets_pd_drives_within_them_and_keeps_joint
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         assert list(passive.check().modes) == ["joint_effort"]
+
+
+def test_a_motor_driven_arm_file_with_a_built_in_gripper_mounted(tmp_path: Path) -> None:
+    # robosuite's arms take their gripper at a `right_hand` body: `robot-agents demo
+    # robots/ur5e/robot.xml --gripper robotiq_2f85 --at right_hand`
+    path = tmp_path / "actuated.xml"
+    path.write_text(
+        ACTUATED_ARM.format(
+            first='<motor joint="shoulder" ctrlrange="-20 20"/>', second='<motor joint="elbow" ctrlrange="-10 10"/>'
+        )
+    )
+    cls = robot_from_file(path, gripper="franka_hand", at="lower")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        checked = cls.check()
+    arm = {d.joint: d for d in checked.drives if d.replaces_motor}
+    assert sorted(arm) == ["elbow", "shoulder"] and [arm["shoulder"].effort_limit, arm["elbow"].effort_limit] == [
+        20,
+        10,
+    ]
+    hand = [d for d in checked.drives if not d.replaces_motor]
+    assert hand and all(d.joint.startswith("franka_hand/") for d in hand)  # the piece's own drives
+    assert {"pd_joint_delta_pos", "joint_effort"} <= set(checked.modes)
+    scene = scene_of(cls)
+    agent = scene.agents[0]
+    scene.reset()
+    for _ in range(10):
+        agent.set_action(np.zeros(agent.action_space.shape))
+        scene.step()
+    assert not scene.world.unstable_steps.any()
+    scene.close()

@@ -140,8 +140,10 @@ def apply_actuators(
         )
         replace_file_actuators = True
     motors: dict[str, float] = {}
-    if file_actuators and not replace_file_actuators and not declarations and _fixed_and_motor_driven(spec):
-        derive_own = False  # the motors' joints only: the file leaves no joint undriven
+    own = set(names if own_joints is None else own_joints)
+    fully_motored = _fixed_and_motor_driven(spec, own)
+    if file_actuators and not replace_file_actuators and (derive_own or not declarations) and fully_motored:
+        derive_own = False  # the motors' joints only: the file leaves none of its joints undriven
         # A fixed robot the file drives with torque motors (robosuite's arms, gymnasium's
         # reacher): PD drives derived as for a file without actuators, each within its
         # motor's effort, so that joint and end-effector modes work; joint_effort still
@@ -156,6 +158,7 @@ def apply_actuators(
             stacklevel=4,
         )
         declarations = (
+            *declarations,  # a mounted piece's drives (a built-in gripper on robosuite's arm)
             DerivedActuators(joints=tuple(f"^{re.escape(j)}$" for j in motors), effort_limit=tuple(motors.values())),
         )
         replace_file_actuators = True
@@ -180,7 +183,6 @@ def apply_actuators(
             )
         on_joint[actuator.target] = actuator
 
-    own = set(names if own_joints is None else own_joints)
     implied: DerivedActuators | None = None
     if derive_own and declarations and not (set(on_joint) & own):
         # what a robot without pieces gets (the branch at the end), beside its pieces' drives
@@ -380,13 +382,13 @@ def _native(actuator: mujoco.MjsActuator, decl: PIDActuator | DCMotorActuator, o
     return DriveKind.DCMOTOR
 
 
-def _fixed_and_motor_driven(spec: mujoco.MjSpec) -> bool:
+def _fixed_and_motor_driven(spec: mujoco.MjSpec, own: Collection[str]) -> bool:
     """A fully actuated robot without a free joint whose file's actuators are all torque
     motors on joints (affine or no bias without stiffness or damping), one on each of
-    its drivable joints."""
+    the drivable joints of its own file (``own``; a mounted piece's are the piece's)."""
     if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in spec.joints):
         return False
-    if set(drivable_joints(spec)) - {a.target for a in spec.actuators}:
+    if (set(drivable_joints(spec)) & set(own)) - {a.target for a in spec.actuators}:
         return False  # underactuated (gymnasium's hopper on its passive root joints, a pendulum): efforts only
     for actuator in spec.actuators:
         if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT or actuator.gaintype != mujoco.mjtGain.mjGAIN_FIXED:

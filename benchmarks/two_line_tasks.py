@@ -23,7 +23,9 @@ built-in gripper").
 Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20] [--servos]
 [--gripper NAME --at LINK]`` (the ``mani-skill`` wheel's arms: ``pip download --no-deps
 mani-skill==3.0.1`` and unzip ``mani_skill/assets/robots``; arm-only files: the
-``example-robot-data`` wheel's ``ur_description`` and ``xarm_description``).
+``example-robot-data`` wheel's ``ur_description`` and ``xarm_description``, and the
+``robosuite`` wheel's ``robosuite/models/assets/robots/<arm>/robot.xml``, arms driven by
+torque motors, with ``--at right_hand``).
 """
 
 from __future__ import annotations
@@ -95,7 +97,10 @@ def main() -> None:
                 cells.append(f"{successes}/{args.seeds}")
             except ConfigError as error:  # the robot lacks the task's parts
                 cells.append(f"- ({str(error).split(': ', 1)[-1][:60]})")
-        label = f"{path.name} + servos" if servos is not None else path.name
+        # files of one name (robosuite's robots/<arm>/robot.xml) told apart by their folder
+        shared = sum(p.name == path.name for p in args.paths) > 1
+        name = f"{path.parent.name}/{path.name}" if shared else path.name
+        label = f"{name} + servos" if servos is not None else name
         label += f" + {args.gripper}" if args.gripper is not None else ""
         print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
 

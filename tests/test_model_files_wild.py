@@ -808,3 +808,61 @@ def test_a_motor_driven_arm_file_with_a_built_in_gripper_mounted(tmp_path: Path)
         scene.step()
     assert not scene.world.unstable_steps.any()
     scene.close()
+
+
+# Two arms as top-level bodies and one keyframe over the whole file (gym_aloha's ALOHA:
+# bimanual_viperx_transfer_cube.xml), one arm kept with root_body.
+TWO_ARMS = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="left" pos="0 0.3 0.1">
+      <joint name="left_joint" axis="0 1 0" range="-1 1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+    </body>
+    <body name="right" pos="0 -0.3 0.1">
+      <joint name="right_joint" axis="0 1 0" range="-1 1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <position joint="left_joint" kp="50" kv="5" ctrlrange="-1 1"/>
+    <position joint="right_joint" kp="50" kv="5" ctrlrange="-1 1"/>
+  </actuator>
+  <keyframe>
+    <key qpos="0.4 -0.2"/>
+  </keyframe>
+</mujoco>
+"""
+
+
+def test_one_arm_of_a_file_with_a_keyframe_makes_a_scene_without_mujoco_warnings(tmp_path: Path) -> None:
+    path = tmp_path / "two_arms.xml"
+    path.write_text(TWO_ARMS)
+    cls = two_line(path, root_body="left")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        keyframe = cls.check().keyframes["default"].qpos
+    np.testing.assert_array_equal(keyframe, [0.4])  # the file's keyframe, cut to the kept arm
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # MuJoCo's "Child model has pending keyframes" before
+        scene = ra.Scene(cls)
+        scene.reset()
+    np.testing.assert_array_equal(scene.agents[0].qpos, [[0.4]])
+    assert scene.model.nkey == 0  # the scene sets its states itself
+    scene.close()
+
+
+def test_the_command_line_picks_a_files_robot_with_root_body(tmp_path: Path) -> None:
+    path = tmp_path / "two_arms.xml"
+    path.write_text(TWO_ARMS)
+    out = io.StringIO()
+    with pytest.raises(ra.ModelError, match=r"none stands out as the robot.*robot-agents: --root-body left"):
+        robot_from_file(path).check()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        assert cli_main(["info", str(path), "--root-body", "right"], out) == 0
+    assert "right_joint" in out.getvalue() and "left_joint" not in out.getvalue()
+    with pytest.raises(ra.ConfigError, match=r"root_body='left' picks a model file's robot, and 'panda'"):
+        from robot_agents.robot_source import resolve_robot
+
+        resolve_robot("panda", root_body="left")

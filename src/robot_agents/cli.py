@@ -281,6 +281,9 @@ def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None
         help="mount this built-in gripper or tool on a model file (with --at; its z axis out of that frame)",
     )
     parser.add_argument("--at", help="with --gripper: the model file's body or site it is mounted on (a flange)")
+    parser.add_argument(
+        "--root-body", help="the model file's top-level body that is the robot, where there are several"
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -329,7 +332,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     try:
         if args.command == "list":
             return cmd_list(stream)
-        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at)
+        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body)
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":

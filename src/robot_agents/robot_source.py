@@ -28,7 +28,12 @@ UP_AXES: dict[str, tuple[float, float, float, float]] = {
 
 
 def robot_from_file(
-    path: str | Path, floating: bool = False, up: str = "z", gripper: str | None = None, at: str | None = None
+    path: str | Path,
+    floating: bool = False,
+    up: str = "z",
+    gripper: str | None = None,
+    at: str | None = None,
+    root_body: str | None = None,
 ) -> type[Agent]:
     """The two-line robot of a model file: everything else derived (see
     :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
@@ -37,7 +42,8 @@ def robot_from_file(
     keyframe and stance follow its mount). ``gripper``: a built-in piece
     (:func:`~robot_agents.registry.get_piece`) mounted on the file's body or site ``at``,
     under the prefix ``"<gripper>/"`` (the three-line robot: the arm's end effector is
-    the piece's ``tcp``)."""
+    the piece's ``tcp``). ``root_body``: the file's top-level body that is the robot, where
+    there are several (gym_aloha's two ALOHA arms: ``"vx300s_left"``)."""
     if up not in UP_AXES:
         raise UnknownNameError("robot_from_file", "up axis", str(up), UP_AXES)
     if (gripper is None) != (at is None):
@@ -50,6 +56,8 @@ def robot_from_file(
     attributes: dict[str, object] = {"uid": file.stem, field: file, "fix_root_link": not floating}
     if up != "z":
         attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
+    if root_body is not None:
+        attributes["root_body"] = root_body
     if gripper is not None and at is not None:
         attributes["attachments"] = (Attachment(get_piece(gripper), at=at, prefix=f"{gripper}/"),)
         attributes["uid"] = f"{file.stem}+{gripper}"
@@ -57,22 +65,32 @@ def robot_from_file(
 
 
 def resolve_robot(
-    spec: str, floating: bool = False, up: str = "z", gripper: str | None = None, at: str | None = None
+    spec: str,
+    floating: bool = False,
+    up: str = "z",
+    gripper: str | None = None,
+    at: str | None = None,
+    root_body: str | None = None,
 ) -> type[Agent]:
     """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
     directory or file without a model suffix that happens to share a registered uid's
-    name does not hide the uid); ``floating``, ``up``, ``gripper`` and ``at``: see
-    :func:`robot_from_file` (model files only)."""
+    name does not hide the uid); ``floating``, ``up``, ``gripper``, ``at`` and
+    ``root_body``: see :func:`robot_from_file` (model files only)."""
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
-        return robot_from_file(path, floating, up, gripper, at)
+        return robot_from_file(path, floating, up, gripper, at, root_body)
     if up != "z":
         raise ConfigError(
             f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "
             "(declare its mount_pose instead)."
+        )
+    if root_body is not None:
+        raise ConfigError(
+            f"resolve_robot: root_body={root_body!r} picks a model file's robot, and {spec!r} is a registered uid or a "
+            "class (declare its root_body instead)."
         )
     if gripper is not None or at is not None:
         raise ConfigError(

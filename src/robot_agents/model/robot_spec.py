@@ -87,7 +87,8 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
         if score(ranked[0]) == score(ranked[1]):
             raise ModelError(
                 f"{where}: the model file has {len(tops)} top-level bodies {names} and none stands out as the robot; "
-                f"set root_body = {names[0]!r} (or another) on the robot class to choose."
+                f"set root_body = {names[0]!r} (or another) on the robot class to choose (robot-agents: "
+                f"--root-body {names[0]})."
             )
         keep = ranked[0]
     kept = keep.name

@@ -178,6 +178,11 @@ def compose_scene(
         _add_prop(spec, prop)
     for mount in robots:
         frame = world.add_frame(pos=list(mount.pos), quat=list(mount.quat))
+        # A model file's keyframes stay out of the scene: the robot's keyframes are read
+        # from its own model (its check) and the scene sets every state itself; attached,
+        # MuJoCo warns that it cannot namespace them (gym_aloha's ALOHA arms, one arm kept).
+        for key in list(mount.spec.keys):
+            mount.spec.delete(key)
         try:
             with mujoco_messages("compose_scene"):
                 frame.attach_body(mount.spec.worldbody.first_body(), mount.prefix, "")

@@ -25,7 +25,8 @@ Usage: ``python benchmarks/two_line_tasks.py FILE [FILE ...] [--seeds 20] [--ser
 mani-skill==3.0.1`` and unzip ``mani_skill/assets/robots``; arm-only files: the
 ``example-robot-data`` wheel's ``ur_description`` and ``xarm_description``, and the
 ``robosuite`` wheel's ``robosuite/models/assets/robots/<arm>/robot.xml``, arms driven by
-torque motors, with ``--at right_hand``).
+torque motors, with ``--at right_hand``; ``--root-body vx300s_left`` picks one arm of
+gym_aloha's two-arm ALOHA file).
 """
 
 from __future__ import annotations
@@ -75,6 +76,7 @@ def main() -> None:
     parser.add_argument("--servos", action="store_true", help="state the servos of the files in SERVOS")
     parser.add_argument("--gripper", choices=sorted(BUILTIN_PIECES), help="mount this built-in gripper (needs --at)")
     parser.add_argument("--at", help="the link of each file the gripper is mounted on")
+    parser.add_argument("--root-body", help="each file's top-level body that is the robot, where there are several")
     args = parser.parse_args()
     if (args.gripper is None) != (args.at is None):
         parser.error("--gripper and --at go together")
@@ -88,7 +90,12 @@ def main() -> None:
             attrs["actuators"] = servos
         # the file's robot as the command line makes it (--gripper / --at: the piece mounted)
         ra.register_agent(
-            type("TwoLine", (robot_from_file(path.resolve(), gripper=args.gripper, at=args.at),), attrs), override=True
+            type(
+                "TwoLine",
+                (robot_from_file(path.resolve(), gripper=args.gripper, at=args.at, root_body=args.root_body),),
+                attrs,
+            ),
+            override=True,
         )
         cells = []
         for task in TASKS:

@@ -771,6 +771,20 @@ def test_a_fixed_arm_driven_by_motors_gets_pd_drives_within_them_and_keeps_joint
     # the motors alone, as the file has them
     kept = two_line(tmp_path / "actuated.xml", actuators=(ra.FileActuators(),))
     assert list(kept.check().modes) == ["joint_effort"]
+    # and for a robot declaring its own modes, written for the motors: pure torques
+    from robot_agents.controllers.joint import JointEffortConfig
+
+    torques = two_line(
+        tmp_path / "actuated.xml", control_modes={"torque": JointEffortConfig(joint_names=("shoulder", "elbow"))}
+    )
+    assert not any(d.replaces_motor for d in torques.check().drives)
+    scene = scene_of(torques)
+    scene.reset()
+    scene.agents[0].set_action(np.array([[0.5, -0.25]]))
+    scene.step()
+    # the joint torques: the shoulder's motor force 0.5 through its gear of 10
+    np.testing.assert_allclose(scene.world.datas[0].qfrc_actuator, [5.0, -1.0], rtol=1e-12)
+    scene.close()
     # a joint without a motor (an underactuated robot: gymnasium's hopper on its root's
     # slides and hinge, a cart-pole's pole): efforts only, as the file has them
     passive = actuated_arm(tmp_path, '<motor joint="shoulder" ctrlrange="-1 1"/>', "")
@@ -866,3 +880,69 @@ def test_the_command_line_picks_a_files_robot_with_root_body(tmp_path: Path) -> 
         from robot_agents.robot_source import resolve_robot
 
         resolve_robot("panda", root_body="left")
+
+
+def test_a_massless_frames_inertia_is_its_welded_bodies_combined(tmp_path: Path) -> None:
+    from robot_agents.checks import _combined_inertia, check_inertia
+
+    frame = """<mujoco>
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <joint name="slide" type="slide" axis="1 0 0"/>
+      {inertial}
+      <body name="a" pos="0.5 0 0"><inertial pos="0 0 0" mass="1" diaginertia="{moment} {moment} {moment}"/></body>
+      <body name="b" pos="-0.5 0 0" euler="0 0 30">
+        <inertial pos="0 0 0" mass="1" diaginertia="{moment} {moment} {moment}"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+    path = tmp_path / "frame.xml"
+    path.write_text(frame.format(inertial="", moment=0.01))
+    cls = two_line(path)
+    model = cls.check().index.model
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    bodies = np.array([model.body(n).id for n in ("a", "b")])
+    # two 1 kg masses 1 m apart: 2 * 1 kg * (0.5 m)^2 about the two axes across the pair
+    np.testing.assert_allclose(_combined_inertia(model, data, bodies), [0.02, 0.52, 0.52], atol=1e-12)
+    assert model.body_mass[model.body("base").id] == 0  # MuJoCo takes the frame massless
+    assert check_inertia(cls).passed
+    # a frame with its own mass is judged on its own inertia (a welded point mass, Fetch's
+    # estop link in gymnasium-robotics, is part of it)
+    path.write_text(frame.format(inertial='<inertial pos="0 0 0" mass="2" diaginertia="0.1 0.1 0.1"/>', moment=0))
+    assert check_inertia(two_line(path)).passed
+
+
+def test_unnamed_bodies_and_joints_get_names_and_the_robot_works(tmp_path: Path) -> None:
+    # hand-written MJCF names little (gymnasium-robotics' Franka kitchen: an unnamed root
+    # body; no scene could be built, "no root body with prefix"; an unnamed last body
+    # made "EndEffector: expected link to be a body or site name, got ''")
+    from robot_agents.model.loading import load_model_spec
+
+    path = tmp_path / "unnamed.xml"
+    path.write_text(
+        """<mujoco><worldbody>
+  <body pos="0 0 0.1"><joint axis="0 1 0" range="-1 1"/>
+    <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
+    <body name="body1" pos="0.3 0 0"><joint name="elbow" axis="0 1 0" range="-1 1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.5"/>
+      <body pos="0.3 0 0"><joint axis="0 1 0" range="-1 1"/>
+        <geom type="sphere" size="0.03" mass="0.2"/></body>
+    </body>
+  </body>
+</worldbody></mujoco>"""
+    )
+    spec = load_model_spec(path)
+    # body<k> / joint<k> by place; a name the file already uses gets "_" appended
+    assert [b.name for b in spec.bodies[1:]] == ["body1_", "body1", "body3"]
+    assert [j.name for j in spec.joints] == ["joint0", "elbow", "joint2"]
+    cls = two_line(path)
+    checked = cls.check()
+    assert checked.part_joints["arm"] == ("joint0", "elbow", "joint2")
+    scene = scene_of(cls)
+    scene.reset()
+    scene.step()
+    assert scene.agents[0].index.root_body_id == scene.model.body("wild-0/body1_").id
+    scene.close()

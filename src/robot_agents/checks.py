@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import mujoco
 import numpy as np
 import numpy.typing as npt
 
@@ -228,26 +229,47 @@ def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) 
 
 def check_inertia(cls: type[Agent]) -> CheckResult:
     """Moving bodies have plausible masses and physically valid inertias. A moving body
-    is judged with the bodies welded to it (a frame, a housing; robosuite's mobile bases
-    put their joints on a massless frame whose welded children carry the mass); an
-    inertia is judged on each body that has mass."""
+    is judged with the bodies welded to it (a frame, a housing: robosuite's mobile bases
+    put their joints on a massless frame whose welded children carry the mass): their
+    total mass, and the inertia of the body itself, or theirs combined where the body
+    itself has no mass."""
     checked = cls.check()
     model = checked.index.model
     weld = model.body_weldid
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
     bad = []
     for body in range(1, model.nbody):
         if weld[body] != body:
             continue
-        mass = float(model.body_mass[weld == body].sum())
+        group = np.flatnonzero(weld == body)
+        mass = float(model.body_mass[group].sum())
         if not (MASS_RANGE[0] <= mass <= MASS_RANGE[1]):
             bad.append(f"{model.body(body).name} mass {mass:.3g} kg")
             continue
-        for part in np.flatnonzero(weld == body):
-            inertia = np.sort(model.body_inertia[part])
-            if model.body_mass[part] > 0 and (inertia[0] + inertia[1] < inertia[2] * (1 - 1e-6) or inertia[0] <= 0):
-                bad.append(f"{model.body(part).name} inertia {inertia.round(6).tolist()}")
+        own = model.body_mass[body] > 0
+        inertia = np.sort(model.body_inertia[body]) if own else _combined_inertia(model, data, group)
+        if inertia[0] + inertia[1] < inertia[2] * (1 - 1e-6) or inertia[0] <= 0:
+            label = "inertia" if own else "inertia (with its welded bodies)"
+            bad.append(f"{model.body(body).name} {label} {inertia.round(6).tolist()}")
     detail = "all moving bodies plausible" if not bad else "; ".join(bad[:5]) + (" ..." if len(bad) > 5 else "")
     return CheckResult(f"masses in [{MASS_RANGE[0]:g}, {MASS_RANGE[1]:g}] kg and valid inertias", not bad, detail)
+
+
+def _combined_inertia(model: mujoco.MjModel, data: mujoco.MjData, bodies: npt.NDArray[np.intp]) -> FloatArray:
+    """Principal moments (kg*m^2, ascending) of ``bodies`` as one rigid body about their
+    common centre of mass, from their poses in ``data``: each body's inertia turned into
+    the world frame and moved by the parallel-axis theorem."""
+    masses = model.body_mass[bodies]
+    centre = masses @ data.xipos[bodies] / masses.sum()
+    total = np.zeros((3, 3))
+    for body, mass in zip(bodies, masses, strict=True):
+        turn = data.ximat[body].reshape(3, 3)
+        offset = data.xipos[body] - centre
+        total += turn @ np.diag(model.body_inertia[body]) @ turn.T
+        total += mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))
+    moments: FloatArray = np.linalg.eigvalsh(total).astype(np.float64)
+    return moments
 
 
 def check_pd_stability(cls: type[Agent], timestep: float | None = None) -> CheckResult:

@@ -93,6 +93,7 @@ def apply_actuators(
     where: str,
     own_joints: Collection[str] | None = None,
     derive_own: bool = False,
+    motors_as_pd: bool = True,
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
 
@@ -113,6 +114,10 @@ def apply_actuators(
             those joints get derived drives, as a ``DerivedActuators()`` would give
             them (a user's arm file with a built-in gripper mounted needs no drive
             declarations, as it needs none alone).
+        motors_as_pd: with ``derive_own``, a fixed robot whose file drives each of its
+            joints with a torque motor gets PD drives within the motors' efforts in
+            their place (off for a robot declaring its own control modes, which were
+            written for the motors).
 
     Returns:
         The drive of each driven joint, in the model's joint order.
@@ -142,7 +147,8 @@ def apply_actuators(
     motors: dict[str, float] = {}
     own = set(names if own_joints is None else own_joints)
     fully_motored = _fixed_and_motor_driven(spec, own)
-    if file_actuators and not replace_file_actuators and (derive_own or not declarations) and fully_motored:
+    replace_motors = motors_as_pd and (derive_own or not declarations)
+    if file_actuators and not replace_file_actuators and replace_motors and fully_motored:
         derive_own = False  # the motors' joints only: the file leaves none of its joints undriven
         # A fixed robot the file drives with torque motors (robosuite's arms, gymnasium's
         # reacher): PD drives derived as for a file without actuators, each within its

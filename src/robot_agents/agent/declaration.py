@@ -334,6 +334,7 @@ def _build(
         cls.__name__,
         own_joints,
         derive_own=not cls.actuators,
+        motors_as_pd=not cls.control_modes,
     )
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")

@@ -54,7 +54,30 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
     else:
         raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
     compiler.apply(spec)
+    name_unnamed(spec)
     return spec
+
+
+def name_unnamed(spec: mujoco.MjSpec) -> None:
+    """Give the file's unnamed bodies and joints names: ``body<k>`` and ``joint<k>``, ``k``
+    their place among the file's bodies (the world is 0) or joints, unless the file uses
+    that name already (then ``_`` is appended until it is free). The library finds a
+    robot's root, its end effector, its drives and keyframes by name: MJCF written by
+    hand often names only the joints it actuates (gymnasium-robotics' Franka kitchen: an
+    unnamed root body failed in every scene)."""
+    for kind, elements, stem in (
+        (mujoco.mjtObj.mjOBJ_BODY, spec.bodies[1:], "body"),
+        (mujoco.mjtObj.mjOBJ_JOINT, spec.joints, "joint"),
+    ):
+        taken = {e.name for e in elements}
+        for number, element in enumerate(elements, start=1 if kind == mujoco.mjtObj.mjOBJ_BODY else 0):
+            if element.name:
+                continue
+            name = f"{stem}{number}"
+            while name in taken:
+                name += "_"
+            element.name = name
+            taken.add(name)
 
 
 def _parse_xml(file: Path, root_tag: str, kind: str) -> ET.Element:

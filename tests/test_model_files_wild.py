@@ -946,3 +946,67 @@ def test_unnamed_bodies_and_joints_get_names_and_the_robot_works(tmp_path: Path)
     scene.step()
     assert scene.agents[0].index.root_body_id == scene.model.body("wild-0/body1_").id
     scene.close()
+
+
+# An arm moved by a mocap weld on its hand, only its fingers actuated (gymnasium-robotics'
+# Fetch, Meta-World's Sawyer), on a base slide the file locks with damping.
+MOCAP_ARM = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.1">
+      <joint name="base_slide" type="slide" axis="1 0 0" damping="1e6"/>
+      <geom type="box" size="0.1 0.1 0.05" mass="5"/>
+      <body name="upper" pos="0 0 0.05">
+        <joint name="shoulder" axis="0 0 1" range="-2 2"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.03" mass="1"/>
+        <body name="fore" pos="0 0 0.3">
+          <joint name="elbow" axis="0 1 0" range="-2 2"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.025" mass="0.5"/>
+          <body name="hand" pos="0.3 0 0">
+            <joint name="wrist" axis="0 1 0" range="-2 2"/>
+            <geom type="box" size="0.02 0.04 0.02" mass="0.2"/>
+            <body name="left" pos="0.03 0.02 0">
+              <joint name="left_finger" type="slide" axis="0 1 0" range="0 0.03"/>
+              <geom type="box" size="0.01 0.005 0.02" mass="0.02"/>
+            </body>
+            <body name="right" pos="0.03 -0.02 0">
+              <joint name="right_finger" type="slide" axis="0 -1 0" range="0 0.03"/>
+              <geom type="box" size="0.01 0.005 0.02" mass="0.02"/>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+    <body name="mocap" mocap="true" pos="0.3 0 0.45"><geom type="sphere" size="0.01" contype="0" conaffinity="0"/></body>
+  </worldbody>
+  <equality><weld body1="mocap" body2="hand"/></equality>
+  <actuator>
+    <position joint="left_finger" kp="200" kv="5" ctrlrange="0 0.03"/>
+    <position joint="right_finger" kp="200" kv="5" ctrlrange="0 0.03"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_joints_a_dropped_mocap_weld_moved_get_derived_drives(tmp_path: Path) -> None:
+    path = tmp_path / "mocap_arm.xml"
+    path.write_text(MOCAP_ARM)
+    cls = two_line(path)
+    with warnings.catch_warnings(record=True) as notes:
+        warnings.simplefilter("always")
+        checked = cls.check()
+    assert any("through a weld to a mocap body" in str(n.message) for n in notes)
+    derived = [d.joint for d in checked.drives if d.source.startswith("derived gains")]
+    assert derived == ["shoulder", "elbow", "wrist"]  # not the locked base slide
+    assert [d.joint for d in checked.drives if d.source.startswith("the model file")] == ["left_finger", "right_finger"]
+    assert "base_slide" not in {d.joint for d in checked.drives}
+    from robot_agents.checks import check_holds
+
+    assert check_holds(cls, seconds=1.0).passed
+    # without the weld the file leaves those joints passive, as before
+    unwelded = tmp_path / "unwelded.xml"
+    unwelded.write_text(MOCAP_ARM.replace('<equality><weld body1="mocap" body2="hand"/></equality>', ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        drives = two_line(unwelded).check().drives
+    assert [d.joint for d in drives] == ["left_finger", "right_finger"]

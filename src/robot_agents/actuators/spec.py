@@ -94,6 +94,7 @@ def apply_actuators(
     own_joints: Collection[str] | None = None,
     derive_own: bool = False,
     motors_as_pd: bool = True,
+    mocap_held: Sequence[str] = (),
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
 
@@ -118,6 +119,10 @@ def apply_actuators(
             joints with a torque motor gets PD drives within the motors' efforts in
             their place (off for a robot declaring its own control modes, which were
             written for the motors).
+        mocap_held: joints the file moved through a weld to a mocap body that was
+            dropped with the file's other bodies (:func:`~robot_agents.model.robot_spec.isolate_robot`):
+            with ``derive_own``, those no file actuator drives get derived drives (the
+            arm of gymnasium-robotics' Fetch, of Meta-World's Sawyer).
 
     Returns:
         The drive of each driven joint, in the model's joint order.
@@ -190,6 +195,20 @@ def apply_actuators(
         on_joint[actuator.target] = actuator
 
     implied: DerivedActuators | None = None
+    unheld = [j for j in mocap_held if j not in on_joint and j in drivable_joints(spec)]
+    if derive_own and unheld and not replace_file_actuators:
+        warnings.warn(
+            f"{where}: the model file moved joints {unheld[:4]}{' ...' if len(unheld) > 4 else ''} through a "
+            "weld to a mocap body, dropped with the file's other bodies: they get PD drives with gains derived from "
+            "their inertia. Declare actuators to choose their drives.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        derive_own = False  # those joints, not every undriven one
+        declarations = (
+            *declarations,
+            DerivedActuators(joints=tuple(f"^{re.escape(j)}$" for j in unheld)),
+        )
     if derive_own and declarations and not (set(on_joint) & own):
         # what a robot without pieces gets (the branch at the end), beside its pieces' drives
         implied = DerivedActuators()

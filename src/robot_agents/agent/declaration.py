@@ -311,7 +311,7 @@ def _build(
     where = f"{cls.__name__} ({model_path(cls)})"
     parts = composition(cls)
     spec, own_joints = _raw_spec(cls, where, compiler)
-    robot_spec.isolate_robot(spec, cls.root_body, where)
+    mocap_held = robot_spec.isolate_robot(spec, cls.root_body, where)
     robot_spec.set_root_joint(spec, cls.fix_root_link, where)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
@@ -335,6 +335,7 @@ def _build(
         own_joints,
         derive_own=not cls.actuators,
         motors_as_pd=not cls.control_modes,
+        mocap_held=mocap_held,
     )
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")

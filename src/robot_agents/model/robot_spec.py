@@ -49,7 +49,7 @@ def _top_bodies(spec: mujoco.MjSpec) -> list[mujoco.MjsBody]:
     return tops
 
 
-def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
+def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> list[str]:
     """Keep only the robot in a model file: one top-level body and its subtree.
 
     A file may carry more than the robot: a floor or an arena as world geoms (dropped:
@@ -60,7 +60,12 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
     actuators, tendons, equalities, contact pairs, ...) goes with it, and a camera or
     light that targets a dropped body becomes fixed (:mod:`robot_agents.model.dropping`);
     each dropped body and element is named in one warning. An ambiguous file raises
-    :class:`ModelError` naming the bodies and the fix."""
+    :class:`ModelError` naming the bodies and the fix.
+
+    Returns the joints the file moved through a mocap body it welds (or connects) to one
+    of the robot's bodies, a mocap body that goes with the dropped ones (gymnasium-
+    robotics' Fetch and Meta-World's Sawyer move their hand so): the joints from the
+    robot's root to each such body, which nothing drives once the weld is gone."""
     world_geoms = list(spec.worldbody.geoms)
     tops = _top_bodies(spec)
     if len(tops) <= 1 and chosen is None:
@@ -71,7 +76,7 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
                 RuntimeWarning,
                 stacklevel=3,
             )
-        return
+        return []
     names = [b.name for b in tops]
     if chosen is not None:
         _check_names(where, "top-level body (root_body)", [chosen], names)
@@ -94,6 +99,7 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
     kept = keep.name
     dropped = [b for b in tops if b is not keep]
     dropped_names = [b.name for b in dropped]
+    held = _mocap_held_joints(spec, keep, [b for b in dropped if b.mocap])
     report = drop_with_dependents(spec, dropped, world_geoms)
     extra = report.sentence()
     warnings.warn(
@@ -102,6 +108,39 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> None:
         RuntimeWarning,
         stacklevel=3,
     )
+    return held
+
+
+def _mocap_held_joints(spec: mujoco.MjSpec, robot: mujoco.MjsBody, mocaps: Sequence[mujoco.MjsBody]) -> list[str]:
+    """The joints from ``robot`` (the kept top-level body) down to each of its bodies that
+    a weld or connect equality ties to one of ``mocaps``, in the file's joint order."""
+    mocap_names = {b.name for b in mocaps}
+    inside = {b.name for b in robot.find_all(mujoco.mjtObj.mjOBJ_BODY)} | {robot.name}
+    held: set[str] = set()
+    for equality in spec.equalities:
+        if equality.type not in (mujoco.mjtEq.mjEQ_WELD, mujoco.mjtEq.mjEQ_CONNECT):
+            continue
+        if equality.objtype != mujoco.mjtObj.mjOBJ_BODY:
+            continue
+        pair = {equality.name1, equality.name2}
+        if not pair & mocap_names:
+            continue
+        for name in pair & inside:
+            body = spec.body(name)
+            while body is not None and body.name in inside:
+                held.update(j.name for j in body.joints if j.type != mujoco.mjtJoint.mjJNT_FREE and not _base_slide(j))
+                body = body.parent if body.name != robot.name else None
+    return [j.name for j in spec.joints if j.name in held]
+
+
+def _base_slide(joint: mujoco.MjsJoint) -> bool:
+    """An unlimited slide: a planar base's joint, which moves the whole robot rather than
+    its hand (gymnasium-robotics' Fetch locks its three with a damping of 1e11)."""
+    if joint.type != mujoco.mjtJoint.mjJNT_SLIDE:
+        return False
+    if joint.limited == mujoco.mjtLimited.mjLIMITED_AUTO:
+        return not (joint.range[0] != 0.0 or joint.range[1] != 0.0)
+    return bool(joint.limited == mujoco.mjtLimited.mjLIMITED_FALSE)
 
 
 def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequence[str]) -> None:

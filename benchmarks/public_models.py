@@ -23,7 +23,10 @@ dm_control-1.0.50-py3-none-any.whl`` (wheels fetched with ``pip download --no-de
 add the MJCF files of those packages: robosuite's arms, grippers, hands and mobile
 bases (written for robosuite to compose: most arms are driven by torque motors, its
 bases by velocity servos) and dm_control's Kinova arm and hand, soccer walkers and two
-suite models. Only the rows of the wheels given are printed when either is given.
+suite models; ``--gymnasium-robotics``, ``--metaworld`` and ``--gym-aloha`` (wheels
+gymnasium_robotics 1.4.2, metaworld 3.1.1, gym_aloha 0.1.5) their robots: a Fetch and a
+Sawyer moved by mocap welds, the Shadow and Adroit hands, a Franka in a kitchen, one
+ALOHA arm of two. Only the rows of the wheels given are printed when any is given.
 """
 
 from __future__ import annotations
@@ -101,7 +104,16 @@ MJCF_MODELS = [
     ("walker", "dmc:locomotion/walkers/assets/jumping_ball/jumping_ball_with_head.xml", False),
     ("arm", "dmc:suite/manipulator.xml", False),
     ("finger", "dmc:suite/finger.xml", False),
+    ("arm (mocap-moved)", "gr:fetch/pick_and_place.xml", False),
+    ("hand", "gr:hand/reach.xml", False),
+    ("hand", "gr:adroit_hand/adroit_relocate.xml", False),
+    ("arm (in a kitchen)", "gr:kitchen_franka/kitchen_assets/kitchen_env_model.xml", False),
+    ("arm (mocap-moved)", "mw:sawyer_xyz/sawyer_reach_v3.xml", False),
+    ("arm (one of two)", "al:bimanual_viperx_transfer_cube.xml", False),
 ]
+GR, MW, AL = "gymnasium_robotics/envs/assets/", "metaworld/assets/", "gym_aloha/assets/"
+#: The top-level body that is the robot, where a file holds several robots.
+ROOT_BODIES = {"al:bimanual_viperx_transfer_cube.xml": "vx300s_left"}
 
 
 def wheel_dir(wheel: str | None, work: Path) -> Path:
@@ -121,9 +133,9 @@ def extract(wheel: str, prefix: str, out: Path) -> Path:
     return out / prefix
 
 
-def evaluate(path: Path, floating: bool) -> list[str]:
+def evaluate(path: Path, floating: bool, root_body: str | None = None) -> list[str]:
     start = time.perf_counter()
-    cls = robot_from_file(path, floating)
+    cls = robot_from_file(path, floating, root_body=root_body)
     try:
         with warnings.catch_warnings(record=True) as notes:
             warnings.simplefilter("always")
@@ -162,6 +174,9 @@ def main() -> None:
     parser.add_argument("--wheel", default=None, help="a downloaded mani_skill wheel (default: pip download it)")
     parser.add_argument("--robosuite", default=None, help="a downloaded robosuite wheel: its MJCF robots")
     parser.add_argument("--dm-control", default=None, help="a downloaded dm_control wheel: its MJCF robots")
+    parser.add_argument("--gymnasium-robotics", default=None, help="a downloaded gymnasium-robotics wheel")
+    parser.add_argument("--metaworld", default=None, help="a downloaded metaworld wheel")
+    parser.add_argument("--gym-aloha", default=None, help="a downloaded gym-aloha wheel")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         roots: dict[str, Path] = {}
@@ -169,6 +184,13 @@ def main() -> None:
             roots["rs:"] = extract(args.robosuite, RS, Path(tmp) / "robosuite")
         if args.dm_control is not None:
             roots["dmc:"] = extract(args.dm_control, DMC, Path(tmp) / "dm_control")
+        for scheme, wheel, prefix in (
+            ("gr:", args.gymnasium_robotics, GR),
+            ("mw:", args.metaworld, MW),
+            ("al:", args.gym_aloha, AL),
+        ):
+            if wheel is not None:
+                roots[scheme] = extract(wheel, prefix, Path(tmp) / scheme[:-1])
         if roots:
             models = [m for m in MJCF_MODELS if m[1].split(":")[0] + ":" in roots]
         else:
@@ -179,7 +201,7 @@ def main() -> None:
         for category, name, floating in models:
             scheme = name.split(":")[0] + ":" if ":" in name else ""
             label = name[len(scheme or ROBOTS) :]
-            row = evaluate(roots[scheme] / label, floating)
+            row = evaluate(roots[scheme] / label, floating, ROOT_BODIES.get(name))
             print(f"| {category} | {label} | " + " | ".join(row) + " |", flush=True)
 
 

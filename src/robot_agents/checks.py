@@ -18,6 +18,7 @@ from robot_agents.agent.derived import joint_actuator
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import RobotAgentsError
+from robot_agents.model.inertia import combine_inertias
 from robot_agents.sim.scene import Scene, default_sim_freq
 
 FloatArray = npt.NDArray[np.float64]
@@ -260,14 +261,9 @@ def _combined_inertia(model: mujoco.MjModel, data: mujoco.MjData, bodies: npt.ND
     """Principal moments (kg*m^2, ascending) of ``bodies`` as one rigid body about their
     common centre of mass, from their poses in ``data``: each body's inertia turned into
     the world frame and moved by the parallel-axis theorem."""
-    masses = model.body_mass[bodies]
-    centre = masses @ data.xipos[bodies] / masses.sum()
-    total = np.zeros((3, 3))
-    for body, mass in zip(bodies, masses, strict=True):
-        turn = data.ximat[body].reshape(3, 3)
-        offset = data.xipos[body] - centre
-        total += turn @ np.diag(model.body_inertia[body]) @ turn.T
-        total += mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))
+    turns = [data.ximat[b].reshape(3, 3) for b in bodies]
+    tensors = [turn @ np.diag(model.body_inertia[b]) @ turn.T for b, turn in zip(bodies, turns, strict=True)]
+    _, _, total = combine_inertias(list(model.body_mass[bodies]), list(data.xipos[bodies]), tensors)
     moments: FloatArray = np.linalg.eigvalsh(total).astype(np.float64)
     return moments
 

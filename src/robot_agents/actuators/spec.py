@@ -195,7 +195,8 @@ def apply_actuators(
         on_joint[actuator.target] = actuator
 
     implied: DerivedActuators | None = None
-    unheld = [j for j in mocap_held if j not in on_joint and j in drivable_joints(spec)]
+    drivable_now = set(drivable_joints(spec))
+    unheld = [j for j in mocap_held if j not in on_joint and j in drivable_now]
     if derive_own and unheld and not replace_file_actuators:
         warnings.warn(
             f"{where}: the model file moved joints {unheld[:4]}{' ...' if len(unheld) > 4 else ''} through a "
@@ -415,17 +416,22 @@ def _fixed_and_motor_driven(spec: mujoco.MjSpec, own: Collection[str]) -> bool:
         return False
     if (set(drivable_joints(spec)) & set(own)) - {a.target for a in spec.actuators}:
         return False  # underactuated (gymnasium's hopper on its passive root joints, a pendulum): efforts only
-    for actuator in spec.actuators:
-        if actuator.trntype != mujoco.mjtTrn.mjTRN_JOINT or actuator.gaintype != mujoco.mjtGain.mjGAIN_FIXED:
-            return False
-        if actuator.biastype == mujoco.mjtBias.mjBIAS_AFFINE:
-            if actuator.biasprm[1] != 0.0 or actuator.biasprm[2] != 0.0:
-                return False
-        elif actuator.biastype != mujoco.mjtBias.mjBIAS_NONE:
-            return False
-        if actuator.dyntype != mujoco.mjtDyn.mjDYN_NONE:
-            return False
-    return True
+    return all(
+        actuator.trntype == mujoco.mjtTrn.mjTRN_JOINT
+        and actuator.gaintype == mujoco.mjtGain.mjGAIN_FIXED
+        and actuator.dyntype == mujoco.mjtDyn.mjDYN_NONE
+        and actuator.biastype in (mujoco.mjtBias.mjBIAS_NONE, mujoco.mjtBias.mjBIAS_AFFINE)
+        and _is_motor(actuator)
+        for actuator in spec.actuators
+    )
+
+
+def _is_motor(actuator: mujoco.MjsActuator) -> bool:
+    """An affine actuator without stiffness or damping (``<motor>``, or ``<general>`` with
+    a zero bias): its control sets the force."""
+    if actuator.biastype != mujoco.mjtBias.mjBIAS_AFFINE:
+        return True
+    return float(actuator.biasprm[1]) == 0.0 and float(actuator.biasprm[2]) == 0.0
 
 
 def _limited(flag: mujoco.mjtLimited, bounds: Sequence[float], autolimits: bool) -> bool:
@@ -454,15 +460,14 @@ def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDecl
     autolimits = bool(actuator.compiler.autolimits)
     if _limited(actuator.forcelimited, actuator.forcerange, autolimits):
         limit = gear * max(abs(float(actuator.forcerange[0])), abs(float(actuator.forcerange[1])))
-    bias = actuator.biasprm[:3] if actuator.biastype == mujoco.mjtBias.mjBIAS_AFFINE else np.zeros(3)
     largest_ctrl = np.inf
     if _limited(actuator.ctrllimited, actuator.ctrlrange, autolimits):
         largest_ctrl = max(abs(float(c)) for c in actuator.ctrlrange)
-    if bias[1] == 0.0 and bias[2] == 0.0:
+    if _is_motor(actuator):
         # a motor (or a general actuator without stiffness or damping: dm_control's
         # soccer walkers): the largest control times its gain bounds the effort too
         limit = min(limit, gear * abs(float(actuator.gainprm[0])) * largest_ctrl)
-    elif bias[1] == 0.0 and gear > 0.0:
+    elif float(actuator.biasprm[1]) == 0.0 and gear > 0.0:
         # a velocity servo (force kv * (ctrl - gear * qvel)): its control is the target
         # speed of its transmission, the joint's times the gear
         speed = largest_ctrl / gear

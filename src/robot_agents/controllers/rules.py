@@ -291,9 +291,9 @@ def modes_from_parts(
             table = {mode: config for mode, config in table.items() if _velocity_only(config)}
             if not table:
                 raise ConfigError(
-                    f"{main.name!r}: joints {sorted(set(velocity_only) & set(joints))} have velocity servos (no "
-                    f"stiffness) and {sorted(set(undamped) & set(joints))} position servos without damping: no "
-                    "joint mode drives both; declare control_modes or actuators."
+                    f"{type(main).__name__} {main.name!r}: joints {sorted(set(velocity_only) & set(joints))} have "
+                    f"velocity servos (no stiffness) and {sorted(set(undamped) & set(joints))} position servos "
+                    "without damping: no joint mode drives both; declare control_modes or actuators."
                 )
     others: dict[str, ControllerConfig] = {}
     # a robot standing on its legs has no gravity compensation (it would lighten the body

@@ -27,6 +27,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError
 from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.inertia import combine_inertias
 from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, mujoco_reads, readable_mesh
 
 _URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -166,12 +167,7 @@ def _merged_inertial(inertials: list[ET.Element], where: str) -> ET.Element:
         masses.append(mass)
         centres.append(np.array(xyz))
         tensors.append(rotation @ tensor @ rotation.T)
-    total = float(sum(masses))
-    centre: np.ndarray = np.asarray(masses) @ np.asarray(centres) / total if total > 0 else centres[0]
-    combined = np.zeros((3, 3))
-    for mass, position, tensor in zip(masses, centres, tensors, strict=True):
-        offset = position - centre
-        combined += tensor + mass * (float(offset @ offset) * np.eye(3) - np.outer(offset, offset))
+    total, centre, combined = combine_inertias(masses, centres, tensors)
     merged = ET.Element("inertial")
     ET.SubElement(merged, "origin", xyz=" ".join(repr(float(v)) for v in centre), rpy="0 0 0")
     ET.SubElement(merged, "mass", value=repr(total))

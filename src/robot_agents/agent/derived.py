@@ -37,32 +37,29 @@ def joint_actuator(model: mujoco.MjModel, joint: str) -> int | None:
     )
 
 
-def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
-    """Driven joints whose drive is an affine actuator without stiffness or damping (a motor)."""
+def _file_biases(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[tuple[str, np.ndarray]]:
+    """Each joint driven by a model file's affine actuator, with that actuator's bias
+    parameters (``[b0, -stiffness, -damping, ...]`` in actuator units)."""
     out = []
     for drive in drives:
         if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED_SOURCE):
             continue
         actuator = joint_actuator(model, drive.joint)
-        bias = model.actuator_biasprm[actuator] if actuator is not None else None
-        if bias is not None and bias[1] == 0.0 and bias[2] == 0.0:  # no stiffness, no damping: a motor
-            out.append(drive.joint)
+        if actuator is not None:
+            out.append((drive.joint, model.actuator_biasprm[actuator]))
     return out
+
+
+def torque_only(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
+    """Driven joints whose drive is an affine actuator without stiffness or damping (a motor)."""
+    return [joint for joint, bias in _file_biases(model, drives) if bias[1] == 0.0 and bias[2] == 0.0]
 
 
 def velocity_servos(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
     """Driven joints whose drive is a file's velocity servo (an affine actuator with
     damping and no stiffness: ``<velocity>``, robosuite's mobile bases). Such a drive
     follows velocity targets and cannot hold a position."""
-    out = []
-    for drive in drives:
-        if drive.kind is not DriveKind.AFFINE or drive.source.startswith(DERIVED_SOURCE):
-            continue
-        actuator = joint_actuator(model, drive.joint)
-        bias = model.actuator_biasprm[actuator] if actuator is not None else None
-        if bias is not None and bias[1] == 0.0 and bias[2] != 0.0:
-            out.append(drive.joint)
-    return out
+    return [joint for joint, bias in _file_biases(model, drives) if bias[1] == 0.0 and bias[2] != 0.0]
 
 
 def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:

@@ -1010,3 +1010,36 @@ def test_joints_a_dropped_mocap_weld_moved_get_derived_drives(tmp_path: Path) ->
         warnings.simplefilter("ignore", RuntimeWarning)
         drives = two_line(unwelded).check().drives
     assert [d.joint for d in drives] == ["left_finger", "right_finger"]
+
+
+def _chain(kinds: str) -> str:
+    """A serial chain of the given joint kinds ("s" slide, "h" hinge), its links 0.2 m long."""
+    body, close = "", ""
+    for k, kind in enumerate(kinds):
+        axis, kind_name = ("0 0 1", "slide") if kind == "s" else ("0 1 0" if k % 2 else "0 0 1", "hinge")
+        body += (
+            f'<body name="link{k}" pos="0 0 {0.1 if k == 0 else 0.2}"><joint name="j{k}" type="{kind_name}" '
+            f'axis="{axis}" range="-1 1"/><geom type="capsule" fromto="0 0 0 0 0 0.2" size="0.03" mass="1"/>'
+        )
+        close += "</body>"
+    return f"<mujoco><compiler angle='radian'/><worldbody>{body}{close}</worldbody></mujoco>"
+
+
+@pytest.mark.parametrize(
+    ("kinds", "parts"),
+    [
+        ("shhh", {"arm": ("j1", "j2", "j3"), "torso": ("j0",)}),  # a lift under an arm: gymnasium-robotics' Fetch
+        ("ssshhh", {"arm": ("j0", "j1", "j2", "j3", "j4", "j5")}),  # a floating gripper's mount stays one arm
+        ("shh", {"arm": ("j0", "j1", "j2")}),  # too short an arm above the slide
+        ("hhhs", {"arm": ("j0", "j1", "j2", "j3")}),
+    ],
+)
+def test_a_lift_under_an_arm_is_a_torso(tmp_path: Path, kinds: str, parts: dict[str, tuple[str, ...]]) -> None:
+    path = tmp_path / "chain.xml"
+    path.write_text(_chain(kinds))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        checked = two_line(path).check()
+    assert {p.name: tuple(checked.part_joints[p.name]) for p in checked.parts} == parts
+    if "torso" in parts:  # the arm leads the action; the torso takes delta positions after it
+        assert "pd_ee_delta_pos" in checked.modes  # three hinges: position-only end-effector modes

@@ -105,12 +105,13 @@ def infer_parts(
         if _serial(index, bodies) and int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, hand)) in (
             index.subtree_bodies(bodies[-1])
         ):
+            torso, arm_joints = _split_lift(index, arm_joints)
             arm = Arm(
                 name="arm",
                 joints=tuple(re.escape(j) for j in arm_joints),
                 end_effectors=(EndEffector(hand, name="ee", pos=tcp),),
             )
-            return (arm, gripper)
+            return (arm, *torso, gripper)
     joints = [index.joint(j, "infer_parts") for j in driven]
     bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
     patterns = tuple(re.escape(j) for j in driven)
@@ -123,7 +124,21 @@ def infer_parts(
             break
         tip = children[0]
     link = model.body(tip).name[len(index.prefix) :]
-    return (Arm(name="arm", joints=patterns, end_effectors=(EndEffector(link, name="ee"),)),)
+    torso, arm_joints = _split_lift(index, list(driven))
+    arm = Arm(name="arm", joints=tuple(re.escape(j) for j in arm_joints), end_effectors=(EndEffector(link, name="ee"),))
+    return (arm, *torso)
+
+
+def _split_lift(index: RobotIndex, chain: list[str]) -> tuple[tuple[Part, ...], list[str]]:
+    """A serial chain that starts with one slide and goes on with at least
+    :data:`MIN_ARM_JOINTS` hinges: a mobile manipulator's torso lift under its arm
+    (gymnasium-robotics' Fetch), a ``Body`` part ``"torso"`` of the slide, and the arm
+    the hinges. Anything else (a floating gripper's three slides, a telescope) stays
+    the arm."""
+    kinds = [index.joint(j, "infer_parts").kind for j in chain]
+    if len(chain) > MIN_ARM_JOINTS and kinds[0] is JointKind.SLIDE and all(k is JointKind.HINGE for k in kinds[1:]):
+        return (Body(name="torso", joints=(re.escape(chain[0]),)),), chain[1:]
+    return (), chain
 
 
 #: The fewest joints of a serial chain inferred as an arm with a hand at its end, and

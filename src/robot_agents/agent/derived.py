@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.agent.index import Coupling, JointKind, RobotIndex
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part, Torso
 
 #: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
 DERIVED_SOURCE = "derived gains"
@@ -132,12 +132,12 @@ def infer_parts(
 def _split_lift(index: RobotIndex, chain: list[str]) -> tuple[tuple[Part, ...], list[str]]:
     """A serial chain that starts with one slide and goes on with at least
     :data:`MIN_ARM_JOINTS` hinges: a mobile manipulator's torso lift under its arm
-    (gymnasium-robotics' Fetch), a ``Body`` part ``"torso"`` of the slide, and the arm
+    (gymnasium-robotics' Fetch), a ``Torso`` part of the slide, and the arm
     the hinges. Anything else (a floating gripper's three slides, a telescope) stays
     the arm."""
     kinds = [index.joint(j, "infer_parts").kind for j in chain]
     if len(chain) > MIN_ARM_JOINTS and kinds[0] is JointKind.SLIDE and all(k is JointKind.HINGE for k in kinds[1:]):
-        return (Body(name="torso", joints=(re.escape(chain[0]),)),), chain[1:]
+        return (Torso(name="torso", joints=(re.escape(chain[0]),)),), chain[1:]
     return (), chain
 
 

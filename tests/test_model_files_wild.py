@@ -1043,3 +1043,25 @@ def test_a_lift_under_an_arm_is_a_torso(tmp_path: Path, kinds: str, parts: dict[
     assert {p.name: tuple(checked.part_joints[p.name]) for p in checked.parts} == parts
     if "torso" in parts:  # the arm leads the action; the torso takes delta positions after it
         assert "pd_ee_delta_pos" in checked.modes  # three hinges: position-only end-effector modes
+
+
+def test_info_lists_a_ball_joint_by_its_largest_turn(tmp_path: Path) -> None:
+    # MuJoCo Menagerie's Cassie: ball joints in its leg linkage (info raised "zip() argument
+    # 2 is longer than argument 1": four qpos entries for one joint name)
+    path = tmp_path / "ball.xml"
+    path.write_text(
+        """<mujoco><compiler angle="radian"/><worldbody>
+  <body name="upper" pos="0 0 0.5"><joint name="hinge" axis="0 1 0" range="-1 1"/>
+    <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="1"/>
+    <body name="lower" pos="0 0 -0.2"><joint name="rod" type="ball" range="0 0.5"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.5"/></body>
+  </body>
+</worldbody></mujoco>"""
+    )
+    out = io.StringIO()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        assert cli_main(["info", str(path)], out) == 0
+    lines = out.getvalue().splitlines()
+    assert any(re.match(r"rod \(ball\)\s+-\s+0\.5000 rad turn", line) for line in lines)
+    assert any(re.match(r"hinge\s+-1\.0000\s+1\.0000", line) for line in lines)

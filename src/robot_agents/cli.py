@@ -115,7 +115,14 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
         )
     out.write("\n")
     rows = [["joint", "lower", "upper"]]
-    rows += [[n, f"{lo:.4f}", f"{hi:.4f}"] for n, (lo, hi) in zip(agent.joint_names, agent.qpos_limits, strict=True)]
+    for name in agent.joint_names:
+        info = agent.index.joint(name, "robot-agents info")
+        if info.nq != 1:  # a ball joint's quaternion: its limit is the largest rotation angle
+            limit = f"{info.range[1]:.4f} rad turn" if info.limited else "-"
+            rows.append([f"{name} ({info.kind.value})", "-", limit])
+            continue
+        lo, hi = agent.qpos_limits[info.qpos_start]
+        rows.append([name, f"{lo:.4f}", f"{hi:.4f}"])
     _table(rows, out)
     out.write("\nkeyframes:\n")
     for name in cls.keyframe_names():

@@ -29,6 +29,7 @@ from robot_agents.actuators.config import (
     per_joint,
 )
 from robot_agents.errors import ConfigError
+from robot_agents.model.compiler import range_limited
 from robot_agents.patterns import claim
 
 
@@ -151,9 +152,8 @@ def apply_actuators(
         replace_file_actuators = True
     motors: dict[str, float] = {}
     own = set(names if own_joints is None else own_joints)
-    fully_motored = _fixed_and_motor_driven(spec, own)
     replace_motors = motors_as_pd and (derive_own or not declarations)
-    if file_actuators and not replace_file_actuators and replace_motors and fully_motored:
+    if file_actuators and not replace_file_actuators and replace_motors and _fixed_and_motor_driven(spec, own):
         derive_own = False  # the motors' joints only: the file leaves none of its joints undriven
         # A fixed robot the file drives with torque motors (robosuite's arms, gymnasium's
         # reacher): PD drives derived as for a file without actuators, each within its
@@ -195,8 +195,8 @@ def apply_actuators(
         on_joint[actuator.target] = actuator
 
     implied: DerivedActuators | None = None
-    drivable_now = set(drivable_joints(spec))
-    unheld = [j for j in mocap_held if j not in on_joint and j in drivable_now]
+    drivable = drivable_joints(spec)
+    unheld = [j for j in mocap_held if j not in on_joint and j in drivable]
     if derive_own and unheld and not replace_file_actuators:
         warnings.warn(
             f"{where}: the model file moved joints {unheld[:4]}{' ...' if len(unheld) > 4 else ''} through a "
@@ -240,7 +240,6 @@ def apply_actuators(
     for decl, hits in zip(adopted, adopted_claims, strict=True):
         for i in hits:
             claimed_by[file_driven[i]] = decl
-    drivable = drivable_joints(spec)
     if rest:
         taken_rest = [n for n in drivable if n not in claimed_by and n not in on_joint and n in own]
         if not taken_rest and implied is None:
@@ -295,7 +294,7 @@ def apply_actuators(
         if joint not in drives:
             drives[joint] = _adopted(actuator, "the model file", joint)
     if not declarations and not on_joint:
-        for joint in drivable_joints(spec):
+        for joint in drivable:
             kp, kv, limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
             _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
             drives[joint] = DriveDeclaration(joint, DriveKind.AFFINE, f"derived gains (see {_GAINS})", kp, kv, limit)
@@ -434,15 +433,6 @@ def _is_motor(actuator: mujoco.MjsActuator) -> bool:
     return float(actuator.biasprm[1]) == 0.0 and float(actuator.biasprm[2]) == 0.0
 
 
-def _limited(flag: mujoco.mjtLimited, bounds: Sequence[float], autolimits: bool) -> bool:
-    """Whether MuJoCo's compiler limits a range: ``limited="true"``, or ``"auto"`` (the
-    attribute left out) with the compiler's ``autolimits`` on and a range given, as
-    MuJoCo Menagerie's files write it."""
-    if flag == mujoco.mjtLimited.mjLIMITED_AUTO:
-        return autolimits and (float(bounds[0]) != 0.0 or float(bounds[1]) != 0.0)
-    return bool(flag == mujoco.mjtLimited.mjLIMITED_TRUE)
-
-
 def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDeclaration:
     """A file's actuator on ``joint``: affine gain and bias are driven through targets."""
     label = f"{source} (actuator {actuator.name!r})" if actuator.name else source
@@ -458,10 +448,10 @@ def _adopted(actuator: mujoco.MjsActuator, source: str, joint: str) -> DriveDecl
     gear = abs(float(actuator.gear[0]))
     limit = speed = np.inf
     autolimits = bool(actuator.compiler.autolimits)
-    if _limited(actuator.forcelimited, actuator.forcerange, autolimits):
+    if range_limited(actuator.forcelimited, actuator.forcerange, autolimits):
         limit = gear * max(abs(float(actuator.forcerange[0])), abs(float(actuator.forcerange[1])))
     largest_ctrl = np.inf
-    if _limited(actuator.ctrllimited, actuator.ctrlrange, autolimits):
+    if range_limited(actuator.ctrllimited, actuator.ctrlrange, autolimits):
         largest_ctrl = max(abs(float(c)) for c in actuator.ctrlrange)
     if _is_motor(actuator):
         # a motor (or a general actuator without stiffness or damping: dm_control's

@@ -67,7 +67,7 @@ def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
     """
     names, step = tuple(group.joint_names), group.max_delta
     vmax = group.max_velocity
-    vmin: PerJoint = tuple(-v for v in vmax) if isinstance(vmax, tuple) else -vmax
+    vmin = _negated(vmax)
     return {
         "pd_joint_pos": PDJointPosConfig(joint_names=names, normalize_action=False),
         "pd_joint_delta_pos": PDJointPosConfig(joint_names=names, use_delta=True, lower=-step, upper=step),
@@ -175,6 +175,11 @@ def combine_parts(
     if not other_parts:
         return dict(modes)
     return {mode: {main_part: config, **other_parts} for mode, config in modes.items()}
+
+
+def _negated(bound: PerJoint) -> PerJoint:
+    """The lower bound mirroring an upper one (one value, or one per joint)."""
+    return tuple(-v for v in bound) if isinstance(bound, tuple) else -bound
 
 
 def _velocity_bounds(part: Part, joints: Sequence[str], velocity_limits: Mapping[str, float]) -> PerJoint:
@@ -315,8 +320,7 @@ def modes_from_parts(
             moving = tuple(j for j in names if j in driven)
             if moving and set(moving) & set(velocity_only):
                 speeds = _velocity_bounds(part, moving, velocity_limits)
-                lowest: PerJoint = tuple(-v for v in speeds) if isinstance(speeds, tuple) else -speeds
-                others[part.name] = PDJointVelConfig(joint_names=moving, lower=lowest, upper=speeds)
+                others[part.name] = PDJointVelConfig(joint_names=moving, lower=_negated(speeds), upper=speeds)
             elif moving:
                 # legs that carry the robot, and the parts riding on them (a head, a tail),
                 # take deltas from their targets: a zero delta from the measured pose would

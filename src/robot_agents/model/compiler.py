@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -91,3 +92,13 @@ class CompilerSettings:
                 meshes = sorted(m.name for m in spec.meshes)
                 raise ConfigError(f"CompilerSettings.shell_meshes: no mesh {name!r} in the model; meshes: {meshes}.")
             mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+
+
+def range_limited(flag: mujoco.mjtLimited, bounds: Sequence[float], autolimits: bool) -> bool:
+    """Whether MuJoCo's compiler limits a range (a joint's ``range``, an actuator's
+    ``ctrlrange`` or ``forcerange``): ``limited="true"``, or ``"auto"`` (the attribute left
+    out) with the compiler's ``autolimits`` on and a range given, as MuJoCo Menagerie's
+    files write it."""
+    if flag == mujoco.mjtLimited.mjLIMITED_AUTO:
+        return autolimits and (float(bounds[0]) != 0.0 or float(bounds[1]) != 0.0)
+    return bool(flag == mujoco.mjtLimited.mjLIMITED_TRUE)

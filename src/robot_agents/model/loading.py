@@ -66,12 +66,9 @@ def name_unnamed(spec: mujoco.MjSpec) -> None:
     robot's root, its end effector, its drives and keyframes by name: MJCF written by
     hand often names only the joints it actuates (gymnasium-robotics' Franka kitchen: an
     unnamed root body failed in every scene)."""
-    for kind, elements, stem in (
-        (mujoco.mjtObj.mjOBJ_BODY, spec.bodies[1:], "body"),
-        (mujoco.mjtObj.mjOBJ_JOINT, spec.joints, "joint"),
-    ):
+    for elements, stem, first in ((spec.bodies[1:], "body", 1), (spec.joints, "joint", 0)):
         taken = {e.name for e in elements}
-        for number, element in enumerate(elements, start=1 if kind == mujoco.mjtObj.mjOBJ_BODY else 0):
+        for number, element in enumerate(elements, start=first):
             if element.name:
                 continue
             name = f"{stem}{number}"

@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.errors import ModelError, UnknownNameError
+from robot_agents.model.compiler import range_limited
 from robot_agents.model.dropping import drop_with_dependents
 from robot_agents.model.materials import PAD_SOLIMP, PAD_SOLREF, FrictionMaterial, set_contact_softness
 
@@ -128,19 +129,19 @@ def _mocap_held_joints(spec: mujoco.MjSpec, robot: mujoco.MjsBody, mocaps: Seque
         for name in pair & inside:
             body = spec.body(name)
             while body is not None and body.name in inside:
-                held.update(j.name for j in body.joints if j.type != mujoco.mjtJoint.mjJNT_FREE and not _base_slide(j))
+                held.update(
+                    j.name
+                    for j in body.joints
+                    if j.type != mujoco.mjtJoint.mjJNT_FREE and not _base_slide(j, spec.compiler.autolimits)
+                )
                 body = body.parent if body.name != robot.name else None
     return [j.name for j in spec.joints if j.name in held]
 
 
-def _base_slide(joint: mujoco.MjsJoint) -> bool:
+def _base_slide(joint: mujoco.MjsJoint, autolimits: bool) -> bool:
     """An unlimited slide: a planar base's joint, which moves the whole robot rather than
     its hand (gymnasium-robotics' Fetch locks its three with a damping of 1e11)."""
-    if joint.type != mujoco.mjtJoint.mjJNT_SLIDE:
-        return False
-    if joint.limited == mujoco.mjtLimited.mjLIMITED_AUTO:
-        return not (joint.range[0] != 0.0 or joint.range[1] != 0.0)
-    return bool(joint.limited == mujoco.mjtLimited.mjLIMITED_FALSE)
+    return joint.type == mujoco.mjtJoint.mjJNT_SLIDE and not range_limited(joint.limited, joint.range, autolimits)
 
 
 def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequence[str]) -> None:

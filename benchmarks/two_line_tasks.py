@@ -38,7 +38,7 @@ from pathlib import Path
 
 import robot_agents as ra
 from robot_agents.errors import ConfigError
-from robot_agents.robot_source import robot_from_file
+from robot_agents.robot_source import OUT_AXES, robot_from_file
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.robots.servo_arms.servos import STS3215, XL330_M288, XL430_W250, Servo
 
@@ -76,6 +76,9 @@ def main() -> None:
     parser.add_argument("--servos", action="store_true", help="state the servos of the files in SERVOS")
     parser.add_argument("--gripper", choices=sorted(BUILTIN_PIECES), help="mount this built-in gripper (needs --at)")
     parser.add_argument("--at", help="the link of each file the gripper is mounted on")
+    parser.add_argument(
+        "--at-axis", default="z", choices=list(OUT_AXES), help="the axis of --at the gripper points along"
+    )
     parser.add_argument("--root-body", help="each file's top-level body that is the robot, where there are several")
     args = parser.parse_args()
     if (args.gripper is None) != (args.at is None):
@@ -92,7 +95,11 @@ def main() -> None:
         ra.register_agent(
             type(
                 "TwoLine",
-                (robot_from_file(path.resolve(), gripper=args.gripper, at=args.at, root_body=args.root_body),),
+                (
+                    robot_from_file(
+                        path.resolve(), gripper=args.gripper, at=args.at, root_body=args.root_body, at_axis=args.at_axis
+                    ),
+                ),
                 attrs,
             ),
             override=True,
@@ -109,6 +116,7 @@ def main() -> None:
         name = f"{path.parent.name}/{path.name}" if shared else path.name
         label = f"{name} + servos" if servos is not None else name
         label += f" + {args.gripper}" if args.gripper is not None else ""
+        label += f" (along {args.at_axis})" if args.at_axis != "z" else ""
         print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
 
 

@@ -312,6 +312,9 @@ def test_a_model_file_takes_a_builtin_gripper(tmp_path: Path, capsys: pytest.Cap
     assert "  + Robotiq2F85 (robotiq_2f85.xml) as 'robotiq_2f85/'" in text
     assert "end effectors: ee (robotiq_2f85/robotiq_tcp)" in text
     assert "parts: arm (yaw, shoulder, elbow, forearm_roll, wrist, flange_roll); robotiq_2f85_gripper (" in text
+    # a flange with the tool along x (a ROS-Industrial `flange`): the piece turned onto it
+    turned = run("info", str(path), "--gripper", "robotiq_2f85", "--at", "flange_roll_link", "--at-axis", "x")
+    assert turned == (0, text), turned
     for argv, message in (
         (("--gripper", "franka_hand"), "a gripper and the body it is mounted at go together"),
         (("--gripper", "franka_hand", "--at", "flange_rol_link"), "Did you mean 'flange_roll_link',"),

@@ -1065,3 +1065,39 @@ def test_info_lists_a_ball_joint_by_its_largest_turn(tmp_path: Path) -> None:
     lines = out.getvalue().splitlines()
     assert any(re.match(r"rod \(ball\)\s+-\s+0\.5000 rad turn", line) for line in lines)
     assert any(re.match(r"hinge\s+-1\.0000\s+1\.0000", line) for line in lines)
+
+
+@pytest.mark.parametrize("axis", ["x", "-y", "-z"])
+def test_a_gripper_mounted_along_another_axis_of_the_frame_points_along_it(tmp_path: Path, axis: str) -> None:
+    # robosuite's Spot arm's `right_hand` has the tool along x (a ROS-Industrial `flange`
+    # too): `--at-axis x` points the piece's z along it, its tcp that far out along x
+    from robot_agents.robot_source import OUT_AXES, resolve_robot
+    from tests.test_derived_task_space import arm_urdf
+
+    path = tmp_path / "arm.urdf"
+    path.write_text(arm_urdf(6))
+
+    def tcp_in_flange(at_axis: str) -> np.ndarray:
+        scene = scene_of(robot_from_file(path, gripper="robotiq_2f85", at="flange_roll_link", at_axis=at_axis))
+        scene.reset()
+        model, data = scene.world.model, scene.world.datas[0]
+        mujoco.mj_kinematics(model, data)
+        names = [model.body(i).name for i in range(model.nbody)]  # (the scene prefixes them)
+        flange = next(i for i, name in enumerate(names) if name.endswith("/flange_roll_link"))
+        tcp = next(i for i, name in enumerate(names) if name.endswith("/robotiq_2f85/robotiq_tcp"))
+        offset = data.xmat[flange].reshape(3, 3).T @ (data.xpos[tcp] - data.xpos[flange])
+        scene.close()
+        return offset
+
+    along_z = tcp_in_flange("z")
+    assert along_z[2] > 0.15 and np.allclose(along_z[:2], 0.0, atol=1e-9)  # 0.1553 m out of the flange
+    direction = np.zeros(3)
+    mujoco.mju_rotVecQuat(direction, np.array([0.0, 0.0, 1.0]), np.array(OUT_AXES[axis]))
+    np.testing.assert_allclose(tcp_in_flange(axis), along_z[2] * direction, atol=1e-9)
+    # refused where it cannot apply, with what there is
+    with pytest.raises(ra.UnknownNameError, match=r"Did you mean 'x', '-x'"):
+        robot_from_file(path, gripper="robotiq_2f85", at="flange_roll_link", at_axis="+x")
+    with pytest.raises(ra.ConfigError, match="no gripper is mounted"):
+        robot_from_file(path, at_axis=axis)
+    with pytest.raises(ra.ConfigError, match="declare its attachments instead"):
+        resolve_robot("panda", at_axis=axis)

@@ -18,7 +18,7 @@ from robot_agents.agent.derived import DERIVED_SOURCE
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
-from robot_agents.robot_source import UP_AXES, resolve_robot
+from robot_agents.robot_source import OUT_AXES, UP_AXES, resolve_robot
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning import timestep
@@ -285,9 +285,16 @@ def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None
     parser.add_argument(
         "--gripper",
         choices=sorted(BUILTIN_PIECES),
-        help="mount this built-in gripper or tool on a model file (with --at; its z axis out of that frame)",
+        help="mount this built-in gripper or tool on a model file (with --at; it points along --at-axis)",
     )
     parser.add_argument("--at", help="with --gripper: the model file's body or site it is mounted on (a flange)")
+    parser.add_argument(
+        "--at-axis",
+        default="z",
+        choices=list(OUT_AXES),
+        help="with --gripper: the axis of the --at frame the gripper points along (default z; x for a frame "
+        "with the tool along x, such as a ROS-Industrial 'flange')",
+    )
     parser.add_argument(
         "--root-body", help="the model file's top-level body that is the robot, where there are several"
     )
@@ -339,7 +346,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     try:
         if args.command == "list":
             return cmd_list(stream)
-        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body)
+        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":

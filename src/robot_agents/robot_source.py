@@ -26,6 +26,20 @@ UP_AXES: dict[str, tuple[float, float, float, float]] = {
     "x": (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0),
 }
 
+#: The piece's orientation ``(w, x, y, z)`` in its ``at`` frame that points the piece's z
+#: axis (out of its mount: every built-in piece's tool direction) along this axis of that
+#: frame: ``"z"`` as the frame is (a ROS ``tool0``), ``"x"`` +90 deg about y (a frame
+#: with the tool along x: a ROS-Industrial ``flange``, robosuite's Spot arm's
+#: ``right_hand``), ``"y"`` -90 deg about x, and the negated axes.
+OUT_AXES: dict[str, tuple[float, float, float, float]] = {
+    "z": (1.0, 0.0, 0.0, 0.0),
+    "-z": (0.0, 1.0, 0.0, 0.0),
+    "x": (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0),
+    "-x": (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0),
+    "y": (math.sqrt(0.5), -math.sqrt(0.5), 0.0, 0.0),
+    "-y": (math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0),
+}
+
 
 def robot_from_file(
     path: str | Path,
@@ -34,6 +48,7 @@ def robot_from_file(
     gripper: str | None = None,
     at: str | None = None,
     root_body: str | None = None,
+    at_axis: str = "z",
 ) -> type[Agent]:
     """The two-line robot of a model file: everything else derived (see
     :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
@@ -42,13 +57,21 @@ def robot_from_file(
     keyframe and stance follow its mount). ``gripper``: a built-in piece
     (:func:`~robot_agents.registry.get_piece`) mounted on the file's body or site ``at``,
     under the prefix ``"<gripper>/"`` (the three-line robot: the arm's end effector is
-    the piece's ``tcp``). ``root_body``: the file's top-level body that is the robot, where
+    the piece's ``tcp``); ``at_axis`` (a key of :data:`OUT_AXES`) is the axis of ``at``
+    along which the piece points (the frame's z unless the file's flange has the tool
+    along another). ``root_body``: the file's top-level body that is the robot, where
     there are several (gym_aloha's two ALOHA arms: ``"vx300s_left"``)."""
     if up not in UP_AXES:
         raise UnknownNameError("robot_from_file", "up axis", str(up), UP_AXES)
     if (gripper is None) != (at is None):
         raise ConfigError(
             f"robot_from_file: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r}."
+        )
+    if at_axis not in OUT_AXES:
+        raise UnknownNameError("robot_from_file", "axis of the mount frame (at_axis)", str(at_axis), OUT_AXES)
+    if at_axis != "z" and gripper is None:
+        raise ConfigError(
+            f"robot_from_file: at_axis={at_axis!r} points a mounted gripper, and no gripper is mounted (gripper=None)."
         )
     file = Path(path)
     field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
@@ -59,7 +82,8 @@ def robot_from_file(
     if root_body is not None:
         attributes["root_body"] = root_body
     if gripper is not None and at is not None:
-        attributes["attachments"] = (Attachment(get_piece(gripper), at=at, prefix=f"{gripper}/"),)
+        piece = get_piece(gripper)
+        attributes["attachments"] = (Attachment(piece, at=at, prefix=f"{gripper}/", quat=OUT_AXES[at_axis]),)
         attributes["uid"] = f"{file.stem}+{gripper}"
     return type(name, (Agent,), attributes)
 
@@ -71,17 +95,18 @@ def resolve_robot(
     gripper: str | None = None,
     at: str | None = None,
     root_body: str | None = None,
+    at_axis: str = "z",
 ) -> type[Agent]:
     """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
     directory or file without a model suffix that happens to share a registered uid's
-    name does not hide the uid); ``floating``, ``up``, ``gripper``, ``at`` and
-    ``root_body``: see :func:`robot_from_file` (model files only)."""
+    name does not hide the uid); ``floating``, ``up``, ``gripper``, ``at``, ``at_axis``
+    and ``root_body``: see :func:`robot_from_file` (model files only)."""
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
-        return robot_from_file(path, floating, up, gripper, at, root_body)
+        return robot_from_file(path, floating, up, gripper, at, root_body, at_axis)
     if up != "z":
         raise ConfigError(
             f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "
@@ -92,9 +117,9 @@ def resolve_robot(
             f"resolve_robot: root_body={root_body!r} picks a model file's robot, and {spec!r} is a registered uid or a "
             "class (declare its root_body instead)."
         )
-    if gripper is not None or at is not None:
+    if gripper is not None or at is not None or at_axis != "z":
         raise ConfigError(
-            f"resolve_robot: a gripper (gripper={gripper!r}, at={at!r}) is mounted on a model file, and {spec!r} "
+            f"resolve_robot: a gripper (gripper={gripper!r}, at={at!r}, at_axis={at_axis!r}) is mounted on a model file, and {spec!r} "
             "is a registered uid or a class (declare its attachments instead)."
         )
     if ":" in spec and not registered:

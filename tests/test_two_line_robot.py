@@ -4,7 +4,9 @@ derived from the model. Checked on gymnasium's MuJoCo models and files written h
 
 from __future__ import annotations
 
+import io
 import math
+import re
 import warnings
 from pathlib import Path
 
@@ -63,6 +65,35 @@ def test_urdf_arm_without_actuators_gets_derived_drives_and_holds(tmp_path: Path
         scene.step()
     assert np.max(np.abs(agent.qpos - start)) < 0.01
     run_random(scene, 5.0)
+
+
+def test_a_urdfs_speed_limits_bound_the_drives_and_the_velocity_modes(tmp_path: Path) -> None:
+    # MuJoCo's URDF reader keeps `effort` and drops `velocity`; the drives read it:
+    # pd_joint_vel spans the file's speeds (1 rad/s per joint before: no speed known)
+    from robot_agents.cli import main as cli_main
+    from robot_agents.model.loading import urdf_velocity_limits
+
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF.replace('effort="20" velocity="2"', 'effort="20" velocity="0.75"'))
+    assert urdf_velocity_limits(path) == {"joint_a": 2.0, "joint_b": 0.75}
+    checked = two_line(path).check()
+    assert [(d.effort_limit, d.velocity_limit) for d in checked.drives] == [(50.0, 2.0), (20.0, 0.75)]
+    velocity = checked.modes["pd_joint_vel"]
+    assert isinstance(velocity, ra.PDJointVelConfig)
+    assert (velocity.lower, velocity.upper) == ((-2.0, -0.75), (2.0, 0.75))
+    # a speed the robot states wins; `velocity="0"` (a URDF's "none") states none
+    stated = two_line(path, actuators=(ra.DerivedActuators(velocity_limit=1.5),)).check()
+    assert [d.velocity_limit for d in stated.drives] == [1.5, 1.5]
+    unstated = tmp_path / "unstated.urdf"
+    unstated.write_text(TWO_LINK_URDF.replace('velocity="2"', 'velocity="0"'))
+    assert urdf_velocity_limits(unstated) == {}
+    assert [d.velocity_limit for d in two_line(unstated).check().drives] == [math.inf, math.inf]
+    assert urdf_velocity_limits(tmp_path / "missing.urdf") == {}
+    # `robot-agents info` lists each joint's limits
+    out = io.StringIO()
+    assert cli_main(["info", str(path)], out=out) == 0
+    table = out.getvalue()
+    assert re.search(r"joint_a +-3.0000 +3.0000 +50 +2\n", table) and re.search(r"joint_b .* 20 +0.75\n", table)
 
 
 def test_suggested_gains_are_critically_damped_at_the_stated_bandwidth() -> None:

@@ -114,15 +114,18 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
             "(docs/using-a-model-file.md, 'Facts a file leaves out')\n"
         )
     out.write("\n")
-    rows = [["joint", "lower", "upper"]]
+    # each drive's limits: effort (N*m or N) and rated speed (rad/s or m/s); "-": none
+    limits = {d.joint: (d.effort_limit, d.velocity_limit) for d in cls.check().drives}
+    rows = [["joint", "lower", "upper", "effort", "speed"]]
     for name in agent.joint_names:
         info = agent.index.joint(name, "robot-agents info")
+        effort, speed = (f"{v:g}" if math.isfinite(v) else "-" for v in limits.get(name, (math.inf, math.inf)))
         if info.nq != 1:  # a ball joint's quaternion: its limit is the largest rotation angle
             limit = f"{info.range[1]:.4f} rad turn" if info.limited else "-"
-            rows.append([f"{name} ({info.kind.value})", "-", limit])
+            rows.append([f"{name} ({info.kind.value})", "-", limit, effort, speed])
             continue
         lo, hi = agent.qpos_limits[info.qpos_start]
-        rows.append([name, f"{lo:.4f}", f"{hi:.4f}"])
+        rows.append([name, f"{lo:.4f}", f"{hi:.4f}", effort, speed])
     _table(rows, out)
     out.write("\nkeyframes:\n")
     for name in cls.keyframe_names():

@@ -8,6 +8,7 @@ and never kept beside a declared drive on the same joint.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import warnings
 from collections.abc import Collection, Mapping, Sequence
@@ -96,6 +97,7 @@ def apply_actuators(
     derive_own: bool = False,
     motors_as_pd: bool = True,
     mocap_held: Sequence[str] = (),
+    file_speeds: Mapping[str, float] | None = None,
 ) -> list[DriveDeclaration]:
     """Edit ``spec`` so that every declared joint has exactly one actuator.
 
@@ -124,6 +126,9 @@ def apply_actuators(
             dropped with the file's other bodies (:func:`~robot_agents.model.robot_spec.isolate_robot`):
             with ``derive_own``, those no file actuator drives get derived drives (the
             arm of gymnasium-robotics' Fetch, of Meta-World's Sawyer).
+        file_speeds: the model file's joint speed limits (rad/s or m/s; a URDF's
+            ``<limit velocity>``, :func:`~robot_agents.model.loading.urdf_velocity_limits`):
+            the ``velocity_limit`` of each of those joints' drives that states none.
 
     Returns:
         The drive of each driven joint, in the model's joint order.
@@ -298,7 +303,14 @@ def apply_actuators(
             kp, kv, limit = (derived or {}).get(joint, (0.0, 0.0, np.inf))
             _add_affine(spec, joint, taken, kp=kp, kv=kv, limit=limit)
             drives[joint] = DriveDeclaration(joint, DriveKind.AFFINE, f"derived gains (see {_GAINS})", kp, kv, limit)
-    return [drives[n] for n in names if n in drives]
+    stated = file_speeds or {}
+    return [
+        dataclasses.replace(drives[n], velocity_limit=stated[n])
+        if n in stated and not np.isfinite(drives[n].velocity_limit)
+        else drives[n]
+        for n in names
+        if n in drives
+    ]
 
 
 _GAINS = "robot_agents.actuators.gains"

@@ -48,7 +48,7 @@ from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
-from robot_agents.model.loading import load_model_spec
+from robot_agents.model.loading import load_model_spec, urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
 from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Legs, Part
@@ -336,6 +336,7 @@ def _build(
         derive_own=not cls.actuators,
         motors_as_pd=not cls.control_modes,
         mocap_held=mocap_held,
+        file_speeds=urdf_velocity_limits(model_path(cls)),
     )
     add_cameras(spec, parts.cameras if cameras is None else cameras, f"{cls.__name__}.cameras")
     add_touch_sensors(spec, parts.touch_sensors, f"{cls.__name__}.touch_sensors")

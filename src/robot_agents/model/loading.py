@@ -15,6 +15,8 @@ edits where the fix is known.
 
 from __future__ import annotations
 
+import functools
+import math
 import os
 import re
 import warnings
@@ -57,6 +59,32 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
     compiler.apply(spec)
     name_unnamed(spec)
     return spec
+
+
+def urdf_velocity_limits(path: str | os.PathLike[str]) -> dict[str, float]:
+    """Each joint's speed limit a URDF states (``<limit velocity>``, rad/s or m/s), for the
+    joints that give a positive one (a URDF writes ``velocity="0"`` for none, as it writes
+    ``effort="0"``); an empty dict for any other file. MuJoCo's URDF reader keeps the
+    effort limits (``actuatorfrcrange``) and drops the speeds: the drives take them from
+    here (:func:`robot_agents.actuators.spec.apply_actuators`)."""
+    file = Path(path).expanduser()
+    if file.suffix.lower() != ".urdf" or not file.is_file():
+        return {}
+    return dict(_urdf_speeds(str(file.resolve()), file.stat().st_mtime_ns))
+
+
+@functools.lru_cache(maxsize=64)
+def _urdf_speeds(file: str, _mtime_ns: int) -> tuple[tuple[str, float], ...]:
+    speeds = []
+    for joint in _parse_xml(Path(file), "robot", "a URDF").findall("joint"):
+        limit = joint.find("limit")
+        try:
+            speed = float(limit.get("velocity", "0")) if limit is not None else 0.0
+        except ValueError:
+            continue  # not a number: MuJoCo's reader reports the file's own faults
+        if joint.get("type") in ("revolute", "continuous", "prismatic") and math.isfinite(speed) and speed > 0:
+            speeds.append((joint.get("name", ""), speed))
+    return tuple(speeds)
 
 
 def name_unnamed(spec: mujoco.MjSpec) -> None:

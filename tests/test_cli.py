@@ -158,6 +158,21 @@ def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) ->
 
 
 @pytest.mark.usefixtures("no_simulation")
+def test_the_commands_own_arguments_are_checked_before_the_robot_loads(tmp_path: Path) -> None:
+    # a missing model file would be reported by loading it: the argument's fault comes first
+    missing = str(tmp_path / "no_such_arm.urdf")
+    for argv, message in (
+        (("demo", missing, "-o", str(tmp_path / "x.avi")), "expected a file name ending in .gif or .mp4"),
+        (("demo", missing, "--seconds", "0"), "argument --seconds"),
+        (("check", missing, "--seconds", "-1"), "argument --seconds"),
+        (("check", missing, "--sweep", "--substeps", "x"), "--substeps"),
+    ):
+        code, _, err = run_fast(*argv)
+        assert code == 2 and message in err and "does not exist" not in err, (argv, err)
+    assert "does not exist" in run_fast("demo", missing, "-o", str(tmp_path / "x.gif"))[2]
+
+
+@pytest.mark.usefixtures("no_simulation")
 def test_demo_rejects_a_missing_output_directory(tmp_path: Path) -> None:
     code, _, err = run_fast("demo", "panda", "--output", str(tmp_path / "no" / "such" / "dir" / "x.gif"))
     assert code == 2

@@ -349,21 +349,18 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     try:
         if args.command == "list":
             return cmd_list(stream)
+        # the command's own arguments first: a typo is reported before a model file loads
+        if args.command == "check":
+            seconds, substeps = parse_seconds(args.seconds), parse_substeps(args.substeps)
+        elif args.command == "demo":
+            default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
+            parse_seconds(args.seconds)
+            check_output_path(args.output or default_output)
         cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":
-            return cmd_check(
-                args.uid,
-                stream,
-                args.floating,
-                parse_seconds(args.seconds),
-                args.sweep,
-                parse_substeps(args.substeps),
-                args.up,
-                cls,
-            )
-        default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
+            return cmd_check(args.uid, stream, args.floating, seconds, args.sweep, substeps, args.up, cls)
         return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")

@@ -89,6 +89,11 @@ def test_a_urdfs_speed_limits_bound_the_drives_and_the_velocity_modes(tmp_path: 
     assert urdf_velocity_limits(unstated) == {}
     assert [d.velocity_limit for d in two_line(unstated).check().drives] == [math.inf, math.inf]
     assert urdf_velocity_limits(tmp_path / "missing.urdf") == {}
+    # a placeholder (example-robot-data's quadruped: 1000 and 10000 rad/s) states none, noted
+    placeholder = tmp_path / "placeholder.urdf"
+    placeholder.write_text(TWO_LINK_URDF.replace('effort="50" velocity="2"', 'effort="50" velocity="1000"'))
+    with pytest.warns(RuntimeWarning, match=r"joint speed limits taken as none.*: joint_a \(1000 rad/s\)"):
+        assert urdf_velocity_limits(placeholder) == {"joint_b": 2.0}
     # `robot-agents info` lists each joint's limits
     out = io.StringIO()
     assert cli_main(["info", str(path)], out=out) == 0

@@ -61,29 +61,54 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
     return spec
 
 
+#: The speeds (rad/s for a hinge, m/s for a slide) from which a URDF's ``<limit
+#: velocity>`` is a placeholder, taken as none: over the 105 URDFs of the
+#: example-robot-data and mani-skill wheels, the fastest stated joints are legged robots'
+#: motors (Unitree G1 53 rad/s, Laikago 52.4, Go2 30.1) and slides 5 m/s (Baxter), while
+#: placeholders are 100 (D'Claw, whose XM430 servos turn 4.8 rad/s), 1000 (TriFinger)
+#: and 10000 (Baxter's head, the flying arms).
+PLACEHOLDER_SPEED = {"hinge": 100.0, "slide": 10.0}
+
+
 def urdf_velocity_limits(path: str | os.PathLike[str]) -> dict[str, float]:
     """Each joint's speed limit a URDF states (``<limit velocity>``, rad/s or m/s), for the
     joints that give a positive one (a URDF writes ``velocity="0"`` for none, as it writes
-    ``effort="0"``); an empty dict for any other file. MuJoCo's URDF reader keeps the
-    effort limits (``actuatorfrcrange``) and drops the speeds: the drives take them from
-    here (:func:`robot_agents.actuators.spec.apply_actuators`)."""
+    ``effort="0"``) below :data:`PLACEHOLDER_SPEED` (faster ones are taken as none, with a
+    note); an empty dict for any other file. MuJoCo's URDF reader keeps the effort limits
+    (``actuatorfrcrange``) and drops the speeds: the drives take them from here
+    (:func:`robot_agents.actuators.spec.apply_actuators`)."""
     file = Path(path).expanduser()
     if file.suffix.lower() != ".urdf" or not file.is_file():
         return {}
-    return dict(_urdf_speeds(str(file.resolve()), file.stat().st_mtime_ns))
+    speeds, placeholders = {}, []
+    for name, kind, speed in _urdf_speeds(str(file.resolve()), file.stat().st_mtime_ns):
+        if speed < PLACEHOLDER_SPEED[kind]:
+            speeds[name] = speed
+        else:
+            placeholders.append(f"{name} ({speed:g} {'rad/s' if kind == 'hinge' else 'm/s'})")
+    if placeholders:
+        warnings.warn(
+            f"{str(file)!r}: joint speed limits taken as none, too fast for any robot's joint (a placeholder): "
+            f"{', '.join(placeholders[:4])}{' ...' if len(placeholders) > 4 else ''}; state the motors' with "
+            "actuators = (ra.DerivedActuators(velocity_limit=...),).",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return speeds
 
 
 @functools.lru_cache(maxsize=64)
-def _urdf_speeds(file: str, _mtime_ns: int) -> tuple[tuple[str, float], ...]:
+def _urdf_speeds(file: str, _mtime_ns: int) -> tuple[tuple[str, str, float], ...]:
+    """(joint, ``"hinge"`` or ``"slide"``, speed) per positive stated speed."""
     speeds = []
     for joint in _parse_xml(Path(file), "robot", "a URDF").findall("joint"):
-        limit = joint.find("limit")
+        limit, kind = joint.find("limit"), joint.get("type")
         try:
             speed = float(limit.get("velocity", "0")) if limit is not None else 0.0
         except ValueError:
             continue  # not a number: MuJoCo's reader reports the file's own faults
-        if joint.get("type") in ("revolute", "continuous", "prismatic") and math.isfinite(speed) and speed > 0:
-            speeds.append((joint.get("name", ""), speed))
+        if kind in ("revolute", "continuous", "prismatic") and math.isfinite(speed) and speed > 0:
+            speeds.append((joint.get("name", ""), "slide" if kind == "prismatic" else "hinge", speed))
     return tuple(speeds)
 
 

@@ -320,7 +320,7 @@ def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
 ) -> None:
     """A file of an arm with several fingers at its end (the mani-skill wheel's
     ``xarm7_ability_right_hand.urdf``): the serial start is the arm, its end effector
-    the palm (so it gets end-effector modes), the fingers one ``hand`` part. One finger
+    the palm (so it gets end-effector modes), the fingers one ``Hand`` part. One finger
     continues the arm's chain (one arm, as before); branches longer than 4 joints (an
     arm and a head below a torso) stay one body."""
     path = tmp_path / "arm_hand.urdf"
@@ -333,6 +333,76 @@ def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
     assert names == ["arm", "hand"]
     assert checked.part_joints["arm"] == ("yaw", "shoulder", "elbow", "forearm_roll", "wrist", "flange_roll")
     assert len(checked.part_joints["hand"]) == fingers * per_finger
+    hand = checked.parts[1]
+    assert isinstance(hand, ra.Hand) and len(hand.finger_links) == fingers  # is_grasping's fingers
     arm = checked.parts[0]
     assert isinstance(arm, ra.Arm) and arm.end_effectors[0].link == "palm" and arm.task_space is not None
     assert {"pd_ee_delta_pose", "pd_joint_delta_pos"} <= set(checked.modes)
+
+
+# A right hand standing up (palm face +x, fingers up +z): three fingers on the palm's top,
+# each a spread about x then two flexions about y (positive curls towards +x, over the
+# palm's face), and a thumb on its side with one flexion about z (positive folds it
+# across the face).
+HAND = """<mujoco>
+  <compiler angle="radian"/>
+  <default><geom type="capsule" size="0.008" mass="0.02"/></default>
+  <worldbody>
+    <body name="palm" pos="0 0 0.3">
+      <geom type="box" size="0.01 0.04 0.05" mass="0.3"/>
+      {fingers}
+      <body name="thumb" pos="0 -0.045 -0.02">
+        <joint name="thumb_flex" axis="0 0 1" range="-0.3 1.5"/>
+        <geom fromto="0 0 0 0 -0.05 0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>"""
+FINGER = """<body name="f{k}_base" pos="0 {y} 0.05">
+        <joint name="f{k}_spread" axis="1 0 0" range="-0.3 0.3"/>
+        <geom fromto="0 0 0 0 0 0.04"/>
+        <body name="f{k}_middle" pos="0 0 0.04">
+          <joint name="f{k}_flex1" axis="0 1 0" range="-0.2 1.6"/>
+          <geom fromto="0 0 0 0 0 0.03"/>
+          <body name="f{k}_tip" pos="0 0 0.03">
+            <joint name="f{k}_flex2" axis="0 1 0" range="-0.2 1.6"/>
+            <geom fromto="0 0 0 0 0 0.025"/>
+          </body>
+        </body>
+      </body>"""
+
+
+def test_a_hand_file_is_a_hand_that_opens_and_closes(tmp_path: Path) -> None:
+    """A file of a hand alone (the mani-skill wheel's Allegro and Ability hands): a
+    ``Hand`` part, open at the default pose, closed with each finger curled in (its
+    flexions at the end of their range that brings the tip nearer the palm), spreads
+    left open; its fingers are ``is_grasping``'s."""
+    path = tmp_path / "hand.xml"
+    path.write_text(HAND.format(fingers="".join(FINGER.format(k=k, y=0.025 * (k - 1)) for k in range(3))))
+    cls = two_line(path)
+    checked = cls.check()
+    (hand,) = checked.parts
+    assert isinstance(hand, ra.Hand) and hand.name == "hand"
+    joints = checked.part_joints["hand"]
+    opened, closed = (dict(zip(joints, v, strict=True)) for v in hand.positions(len(joints)))
+    assert set(opened.values()) == {0.0}
+    for k in range(3):
+        assert (closed[f"f{k}_spread"], closed[f"f{k}_flex1"], closed[f"f{k}_flex2"]) == (0.0, 1.6, 1.6)
+    assert closed["thumb_flex"] == 1.5
+    assert hand.finger_links == (
+        ("f0_base", "f0_middle", "f0_tip"),
+        ("f1_base", "f1_middle", "f1_tip"),
+        ("f2_base", "f2_middle", "f2_tip"),
+        ("thumb",),
+    )
+    # driven to either pose in pd_joint_pos, the hand gets there; nothing held: not grasping
+    scene = scene_of(cls, control_modes="pd_joint_pos")
+    agent = scene.agents[0]
+    scene.reset()
+    for target in hand.positions(len(joints)):
+        for _ in range(scene.control_freq):
+            agent.set_action(np.asarray(target))
+            scene.step()
+        assert np.max(np.abs(agent.qpos[0] - target)) < 0.05
+    assert not agent.is_grasping("world")[0]
+    scene.close()

@@ -502,7 +502,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         # jaws and linkages keep their inertia gains: their torque reaches the object
         # through levers, and a linkage's loop gives under a full-effort squeeze)
         strokes: dict[str, float] = {}
-        for gripper in (p for p in parts if isinstance(p, Gripper)):
+        for gripper in (p for p in parts if isinstance(p, Gripper) and not isinstance(p, Hand)):
             names = part_joints[gripper.name]
             opened, closed = gripper.positions(len(names))
             strokes.update(
@@ -530,8 +530,9 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 cls.friction_cone or "pyramidal",
                 mount_quat,
             )
-            if legs and inferred and len(parts) == 1 and isinstance(parts[0], Body):
-                # a floating robot standing on bodies below its joints: those joints are its legs
+            if legs and inferred and len(parts) == 1 and isinstance(parts[0], (Body, Hand)):
+                # a floating robot standing on bodies below its joints: those joints are its
+                # legs (a quadruped's four short legs below its trunk were inferred a hand)
                 rest = [j for j in part_joints[parts[0].name] if j not in legs]
                 parts = (Legs(name="legs", joints=tuple(re.escape(j) for j in legs)),) + (
                     (Body(name="body", joints=tuple(re.escape(j) for j in rest)),) if rest else ()
@@ -617,8 +618,15 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         compiler,
         exclusions,
         mount,
+        # a derived gripper's fingers (a derived hand's links keep the file's contacts)
         derived_pads=tuple(
-            dict.fromkeys(link for p in own_parts if isinstance(p, Gripper) for f in p.finger_links for link in f)
+            dict.fromkeys(
+                link
+                for p in own_parts
+                if isinstance(p, Gripper) and not isinstance(p, Hand)
+                for f in p.finger_links
+                for link in f
+            )
         ),
     )
     _CHECKED[cls] = checked

@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.agent.index import Coupling, JointKind, RobotIndex
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Part, Torso
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Part, Torso
 
 #: Source label of derived drives (see :func:`robot_agents.actuators.spec.apply_actuators`).
 DERIVED_SOURCE = "derived gains"
@@ -116,7 +116,11 @@ def infer_parts(
     bodies = [int(model.jnt_bodyid[j.id]) for j in joints]
     patterns = tuple(re.escape(j) for j in driven)
     if not _serial(index, bodies):
-        return _arm_and_hand(model, index, list(driven), bodies) or (Body(name="body", joints=patterns),)
+        return (
+            _arm_and_hand(model, index, list(driven), bodies)
+            or _hand_alone(model, index, list(driven), bodies)
+            or (Body(name="body", joints=patterns),)
+        )
     tip = bodies[-1]
     while True:
         children = [b for b in range(tip + 1, model.nbody) if int(model.body_parentid[b]) == tip]
@@ -172,26 +176,124 @@ def _arm_and_hand(
     )
     if not count:
         return None
-    rest = bodies[count:]
-    palm = rest[0]
-    while not set(rest) <= set(index.subtree_bodies(palm)) or palm in rest:
-        palm = int(model.body_parentid[palm])
-    fingers = []
-    for child in (b for b in range(palm + 1, model.nbody) if int(model.body_parentid[b]) == palm):
-        below = set(index.subtree_bodies(child))
-        chain = [b for b in rest if b in below]
-        if chain:
-            fingers.append(chain)
-    # two or more fingers, each a short serial chain (an arm and a head below a torso,
-    # or a gripper on its arm, are not)
-    if len(fingers) < 2 or any(len(f) > MAX_FINGER_JOINTS or not _serial(index, f) for f in fingers):
+    found = _palm_and_fingers(model, index, bodies[count:])
+    if found is None:
         return None
+    palm, fingers = found
     arm = Arm(
         name="arm",
         joints=tuple(re.escape(j) for j in driven[:count]),
         end_effectors=(EndEffector(model.body(palm).name[len(index.prefix) :], name="ee"),),
     )
-    return (arm, Body(name="hand", joints=tuple(re.escape(j) for j in driven[count:])))
+    return (arm, _hand(model, index, driven[count:], palm, fingers))
+
+
+def _hand_alone(model: mujoco.MjModel, index: RobotIndex, driven: list[str], bodies: list[int]) -> tuple[Part] | None:
+    """A hand without an arm (a fixed or floating hand file: the mani-skill wheel's
+    Allegro and Ability hands), or ``None``: every driven joint lies on one of two or
+    more short serial fingers below one palm (:func:`_palm_and_fingers`)."""
+    found = _palm_and_fingers(model, index, bodies)
+    return None if found is None else (_hand(model, index, driven, *found),)
+
+
+def _palm_and_fingers(
+    model: mujoco.MjModel, index: RobotIndex, bodies: list[int]
+) -> tuple[int, list[list[int]]] | None:
+    """The palm (the deepest body above every one of ``bodies``, the bodies of a hand's
+    driven joints, and none of them) and each finger's driven-joint bodies (one list per
+    branch below the palm, base to tip), or ``None`` unless there are two or more
+    fingers, each a short serial chain (at most :data:`MAX_FINGER_JOINTS` driven
+    joints: an arm and a head below a torso, or a gripper on its arm, are not)."""
+    palm = bodies[0]
+    while not set(bodies) <= set(index.subtree_bodies(palm)) or palm in bodies:
+        palm = int(model.body_parentid[palm])
+    fingers = []
+    for child in (b for b in range(palm + 1, model.nbody) if int(model.body_parentid[b]) == palm):
+        below = set(index.subtree_bodies(child))
+        chain = [b for b in bodies if b in below]
+        if chain:
+            fingers.append(chain)
+    if len(fingers) < 2 or any(len(f) > MAX_FINGER_JOINTS or not _serial(index, f) for f in fingers):
+        return None
+    return palm, fingers
+
+
+#: A hand joint closes to the end of its range that brings its finger's tip nearer the
+#: palm by at least this share of the finger's length (its tip's distance from its first
+#: joint): a flexion, which curls the finger in (an Allegro finger's proximal, 1.61 rad:
+#: about 0.28 of its length); a spread (abduction, about 0.02 at either end) stays open.
+CURL_SHARE = 0.1
+
+
+def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm: int, fingers: list[list[int]]) -> Hand:
+    """A derived ``Hand`` over ``driven`` (its joints, model order): ``open`` the
+    default pose, ``closed`` each finger curled in, joint by joint from its base, each
+    joint at the end of its range that brings the finger's tip (the centre of its
+    deepest colliding body's geoms) nearer the palm's centre (its colliding geoms',
+    else its centre of mass) by :data:`CURL_SHARE` of the finger's length or more, else
+    open (a spread); ``fingers`` the bodies with colliding geoms of each branch."""
+    from robot_agents.keyframe import default_qpos  # (keyframe imports the agent package)
+
+    where = "infer_parts"
+    data = mujoco.MjData(model)
+    ids = [index.joint(j, where).id for j in driven]
+    qpos = model.qpos0.copy()
+    qpos[index.qpos_adr] = default_qpos(index)
+    opened = {j: float(qpos[model.jnt_qposadr[j]]) for j in ids}
+    closed = dict(opened)
+    followers = {index.joint(c.follower, where).id: c for c in index.couplings}
+
+    def pose(values: Mapping[int, float]) -> None:
+        data.qpos[:] = qpos
+        for joint, value in values.items():
+            data.qpos[model.jnt_qposadr[joint]] = value
+        for follower, coupling in followers.items():
+            leader = index.joint(coupling.leader, where).id
+            if leader in values:
+                data.qpos[model.jnt_qposadr[follower]] = coupling.follow(values[leader])
+        mujoco.mj_kinematics(model, data)
+
+    def centre(body: int) -> np.ndarray:
+        geoms = colliding_geoms(model, [body])
+        if not geoms:
+            return np.array(data.xipos[body])
+        boxes = [world_box(model, data, g) for g in geoms]
+        middle: np.ndarray = 0.5 * (np.min([b[0] for b in boxes], axis=0) + np.max([b[1] for b in boxes], axis=0))
+        return middle
+
+    finger_links = []
+    for chain in fingers:
+        branch = [b for b in index.subtree_bodies(chain[0]) if colliding_geoms(model, [b])] or [chain[-1]]
+        finger_links.append(tuple(model.body(b).name[len(index.prefix) :] for b in branch))
+        tip = max(branch, key=lambda b: (_depth(model, b), b))
+        pose(closed)
+        length = float(np.linalg.norm(centre(tip) - data.xanchor[int(model.body_jntadr[chain[0]])]))
+        for body in chain:
+            joint = next(j for j in ids if int(model.jnt_bodyid[j]) == body)
+            if not model.jnt_limited[joint]:
+                continue
+            distances = []
+            for end in (*model.jnt_range[joint], closed[joint]):
+                pose({**closed, joint: float(end)})
+                distances.append(float(np.linalg.norm(centre(tip) - centre(palm))))
+            best = int(np.argmin(distances[:2]))
+            if distances[2] - distances[best] >= CURL_SHARE * length:
+                closed[joint] = float(model.jnt_range[joint][best])
+    return Hand(
+        name="hand",
+        joints=tuple(re.escape(j) for j in driven),
+        open=tuple(opened[j] for j in ids),
+        closed=tuple(closed[j] for j in ids),
+        fingers=tuple(finger_links),
+    )
+
+
+def _depth(model: mujoco.MjModel, body: int) -> int:
+    """How many bodies lie between ``body`` and the world."""
+    depth = 0
+    while body > 0:
+        body, depth = int(model.body_parentid[body]), depth + 1
+    return depth
 
 
 def _serial(index: RobotIndex, bodies: Sequence[int]) -> bool:

@@ -628,17 +628,26 @@ def _rounded(point: np.ndarray) -> tuple[float, float, float]:
 
 
 def random_configurations(
-    model: mujoco.MjModel, index: RobotIndex, joints: Sequence[str], reference: np.ndarray, count: int, where: str
+    model: mujoco.MjModel,
+    index: RobotIndex,
+    joints: Sequence[str],
+    reference: np.ndarray,
+    count: int,
+    where: str,
+    seed: int = 0,
 ) -> np.ndarray:
     """``(count, nq)`` copies of ``reference`` (the model's ``qpos``) with each hinge and
-    slide of ``joints`` drawn uniformly within its limits (seed 0, in the order given:
+    slide of ``joints`` drawn uniformly within its limits (``seed``, in the order given:
     the same draws every time), ``±pi`` for an unlimited hinge; an unlimited slide
-    keeps its reference value. ``where``: the caller, for messages."""
-    rng = np.random.default_rng(0)
+    keeps its reference value, and so does a ball joint. ``where``: the caller, for
+    messages."""
+    rng = np.random.default_rng(seed)
     out = np.tile(reference, (count, 1))
     for name in joints:
         joint = index.joint(name, where)
         j = joint.id
+        if joint.kind not in (JointKind.HINGE, JointKind.SLIDE):
+            continue  # a ball joint's range is an angle, not a qpos entry's
         if model.jnt_limited[j]:
             low, high = model.jnt_range[j]
         elif joint.kind is JointKind.HINGE:

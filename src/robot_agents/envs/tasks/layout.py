@@ -53,7 +53,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
-from robot_agents.agent.derived import colliding_geoms, geom_box, world_box
+from robot_agents.agent.derived import colliding_geoms, geom_box, random_configurations, world_box
 from robot_agents.agent.index import JointKind
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import z_rotation_quat
@@ -222,13 +222,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         tool = agent.frames.end_effector(None, where)
         rest_tcp = agent.kinematics.pose(data.qpos.copy(), tool)[0, :3]
         # Reach: the farthest tool position from the shoulder over sampled configurations.
-        rng = np.random.default_rng(0)
-        configs = np.tile(data.qpos, (REACH_SAMPLES, 1))
-        for joint in joints:
-            if joint.nq != 1:
-                continue
-            low, high = joint.range if joint.limited else (-math.pi, math.pi)
-            configs[:, joint.qpos_adr] = rng.uniform(low, high, REACH_SAMPLES)
+        configs = random_configurations(model, agent.index, [j.name for j in joints], data.qpos, REACH_SAMPLES, where)
         tips = agent.kinematics.pose(configs, tool)[:, :3]
         reach = float(max(np.max(np.linalg.norm(tips - shoulder, axis=1)), np.linalg.norm(rest_tcp - shoulder)))
         if not reach > 1e-3:
@@ -342,13 +336,9 @@ def _pointing_down_middle(
     cubes beyond. Near its base a small arm with a large gripper folds onto itself or
     onto the table to point down (the UR3 file with the Franka Hand: the hand against
     the upper arm, the elbow on the table)."""
-    rng = np.random.default_rng(1)
-    configs = np.tile(reference, (DOWN_SAMPLES, 1))
-    for joint in joints:
-        if joint.nq != 1:
-            continue
-        low, high = joint.range if joint.limited else (-math.pi, math.pi)
-        configs[:, joint.qpos_adr] = rng.uniform(low, high, DOWN_SAMPLES)
+    configs = random_configurations(
+        agent.index.model, agent.index, [j.name for j in joints], reference, DOWN_SAMPLES, "table_top_layout", seed=1
+    )
     poses = agent.kinematics.pose(configs, tool)
     axis = np.asarray(approach, dtype=np.float64)
     pointing = np.empty((DOWN_SAMPLES, 3))

@@ -335,6 +335,11 @@ def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
     assert len(checked.part_joints["hand"]) == fingers * per_finger
     hand = checked.parts[1]
     assert isinstance(hand, ra.Hand) and len(hand.finger_links) == fingers  # is_grasping's fingers
+    # a derived hand declares no power grasp: the time-step sweep makes no grasp claim
+    from robot_agents.tuning.claims import Penetration
+    from robot_agents.tuning.grasp_claim import grasp_claim
+
+    assert grasp_claim(two_line(path), 500, 20, Penetration()) is None
     arm = checked.parts[0]
     assert isinstance(arm, ra.Arm) and arm.end_effectors[0].link == "palm" and arm.task_space is not None
     assert {"pd_ee_delta_pose", "pd_joint_delta_pos"} <= set(checked.modes)

@@ -59,7 +59,9 @@ def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penet
     if hand is not None:
         return _hand_grasp(cls, hand, sim_freq, control_freq, depth)
     mode = ee_mode(cls)
-    if mode is None or not any(getattr(p, "finger_links", ()) for p in cls.check().parts):
+    # a hand without a declared power grasp makes no grasp claim (a file's derived hand)
+    grippers = [p for p in cls.check().parts if getattr(p, "finger_links", ()) and not isinstance(p, Hand)]
+    if mode is None or not grippers:
         return None
     if table_top_layout(cls).gripper is None:
         return None

@@ -346,9 +346,10 @@ def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
 
 
 # A right hand standing up (palm face +x, fingers up +z): three fingers on the palm's top,
-# each a spread about x then two flexions about y (positive curls towards +x, over the
-# palm's face), and a thumb on its side with one flexion about z (positive folds it
-# across the face).
+# each a spread about x and a flexion about y on its first body (two joints on one body,
+# as MJCF allows), then two more flexions (positive curls towards +x, over the palm's
+# face), and a thumb on its side with one flexion about z (positive folds it across the
+# face).
 HAND = """<mujoco>
   <compiler angle="radian"/>
   <default><geom type="capsule" size="0.008" mass="0.02"/></default>
@@ -365,6 +366,7 @@ HAND = """<mujoco>
 </mujoco>"""
 FINGER = """<body name="f{k}_base" pos="0 {y} 0.05">
         <joint name="f{k}_spread" axis="1 0 0" range="-0.3 0.3"/>
+        <joint name="f{k}_flex0" axis="0 1 0" range="-0.2 1.2"/>
         <geom fromto="0 0 0 0 0 0.04"/>
         <body name="f{k}_middle" pos="0 0 0.04">
           <joint name="f{k}_flex1" axis="0 1 0" range="-0.2 1.6"/>
@@ -392,7 +394,7 @@ def test_a_hand_file_is_a_hand_that_opens_and_closes(tmp_path: Path) -> None:
     opened, closed = (dict(zip(joints, v, strict=True)) for v in hand.positions(len(joints)))
     assert set(opened.values()) == {0.0}
     for k in range(3):
-        assert (closed[f"f{k}_spread"], closed[f"f{k}_flex1"], closed[f"f{k}_flex2"]) == (0.0, 1.6, 1.6)
+        assert [closed[f"f{k}_{j}"] for j in ("spread", "flex0", "flex1", "flex2")] == [0.0, 1.2, 1.6, 1.6]
     assert closed["thumb_flex"] == 1.5
     assert hand.finger_links == (
         ("f0_base", "f0_middle", "f0_tip"),

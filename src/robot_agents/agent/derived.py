@@ -218,20 +218,22 @@ def _palm_and_fingers(
     return palm, fingers
 
 
-#: A hand joint closes to the end of its range that brings its finger's tip nearer the
-#: palm by at least this share of the finger's length (its tip's distance from its first
-#: joint): a flexion, which curls the finger in (an Allegro finger's proximal, 1.61 rad:
-#: about 0.28 of its length); a spread (abduction, about 0.02 at either end) stays open.
-CURL_SHARE = 0.1
+#: A hand joint closes to the end of its range that, turned alone from the open pose,
+#: brings its finger's tip nearer the palm by at least this share of the tip's distance
+#: from the joint: a flexion, which curls the finger in (0.29-1.36 of that distance on the
+#: mani-skill wheel's Allegro and Ability hands); a spread (abduction) moves the tip
+#: across (0.0 there; the Allegro thumb's rotation 0.13) and stays open.
+CURL_SHARE = 0.2
 
 
 def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm: int, fingers: list[list[int]]) -> Hand:
     """A derived ``Hand`` over ``driven`` (its joints, model order): ``open`` the
-    default pose, ``closed`` each finger curled in, joint by joint from its base, each
-    joint at the end of its range that brings the finger's tip (the centre of its
-    deepest colliding body's geoms) nearer the palm's centre (its colliding geoms',
-    else its centre of mass) by :data:`CURL_SHARE` of the finger's length or more, else
-    open (a spread); ``fingers`` the bodies with colliding geoms of each branch."""
+    default pose, ``closed`` each finger curled in: each joint at the end of its range
+    that, the joint turned there alone from the open pose, brings the finger's tip (the
+    centre of its deepest colliding body's geoms) nearer the palm's centre (its
+    colliding geoms', else its centre of mass) by :data:`CURL_SHARE` of the tip's
+    distance from the joint or more, else open (a spread); ``fingers`` the bodies with
+    colliding geoms of each branch."""
     from robot_agents.keyframe import default_qpos  # (keyframe imports the agent package)
 
     where = "infer_parts"
@@ -241,44 +243,35 @@ def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm:
     qpos[index.qpos_adr] = default_qpos(index)
     opened = {j: float(qpos[model.jnt_qposadr[j]]) for j in ids}
     closed = dict(opened)
-    followers = {index.joint(c.follower, where).id: c for c in index.couplings}
+    followers = [(index.joint(c.follower, where).id, index.joint(c.leader, where).id, c) for c in index.couplings]
 
-    def pose(values: Mapping[int, float]) -> None:
+    def tip_to_palm(tip: int, joint: int | None = None, value: float = 0.0) -> float:
+        """The tip's distance from the palm's centre (m), ``joint`` turned to ``value``."""
         data.qpos[:] = qpos
-        for joint, value in values.items():
+        if joint is not None:
             data.qpos[model.jnt_qposadr[joint]] = value
-        for follower, coupling in followers.items():
-            leader = index.joint(coupling.leader, where).id
-            if leader in values:
-                data.qpos[model.jnt_qposadr[follower]] = coupling.follow(values[leader])
+            for follower, leader, coupling in followers:
+                if leader == joint:
+                    data.qpos[model.jnt_qposadr[follower]] = coupling.follow(value)
         mujoco.mj_kinematics(model, data)
-
-    def centre(body: int) -> np.ndarray:
-        geoms = colliding_geoms(model, [body])
-        if not geoms:
-            return np.array(data.xipos[body])
-        boxes = [world_box(model, data, g) for g in geoms]
-        middle: np.ndarray = 0.5 * (np.min([b[0] for b in boxes], axis=0) + np.max([b[1] for b in boxes], axis=0))
-        return middle
+        return float(np.linalg.norm(_geoms_centre(model, data, tip) - _geoms_centre(model, data, palm)))
 
     finger_links = []
     for chain in fingers:
         branch = [b for b in index.subtree_bodies(chain[0]) if colliding_geoms(model, [b])] or [chain[-1]]
         finger_links.append(tuple(model.body(b).name[len(index.prefix) :] for b in branch))
         tip = max(branch, key=lambda b: (_depth(model, b), b))
-        pose(closed)
-        length = float(np.linalg.norm(centre(tip) - data.xanchor[int(model.body_jntadr[chain[0]])]))
-        for body in chain:
-            joint = next(j for j in ids if int(model.jnt_bodyid[j]) == body)
+        on_finger = set(chain)
+        for joint in (j for j in ids if int(model.jnt_bodyid[j]) in on_finger):
             if not model.jnt_limited[joint]:
                 continue
-            distances = []
-            for end in (*model.jnt_range[joint], closed[joint]):
-                pose({**closed, joint: float(end)})
-                distances.append(float(np.linalg.norm(centre(tip) - centre(palm))))
-            best = int(np.argmin(distances[:2]))
-            if distances[2] - distances[best] >= CURL_SHARE * length:
-                closed[joint] = float(model.jnt_range[joint][best])
+            at_open = tip_to_palm(tip)  # (and data at the open pose)
+            lever = float(np.linalg.norm(_geoms_centre(model, data, tip) - data.xanchor[joint]))
+            ends = [float(v) for v in model.jnt_range[joint]]
+            distances = [tip_to_palm(tip, joint, v) for v in ends]
+            best = int(np.argmin(distances))
+            if at_open - distances[best] >= CURL_SHARE * lever:
+                closed[joint] = ends[best]
     return Hand(
         name="hand",
         joints=tuple(re.escape(j) for j in driven),
@@ -286,6 +279,17 @@ def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm:
         closed=tuple(closed[j] for j in ids),
         fingers=tuple(finger_links),
     )
+
+
+def _geoms_centre(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> np.ndarray:
+    """The centre (m, world) of the box around ``body``'s colliding geoms at ``data``'s
+    pose, else its centre of mass."""
+    geoms = colliding_geoms(model, [body])
+    if not geoms:
+        return np.array(data.xipos[body])
+    boxes = [world_box(model, data, g) for g in geoms]
+    middle: np.ndarray = 0.5 * (np.min([b[0] for b in boxes], axis=0) + np.max([b[1] for b in boxes], axis=0))
+    return middle
 
 
 def _depth(model: mujoco.MjModel, body: int) -> int:

@@ -313,7 +313,7 @@ def _arm_with_fingers(fingers: int, joints_per_finger: int) -> str:
 
 @pytest.mark.parametrize(
     ("fingers", "per_finger", "parts"),
-    [(3, 2, ["arm", "hand"]), (2, 4, ["arm", "hand"]), (1, 3, ["arm"]), (2, 5, ["body"])],
+    [(3, 2, ["arm", "hand"]), (2, 5, ["arm", "hand"]), (1, 3, ["arm"]), (2, 6, ["body"])],
 )
 def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
     tmp_path: Path, fingers: int, per_finger: int, parts: list[str]
@@ -321,7 +321,7 @@ def test_an_arm_with_a_hand_at_its_end_is_an_arm_and_a_hand(
     """A file of an arm with several fingers at its end (the mani-skill wheel's
     ``xarm7_ability_right_hand.urdf``): the serial start is the arm, its end effector
     the palm (so it gets end-effector modes), the fingers one ``Hand`` part. One finger
-    continues the arm's chain (one arm, as before); branches longer than 4 joints (an
+    continues the arm's chain (one arm, as before); branches longer than 5 joints (an
     arm and a head below a torso) stay one body."""
     path = tmp_path / "arm_hand.urdf"
     path.write_text(_arm_with_fingers(fingers, per_finger))
@@ -413,3 +413,20 @@ def test_a_hand_file_is_a_hand_that_opens_and_closes(tmp_path: Path) -> None:
         assert np.max(np.abs(agent.qpos[0] - target)) < 0.05
     assert not agent.is_grasping("world")[0]
     scene.close()
+    # on a wrist of two joints (the Shadow hand's): the hand and a wrist part
+    wrist = HAND.replace(
+        '<body name="palm" pos="0 0 0.3">',
+        '<body name="forearm" pos="0 0 0.2"><joint name="wrist_roll" axis="0 0 1" range="-1 1"/>'
+        '<geom fromto="0 0 -0.05 0 0 0"/><body name="carpal" pos="0 0 0.02">'
+        '<joint name="wrist_pitch" axis="0 1 0" range="-0.5 0.5"/><geom size="0.01" type="sphere"/>'
+        '<body name="palm" pos="0 0 0.06">',
+    ).replace("</worldbody>", "</body></body></worldbody>")
+    path.write_text(wrist.format(fingers="".join(FINGER.format(k=k, y=0.025 * (k - 1)) for k in range(3))))
+    parts = two_line(path).check().parts
+    assert [(type(p), p.name) for p in parts] == [(ra.Hand, "hand"), (ra.Body, "wrist")]
+    # fingers longer than MAX_FINGER_LENGTH are legs or arms (a quadruped's below its trunk)
+    long = FINGER.replace('fromto="0 0 0 0 0 0.04"', 'fromto="0 0 0 0 0 0.3"').replace(
+        'pos="0 0 0.04"', 'pos="0 0 0.3"'
+    )
+    path.write_text(HAND.format(fingers="".join(long.format(k=k, y=0.025 * (k - 1)) for k in range(3))))
+    assert [type(p) for p in two_line(path).check().parts] == [ra.Body]

@@ -148,7 +148,7 @@ def _split_lift(index: RobotIndex, chain: list[str]) -> tuple[tuple[Part, ...], 
 #: The fewest joints of a serial chain inferred as an arm with a hand at its end, and
 #: the most driven joints of one of that hand's fingers (the Allegro's: 4).
 MIN_ARM_JOINTS = 3
-MAX_FINGER_JOINTS = 4
+MAX_FINGER_JOINTS = 5
 
 
 def _arm_and_hand(
@@ -158,9 +158,11 @@ def _arm_and_hand(
     the first as far as they form a serial chain (at least :data:`MIN_ARM_JOINTS`) are
     the arm when every other driven joint lies below its last body, on two or more
     branches (fingers: serial, at most :data:`MAX_FINGER_JOINTS` driven joints each):
-    those are one ``Body`` part, ``"hand"``, and the arm's end
+    those are one ``Hand`` part, ``"hand"``, and the arm's end
     effector ``"ee"`` is the palm, the deepest body above all of them (an arm file with
-    a dexterous hand: the mani-skill wheel's ``xarm7_ability_right_hand.urdf``)."""
+    a dexterous hand: the mani-skill wheel's ``xarm7_ability_right_hand.urdf``). A
+    shorter serial start (one or two joints: a hand file's wrist, the Shadow hand's) is
+    a ``Body`` part ``"wrist"`` beside the hand."""
     serial = 1
     while serial < len(bodies) and bodies[serial] in index.subtree_bodies(bodies[serial - 1]):
         serial += 1
@@ -169,7 +171,7 @@ def _arm_and_hand(
     count = next(
         (
             n
-            for n in range(serial, MIN_ARM_JOINTS - 1, -1)
+            for n in range(serial, 0, -1)
             if n < len(bodies) and set(bodies[n:]) <= set(index.subtree_bodies(bodies[n - 1]))
         ),
         0,
@@ -180,12 +182,16 @@ def _arm_and_hand(
     if found is None:
         return None
     palm, fingers = found
+    hand = _hand(model, index, driven[count:], palm, fingers)
+    if hand is None:
+        return None
+    joints = tuple(re.escape(j) for j in driven[:count])
+    if count < MIN_ARM_JOINTS:
+        return (hand, Body(name="wrist", joints=joints))
     arm = Arm(
-        name="arm",
-        joints=tuple(re.escape(j) for j in driven[:count]),
-        end_effectors=(EndEffector(model.body(palm).name[len(index.prefix) :], name="ee"),),
+        name="arm", joints=joints, end_effectors=(EndEffector(model.body(palm).name[len(index.prefix) :], name="ee"),)
     )
-    return (arm, _hand(model, index, driven[count:], palm, fingers))
+    return (arm, hand)
 
 
 def _hand_alone(model: mujoco.MjModel, index: RobotIndex, driven: list[str], bodies: list[int]) -> tuple[Part] | None:
@@ -193,7 +199,8 @@ def _hand_alone(model: mujoco.MjModel, index: RobotIndex, driven: list[str], bod
     Allegro and Ability hands), or ``None``: every driven joint lies on one of two or
     more short serial fingers below one palm (:func:`_palm_and_fingers`)."""
     found = _palm_and_fingers(model, index, bodies)
-    return None if found is None else (_hand(model, index, driven, *found),)
+    hand = None if found is None else _hand(model, index, driven, *found)
+    return None if hand is None else (hand,)
 
 
 def _palm_and_fingers(
@@ -226,14 +233,23 @@ def _palm_and_fingers(
 CURL_SHARE = 0.2
 
 
-def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm: int, fingers: list[list[int]]) -> Hand:
+#: The longest finger a derived hand has (m, from its first joint to its tip at the open
+#: pose): a dexterous hand's are 0.05-0.2 (the mani-skill wheel's Allegro 0.14); longer
+#: branches are legs (a quadruped's, 0.3-0.5, below its trunk) or arms.
+MAX_FINGER_LENGTH = 0.25
+
+
+def _hand(
+    model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm: int, fingers: list[list[int]]
+) -> Hand | None:
     """A derived ``Hand`` over ``driven`` (its joints, model order): ``open`` the
     default pose, ``closed`` each finger curled in: each joint at the end of its range
     that, the joint turned there alone from the open pose, brings the finger's tip (the
     centre of its deepest colliding body's geoms) nearer the palm's centre (its
     colliding geoms', else its centre of mass) by :data:`CURL_SHARE` of the tip's
     distance from the joint or more, else open (a spread); ``fingers`` the bodies with
-    colliding geoms of each branch."""
+    colliding geoms of each branch. ``None`` when a finger is longer than
+    :data:`MAX_FINGER_LENGTH`, or fewer than two fingers close (a grasp needs two)."""
     from robot_agents.keyframe import default_qpos  # (keyframe imports the agent package)
 
     where = "infer_parts"
@@ -256,11 +272,15 @@ def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm:
         mujoco.mj_kinematics(model, data)
         return float(np.linalg.norm(_geoms_centre(model, data, tip) - _geoms_centre(model, data, palm)))
 
-    finger_links = []
+    finger_links, closing = [], 0
     for chain in fingers:
         branch = [b for b in index.subtree_bodies(chain[0]) if colliding_geoms(model, [b])] or [chain[-1]]
         finger_links.append(tuple(model.body(b).name[len(index.prefix) :] for b in branch))
         tip = max(branch, key=lambda b: (_depth(model, b), b))
+        tip_to_palm(tip)  # (data at the open pose)
+        first = next(j for j in ids if int(model.jnt_bodyid[j]) == chain[0])
+        if np.linalg.norm(_geoms_centre(model, data, tip) - data.xanchor[first]) > MAX_FINGER_LENGTH:
+            return None
         on_finger = set(chain)
         for joint in (j for j in ids if int(model.jnt_bodyid[j]) in on_finger):
             if not model.jnt_limited[joint]:
@@ -272,6 +292,9 @@ def _hand(model: mujoco.MjModel, index: RobotIndex, driven: Sequence[str], palm:
             best = int(np.argmin(distances))
             if at_open - distances[best] >= CURL_SHARE * lever:
                 closed[joint] = ends[best]
+        closing += any(closed[j] != opened[j] for j in ids if int(model.jnt_bodyid[j]) in on_finger)
+    if closing < 2:
+        return None
     return Hand(
         name="hand",
         joints=tuple(re.escape(j) for j in driven),

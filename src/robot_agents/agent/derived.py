@@ -305,14 +305,20 @@ def _hand(
 
 
 def _geoms_centre(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> np.ndarray:
-    """The centre (m, world) of the box around ``body``'s colliding geoms at ``data``'s
-    pose, else its centre of mass."""
-    geoms = colliding_geoms(model, [body])
-    if not geoms:
+    """The centre (m, world) of the box around ``body``'s own colliding geoms at
+    ``data``'s pose, else its centre of mass."""
+    return _colliding_centre(model, data, [body], body)
+
+
+def _colliding_centre(model: mujoco.MjModel, data: mujoco.MjData, bodies: Iterable[int], body: int) -> np.ndarray:
+    """The centre (world, m) of the box around the colliding geoms of ``bodies``, as
+    ``data`` places them; ``body``'s centre of mass when none of them collides."""
+    boxes = [world_box(model, data, geom) for geom in colliding_geoms(model, bodies)]
+    if not boxes:
         return np.array(data.xipos[body])
-    boxes = [world_box(model, data, g) for g in geoms]
-    middle: np.ndarray = 0.5 * (np.min([b[0] for b in boxes], axis=0) + np.max([b[1] for b in boxes], axis=0))
-    return middle
+    lower = np.min([low for low, _ in boxes], axis=0)
+    upper = np.max([high for _, high in boxes], axis=0)
+    return np.asarray(0.5 * (lower + upper))
 
 
 def _depth(model: mujoco.MjModel, body: int) -> int:
@@ -441,12 +447,7 @@ def _finger_centre(model: mujoco.MjModel, data: mujoco.MjData, index: RobotIndex
     """The centre (world, m) of the box around a finger's colliding geoms (its body and
     the bodies below it), as ``data`` places them: the middle of its pads, where a
     grasp holds an object; the finger's centre of mass when nothing on it collides."""
-    boxes = [world_box(model, data, geom) for geom in colliding_geoms(model, index.subtree_bodies(body))]
-    if not boxes:
-        return np.array(data.xipos[body])
-    lower = np.min([low for low, _ in boxes], axis=0)
-    upper = np.max([high for _, high in boxes], axis=0)
-    return np.asarray(0.5 * (lower + upper))
+    return _colliding_centre(model, data, index.subtree_bodies(body), body)
 
 
 #: How close to the fixed jaw a one-jaw gripper's moving jaw must close, as a share of

@@ -51,7 +51,7 @@ from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec, urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Legs, Part
+from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -502,7 +502,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         # jaws and linkages keep their inertia gains: their torque reaches the object
         # through levers, and a linkage's loop gives under a full-effort squeeze)
         strokes: dict[str, float] = {}
-        for gripper in (p for p in parts if isinstance(p, Gripper) and not isinstance(p, Hand)):
+        for gripper in (p for p in parts if is_jaw_gripper(p)):
             names = part_joints[gripper.name]
             opened, closed = gripper.positions(len(names))
             strokes.update(
@@ -620,13 +620,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         mount,
         # a derived gripper's fingers (a derived hand's links keep the file's contacts)
         derived_pads=tuple(
-            dict.fromkeys(
-                link
-                for p in own_parts
-                if isinstance(p, Gripper) and not isinstance(p, Hand)
-                for f in p.finger_links
-                for link in f
-            )
+            dict.fromkeys(link for p in own_parts if is_jaw_gripper(p) for f in p.finger_links for link in f)
         ),
     )
     _CHECKED[cls] = checked

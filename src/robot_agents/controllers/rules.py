@@ -28,7 +28,7 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part
+from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part, is_jaw_gripper
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
@@ -276,7 +276,7 @@ def modes_from_parts(
         ),
     )
     joints = [j for j in part_joints[main.name] if j in driven]
-    if isinstance(main, Gripper) and not isinstance(main, Hand):
+    if is_jaw_gripper(main):
         table: dict[str, ControllerConfig] = {"pd_joint_pos": gripper_config(main, part_joints[main.name], driven)}
     else:
         group = JointGroup(
@@ -308,7 +308,7 @@ def modes_from_parts(
         if part is main or (isinstance(part, Legs) and part.held):
             continue  # held legs: no action, their drives keep the reset pose
         names = part_joints[part.name]
-        if isinstance(part, Gripper) and not isinstance(part, Hand):
+        if is_jaw_gripper(part):
             others[part.name] = gripper_config(part, names, driven)
         elif isinstance(part, Base):
             if len(names) != 3:

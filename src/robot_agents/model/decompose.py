@@ -31,7 +31,7 @@ import numpy as np
 
 from robot_agents.errors import ModelError
 from robot_agents.model.meshes import cache_dir, write_cache_file
-from robot_agents.parts.declaration import Gripper, Hand, Part
+from robot_agents.parts.declaration import Part, is_jaw_gripper
 
 #: A mesh is markedly non-convex when its convex hull's volume exceeds its own by more
 #: than this factor. Tessellated convex shapes read 1.00-1.03 (the Z1's ``link06``
@@ -148,7 +148,7 @@ def note_nonconvex_fingers(name: str, model: mujoco.MjModel, parts: Sequence[Par
     bodies = {
         mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, link)
         for part in parts
-        if isinstance(part, Gripper) and not isinstance(part, Hand)  # a hand's links: not jaws
+        if is_jaw_gripper(part)  # a hand's links are not jaws
         for finger in part.finger_links
         for link in finger
     }

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import Enum
-from typing import ClassVar
+from typing import ClassVar, TypeGuard
 
 import numpy as np
 import numpy.typing as npt
@@ -222,6 +222,13 @@ class Hand(Gripper):
             raise ConfigError(
                 f"Hand {self.name!r}.power_grasp: expected a PowerGrasp or None, got {self.power_grasp!r}."
             )
+
+
+def is_jaw_gripper(part: object) -> TypeGuard[Gripper]:
+    """A gripper that closes jaws (two fingers, a linkage, one jaw) with one action, not a
+    :class:`Hand`, whose joints take their own actions: the parts that get one gripper
+    action, stiff pads and grip gains when derived, and the sweep's two-finger grasp."""
+    return isinstance(part, Gripper) and not isinstance(part, Hand)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -17,7 +17,7 @@ from robot_agents.checks import hold_action, raw_hold
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
-from robot_agents.parts.declaration import Hand
+from robot_agents.parts.declaration import Hand, is_jaw_gripper
 from robot_agents.sim.scene import Scene
 from robot_agents.tuning.claims import ClaimResult, Penetration, claim_scene, ee_mode
 
@@ -60,7 +60,7 @@ def grasp_claim(cls: type[Agent], sim_freq: int, control_freq: int, depth: Penet
         return _hand_grasp(cls, hand, sim_freq, control_freq, depth)
     mode = ee_mode(cls)
     # a hand without a declared power grasp makes no grasp claim (a file's derived hand)
-    grippers = [p for p in cls.check().parts if getattr(p, "finger_links", ()) and not isinstance(p, Hand)]
+    grippers = [p for p in cls.check().parts if is_jaw_gripper(p) and p.finger_links]
     if mode is None or not grippers:
         return None
     if table_top_layout(cls).gripper is None:

@@ -82,8 +82,9 @@ def robot_from_file(
     if root_body is not None:
         attributes["root_body"] = root_body
     if gripper is not None and at is not None:
-        piece = get_piece(gripper)
-        attributes["attachments"] = (Attachment(piece, at=at, prefix=f"{gripper}/", quat=OUT_AXES[at_axis]),)
+        attributes["attachments"] = (
+            Attachment(get_piece(gripper), at=at, prefix=f"{gripper}/", quat=OUT_AXES[at_axis]),
+        )
         attributes["uid"] = f"{file.stem}+{gripper}"
     return type(name, (Agent,), attributes)
 

@@ -277,12 +277,12 @@ def _hand(
         branch = [b for b in index.subtree_bodies(chain[0]) if colliding_geoms(model, [b])] or [chain[-1]]
         finger_links.append(tuple(model.body(b).name[len(index.prefix) :] for b in branch))
         tip = max(branch, key=lambda b: (_depth(model, b), b))
-        tip_to_palm(tip)  # (data at the open pose)
-        first = next(j for j in ids if int(model.jnt_bodyid[j]) == chain[0])
-        if np.linalg.norm(_geoms_centre(model, data, tip) - data.xanchor[first]) > MAX_FINGER_LENGTH:
-            return None
         on_finger = set(chain)
-        for joint in (j for j in ids if int(model.jnt_bodyid[j]) in on_finger):
+        finger_joints = [j for j in ids if int(model.jnt_bodyid[j]) in on_finger]  # base to tip
+        tip_to_palm(tip)  # (data at the open pose)
+        if np.linalg.norm(_geoms_centre(model, data, tip) - data.xanchor[finger_joints[0]]) > MAX_FINGER_LENGTH:
+            return None
+        for joint in finger_joints:
             if not model.jnt_limited[joint]:
                 continue
             at_open = tip_to_palm(tip)  # (and data at the open pose)
@@ -292,7 +292,7 @@ def _hand(
             best = int(np.argmin(distances))
             if at_open - distances[best] >= CURL_SHARE * lever:
                 closed[joint] = ends[best]
-        closing += any(closed[j] != opened[j] for j in ids if int(model.jnt_bodyid[j]) in on_finger)
+        closing += any(closed[j] != opened[j] for j in finger_joints)
     if closing < 2:
         return None
     return Hand(

@@ -13,8 +13,14 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.envs.tasks.layout import SPAWN_HALF_SIZE, UPRIGHT_AHEAD, _pressing, table_top_layout
-from tests.test_derived_task_space import JOINTS, arm_urdf
+from robot_agents.envs.tasks.layout import (
+    SPAWN_HALF_SIZE,
+    TABLE_CLEARANCE,
+    UPRIGHT_AHEAD,
+    _pressing,
+    table_top_layout,
+)
+from tests.test_derived_task_space import BASE_HEIGHT, JOINTS, arm_urdf
 from tests.test_scripted_solvers import load_solver
 
 #: The fingers: stroke (m) and effort limit (N) each, written in the file.
@@ -159,3 +165,45 @@ def test_the_solver_ik_takes_another_solution_where_one_is_refused(two_line_arm:
         assert np.linalg.norm(arm.tool_at(other) - target, axis=1).max() < 0.01
     finally:
         env.close()
+
+
+#: The pedestal the arm stands on in its file (m): tall enough that its tool cannot get
+#: down to the floor under it (gymnasium-robotics' Franka kitchen stands its Panda 1.8 m up).
+PEDESTAL_HEIGHT, PEDESTAL_WIDTH = 1.5, 0.2
+
+
+def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path) -> None:
+    """The arm with a gripper on a 1.5 m pedestal (the file's root link): its tool gets
+    no lower than 1.32 m over the floor, so the robot stands on the floor and the table
+    top rises to where the heights of cubes and goals centre on the median height at
+    which its tool points down (1.39 m: between that lowest point and the shoulder's yaw
+    axis, 1.6 m), the table starting clear of the pedestal with every cube drawn on it;
+    the scripted solver picks. (Before, the pedestal stood on the table and every cube
+    lay out of reach: the kitchen's Franka picked 0 of 20.)"""
+    pedestal = (
+        _link(
+            "pedestal", 50.0, f"0 0 {PEDESTAL_HEIGHT / 2}", f"{PEDESTAL_WIDTH} {PEDESTAL_WIDTH} {PEDESTAL_HEIGHT}", 10.0
+        )
+        + '<joint name="on_pedestal" type="fixed"><parent link="pedestal"/><child link="base"/>'
+        f'<origin xyz="0 0 {PEDESTAL_HEIGHT}"/></joint>'
+    )
+    path = tmp_path / "on_pedestal.urdf"
+    path.write_text(arm_with_gripper_urdf().replace("<link ", pedestal + "<link ", 1))
+    cls = type("PedestalArm", (ra.Agent,), {"uid": "pedestal_arm", "urdf_path": path})
+    layout = table_top_layout(cls)
+    root_x, reach, edge = layout.robot_pose[0], layout.reach, 2.0 * layout.cube_half_size
+    assert layout.robot_pose[2] == pytest.approx(0.0, abs=1e-9)  # on the floor
+    assert 1.35 < layout.table_height < 1.45 < PEDESTAL_HEIGHT + BASE_HEIGHT
+    back = layout.table_center[0] - layout.table_half_size[0]
+    assert back >= root_x + 0.5 * PEDESTAL_WIDTH + TABLE_CLEARANCE * reach - 1e-9  # clear of the pedestal
+    nearest_cube = -layout.spawn_half_size - np.sqrt(2.0) * 0.5 * edge  # from the workspace centre (x = 0)
+    assert nearest_cube > back
+    ra.register_agent(cls, override=True)
+    try:
+        solver = load_solver()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            successes, _ = solver.success_rate("PickCube-v1", cls.uid, 10)
+        assert successes >= 9, successes
+    finally:
+        ra.unregister_agent(cls.uid)

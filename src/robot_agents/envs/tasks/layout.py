@@ -19,12 +19,19 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   has the centre :data:`UPRIGHT_AHEAD` ``R`` ahead of the shoulder instead (the built-in
   arms rest their tools 0.25-0.65 R ahead), or, when it has a gripper, in the middle of
   the distances at which its tool reaches pointing down at the heights of cubes and
-  goals, where that is nearer (:func:`_pointing_down_middle`: configurations in which
+  goals, where that is nearer (:func:`_pointing_down_points`: configurations in which
   the robot touches itself or the table top are left out). A robot that declares no
   keyframe (its default is its file's pose) gets its centre there whatever its rest
   pose, with or without a gripper (a bare tool pointing its z down). The table top is at
   ``z = 0.75 R`` above the floor and spans from ``0.35 R`` behind the robot's root to
   ``0.55 R`` ahead of the workspace centre, ``1.2 R`` wide.
+- **A robot on a pedestal of its own** (its file's: gymnasium-robotics' Franka
+  kitchen), whose tool gets no lower over the floor it stands on than the goals' heights
+  over the cubes, stands on the floor instead; the table top rises to where the heights
+  of cubes and goals centre on the median height at which its tool points down
+  (:func:`_centred_band`), and the table starts :data:`TABLE_CLEARANCE` ``R`` clear of
+  the robot's geoms lower than its top (the pedestal), the centre moved ahead where a
+  cube drawn nearest the robot would lie off it.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
   instead, next to the table, facing it as above. The table top is ``0.15 R`` below
   the default keyframe's tool (0.18 R for the Panda on its table). The table's near
@@ -91,7 +98,7 @@ UPRIGHT_SHARE = 0.2
 STRETCHED_SHARE = 0.7
 #: ... and either gets its workspace centre this share of the reach ahead of its shoulder,
 #: or, with a gripper, in the middle of where its tool reaches pointing down at the cube
-#: and goal heights (see :func:`_pointing_down_middle`), where that is nearer.
+#: and goal heights (see :func:`_middle_distance`), where that is nearer.
 UPRIGHT_AHEAD = 0.5
 #: Configurations drawn (fixed seed) to find where an arm's tool reaches pointing down,
 #: the largest tilt from straight down that counts (rad), and the fewest such tool
@@ -241,6 +248,21 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         gripper = _gripper_geometry(agent, probe, data, keyframe, tool, joints[-1].id, where)
         cube_edge = CUBE_PER_OPENING * gripper.opening if gripper is not None else CUBE_PER_REACH * reach
         cube_edge = max(cube_edge, MIN_CUBE_EDGE)
+        approach = gripper.approach_axis if gripper is not None else TOOL_AXIS
+        spread = 2.0 * SPAWN_HALF_SIZE * reach  # from the cubes' centres up to the goals
+        down: FloatArray | None = None  # tool points pointing down, measured once when needed
+        # a robot standing on a pedestal of its own (its file's): its tool does not get
+        # down to the heights of cubes and goals over the floor it stands on, so the table
+        # top rises to where the tool works pointing down
+        rise = 0.0
+        lowest = float(min(np.min(tips[:, 2]), rest_tcp[2]))
+        pedestal = base is None and lowest > 0.5 * cube_edge + spread
+        if pedestal:
+            down = _pointing_down_points(agent, tool, joints, data.qpos, approach, model)
+            rise = lowest - 0.5 * cube_edge
+            if len(down) >= DOWN_MIN_POINTS:
+                rise = _centred_band(down[:, 2], spread) - 0.5 * cube_edge
+            boxes = _robot_geom_boxes(agent, model, data)
         ahead_distance = UPRIGHT_AHEAD * reach
         # a robot declaring no keyframe rests as its file draws it (every joint at zero):
         # that pose says nothing of where it works (the xArm7 file folds its tool in 0.2 m
@@ -248,9 +270,10 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         # approach axis; a bare flange's or a tool's z, as the push solver takes it)
         file_rest = not cls.keyframes and joints[0].kind is JointKind.HINGE
         if base is None and ((centre_ahead and gripper is not None) or file_rest):
-            band = (0.5 * cube_edge, 0.5 * cube_edge + 2.0 * SPAWN_HALF_SIZE * reach)  # cubes' centres to goals
-            approach = gripper.approach_axis if gripper is not None else TOOL_AXIS
-            middle = _pointing_down_middle(agent, tool, joints, data.qpos, shoulder, approach, band, model)
+            if down is None:
+                down = _pointing_down_points(agent, tool, joints, data.qpos, approach, model)
+            band = (rise + 0.5 * cube_edge, rise + 0.5 * cube_edge + spread)  # over the table top
+            middle = _middle_distance(down, shoulder, band)
             if middle is not None:
                 ahead_distance = middle if file_rest else min(ahead_distance, middle)
                 centre_ahead = True
@@ -269,7 +292,19 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     if base is None and centre_ahead:
         mujoco.mju_rotVecQuat(centre, shoulder, turn)
         centre[0] += ahead_distance
-    if base is None:
+    if pedestal:
+        # the robot stands on the floor; the table starts clear of what of it stands
+        # lower than the table top (its pedestal)
+        table_height = rise
+        turned = np.empty(3)
+        fronts = [0.0]
+        for lo, hi in boxes:
+            if lo[2] < rise + LOW_GEOM_MARGIN:
+                for x, y in ((lo[0], lo[1]), (lo[0], hi[1]), (hi[0], lo[1]), (hi[0], hi[1])):
+                    mujoco.mju_rotVecQuat(turned, np.array([x, y, 0.0]), turn)
+                    fronts.append(float(turned[0]))
+        edge = max(fronts) + TABLE_CLEARANCE * reach
+    elif base is None:
         table_height = TABLE_HEIGHT * reach
         shift = np.array([-centre[0], -centre[1], table_height])
     else:
@@ -286,7 +321,9 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         axis_turned = np.empty(3)
         mujoco.mju_rotVecQuat(axis_turned, axis, turn)
         edge = axis_turned[0] + turning_radius + TABLE_CLEARANCE * reach
-        # every cube drawn (turned any way) must lie on the table, clear of its edge
+    on_floor = pedestal or base is not None  # next to the table, not on it
+    if on_floor:
+        # every cube drawn (turned any way) must lie on the table, clear of its near edge
         nearest_cube = edge + TABLE_CLEARANCE * reach + math.sqrt(2.0) * 0.5 * cube_edge + spawn
         centre[0] = max(centre[0], nearest_cube)
         shift = np.array([-centre[0], -centre[1], 0.0])
@@ -296,7 +333,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     quat = np.empty(4)
     mujoco.mju_mulQuat(quat, turn, mount[3:])
     front = 0.55 * reach
-    back = min(root[0], 0.0) - 0.35 * reach if base is None else edge - centre[0]
+    back = edge - centre[0] if on_floor else min(root[0], 0.0) - 0.35 * reach
     return TableTopLayout(
         reach=reach,
         robot_pose=(*root.tolist(), *quat.tolist()),
@@ -313,29 +350,23 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     )
 
 
-def _pointing_down_middle(
+def _pointing_down_points(
     agent: Agent,
     tool: Any,
     joints: Sequence[Any],
     reference: FloatArray,
-    shoulder: FloatArray,
     approach: Sequence[float],
-    band: tuple[float, float],
     model: mujoco.MjModel,
-) -> float | None:
-    """The middle of the horizontal distances (m) from ``shoulder`` at which the tool
-    reaches pointing down (its ``approach`` axis within :data:`DOWN_TILT` of straight
-    down) at heights within ``band`` (m above the floor the robot stands on, which
-    becomes the table top) with the robot clear of itself and of that floor (``model``:
-    the probe scene's; no contact deeper than :data:`DOWN_CONTACT_DEPTH`), over
-    :data:`DOWN_SAMPLES` configurations drawn (fixed seed) within the arm joints' limits
-    from ``reference`` (``(nq,)``); ``None`` when fewer than :data:`DOWN_MIN_POINTS`
-    tool points qualify. An arm resting upright can be too short at ``UPRIGHT_AHEAD``
-    reach to grasp pointing down: a written six-joint arm (1.14 m reach, a short wrist)
-    reached at most 0.62 m ahead that way, and its centre at 0.57 m left a third of its
-    cubes beyond. Near its base a small arm with a large gripper folds onto itself or
-    onto the table to point down (the UR3 file with the Franka Hand: the hand against
-    the upper arm, the elbow on the table)."""
+) -> FloatArray:
+    """Tool positions ``(k, 3)`` (m, the probe scene's world: the floor the robot stands
+    on, which becomes the table top, at z = 0) at which the tool points down (its
+    ``approach`` axis within :data:`DOWN_TILT` of straight down) with the robot clear of
+    itself and of that floor (``model``: the probe scene's; no contact deeper than
+    :data:`DOWN_CONTACT_DEPTH`), over :data:`DOWN_SAMPLES` configurations drawn (fixed
+    seed) within the arm joints' limits from ``reference`` (``(nq,)``). Near its base a
+    small arm with a large gripper folds onto itself or onto the table to point down
+    (the UR3 file with the Franka Hand: the hand against the upper arm, the elbow on
+    the table)."""
     configs = random_configurations(
         agent.index.model, agent.index, [j.name for j in joints], reference, DOWN_SAMPLES, "table_top_layout", seed=1
     )
@@ -344,17 +375,39 @@ def _pointing_down_middle(
     pointing = np.empty((DOWN_SAMPLES, 3))
     for k in range(DOWN_SAMPLES):
         mujoco.mju_rotVecQuat(pointing[k], axis, poses[k, 3:])
-    down = -pointing[:, 2] >= math.cos(DOWN_TILT)
-    height = poses[:, 2]
-    chosen = down & (height >= band[0]) & (height <= band[1])
+    chosen = -pointing[:, 2] >= math.cos(DOWN_TILT)
     robot = set(agent.index.subtree_bodies(agent.index.root_body_id))
     scratch = mujoco.MjData(model)
     for sample in np.flatnonzero(chosen).tolist():
         chosen[sample] = not _pressing(model, scratch, configs[sample], robot)
-    if int(chosen.sum()) < DOWN_MIN_POINTS:
+    points: FloatArray = poses[chosen, :3]
+    return points
+
+
+def _middle_distance(points: FloatArray, shoulder: FloatArray, band: tuple[float, float]) -> float | None:
+    """The middle of the horizontal distances (m) from ``shoulder`` of the tool
+    ``points`` (pointing down: :func:`_pointing_down_points`) at heights within ``band``
+    (m above the floor the robot stands on); ``None`` when fewer than
+    :data:`DOWN_MIN_POINTS` qualify. An arm resting upright can be too short at
+    ``UPRIGHT_AHEAD`` reach to grasp pointing down: a written six-joint arm (1.14 m
+    reach, a short wrist) reached at most 0.62 m ahead that way, and its centre at
+    0.57 m left a third of its cubes beyond."""
+    within = points[(points[:, 2] >= band[0]) & (points[:, 2] <= band[1])]
+    if len(within) < DOWN_MIN_POINTS:
         return None
-    distance = np.linalg.norm(poses[chosen, :2] - shoulder[:2], axis=1)
+    distance = np.linalg.norm(within[:, :2] - shoulder[:2], axis=1)
     return float(0.5 * (distance.min() + distance.max()))
+
+
+def _centred_band(heights: FloatArray, spread: float) -> float:
+    """The lower end (m) of a band ``spread`` high centred on the median of ``heights``
+    (m), raised where that puts it below the lowest of them: for an arm on a pedestal,
+    with ``heights`` those at which its tool points down, the cubes' centres (the band's
+    lower end: 1.39 m for a written arm on a 1.5 m pedestal, whose scripted PickCube
+    succeeds 20 of 20 from 1.40 m up and 9 of 20 at 1.30 m) and the goals above them
+    where it most often works that way."""
+    middle = float(np.median(heights)) - 0.5 * spread
+    return max(middle, float(np.min(heights)))
 
 
 def _pressing(model: mujoco.MjModel, data: mujoco.MjData, qpos: FloatArray, robot: set[int]) -> bool:

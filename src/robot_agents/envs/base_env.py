@@ -25,7 +25,7 @@ from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
-from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError
+from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError, close_names
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -39,6 +39,8 @@ FloatArray = npt.NDArray[np.float64]
 
 #: Draws of a robot's reset noise per env before the noiseless keyframe is kept instead.
 RESET_NOISE_DRAWS = 32
+#: The keys ``reset(options=...)`` takes.
+RESET_OPTIONS = ("env_ids", "keyframe")
 #: How much deeper (m) than at its noiseless keyframe the noise may put a robot geom
 #: into a fixed geom (floor, table, static props) or another robot geom.
 RESET_PENETRATION_TOLERANCE = 1e-3
@@ -338,7 +340,16 @@ class RobotEnv(gym.Env[Any, Any]):
         env_ids = options.pop("env_ids", None)
         keyframe = options.pop("keyframe", None)
         if options:
-            raise ConfigError(f"{where}: unknown options {sorted(options)}; expected 'env_ids', 'keyframe'.")
+            unknown = sorted(map(str, options))
+            hints = [
+                f"{name!r}: did you mean {close[0]!r}?"
+                for name in unknown
+                if (close := close_names(name, RESET_OPTIONS))
+            ]
+            raise ConfigError(
+                f"{where}: unknown options {unknown}; expected {', '.join(map(repr, RESET_OPTIONS))}."
+                + "".join(f" {hint}" for hint in hints)
+            )
         ids = self.agent.state.env_ids(env_ids, where)
         self.scene.check_keyframes(keyframe, where)
         if isinstance(seed, (int, np.integer)):

@@ -271,6 +271,21 @@ class Arm:
         as :meth:`self_contact`."""
         return self._touching(q, 1, self.env.model.body(ignore).id)
 
+    def on_table(self) -> np.ndarray:
+        """Per env: does the robot touch the table now (its contacts in the env's state)."""
+        model = self.env.model
+        table = model.body("table").id
+        robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
+        bodies = model.geom_bodyid
+        touching = np.zeros(self.env.num_envs, dtype=bool)
+        for env, data in enumerate(self.env.scene.world.datas):
+            for c in data.contact[: data.ncon]:
+                pair = (int(bodies[c.geom1]), int(bodies[c.geom2]))
+                if table in pair and (pair[0] in robot or pair[1] in robot):
+                    touching[env] = True
+                    break
+        return touching
+
     def _touching(self, q: np.ndarray, robot_bodies: int, skip: int = -1) -> np.ndarray:
         """Per env: any contact closer than 1 mm at ``q`` between ``robot_bodies`` (2:
         both, 1: one) of the robot's bodies and the rest, neither of them body ``skip``."""
@@ -776,9 +791,10 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         episode.step(arm.action(command, closed))
         in_stage += 1
         z = point[:, 2]
-        # down: touched once the tool stops coming down (well above where it aims)
+        # down: touched once the tool stops coming down (well above where it aims) with
+        # the robot on the table (a drive still settling after the turn stops it too)
         touched = (stage == DOWN_BEHIND) & (
-            ((in_stage > 2) & (last_z - z < 0.2 * PUSH_SPEED * reach)) | (in_stage > 30)
+            ((in_stage > 2) & (last_z - z < 0.2 * PUSH_SPEED * reach) & arm.on_table()) | (in_stage > 30)
         )
         height = np.where(touched, z + TIP_HEIGHT * 2.0 * half, height)
         error = np.linalg.norm(target - point, axis=1)

@@ -198,6 +198,7 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
     assert back >= root_x + 0.5 * PEDESTAL_WIDTH + TABLE_CLEARANCE * reach - 1e-9  # clear of the pedestal
     nearest_cube = -layout.spawn_half_size - np.sqrt(2.0) * 0.5 * edge  # from the workspace centre (x = 0)
     assert nearest_cube > back
+    assert layout.pedestal
     ra.register_agent(cls, override=True)
     try:
         solver = load_solver()
@@ -205,5 +206,11 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
             warnings.simplefilter("ignore", RuntimeWarning)
             successes, _ = solver.success_rate("PickCube-v1", cls.uid, 10)
         assert successes >= 9, successes
+        env = ra.make_env("PickCube-v1", robot_uids=cls.uid).unwrapped
+        try:  # the render camera frames the arm over its table, not the pedestal's 1.5 m
+            lower, upper = env._render_bounds()
+            assert layout.table_height - 0.1 < lower[2] <= layout.table_height < upper[2]
+        finally:
+            env.close()
     finally:
         ra.unregister_agent(cls.uid)

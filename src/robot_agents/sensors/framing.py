@@ -17,15 +17,20 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 
 
-def robot_bounds(world: SimBackend, prefixes: Sequence[str], env: int = 0) -> tuple[FloatArray, FloatArray]:
+def robot_bounds(
+    world: SimBackend, prefixes: Sequence[str], env: int = 0, above: float = -np.inf
+) -> tuple[FloatArray, FloatArray]:
     """Axis-aligned box ``(lower, upper)`` (m, world frame) around the geoms of the
-    robots whose names start with ``prefixes``, in env ``env`` (bounding spheres)."""
+    robots whose names start with ``prefixes``, in env ``env`` (bounding spheres), of
+    those whose centre is at least ``above`` (m, world z) high."""
     model = world.render_model
     data = world.render_sources([env])[0]
     lower, upper = np.full(3, np.inf), np.full(3, -np.inf)
     for geom in range(model.ngeom):
         body = model.body(int(model.geom_bodyid[geom])).name
         if not body.startswith(tuple(prefixes)) or int(model.geom_type[geom]) == int(mujoco.mjtGeom.mjGEOM_PLANE):
+            continue
+        if data.geom_xpos[geom, 2] < above:
             continue
         radius = float(model.geom_rbound[geom])
         lower = np.minimum(lower, data.geom_xpos[geom] - radius)

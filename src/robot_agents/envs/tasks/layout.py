@@ -158,6 +158,8 @@ class TableTopLayout:
         spawn_half_size: cubes and goals are drawn in ``[-s, s]`` of the centre.
         dof: joints of the arm that carries the end effector.
         mobile: the robot has a ``Base`` part and stands on the floor next to the table.
+        pedestal: the robot stands on a pedestal of its own (its file's) on the floor next
+            to the table, its tool out of reach of that floor (see the module doc).
         turning_radius: (mobile robots) the radius of the circle swept by the robot's
             geoms below the table top when the base turns in place (m); 0 otherwise.
     """
@@ -173,6 +175,7 @@ class TableTopLayout:
     spawn_half_size: float
     dof: int
     mobile: bool = False
+    pedestal: bool = False
     turning_radius: float = 0.0
 
     @property
@@ -346,6 +349,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         spawn_half_size=spawn,
         dof=sum(j.nv for j in joints),
         mobile=base is not None,
+        pedestal=pedestal,
         turning_radius=turning_radius,
     )
 

@@ -26,6 +26,7 @@ from robot_agents.kinematics.rotations import yaw_to_quat
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
+from robot_agents.sensors.framing import robot_bounds
 from robot_agents.sim.scene import RobotSpecifier
 
 #: Draws of a prop's pose per env before a reset gives up: the robot blocks the region.
@@ -163,9 +164,14 @@ class TableTopEnv(RobotEnv):
         return (base_camera(self.layout),)
 
     def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
-        lower, upper = super()._render_bounds()
-        s = self.layout.spawn_half_size * 2.0
-        box = np.array([[-s, -s, self.layout.table_height], [s, s, self.layout.table_height + s]])
+        layout = self.layout
+        if layout.pedestal:  # the arm over its table, not the pedestal under them
+            prefixes = [f"{rid}/" for rid in self.scene.robot_ids]
+            lower, upper = robot_bounds(self.scene.world, prefixes, above=layout.table_height)
+        else:
+            lower, upper = super()._render_bounds()
+        s = layout.spawn_half_size * 2.0
+        box = np.array([[-s, -s, layout.table_height], [s, s, layout.table_height + s]])
         return np.minimum(lower, box[0]), np.maximum(upper, box[1])
 
     # -- helpers ------------------------------------------------------------------------

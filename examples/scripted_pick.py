@@ -791,13 +791,15 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         episode.step(arm.action(command, closed))
         in_stage += 1
         z = point[:, 2]
+        error = np.linalg.norm(target - point, axis=1)
         # down: touched once the tool stops coming down (well above where it aims) with
-        # the robot on the table (a drive still settling after the turn stops it too)
+        # the robot on the table, or at its aim (a tool point at its tip), not while a
+        # drive still settling after the turn stops it on the way
         touched = (stage == DOWN_BEHIND) & (
-            ((in_stage > 2) & (last_z - z < 0.2 * PUSH_SPEED * reach) & arm.on_table()) | (in_stage > 30)
+            ((in_stage > 2) & (last_z - z < 0.2 * PUSH_SPEED * reach) & ((error < 0.5 * half) | arm.on_table()))
+            | (in_stage > 30)
         )
         height = np.where(touched, z + TIP_HEIGHT * 2.0 * half, height)
-        error = np.linalg.norm(target - point, axis=1)
         advance = (
             ((stage == ABOVE_BEHIND) & ((error < 0.25 * half) | (in_stage > 15)))
             | touched

@@ -225,7 +225,7 @@ def test_reset_options_keyframe_and_env_ids() -> None:
     np.testing.assert_allclose(u.agent.qpos[1], u.agent.keyframe_qpos("rest"))
     with pytest.raises(ra.UnknownNameError, match="'rest'"):
         env.reset(options={"keyframe": "rests"})
-    with pytest.raises(ra.ConfigError, match="unknown options.*'keyfram': did you mean 'keyframe'"):
+    with pytest.raises(ra.ConfigError, match=r"unknown options.*'keyfram': did you mean 'keyframe'"):
         env.reset(options={"keyfram": "rest"})
 
 

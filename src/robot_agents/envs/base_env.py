@@ -245,7 +245,12 @@ class RobotEnv(gym.Env[Any, Any]):
 
     def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
         """World box ``(lower, upper)`` the render camera frames: the robots' extent."""
-        return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids])
+        return self._robots_extent()
+
+    def _robots_extent(self, above: float = -np.inf) -> tuple[FloatArray, FloatArray]:
+        """World box ``(lower, upper)`` around the robots' geoms centred at least
+        ``above`` (m, world z) high (:func:`~robot_agents.sensors.framing.robot_bounds`)."""
+        return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids], above=above)
 
     def env_rng(self, env: int) -> np.random.Generator:
         """The random stream of env ``env`` (seeded by :meth:`reset`; unseeded: from

@@ -26,7 +26,6 @@ from robot_agents.kinematics.rotations import yaw_to_quat
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import CameraConfig
-from robot_agents.sensors.framing import robot_bounds
 from robot_agents.sim.scene import RobotSpecifier
 
 #: Draws of a prop's pose per env before a reset gives up: the robot blocks the region.
@@ -165,11 +164,8 @@ class TableTopEnv(RobotEnv):
 
     def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
         layout = self.layout
-        if layout.pedestal:  # the arm over its table, not the pedestal under them
-            prefixes = [f"{rid}/" for rid in self.scene.robot_ids]
-            lower, upper = robot_bounds(self.scene.world, prefixes, above=layout.table_height)
-        else:
-            lower, upper = super()._render_bounds()
+        # a robot on a pedestal: the arm over its table, not the pedestal under them
+        lower, upper = self._robots_extent(above=layout.table_height if layout.pedestal else -np.inf)
         s = layout.spawn_half_size * 2.0
         box = np.array([[-s, -s, layout.table_height], [s, s, layout.table_height + s]])
         return np.minimum(lower, box[0]), np.maximum(upper, box[1])

@@ -214,3 +214,31 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
             env.close()
     finally:
         ra.unregister_agent(cls.uid)
+
+
+def test_an_arm_hanging_from_above_gets_a_table_under_its_rest_pose(tmp_path: Path) -> None:
+    """The arm with a gripper hung upside down 1.6 m up (``mount_pose``; its file's rest
+    hangs it straight down): its tool cannot get down to the floor's cubes, so it is laid
+    out as a robot on a pedestal, but the table top stays under what of it moves as it
+    rests (the fingertips, 0.34 m up), and with nothing of it fixed below that top the
+    table spans under it as under a table-top robot; ReachPose is solved."""
+    path = tmp_path / "hanging.urdf"
+    path.write_text(arm_with_gripper_urdf())
+    cls = type(
+        "HangingArm", (ra.Agent,), {"uid": "hanging_arm", "urdf_path": path, "mount_pose": (0, 0, 1.6, 0, 1, 0, 0)}
+    )
+    layout = table_top_layout(cls)
+    assert layout.pedestal and layout.robot_pose[2] == pytest.approx(1.6)
+    assert layout.gripper is not None
+    assert layout.table_height < layout.rest_tcp[2] - layout.gripper.tip_reach  # the resting fingertips above it
+    back = layout.table_center[0] - layout.table_half_size[0]
+    assert back < layout.robot_pose[0]  # under the arm: nothing fixed of it stands below the top
+    ra.register_agent(cls, override=True)
+    try:
+        solver = load_solver()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            successes, _ = solver.success_rate("ReachPose-v1", cls.uid, 10)
+        assert successes >= 9, successes
+    finally:
+        ra.unregister_agent(cls.uid)

@@ -29,9 +29,10 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   kitchen), whose tool gets no lower over the floor it stands on than the goals' heights
   over the cubes, stands on the floor instead; the table top rises to where the heights
   of cubes and goals centre on the median height at which its tool points down
-  (:func:`_centred_band`), and the table starts :data:`TABLE_CLEARANCE` ``R`` clear of
-  the robot's geoms lower than its top (the pedestal), the centre moved ahead where a
-  cube drawn nearest the robot would lie off it.
+  (:func:`_centred_band`), below what of the robot moves as it rests (an arm hung from
+  above), and the table starts :data:`TABLE_CLEARANCE` ``R`` clear of the robot's fixed
+  geoms lower than its top (the pedestal), the centre moved ahead where a cube drawn
+  nearest the robot would lie off it.
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
   instead, next to the table, facing it as above. The table top is ``0.15 R`` below
   the default keyframe's tool (0.18 R for the Panda on its table). The table's near
@@ -265,7 +266,10 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             rise = lowest - 0.5 * cube_edge
             if len(down) >= DOWN_MIN_POINTS:
                 rise = _centred_band(down[:, 2], spread) - 0.5 * cube_edge
-            boxes = _robot_geom_boxes(agent, model, data)
+            # below what of the robot moves, as it rests (an arm hanging from above)
+            moving = _robot_geom_boxes(agent, model, data, moving_only=True)
+            rise = min(rise, float(min((lo[2] for lo, _ in moving), default=np.inf)) - LOW_GEOM_MARGIN)
+            boxes = _robot_geom_boxes(agent, model, data, fixed_only=True)
         ahead_distance = UPRIGHT_AHEAD * reach
         # a robot declaring no keyframe rests as its file draws it (every joint at zero):
         # that pose says nothing of where it works (the xArm7 file folds its tool in 0.2 m
@@ -295,18 +299,20 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
     if base is None and centre_ahead:
         mujoco.mju_rotVecQuat(centre, shoulder, turn)
         centre[0] += ahead_distance
+    fronts: list[float] = []  # of a pedestal robot's fixed geoms lower than the table top
     if pedestal:
-        # the robot stands on the floor; the table starts clear of what of it stands
-        # lower than the table top (its pedestal)
+        # the robot stands at its mount pose over the floor; the table starts clear of
+        # what of it stands fixed lower than the table top (its pedestal), if anything
         table_height = rise
         turned = np.empty(3)
-        fronts = [0.0]
         for lo, hi in boxes:
             if lo[2] < rise + LOW_GEOM_MARGIN:
                 for x, y in ((lo[0], lo[1]), (lo[0], hi[1]), (hi[0], lo[1]), (hi[0], hi[1])):
                     mujoco.mju_rotVecQuat(turned, np.array([x, y, 0.0]), turn)
                     fronts.append(float(turned[0]))
-        edge = max(fronts) + TABLE_CLEARANCE * reach
+        if fronts:
+            edge = max(fronts) + TABLE_CLEARANCE * reach
+        shift = np.array([-centre[0], -centre[1], 0.0])
     elif base is None:
         table_height = TABLE_HEIGHT * reach
         shift = np.array([-centre[0], -centre[1], table_height])
@@ -324,7 +330,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         axis_turned = np.empty(3)
         mujoco.mju_rotVecQuat(axis_turned, axis, turn)
         edge = axis_turned[0] + turning_radius + TABLE_CLEARANCE * reach
-    on_floor = pedestal or base is not None  # next to the table, not on it
+    on_floor = bool(fronts) or base is not None  # standing next to the table, not over it
     if on_floor:
         # every cube drawn (turned any way) must lie on the table, clear of its near edge
         nearest_cube = edge + TABLE_CLEARANCE * reach + math.sqrt(2.0) * 0.5 * cube_edge + spawn
@@ -432,10 +438,15 @@ def _pressing(model: mujoco.MjModel, data: mujoco.MjData, qpos: FloatArray, robo
     return False
 
 
-def _robot_geom_boxes(agent: Agent, model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[FloatArray, FloatArray]]:
+def _robot_geom_boxes(
+    agent: Agent, model: mujoco.MjModel, data: mujoco.MjData, fixed_only: bool = False, moving_only: bool = False
+) -> list[tuple[FloatArray, FloatArray]]:
     """World axis-aligned boxes (lower, upper corners) of the robot's colliding geoms
-    in ``data``'s configuration."""
+    in ``data``'s configuration; ``fixed_only``: of the bodies no joint moves (a fixed
+    robot's root and what is welded to it: its pedestal), ``moving_only``: of the others."""
     bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
+    if fixed_only or moving_only:
+        bodies = {b for b in bodies if (int(model.body_weldid[b]) == 0) == fixed_only}
     boxes = []
     for g in colliding_geoms(model, bodies):
         boxes.append(world_box(model, data, g))

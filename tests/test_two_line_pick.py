@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import mujoco
@@ -167,6 +168,24 @@ def test_the_solver_ik_takes_another_solution_where_one_is_refused(two_line_arm:
         env.close()
 
 
+@contextmanager
+def registered(cls: type[ra.Agent]) -> Iterator[None]:
+    """``cls`` registered under its uid for the block (the solvers make envs by uid)."""
+    ra.register_agent(cls, override=True)
+    try:
+        yield
+    finally:
+        ra.unregister_agent(cls.uid)
+
+
+def scripted_successes(task: str, uid: str, seeds: int) -> int:
+    """Successes of the scripted solver of ``task`` over seeds ``0 .. seeds - 1``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        successes, _ = load_solver().success_rate(task, uid, seeds)
+    return int(successes)
+
+
 #: The pedestal the arm stands on in its file (m): tall enough that its tool cannot get
 #: down to the floor under it (gymnasium-robotics' Franka kitchen stands its Panda 1.8 m up).
 PEDESTAL_HEIGHT, PEDESTAL_WIDTH = 1.5, 0.2
@@ -199,12 +218,8 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
     nearest_cube = -layout.spawn_half_size - np.sqrt(2.0) * 0.5 * edge  # from the workspace centre (x = 0)
     assert nearest_cube > back
     assert layout.pedestal
-    ra.register_agent(cls, override=True)
-    try:
-        solver = load_solver()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            successes, _ = solver.success_rate("PickCube-v1", cls.uid, 10)
+    with registered(cls):
+        successes = scripted_successes("PickCube-v1", cls.uid, 10)
         assert successes >= 9, successes
         env = ra.make_env("PickCube-v1", robot_uids=cls.uid).unwrapped
         try:  # the render camera frames the arm over its table, not the pedestal's 1.5 m
@@ -212,8 +227,6 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
             assert layout.table_height - 0.1 < lower[2] <= layout.table_height < upper[2]
         finally:
             env.close()
-    finally:
-        ra.unregister_agent(cls.uid)
 
 
 def test_an_arm_hanging_from_above_gets_a_table_under_its_rest_pose(tmp_path: Path) -> None:
@@ -233,12 +246,6 @@ def test_an_arm_hanging_from_above_gets_a_table_under_its_rest_pose(tmp_path: Pa
     assert layout.table_height < layout.rest_tcp[2] - layout.gripper.tip_reach  # the resting fingertips above it
     back = layout.table_center[0] - layout.table_half_size[0]
     assert back < layout.robot_pose[0]  # under the arm: nothing fixed of it stands below the top
-    ra.register_agent(cls, override=True)
-    try:
-        solver = load_solver()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            successes, _ = solver.success_rate("ReachPose-v1", cls.uid, 10)
-        assert successes >= 9, successes
-    finally:
-        ra.unregister_agent(cls.uid)
+    with registered(cls):
+        successes = scripted_successes("ReachPose-v1", cls.uid, 10)
+    assert successes >= 9, successes

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.checks import hold_action, run_random_actions
+from robot_agents.checks import check_keyframes, hold_action, run_random_actions
 from robot_agents.cli import cmd_check
 from robot_agents.errors import ConfigError
 from robot_agents.model.compose import Attachment
@@ -294,6 +294,23 @@ def test_contact_label_names_unnamed_geoms_by_their_body() -> None:
     body.add_geom(size=[0.1, 0, 0])
     model = spec.compile()
     assert [contact_label(model, g) for g in range(model.ngeom)] == ["floor", "link geom 0", "pad", "link geom 2"]
+
+
+def test_the_keyframe_check_names_an_unnamed_geom_in_the_floor(tmp_path: Path) -> None:
+    """``check_keyframes`` names the geoms of its deepest contact as the time-step
+    sweep does (:func:`contact_label`): an unnamed geom by its body (it printed
+    ``"floor / "`` for the mani-skill Fetch's wheel, 4.98 mm into the floor): a link
+    hanging 1 cm into the floor at its keyframe."""
+    path = tmp_path / "sunk.xml"
+    path.write_text(
+        '<mujoco><worldbody><body name="post"><geom type="box" size="0.05 0.05 0.2" pos="0 0 0.3"/>'
+        '<body name="link" pos="0.1 0 0.3"><joint name="hinge" axis="0 1 0" range="-1 1"/>'
+        '<geom type="capsule" size="0.02" fromto="0 0 0 0 0 -0.29"/></body></body></worldbody></mujoco>'
+    )
+    declared = {"uid": "sunk", "mjcf_path": path, "mount_pose": (0, 0, 0, 1, 0, 0, 0)}  # not lifted clear
+    result = check_keyframes(type("Sunk", (ra.Agent,), declared))
+    assert not result.passed
+    assert "deepest penetration 10.00 mm (default: floor / sunk-0/link geom 0)" in result.detail, result.detail
 
 
 def test_robots_without_a_gripper_make_no_grasp_claim() -> None:

@@ -123,6 +123,17 @@ def hold_drift(
     return worst, sag
 
 
+def contact_label(model: mujoco.MjModel, geom: int) -> str:
+    """A geom's name, or for an unnamed geom its body's name and its index there
+    (``"panda-0/panda_link6 geom 2"``): enough to tell a link pressed into the floor
+    from two links pressed into each other."""
+    name = model.geom(geom).name
+    if name:
+        return str(name)
+    body = int(model.geom_bodyid[geom])
+    return f"{model.body(body).name} geom {geom - int(model.body_geomadr[body])}"
+
+
 def check_keyframes(cls: type[Agent]) -> CheckResult:
     """Every keyframe within limits (checked with the class) and free of penetrating contacts."""
     scene = Scene(cls)
@@ -134,7 +145,8 @@ def check_keyframes(cls: type[Agent]) -> CheckResult:
             depth = -float(data.contact[i].dist)
             if depth > worst:
                 c = data.contact[i]
-                worst, where = depth, f" ({name}: {scene.model.geom(c.geom1).name} / {scene.model.geom(c.geom2).name})"
+                pair = f"{contact_label(scene.model, c.geom1)} / {contact_label(scene.model, c.geom2)}"
+                worst, where = depth, f" ({name}: {pair})"
     scene.close()
     count = len(cls.keyframe_names())
     return CheckResult(

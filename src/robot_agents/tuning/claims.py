@@ -55,13 +55,13 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
-import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
 from robot_agents.checks import (
     HOLD_TOLERANCE,
     LOAD_SETTLE_SECONDS,
+    contact_label,
     hold_action,
     hold_drift,
     keeps_targets,
@@ -188,17 +188,6 @@ class Penetration:
                 self.depth = -float(dist[deepest])
                 g1, g2 = data.contact.geom1[deepest], data.contact.geom2[deepest]
                 self.where = f"{contact_label(scene.model, g1)} / {contact_label(scene.model, g2)}"
-
-
-def contact_label(model: mujoco.MjModel, geom: int) -> str:
-    """A geom's name, or for an unnamed geom its body's name and its index there
-    (``"panda-0/panda_link6 geom 2"``): enough to tell a link pressed into the floor
-    from two links pressed into each other."""
-    name = model.geom(geom).name
-    if name:
-        return str(name)
-    body = int(model.geom_bodyid[geom])
-    return f"{model.body(body).name} geom {geom - int(model.body_geomadr[body])}"
 
 
 def _commands_motion(agent: Agent) -> bool:

@@ -267,9 +267,9 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
             if len(down) >= DOWN_MIN_POINTS:
                 rise = _centred_band(down[:, 2], spread) - 0.5 * cube_edge
             # below what of the robot moves, as it rests (an arm hanging from above)
-            moving = _robot_geom_boxes(agent, model, data, moving_only=True)
+            moving = _robot_geom_boxes(agent, model, data, fixed=False)
             rise = min(rise, float(min((lo[2] for lo, _ in moving), default=np.inf)) - LOW_GEOM_MARGIN)
-            boxes = _robot_geom_boxes(agent, model, data, fixed_only=True)
+            boxes = _robot_geom_boxes(agent, model, data, fixed=True)
         ahead_distance = UPRIGHT_AHEAD * reach
         # a robot declaring no keyframe rests as its file draws it (every joint at zero):
         # that pose says nothing of where it works (the xArm7 file folds its tool in 0.2 m
@@ -439,14 +439,15 @@ def _pressing(model: mujoco.MjModel, data: mujoco.MjData, qpos: FloatArray, robo
 
 
 def _robot_geom_boxes(
-    agent: Agent, model: mujoco.MjModel, data: mujoco.MjData, fixed_only: bool = False, moving_only: bool = False
+    agent: Agent, model: mujoco.MjModel, data: mujoco.MjData, fixed: bool | None = None
 ) -> list[tuple[FloatArray, FloatArray]]:
     """World axis-aligned boxes (lower, upper corners) of the robot's colliding geoms
-    in ``data``'s configuration; ``fixed_only``: of the bodies no joint moves (a fixed
-    robot's root and what is welded to it: its pedestal), ``moving_only``: of the others."""
+    in ``data``'s configuration; ``fixed``: ``True`` only those of the bodies no joint
+    moves (a fixed robot's root and what is welded to it: its pedestal), ``False`` only
+    the others, ``None`` all."""
     bodies = set(agent.index.subtree_bodies(agent.index.root_body_id))
-    if fixed_only or moving_only:
-        bodies = {b for b in bodies if (int(model.body_weldid[b]) == 0) == fixed_only}
+    if fixed is not None:
+        bodies = {b for b in bodies if (int(model.body_weldid[b]) == 0) == fixed}
     boxes = []
     for g in colliding_geoms(model, bodies):
         boxes.append(world_box(model, data, g))

@@ -240,6 +240,46 @@ def cmd_check(
     return 1 if failed else 0
 
 
+def cmd_tune(
+    cls: type[Agent],
+    out: TextIO,
+    joints: Sequence[str] | None = None,
+    step: float | None = None,
+    keyframe: str | None = None,
+    seconds: float = 1.0,
+    stiffness: float | None = None,
+    damping: float | None = None,
+    effort_limit: float | None = None,
+) -> int:
+    """Each joint's answer to a step of its target (robot_agents.tuning.step_response),
+    with the declared gains or with those given; exit 1 when the physics diverged."""
+    from robot_agents.tuning.step_response import step_responses
+
+    responses = step_responses(
+        cls,
+        tuple(joints) if joints else None,
+        step=step,
+        keyframe=keyframe,
+        seconds=seconds,
+        stiffness=stiffness,
+        damping=damping,
+        effort_limit=effort_limit,
+    )
+    tried = ", ".join(
+        f"{name} {value:g}"
+        for name, value in (("stiffness", stiffness), ("damping", damping), ("effort limit", effort_limit))
+        if value is not None
+    )
+    rate = round(1.0 / responses[0].physics_step)
+    out.write(
+        f"step responses of {cls.__name__} at {rate} Hz, {seconds:g} s each, from keyframe "
+        f"{keyframe or cls.keyframe_names()[0]!r}" + (f", trying {tried}" if tried else ", declared gains") + ":\n"
+    )
+    for response in responses:
+        out.write(response.line() + "\n")
+    return 1 if any(r.unstable for r in responses) else 0
+
+
 def _write_simulated_geoms(cls: type[Agent], out: TextIO) -> None:
     """How many of the scene's geoms the physics steps (robot_agents.model.physics_twin)."""
     from robot_agents.sim.scene import Scene
@@ -325,6 +365,18 @@ def build_parser() -> argparse.ArgumentParser:
         f"{DEFAULT_CONTROL_FREQ * max(substeps) / 1000:g} kHz at {DEFAULT_CONTROL_FREQ:g} Hz control; "
         "e.g. 50,100,200 for up to 4 kHz)",
     )
+    tune = sub.add_parser(
+        "tune",
+        help="each joint's answer to a step of its target, with the declared gains or with gains to try",
+    )
+    _robot_arguments(tune)
+    tune.add_argument("--joints", nargs="+", default=None, help="joint name patterns (default: every driven joint)")
+    tune.add_argument("--step", type=float, default=None, help="step of the target, rad or m (default 0.1 / 0.01)")
+    tune.add_argument("--keyframe", default=None, help="the pose stepped from (default: the robot's first keyframe)")
+    tune.add_argument("--seconds", type=float, default=1.0, help="seconds recorded after each step (default: 1)")
+    tune.add_argument("--stiffness", type=float, default=None, help="stiffness to try, N*m/rad or N/m")
+    tune.add_argument("--damping", type=float, default=None, help="damping to try, N*m*s/rad or N*s/m")
+    tune.add_argument("--effort-limit", type=float, default=None, help="effort limit to try, N*m or N")
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
@@ -361,6 +413,18 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":
             return cmd_check(args.uid, stream, args.floating, seconds, args.sweep, substeps, args.up, cls)
+        if args.command == "tune":
+            return cmd_tune(
+                cls,
+                stream,
+                args.joints,
+                args.step,
+                args.keyframe,
+                args.seconds,
+                args.stiffness,
+                args.damping,
+                args.effort_limit,
+            )
         return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")

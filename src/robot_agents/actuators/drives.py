@@ -29,7 +29,7 @@ import numpy.typing as npt
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.errors import ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.indexing import index_selector
-from robot_agents.validation import check_array
+from robot_agents.validation import check_array, check_real
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -242,6 +242,38 @@ class Drives:
         self._has_bias = bool(np.any(self._d))
         self._uses_velocity = uses_velocity
         self._uses_effort = uses_effort
+
+    def retune(
+        self,
+        columns: IntArray,
+        stiffness: float | None = None,
+        damping: float | None = None,
+        effort_limit: float | None = None,
+    ) -> None:
+        """Change the active settings of the drives ``columns`` (``None`` keeps each):
+        stiffness (N*m/rad or N/m), damping (N*m*s/rad or N*s/m), effort limit (N*m or N),
+        until the next mode activation restores the declared ones with the mode's
+        overrides. For trying gains (:mod:`robot_agents.tuning.step_response`); only PD
+        drives (MuJoCo's affine servos and explicit PD on a motor) take them."""
+        where = f"{self.owner}.retune"
+        values = {"stiffness": stiffness, "damping": damping, "effort_limit": effort_limit}
+        for field, value in values.items():
+            if value is not None:
+                check_real(value, field, where, minimum=0.0 if field != "effort_limit" else 1e-12)
+        if all(value is None for value in values.values()):
+            return
+        fixed = [c for c in columns if self.kinds[int(c)] not in (DriveKind.AFFINE, DriveKind.EXPLICIT)]
+        if fixed:
+            names = [f"{self.joint_names[int(c)]} ({self.kinds[int(c)].value})" for c in fixed]
+            raise ConfigError(
+                f"{where}: expected PD drives (affine or explicit), got {', '.join(names)}: "
+                "their gains are the MuJoCo actuator's own."
+            )
+        override = DriveOverride(self.stiffness.copy(), self.damping.copy(), self.effort_limit.copy())
+        for field, value in values.items():
+            if value is not None:
+                getattr(override, field)[columns] = float(value)
+        self.activate(override, self._uses_velocity, self._uses_effort)
 
     # -- the targets as state ----------------------------------------------------------------
     def get_target_state(self) -> dict[str, FloatArray]:

@@ -129,3 +129,12 @@ def test_the_command_line_prints_a_line_per_joint() -> None:
     assert "trying stiffness 300, damping 5" in text
     assert text.count("\n") == 2 and "panda_joint7: kp 300 kv 5 " in text
     assert main(["tune", "panda", "--joints", "panda_jiont7"], io.StringIO()) == 2
+
+
+def test_a_mimic_follower_is_stepped_through_its_leader() -> None:
+    # the WidowX 250 S's right finger follows the left one mirrored (multiplier -1)
+    left, right = step_responses("widowx250s", ".*_finger")
+    assert (left.joint, right.joint) == ("left_finger", "right_finger")
+    assert right.step == pytest.approx(-left.step, abs=1e-6) and abs(left.step) == pytest.approx(0.01, abs=1e-6)
+    for response in (left, right):
+        assert abs(response.final_error) < 1e-3 * abs(response.step), response.line()

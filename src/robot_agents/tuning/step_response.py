@@ -263,10 +263,11 @@ def step_responses(
         scene.close()
 
 
-def _steppable_joints(agent: Agent) -> dict[str, tuple[str, Controller, int]]:
-    """Joint -> (part, its controller, the action column commanding it) for every joint
-    the step mode commands by absolute position (a mimic follower: its leader's column)."""
-    found: dict[str, tuple[str, Controller, int]] = {}
+def _steppable_joints(agent: Agent) -> dict[str, tuple[str, Controller, int, str]]:
+    """Joint -> (part, its controller, the action column commanding it, the joint that
+    column sets) for every joint the step mode commands by absolute position (a mimic
+    follower: its leader's column and the leader)."""
+    found: dict[str, tuple[str, Controller, int, str]] = {}
     for part, controller in agent.controller.parts.items():
         config = controller.config
         if not isinstance(config, PDJointPosConfig) or config.use_delta:
@@ -274,14 +275,14 @@ def _steppable_joints(agent: Agent) -> dict[str, tuple[str, Controller, int]]:
         names = config.joint_names
         per_joint = not isinstance(config, PDJointPosMimicConfig)
         for k, joint in enumerate(names):
-            found[joint] = (part, controller, k if per_joint else 0)
+            found[joint] = (part, controller, k, joint) if per_joint else (part, controller, 0, names[0])
     return found
 
 
 def _record(
     scene: Scene,
     agent: Agent,
-    steppable: tuple[str, Controller, int],
+    steppable: tuple[str, Controller, int, str],
     joint: str,
     step: float | None,
     keyframe: str | None,
@@ -289,10 +290,12 @@ def _record(
     settle_seconds: float,
     column: int,
 ) -> StepResponse:
-    part, controller, action_column = steppable
+    part, controller, action_column, commanded = steppable
     drives, model = agent.drives, scene.world.model
     data = scene.world.datas[0]
-    joint_id, qadr, dadr = int(drives.joint_ids[column]), int(drives.qpos_adr[column]), int(drives.dof_adr[column])
+    qadr, dadr = int(drives.qpos_adr[column]), int(drives.dof_adr[column])
+    # the joint the action column sets: the stepped one, or its leader
+    joint_id = int(drives.joint_ids[drives.columns([commanded], "step_responses")[0]])
     slide = int(model.jnt_type[joint_id]) == int(mujoco.mjtJoint.mjJNT_SLIDE)
     size = float(step) if step is not None else (SLIDE_STEP if slide else HINGE_STEP)
     scene.reset(keyframes=keyframe)
@@ -311,7 +314,7 @@ def _record(
             break
     else:
         raise ConfigError(
-            f"step_responses: {joint}'s target {before:.4g} has no room for a step of {abs(size):g} either way "
+            f"step_responses: {commanded}'s target {before:.4g} has no room for a step of {abs(size):g} either way "
             f"within [{low:.4g}, {high:.4g}] (its range and its action bounds in {STEP_MODE}); pass a smaller step."
         )
     raw[action_column] = before + signed

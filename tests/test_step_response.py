@@ -138,3 +138,37 @@ def test_a_mimic_follower_is_stepped_through_its_leader() -> None:
     assert right.step == pytest.approx(-left.step, abs=1e-6) and abs(left.step) == pytest.approx(0.01, abs=1e-6)
     for response in (left, right):
         assert abs(response.final_error) < 1e-3 * abs(response.step), response.line()
+
+
+#: Two rotors on vertical axes, the second turning twice as far as the first (a joint
+#: equality), only the first driven.
+GEARED_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base" pos="0 0 0.5">
+  <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+  <body name="first"><joint name="lead" axis="0 0 1" range="-3 3"/>
+    <inertial pos="0 0 0" mass="2" diaginertia="0.5 0.5 0.5"/></body>
+  <body name="second" pos="0.3 0 0"><joint name="follow" axis="0 0 1" range="-6 6"/>
+    <inertial pos="0 0 0" mass="1" diaginertia="0.25 0.25 0.25"/></body>
+</body></worldbody>
+<equality><joint joint1="follow" joint2="lead" polycoef="0 2 0 0 0" solref="0.004 1"/></equality></mujoco>"""
+
+
+def test_a_joint_equality_follower_counts_in_what_the_drive_moves(tmp_path: Path) -> None:
+    path = tmp_path / "geared.xml"
+    path.write_text(GEARED_MJCF)
+
+    class Geared(ra.Agent):
+        uid = ""
+        mjcf_path = path
+        sim_freq = 1000
+        actuators: ClassVar = (ra.PDActuator(joints="lead", stiffness=STIFFNESS, damping=DAMPING, effort_limit=1e3),)
+        keyframes: ClassVar = {"rest": ra.Keyframe(qpos={"lead": 0.0, "follow": 0.0})}
+
+    (response,) = step_responses(Geared, step=0.1, seconds=2.0)
+    inertia = 0.5 + 2**2 * 0.25  # c^T M c with c = (1, 2)
+    assert response.coupled == ("lead", "follow")
+    assert response.inertia == pytest.approx(inertia, rel=1e-9) and response.stiffness == STIFFNESS
+    zeta = DAMPING / (2 * math.sqrt(STIFFNESS * inertia))
+    assert response.damping_ratio == pytest.approx(zeta, rel=1e-9)
+    omega = math.sqrt(STIFFNESS / inertia)
+    assert response.overshoot == pytest.approx(response.predicted_overshoot, abs=0.02)
+    assert peak_time(response) == pytest.approx(math.pi / (omega * math.sqrt(1 - zeta**2)), abs=5e-3)

@@ -62,9 +62,15 @@ class StepResponse:
     Attributes:
         joint: the joint (its name in the robot's definition).
         start: its settled position before the step (rad or m); target: the target after it.
-        stiffness, damping, effort_limit, velocity_limit: the drive's settings in effect
-            (joint units; ``damping`` includes the joint's own ``dof_damping``; ``inf``: none).
-        inertia: the joint's inertia at the start, armature included (kg*m^2 or kg).
+        stiffness, damping: of the drives moving the joint, in effect (joint units;
+            ``damping`` includes the joints' own ``dof_damping``); effort_limit,
+            velocity_limit: the joint's drive's (``inf``: none).
+        inertia: what the joint moves at the start, armature included (kg*m^2 or kg).
+        coupled: the joints moving with it through joint equalities (mimic fingers, a
+            telescope's segments), itself included, where there are others; ``stiffness``,
+            ``damping`` and ``inertia`` are then the coupled set's seen from the joint,
+            the equalities taken as rigid: with ``c`` each joint's motion per unit of
+            this one's, ``I = c^T M c``, ``kp = sum c_i^2 kp_i``, ``kv = sum c_i^2 kv_i``.
         physics_step: the step ``dt`` (s).
         times: ``(T,)`` s after the step; positions ``(T,)`` rad or m; velocities ``(T,)``;
         efforts: ``(T,)`` the drive's force on the joint (N*m or N).
@@ -85,6 +91,7 @@ class StepResponse:
     velocities: FloatArray
     efforts: FloatArray
     unstable: bool
+    coupled: tuple[str, ...] = ()
 
     @property
     def step(self) -> float:
@@ -179,8 +186,9 @@ class StepResponse:
         limit = f"/{self.effort_limit:.4g}" if math.isfinite(self.effort_limit) else ""
         speed = f"/{self.velocity_limit:.3g}" if math.isfinite(self.velocity_limit) else ""
         zeta = self.damping_ratio
+        moving = f" (with {', '.join(j for j in self.coupled if j != self.joint)})" if self.coupled else ""
         return (
-            f"{self.joint}: kp {self.stiffness:.4g} kv {self.damping:.4g} I {self.inertia:.3g} "
+            f"{self.joint}{moving}: kp {self.stiffness:.4g} kv {self.damping:.4g} I {self.inertia:.3g} "
             f"(f {self.natural_frequency:.3g} Hz, zeta {zeta:.2f}, stability {self.stability_share:.2f}) | "
             f"step {self.step:+.3g}: rise {seconds(self.rise_time)}, overshoot {self.overshoot * 100:.1f}% "
             f"(model {self.predicted_overshoot * 100:.1f}%), settled {seconds(self.settling_time)}, "
@@ -263,6 +271,29 @@ def step_responses(
         scene.close()
 
 
+def coupled_joints(model: mujoco.MjModel, joint: int) -> dict[int, float]:
+    """Joint id -> how far it moves per unit of ``joint``'s motion, for ``joint`` (1) and
+    every joint tied to it through active joint equalities (MuJoCo's ``polycoef``: the
+    linear term; transitively, both ways)."""
+    ratios = {joint: 1.0}
+    links = [
+        (int(model.eq_obj1id[e]), int(model.eq_obj2id[e]), float(model.eq_data[e, 1]))
+        for e in range(model.neq)
+        if int(model.eq_type[e]) == int(mujoco.mjtEq.mjEQ_JOINT) and model.eq_active0[e] and model.eq_obj2id[e] >= 0
+    ]
+    grown = True
+    while grown:
+        grown = False
+        for follower, leader, slope in links:  # follower - follower_0 = slope * (leader - leader_0) + ...
+            if leader in ratios and follower not in ratios:
+                ratios[follower] = slope * ratios[leader]
+                grown = True
+            elif follower in ratios and leader not in ratios and slope != 0.0:
+                ratios[leader] = ratios[follower] / slope
+                grown = True
+    return ratios
+
+
 def _steppable_joints(agent: Agent) -> dict[str, tuple[str, Controller, int, str]]:
     """Joint -> (part, its controller, the action column commanding it, the joint that
     column sets) for every joint the step mode commands by absolute position (a mimic
@@ -336,15 +367,24 @@ def _record(
     if not np.all(np.isfinite(positions)):
         raise PhysicsError(f"step_responses: {joint}'s record is not finite at {scene.sim_freq} Hz.")
     dt = float(model.opt.timestep)
+    # the joints moving with this one through joint equalities (mimic fingers, a telescope)
+    coupling = coupled_joints(model, int(drives.joint_ids[column]))
+    ratios = np.zeros(model.nv)  # each dof's motion per unit of this joint's
+    for j, ratio in coupling.items():
+        ratios[int(model.jnt_dofadr[j])] = ratio
+    coupled_drive = ratios[drives.dof_adr] ** 2  # (n,) weights of the robot's drives
     return StepResponse(
         joint=joint,
         start=start,
         target=target,
-        stiffness=float(drives.stiffness[column]),
-        damping=float(drives.damping[column]) + float(model.dof_damping[dadr]),
+        stiffness=float(coupled_drive @ drives.stiffness),
+        damping=float(coupled_drive @ drives.damping + ratios**2 @ model.dof_damping),
         effort_limit=float(drives.effort_limit[column]),
         velocity_limit=float(drives.velocity_limit[column]),
-        inertia=float(mass[dadr, dadr]),
+        inertia=float(ratios @ mass @ ratios),
+        coupled=tuple(str(model.joint(j).name)[len(agent.prefix) :] for j in sorted(coupling))
+        if len(coupling) > 1
+        else (),
         physics_step=dt,
         times=np.arange(1, count + 1, dtype=np.float64) * dt,
         positions=positions,

@@ -80,6 +80,49 @@ def test_jacobian_matches_finite_differences(uid: str, frame: str) -> None:
     scene.close()
 
 
+@pytest.mark.parametrize(
+    ("uid", "frame", "reference"),
+    [
+        ("panda", "panda_hand_tcp", "panda_link4"),  # a reference the first four joints turn
+        ("panda", "panda_hand_tcp", "panda_hand_tcp"),  # itself: nothing moves
+        ("fetch", "gripper_link", "torso_lift_link"),  # the base drives and turns it, the torso lifts it
+    ],
+)
+def test_a_jacobian_relative_to_a_moving_frame_is_the_derivative_of_the_relative_pose(
+    uid: str, frame: str, reference: str
+) -> None:
+    """``frame_jacobian(relative_to=...)`` against central differences of
+    ``frame_pose(relative_to=...)`` (rotation as a rotation vector in the reference's
+    axes), at random configurations of two envs."""
+    scene = ra.Scene(uid, num_envs=2)
+    agent = scene.agents[0]
+    scene.reset()
+    rng = np.random.default_rng(2)
+    limits = agent.qpos_limits
+    low, high = (
+        np.where(np.isfinite(limits[:, 0]), limits[:, 0], -1.0),
+        np.where(np.isfinite(limits[:, 1]), limits[:, 1], 1.0),
+    )
+    qpos = rng.uniform(low + 0.1 * (high - low), high - 0.1 * (high - low), (2, agent.dof))
+    jacobian = agent.frame_jacobian(frame, qpos, relative_to=reference)
+    eps = 1e-6
+    numeric = np.zeros_like(jacobian)
+    for j in range(agent.dof):
+        plus, minus = qpos.copy(), qpos.copy()
+        plus[:, j] += eps
+        minus[:, j] -= eps
+        pose_plus = agent.frame_pose(frame, plus, relative_to=reference)
+        pose_minus = agent.frame_pose(frame, minus, relative_to=reference)
+        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
+        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
+    np.testing.assert_allclose(jacobian, numeric, atol=1e-5)
+    if frame == reference:
+        assert not np.any(jacobian)
+    else:
+        assert np.abs(jacobian).max() > 0.5
+    scene.close()
+
+
 def test_kinematics_has_no_side_effects_and_poses_are_relative() -> None:
     scene = ra.Scene("panda", num_envs=2, robot_poses=[YAWED_MOUNT])
     agent = scene.agents[0]

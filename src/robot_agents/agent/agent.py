@@ -208,7 +208,9 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity, one
         column per joint of the robot (a joint's own column: a leader's does not include
         the joints that follow it through equalities; add ``c1`` times theirs for
-        ``follower = c0 + c1 * leader``). ``qpos`` as in :meth:`frame_pose`."""
+        ``follower = c0 + c1 * leader``). ``qpos`` as in :meth:`frame_pose`;
+        ``relative_to``: world axes, or the derivative of the pose relative to ``"root"``
+        or a frame (in its axes; a frame the joints move too: its own motion taken out)."""
         where = f"{type(self).__name__}.frame_jacobian"
         frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
         return self.frames.jacobian(frame, reference, self.state.configurations(qpos, where))

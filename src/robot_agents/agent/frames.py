@@ -130,10 +130,23 @@ class RobotFrames:
         return relative_pose(poses[:, 0], poses[:, 1])
 
     def jacobian(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:
-        """Jacobian ``(num_envs, 6, nv)`` over the robot's joints, in world or ``reference`` axes."""
+        """Jacobian ``(num_envs, 6, nv)`` over the robot's joints of ``frame``'s pose in
+        world axes, or relative to ``reference`` (in its axes; the derivative of
+        :meth:`pose` relative to it, a reference the joints move included):
+
+            J_v = R^T (J_v,frame - J_v,ref + [p - p_ref]x J_w,ref),   J_w = R^T (J_w,frame - J_w,ref)
+
+        with ``R``, ``p_ref`` the reference's world orientation and origin, ``p`` the
+        frame's origin."""
         jacobian = self.kinematics.jacobian(configurations, frame, self.index.dof_adr)
         if reference is None:
             return jacobian
-        rotation = np.swapaxes(quat_to_matrix(self.kinematics.pose(configurations, reference)[:, 3:]), 1, 2)
-        rotated: FloatArray = np.concatenate((rotation @ jacobian[:, :3], rotation @ jacobian[:, 3:]), axis=1)
-        return rotated
+        reference_pose = self.kinematics.pose(configurations, reference)
+        rotation = np.swapaxes(quat_to_matrix(reference_pose[:, 3:]), 1, 2)
+        moving = self.kinematics.jacobian(configurations, reference, self.index.dof_adr)
+        linear, angular = jacobian[:, :3] - moving[:, :3], jacobian[:, 3:] - moving[:, 3:]
+        if np.any(moving[:, 3:]):  # the reference turns with the joints: the frame's origin swings with it
+            offset = self.kinematics.pose(configurations, frame)[:, :3] - reference_pose[:, :3]
+            linear = linear + np.cross(offset[:, :, None], moving[:, 3:], axis=1)
+        relative: FloatArray = np.concatenate((rotation @ linear, rotation @ angular), axis=1)
+        return relative

@@ -119,7 +119,7 @@ def test_reset_noise_keeps_ball_quaternions_unit(ball_cls: type[ra.Agent]) -> No
         ({"elbw": 0.1}, "unknown joint (pattern) 'elbw'. Did you mean 'elbow'"),
         ({"elbow": 2.5}, "joint 'elbow' at 2.5 is outside its limits [-2, 2]"),
         ({"shoulder": 1.0}, "joint 'shoulder' is a ball joint; give its quaternion"),
-        ({"shoulder": (1.0, 1.0, 0.0, 0.0)}, "needs a unit quaternion"),
+        ({"shoulder": (0.0, 0.0, 0.0, 0.0)}, "with a unit quaternion, got [0.0, 0.0, 0.0, 0.0] in env 0 (zero)"),
         ({"finger_.*": (0.01, 0.02, 0.03)}, "matches 2 joint(s) (finger_a, finger_b) with 2 values; got 3"),
         ({"elbow": 0.1, "elb.*": 0.2}, "joint 'elbow' is named by both 'elbow' and 'elb.*'"),
         ((0.0, 0.1), "expected 7 joint positions"),
@@ -130,3 +130,40 @@ def test_bad_keyframe_fails_at_class_check_with_its_name(ball_cls: type[ra.Agent
     with pytest.raises(ra.RobotAgentsError) as err:
         cls.check()
     assert "BadBall.keyframes['oops']" in str(err.value) and fragment in str(err.value)
+
+
+@pytest.mark.filterwarnings("ignore:.*touch at the default keyframe")
+def test_a_ball_quaternion_of_any_length_is_normalized_and_its_range_checked(tmp_path: Path) -> None:
+    """As documented (defining-a-robot.md): ``(0.995, 0.0998, 0, 0)`` (norm 0.999993)
+    is taken and normalized, like a reset's ``qpos`` and a keyframe's ``base_quat``; a
+    limited ball joint turned beyond its range is refused in a keyframe and in a reset."""
+    path = tmp_path / "ball.xml"
+    path.write_text(BALL_MJCF.replace('type="ball"/>', 'type="ball" range="0 1.5" limited="true"/>'))
+    frames = {
+        "documented": ra.Keyframe(qpos={"shoulder": (0.995, 0.0998, 0, 0)}, qvel={"elbow": 0.25}),
+        "long": ra.Keyframe(qpos={"shoulder": (2.0, 0.0, 0.0, 0.0)}),
+    }
+    cls = make_pendulum_class(
+        path,
+        uid="ball_arm",
+        actuators=(ra.PDActuator(joints="elbow|finger_a", stiffness=50.0, damping=5.0),),
+        parts=(),
+        control_modes={"m": ra.PDJointPosConfig(joint_names=("elbow", "finger_a"), normalize_action=False)},
+        keyframes=frames,
+    )
+    scene = ra.Scene(cls)
+    agent = scene.agents[0]
+    scene.reset(keyframes="documented")
+    norm = math.hypot(0.995, 0.0998)
+    np.testing.assert_allclose(agent.qpos[0, :4], [0.995 / norm, 0.0998 / norm, 0.0, 0.0], atol=1e-15)
+    scene.reset(keyframes="long")
+    np.testing.assert_array_equal(agent.qpos[0, :4], [1.0, 0.0, 0.0, 0.0])
+    half_turn = np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]])  # pi rad about x: beyond 1.5
+    before = agent.qpos.copy()
+    with pytest.raises(ra.StateError, match=r"ball joint 'shoulder' turned 3\.14159 rad .* beyond its limit 1\.5 rad"):
+        agent.reset(qpos=half_turn)
+    np.testing.assert_array_equal(agent.qpos, before)  # nothing changed
+    scene.close()
+    bad = type("TurnedBall", (cls,), {"keyframes": {"over": ra.Keyframe(qpos={"shoulder": (0.0, 1.0, 0.0, 0.0)})}})
+    with pytest.raises(ra.ConfigError, match=r"TurnedBall.keyframes\['over'\]: ball joint 'shoulder' turned 3\.14159"):
+        bad.check()

@@ -6,7 +6,7 @@ A keyframe names joints by pattern::
 
 Each pattern (a regular expression over the robot's joint names, whole-name match)
 must match at least one joint; a scalar applies to every matched joint, a tuple gives
-the matched joints' positions in model order (4 numbers, a unit quaternion
+the matched joints' positions in model order (4 numbers, a quaternion normalized
 ``w, x, y, z``, for a ball joint). Joints not named take the model's default (the
 file's own keyframe where it has one); followers of joint couplings (mimic fingers,
 linkages) that are not named are filled from their leaders. A positional tuple over
@@ -26,7 +26,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import as_patterns, match
-from robot_agents.validation import check_quat, outside_limits
+from robot_agents.validation import ball_angles, check_quat, check_quat_rows, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.agent.index import RobotIndex
@@ -134,7 +134,8 @@ def resolve_keyframe(
     Raises:
         ConfigError / UnknownNameError: a pattern matches no joint, two patterns name one
             joint, a value has the wrong size, a position is outside its joint's limits,
-            or a ball joint's quaternion is not a unit quaternion. The message names
+            or a ball joint's quaternion is zero or turned beyond its range (a non-zero
+            one is normalized, in the returned ``qpos``). The message names
             ``where`` (the keyframe).
     """
     if not isinstance(frame, Keyframe):
@@ -213,12 +214,14 @@ def _check_limits(qpos: FloatArray, index: RobotIndex, where: str) -> None:
     for joint in index.joints:
         start = joint.qpos_start
         if joint.kind.value == "ball":
+            # any non-zero length, normalized (as a reset's qpos and a keyframe's base_quat)
             quat = qpos[start : start + 4]
-            norm = float(np.linalg.norm(quat))
-            if abs(norm - 1.0) > 1e-6:
+            quat /= check_quat_rows(quat[None], f"ball joint {joint.name!r} (w, x, y, z)", where, ConfigError)[0]
+            angle = float(ball_angles(quat[None])[0])
+            if joint.limited and angle > joint.range[1] + 1e-9:
                 raise ConfigError(
-                    f"{where}: ball joint {joint.name!r} needs a unit quaternion (w, x, y, z), got {quat.tolist()} "
-                    f"(norm {norm:.6g})."
+                    f"{where}: ball joint {joint.name!r} turned {angle:.6g} rad from its reference, beyond its "
+                    f"limit {joint.range[1]:.6g} rad."
                 )
             continue
         low, high = index.qpos_limits[start]

@@ -179,6 +179,13 @@ def check_quat_rows(quats: FloatArray, what: str, where: str, error: type[RobotA
     return norms
 
 
+def ball_angles(quats: FloatArray) -> FloatArray:
+    """Rotation angles (rad, ``(n,)``) of unit quaternion rows ``(n, 4)`` ``(w, x, y, z)``:
+    what a ball joint's range bounds (MuJoCo: the largest rotation from the reference)."""
+    angles: FloatArray = 2.0 * np.arccos(np.clip(np.abs(quats[:, 0]), 0.0, 1.0))
+    return angles
+
+
 def outside_limits(
     values: npt.ArrayLike, low: npt.ArrayLike, high: npt.ArrayLike, margin: float = LIMIT_MARGIN
 ) -> npt.NDArray[np.bool_]:

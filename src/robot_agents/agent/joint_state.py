@@ -19,7 +19,7 @@ import numpy.typing as npt
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.errors import StateError
 from robot_agents.limits import check_speeds
-from robot_agents.validation import POSE_AXES, check_env_ids, check_quat_rows, outside_limits
+from robot_agents.validation import POSE_AXES, ball_angles, check_env_ids, check_quat_rows, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.keyframe import ResolvedKeyframe
@@ -72,6 +72,7 @@ class JointState:
         self._free_qpos = np.arange(free.qpos_adr, free.qpos_adr + 7) if free is not None else np.zeros(0, np.int64)
         self._free_dofs = np.arange(free.dof_adr, free.dof_adr + 6) if free is not None else np.zeros(0, np.int64)
         self._balls = [(j.qpos_start, j.dof_start) for j in index.joints if j.kind is JointKind.BALL]
+        self._limited_balls = [j for j in index.joints if j.kind is JointKind.BALL and j.limited]
 
     # -- input checks -----------------------------------------------------------------------
     def env_ids(self, env_ids: Any, where: str) -> IntArray:
@@ -101,6 +102,15 @@ class JointState:
         self.check_within_limits(qpos, np.arange(self.index.nq), where)
         for start, norms in self._ball_norms(qpos, where):
             qpos[:, start : start + 4] /= norms[:, None]
+        for joint in self._limited_balls:
+            angles = ball_angles(qpos[:, joint.qpos_start : joint.qpos_start + 4])
+            beyond = np.flatnonzero(angles > joint.range[1] + 1e-9)
+            if len(beyond):
+                env = int(beyond[0])
+                raise StateError(
+                    f"{where}: ball joint {joint.name!r} turned {angles[env]:.6g} rad from its reference in env "
+                    f"{env}, beyond its limit {joint.range[1]:.6g} rad."
+                )
         return qpos
 
     def check_within_limits(self, rows: FloatArray, entries: IntArray, where: str) -> None:

@@ -167,3 +167,15 @@ def test_a_ball_quaternion_of_any_length_is_normalized_and_its_range_checked(tmp
     bad = type("TurnedBall", (cls,), {"keyframes": {"over": ra.Keyframe(qpos={"shoulder": (0.0, 1.0, 0.0, 0.0)})}})
     with pytest.raises(ra.ConfigError, match=r"TurnedBall.keyframes\['over'\]: ball joint 'shoulder' turned 3\.14159"):
         bad.check()
+
+
+def test_a_base_pose_on_a_fixed_root_robot_is_not_ignored_in_silence() -> None:
+    """A keyframe's ``base_pos`` / ``base_quat`` move a free root; a robot bolted to its
+    mount ignores them, and the class check says so (a warning: a legged robot's variant
+    hung up by its root keeps the keyframes written for it standing)."""
+    from robot_agents.robots.panda.panda import Panda
+
+    for base in ({"base_pos": (0.0, 0.0, 1.0)}, {"base_quat": (0.0, 0.0, 0.0, 1.0)}):
+        raised = type("RaisedPanda", (Panda,), {"keyframes": {"up": ra.Keyframe(qpos={"panda_joint1": 0.0}, **base)}})
+        with pytest.warns(RuntimeWarning, match=r"RaisedPanda.keyframes\['up'\]: base_pos .* they are ignored"):
+            raised.check()

@@ -186,6 +186,18 @@ def test_gripper_positions_take_one_value_or_one_per_joint() -> None:
 
     assert TwoValues.check().parts[0].closed == (0.0, 0.0)
 
+    class PastTheStop(PandaHand):  # the fingers' range is [0, 0.04] m
+        parts = (dataclasses.replace(PANDA_GRIPPER, open=0.08),)
+
+    with pytest.raises(
+        ra.ConfigError,
+        match=r"'gripper'\.open: joint 'panda_finger_joint1' at 0\.08 is outside its limits \[0, 0\.04\]",
+    ):
+        PastTheStop.check()
+    for field, value in (("squeeze", -0.01), ("tolerance", math.nan), ("closed", (0.0, math.inf))):
+        with pytest.raises(ra.ConfigError, match=field):
+            dataclasses.replace(PANDA_GRIPPER, **{field: value})
+
 
 def test_position_modes_of_a_short_arm_solve_for_position_alone(torso_file: Path) -> None:
     """A 3-joint arm cannot hold its tool's orientation while it moves sideways: with

@@ -211,3 +211,82 @@ def test_contact_softness_of_a_material_is_checked() -> None:
         ra.FrictionMaterial(solref=(True, 1.0))  # type: ignore[arg-type]
     direct = ra.FrictionMaterial(solref=[-5000, -50], solimp=np.array([0.9, 0.99, 0.002, 0.4, 3]))  # type: ignore[arg-type]
     assert direct.solref == (-5000.0, -50.0) and direct.solimp == (0.9, 0.99, 0.002, 0.4, 3.0)
+
+
+BALL_ARM_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base" pos="0 0 1">
+  <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+  <body name="arm"><joint name="shoulder" type="ball"/>
+    <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.02" mass="1"/>
+    <body name="fore" pos="0 0 -0.3"><joint name="elbow" axis="0 1 0" range="-2 2"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.5"/></body></body>
+</body></worldbody></mujoco>"""
+
+
+def test_declarations_of_the_wrong_type_or_value_fail_at_the_class_check(tmp_path: Path) -> None:
+    """Each a ConfigError naming the declaration, at construction or at ``check()``, not
+    a TypeError from inside, nor MuJoCo's compiler later."""
+    from robot_agents.robots.panda.panda import Panda
+
+    with pytest.raises(ConfigError, match=r"PDActuator\.joints: expected a joint name pattern .* got 3"):
+        ra.PDActuator(joints=3, stiffness=1.0)  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=r"PDActuator\.effort_limit: expected values > 0"):
+        ra.PDActuator(joints="a", stiffness=1.0, effort_limit=0.0)
+    with pytest.raises(ConfigError, match=r"VelocityActuator\.velocity_limit: expected values > 0"):
+        ra.VelocityActuator(joints="a", damping=1.0, velocity_limit=(1.0, 0.0))
+    cases: list[tuple[dict[str, Any], str]] = [
+        ({"control_modes": {"m": 3}}, r"X\.control_modes\['m'\]: expected a ControllerConfig or a non-empty dict"),
+        ({"control_modes": {"m": {}}}, r"X\.control_modes\['m'\]: expected a ControllerConfig or a non-empty dict"),
+        ({"control_modes": [1]}, r"X\.control_modes: expected a dict"),
+        ({"default_control_mode": 3}, r"X\.default_control_mode: expected a mode name \(str\) or None, got 3"),
+        ({"keyframes": {"": ra.Keyframe(qpos={"panda_joint1": 0.0})}}, r"X\.keyframes: expected non-empty names"),
+    ]
+    for attrs, message in cases:
+        with pytest.raises(ConfigError, match=message):
+            type("X", (Panda,), attrs).check()
+    path = tmp_path / "ball_arm.xml"
+    path.write_text(BALL_ARM_MJCF)
+    ball_driven = make_pendulum_class(
+        path, uid="ball_driven", actuators=(ra.PDActuator(joints="shoulder|elbow", stiffness=10.0),), parts=()
+    )
+    with pytest.raises(ConfigError, match=r"claims joint 'shoulder', a ball joint: a drive needs a hinge or a slide"):
+        ball_driven.check()
+
+
+ARM3_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
+  <geom type="box" size="0.05 0.05 0.05"/>
+  <body name="link1" pos="0 0 0.1"><joint name="j1" axis="0 0 1" range="-3 3"/>
+    <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.03"/>
+    <body name="link2" pos="0 0 0.3"><joint name="j2" axis="0 1 0" range="-2 2"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="flange" pos="0.3 0 0"/></body></body>
+</body></worldbody></mujoco>"""
+
+
+def test_mode_settings_fail_when_declared_not_when_the_mode_is_first_used(tmp_path: Path) -> None:
+    """Task-space and joint-mode settings are checked when they are made or when the
+    class is checked (``register_agent``), not at a later ``set_control_mode``."""
+    box = ra.WorkspaceBox((-1, -1, 0), (1, 1, 1.5))
+    with pytest.raises(ConfigError, match=r"TaskSpace\.max_translation: expected a finite number > 0"):
+        ra.TaskSpace(position_bounds=box, max_translation=-0.1)
+    with pytest.raises(ConfigError, match=r"JointGroup: expected max_delta to be a finite number"):
+        ra.JointGroup(joint_names=("a",), max_delta=-1.0)
+    with pytest.raises(ConfigError, match=r"JointGroup\.joint_names: expected a non-empty tuple"):
+        ra.JointGroup(joint_names=())
+    with pytest.raises(ConfigError, match=r"expected lower <= upper for every joint"):
+        ra.PDJointPosConfig(joint_names=("a", "b"), lower=1.0, upper=-1.0, use_delta=True)
+    with pytest.raises(ConfigError, match=r"lower: expected a number or 2 \(one per joint\)"):
+        ra.PDJointPosConfig(joint_names=("a", "b"), lower=(-1, -1, -1), upper=1.0, use_delta=True)
+    with pytest.raises(ConfigError, match=r"expected vel_lower <= vel_upper"):
+        ra.PDJointPosVelConfig(joint_names=("a",), vel_lower=1.0, vel_upper=0.0)
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM3_MJCF)
+
+    def arm(task_space: ra.TaskSpace, *end_effectors: ra.EndEffector) -> type[ra.Agent]:
+        part = ra.Arm(name="arm", joints="j.", end_effectors=end_effectors, task_space=task_space)
+        return type("Arm3", (ra.Agent,), {"uid": "", "mjcf_path": path, "parts": (part,)})
+
+    misnamed = arm(ra.TaskSpace(position_bounds=box, end_effector="tpc"), ra.EndEffector("flange", name="tcp"))
+    with pytest.raises(ra.UnknownNameError, match=r"task_space: unknown end effector 'tpc'\. Did you mean 'tcp'"):
+        misnamed.check()
+    with pytest.raises(ConfigError, match=r"end-effector modes need an end effector"):
+        arm(ra.TaskSpace(position_bounds=box)).check()

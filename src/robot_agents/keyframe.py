@@ -17,6 +17,7 @@ quaternions; robots resolve every keyframe when they are checked or registered.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -72,7 +73,8 @@ class Keyframe:
             is not part of it: that is ``base_pos`` / ``base_quat``.
         qvel: joint velocities, by pattern or positional over ``qvel``; zeros when omitted.
         base_pos: root position (m), relative to where the scene mounts the robot.
-            Applied to free-root robots on reset; a fixed-root robot stays on its mount.
+            For free-root robots; a fixed-root robot stays on its mount (placed with the
+            scene's ``robot_poses`` or its ``mount_pose``) and ignores it, with a warning.
         base_quat: root orientation as a unit quaternion ``(w, x, y, z)``, relative to
             the mount's orientation.
     """
@@ -125,6 +127,10 @@ def default_qpos(index: RobotIndex) -> FloatArray:
     return default
 
 
+#: A keyframe's base pose when it sets none: at the mount, unturned.
+IDENTITY_BASE = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+
+
 def resolve_keyframe(
     frame: Keyframe, index: RobotIndex, where: str, default: FloatArray | None = None
 ) -> ResolvedKeyframe:
@@ -149,6 +155,15 @@ def resolve_keyframe(
     )
     _check_limits(qpos, index, where)
     base = np.array([*frame.base_pos, *frame.base_quat], dtype=np.float64)
+    if index.free_joint is None and not np.array_equal(base, IDENTITY_BASE):
+        # not an error: a legged robot's variant with its root fixed (hung up to test its
+        # legs) keeps the keyframes written for it standing
+        warnings.warn(
+            f"{where}: base_pos {frame.base_pos} / base_quat {frame.base_quat} place a free root; this robot's root "
+            "is fixed and stays where the scene mounts it (robot_poses, mount_pose): they are ignored.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
     return ResolvedKeyframe(qpos, qvel, base)
 
 

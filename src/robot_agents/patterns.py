@@ -19,7 +19,10 @@ Patterns = str | tuple[str, ...]
 
 def as_patterns(value: Patterns | Sequence[str], where: str) -> tuple[str, ...]:
     """``value`` as a non-empty tuple of valid regular expressions."""
-    patterns = (value,) if isinstance(value, str) else tuple(value)
+    try:
+        patterns = (value,) if isinstance(value, str) else tuple(value)
+    except TypeError:  # not a sequence (a number, None)
+        patterns = ()
     if not patterns or not all(isinstance(p, str) and p for p in patterns):
         raise ConfigError(f"{where}: expected a joint name pattern or a tuple of them, got {value!r}.")
     for pattern in patterns:

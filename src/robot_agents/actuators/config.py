@@ -77,6 +77,13 @@ class ActuatorConfig:
         object.__setattr__(self, "joints", as_patterns(self.joints, f"{owner}.joints"))
         for name in ("effort_limit", "velocity_limit", "armature", "friction", "stiffness", "damping"):
             _check_per_joint(owner, name, getattr(self, name, None))
+        for name in ("effort_limit", "velocity_limit"):
+            value = getattr(self, name)
+            if value is not None and np.any(np.asarray(value, dtype=np.float64) <= 0.0):
+                raise ConfigError(
+                    f"{owner}.{name}: expected values > 0 (a zero limit leaves the drive nothing; None: unlimited), "
+                    f"got {value!r}."
+                )
 
     @property
     def label(self) -> str:

@@ -233,8 +233,14 @@ def apply_actuators(
         [(d.label, d.joints) for d in adopted], file_driven, f"{where}.actuators", "joint with a file actuator"
     )
     claimed_by: dict[str, ActuatorConfig] = {}
+    driveable = (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
     for decl, hits in zip(declared, claims, strict=True):
         for i in hits:
+            if joints[i].type not in driveable:
+                raise ConfigError(
+                    f"{where}.actuators: {decl.label} claims joint {names[i]!r}, a ball joint: a drive needs a hinge "
+                    "or a slide (one degree of freedom); leave it out of the pattern (a ball joint is passive)."
+                )
             if names[i] in on_joint:
                 raise ConfigError(
                     f"{where}.actuators: {decl.label} claims joint {names[i]!r}, which the model file already drives "

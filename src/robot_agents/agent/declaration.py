@@ -56,7 +56,7 @@ from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
 from robot_agents.sensors.touch import TouchSensorConfig
-from robot_agents.validation import check_pose
+from robot_agents.validation import check_pose, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.agent.definition import AgentDefinition
@@ -222,8 +222,24 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     if not isinstance(cls.keyframes, Mapping):
         raise ConfigError(f"{name}.keyframes: expected a dict of name -> Keyframe, got {cls.keyframes!r}.")
     for key, frame in cls.keyframes.items():
+        if not isinstance(key, str) or not key:
+            raise ConfigError(f"{name}.keyframes: expected non-empty names (str), got {key!r}.")
         if not isinstance(frame, Keyframe):
             raise ConfigError(f"{name}.keyframes[{key!r}]: expected a Keyframe, got {frame!r}.")
+    if not isinstance(cls.control_modes, Mapping):
+        raise ConfigError(f"{name}.control_modes: expected a dict of mode name -> config, got {cls.control_modes!r}.")
+    if cls.default_control_mode is not None and not isinstance(cls.default_control_mode, str):
+        raise ConfigError(
+            f"{name}.default_control_mode: expected a mode name (str) or None, got {cls.default_control_mode!r}."
+        )
+    for mode, entry in cls.control_modes.items():
+        if not isinstance(mode, str) or not mode:
+            raise ConfigError(f"{name}.control_modes: expected non-empty mode names (str), got {mode!r}.")
+        if not isinstance(entry, (ControllerConfig, Mapping)) or (isinstance(entry, Mapping) and not entry):
+            raise ConfigError(
+                f"{name}.control_modes[{mode!r}]: expected a ControllerConfig or a non-empty dict of part name -> "
+                f"ControllerConfig, got {entry!r}."
+            )
     for mode in cls.control_modes:
         seen: dict[str, str] = {}
         for part, config in mode_parts(cls, cls.control_modes, mode).items():
@@ -697,6 +713,14 @@ def _resolve_parts(
                         f"{where} {part.name!r}.{attr}: expected 1 or {n} values (one per joint: "
                         f"{', '.join(resolved[part.name])}), got {value.size}."
                     )
+                for joint_name, position in zip(resolved[part.name], np.broadcast_to(value, (n,)), strict=True):
+                    joint = index.joint(joint_name, where)
+                    low, high = joint.range
+                    if joint.limited and outside_limits(float(position), low, high):
+                        raise ConfigError(
+                            f"{where} {part.name!r}.{attr}: joint {joint_name!r} at {position:.6g} is outside its "
+                            f"limits [{low:.6g}, {high:.6g}] (the drive would press it into its stop)."
+                        )
         if isinstance(part, Hand) and part.power_grasp is not None:
             index.body_id(part.power_grasp.link, f"{where} {part.name!r}.power_grasp.link")
     return resolved

@@ -22,6 +22,7 @@ from robot_agents.controllers.base import (
     IntArray,
     JointBinding,
     SimView,
+    check_bounds,
     clip_ufunc,
     one_pass_clip_exact,
 )
@@ -66,6 +67,7 @@ class PDJointPosConfig(ControllerConfig):
                 f"{type(self).__name__}({', '.join(self.joint_names)}): delta control needs explicit lower/upper bounds, "
                 f"got lower={self.lower}, upper={self.upper}."
             )
+        check_bounds(self, "lower", "upper")
 
     @property
     def keeps_targets(self) -> bool:
@@ -263,6 +265,10 @@ class PDJointVelConfig(ControllerConfig):
     lower: PerJoint = -1.0
     upper: PerJoint = 1.0
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        check_bounds(self, "lower", "upper")
+
     @property
     def keeps_targets(self) -> bool:
         """A zero velocity lets a loaded joint give."""
@@ -323,6 +329,7 @@ class PDJointPosVelConfig(PDJointPosConfig):
             )
         if self.stiffness is not None and np.any(np.asarray(self.stiffness, dtype=np.float64) <= 0):
             raise ConfigError(f"PDJointPosVelConfig: expected stiffness > 0 on every joint, got {self.stiffness}.")
+        check_bounds(self, "vel_lower", "vel_upper")
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDJointPosVelController(self, binding, context)

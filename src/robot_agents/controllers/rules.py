@@ -29,6 +29,7 @@ from robot_agents.controllers.joint import (
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part, is_jaw_gripper
+from robot_agents.validation import check_per_joint, check_real
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
@@ -49,6 +50,21 @@ class JointGroup:
     max_delta: float = 0.1
     max_velocity: PerJoint = 1.0
     velocity_damping: PerJoint | None = None
+
+    def __post_init__(self) -> None:
+        names = self.joint_names
+        if (
+            isinstance(names, str)
+            or not isinstance(names, Sequence)
+            or not names
+            or not all(isinstance(n, str) and n for n in names)
+        ):
+            raise ConfigError(f"JointGroup.joint_names: expected a non-empty tuple of joint names, got {names!r}.")
+        object.__setattr__(self, "joint_names", tuple(names))
+        check_real(self.max_delta, "max_delta", "JointGroup", minimum=1e-12, unit=" (rad or m per action)")
+        check_per_joint(self.max_velocity, "JointGroup.max_velocity", minimum=1e-12)
+        if self.velocity_damping is not None:
+            check_per_joint(self.velocity_damping, "JointGroup.velocity_damping")
 
 
 def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
@@ -287,8 +303,16 @@ def modes_from_parts(
             task = main.task_space
             if not isinstance(task, TaskSpace):
                 raise ConfigError(f"Arm {main.name!r}.task_space: expected a TaskSpace, got {task!r}.")
-            if task.end_effector is None and main.end_effectors:
-                task = replace(task, end_effector=main.end_effectors[0].name)
+            ee_names = [ee.name for ee in main.end_effectors]
+            if not ee_names:
+                raise ConfigError(
+                    f"Arm {main.name!r}.task_space: end-effector modes need an end effector; declare "
+                    "end_effectors=(EndEffector(link), ...) on the arm."
+                )
+            if task.end_effector is None:
+                task = replace(task, end_effector=ee_names[0])
+            elif task.end_effector not in ee_names:
+                raise UnknownNameError(f"Arm {main.name!r}.task_space", "end effector", task.end_effector, ee_names)
             table.update(ee_control_modes(group, task, task.modes))
         if set(undamped) & set(joints):
             table = {mode: config for mode, config in table.items() if not _velocity_only(config)}

@@ -65,6 +65,20 @@ class TaskSpace:
     )
     hold_orientation: bool = True
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.position_bounds, WorkspaceBox):
+            raise ConfigError(f"TaskSpace.position_bounds: expected a WorkspaceBox, got {self.position_bounds!r}.")
+        if self.workspace is not None and not isinstance(self.workspace, WorkspaceBox):
+            raise ConfigError(f"TaskSpace.workspace: expected a WorkspaceBox or None, got {self.workspace!r}.")
+        for name, unit in (("max_translation", "m"), ("max_rotation", "rad")):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < np.inf:
+                raise ConfigError(f"TaskSpace.{name}: expected a finite number > 0 ({unit} per action), got {value!r}.")
+        if self.end_effector is not None and (not isinstance(self.end_effector, str) or not self.end_effector):
+            raise ConfigError(
+                f"TaskSpace.end_effector: expected an end-effector name or None, got {self.end_effector!r}."
+            )
+
 
 @dataclass(frozen=True)
 class MeasuredTaskSpace:

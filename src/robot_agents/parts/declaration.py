@@ -19,7 +19,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
 from robot_agents.patterns import Patterns, as_patterns
-from robot_agents.validation import check_quat, is_real
+from robot_agents.validation import check_quat, check_real, is_real
 
 
 class PartKind(Enum):
@@ -154,6 +154,17 @@ class Gripper(Part):
                 f"{type(self).__name__} {self.name!r}.fingers: expected at least two fingers, got {fingers}."
             )
         object.__setattr__(self, "fingers", fingers)
+        where = f"{type(self).__name__} {self.name!r}"
+        check_real(self.squeeze, "squeeze", where, minimum=0.0, unit=" (rad or m past closed)")
+        check_real(self.tolerance, "tolerance", where, minimum=0.0, unit=" (rad or m)")
+        for attr in ("open", "closed"):
+            value = getattr(self, attr)
+            try:
+                array = np.asarray(value, dtype=np.float64).reshape(-1)
+            except (TypeError, ValueError):
+                array = np.array([np.nan])
+            if not array.size or not np.all(np.isfinite(array)):
+                raise ConfigError(f"{where}.{attr}: expected a finite number or one per joint, got {value!r}.")
 
     @property
     def finger_links(self) -> tuple[tuple[str, ...], ...]:

@@ -210,3 +210,46 @@ def test_make_env_overrides_the_base_dynamics(wheeled_file: Path) -> None:
     assert agent.qpos[0, 0] - start == pytest.approx(0.2, abs=1e-9)  # 0.2 m/s for 1 s, exactly
     with pytest.raises(ra.ConfigError, match="Base part"):
         ra.make_env("Empty-v1", robot_uids="panda", base_dynamics="kinematic")
+
+
+def test_the_base_dynamics_are_part_of_the_state() -> None:
+    """A state taken with the base kinematic continues kinematic after ``set_state``, bit
+    for bit, whatever the base was switched to meanwhile; the refusal counters come back
+    too, and a bad base entry is refused with the state unchanged."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", control_mode="pd_joint_delta_pos")
+    unwrapped = env.unwrapped
+    agent = unwrapped.agent
+    env.reset(seed=0)
+    action = np.zeros(env.action_space.shape, dtype=np.float32)
+    action[0, agent.controller.slices["base"].start] = 0.5  # forward
+    agent.set_base_dynamics("kinematic", refuse_collisions=True)
+    state = unwrapped.get_state()
+    assert state["agents"][0]["base"]["dynamics"] == "kinematic"
+    first = []
+    for _ in range(10):
+        first.append(env.step(action)[0])
+    agent.set_base_dynamics("dynamic", refuse_collisions=False)
+    agent.mobile.refused_moves[:] = 7
+    bad = {**state, "agents": [{**state["agents"][0], "base": {**state["agents"][0]["base"], "dynamics": "flying"}}]}
+    with pytest.raises(ra.StateError, match="base dynamics 'dynamic' or 'kinematic'"):
+        unwrapped.set_state(bad)
+    assert agent.mobile.dynamics == "dynamic" and agent.mobile.refused_moves[0] == 7  # unchanged
+    unwrapped.set_state(state)
+    assert agent.mobile.dynamics == "kinematic" and agent.mobile.refuse_collisions
+    assert agent.mobile.refused_moves[0] == 0
+    for expected in first:
+        np.testing.assert_array_equal(env.step(action)[0], expected)
+    env.close()
+
+
+def test_from_raw_refuses_a_command_of_the_wrong_size() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="fetch")
+    base = env.unwrapped.agent.controller.parts["base"]
+    with pytest.raises(
+        ra.ActionError, match=r"from_raw: expected finite raw commands of shape \(\.\.\., 2\), got \(1, 3\)"
+    ):
+        base.from_raw(np.zeros((1, 3)))
+    with pytest.raises(ra.ActionError, match="not finite"):
+        base.from_raw(np.array([np.nan, 0.0]))
+    np.testing.assert_array_equal(base.from_raw(np.zeros((1, 2))), np.zeros((1, 2)))
+    env.close()

@@ -396,14 +396,20 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     def get_state(self) -> dict[str, Any]:
         """The robot's own state: joint state, base pose, control mode, controller state
         and drive targets."""
-        return {
-            "qpos": self.qpos,
-            "qvel": self.qvel,
-            "base_pose": self.base_pose,
+        return {"qpos": self.qpos, "qvel": self.qvel, "base_pose": self.base_pose, **self.get_control_state()}
+
+    def get_control_state(self) -> dict[str, Any]:
+        """The control part of :meth:`get_state`: ``control_mode``, ``controller`` state,
+        ``drives`` targets and, for a robot on a planar base, ``base``: its dynamics
+        (dynamic or kinematic, as :meth:`set_base_dynamics` left them) and refusal counters."""
+        state: dict[str, Any] = {
             "control_mode": self.control_mode,
             "controller": self.controller.get_state(),
             "drives": self.drives.get_target_state(),
         }
+        if self.mobile.planar is not None:
+            state["base"] = self.mobile.get_state()
+        return state
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; everything is checked before anything is written."""
@@ -420,6 +426,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         when present, ``drives``: :meth:`get_state`'s keys) without applying it; returns
         the checked drive targets for :meth:`restore_control_state`."""
         self.controller_for(state["control_mode"], where).check_state(state["controller"], where)
+        if "base" in state:  # an older state without it keeps the base's settings
+            self.mobile.check_state(state["base"], where)
         return self.drives.check_target_state(state["drives"], where) if "drives" in state else None
 
     def restore_control_state(self, state: Mapping[str, Any], targets: DriveTargetState | None) -> None:
@@ -427,6 +435,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         targets (checked by :meth:`check_control_state`)."""
         self.set_control_mode(state["control_mode"])
         self.controller.set_state(state["controller"])
+        if "base" in state:
+            self.mobile.set_state(self.mobile.check_state(state["base"], "restore_control_state"))
         if targets is not None:  # joints no action writes (held legs) keep theirs
             self.drives.set_target_state(targets)
 

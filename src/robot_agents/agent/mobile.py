@@ -6,8 +6,8 @@ and for a floating root."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -196,6 +196,41 @@ class MobileBase:
         self.dynamics = dynamics
         if refuse is not None:
             self.refuse_collisions = refuse
+
+    def get_state(self) -> dict[str, Any]:
+        """The base's settings and counters, for an exact state: ``dynamics``,
+        ``refuse_collisions``, ``refused_moves`` ``(num_envs,)`` int64 and ``last_refused``
+        ``(num_envs,)`` bool (copies)."""
+        return {
+            "dynamics": self.dynamics,
+            "refuse_collisions": self.refuse_collisions,
+            "refused_moves": self.refused_moves.copy(),
+            "last_refused": self.last_refused.copy(),
+        }
+
+    def check_state(self, state: Any, where: str) -> tuple[str, bool, npt.NDArray[np.int64], npt.NDArray[np.bool_]]:
+        """Validate :meth:`get_state`'s dict without applying it."""
+        keys = ("dynamics", "refuse_collisions", "refused_moves", "last_refused")
+        if not isinstance(state, Mapping) or any(k not in state for k in keys):
+            raise StateError(f"{where}: expected the base state as a dict with keys {keys}, got {state!r:.80}.")
+        dynamics = state["dynamics"]
+        if dynamics not in ("dynamic", "kinematic") or (dynamics == "kinematic" and self.planar is None):
+            raise StateError(
+                f"{where}: expected base dynamics 'dynamic' or 'kinematic' (planar bases), got {dynamics!r}."
+            )
+        refuse = check_bool(state["refuse_collisions"], "refuse_collisions", where, StateError)
+        n = self.world.num_envs
+        moves, last = np.asarray(state["refused_moves"]), np.asarray(state["last_refused"])
+        if moves.shape != (n,) or moves.dtype.kind not in "iu" or np.any(moves < 0):
+            raise StateError(f"{where}: expected refused_moves as {n} counts >= 0, got {state['refused_moves']!r:.80}.")
+        if last.shape != (n,) or last.dtype != np.bool_:
+            raise StateError(f"{where}: expected last_refused as {n} bools, got {state['last_refused']!r:.80}.")
+        return dynamics, refuse, moves.astype(np.int64), last.copy()
+
+    def set_state(self, checked: tuple[str, bool, npt.NDArray[np.int64], npt.NDArray[np.bool_]]) -> None:
+        """Restore what :meth:`check_state` returned."""
+        self.dynamics, self.refuse_collisions = checked[0], checked[1]
+        self.refused_moves[:], self.last_refused[:] = checked[2], checked[3]
 
     @property
     def moves_each_step(self) -> bool:

@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from robot_agents.actuators.config import PerJoint
 from robot_agents.actuators.drives import JointTargets
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ActionError, ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
 from robot_agents.validation import check_per_joint
@@ -260,8 +260,22 @@ class Controller(abc.ABC):
 
     def from_raw(self, raw: FloatArray) -> FloatArray:
         """The action (normalized if this controller's is) that commands ``raw``, clipped
-        to the bounds; the inverse of :meth:`to_raw`. Shape ``(..., action_dim)``."""
-        clipped = np.clip(raw, self.raw_low, self.raw_high)
+        to the bounds; the inverse of :meth:`to_raw`. Shape ``(..., action_dim)``.
+
+        Raises:
+            ActionError: ``raw`` is not a finite array whose last axis is ``action_dim``.
+        """
+        try:
+            values = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            values = np.full(1, np.nan)
+        if values.ndim == 0 or values.shape[-1] != self.action_dim or not np.all(np.isfinite(values)):
+            raise ActionError(
+                f"{type(self).__name__}({', '.join(self.config.joint_names)}).from_raw: expected finite raw "
+                f"commands of shape (..., {self.action_dim}), got {np.shape(raw)}"
+                + (" with values not finite." if values.ndim and values.shape[-1] == self.action_dim else ".")
+            )
+        clipped = np.clip(values, self.raw_low, self.raw_high)
         if not self.config.normalize_action:
             return clipped
         span = self.unit_high - self.unit_low

@@ -309,20 +309,14 @@ class Scene:
         (MuJoCo's integration state), the island-sleep counters ``(num_envs, ntree)``
         (``sleep``), the sensor readings ``(num_envs, nsensordata)`` (``sensors``: what
         the last step measured; an older state without these restores the rest) plus
-        each robot's control mode, controller state and drive targets."""
+        each robot's control state (:meth:`Agent.get_control_state`: control mode,
+        controller state, drive targets, a planar base's dynamics)."""
         self._check_open("Scene.get_state")
         return {
             "physics": self.world.get_state(),
             "sleep": self.world.get_sleep_state(),
             "sensors": self.world.get_sensor_state(),
-            "agents": [
-                {
-                    "control_mode": a.control_mode,
-                    "controller": a.controller.get_state(),
-                    "drives": a.drives.get_target_state(),
-                }
-                for a in self.agents
-            ],
+            "agents": [a.get_control_state() for a in self.agents],
         }
 
     def set_state(self, state: Mapping[str, Any]) -> None:

@@ -342,3 +342,26 @@ def test_ee_delta_moves_the_tool_in_the_turning_body_frame() -> None:
     assert np.linalg.norm(moved[1:]) < 0.008
     assert agent.base_rot[0] == pytest.approx(0.375, rel=0.05)  # it did turn
     scene.close()
+
+
+def test_a_kinematic_move_that_puts_a_held_leg_into_the_table_is_refused() -> None:
+    """Spot's legs are held as its kinematic body moves: they are the base's geoms for
+    ``refuse_collisions``. Driven 0.3 m/s at MobilePickCube's table for 5 s, its legs
+    meet the table and the moves are refused (it drove 1.5 m through it before)."""
+    env = ra.make_env("MobilePickCube-v1", robot_uids="spot")
+    unwrapped = env.unwrapped
+    agent = unwrapped.agent
+    env.reset(seed=0)
+    agent.set_base_dynamics("kinematic", refuse_collisions=True)
+    agent.set_base_pose(xy=np.ravel(unwrapped.stance_xy)[:2], yaw=float(np.ravel(unwrapped.stance_yaw)[0]))
+    controller = agent.controller
+    action = np.zeros(controller.action_dim)
+    forward = np.zeros((1, controller.parts["base"].action_dim))
+    forward[0, 0] = 0.3
+    action[controller.slices["base"]] = controller.parts["base"].from_raw(forward)[0]
+    start = agent.base_pos.copy()
+    for _ in range(100):
+        env.step(action)
+    assert np.linalg.norm(agent.base_pos - start) < 0.3
+    assert agent.mobile.refused_moves[0] > 50
+    env.close()

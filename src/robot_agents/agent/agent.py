@@ -94,14 +94,14 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self.control = ControlModes(name, checked.modes, self.index, self.drives, context, world)
         self.grippers = GripperParts(world, self.index, checked.parts, checked.part_joints, name)
         self.legs = LegParts(world, self.index, checked.parts, checked.part_joints, type(self).fix_root_link, name)
-        base = next((p for p in checked.parts if isinstance(p, Base)), None)
-        self.mobile = MobileBase(
-            world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base
-        )
-        self._manipulator = None  # the Habitat-named view, built on first use
         # Held legs (Habitat's leg base): pinned at their drives' reset targets while a
         # kinematic base moves the body.
         held = [j for p in checked.parts if isinstance(p, Legs) and p.held for j in checked.part_joints[p.name]]
+        base = next((p for p in checked.parts if isinstance(p, Base)), None)
+        self.mobile = MobileBase(
+            world, self.index, self.state, checked.part_joints[base.name] if base else None, name, base, held
+        )
+        self._manipulator = None  # the Habitat-named view, built on first use
         held_info = [self.index.joint(j, name) for j in held]
         self._held_qpos = np.array([j.qpos_adr for j in held_info], dtype=np.int64)
         self._held_dof = np.array([j.dof_adr for j in held_info], dtype=np.int64)

@@ -52,6 +52,7 @@ class MobileBase:
         planar: tuple[str, ...] | None,
         owner: str,
         part: Base | None = None,
+        held: Sequence[str] = (),
     ) -> None:
         self.world = world
         self.index = index
@@ -63,6 +64,8 @@ class MobileBase:
         self.wheels = tuple(index.joint(j, owner) for j in part.wheels) if part is not None else ()
         self.wheel_radius = part.wheel_radius if part is not None else 0.0
         self.wheel_separation = part.wheel_separation if part is not None else 0.0
+        #: Joints pinned while the base moves kinematically (held legs): rigid with it.
+        self._held_ids = frozenset(index.joint(j, owner).id for j in held)
         # Addresses of the per-step reads and writes, resolved once.
         self._planar_adr = np.array([j.qpos_adr for j in self.planar or ()], dtype=np.int64)
         self._planar_dofs = np.array([j.dof_adr for j in self.planar or ()], dtype=np.int64)
@@ -238,14 +241,15 @@ class MobileBase:
         return self.planar is not None and (self.dynamics == "kinematic" or bool(self.wheels))
 
     def _rigid_geoms(self) -> npt.NDArray[np.int64]:
-        """Geoms of the base body and of the bodies attached to it with no joint or a
-        wheel joint only (what a kinematic move must not push into the world)."""
+        """Geoms of the base body and of the bodies attached to it with no joint, or with
+        wheel joints or held legs' joints only (what a kinematic move must not push into
+        the world: Spot's legs, pinned as its body moves, included)."""
         model = self.index.model
         planar = self.planar
         if planar is None:
             return np.zeros(0, dtype=np.int64)
         base = int(model.jnt_bodyid[planar[-1].id])
-        wheel_ids = {w.id for w in self.wheels}
+        wheel_ids = {w.id for w in self.wheels} | self._held_ids
         bodies = [base]
         for body in self.index.subtree_bodies(base):
             if body == base:

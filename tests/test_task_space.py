@@ -162,6 +162,23 @@ def panda_solver(scene: ra.Scene, config: IKConfig | None = None) -> IKSolver:
     return IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], agent.qpos_limits[arm], config)
 
 
+@pytest.mark.filterwarnings("error")
+def test_an_unlimited_joint_rests_at_zero_in_the_ik_without_a_warning() -> None:
+    """A continuous joint (no limits) has no middle of its range: its null-space rest is
+    0, with no NumPy "invalid value" warning from inf - inf (every end-effector mode of a
+    URDF with a continuous joint printed one)."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    arm = np.arange(7)
+    limits = agent.qpos_limits[arm].copy()
+    limits[0] = (-np.inf, np.inf)
+    frame = resolve_frame(scene.model, "panda_hand_tcp", agent.prefix)
+    solver = IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], limits)
+    assert solver.rest_qpos[0] == 0.0
+    np.testing.assert_allclose(solver.rest_qpos[1:], limits[1:].mean(axis=1), atol=1e-15)
+    scene.close()
+
+
 def test_ik_solves_100_random_reachable_targets_from_rest() -> None:
     """Targets are FK of random configurations over the whole joint range; IK starts at
     the rest keyframe (72 of them are solved from there directly; the others lie on

@@ -290,3 +290,22 @@ def test_mode_settings_fail_when_declared_not_when_the_mode_is_first_used(tmp_pa
         misnamed.check()
     with pytest.raises(ConfigError, match=r"end-effector modes need an end effector"):
         arm(ra.TaskSpace(position_bounds=box)).check()
+
+
+def test_a_piece_whose_names_clash_with_the_robots_is_refused_with_the_way_out(tmp_path: Path) -> None:
+    """MuJoCo's compiler says only "repeated name 'base' in body"; the attachment names
+    the piece, the clash and the prefix that resolves it."""
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM3_MJCF)
+    gripper = ra.get_piece("robotiq_2f85")  # has a body named 'base', as the arm does
+
+    def mounted(prefix: str) -> type[ra.Agent]:
+        attachment = ra.Attachment(gripper, at="flange", prefix=prefix)
+        return type("ArmWithGripper", (ra.Agent,), {"uid": "", "mjcf_path": path, "attachments": (attachment,)})
+
+    with pytest.raises(
+        ConfigError,
+        match=r"Attachment\(Robotiq2F85, at='flange'\): the piece's names clash with the robot's: body 'base'",
+    ):
+        mounted("").check()
+    assert "g_base" in mounted("g_").check().index.model.body("g_base").name

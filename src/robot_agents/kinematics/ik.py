@@ -89,8 +89,10 @@ class IKSolver:
                     "IK chains take 1-DoF joints only."
                 )
         if rest_qpos is None:
-            middle = 0.5 * (self.lower + self.upper)
-            self.rest_qpos = np.where(np.isfinite(middle), middle, 0.0)
+            bounded = np.isfinite(self.lower) & np.isfinite(self.upper)  # an unlimited joint rests at 0
+            self.rest_qpos = np.where(
+                bounded, 0.5 * (np.where(bounded, self.lower, 0.0) + np.where(bounded, self.upper, 0.0)), 0.0
+            )
         else:
             self.rest_qpos = np.asarray(rest_qpos, dtype=np.float64).reshape(-1)
             if self.rest_qpos.shape != (n,):

@@ -76,9 +76,35 @@ def attach(parent: mujoco.MjSpec, child: mujoco.MjSpec, attachment: Attachment, 
         composed = np.empty(4)
         mujoco.mju_mulQuat(composed, site_quat, quat)
         pos, quat = site_pos + rotated, composed
+    _check_name_clashes(parent, child, attachment, where)
     frame = body.add_frame(pos=list(pos), quat=list(quat))
     try:
         with mujoco_messages(where):
             frame.attach_body(root, attachment.prefix, "")
     except ValueError as err:
         raise ModelError(f"{where}: attaching {attachment.piece.__name__} at {attachment.at!r} failed: {err}") from None
+
+
+#: The named elements of a model that share one name space per kind when a piece is attached.
+_NAMED_KINDS = ("bodies", "joints", "geoms", "sites", "cameras", "actuators", "sensors", "tendons", "equalities")
+
+
+def _check_name_clashes(parent: mujoco.MjSpec, child: mujoco.MjSpec, attachment: Attachment, where: str) -> None:
+    """Raise :class:`ConfigError` when a name of the piece (after its prefix) is taken in
+    ``parent`` by an element of the same kind (MuJoCo's compiler would refuse it with
+    only "repeated name"), naming the clashes and the way out (a prefix)."""
+    clashes = []
+    for kind in _NAMED_KINDS:
+        taken = {element.name for element in getattr(parent, kind) if element.name}
+        for element in getattr(child, kind):
+            if kind == "bodies" and element == child.worldbody:
+                continue  # the piece's world body is not attached
+            name = attachment.prefix + element.name if element.name else ""
+            if name and name in taken:
+                clashes.append(f"{kind[:-1] if kind != 'bodies' else 'body'} {name!r}")
+    if clashes:
+        shown = ", ".join(clashes[:5]) + (f" and {len(clashes) - 5} more" if len(clashes) > 5 else "")
+        raise ConfigError(
+            f"{where} Attachment({attachment.piece.__name__}, at={attachment.at!r}): the piece's names clash with "
+            f"the robot's: {shown}; give the attachment a prefix (Attachment(..., prefix='gripper_'))."
+        )

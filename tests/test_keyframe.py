@@ -122,6 +122,10 @@ def test_reset_noise_keeps_ball_quaternions_unit(ball_cls: type[ra.Agent]) -> No
         ({"shoulder": (0.0, 0.0, 0.0, 0.0)}, "with a unit quaternion, got [0.0, 0.0, 0.0, 0.0] in env 0 (zero)"),
         ({"finger_.*": (0.01, 0.02, 0.03)}, "matches 2 joint(s) (finger_a, finger_b) with 2 values; got 3"),
         ({"elbow": 0.1, "elb.*": 0.2}, "joint 'elbow' is named by both 'elbow' and 'elb.*'"),
+        (
+            {"finger_a": 0.02, "finger_b": 0.0},
+            "joint 'finger_b' follows 'finger_a' (a joint coupling), which puts it at 0.02, but the keyframe gives 0",
+        ),
         ((0.0, 0.1), "expected 7 joint positions"),
     ],
 )

@@ -309,3 +309,18 @@ def test_a_piece_whose_names_clash_with_the_robots_is_refused_with_the_way_out(t
     ):
         mounted("").check()
     assert "g_base" in mounted("g_").check().index.model.body("g_base").name
+
+
+def test_two_end_effectors_of_one_name_are_refused_and_close_names_rank_case_first(tmp_path: Path) -> None:
+    from robot_agents.errors import close_names
+
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM3_MJCF)
+    twice = ra.Arm(
+        name="arm", joints="j.", end_effectors=(ra.EndEffector("flange", name="t"), ra.EndEffector("link2", name="t"))
+    )
+    cls = type("TwoTips", (ra.Agent,), {"uid": "", "mjcf_path": path, "parts": (twice,)})
+    with pytest.raises(ConfigError, match="two end effectors are named 't'"):
+        cls.check()
+    # only the case differs: that name first (it came second, after a longer name holding it)
+    assert close_names("PANDA", ["floating_panda_gripper", "panda", "panda_stick"])[0] == "panda"

@@ -71,8 +71,11 @@ class RenderError(RobotAgentsError, RuntimeError):
 def close_names(given: str, available: Iterable[str], n: int = 3) -> list[str]:
     """The up to ``n`` names in ``available`` closest to ``given`` (best first)."""
     names = list(available)
+    lowered = given.lower()
+    same = [a for a in names if a.lower() == lowered]  # only the case differs: the closest
     matches = difflib.get_close_matches(given, names, n=n, cutoff=0.5)
-    if not matches:
-        lowered = given.lower()
-        matches = [a for a in names if lowered in a.lower() or a.lower() in lowered][:n]
-    return matches
+    if not matches:  # a part of a name or the other way round, the nearest in length first
+        matches = sorted(
+            (a for a in names if lowered in a.lower() or a.lower() in lowered), key=lambda a: abs(len(a) - len(given))
+        )
+    return list(dict.fromkeys(same + matches))[:n]

@@ -127,6 +127,9 @@ def default_qpos(index: RobotIndex) -> FloatArray:
     return default
 
 
+#: How far (rad or m) a keyframe may put a follower from where its coupling puts it.
+COUPLING_TOLERANCE = 1e-6
+
 #: A keyframe's base pose when it sets none: at the mount, unturned.
 IDENTITY_BASE = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
 
@@ -149,7 +152,7 @@ def resolve_keyframe(
     named: set[str] = set()
     base_qpos = default_qpos(index) if default is None else default
     qpos = _fill(frame.qpos, index, base_qpos, "qpos", where, named)
-    _fill_couplings(qpos, index, named)
+    _fill_couplings(qpos, index, named, where)
     qvel = (
         np.zeros(index.nv) if frame.qvel is None else _fill(frame.qvel, index, np.zeros(index.nv), "qvel", where, set())
     )
@@ -213,16 +216,24 @@ def _fill(
     return out
 
 
-def _fill_couplings(qpos: FloatArray, index: RobotIndex, named: set[str]) -> None:
-    """Followers the keyframe did not name follow their leaders (twice, for chains)."""
+def _fill_couplings(qpos: FloatArray, index: RobotIndex, named: set[str], where: str) -> None:
+    """Followers the keyframe did not name follow their leaders (twice, for chains); a
+    follower it names must agree with its leader (within :data:`COUPLING_TOLERANCE`), or
+    the coupling would snap it there at the first step."""
+    pairs = [(c, index.joint(c.leader, "coupling"), index.joint(c.follower, "coupling")) for c in index.couplings]
+    pairs = [(c, leader, follower) for c, leader, follower in pairs if leader.nq == 1 and follower.nq == 1]
     for _ in range(2):
-        for coupling in index.couplings:
-            if coupling.follower in named:
-                continue
-            leader = index.joint(coupling.leader, "coupling")
-            follower = index.joint(coupling.follower, "coupling")
-            if leader.nq == 1 and follower.nq == 1:
+        for coupling, leader, follower in pairs:
+            if coupling.follower not in named:
                 qpos[follower.qpos_start] = coupling.follow(float(qpos[leader.qpos_start]))
+    for coupling, leader, follower in pairs:
+        expected = coupling.follow(float(qpos[leader.qpos_start]))
+        if coupling.follower in named and abs(float(qpos[follower.qpos_start]) - expected) > COUPLING_TOLERANCE:
+            raise ConfigError(
+                f"{where}: joint {follower.name!r} follows {leader.name!r} (a joint coupling), which puts it at "
+                f"{expected:.6g}, but the keyframe gives {float(qpos[follower.qpos_start]):.6g}; name only "
+                f"{leader.name!r}."
+            )
 
 
 def _check_limits(qpos: FloatArray, index: RobotIndex, where: str) -> None:

@@ -698,6 +698,10 @@ def _resolve_parts(
     resolved = {
         p.name: _in_pattern_order([index.joint_names[i] for i in h], p.joints) for p, h in zip(parts, hits, strict=True)
     }
+    ee_names = [ee.name for part in parts for ee in getattr(part, "end_effectors", ())]
+    for name in ee_names:
+        if ee_names.count(name) > 1:
+            raise ConfigError(f"{where}: two end effectors are named {name!r}; give each its own name.")
     for part in parts:
         for ee in getattr(part, "end_effectors", ()):
             assert_frame(model, ee, f"{where} {part.name!r} end effector {ee.name!r}")

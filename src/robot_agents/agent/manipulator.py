@@ -18,7 +18,7 @@ docs/mobile-manipulators.md for the mapping of a Habitat user's numbers.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,7 +62,8 @@ class MobileManipulatorParams:
             its positions in the base frame over the arm's joint ranges (512 samples,
             fixed seed; the other joints at the first keyframe).
         base_link: the body the base joints move (``""`` for a fixed robot).
-        base_dynamics: ``"dynamic"`` or ``"kinematic"``.
+        base_dynamics: ``"dynamic"`` or ``"kinematic"``, as the base runs now
+            (:meth:`Agent.set_base_dynamics` included).
     """
 
     arm_joints: tuple[str, ...]
@@ -152,7 +153,7 @@ class ManipulatorView:
             return tuple(float(keyframe[robot_adr[int(a)]]) for a in adrs)
 
         n_grip = len(self.gripper_joints)
-        self.params = MobileManipulatorParams(
+        self._params = MobileManipulatorParams(
             arm_joints=self.arm_joints,
             gripper_joints=self.gripper_joints,
             wheel_joints=base.wheels if base else (),
@@ -168,6 +169,15 @@ class ManipulatorView:
             base_link=index.model.body(agent.mobile._base_body()).name if agent.mobile.kind != "fixed" else "",
             base_dynamics=agent.mobile.dynamics,
         )
+
+    @property
+    def params(self) -> MobileManipulatorParams:
+        """The robot's :class:`MobileManipulatorParams` (``base_dynamics`` as the base
+        runs now)."""
+        dynamics = self.agent.mobile.dynamics
+        if self._params.base_dynamics != dynamics:
+            self._params = replace(self._params, base_dynamics=dynamics)
+        return self._params
 
     # -- helpers ---------------------------------------------------------------------
     def _require_arm(self, where: str) -> None:

@@ -4,6 +4,7 @@ side effects that matches the simulation, IK to random reachable targets."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -160,6 +161,20 @@ def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
     moved.reset(qpos=q)
     assert moved.params == p
     other.close()
+    scene.close()
+
+
+def test_params_report_the_base_dynamics_after_a_switch(mm_cls: type[ra.Agent]) -> None:
+    """params.base_dynamics follows set_base_dynamics (it kept the value of the first read)."""
+    scene = ra.Scene(mm_cls)
+    scene.reset()
+    agent = scene.agents[0]
+    first = agent.params
+    agent.set_base_dynamics("kinematic")
+    assert agent.params.base_dynamics == agent.mobile.dynamics == "kinematic"
+    assert agent.params == dataclasses.replace(first, base_dynamics="kinematic")
+    agent.set_base_dynamics("dynamic")
+    assert agent.params == first
     scene.close()
 
 

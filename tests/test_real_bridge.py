@@ -298,7 +298,7 @@ def test_a_mimic_follower_is_set_from_its_leader() -> None:
     not on the bus: the bridge sets it from its leader (exactly), the simulation holds
     it there within the equality's softness."""
     robot = RealRobot("widowxai", SimulatedBus("widowxai"))
-    assert len(robot.bus.joint_names) == robot.agent.nq - 1 and len(robot._follower_leader) == 1
+    assert len(robot.bus.joint_names) == robot.agent.nq - 1 and len(robot._followers.leader) == 1
     robot.close()
     at_reset, worst = _obs_difference("widowxai", "pd_ee_delta_pose")
     assert at_reset == 0.0 and worst < 2e-3

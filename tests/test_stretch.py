@@ -199,6 +199,38 @@ def test_ik_reaches_50_random_reachable_targets() -> None:
     scene.close()
 
 
+def test_habitat_api_moves_the_segments_with_the_arm() -> None:
+    """The Habitat-named API fills the segments that follow joint_arm_l0: FK at the IK's
+    answer lands on the target (it was 6.0 cm off with the segments left behind), the
+    arm_joint_pos setter puts the tool there and it stays while the arm holds, and the
+    workspace box holds the tool with the telescope fully out (it was clipped from
+    y -0.935 m to -0.592 m)."""
+    scene = ra.Scene("stretch")
+    scene.reset(keyframes="home")
+    agent = scene.agents[0]
+    target = agent.ee_transform(0)[:, :3, 3] + [0.0, -0.08, 0.05]
+    q, ok = agent.calculate_ee_inverse_kinematics(target)
+    assert ok.all()
+    fk = agent.calculate_ee_forward_kinematics(q)
+    assert np.linalg.norm(fk[:, :3, 3] - target) < 1e-3
+    frame = resolve_frame(scene.model, "link_grasp_center", agent.prefix)
+    full = scene.world.qpos.copy()
+    full[0, agent.qpos_adr] = configuration(agent, q[0])  # every segment at l0's value, by hand
+    np.testing.assert_allclose(fk[0, :3, 3], agent.kinematics.pose(full, frame)[0, :3], atol=1e-9)
+    agent.arm_joint_pos = q
+    np.testing.assert_array_equal(agent.qpos[0, joint_ids(agent, TELESCOPE)], q[0, 1])
+    assert np.linalg.norm(agent.ee_transform(0)[:, :3, 3] - target) < 1e-3
+    for _ in range(20):  # 1 s holding
+        scene.step()
+    assert np.linalg.norm(agent.ee_transform(0)[:, :3, 3] - target) < 3e-3
+    lift = agent.params.arm_init_params[0]
+    agent.reset(qpos=configuration(agent, np.array([lift, 0.13, 0.0, 0.0, 0.0])))  # fully out, wrist straight
+    out = agent.ee_transform(0)[:, :3, 3]  # the base is at the origin, unturned
+    assert out[0, 1] < -0.9
+    np.testing.assert_array_equal(agent.clip_ee_to_workspace(out), out)
+    scene.close()
+
+
 # --------------------------------------------------------------------- grasping
 def grasp_scene() -> tuple[ra.Scene, ra.Agent, np.ndarray, np.ndarray]:
     """The gripper pointing down with the arm out 0.2 m; the cube on the floor between

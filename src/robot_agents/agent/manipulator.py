@@ -18,14 +18,14 @@ docs/mobile-manipulators.md for the mapping of a Habitat user's numbers.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
-from robot_agents.kinematics.ik import IKSolver
+from robot_agents.kinematics.ik import IKSolver, LinearFollowers
 from robot_agents.kinematics.ik_config import IKConfig
 from robot_agents.validation import POSE_AXES, check_bool, check_quat_rows, check_whole, is_whole
 
@@ -60,9 +60,13 @@ class MobileManipulatorParams:
         ee_offsets: each end effector's position in its link's frame (m).
         ee_constraint: per end effector, the box ``(3, 2)`` (min, max per axis, m) of
             its positions in the base frame over the arm's joint ranges (512 samples,
-            fixed seed; the other joints at the first keyframe).
+            fixed seed, and the keyframe with each arm joint at each of its limits;
+            joints that follow an arm joint through a linear joint equality, such as
+            Stretch's telescope segments, with it; the other joints at the first
+            keyframe).
         base_link: the body the base joints move (``""`` for a fixed robot).
-        base_dynamics: ``"dynamic"`` or ``"kinematic"``.
+        base_dynamics: ``"dynamic"`` or ``"kinematic"``, as the base runs now
+            (:meth:`Agent.set_base_dynamics` included).
     """
 
     arm_joints: tuple[str, ...]
@@ -129,6 +133,10 @@ class ManipulatorView:
         self._arm_dof = np.array([j.dof_adr for j in arm_info], dtype=np.int64)
         self._grip_qpos = np.array([j.qpos_adr for j in grip_info], dtype=np.int64)
         self._grip_dof = np.array([j.dof_adr for j in grip_info], dtype=np.int64)
+        # Joints outside the part that follow one of its joints through a linear joint
+        # equality (Stretch's telescope segments follow joint_arm_l0): moved with it.
+        self._arm_followers = LinearFollowers.of(agent.world.model, self._arm_dof)
+        self._grip_followers = LinearFollowers.of(agent.world.model, self._grip_dof)
         self._arm_limits = np.array(
             [j.range if j.limited else (-np.pi, np.pi) for j in arm_info], dtype=np.float64
         ).reshape(-1, 2)
@@ -152,7 +160,7 @@ class ManipulatorView:
             return tuple(float(keyframe[robot_adr[int(a)]]) for a in adrs)
 
         n_grip = len(self.gripper_joints)
-        self.params = MobileManipulatorParams(
+        self._params = MobileManipulatorParams(
             arm_joints=self.arm_joints,
             gripper_joints=self.gripper_joints,
             wheel_joints=base.wheels if base else (),
@@ -169,7 +177,22 @@ class ManipulatorView:
             base_dynamics=agent.mobile.dynamics,
         )
 
+    @property
+    def params(self) -> MobileManipulatorParams:
+        """The robot's :class:`MobileManipulatorParams` (``base_dynamics`` as the base
+        runs now)."""
+        dynamics = self.agent.mobile.dynamics
+        if self._params.base_dynamics != dynamics:
+            self._params = replace(self._params, base_dynamics=dynamics)
+        return self._params
+
     # -- helpers ---------------------------------------------------------------------
+    def _with_arm(self, configurations: FloatArray, q: FloatArray) -> None:
+        """Put the arm of ``configurations`` ``(n, nq)`` at ``q`` ``(n, arm joints)``,
+        with the joints that follow it."""
+        configurations[:, self._arm_qpos] = q
+        configurations[:, self._arm_followers.qpos_adr] = self._arm_followers.positions(q)
+
     def _require_arm(self, where: str) -> None:
         if not len(self._arm_qpos):
             raise ConfigError(f"{self.owner}.{where}: the robot has no Arm part.")
@@ -191,11 +214,17 @@ class ManipulatorView:
     def _workspace(self) -> tuple[tuple[tuple[float, float], ...], ...]:
         if not len(self._arm_qpos) or not self._ee_frames:
             return ()
-        rng = np.random.default_rng(0)
-        configurations = np.repeat(self._reference_qpos, WORKSPACE_SAMPLES, axis=0)
-        configurations[:, self._arm_qpos] = rng.uniform(
-            self._arm_limits[:, 0], self._arm_limits[:, 1], (WORKSPACE_SAMPLES, len(self._arm_qpos))
+        n = len(self._arm_qpos)
+        sampled = np.random.default_rng(0).uniform(
+            self._arm_limits[:, 0], self._arm_limits[:, 1], (WORKSPACE_SAMPLES, n)
         )
+        # Reach is often largest with one joint at a limit and the others at the keyframe
+        # (Stretch's telescope out, wrist straight), which random samples rarely hit.
+        at_limits = np.repeat(self._reference_qpos[:, self._arm_qpos], 2 * n, axis=0)
+        at_limits[np.arange(2 * n), np.repeat(np.arange(n), 2)] = self._arm_limits.reshape(-1)
+        arm = np.concatenate([sampled, at_limits])
+        configurations = np.repeat(self._reference_qpos, len(arm), axis=0)
+        self._with_arm(configurations, arm)
         boxes = []
         for i in range(len(self._ee_frames)):
             points = self._base_frame_poses(configurations, i)
@@ -211,11 +240,12 @@ class ManipulatorView:
 
     def set_arm_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
         """Teleport the arm joints of ``env_ids`` (default: every env) to ``values``
-        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero)
-        and hold them there."""
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero),
+        the joints that follow them through linear joint equalities with them, and hold
+        them there."""
         where = f"{self.owner}.arm_joint_pos"
         self._require_arm("arm_joint_pos")
-        self._write(self._arm_qpos, self._arm_dof, values, env_ids, where, "arm joint positions")
+        self._write(self._arm_qpos, self._arm_dof, self._arm_followers, values, env_ids, where, "arm joint positions")
 
     @property
     def arm_velocity(self) -> FloatArray:
@@ -240,6 +270,7 @@ class ManipulatorView:
         self,
         qpos_adr: npt.NDArray[np.int64],
         dof_adr: npt.NDArray[np.int64],
+        followers: LinearFollowers,
         values: npt.ArrayLike,
         env_ids: npt.ArrayLike | None,
         where: str,
@@ -250,6 +281,10 @@ class ManipulatorView:
         state = agent.state
         ids = state.env_ids(env_ids, where)
         rows = state.batch(values, len(ids), len(qpos_adr), what, where)
+        # the followers too (the equality would pull them there), all checked first
+        rows = np.concatenate([rows, followers.positions(rows)], axis=1)
+        qpos_adr = np.concatenate([qpos_adr, followers.qpos_adr])
+        dof_adr = np.concatenate([dof_adr, followers.dof_adr])
         by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
         state.check_within_limits(rows, np.array([by_adr[int(a)] for a in qpos_adr], dtype=np.int64), where)
         self.agent.world.write_joint_state(ids, qpos_adr, rows, dof_adr, np.zeros((len(ids), len(dof_adr))))
@@ -264,7 +299,13 @@ class ManipulatorView:
     def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         self._require_gripper("open_gripper")
         self._write(
-            self._grip_qpos, self._grip_dof, self.params.gripper_open_state, env_ids, f"{self.owner}.open_gripper", "g"
+            self._grip_qpos,
+            self._grip_dof,
+            self._grip_followers,
+            self.params.gripper_open_state,
+            env_ids,
+            f"{self.owner}.open_gripper",
+            "g",
         )
 
     def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
@@ -272,6 +313,7 @@ class ManipulatorView:
         self._write(
             self._grip_qpos,
             self._grip_dof,
+            self._grip_followers,
             self.params.gripper_closed_state,
             env_ids,
             f"{self.owner}.close_gripper",
@@ -323,14 +365,15 @@ class ManipulatorView:
 
     def calculate_ee_forward_kinematics(self, q: npt.ArrayLike, i: int = 0) -> FloatArray:
         """World transform ``(num_envs, 4, 4)`` of end effector ``i`` with the arm at
-        ``q`` (``(n,)`` or ``(num_envs, n)``) and everything else as measured; computed on
+        ``q`` (``(n,)`` or ``(num_envs, n)``, rad / m), the joints that follow it through
+        linear joint equalities with it, and everything else as measured; computed on
         scratch data, the simulation is untouched."""
         where = f"{self.owner}.calculate_ee_forward_kinematics"
         self._require_arm("calculate_ee_forward_kinematics")
         frame = self._ee_frames[self._ee(i, "calculate_ee_forward_kinematics")]
         state = self.agent.state
         configurations = np.array(self.agent.world.qpos, dtype=np.float64)
-        configurations[:, self._arm_qpos] = state.batch(q, state.num_envs, len(self._arm_qpos), "arm q", where)
+        self._with_arm(configurations, state.batch(q, state.num_envs, len(self._arm_qpos), "arm q", where))
         return _matrix(self.agent.frames.pose(frame, None, configurations))
 
     def calculate_ee_inverse_kinematics(

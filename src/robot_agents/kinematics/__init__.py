@@ -1,7 +1,7 @@
 """Kinematics without side effects: batched forward kinematics, Jacobians and IK."""
 
 from robot_agents.kinematics.forward import FrameKind, FrameRef, Kinematics, resolve_frame
-from robot_agents.kinematics.ik import IKSolver, linear_followers
+from robot_agents.kinematics.ik import IKSolver, LinearFollowers, linear_followers
 from robot_agents.kinematics.ik_config import IKConfig, IKResult
 
 __all__ = [
@@ -11,6 +11,7 @@ __all__ = [
     "IKResult",
     "IKSolver",
     "Kinematics",
+    "LinearFollowers",
     "linear_followers",
     "resolve_frame",
 ]

@@ -33,6 +33,7 @@ and it reports per env whether the tolerances were met.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -399,6 +400,43 @@ def linear_followers(model: mujoco.MjModel, chain_dofs: IntArray) -> list[tuple[
                 )
                 break
     return out
+
+
+@dataclass(frozen=True)
+class LinearFollowers:
+    """:func:`linear_followers` as arrays ``(k,)``, to fill a batch of configurations
+    or joint writes: each follower's model ``qpos`` and dof address, its leader's chain
+    column, and ``c0`` (rad / m), ``c1`` of ``follower = c0 + c1 * leader``."""
+
+    qpos_adr: IntArray
+    dof_adr: IntArray
+    leader: IntArray
+    offset: FloatArray
+    slope: FloatArray
+
+    @classmethod
+    def of(cls, model: mujoco.MjModel, chain_dofs: IntArray) -> LinearFollowers:
+        """The followers of the chain with dof addresses ``chain_dofs`` ``(n,)``."""
+        found = linear_followers(model, chain_dofs)
+        return cls(
+            qpos_adr=np.array([f[0] for f in found], dtype=np.int64),
+            dof_adr=np.array([f[1] for f in found], dtype=np.int64),
+            leader=np.array([f[2] for f in found], dtype=np.int64),
+            offset=np.array([f[3] for f in found], dtype=np.float64),
+            slope=np.array([f[4] for f in found], dtype=np.float64),
+        )
+
+    def positions(self, q: FloatArray) -> FloatArray:
+        """The followers' positions ``(..., k)`` (rad / m) with the chain at ``q``
+        ``(..., n)``."""
+        values: FloatArray = self.offset + self.slope * q[..., self.leader]
+        return values
+
+    def velocities(self, qd: FloatArray) -> FloatArray:
+        """The followers' velocities ``(..., k)`` (rad/s / m/s) with the chain moving at
+        ``qd`` ``(..., n)``."""
+        values: FloatArray = self.slope * qd[..., self.leader]
+        return values
 
 
 def _largest_magnitude(values: FloatArray) -> float:

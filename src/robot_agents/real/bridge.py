@@ -31,7 +31,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.errors import ConfigError, StateError, close_names
-from robot_agents.kinematics import linear_followers
+from robot_agents.kinematics import LinearFollowers
 from robot_agents.real.bus import JointBus
 from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene
@@ -110,13 +110,10 @@ class RealRobot:
             # joints that follow a bus joint through a linear equality (a mimic finger):
             # written with it, as the equality holds them on the real robot
             dof_adr = drives.dof_adr[self._columns]
-            followers = linear_followers(self.scene.model, dof_adr)
-            self._follower_leader = np.array([f[2] for f in followers], dtype=np.int64)
-            self._follower_offset = np.array([f[3] for f in followers], dtype=np.float64)
-            self._follower_slope = np.array([f[4] for f in followers], dtype=np.float64)
+            self._followers = LinearFollowers.of(self.scene.model, dof_adr)
             #: where :meth:`sync` writes: the bus joints, then their followers
-            self._write_qpos_adr = np.concatenate([self._qpos_adr, [f[0] for f in followers]]).astype(np.int64)
-            self._write_dof_adr = np.concatenate([dof_adr, [f[1] for f in followers]]).astype(np.int64)
+            self._write_qpos_adr = np.concatenate([self._qpos_adr, self._followers.qpos_adr])
+            self._write_dof_adr = np.concatenate([dof_adr, self._followers.dof_adr])
             self._observation = StateObservation(self.scene, True, None, None, where)
             self._max_step = self._checked_step(max_target_step, len(self._columns), where)
             self._measured = np.zeros(len(self._columns))
@@ -156,9 +153,8 @@ class RealRobot:
                 f"expected finite ({n},) each."
             )
         self._measured = qpos.copy()
-        leaders = self._follower_leader
-        qpos = np.concatenate([qpos, self._follower_offset + self._follower_slope * qpos[leaders]])
-        qvel = np.concatenate([qvel, self._follower_slope * qvel[leaders]])
+        qpos = np.concatenate([qpos, self._followers.positions(qpos)])
+        qvel = np.concatenate([qvel, self._followers.velocities(qvel)])
         self.scene.world.write_joint_state(
             np.array([0]), self._write_qpos_adr, qpos[None], self._write_dof_adr, qvel[None]
         )

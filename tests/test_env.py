@@ -128,6 +128,48 @@ def test_get_state_set_state_round_trip_is_exact(mode: str) -> None:
     np.testing.assert_array_equal(expected_state["elapsed_steps"], u.get_state()["elapsed_steps"])
 
 
+def test_a_restored_control_mode_brings_its_spaces_back() -> None:
+    """``set_state`` of a state saved in another control mode: the action and
+    observation spaces follow the restored mode (they stayed at the switched one, and
+    a sampled action was refused), for one robot and for each of two."""
+    env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=2, control_mode="pd_joint_delta_pos")
+    env.reset(seed=0)
+    saved = env.unwrapped.get_state()
+    env.unwrapped.set_control_mode("pd_ee_delta_pose")
+    assert env.action_space.shape == (2, 7)
+    env.unwrapped.set_state(saved)
+    assert env.unwrapped.agent.control_mode == "pd_joint_delta_pos"
+    assert env.action_space.shape == (2, 8)
+    obs, *_ = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs)
+    two = ra.make_env("Empty-v1", robot_uids=("panda", "panda"), num_envs=2).unwrapped
+    two.reset(seed=0)
+    saved, spaces = two.get_state(), two.action_space
+    two.set_control_mode("pd_ee_delta_pose", robot=1)
+    two.set_state(saved)
+    assert two.action_space == spaces and two.observation_space.contains(two.step(two.action_space.sample())[0])
+    same = two.action_space
+    two.set_state(saved)  # the same modes: the spaces (and their random streams) are kept
+    assert two.action_space is same
+
+
+def test_empty_or_two_dimensional_env_ids_are_refused() -> None:
+    """An empty selection is refused whatever holds it (a list was, an empty int array
+    reset nothing), and so is an array of two dimensions (it was flattened)."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2)
+    env.reset(seed=0)
+    u = env.unwrapped
+    before = u.get_state()
+    for ids in ([], np.array([], dtype=int)):
+        with pytest.raises(ra.StateError, match=r"at least one env id.*empty selection"):
+            env.reset(options={"env_ids": ids})
+    with pytest.raises(ra.StateError, match=r"1-D sequence, got an array of shape \(1, 1\)"):
+        env.reset(options={"env_ids": np.array([[1]])})
+    assert np.array_equal(u.get_state()["physics"], before["physics"])
+    env.reset(options={"env_ids": np.array([1])})
+    env.reset(options={"env_ids": 0})
+
+
 @pytest.mark.parametrize("base_dynamics", ["dynamic", "kinematic"])
 def test_a_state_restores_the_drive_targets_no_action_writes(base_dynamics: str) -> None:
     """Spot's held legs take no action: their drive targets are state. A restore in

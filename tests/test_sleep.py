@@ -101,3 +101,39 @@ def test_a_bad_sleep_state_is_refused_before_anything_changes() -> None:
         env.set_state(bad)
     after = env.get_state()
     assert np.array_equal(after["physics"], before["physics"]) and np.array_equal(after["sleep"], before["sleep"])
+
+
+@pytest.mark.parametrize(
+    ("column", "value", "fragment"),
+    [
+        (None, 7, r"tree_asleep entries in \[-11, 1\], got 7 at tree_asleep\[0\] in env 0"),
+        (2, 2, r"tree_awake entries in \[0, 1\], got 2"),
+        (4, -2, r"body_awake entries in \[-1, 1\], got -2"),
+        (-1, 99, r"nv_awake entries in \[0, 15\], got 99"),
+        (0, 1, r"permutation of the sleeping trees \[0\], got \[1\]"),
+    ],
+)
+def test_an_out_of_range_sleep_state_is_refused_and_the_env_goes_on(
+    column: int | None, value: int, fragment: str
+) -> None:
+    """Values of the right shape and type but outside what MuJoCo's sleep arrays hold
+    (an index past the trees, a tree's sleep cycle through an awake tree) are refused
+    before anything is written: they crashed the next step (mujoco.FatalError), and
+    a good state could not be restored after them."""
+    env = pick_cube()
+    run(env, [np.zeros(8, np.float32)] * 150)
+    assert cube_asleep(env)  # tree 0 (the cube) sleeps: its cycle is itself
+    good = env.get_state()
+    bad = {**good, "sleep": np.array(good["sleep"], copy=True)}
+    if column is None:
+        bad["sleep"][:] = value
+    else:
+        bad["sleep"][0, column] = value
+    with pytest.raises(ra.StateError, match=fragment):
+        env.set_state(bad)
+    after = env.get_state()
+    assert np.array_equal(after["physics"], good["physics"]) and np.array_equal(after["sleep"], good["sleep"])
+    still = [np.zeros(8, np.float32)] * 5
+    expected = run(env, still)
+    env.set_state(good)
+    assert np.array_equal(run(env, still), expected)

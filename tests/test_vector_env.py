@@ -75,6 +75,40 @@ def test_next_step_autoreset_happens_in_the_step_after_truncation() -> None:
     np.testing.assert_array_equal(info["elapsed_steps"], [1, 1, 1])  # stepping again
 
 
+def test_a_state_saved_with_an_autoreset_pending_continues_exactly() -> None:
+    """NEXT_STEP: a state saved on the step that ended the episodes holds the pending
+    autoresets (``env.get_state()`` alone did not: the restored envs were not reset);
+    the vector spaces follow a restored control mode; bad flags are refused first."""
+    import pickle
+
+    env = make_vec(num_envs=2, max_episode_steps=3)
+    env.reset(seed=0)
+    zero = np.zeros((2, 8), np.float32)
+    for _ in range(3):
+        *_, truncated, _ = env.step(zero)
+    assert truncated.all()
+    saved = env.get_state()
+    assert saved["autoreset"].tolist() == [True, True]
+
+    def steps() -> list[bytes]:
+        return [pickle.dumps(env.step(zero)[:4]) for _ in range(3)]
+
+    expected = steps()
+    env.set_control_mode("pd_ee_delta_pose")
+    assert env.single_action_space.shape == (7,)
+    env.set_state(saved)
+    assert env.single_action_space.shape == (8,) and env.action_space.shape == (2, 8)
+    assert env.observation_space.shape == (2, *env.single_observation_space.shape)
+    assert env.observation_space.shape == env.env.observation_space.shape
+    assert steps() == expected
+    before = env.get_state()
+    with pytest.raises(ra.StateError, match=r"'autoreset' to be a bool array of shape \(2,\)"):
+        env.set_state({**saved, "autoreset": np.array([1, 1])})
+    after = env.get_state()
+    assert np.array_equal(after["physics"], before["physics"]) and after["autoreset"].tolist() == [False, False]
+    env.close()
+
+
 def test_empty_env_has_the_vector_api_too() -> None:
     env = gym.make_vec("robot_agents/Empty-v1", num_envs=2, robot_uids="so100", max_episode_steps=2)
     assert isinstance(env, RobotVectorEnv)

@@ -95,13 +95,20 @@ def check_array(
 
 
 def check_env_ids(env_ids: Any, num_envs: int, where: str, error: type[RobotAgentsError] = StateError) -> IntArray:
-    """``env_ids`` (``None``: all) as distinct ints in ``[0, num_envs)``, ``int64``."""
+    """``env_ids`` (``None``: all; one int, a sequence or a 1-D array) as distinct ints in
+    ``[0, num_envs)``, ``int64`` ``(k,)`` with ``k >= 1``: an empty selection (``[]``,
+    ``np.array([], int)``) is refused, as is an array of two or more dimensions."""
     if env_ids is None:
         return np.arange(num_envs)
     try:
-        ids = np.asarray(env_ids).reshape(-1)
+        given = np.asarray(env_ids)
     except Exception:  # whatever the input's own __array__ raises
         raise error(f"{where}: expected env ids in [0, {num_envs}), got {env_ids!r}.") from None
+    if given.ndim > 1:
+        raise error(f"{where}: expected env ids as one int or a 1-D sequence, got an array of shape {given.shape}.")
+    if given.size == 0:
+        raise error(f"{where}: expected at least one env id in [0, {num_envs}), got an empty selection {env_ids!r}.")
+    ids = given.reshape(-1)
     if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= num_envs):
         raise error(f"{where}: expected env ids in [0, {num_envs}), got {ids.tolist()}.")
     if len(np.unique(ids)) != len(ids):

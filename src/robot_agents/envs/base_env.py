@@ -315,8 +315,14 @@ class RobotEnv(gym.Env[Any, Any]):
         if not (is_whole(robot) and 0 <= robot < len(self.agents)):
             raise ConfigError(f"{where}: expected robot to be an index in [0, {len(self.agents)}), got {robot!r}.")
         self.agents[robot].set_control_mode(mode)
+        self._update_spaces()
+
+    def _update_spaces(self) -> None:
+        """Build :attr:`action_space` and :attr:`observation_space` again for the robots'
+        current control modes (the controller's targets are observed, so both differ per
+        mode)."""
         self.action_space = self._build_action_space()
-        self.observation_space = self._build_observation_space()  # controller targets differ per mode
+        self.observation_space = self._build_observation_space()
 
     # ------------------------------------------------------------------ observations
     def _build_observation_space(self) -> gym.Space[Any]:
@@ -519,7 +525,9 @@ class RobotEnv(gym.Env[Any, Any]):
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
         through later resets too (an older state without the task's arrays or the random
-        streams restores the rest). Everything is checked before anything is written."""
+        streams restores the rest). A restored control mode brings its action and
+        observation spaces back (as :meth:`set_control_mode` does). Everything is checked
+        before anything is written."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         given = state if isinstance(state, Mapping) else {}
@@ -531,7 +539,10 @@ class RobotEnv(gym.Env[Any, Any]):
         shapes = {name: np.shape(getattr(self, name)) for name in self.episode_state}
         episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
         rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
+        modes = [agent.control_mode for agent in self.agents]
         self.scene.set_state(state)
+        if [agent.control_mode for agent in self.agents] != modes:
+            self._update_spaces()
         if steps is not None:
             self.elapsed_steps = steps
         if episode is not None:

@@ -100,7 +100,14 @@ class RobotVectorEnv(VectorEnv):
             ``max_episode_steps``, ...).
 
     Attributes:
-        env: the batched env (``env.agent``, ``env.get_state()``, task attributes).
+        env: the batched env (``env.agent``, task attributes).
+
+    State: :meth:`get_state` is ``env.get_state()`` plus ``"autoreset"``, the envs
+    whose autoreset is pending (bool ``(num_envs,)``: they ended on the last step and
+    the next one resets them); :meth:`set_state` restores both, so the continuation is
+    bit-identical, and its action and observation spaces follow a restored control
+    mode. ``env.get_state()`` / ``env.set_state()`` leave the pending autoresets (and
+    the vector env's spaces) out.
     """
 
     def __init__(
@@ -134,6 +141,36 @@ class RobotVectorEnv(VectorEnv):
         """Switch a robot's control mode in every env; the action spaces follow."""
         self.env.set_control_mode(mode, robot)
         self._update_spaces()
+
+    # -- state -----------------------------------------------------------------------------
+    def get_state(self) -> dict[str, Any]:
+        """Exact state for :meth:`set_state`: :meth:`RobotEnv.get_state` and the pending
+        autoresets ``"autoreset"`` (bool ``(num_envs,)``)."""
+        return {**self.env.get_state(), "autoreset": self._autoreset.copy()}
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
+        an autoreset pending when it was saved included. The spaces follow the restored
+        control modes. A state from ``env.get_state()`` (no ``"autoreset"``) restores
+        the env and clears the pending autoresets. Everything is checked before anything
+        is written."""
+        where = "RobotVectorEnv.set_state"
+        given = state if isinstance(state, Mapping) else {}
+        pending = np.zeros(self.num_envs, dtype=bool)
+        if "autoreset" in given:
+            flags = np.asarray(given["autoreset"])
+            if flags.shape != (self.num_envs,) or flags.dtype != np.bool_:
+                raise StateError(
+                    f"{where}: expected 'autoreset' to be a bool array of shape ({self.num_envs},) (the envs whose "
+                    f"autoreset is pending), got {flags.dtype} of shape {flags.shape}."
+                )
+            pending = flags.copy()
+        modes = [agent.control_mode for agent in self.env.agents]
+        rest = {key: value for key, value in given.items() if key != "autoreset"}
+        self.env.set_state(rest if isinstance(state, Mapping) else state)  # not a dict: the env names what it takes
+        self._autoreset = pending
+        if [agent.control_mode for agent in self.env.agents] != modes:
+            self._update_spaces()
 
     # -- reset -----------------------------------------------------------------------------
     def reset(

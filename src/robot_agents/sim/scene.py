@@ -306,7 +306,7 @@ class Scene:
     # ------------------------------------------------------------------ state
     def get_state(self) -> dict[str, Any]:
         """Everything for a bit-identical continuation: physics state ``(num_envs, n)``
-        (MuJoCo's integration state), the island-sleep counters ``(num_envs, ntree)``
+        (MuJoCo's integration state), the island-sleep state ``(num_envs, sleep_size)``
         (``sleep``), the sensor readings ``(num_envs, nsensordata)`` (``sensors``: what
         the last step measured; an older state without these restores the rest) plus
         each robot's control state (:meth:`Agent.get_control_state`: control mode,

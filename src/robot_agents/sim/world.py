@@ -40,6 +40,9 @@ STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 SLEEP_ARRAYS = ("tree_asleep", "tree_awake", "body_awake", "body_awake_ind", "dof_awake_ind", "parent_awake_ind")
 SLEEP_COUNTS = ("nbody_awake", "nparent_awake", "ntree_awake", "nv_awake")
 _SLEEP_FLAG = int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+#: The lowest ``tree_asleep`` of an awake tree: a woken tree counts up from
+#: ``-(1 + mjMINAWAKE)`` to ``-1`` (then it may fall asleep).
+_AWAKE_COUNTDOWN = -(1 + int(mujoco.mjMINAWAKE))
 
 _LOG = logging.getLogger("robot_agents.mujoco")
 
@@ -478,8 +481,32 @@ class BatchedWorld:
             )
         return out
 
+    def sleep_ranges(self) -> list[tuple[str, int, int, int]]:
+        """``(name, size, lowest, highest)`` of each entry of a :meth:`get_sleep_state`
+        row, in order (MuJoCo's ``mjData`` documentation): ``tree_asleep`` ``< 0`` an
+        awake tree's countdown from ``-(1 + mjMINAWAKE)``, ``>= 0`` the next tree of its
+        sleep cycle; ``tree_awake`` 0 / 1; ``body_awake`` an ``mjtSleepState`` (-1
+        static, 0 asleep, 1 awake); the ``*_ind`` index lists of bodies / dofs; the
+        counts (``n*_awake``) up to the number of trees, bodies or dofs."""
+        ntree, nbody, nv = int(self.model.ntree), int(self.model.nbody), int(self.model.nv)
+        return [
+            ("tree_asleep", ntree, _AWAKE_COUNTDOWN, ntree - 1),
+            ("tree_awake", ntree, 0, 1),
+            ("body_awake", nbody, int(mujoco.mjtSleepState.mjS_STATIC), int(mujoco.mjtSleepState.mjS_AWAKE)),
+            ("body_awake_ind", nbody, 0, nbody - 1),
+            ("dof_awake_ind", nv, 0, nv - 1),
+            ("parent_awake_ind", nbody, 0, nbody - 1),
+            ("nbody_awake", 1, 0, nbody),
+            ("nparent_awake", 1, 0, nbody),
+            ("ntree_awake", 1, 0, ntree),
+            ("nv_awake", 1, 0, nv),
+        ]
+
     def check_sleep_state(self, state: npt.ArrayLike, where: str = "BatchedWorld.set_state") -> npt.NDArray[np.int64]:
-        """Validate :meth:`get_sleep_state`'s array (shape, whole numbers) without applying it."""
+        """Validate :meth:`get_sleep_state`'s array without applying it: its shape, whole
+        numbers, every entry within :meth:`sleep_ranges`, and the sleeping trees'
+        ``tree_asleep`` entries a permutation of the sleeping trees (closed sleep cycles;
+        MuJoCo follows them). Raises :class:`StateError` naming the entry and env."""
         array = np.asarray(state)
         expected = (self.num_envs, self.sleep_size)
         if array.shape != expected or array.dtype.kind not in "iu":
@@ -487,7 +514,29 @@ class BatchedWorld:
                 f"{where}: expected the sleep state as integers of shape {expected}, got "
                 f"{array.dtype} of shape {array.shape}."
             )
-        return array.astype(np.int64, copy=False)
+        array = array.astype(np.int64, copy=False)
+        start = 0
+        for name, size, lowest, highest in self.sleep_ranges():
+            block = array[:, start : start + size]
+            outside = (block < lowest) | (block > highest)
+            if outside.any():
+                env, k = (int(i) for i in np.argwhere(outside)[0])
+                raise StateError(
+                    f"{where}: expected the sleep state's {name} entries in [{lowest}, {highest}], got "
+                    f"{int(block[env, k])} at {name}[{k}] in env {env} (columns {start}:{start + size} of the sleep "
+                    "state from get_state())."
+                )
+            start += size
+        ntree = int(self.model.ntree)
+        for env, cycles in enumerate(array[:, :ntree]):
+            asleep = np.flatnonzero(cycles >= 0)
+            if not np.array_equal(np.sort(cycles[asleep]), asleep):
+                raise StateError(
+                    f"{where}: expected the sleeping trees' tree_asleep entries (the next tree of each one's sleep "
+                    f"cycle) to be a permutation of the sleeping trees {asleep.tolist()}, got "
+                    f"{cycles[asleep].tolist()} in env {env}."
+                )
+        return array
 
     def _set_sleep_state(self, data: mujoco.MjData, row: npt.NDArray[np.int64]) -> None:
         start = 0

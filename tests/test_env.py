@@ -365,3 +365,21 @@ def test_each_env_has_its_own_seeded_stream() -> None:
     assert not np.array_equal(after[1], rows[1])  # env 1 went on with its stream
     with pytest.raises(ra.ConfigError, match="one per env"):
         batch.reset(seed=[1, 2])
+
+
+def test_an_env_refuses_pickling_and_names_whose_action_was_bad() -> None:
+    import copy
+    import pickle
+
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "panda"))
+    env.reset(seed=0)
+    for copier in (pickle.dumps, copy.deepcopy):
+        with pytest.raises(ra.StateError, match=r"cannot be pickled or copied .* save env\.unwrapped\.get_state\(\)"):
+            copier(env.unwrapped)
+    assert pickle.loads(pickle.dumps(env.unwrapped.get_state()))["elapsed_steps"].shape == (1,)
+    before = env.unwrapped.get_state()
+    with pytest.raises(ra.ActionError, match=r"step, action\['panda-1'\]: Panda\.set_action .* expected finite values"):
+        env.step({"panda-0": np.zeros(8), "panda-1": np.full(8, np.nan)})
+    after = env.unwrapped.get_state()
+    np.testing.assert_array_equal(after["physics"], before["physics"])
+    env.close()

@@ -25,7 +25,14 @@ from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
-from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError, close_names
+from robot_agents.errors import (
+    ActionError,
+    ConfigError,
+    PhysicsError,
+    StateError,
+    UnknownNameError,
+    close_names,
+)
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
 from robot_agents.sensors.framing import framing_camera, robot_bounds
@@ -505,7 +512,12 @@ class RobotEnv(gym.Env[Any, Any]):
                 raise UnknownNameError(f"{where} (actions keyed by robot id)", "robot id", str(unknown[0]), ids)
             missing = [rid for rid in ids if rid not in action]
             raise ConfigError(f"{where}: expected a dict of actions keyed by {ids}, got no action for {missing}.")
-        checked = [a.validate_action(action[rid]) for rid, a in zip(ids, self.agents, strict=True)]
+        checked = []
+        for rid, agent in zip(ids, self.agents, strict=True):
+            try:
+                checked.append(agent.validate_action(action[rid]))
+            except (ActionError, ConfigError, StateError) as err:  # robots may share a class: say whose it was
+                raise type(err)(f"{type(self).__name__}.step, action[{rid!r}]: {err}") from None
         for agent, act in zip(self.agents, checked, strict=True):
             agent.set_action(act)
 
@@ -585,6 +597,15 @@ class RobotEnv(gym.Env[Any, Any]):
 
     def _check_open(self, where: str) -> None:
         check_open(self._closed, "this env", where)
+
+    def __reduce__(self) -> Any:
+        """Refused, with the way that works: an env holds MuJoCo's compiled model and
+        renderers, which cannot be pickled or deep-copied."""
+        raise StateError(
+            f"{type(self).__name__}: an env cannot be pickled or copied (it holds MuJoCo's model and renderers); "
+            "save env.unwrapped.get_state() (plain arrays, picklable) and set_state() it on an env made with the "
+            "same arguments."
+        )
 
     def close(self) -> None:
         if self._renderer is not None:

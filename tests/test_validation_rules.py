@@ -324,3 +324,13 @@ def test_two_end_effectors_of_one_name_are_refused_and_close_names_rank_case_fir
         cls.check()
     # only the case differs: that name first (it came second, after a longer name holding it)
     assert close_names("PANDA", ["floating_panda_gripper", "panda", "panda_stick"])[0] == "panda"
+
+
+def test_a_base_on_joints_other_than_two_slides_and_a_hinge_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM3_MJCF)
+    hinges = type(
+        "OnHinges", (ra.Agent,), {"uid": "", "mjcf_path": path, "parts": (ra.Base(name="base", joints="j."),)}
+    )
+    with pytest.raises(ConfigError, match=r"a Base moves on an x slide, a y slide and a yaw hinge.*j1 \(hinge\)"):
+        hinges.check()

@@ -51,7 +51,7 @@ from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.loading import load_model_spec, urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
-from robot_agents.parts.declaration import Arm, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
+from robot_agents.parts.declaration import Arm, Base, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_cameras, add_touch_sensors
@@ -727,6 +727,14 @@ def _resolve_parts(
                         )
         if isinstance(part, Hand) and part.power_grasp is not None:
             index.body_id(part.power_grasp.link, f"{where} {part.name!r}.power_grasp.link")
+        if isinstance(part, Base):
+            kinds = tuple(index.joint(j, where).kind for j in resolved[part.name])
+            if kinds != (JointKind.SLIDE, JointKind.SLIDE, JointKind.HINGE):
+                found = ", ".join(f"{j} ({k.value})" for j, k in zip(resolved[part.name], kinds, strict=True))
+                raise ConfigError(
+                    f"{where} {part.name!r}: a Base moves on an x slide, a y slide and a yaw hinge, in that order; "
+                    f"its joints are {found}."
+                )
     return resolved
 
 

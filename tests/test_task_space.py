@@ -48,6 +48,23 @@ def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
 
 
 # ---------------------------------------------------------------------------- kinematics
+def numeric_jacobian(agent: ra.Agent, frame: str, qpos: np.ndarray, relative_to: str = "world") -> np.ndarray:
+    """Central differences (step 1e-6) of ``frame_pose(frame, relative_to=...)`` over each
+    joint, ``(num_envs, 6, dof)``: position, then rotation as a rotation vector in the
+    reference's axes."""
+    eps = 1e-6
+    numeric = np.zeros((qpos.shape[0], 6, agent.dof))
+    for j in range(agent.dof):
+        plus, minus = qpos.copy(), qpos.copy()
+        plus[:, j] += eps
+        minus[:, j] -= eps
+        pose_plus = agent.frame_pose(frame, plus, relative_to=relative_to)
+        pose_minus = agent.frame_pose(frame, minus, relative_to=relative_to)
+        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
+        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
+    return numeric
+
+
 @pytest.mark.parametrize(("uid", "frame"), [("panda", "panda_hand_tcp"), ("floating_panda_gripper", "panda_hand_tcp")])
 def test_jacobian_matches_finite_differences(uid: str, frame: str) -> None:
     """Central differences of FK (position, and rotation as a world-frame rotation vector)
@@ -60,16 +77,7 @@ def test_jacobian_matches_finite_differences(uid: str, frame: str) -> None:
     qpos = rng.uniform(low + 0.1 * (high - low), high - 0.1 * (high - low), (3, agent.dof))
     jacobian = agent.frame_jacobian(frame, qpos)
     assert jacobian.shape == (3, 6, agent.dof)
-    eps = 1e-6
-    numeric = np.zeros_like(jacobian)
-    for j in range(agent.dof):
-        plus, minus = qpos.copy(), qpos.copy()
-        plus[:, j] += eps
-        minus[:, j] -= eps
-        pose_plus, pose_minus = agent.frame_pose(frame, plus), agent.frame_pose(frame, minus)
-        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
-        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
-    np.testing.assert_allclose(jacobian, numeric, atol=1e-5)
+    np.testing.assert_allclose(jacobian, numeric_jacobian(agent, frame, qpos), atol=1e-5)
     # In root axes: the same Jacobian rotated by the mount.
     root = agent.frame_jacobian(frame, qpos, relative_to="root")
     mount_rotation = np.empty(9)
@@ -105,17 +113,7 @@ def test_a_jacobian_relative_to_a_moving_frame_is_the_derivative_of_the_relative
     )
     qpos = rng.uniform(low + 0.1 * (high - low), high - 0.1 * (high - low), (2, agent.dof))
     jacobian = agent.frame_jacobian(frame, qpos, relative_to=reference)
-    eps = 1e-6
-    numeric = np.zeros_like(jacobian)
-    for j in range(agent.dof):
-        plus, minus = qpos.copy(), qpos.copy()
-        plus[:, j] += eps
-        minus[:, j] -= eps
-        pose_plus = agent.frame_pose(frame, plus, relative_to=reference)
-        pose_minus = agent.frame_pose(frame, minus, relative_to=reference)
-        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
-        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
-    np.testing.assert_allclose(jacobian, numeric, atol=1e-5)
+    np.testing.assert_allclose(jacobian, numeric_jacobian(agent, frame, qpos, reference), atol=1e-5)
     if frame == reference:
         assert not np.any(jacobian)
     else:

@@ -35,6 +35,7 @@ import numpy.typing as npt
 
 from robot_agents.actuators.gains import inertia_matrix
 from robot_agents.agent import Agent
+from robot_agents.agent.index import RobotIndex
 from robot_agents.checks import hold_action
 from robot_agents.controllers.base import Controller
 from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosMimicConfig
@@ -271,25 +272,21 @@ def step_responses(
         scene.close()
 
 
-def coupled_joints(model: mujoco.MjModel, joint: int) -> dict[int, float]:
-    """Joint id -> how far it moves per unit of ``joint``'s motion, for ``joint`` (1) and
-    every joint tied to it through active joint equalities (MuJoCo's ``polycoef``: the
-    linear term; transitively, both ways)."""
+def coupled_joints(index: RobotIndex, joint: str) -> dict[str, float]:
+    """Joint name -> how far it moves per unit of ``joint``'s motion, for ``joint`` (1)
+    and every joint tied to it through the robot's joint couplings (``index.couplings``,
+    MuJoCo's joint equalities: their linear term; transitively, both ways)."""
     ratios = {joint: 1.0}
-    links = [
-        (int(model.eq_obj1id[e]), int(model.eq_obj2id[e]), float(model.eq_data[e, 1]))
-        for e in range(model.neq)
-        if int(model.eq_type[e]) == int(mujoco.mjtEq.mjEQ_JOINT) and model.eq_active0[e] and model.eq_obj2id[e] >= 0
-    ]
     grown = True
     while grown:
         grown = False
-        for follower, leader, slope in links:  # follower - follower_0 = slope * (leader - leader_0) + ...
-            if leader in ratios and follower not in ratios:
-                ratios[follower] = slope * ratios[leader]
+        for coupling in index.couplings:  # follower = c0 + c1 * leader + ...
+            slope = coupling.coef[1]
+            if coupling.leader in ratios and coupling.follower not in ratios:
+                ratios[coupling.follower] = slope * ratios[coupling.leader]
                 grown = True
-            elif follower in ratios and leader not in ratios and slope != 0.0:
-                ratios[leader] = ratios[follower] / slope
+            elif coupling.follower in ratios and coupling.leader not in ratios and slope != 0.0:
+                ratios[coupling.leader] = ratios[coupling.follower] / slope
                 grown = True
     return ratios
 
@@ -368,10 +365,10 @@ def _record(
         raise PhysicsError(f"step_responses: {joint}'s record is not finite at {scene.sim_freq} Hz.")
     dt = float(model.opt.timestep)
     # the joints moving with this one through joint equalities (mimic fingers, a telescope)
-    coupling = coupled_joints(model, int(drives.joint_ids[column]))
+    coupling = coupled_joints(agent.index, joint)
     ratios = np.zeros(model.nv)  # each dof's motion per unit of this joint's
-    for j, ratio in coupling.items():
-        ratios[int(model.jnt_dofadr[j])] = ratio
+    for name, ratio in coupling.items():
+        ratios[agent.index.joint(name, "step_responses").dof_adr] = ratio
     coupled_drive = ratios[drives.dof_adr] ** 2  # (n,) weights of the robot's drives
     return StepResponse(
         joint=joint,
@@ -382,9 +379,7 @@ def _record(
         effort_limit=float(drives.effort_limit[column]),
         velocity_limit=float(drives.velocity_limit[column]),
         inertia=float(ratios @ mass @ ratios),
-        coupled=tuple(str(model.joint(j).name)[len(agent.prefix) :] for j in sorted(coupling))
-        if len(coupling) > 1
-        else (),
+        coupled=tuple(j for j in agent.index.joint_names if j in coupling) if len(coupling) > 1 else (),
         physics_step=dt,
         times=np.arange(1, count + 1, dtype=np.float64) * dt,
         positions=positions,

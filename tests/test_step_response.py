@@ -131,6 +131,20 @@ def test_the_command_line_prints_a_line_per_joint() -> None:
     assert main(["tune", "panda", "--joints", "panda_jiont7"], io.StringIO()) == 2
 
 
+def test_the_records_go_to_a_csv_table(tmp_path: Path) -> None:
+    import csv
+
+    path = tmp_path / "steps.csv"
+    out = io.StringIO()
+    assert main(["tune", "panda", "--joints", "panda_joint[67]", "--seconds", "0.1", "--csv", str(path)], out) == 0
+    rows = list(csv.DictReader(path.open()))
+    assert len(rows) == 2 * 50 and {r["joint"] for r in rows} == {"panda_joint6", "panda_joint7"}  # 0.1 s at 500 Hz
+    (six,) = step_responses("panda", "panda_joint6", seconds=0.1)
+    first = [r for r in rows if r["joint"] == "panda_joint6"]
+    assert float(first[-1]["position"]) == six.positions[-1] and float(first[0]["time_s"]) == pytest.approx(0.002)
+    assert main(["tune", "panda", "--csv", str(tmp_path / "no" / "steps.csv")], io.StringIO()) == 2
+
+
 def test_a_mimic_follower_is_stepped_through_its_leader() -> None:
     # the WidowX 250 S's right finger follows the left one mirrored (multiplier -1)
     left, right = step_responses("widowx250s", ".*_finger")

@@ -250,10 +250,12 @@ def cmd_tune(
     stiffness: float | None = None,
     damping: float | None = None,
     effort_limit: float | None = None,
+    csv_path: str | None = None,
 ) -> int:
     """Each joint's answer to a step of its target (robot_agents.tuning.step_response),
-    with the declared gains or with those given; exit 1 when the physics diverged."""
-    from robot_agents.tuning.step_response import step_responses
+    with the declared gains or with those given (``csv_path``: the records as a CSV
+    table too); exit 1 when the physics diverged."""
+    from robot_agents.tuning.step_response import step_responses, write_csv
 
     responses = step_responses(
         cls,
@@ -277,6 +279,8 @@ def cmd_tune(
     )
     for response in responses:
         out.write(response.line() + "\n")
+    if csv_path is not None:
+        out.write(f"records: {write_csv(responses, csv_path)}\n")
     return 1 if any(r.unstable for r in responses) else 0
 
 
@@ -377,6 +381,9 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--stiffness", type=float, default=None, help="stiffness to try, N*m/rad or N/m")
     tune.add_argument("--damping", type=float, default=None, help="damping to try, N*m*s/rad or N*s/m")
     tune.add_argument("--effort-limit", type=float, default=None, help="effort limit to try, N*m or N")
+    tune.add_argument(
+        "--csv", default=None, help="also write every physics step of each record to this CSV file (for plotting)"
+    )
     demo = sub.add_parser(
         "demo", help="move a robot through its keyframes and write a GIF or MP4 (its cameras beside the scene)"
     )
@@ -404,6 +411,8 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         # the command's own arguments first: a typo is reported before a model file loads
         if args.command == "check":
             seconds, substeps = parse_seconds(args.seconds), parse_substeps(args.substeps)
+        elif args.command == "tune" and args.csv is not None and not Path(args.csv).parent.is_dir():
+            raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
         elif args.command == "demo":
             default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
             parse_seconds(args.seconds)
@@ -424,6 +433,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
                 args.stiffness,
                 args.damping,
                 args.effort_limit,
+                args.csv,
             )
         return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:

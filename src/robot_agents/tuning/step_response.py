@@ -25,9 +25,11 @@ PATTERN [--stiffness KP] [--damping KV] [--effort-limit L]``.
 
 from __future__ import annotations
 
+import csv
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -39,7 +41,7 @@ from robot_agents.agent.index import RobotIndex
 from robot_agents.checks import hold_action
 from robot_agents.controllers.base import Controller
 from robot_agents.controllers.joint import PDJointPosConfig, PDJointPosMimicConfig
-from robot_agents.errors import ConfigError, PhysicsError, UnknownNameError
+from robot_agents.errors import ConfigError, MediaError, PhysicsError, UnknownNameError
 from robot_agents.patterns import Patterns, match
 from robot_agents.registry import agent_class
 from robot_agents.sim.scene import Scene, default_sim_freq
@@ -197,6 +199,27 @@ class StepResponse:
             f"(saturated {self.saturated_share * 100:.0f}%), speed {self.peak_speed:.3g}{speed}"
             + (" | UNSTABLE: MuJoCo reset the state" if self.unstable else "")
         )
+
+
+def write_csv(responses: Sequence[StepResponse], path: str | Path) -> Path:
+    """Write ``responses`` as one CSV table for plotting: a row per joint and physics
+    step with ``joint``, ``time_s`` (after the step), ``target``, ``position``,
+    ``velocity``, ``effort`` (joint units). Returns the path.
+
+    Raises:
+        MediaError: the file cannot be written (the message names it and why).
+    """
+    target = Path(path)
+    try:
+        with target.open("w", newline="") as stream:
+            writer = csv.writer(stream)
+            writer.writerow(("joint", "time_s", "target", "position", "velocity", "effort"))
+            for r in responses:
+                for row in zip(r.times, r.positions, r.velocities, r.efforts, strict=True):
+                    writer.writerow((r.joint, f"{row[0]:.6g}", repr(r.target), *(repr(float(v)) for v in row[1:])))
+    except OSError as err:
+        raise MediaError(f"write_csv: cannot write {str(target)!r}: {err.strerror or err}.") from None
+    return target
 
 
 def step_responses(

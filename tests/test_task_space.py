@@ -418,6 +418,16 @@ def test_workspace_box_clips_targets() -> None:
     scene.close()
 
 
+def test_a_workspace_box_apart_from_the_position_bounds_is_refused() -> None:
+    # Partial overlap is a clip (a table top cutting the reachable box); a box apart from
+    # the bounds along an axis would pull every absolute action onto one of its faces.
+    overlapping = WorkspaceBox(lower=(0.3, -0.2, 1.2), upper=(0.6, 0.2, 1.8))
+    assert replace(PANDA_TASK_SPACE, workspace=overlapping).workspace == overlapping
+    apart = WorkspaceBox(lower=(0.3, -0.2, 1.5), upper=(0.6, 0.2, 1.8))  # bounds end at z = 1.4
+    with pytest.raises(ra.ConfigError, match=r"TaskSpace.workspace: expected a box overlapping .* along z\.$"):
+        replace(PANDA_TASK_SPACE, workspace=apart)
+
+
 # ---------------------------------------------------------------------------- formats
 def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
     class QuatPanda(Panda):

@@ -70,6 +70,18 @@ class TaskSpace:
             raise ConfigError(f"TaskSpace.position_bounds: expected a WorkspaceBox, got {self.position_bounds!r}.")
         if self.workspace is not None and not isinstance(self.workspace, WorkspaceBox):
             raise ConfigError(f"TaskSpace.workspace: expected a WorkspaceBox or None, got {self.workspace!r}.")
+        if self.workspace is not None:
+            bounds, box = self.position_bounds, self.workspace
+            low, high = np.asarray(bounds.lower), np.asarray(bounds.upper)
+            box_low, box_high = np.asarray(box.lower), np.asarray(box.upper)
+            apart = [axis for axis, out in zip("xyz", (box_high < low) | (box_low > high), strict=True) if out]
+            if apart:
+                raise ConfigError(
+                    f"TaskSpace.workspace: expected a box overlapping position_bounds (every target is "
+                    f"clipped into it, so no absolute action could reach a point of a box outside them), "
+                    f"got workspace {box.lower}..{box.upper} apart from position_bounds "
+                    f"{bounds.lower}..{bounds.upper} along {', '.join(apart)}."
+                )
         for name, unit in (("max_translation", "m"), ("max_rotation", "rad")):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < np.inf:

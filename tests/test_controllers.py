@@ -251,3 +251,41 @@ def test_hold_action_commands_zero_under_asymmetric_normalized_bounds(pendulum_f
         scene.step()
     np.testing.assert_allclose(agent.qpos[0], start, atol=1e-3)  # held, not driven at 0.5 rad/s
     scene.close()
+
+
+def test_velocity_targets_are_met_on_joints_with_their_own_damping(tmp_path: object) -> None:
+    """A joint whose model gives it damping ``b`` (``dof_damping``) under a velocity
+    servo ``kv (qd* - qd)`` settles at ``kv / (kv + b)`` of the target unless the drive
+    feeds ``b qd*`` forward: the shoulder here (kv 20, b 10) reached 2/3 of it."""
+    from pathlib import Path
+
+    from tests.conftest import PENDULUM_MJCF, make_pendulum_class
+
+    path = Path(str(tmp_path)) / "damped.xml"
+    path.write_text(PENDULUM_MJCF.replace('name="shoulder"', 'name="shoulder" damping="10"'))
+    cls = make_pendulum_class(path, uid="test_damped_pendulum")
+    scene = ra.Scene(cls, control_modes="pd_joint_vel")
+    scene.reset(keyframes="down")
+    agent = scene.agents[0]
+    assert scene.model.dof_damping[agent.dof_adr[0]] == 10.0
+    run(scene, agent, [0.5, 0.0], 10)  # 0.5 rad/s
+    np.testing.assert_allclose(agent.qvel[0, 0], 0.5, rtol=0.01)
+    scene.close()
+
+
+@pytest.mark.parametrize(("joint", "speed"), [("joint_wrist_roll", 0.3), ("joint_arm_l0", 0.05)])
+def test_stretch_velocity_mode_reaches_the_commanded_speed(joint: str, speed: float) -> None:
+    """Stretch's wrist joints carry damping 1 N*m*s/rad against a kv of 1-3 (the roll
+    turned at half its target speed) and its telescope's three follower segments 5 N*s/m
+    each on top of the leader's 5 against kv 150 (0.88 of it): the drives feed the
+    joints' own damping, the followers' included, forward."""
+    scene = ra.Scene("stretch", control_modes="pd_joint_vel")
+    scene.reset()
+    agent = scene.agents[0]
+    arm, part = agent.controller.parts["arm"], agent.controller.slices["arm"]
+    index = arm.binding.joint_names.index(joint)
+    action = np.zeros(agent.controller.action_dim)
+    action[part.start + index] = arm.from_raw(np.eye(arm.action_dim)[index] * speed)[index]
+    run(scene, agent, action, 20)  # 1 s
+    np.testing.assert_allclose(agent.qvel[0, arm.binding.dof_adr[index]], speed, rtol=0.02)
+    scene.close()

@@ -228,6 +228,35 @@ def test_ik_null_space_pull_keeps_the_pose_and_nears_the_rest_posture() -> None:
     scene.close()
 
 
+def test_ik_null_space_pull_spares_joints_held_at_a_limit() -> None:
+    """A joint at a limit that the task step pushes further is taken out of the step;
+    the null-space pull must leave it out too: pulled back toward its rest while the
+    other joints' task step assumes it stays, it moved the tool off the solution, and 3
+    of the 12 random reachable targets whose solution lies at a limit (solved without
+    the pull) failed with a pull of 0.3."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    rng = np.random.default_rng(2)
+    count = 200
+    limits = agent.qpos_limits[:7]
+    context = np.repeat(scene.world.qpos, count, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
+    plain = panda_solver(scene)
+    targets = agent.kinematics.pose(configurations, plain.frame)
+    seed = np.repeat(agent.qpos[:, :7], count, axis=0)
+    free = plain.solve(context, targets, seed, max_iterations=100)
+    at_limit = np.any((free.qpos <= limits[:, 0]) | (free.qpos >= limits[:, 1]), axis=1)
+    chosen = free.success & at_limit
+    assert chosen.sum() >= 10
+    pulled = panda_solver(scene, IKConfig(null_space_gain=0.3)).solve(
+        context[chosen], targets[chosen], seed[chosen], max_iterations=100
+    )
+    assert pulled.success.all(), np.flatnonzero(~pulled.success)
+    scene.close()
+
+
 # ---------------------------------------------------------------------------- conventions
 @pytest.mark.parametrize("frame", [CommandFrame.ROOT, CommandFrame.EE])
 @pytest.mark.parametrize("mode", ["pd_ee_target_delta_pose", "pd_ee_delta_pose"])

@@ -93,8 +93,10 @@ class ActuatorConfig:
 
 @dataclass(frozen=True, kw_only=True)
 class PDActuator(ActuatorConfig):
-    """A PD position servo inside MuJoCo: ``force = kp (q* - q) + kv (qd* - qd) + tau*``,
-    integrated implicitly (stable at stiff gains), clamped to ``effort_limit``."""
+    """A PD position servo inside MuJoCo: ``force = kp (q* - q) + kv (qd* - qd) + b qd* +
+    tau*`` (``b``: the joint's own damping, fed forward; see
+    :mod:`robot_agents.actuators.drives`), integrated implicitly (stable at stiff gains),
+    clamped to ``effort_limit``."""
 
     stiffness: PerJoint
     damping: PerJoint = 0.0
@@ -102,7 +104,8 @@ class PDActuator(ActuatorConfig):
 
 @dataclass(frozen=True, kw_only=True)
 class VelocityActuator(ActuatorConfig):
-    """A velocity servo inside MuJoCo: ``force = kv (qd* - qd) + tau*``."""
+    """A velocity servo inside MuJoCo: ``force = kv (qd* - qd) + b qd* + tau*`` (``b``: the
+    joint's own damping, fed forward)."""
 
     damping: PerJoint
 
@@ -111,7 +114,8 @@ class VelocityActuator(ActuatorConfig):
 class MotorActuator(ActuatorConfig):
     """A torque motor: MuJoCo applies the commanded effort. With ``stiffness`` or
     ``damping`` > 0 the library closes an explicit PD loop before every physics substep
-    (``force = kp (q* - q) + kv (qd* - qd) + tau*``, as Isaac Lab's ideal PD), which
+    (``force = kp (q* - q) + kv (qd* - qd) + b qd* + tau*``, Isaac Lab's ideal PD with
+    the joint's own damping ``b`` fed forward), which
     lets position and velocity modes drive it; with both zero it takes efforts only."""
 
     stiffness: PerJoint = 0.0

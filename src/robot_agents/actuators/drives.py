@@ -7,11 +7,16 @@ kind. For MuJoCo's affine actuators (PD servo, velocity servo, motor) with joint
 stiffness ``kp``, damping ``kv``, gain ``g`` and constant bias ``b0`` it solves
 ``g * ctrl + b0 - kp q - kv qd = kp q* + kv qd* + tau* - kp q - kv qd`` for ``ctrl``:
 
-    ctrl = (kp q* + kv qd* + tau* - b0) / g
+    ctrl = (kp q* + (kv + b) qd* + tau* - b0) / g
 
-so the PD law runs inside physics (implicitly integrated) at every substep. A motor
-under explicit PD gets ``ctrl = kp (q* - q) + kv (qd* - qd) + tau*`` before every
-substep; MuJoCo's ``pid`` and ``dcmotor`` take the targets as their inputs.
+so the PD law runs inside physics (implicitly integrated) at every substep. ``b`` is
+the joint's own damping (the model's ``dof_damping``, plus that of the joints that
+follow it through linear joint equalities, times their ratio squared), fed forward so
+that a joint meets its velocity target at steady state: physics damps it by ``b qd``
+on top of the drive, and a velocity servo alone settles at ``kv / (kv + b)`` of its
+target. A motor under explicit PD gets ``ctrl = kp (q* - q) + kv (qd* - qd) + b qd* +
+tau*`` before every substep; MuJoCo's ``pid`` and ``dcmotor`` take the targets as their
+inputs.
 
 A real-robot driver or another backend consumes the same :class:`JointTargets`.
 """
@@ -29,6 +34,7 @@ import numpy.typing as npt
 from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.errors import ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.indexing import index_selector
+from robot_agents.kinematics.ik import linear_followers
 from robot_agents.validation import check_array, check_real
 
 FloatArray = npt.NDArray[np.float64]
@@ -122,6 +128,12 @@ class Drives:
         self.declared_damping = np.where(affine, -bias[:, 2] * gear**2, explicit[1])
         self.declared_effort_limit = np.array([d.effort_limit for d in declarations], dtype=np.float64)
         self.velocity_limit = np.array([d.velocity_limit for d in declarations], dtype=np.float64)
+        #: The joints' own damping (N*m*s/rad or N*s/m), ``(n,)``: ``dof_damping`` plus that
+        #: of the joints following each one through linear joint equalities (Stretch's
+        #: telescope segments), times their ratio squared; fed forward with velocity targets.
+        self.passive_damping = np.array(model.dof_damping[self.dof_adr], dtype=np.float64)
+        for _, follower_dof, column, _, slope in linear_followers(model, self.dof_adr):
+            self.passive_damping[column] += slope**2 * float(model.dof_damping[follower_dof])
         self._declared_biastype = model.actuator_biastype[self.actuator_ids].copy()
         self._declared_forcelimited = model.actuator_forcelimited[self.actuator_ids].copy()
         self._declared_forcerange = model.actuator_forcerange[self.actuator_ids].copy()
@@ -232,7 +244,7 @@ class Drives:
                 model.actuator_forcerange[actuator] = self._declared_forcerange[column]
         with np.errstate(divide="ignore", invalid="ignore"):
             self._a = (self.stiffness / gain)[a]
-            self._b = (self.damping / gain)[a]
+            self._b = ((self.damping + self.passive_damping) / gain)[a]
             self._c = (1.0 / gain)[a]
             self._d = (-self._declared_b0 / gain)[a]
         # (1, k) rows of the factors: NumPy's loop without broadcasting against (1, k)
@@ -346,6 +358,7 @@ class Drives:
         effort = (
             self.stiffness[e] * (targets.position[:, e] - qpos[:, self.qpos_adr[e]])
             + self.damping[e] * (targets.velocity[:, e] - qvel[:, self.dof_adr[e]])
+            + self.passive_damping[e] * targets.velocity[:, e]
             + targets.effort[:, e]
         )
         limit = self.effort_limit[e]

@@ -2,8 +2,9 @@
 position + velocity, and mimic (one action drives coupled joints).
 
 They produce joint targets; the robot's drives track them (for PD drives the law
-``kp (q* - q) + kv (qd* - qd)`` runs inside physics at every substep, clamped to the
-drive's effort limit).
+``kp (q* - q) + kv (qd* - qd) + b qd*`` runs inside physics at every substep, clamped to
+the drive's effort limit; ``b``, the joint's own damping, is fed forward so that a
+velocity target is met).
 """
 
 from __future__ import annotations

@@ -19,7 +19,8 @@ seed's side; ``restarts`` then retries from random configurations.
 
 With ``null_space_gain > 0`` a redundant arm is also pulled toward ``rest_qpos`` in
 the null space of the task, ``(I - J^+ J) k (q_rest - q)``, which changes joint
-positions without moving the end effector (to first order).
+positions without moving the end effector (to first order); joints taken out of the
+step at a limit are not pulled (the others' step assumes they stay).
 
 Only the chain's joints move; every other joint (fingers, other robots, objects)
 stays at the value given in ``context_qpos``, except followers of a chain joint through
@@ -293,11 +294,13 @@ class IKSolver:
             # undo their share, and the others would never make it up (an arm resting
             # on its limits stalls otherwise). No joint at a limit: nothing to take out.
             at_lower, at_upper = q <= lower, q >= upper
+            held = None
             if np.count_nonzero(at_lower) or np.count_nonzero(at_upper):
                 for _ in range(len(q)):
                     blocked = (at_lower & (step < 0.0)) | (at_upper & (step > 0.0))
                     if not blocked.any():
                         break
+                    held = blocked if held is None else held | blocked
                     jacobian[:, blocked] = 0.0
                     np.matmul(jacobian, transpose, out=system)
                     system += damping
@@ -306,6 +309,8 @@ class IKSolver:
                     step = transpose.dot(solution)
             if cfg.null_space_gain > 0:
                 pull = cfg.null_space_gain * (self.rest_qpos - q)
+                if held is not None:  # out of the task step: the others count on them staying
+                    pull[held] = 0.0
                 np.matmul(jacobian, transpose, out=system)
                 system += damping
                 mujoco.mju_cholFactor(system, 0.0)

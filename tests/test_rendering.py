@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -129,3 +130,52 @@ def test_shadows_are_configurable() -> None:
     change = images[0] - images[1]
     assert np.mean(change < -10) > 0.02 and change.min() < -60
     np.testing.assert_array_equal(images[1], images[2])  # deterministic without them
+
+
+SITE_AND_TENDON_MJCF = """
+<mujoco>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.05" pos="0 0 0.05" mass="5"/>
+      <site name="anchor" pos="0.3 0 0.6" size="0.01"/>
+      <body name="pad" pos="0 0 0.1">
+        <joint name="lift" type="slide" axis="0 0 1" range="-0.05 0.05"/>
+        <geom name="pad" type="box" size="0.08 0.08 0.01" pos="0 0 0.01" mass="0.5"/>
+        <site name="pad_top" type="box" size="0.081 0.081 0.002" pos="0 0 0.02"/>
+        <site name="marker" type="sphere" size="0.05" pos="0.3 0 0.3"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon><spatial name="cable" width="0.02"><site site="anchor"/><site site="pad_top"/></spatial></tendon>
+</mujoco>
+"""
+
+
+def test_sensor_cameras_see_geoms_only_not_sites_or_tendons(tmp_path: Path) -> None:
+    """A model file's sites (MuJoCo's default group 0) and a spatial tendon are not
+    drawn: the depth over a pad is the pad's (not the touch site 2 mm above it), and
+    every pixel that sees something names a body (no -1 within the far plane)."""
+    path = tmp_path / "pad.xml"
+    path.write_text(SITE_AND_TENDON_MJCF)
+    robot = type(
+        "SitePad",
+        (ra.Agent,),
+        {
+            "uid": "site_pad",
+            "mjcf_path": path,
+            "keyframes": {"home": ra.Keyframe(qpos=(0.0,))},
+            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
+        },
+    )
+    camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.2), target=(0, 0, 0), up=(1, 0, 0), width=64, height=64)
+    scene = ra.Scene(robot, cameras=[camera])
+    images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["top"]
+    depth, seg = images["depth"][0, :, :, 0], images["segmentation"][0, :, :, 0]
+    pad = scene.render_model.geom("site_pad-0/pad")
+    pad_top = scene.world.render_sources()[0].geom_xpos[pad.id, 2] + pad.size[2]  # 0.12 m
+    assert depth[31:33, 31:33] == pytest.approx(1.2 - pad_top, abs=1e-4)  # not the site's top, 2 mm higher
+    assert not np.any((depth < camera.far) & (seg == -1))  # the tendon drew id -1 pixels
+    ids = set(np.unique(seg).tolist())
+    assert ids == {0, scene.render_model.body("site_pad-0/base").id, scene.render_model.body("site_pad-0/pad").id}
+    scene.close()

@@ -96,12 +96,23 @@ def set_frustum(scene: mujoco.MjvScene, intrinsic: FloatArray, width: int, heigh
         camera.frustum_bottom = -near * (height - 0.5 - cy) / fy
 
 
+def sensor_scene_option() -> mujoco.MjvOption:
+    """What sensor cameras draw: the visual geoms (groups 0-2), not collision geoms
+    (group 3), sites (MuJoCo's default options draw sites of groups 0-2, the group of
+    a model file's sites unless set), tendons or rangefinder rays (drawn by default)."""
+    option = mujoco.MjvOption()
+    option.sitegroup[:] = 0
+    option.flags[mujoco.mjtVisFlag.mjVIS_TENDON] = False
+    option.flags[mujoco.mjtVisFlag.mjVIS_RANGEFINDER] = False
+    return option
+
+
 class CameraRenderer:
     """Renders declared cameras of one compiled model (one renderer per image size)."""
 
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
-        self.option = mujoco.MjvOption()  # geom groups 0-2: visual geoms, not collision or sites
+        self.option = sensor_scene_option()
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
         self._lookup = SegmentationLookup(model)
 

@@ -164,7 +164,10 @@ class CameraConfig:
             changes["intrinsic"] = None
         if "intrinsic" in changes and "fovy" not in changes:
             changes["fovy"] = None
-        return dataclasses.replace(self, **changes)
+        try:
+            return dataclasses.replace(self, **changes)
+        except ConfigError as err:  # a bad value: name the override that gave it
+            raise ConfigError(f"{where}: {err}") from None
 
     def resized(self, width: int, height: int) -> CameraConfig:
         """The same view at another image size (an intrinsic matrix is scaled with it)."""

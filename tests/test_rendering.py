@@ -60,6 +60,10 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
     scene = ra.Scene("panda", cameras=[up])
     assert np.all(scene.cameras.capture(scene.world, ("depth",))["up"]["depth"] == 5.0)
+    # One texture by its name (not its letters: "unknown texture 'd'" before).
+    assert list(scene.cameras.capture(scene.world, "depth")["up"]) == ["depth"]
+    with pytest.raises(ra.UnknownNameError, match=r"unknown texture 'dpeth'\. Did you mean 'depth'"):
+        scene.cameras.capture(scene.world, "dpeth")
 
 
 def test_full_intrinsic_matrix_is_rendered_exactly() -> None:

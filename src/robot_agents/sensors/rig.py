@@ -116,10 +116,11 @@ class CameraRig:
           where nothing is seen;
         - ``segmentation``: ``(N, H, W, 1)`` int16 body ids (``-1`` background).
 
+        ``textures``: names from :data:`TEXTURES`, or one name (``"depth"``).
         ``env_ids``: the envs to render (``None``: all), distinct ids in ``[0, num_envs)``.
         """
         try:
-            wanted = tuple(textures)
+            wanted = (textures,) if isinstance(textures, str) else tuple(textures)
         except TypeError:
             raise UnknownNameError("CameraRig.capture", "texture", repr(textures), TEXTURES) from None
         for texture in wanted:

@@ -73,6 +73,8 @@ def test_look_at_points_the_camera_at_the_target() -> None:
     np.testing.assert_allclose(camera.pos, eye)
     with pytest.raises(ra.ConfigError, match="parallel to up"):
         ra.CameraConfig.look_at("cam", eye=(0, 0, 1), target=(0, 0, 0))
+    with pytest.raises(ra.ConfigError, match=r"look_at 'cam': the pose comes from eye, target and up; expected no pos"):
+        ra.CameraConfig.look_at("cam", eye=eye, target=target, pos=(0, 0, 1))  # a TypeError before
 
 
 def test_wrist_camera_pose_follows_its_link() -> None:

@@ -146,6 +146,12 @@ class CameraConfig:
     ) -> CameraConfig:
         """A camera at ``eye`` looking at ``target``, ``up`` pointing up in the image
         (points and directions in the mount's frame; other fields as keywords)."""
+        given = sorted(set(fields) & {"pos", "quat"})
+        if given:
+            raise ConfigError(
+                f"CameraConfig.look_at {uid!r}: the pose comes from eye, target and up; expected no {' or '.join(given)}, "
+                f"got {', '.join(f'{name}={fields[name]!r}' for name in given)}."
+            )
         return cls(uid=uid, pos=tuple(eye), quat=look_at_quat(eye, target, up, f"CameraConfig {uid!r}"), **fields)  # type: ignore[arg-type]
 
     def with_overrides(self, overrides: Mapping[str, Any], where: str) -> CameraConfig:

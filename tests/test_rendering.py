@@ -183,3 +183,25 @@ def test_sensor_cameras_see_geoms_only_not_sites_or_tendons(tmp_path: Path) -> N
     ids = set(np.unique(seg).tolist())
     assert ids == {0, scene.render_model.body("site_pad-0/base").id, scene.render_model.body("site_pad-0/pad").id}
     scene.close()
+
+
+def test_renderers_fit_the_offscreen_framebuffer(tmp_path: Path) -> None:
+    """A frame wider or taller than the model's offscreen buffer (1280 x 960) renders:
+    make_renderer grows the buffer (the demo's scene view raised MuJoCo's ValueError
+    at 1920 x 1080); the demo checks its size and fps before anything is simulated."""
+    from robot_agents.demo import run_demo
+    from robot_agents.sensors.renderer import make_renderer
+
+    scene = ra.Scene("panda")
+    renderer = make_renderer(scene.render_model, 1920, 1080)
+    renderer.update_scene(scene.world.render_sources()[0], camera="render_camera")
+    frame = renderer.render()
+    assert frame.shape == (1080, 1920, 3) and frame.std() > 5  # the robot on the floor, not a blank frame
+    renderer.close()
+    scene.close()
+    for size in ((0, 10), (200, 100.5), (320,)):
+        with pytest.raises(ra.ConfigError, match=r"run_demo: expected size to be \(width, height\)"):
+            run_demo("panda", tmp_path / "demo.gif", size=size)  # type: ignore[arg-type]
+    with pytest.raises(ra.ConfigError, match="run_demo: expected fps to be a positive number of frames per second"):
+        run_demo("panda", tmp_path / "demo.gif", fps=0)
+    assert not (tmp_path / "demo.gif").exists()

@@ -52,10 +52,14 @@ def make_renderer(
 
     ``multisample=False`` turns anti-aliasing off and ``shadow_size`` sets the shadow
     map's side (pixels) for this renderer only (MuJoCo reads both when the context is
-    created; the model keeps its values)."""
+    created; the model keeps its values). The model's offscreen framebuffer
+    (``visual/global offwidth, offheight``) grows to hold ``width`` x ``height``."""
     choice = current_choice()
     if choice.headless_failed:
         raise rendering_error("make_renderer", choice)
+    frame_buffer = model.vis.global_
+    frame_buffer.offwidth = max(int(frame_buffer.offwidth), width)
+    frame_buffer.offheight = max(int(frame_buffer.offheight), height)
     quality = model.vis.quality
     saved = (int(quality.offsamples), int(quality.shadowsize))
     if not multisample:

@@ -199,6 +199,26 @@ def test_renderers_fit_the_offscreen_framebuffer(tmp_path: Path) -> None:
     assert frame.shape == (1080, 1920, 3) and frame.std() > 5  # the robot on the floor, not a blank frame
     renderer.close()
     scene.close()
+    # Each OpenGL context holds a framebuffer of its own image size, not of the largest
+    # camera in the scene (a 16 x 16 camera beside a 2048 x 2048 one held 2048 x 2048:
+    # ~100 MB more per context in software rendering).
+    big = ra.CameraConfig("big", pos=(1.0, 0.0, 0.8), width=2048, height=2048)
+    small = ra.CameraConfig("small", pos=(1.0, 0.0, 0.8), width=16, height=16)
+    scene = ra.Scene("panda", cameras=[big, small])
+    scene.cameras.prepare()
+    contexts = {
+        size: renderer._mjr_context  # MuJoCo's context: its offscreen buffer's size
+        for size, renderer in scene.cameras._renderer._renderers.items()  # type: ignore[union-attr]
+    }
+    assert {size: (c.offWidth, c.offHeight) for size, c in contexts.items()} == {
+        (2048, 2048): (2048, 2048),
+        (16, 16): (16, 16),
+    }
+    model_buffer = scene.render_model.vis.global_
+    assert (model_buffer.offwidth, model_buffer.offheight) == (2048, 2048)  # the model keeps its values
+    images = scene.cameras.capture(scene.world, ("depth",))
+    assert images["small"]["depth"][0, 8, 8, 0] == pytest.approx(images["big"]["depth"][0, 1024, 1024, 0], abs=1e-3)
+    scene.close()
     for size in ((0, 10), (200, 100.5), (320,)):
         with pytest.raises(ra.ConfigError, match=r"run_demo: expected size to be \(width, height\)"):
             run_demo("panda", tmp_path / "demo.gif", size=size)  # type: ignore[arg-type]

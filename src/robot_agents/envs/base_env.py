@@ -572,7 +572,7 @@ class RobotEnv(gym.Env[Any, Any]):
             return None
         if self._renderer is None:
             width, height = self.render_size
-            self._renderer = make_renderer(self.scene.render_model, width, height)  # grows the framebuffer to fit
+            self._renderer = make_renderer(self.scene.render_model, width, height)
         if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
             lower, upper = self._render_bounds()
             self._render_camera = framing_camera(lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy))

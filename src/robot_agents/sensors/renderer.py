@@ -50,18 +50,17 @@ def make_renderer(
     """A ``mujoco.Renderer``; a missing or broken OpenGL backend raises
     :class:`~robot_agents.errors.RenderError` naming the library to install.
 
-    ``multisample=False`` turns anti-aliasing off and ``shadow_size`` sets the shadow
-    map's side (pixels) for this renderer only (MuJoCo reads both when the context is
-    created; the model keeps its values). The model's offscreen framebuffer
-    (``visual/global offwidth, offheight``) grows to hold ``width`` x ``height``."""
+    Its offscreen framebuffer is ``width`` x ``height`` pixels, whatever the model's
+    ``visual/global offwidth, offheight`` (MuJoCo sizes every context by them: the
+    largest camera of the scene, at least 1280 x 960). ``multisample=False`` turns
+    anti-aliasing off and ``shadow_size`` sets the shadow map's side (pixels). MuJoCo
+    reads all of these when the context is created; the model keeps its values."""
     choice = current_choice()
     if choice.headless_failed:
         raise rendering_error("make_renderer", choice)
-    frame_buffer = model.vis.global_
-    frame_buffer.offwidth = max(int(frame_buffer.offwidth), width)
-    frame_buffer.offheight = max(int(frame_buffer.offheight), height)
-    quality = model.vis.quality
-    saved = (int(quality.offsamples), int(quality.shadowsize))
+    frame_buffer, quality = model.vis.global_, model.vis.quality
+    saved = (int(frame_buffer.offwidth), int(frame_buffer.offheight), int(quality.offsamples), int(quality.shadowsize))
+    frame_buffer.offwidth, frame_buffer.offheight = width, height
     if not multisample:
         quality.offsamples = 0
     if shadow_size is not None:
@@ -71,7 +70,7 @@ def make_renderer(
     except (ImportError, RuntimeError, OSError, AttributeError, mujoco.FatalError) as err:
         raise rendering_error("make_renderer", choice, err) from err
     finally:
-        quality.offsamples, quality.shadowsize = saved
+        frame_buffer.offwidth, frame_buffer.offheight, quality.offsamples, quality.shadowsize = saved
 
 
 @contextmanager

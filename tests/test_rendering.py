@@ -225,3 +225,25 @@ def test_renderers_fit_the_offscreen_framebuffer(tmp_path: Path) -> None:
     with pytest.raises(ra.ConfigError, match="run_demo: expected fps to be a positive number of frames per second"):
         run_demo("panda", tmp_path / "demo.gif", fps=0)
     assert not (tmp_path / "demo.gif").exists()
+
+
+def test_headlight_changes_to_the_simulated_model_show_as_with_one_model() -> None:
+    """``env.model.vis.headlight`` (MuJoCo's camera-fixed light) is a light of the
+    simulated model: a change to it is drawn as with one model (with the render twin it
+    was not: the floor's green channel read 152 instead of 173)."""
+    images = []
+    for render_only_visuals in (True, False):
+        env = ra.make_env("Empty-v1", robot_uids="panda", obs_mode="rgb", render_only_visuals=render_only_visuals)
+        env.reset(seed=0)
+        model = env.unwrapped.model
+        assert (model is env.unwrapped.render_model) is not render_only_visuals
+        model.vis.headlight.ambient[:] = (0.9, 0.9, 0.9)
+        model.vis.headlight.diffuse[:] = (0.1, 0.1, 0.1)
+        model.vis.headlight.specular[:] = (0.0, 0.0, 0.0)
+        images.append(env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"])
+        model.vis.headlight.active = 0
+        images.append(env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"])
+        env.close()
+    np.testing.assert_array_equal(images[0], images[2])
+    np.testing.assert_array_equal(images[1], images[3])
+    assert np.abs(images[0].astype(int) - images[1]).mean() > 20  # the headlight lights the scene

@@ -4,10 +4,11 @@ picture is asked for (:mod:`robot_agents.model.physics_twin`).
 
 The simulated model is the authority for what both models have: before each picture,
 its body poses, the pose, size, colour and material of its geoms, its cameras, lights
-and materials (:data:`SHARED_FIELDS`) are copied into the render model, so a change
-made to ``env.model`` (moving a static body, randomizing a geom's colour or size, a
-light or a camera's field of view) shows as it did with one model. The visual-only geoms exist only in the render model: change
-them there."""
+and materials (:data:`SHARED_FIELDS`) and its headlight (:data:`HEADLIGHT_FIELDS`) are
+copied into the render model, so a change made to ``env.model`` (moving a static
+body, randomizing a geom's colour or size, a light, the headlight or a camera's field
+of view) shows as it did with one model. The visual-only geoms exist only in the
+render model: change them there."""
 
 from __future__ import annotations
 
@@ -38,6 +39,10 @@ SHARED_FIELDS = (
     "mat_reflectance",
 )
 
+#: Colours of MuJoCo's headlight (``model.vis.headlight``, the light that moves with the
+#: viewing camera), copied with its on/off switch ``active``.
+HEADLIGHT_FIELDS = ("ambient", "diffuse", "specular")
+
 
 class RenderMirror:
     """The render model's ``MjData`` of ``num_envs`` envs (made on first use).
@@ -67,6 +72,10 @@ class RenderMirror:
             getattr(drawn, name)[geoms] = getattr(simulated, name)
         for name in SHARED_FIELDS:
             getattr(drawn, name)[:] = getattr(simulated, name)
+        drawn_light, light = drawn.vis.headlight, simulated.vis.headlight
+        for name in HEADLIGHT_FIELDS:
+            getattr(drawn_light, name)[:] = getattr(light, name)
+        drawn_light.active = light.active
 
     def fill(self, simulated: Sequence[mujoco.MjData], env_ids: Iterable[int]) -> list[mujoco.MjData]:
         """The render ``MjData`` of ``env_ids`` holding the state of ``simulated[env]``

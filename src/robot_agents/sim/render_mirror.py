@@ -20,23 +20,39 @@ from robot_agents.model.physics_twin import shared_geoms
 from robot_agents.sim.allocation import allocate_datas
 
 #: Fields of elements both models have in the same order (cameras, lights, materials),
-#: copied whole from the simulated model before each picture.
-SHARED_FIELDS = (
-    "cam_pos",
-    "cam_quat",
-    "cam_fovy",
-    "light_pos",
-    "light_dir",
-    "light_active",
-    "light_diffuse",
-    "light_ambient",
-    "light_specular",
-    "light_castshadow",
-    "mat_rgba",
-    "mat_emission",
-    "mat_specular",
-    "mat_shininess",
-    "mat_reflectance",
+#: copied whole from the simulated model before each picture (those this MuJoCo has).
+SHARED_FIELDS = tuple(
+    name
+    for name in (
+        "cam_pos",
+        "cam_quat",
+        "cam_fovy",
+        "light_type",
+        "light_pos",
+        "light_dir",
+        "light_active",
+        "light_diffuse",
+        "light_ambient",
+        "light_specular",
+        "light_castshadow",
+        "light_attenuation",
+        "light_cutoff",
+        "light_exponent",
+        "light_bulbradius",
+        "light_intensity",
+        "light_range",
+        "mat_rgba",
+        "mat_emission",
+        "mat_specular",
+        "mat_shininess",
+        "mat_reflectance",
+        "mat_metallic",
+        "mat_roughness",
+        "mat_texid",
+        "mat_texrepeat",
+        "mat_texuniform",
+    )
+    if hasattr(mujoco.MjModel, name)
 )
 
 #: Colours of MuJoCo's headlight (``model.vis.headlight``, the light that moves with the

@@ -276,3 +276,15 @@ def test_light_and_material_changes_to_the_simulated_model_show_as_with_one_mode
         assert np.abs(images[-1].astype(int) - before).mean() > 10
         env.close()
     np.testing.assert_array_equal(images[0], images[1])
+
+
+def test_cameras_of_a_closed_scene_refuse_to_render() -> None:
+    """After ``Scene.close`` (which frees the OpenGL contexts) a capture raised nothing
+    and made the contexts again, never to be freed; it now raises StateError."""
+    scene = ra.Scene("panda_wristcam")
+    assert scene.cameras.capture(scene.world, "depth")["hand_camera"]["depth"].shape == (1, 128, 128, 1)
+    scene.close()
+    for call in (lambda: scene.cameras.capture(scene.world, "rgb"), lambda: scene.cameras.params(scene.world)):
+        with pytest.raises(ra.StateError, match=r"CameraRig\.(capture|params): this scene is closed"):
+            call()
+    assert scene.cameras._renderer is None  # no context made again

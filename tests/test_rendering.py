@@ -288,3 +288,25 @@ def test_cameras_of_a_closed_scene_refuse_to_render() -> None:
         with pytest.raises(ra.StateError, match=r"CameraRig\.(capture|params): this scene is closed"):
             call()
     assert scene.cameras._renderer is None  # no context made again
+
+
+@pytest.mark.parametrize("render_size", [(480, 360), (120, 480)])
+def test_the_render_camera_frames_the_robots_in_portrait_images_too(render_size: tuple[int, int]) -> None:
+    """The robots' bounding sphere fits the narrower of the two fields of view of
+    ``env.render()``: in a 120 x 480 frame the horizontal one (11.8 deg against 45 deg
+    vertical; framed by the vertical one alone, the sphere spanned 4x the width)."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", render_mode="rgb_array", render_size=render_size)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (render_size[1], render_size[0], 3)
+    env_ = env.unwrapped
+    lower, upper = env_._render_bounds()
+    camera = env_._render_camera
+    radius = float(np.linalg.norm(upper - lower)) / 2
+    width, height = render_size
+    half_fovy = math.radians(float(env_.render_model.vis.global_.fovy)) / 2
+    half_fovx = math.atan(math.tan(half_fovy) * width / height)
+    seen = math.asin(min(1.0, radius / camera.distance))  # the sphere's angular radius
+    assert seen <= min(half_fovx, half_fovy) + 1e-9
+    assert seen == pytest.approx(min(half_fovx, half_fovy), rel=1e-6)  # and fills the narrower one
+    env.close()

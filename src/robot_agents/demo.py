@@ -115,7 +115,7 @@ def run_demo(
     agent = scene.agents[0]
     scene.reset()
     renderer = make_renderer(scene.render_model, size[0], size[1])
-    camera = _framing_camera(scene, agent)
+    camera = _framing_camera(scene, agent, size[0] / size[1])
     robot_views = _robot_views(scene, size[1])
     record_every = max(1, round(scene.control_freq / fps))
     frames: list[npt.NDArray[np.uint8]] = []
@@ -215,10 +215,11 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
     return CameraRig(scene.render_model, cameras) if cameras else None
 
 
-def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
+def _framing_camera(scene: Scene, agent: Agent, aspect: float) -> mujoco.MjvCamera:
     """A free camera that frames the robot at every keyframe (the demo visits each),
-    seen from the front left, with room for the motion around them. Leaves the scene
-    reset to its first keyframe."""
+    seen from the front left, with room for the motion around them, in an image
+    ``aspect`` (width / height) times as wide as tall. Leaves the scene reset to its
+    first keyframe."""
     names = agent.keyframe_names()
     lower, upper = robot_bounds(scene.world, [agent.prefix])
     for name in names[1:]:
@@ -227,7 +228,7 @@ def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
         lower, upper = np.minimum(lower, low), np.maximum(upper, high)
     if len(names) > 1:
         scene.reset(keyframes=names[0])
-    return framing_camera(lower, upper, margin=1.1)
+    return framing_camera(lower, upper, margin=1.1, aspect=aspect)
 
 
 def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:

@@ -575,7 +575,10 @@ class RobotEnv(gym.Env[Any, Any]):
             self._renderer = make_renderer(self.scene.render_model, width, height)
         if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
             lower, upper = self._render_bounds()
-            self._render_camera = framing_camera(lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy))
+            width, height = self.render_size
+            self._render_camera = framing_camera(
+                lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy), aspect=width / height
+            )
         frames = []
         for env, data in enumerate(self.scene.world.render_sources()):
             self._renderer.update_scene(data, camera=self._render_camera)

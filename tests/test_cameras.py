@@ -73,6 +73,8 @@ def test_look_at_points_the_camera_at_the_target() -> None:
     np.testing.assert_allclose(camera.pos, eye)
     with pytest.raises(ra.ConfigError, match="parallel to up"):
         ra.CameraConfig.look_at("cam", eye=(0, 0, 1), target=(0, 0, 0))
+    with pytest.raises(ra.ConfigError, match=r"look_at 'cam': the pose comes from eye, target and up; expected no pos"):
+        ra.CameraConfig.look_at("cam", eye=eye, target=target, pos=(0, 0, 1))  # a TypeError before
 
 
 def test_wrist_camera_pose_follows_its_link() -> None:
@@ -142,7 +144,12 @@ def test_overrides_reach_the_images_and_parameters() -> None:
             ["sensor_configs['hand_camera']", "unknown camera field 'widht'", "Did you mean 'width'"],
         ),
         ({"hand_camera": {"uid": "other"}}, ra.UnknownNameError, ["unknown camera field 'uid'"]),
-        ({"hand_camera": {"height": -4}}, ra.ConfigError, ["height", "got -4"]),
+        ({"hand_camera": {"height": -4}}, ra.ConfigError, ["sensor_configs['hand_camera']", "height", "got -4"]),
+        (
+            {"hand_camera": {"intrinsic": [[50, 0, 64], [0, 50, 64], [0, 0, 1]], "width": 64}},
+            ra.ConfigError,
+            ["sensor_configs['hand_camera']: CameraConfig 'hand_camera'", "principal point", "(64.0, 64.0)"],
+        ),
         ({"hand_camera": 64}, ra.ConfigError, ["expected a dict of camera fields or None"]),
         (
             {"hand_camera": {"mount": "panda_hnd"}},

@@ -118,3 +118,25 @@ def test_documented_camera_example_runs(doc: str) -> None:
     namespace: dict[str, Any] = {"ra": ra}
     exec(compile(block, f"{doc} camera example", "exec"), namespace)
     assert namespace["obs"]["sensor_data"]["hand_camera"]["rgb"].shape == (1, 256, 256, 3)
+
+
+def test_an_observation_space_too_large_for_memory_is_a_config_error() -> None:
+    """Gymnasium's Box holds bounds of the observation's shape: for images too many for
+    the memory its allocation raised numpy's MemoryError from make_env; now a
+    ConfigError names the mode, the shape, the memory and the cameras."""
+    from robot_agents.envs.observations import SensorObservation, parse_obs_mode
+
+    scene = ra.Scene("panda", cameras=[ra.CameraConfig("top", pos=(0, 0, 2), width=64, height=48)])
+    sensors = SensorObservation(scene.cameras, parse_obs_mode("rgbd", "Test"), "Test")
+    assert sensors.spaces(2)["sensor_data"]["top"]["rgb"].shape == (2, 48, 64, 3)
+    with pytest.raises(ra.ConfigError) as caught:
+        sensors.spaces(10**11)  # ~4 PB of bounds: no machine allocates it
+    message = str(caught.value)
+    for fragment in (
+        "Test: the observation space of obs_mode 'rgbd'",
+        "an entry of shape (100000000000, ",
+        "GiB",
+        "'top' 64 x 48",
+    ):
+        assert fragment in message, message
+    scene.close()

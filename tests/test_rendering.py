@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -59,6 +61,10 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
     scene = ra.Scene("panda", cameras=[up])
     assert np.all(scene.cameras.capture(scene.world, ("depth",))["up"]["depth"] == 5.0)
+    # One texture by its name (not its letters: "unknown texture 'd'" before).
+    assert list(scene.cameras.capture(scene.world, "depth")["up"]) == ["depth"]
+    with pytest.raises(ra.UnknownNameError, match=r"unknown texture 'dpeth'\. Did you mean 'depth'"):
+        scene.cameras.capture(scene.world, "dpeth")
 
 
 def test_full_intrinsic_matrix_is_rendered_exactly() -> None:
@@ -129,3 +135,178 @@ def test_shadows_are_configurable() -> None:
     change = images[0] - images[1]
     assert np.mean(change < -10) > 0.02 and change.min() < -60
     np.testing.assert_array_equal(images[1], images[2])  # deterministic without them
+
+
+SITE_AND_TENDON_MJCF = """
+<mujoco>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.05" pos="0 0 0.05" mass="5"/>
+      <site name="anchor" pos="0.3 0 0.6" size="0.01"/>
+      <body name="pad" pos="0 0 0.1">
+        <joint name="lift" type="slide" axis="0 0 1" range="-0.05 0.05"/>
+        <geom name="pad" type="box" size="0.08 0.08 0.01" pos="0 0 0.01" mass="0.5"/>
+        <site name="pad_top" type="box" size="0.081 0.081 0.002" pos="0 0 0.02"/>
+        <site name="marker" type="sphere" size="0.05" pos="0.3 0 0.3"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon><spatial name="cable" width="0.02"><site site="anchor"/><site site="pad_top"/></spatial></tendon>
+</mujoco>
+"""
+
+
+def test_sensor_cameras_see_geoms_only_not_sites_or_tendons(tmp_path: Path) -> None:
+    """A model file's sites (MuJoCo's default group 0) and a spatial tendon are not
+    drawn: the depth over a pad is the pad's (not the touch site 2 mm above it), and
+    every pixel that sees something names a body (no -1 within the far plane)."""
+    path = tmp_path / "pad.xml"
+    path.write_text(SITE_AND_TENDON_MJCF)
+    robot = type(
+        "SitePad",
+        (ra.Agent,),
+        {
+            "uid": "site_pad",
+            "mjcf_path": path,
+            "keyframes": {"home": ra.Keyframe(qpos=(0.0,))},
+            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
+        },
+    )
+    camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.2), target=(0, 0, 0), up=(1, 0, 0), width=64, height=64)
+    scene = ra.Scene(robot, cameras=[camera])
+    images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["top"]
+    depth, seg = images["depth"][0, :, :, 0], images["segmentation"][0, :, :, 0]
+    pad = scene.render_model.geom("site_pad-0/pad")
+    pad_top = scene.world.render_sources()[0].geom_xpos[pad.id, 2] + pad.size[2]  # 0.12 m
+    assert depth[31:33, 31:33] == pytest.approx(1.2 - pad_top, abs=1e-4)  # not the site's top, 2 mm higher
+    assert not np.any((depth < camera.far) & (seg == -1))  # the tendon drew id -1 pixels
+    ids = set(np.unique(seg).tolist())
+    assert ids == {0, scene.render_model.body("site_pad-0/base").id, scene.render_model.body("site_pad-0/pad").id}
+    scene.close()
+
+
+def test_renderers_fit_the_offscreen_framebuffer(tmp_path: Path) -> None:
+    """A frame wider or taller than the model's offscreen buffer (1280 x 960) renders:
+    make_renderer grows the buffer (the demo's scene view raised MuJoCo's ValueError
+    at 1920 x 1080); the demo checks its size and fps before anything is simulated."""
+    from robot_agents.demo import run_demo
+    from robot_agents.sensors.renderer import make_renderer
+
+    scene = ra.Scene("panda")
+    renderer = make_renderer(scene.render_model, 1920, 1080)
+    renderer.update_scene(scene.world.render_sources()[0], camera="render_camera")
+    frame = renderer.render()
+    assert frame.shape == (1080, 1920, 3) and frame.std() > 5  # the robot on the floor, not a blank frame
+    renderer.close()
+    scene.close()
+    # Each OpenGL context holds a framebuffer of its own image size, not of the largest
+    # camera in the scene (a 16 x 16 camera beside a 2048 x 2048 one held 2048 x 2048:
+    # ~100 MB more per context in software rendering).
+    big = ra.CameraConfig("big", pos=(1.0, 0.0, 0.8), width=2048, height=2048)
+    small = ra.CameraConfig("small", pos=(1.0, 0.0, 0.8), width=16, height=16)
+    scene = ra.Scene("panda", cameras=[big, small])
+    scene.cameras.prepare()
+    contexts = {
+        size: renderer._mjr_context  # MuJoCo's context: its offscreen buffer's size
+        for size, renderer in scene.cameras._renderer._renderers.items()  # type: ignore[union-attr]
+    }
+    assert {size: (c.offWidth, c.offHeight) for size, c in contexts.items()} == {
+        (2048, 2048): (2048, 2048),
+        (16, 16): (16, 16),
+    }
+    model_buffer = scene.render_model.vis.global_
+    assert (model_buffer.offwidth, model_buffer.offheight) == (2048, 2048)  # the model keeps its values
+    images = scene.cameras.capture(scene.world, ("depth",))
+    assert images["small"]["depth"][0, 8, 8, 0] == pytest.approx(images["big"]["depth"][0, 1024, 1024, 0], abs=1e-3)
+    scene.close()
+    for size in ((0, 10), (200, 100.5), (320,)):
+        with pytest.raises(ra.ConfigError, match=r"run_demo: expected size to be \(width, height\)"):
+            run_demo("panda", tmp_path / "demo.gif", size=size)  # type: ignore[arg-type]
+    with pytest.raises(ra.ConfigError, match="run_demo: expected fps to be a positive number of frames per second"):
+        run_demo("panda", tmp_path / "demo.gif", fps=0)
+    assert not (tmp_path / "demo.gif").exists()
+
+
+def test_headlight_changes_to_the_simulated_model_show_as_with_one_model() -> None:
+    """``env.model.vis.headlight`` (MuJoCo's camera-fixed light) is a light of the
+    simulated model: a change to it is drawn as with one model (with the render twin it
+    was not: the floor's green channel read 152 instead of 173)."""
+    images = []
+    for render_only_visuals in (True, False):
+        env = ra.make_env("Empty-v1", robot_uids="panda", obs_mode="rgb", render_only_visuals=render_only_visuals)
+        env.reset(seed=0)
+        model = env.unwrapped.model
+        assert (model is env.unwrapped.render_model) is not render_only_visuals
+        model.vis.headlight.ambient[:] = (0.9, 0.9, 0.9)
+        model.vis.headlight.diffuse[:] = (0.1, 0.1, 0.1)
+        model.vis.headlight.specular[:] = (0.0, 0.0, 0.0)
+        images.append(env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"])
+        model.vis.headlight.active = 0
+        images.append(env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"])
+        env.close()
+    np.testing.assert_array_equal(images[0], images[2])
+    np.testing.assert_array_equal(images[1], images[3])
+    assert np.abs(images[0].astype(int) - images[1]).mean() > 20  # the headlight lights the scene
+
+
+def test_light_and_material_changes_to_the_simulated_model_show_as_with_one_model() -> None:
+    """A light's type, attenuation and spot cone, and a material's texture tiling, changed
+    in ``env.model``, are drawn as with one model (with the render twin they were not:
+    each changed a shadowed view by 8-48 of 255 on average with one model, not at all
+    with the twin)."""
+    images = []
+    for render_only_visuals in (True, False):
+        env = ra.make_env(
+            "Empty-v1",
+            robot_uids="panda",
+            obs_mode="rgb",
+            render_only_visuals=render_only_visuals,
+            sensor_configs={"base_camera": {"shadows": True}},
+        )
+        env.reset(seed=0)
+        before = env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"]
+        model = env.unwrapped.model
+        model.light_type[0] = mujoco.mjtLightType.mjLIGHT_SPOT
+        model.light_attenuation[0] = (1.0, 0.5, 0.5)
+        model.light_cutoff[0] = 20.0
+        model.light_exponent[0] = 30.0
+        model.mat_texrepeat[model.geom_matid[model.geom("floor").id]] = (1.0, 1.0)
+        images.append(env.unwrapped._get_obs()["sensor_data"]["base_camera"]["rgb"])
+        assert np.abs(images[-1].astype(int) - before).mean() > 10
+        env.close()
+    np.testing.assert_array_equal(images[0], images[1])
+
+
+def test_cameras_of_a_closed_scene_refuse_to_render() -> None:
+    """After ``Scene.close`` (which frees the OpenGL contexts) a capture raised nothing
+    and made the contexts again, never to be freed; it now raises StateError."""
+    scene = ra.Scene("panda_wristcam")
+    assert scene.cameras.capture(scene.world, "depth")["hand_camera"]["depth"].shape == (1, 128, 128, 1)
+    scene.close()
+    for call in (lambda: scene.cameras.capture(scene.world, "rgb"), lambda: scene.cameras.params(scene.world)):
+        with pytest.raises(ra.StateError, match=r"CameraRig\.(capture|params): this scene is closed"):
+            call()
+    assert scene.cameras._renderer is None  # no context made again
+
+
+@pytest.mark.parametrize("render_size", [(480, 360), (120, 480)])
+def test_the_render_camera_frames_the_robots_in_portrait_images_too(render_size: tuple[int, int]) -> None:
+    """The robots' bounding sphere fits the narrower of the two fields of view of
+    ``env.render()``: in a 120 x 480 frame the horizontal one (11.8 deg against 45 deg
+    vertical; framed by the vertical one alone, the sphere spanned 4x the width)."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", render_mode="rgb_array", render_size=render_size)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (render_size[1], render_size[0], 3)
+    env_ = env.unwrapped
+    lower, upper = env_._render_bounds()
+    camera = env_._render_camera
+    radius = float(np.linalg.norm(upper - lower)) / 2
+    width, height = render_size
+    half_fovy = math.radians(float(env_.render_model.vis.global_.fovy)) / 2
+    half_fovx = math.atan(math.tan(half_fovy) * width / height)
+    seen = math.asin(min(1.0, radius / camera.distance))  # the sphere's angular radius
+    assert seen <= min(half_fovx, half_fovy) + 1e-9
+    assert seen == pytest.approx(min(half_fovx, half_fovy), rel=1e-6)  # and fills the narrower one
+    env.close()

@@ -10,6 +10,7 @@ at the same height, each panel labelled with its camera's name.
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,13 +23,16 @@ from robot_agents.agent import Agent
 from robot_agents.agent.index import JointKind
 from robot_agents.checks import hold_action
 from robot_agents.controllers.joint import PDJointPosConfig
+from robot_agents.errors import ConfigError
 from robot_agents.media import check_output_path, draw_label, write_video
 from robot_agents.parts.declaration import Gripper
 from robot_agents.registry import get_agent
+from robot_agents.sensors.camera import MAX_SIZE, is_pixel_count
 from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sim.scene import Scene
+from robot_agents.validation import is_real
 
 DEMO_MODE = "pd_joint_pos"
 SCENE_LABEL = "scene"
@@ -94,7 +98,15 @@ def run_demo(
     Raises:
         MediaError: ``output`` has an unsupported suffix, its directory is missing
             or read-only, or ``.mp4`` is asked for without imageio-ffmpeg.
+        ConfigError: ``size`` is not two whole numbers of pixels in ``[1, 8192]``, or
+            ``fps`` is not a positive number.
     """
+    if not (isinstance(size, (tuple, list)) and len(size) == 2 and all(is_pixel_count(v) for v in size)):
+        raise ConfigError(
+            f"run_demo: expected size to be (width, height), whole numbers of pixels in [1, {MAX_SIZE}], got {size!r}."
+        )
+    if not (is_real(fps) and fps > 0 and math.isfinite(fps)):
+        raise ConfigError(f"run_demo: expected fps to be a positive number of frames per second, got {fps!r}.")
     output = check_output_path(output)
     start = time.perf_counter()
     cls: type[Agent] = get_agent(uid) if isinstance(uid, str) else uid
@@ -103,7 +115,7 @@ def run_demo(
     agent = scene.agents[0]
     scene.reset()
     renderer = make_renderer(scene.render_model, size[0], size[1])
-    camera = _framing_camera(scene, agent)
+    camera = _framing_camera(scene, agent, size[0] / size[1])
     robot_views = _robot_views(scene, size[1])
     record_every = max(1, round(scene.control_freq / fps))
     frames: list[npt.NDArray[np.uint8]] = []
@@ -203,10 +215,11 @@ def _robot_views(scene: Scene, height: int) -> CameraRig | None:
     return CameraRig(scene.render_model, cameras) if cameras else None
 
 
-def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
+def _framing_camera(scene: Scene, agent: Agent, aspect: float) -> mujoco.MjvCamera:
     """A free camera that frames the robot at every keyframe (the demo visits each),
-    seen from the front left, with room for the motion around them. Leaves the scene
-    reset to its first keyframe."""
+    seen from the front left, with room for the motion around them, in an image
+    ``aspect`` (width / height) times as wide as tall. Leaves the scene reset to its
+    first keyframe."""
     names = agent.keyframe_names()
     lower, upper = robot_bounds(scene.world, [agent.prefix])
     for name in names[1:]:
@@ -215,7 +228,7 @@ def _framing_camera(scene: Scene, agent: Agent) -> mujoco.MjvCamera:
         lower, upper = np.minimum(lower, low), np.maximum(upper, high)
     if len(names) > 1:
         scene.reset(keyframes=names[0])
-    return framing_camera(lower, upper, margin=1.1)
+    return framing_camera(lower, upper, margin=1.1, aspect=aspect)
 
 
 def _action_for(agent: Agent, qpos_target: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:

@@ -572,14 +572,13 @@ class RobotEnv(gym.Env[Any, Any]):
             return None
         if self._renderer is None:
             width, height = self.render_size
-            # the offscreen framebuffer must hold the frame (as it is raised for cameras)
-            frame_buffer = self.scene.render_model.vis.global_
-            frame_buffer.offwidth = max(int(frame_buffer.offwidth), width)
-            frame_buffer.offheight = max(int(frame_buffer.offheight), height)
             self._renderer = make_renderer(self.scene.render_model, width, height)
         if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
             lower, upper = self._render_bounds()
-            self._render_camera = framing_camera(lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy))
+            width, height = self.render_size
+            self._render_camera = framing_camera(
+                lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy), aspect=width / height
+            )
         frames = []
         for env, data in enumerate(self.scene.world.render_sources()):
             self._renderer.update_scene(data, camera=self._render_camera)

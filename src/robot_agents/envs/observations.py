@@ -17,6 +17,7 @@ Modes: ``sensor_data`` (rgb + depth + segmentation), ``rgb``, ``depth``, ``rgbd`
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -89,6 +90,7 @@ class SensorObservation:
             )
         self.rig = rig
         self.mode = mode
+        self.where = where
         rig.prepare()  # a missing OpenGL backend fails here, before any episode
         self._max_id = max(rig.model.nbody - 1, 0)
         self._rays = {}
@@ -113,10 +115,21 @@ class SensorObservation:
         return out
 
     def spaces(self, num_envs: int) -> dict[str, gym.spaces.Dict]:
-        """Spaces of :meth:`observe`'s entries."""
+        """Spaces of :meth:`observe`'s entries. Gymnasium's ``Box`` holds bounds of the
+        observation's shape (twice its bytes, plus two booleans an element); when memory
+        runs out a :class:`ConfigError` names the envs and the image sizes."""
 
         def box(shape: tuple[int, ...], low: float, high: float, dtype: Any) -> gym.spaces.Box:
-            return gym.spaces.Box(low, high, shape=(num_envs, *shape), dtype=dtype)
+            try:
+                return gym.spaces.Box(low, high, shape=(num_envs, *shape), dtype=dtype)
+            except MemoryError:
+                size = num_envs * math.prod(shape) * (2 * np.dtype(dtype).itemsize + 2) / 2**30
+                cameras = ", ".join(f"{k!r} {c.config.width} x {c.config.height}" for k, c in self.rig.cameras.items())
+                raise ConfigError(
+                    f"{self.where}: the observation space of obs_mode {self.mode.name!r} could not be allocated: "
+                    f"an entry of shape {(num_envs, *shape)} needs about {size:.1f} GiB for its bounds. Use fewer "
+                    f"envs or smaller images (sensor_configs width / height); cameras: {cameras}."
+                ) from None
 
         params: dict[str, gym.Space[Any]] = {
             key: gym.spaces.Dict(

@@ -146,6 +146,12 @@ class CameraConfig:
     ) -> CameraConfig:
         """A camera at ``eye`` looking at ``target``, ``up`` pointing up in the image
         (points and directions in the mount's frame; other fields as keywords)."""
+        given = sorted(set(fields) & {"pos", "quat"})
+        if given:
+            raise ConfigError(
+                f"CameraConfig.look_at {uid!r}: the pose comes from eye, target and up; expected no {' or '.join(given)}, "
+                f"got {', '.join(f'{name}={fields[name]!r}' for name in given)}."
+            )
         return cls(uid=uid, pos=tuple(eye), quat=look_at_quat(eye, target, up, f"CameraConfig {uid!r}"), **fields)  # type: ignore[arg-type]
 
     def with_overrides(self, overrides: Mapping[str, Any], where: str) -> CameraConfig:
@@ -164,7 +170,10 @@ class CameraConfig:
             changes["intrinsic"] = None
         if "intrinsic" in changes and "fovy" not in changes:
             changes["fovy"] = None
-        return dataclasses.replace(self, **changes)
+        try:
+            return dataclasses.replace(self, **changes)
+        except ConfigError as err:  # a bad value: name the override that gave it
+            raise ConfigError(f"{where}: {err}") from None
 
     def resized(self, width: int, height: int) -> CameraConfig:
         """The same view at another image size (an intrinsic matrix is scaled with it)."""

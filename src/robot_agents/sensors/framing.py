@@ -48,15 +48,18 @@ def framing_camera(
     azimuth: float = 140.0,
     elevation: float = -22.0,
     min_distance: float = 0.3,
+    aspect: float = 1.0,
 ) -> mujoco.MjvCamera:
     """A free camera looking at the box's centre from ``azimuth`` / ``elevation`` (deg),
     far enough that the box's bounding sphere, times ``margin``, fits the vertical field
-    of view ``fovy`` (deg)."""
+    of view ``fovy`` (deg) and the horizontal one of an image ``aspect`` (width / height)
+    times as wide as tall (the narrower of the two for a portrait image)."""
     center = (lower + upper) / 2
     radius = float(np.linalg.norm(upper - lower)) / 2
+    half_fov = math.atan(math.tan(math.radians(fovy) / 2) * min(1.0, aspect))
     camera = mujoco.MjvCamera()
     camera.type = mujoco.mjtCamera.mjCAMERA_FREE
     camera.lookat[:] = center
-    camera.distance = max(min_distance, margin * radius / math.sin(math.radians(fovy) / 2))
+    camera.distance = max(min_distance, margin * radius / math.sin(half_fov))
     camera.azimuth, camera.elevation = azimuth, elevation
     return camera

@@ -50,14 +50,17 @@ def make_renderer(
     """A ``mujoco.Renderer``; a missing or broken OpenGL backend raises
     :class:`~robot_agents.errors.RenderError` naming the library to install.
 
-    ``multisample=False`` turns anti-aliasing off and ``shadow_size`` sets the shadow
-    map's side (pixels) for this renderer only (MuJoCo reads both when the context is
-    created; the model keeps its values)."""
+    Its offscreen framebuffer is ``width`` x ``height`` pixels, whatever the model's
+    ``visual/global offwidth, offheight`` (MuJoCo sizes every context by them: the
+    largest camera of the scene, at least 1280 x 960). ``multisample=False`` turns
+    anti-aliasing off and ``shadow_size`` sets the shadow map's side (pixels). MuJoCo
+    reads all of these when the context is created; the model keeps its values."""
     choice = current_choice()
     if choice.headless_failed:
         raise rendering_error("make_renderer", choice)
-    quality = model.vis.quality
-    saved = (int(quality.offsamples), int(quality.shadowsize))
+    frame_buffer, quality = model.vis.global_, model.vis.quality
+    saved = (int(frame_buffer.offwidth), int(frame_buffer.offheight), int(quality.offsamples), int(quality.shadowsize))
+    frame_buffer.offwidth, frame_buffer.offheight = width, height
     if not multisample:
         quality.offsamples = 0
     if shadow_size is not None:
@@ -67,7 +70,7 @@ def make_renderer(
     except (ImportError, RuntimeError, OSError, AttributeError, mujoco.FatalError) as err:
         raise rendering_error("make_renderer", choice, err) from err
     finally:
-        quality.offsamples, quality.shadowsize = saved
+        frame_buffer.offwidth, frame_buffer.offheight, quality.offsamples, quality.shadowsize = saved
 
 
 @contextmanager
@@ -96,12 +99,23 @@ def set_frustum(scene: mujoco.MjvScene, intrinsic: FloatArray, width: int, heigh
         camera.frustum_bottom = -near * (height - 0.5 - cy) / fy
 
 
+def sensor_scene_option() -> mujoco.MjvOption:
+    """What sensor cameras draw: the visual geoms (groups 0-2), not collision geoms
+    (group 3), sites (MuJoCo's default options draw sites of groups 0-2, the group of
+    a model file's sites unless set), tendons or rangefinder rays (drawn by default)."""
+    option = mujoco.MjvOption()
+    option.sitegroup[:] = 0
+    option.flags[mujoco.mjtVisFlag.mjVIS_TENDON] = False
+    option.flags[mujoco.mjtVisFlag.mjVIS_RANGEFINDER] = False
+    return option
+
+
 class CameraRenderer:
     """Renders declared cameras of one compiled model (one renderer per image size)."""
 
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
-        self.option = mujoco.MjvOption()  # geom groups 0-2: visual geoms, not collision or sites
+        self.option = sensor_scene_option()
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
         self._lookup = SegmentationLookup(model)
 

@@ -20,7 +20,7 @@ from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.camera_params import camera_params
 from robot_agents.sensors.renderer import CameraRenderer
 from robot_agents.sensors.segmentation import SEGMENTATION_DTYPE, SegmentationEntry
-from robot_agents.validation import check_env_ids
+from robot_agents.validation import check_env_ids, check_open
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -95,7 +95,9 @@ class CameraRig:
 
     def params(self, world: SimBackend) -> dict[str, dict[str, FloatArray]]:
         """Per camera: ``intrinsic_cv`` ``(N, 3, 3)``, ``extrinsic_cv`` ``(N, 3, 4)``,
-        ``cam2world_gl`` ``(N, 4, 4)`` (float64); see :mod:`.camera_params`."""
+        ``cam2world_gl`` ``(N, 4, 4)`` (float64); see :mod:`.camera_params`. A closed
+        ``world`` raises :class:`~robot_agents.errors.StateError`."""
+        check_open(world.closed, "this scene", "CameraRig.params")
         return {key: camera_params(world, self._ids[key], self._intrinsics[key]) for key in self.cameras}
 
     def prepare(self) -> None:
@@ -116,10 +118,14 @@ class CameraRig:
           where nothing is seen;
         - ``segmentation``: ``(N, H, W, 1)`` int16 body ids (``-1`` background).
 
+        ``textures``: names from :data:`TEXTURES`, or one name (``"depth"``).
         ``env_ids``: the envs to render (``None``: all), distinct ids in ``[0, num_envs)``.
+        A closed ``world`` raises :class:`~robot_agents.errors.StateError` (its OpenGL
+        contexts were freed by ``Scene.close``; they are not made again).
         """
+        check_open(world.closed, "this scene", "CameraRig.capture")
         try:
-            wanted = tuple(textures)
+            wanted = (textures,) if isinstance(textures, str) else tuple(textures)
         except TypeError:
             raise UnknownNameError("CameraRig.capture", "texture", repr(textures), TEXTURES) from None
         for texture in wanted:

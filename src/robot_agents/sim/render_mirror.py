@@ -4,10 +4,11 @@ picture is asked for (:mod:`robot_agents.model.physics_twin`).
 
 The simulated model is the authority for what both models have: before each picture,
 its body poses, the pose, size, colour and material of its geoms, its cameras, lights
-and materials (:data:`SHARED_FIELDS`) are copied into the render model, so a change
-made to ``env.model`` (moving a static body, randomizing a geom's colour or size, a
-light or a camera's field of view) shows as it did with one model. The visual-only geoms exist only in the render model: change
-them there."""
+and materials (:data:`SHARED_FIELDS`) and its headlight (:data:`HEADLIGHT_FIELDS`) are
+copied into the render model, so a change made to ``env.model`` (moving a static
+body, randomizing a geom's colour or size, a light, the headlight or a camera's field
+of view) shows as it did with one model. The visual-only geoms exist only in the
+render model: change them there."""
 
 from __future__ import annotations
 
@@ -19,24 +20,44 @@ from robot_agents.model.physics_twin import shared_geoms
 from robot_agents.sim.allocation import allocate_datas
 
 #: Fields of elements both models have in the same order (cameras, lights, materials),
-#: copied whole from the simulated model before each picture.
-SHARED_FIELDS = (
-    "cam_pos",
-    "cam_quat",
-    "cam_fovy",
-    "light_pos",
-    "light_dir",
-    "light_active",
-    "light_diffuse",
-    "light_ambient",
-    "light_specular",
-    "light_castshadow",
-    "mat_rgba",
-    "mat_emission",
-    "mat_specular",
-    "mat_shininess",
-    "mat_reflectance",
+#: copied whole from the simulated model before each picture (those this MuJoCo has).
+SHARED_FIELDS = tuple(
+    name
+    for name in (
+        "cam_pos",
+        "cam_quat",
+        "cam_fovy",
+        "light_type",
+        "light_pos",
+        "light_dir",
+        "light_active",
+        "light_diffuse",
+        "light_ambient",
+        "light_specular",
+        "light_castshadow",
+        "light_attenuation",
+        "light_cutoff",
+        "light_exponent",
+        "light_bulbradius",
+        "light_intensity",
+        "light_range",
+        "mat_rgba",
+        "mat_emission",
+        "mat_specular",
+        "mat_shininess",
+        "mat_reflectance",
+        "mat_metallic",
+        "mat_roughness",
+        "mat_texid",
+        "mat_texrepeat",
+        "mat_texuniform",
+    )
+    if hasattr(mujoco.MjModel, name)
 )
+
+#: Colours of MuJoCo's headlight (``model.vis.headlight``, the light that moves with the
+#: viewing camera), copied with its on/off switch ``active``.
+HEADLIGHT_FIELDS = ("ambient", "diffuse", "specular")
 
 
 class RenderMirror:
@@ -67,6 +88,10 @@ class RenderMirror:
             getattr(drawn, name)[geoms] = getattr(simulated, name)
         for name in SHARED_FIELDS:
             getattr(drawn, name)[:] = getattr(simulated, name)
+        drawn_light, light = drawn.vis.headlight, simulated.vis.headlight
+        for name in HEADLIGHT_FIELDS:
+            getattr(drawn_light, name)[:] = getattr(light, name)
+        drawn_light.active = light.active
 
     def fill(self, simulated: Sequence[mujoco.MjData], env_ids: Iterable[int]) -> list[mujoco.MjData]:
         """The render ``MjData`` of ``env_ids`` holding the state of ``simulated[env]``

@@ -180,6 +180,20 @@ def test_demo_rejects_a_missing_output_directory(tmp_path: Path) -> None:
     assert f"expected an existing directory, but {str(tmp_path / 'no' / 'such' / 'dir')!r} does not exist" in err
 
 
+def test_demo_reports_a_video_that_cannot_be_written(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    def disk_full(*args: object, **kwargs: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Image.Image, "save", disk_full)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["demo", "panda", "-o", str(tmp_path / "x.gif"), "--seconds", "0.1"], out=io.StringIO())
+    assert code == 2
+    assert err.getvalue() == (
+        f"robot-agents: error: write_gif: cannot write {str(tmp_path / 'x.gif')!r}: No space left on device.\n"
+    )
+
+
 @pytest.mark.usefixtures("no_simulation")
 def test_demo_mp4_without_the_video_extra_says_how_to_install(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)  # as if not installed

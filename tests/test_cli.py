@@ -148,6 +148,17 @@ def test_demo_rejects_bad_seconds_before_simulating(tmp_path: Path, seconds: str
 
 
 @pytest.mark.usefixtures("no_simulation")
+@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "61"])
+def test_check_rejects_bad_seconds_naming_what_they_are(seconds: str) -> None:
+    code, out, err = run_fast("check", "panda", f"--seconds={seconds}")
+    assert (code, out) == (2, "")
+    assert err == (
+        "robot-agents: error: argument --seconds: expected a number of seconds of random actions per mode, "
+        f"> 0 and <= 60, got {seconds!r}\n"
+    )
+
+
+@pytest.mark.usefixtures("no_simulation")
 @pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:
     code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name))

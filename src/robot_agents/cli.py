@@ -47,17 +47,15 @@ def parse_substeps(text: str | None) -> tuple[int, ...] | None:
     return values
 
 
-def parse_seconds(text: str) -> float:
-    """``--seconds``: a finite number of simulated seconds per pose, > 0 and <= :data:`MAX_SECONDS`."""
+def parse_seconds(text: str, what: str = "simulated seconds per pose") -> float:
+    """``--seconds``: a finite number of ``what`` (demo: simulated seconds per pose; check:
+    seconds of random actions per mode), > 0 and <= :data:`MAX_SECONDS`."""
     try:
         value = float(text)
     except ValueError:
         value = math.nan
     if not (math.isfinite(value) and 0.0 < value <= MAX_SECONDS):
-        raise UsageError(
-            f"argument --seconds: expected a number of simulated seconds per pose, > 0 and <= {MAX_SECONDS:g}, "
-            f"got {text!r}"
-        )
+        raise UsageError(f"argument --seconds: expected a number of {what}, > 0 and <= {MAX_SECONDS:g}, got {text!r}")
     return value
 
 
@@ -357,7 +355,9 @@ def build_parser() -> argparse.ArgumentParser:
     _robot_arguments(info)
     check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
     _robot_arguments(check)
-    check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
+    check.add_argument(
+        "--seconds", default="5.0", help=f"seconds of random actions per mode, > 0 and <= {MAX_SECONDS:g} (default: 5)"
+    )
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
     )
@@ -410,7 +410,8 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             return cmd_list(stream)
         # the command's own arguments first: a typo is reported before a model file loads
         if args.command == "check":
-            seconds, substeps = parse_seconds(args.seconds), parse_substeps(args.substeps)
+            seconds = parse_seconds(args.seconds, "seconds of random actions per mode")
+            substeps = parse_substeps(args.substeps)
         elif args.command == "tune" and args.csv is not None and not Path(args.csv).parent.is_dir():
             raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
         elif args.command == "demo":

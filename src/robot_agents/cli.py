@@ -412,8 +412,11 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "check":
             seconds = parse_seconds(args.seconds, "seconds of random actions per mode")
             substeps = parse_substeps(args.substeps)
-        elif args.command == "tune" and args.csv is not None and not Path(args.csv).parent.is_dir():
-            raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
+        elif args.command == "tune" and args.csv is not None:
+            if not Path(args.csv).parent.is_dir():
+                raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
+            if Path(args.csv).is_dir():
+                raise UsageError(f"argument --csv: expected a file name, got the existing directory {args.csv!r}")
         elif args.command == "demo":
             default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
             parse_seconds(args.seconds)

@@ -171,6 +171,24 @@ def test_a_rejected_action_sends_nothing_and_changes_nothing() -> None:
         real.step(np.zeros(real.action_space.shape))
 
 
+def test_a_closed_robot_and_bus_refuse_every_call() -> None:
+    bus = SimulatedBus("so100")
+    real = RealRobot("so100", bus)
+    real.close()
+    for name, call in (
+        ("set_control_mode", lambda: real.set_control_mode("pd_joint_pos")),
+        ("get_proprioception", real.get_proprioception),
+        ("get_obs", real.get_obs),
+        ("camera_params", real.camera_params),
+        ("move_to", lambda: real.move_to("rest")),
+    ):
+        with pytest.raises(StateError, match=rf"^RealRobot\.{name}: this RealRobot is closed"):
+            call()
+    zeros = np.zeros(len(bus.joint_names))
+    with pytest.raises(StateError, match=r"^SimulatedBus\.set_gains: this bus is closed"):
+        bus.set_gains(zeros, zeros, zeros)
+
+
 def test_bad_setups_are_clean_errors() -> None:
     with pytest.raises(ConfigError, match="free root"):
         RealRobot("anymal_c", SimulatedBus("panda"))

@@ -49,9 +49,9 @@ class SimulatedBus:
         # the drives take every target kind they are sent (position, velocity
         # feed-forward, effort), as hardware drives do
         drives = self.agent.drives
+        self._closed = False
         self.set_gains(drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
         self._names = tuple(self.agent.drives.joint_names)
-        self._closed = False
 
     @property
     def joint_names(self) -> Sequence[str]:
@@ -77,6 +77,8 @@ class SimulatedBus:
         self.scene.step()
 
     def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        if self._closed:
+            raise StateError("SimulatedBus.set_gains: this bus is closed.")
         drives = self.agent.drives
         values = [np.asarray(a, dtype=np.float64) for a in (stiffness, damping, effort_limit)]
         n = len(drives.joint_names)

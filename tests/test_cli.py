@@ -191,6 +191,26 @@ def test_demo_rejects_a_missing_output_directory(tmp_path: Path) -> None:
     assert f"expected an existing directory, but {str(tmp_path / 'no' / 'such' / 'dir')!r} does not exist" in err
 
 
+@pytest.mark.parametrize(
+    ("spec", "name"),
+    [("koch-v1.1", "koch-v1.1_demo.gif"), ("panda", "panda_demo.gif"), ("pendulum", "pendulum_demo.gif")],
+)
+def test_demo_names_its_default_video_after_the_robot(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, pendulum_file: Path, spec: str, name: str
+) -> None:
+    written: list[Path] = []
+
+    def run_demo(cls: object, output: Path, seconds_per_pose: float) -> object:
+        written.append(output)
+        return type("Summary", (), {"finite": True, "lines": lambda self: []})()
+
+    monkeypatch.setattr("robot_agents.demo.run_demo", run_demo)
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_fast("demo", str(pendulum_file) if spec == "pendulum" else spec)
+    assert (code, err) == (0, "")
+    assert written == [Path(name)]  # 'koch-v1_demo.gif' before: the uid's '.1' was taken for a suffix
+
+
 def test_demo_reports_a_video_that_cannot_be_written(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     def disk_full(*args: object, **kwargs: object) -> None:
         raise OSError(28, "No space left on device")

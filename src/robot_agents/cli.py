@@ -59,6 +59,19 @@ def parse_seconds(text: str, what: str = "simulated seconds per pose") -> float:
     return value
 
 
+def default_demo_output(spec: str) -> str:
+    """``demo``'s video when no ``--output`` is given: ``<uid>_demo.gif`` for a registered
+    uid (dots kept: ``koch-v1.1_demo.gif``), the file's stem for a model file, the class
+    name for ``module:Class``."""
+    if spec in list_agents():
+        name = spec
+    elif ":" in spec:
+        name = spec.rpartition(":")[2]
+    else:
+        name = Path(spec).stem
+    return f"{name}_demo.gif"
+
+
 def _table(rows: list[list[str]], out: TextIO) -> None:
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     for n, row in enumerate(rows):
@@ -418,7 +431,7 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             if Path(args.csv).is_dir():
                 raise UsageError(f"argument --csv: expected a file name, got the existing directory {args.csv!r}")
         elif args.command == "demo":
-            default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
+            default_output = default_demo_output(args.uid)
             parse_seconds(args.seconds)
             check_output_path(args.output or default_output)
         cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)

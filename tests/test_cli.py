@@ -158,6 +158,16 @@ def test_check_rejects_bad_seconds_naming_what_they_are(seconds: str) -> None:
     )
 
 
+def test_substeps_without_sweep_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    def run_checks(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the checks ran, the --substeps asked for ignored")
+
+    monkeypatch.setattr("robot_agents.checks.run_checks", run_checks)
+    code, out, err = run_fast("check", "panda", "--substeps", "10,20")
+    assert (code, out) == (2, "")
+    assert err == "robot-agents: error: argument --substeps: chooses the steps of the time-step sweep; add --sweep\n"
+
+
 @pytest.mark.usefixtures("no_simulation")
 @pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:

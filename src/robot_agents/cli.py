@@ -425,6 +425,8 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "check":
             seconds = parse_seconds(args.seconds, "seconds of random actions per mode")
             substeps = parse_substeps(args.substeps)
+            if substeps is not None and not args.sweep:
+                raise UsageError("argument --substeps: chooses the steps of the time-step sweep; add --sweep")
         elif args.command == "tune" and args.csv is not None:
             if not Path(args.csv).parent.is_dir():
                 raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")

@@ -213,6 +213,10 @@ def test_bad_setups_are_clean_errors() -> None:
         bus.write(np.zeros(2), np.zeros(2), np.zeros(2))
     with pytest.raises(ConfigError, match="values >= 0"):
         bus.set_gains(-np.ones(9), np.ones(9), np.ones(9))
+    for gains in ((np.full(9, np.inf), np.ones(9)), (np.ones(9), np.full(9, np.inf))):
+        with pytest.raises(ConfigError, match="stiffness and damping finite"):
+            bus.set_gains(*gains, np.ones(9))  # NaN physics on the next write before
+    bus.set_gains(np.ones(9), np.ones(9), np.full(9, np.inf))  # no effort limit
     bus.close()
 
 

@@ -82,8 +82,16 @@ class SimulatedBus:
         drives = self.agent.drives
         values = [np.asarray(a, dtype=np.float64) for a in (stiffness, damping, effort_limit)]
         n = len(drives.joint_names)
-        if any(v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) for v in values):
-            raise ConfigError(f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, got {values}.")
+        # an effort limit may be inf (no limit); an infinite gain would make the physics NaN
+        finite = (True, True, False)
+        if any(
+            v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) or (must and not np.all(np.isfinite(v)))
+            for v, must in zip(values, finite, strict=True)
+        ):
+            raise ConfigError(
+                f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, stiffness and damping finite "
+                f"(an effort limit may be inf), got {values}."
+            )
         declared = (drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
         # as a mode's override: NaN where the declared value stands
         override = DriveOverride(*(np.where(v == d, np.nan, v) for v, d in zip(values, declared, strict=True)))

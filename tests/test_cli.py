@@ -270,6 +270,22 @@ def test_bad_arguments_fail_fast_from_the_shell(tmp_path: Path) -> None:
     assert version.stdout == f"robot-agents {robot_agents.__version__}\n"
 
 
+def test_a_reader_that_stops_reading_gets_no_traceback(tmp_path: Path) -> None:
+    """robot-agents info panda | head -1: the pipe closes before the output is written."""
+    src = str(Path(robot_agents.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    command = [sys.executable, "-m", "robot_agents.cli", "info", "panda"]
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, cwd=tmp_path, text=True
+    ) as process:
+        assert process.stdout is not None and process.stderr is not None
+        process.stdout.close()  # as head does once it has its lines
+        err = process.stderr.read()
+        code = process.wait(timeout=60)
+    assert "Traceback" not in err and "BrokenPipeError" not in err, err
+    assert err == "" and code == 1
+
+
 UNSTABLE_MODULE = """
 import robot_agents as ra
 

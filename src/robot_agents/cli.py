@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -418,6 +419,21 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     """Entry point; returns the exit status."""
     stream = out if out is not None else sys.stdout
     args = build_parser().parse_args(argv)
+    try:
+        status = _run(args, stream)
+        stream.flush()  # here, not at exit: a closed pipe is reported below
+        return status
+    except BrokenPipeError:
+        # the reader stopped reading (robot-agents list | head -3): stop quietly, as
+        # command-line tools do, and keep Python's exit-time flush from failing again
+        if stream is sys.stdout:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _run(args: argparse.Namespace, stream: TextIO) -> int:
+    """The command ``args`` names, its output to ``stream``; a bad argument or robot is
+    reported in one line on stderr (exit status 2)."""
     try:
         if args.command == "list":
             return cmd_list(stream)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -284,6 +285,21 @@ def test_a_reader_that_stops_reading_gets_no_traceback(tmp_path: Path) -> None:
         code = process.wait(timeout=60)
     assert "Traceback" not in err and "BrokenPipeError" not in err, err
     assert err == "" and code == 1
+
+
+def test_ctrl_c_stops_a_long_command_without_a_traceback(tmp_path: Path) -> None:
+    src = str(Path(robot_agents.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    env["PYTHONUNBUFFERED"] = "1"  # each line as it is written
+    command = [sys.executable, "-m", "robot_agents.cli", "check", "panda", "--seconds", "60"]
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, cwd=tmp_path, text=True
+    ) as process:
+        assert process.stdout is not None and process.stderr is not None
+        assert process.stdout.readline().startswith("panda: ")  # the robot is loaded, the checks to come
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    assert (process.returncode, err) == (130, "robot-agents: interrupted\n")
 
 
 UNSTABLE_MODULE = """

@@ -423,6 +423,9 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         status = _run(args, stream)
         stream.flush()  # here, not at exit: a closed pipe is reported below
         return status
+    except KeyboardInterrupt:  # Ctrl-C during a long check or demo: no traceback
+        sys.stderr.write("robot-agents: interrupted\n")
+        return 130
     except BrokenPipeError:
         # the reader stopped reading (robot-agents list | head -3): stop quietly, as
         # command-line tools do, and keep Python's exit-time flush from failing again

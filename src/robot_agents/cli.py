@@ -1,5 +1,5 @@
 """``robot-agents`` command line: ``list``, ``info ROBOT``, ``demo ROBOT``, ``check ROBOT``,
-``--version``. ROBOT is a registered uid, a model file path (the two-line robot) or
+``tune ROBOT``, ``--version``. ROBOT is a registered uid, a model file path (the two-line robot) or
 ``module:Class``."""
 
 from __future__ import annotations

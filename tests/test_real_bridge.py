@@ -189,6 +189,18 @@ def test_a_closed_robot_and_bus_refuse_every_call() -> None:
         bus.set_gains(zeros, zeros, zeros)
 
 
+def test_the_scene_is_closed_when_the_bus_fails_to_close() -> None:
+    class FailingBus(SimulatedBus):
+        def close(self) -> None:
+            super().close()
+            raise OSError("the port is gone")
+
+    real = RealRobot("so100", FailingBus("so100"))
+    with pytest.raises(OSError, match="the port is gone"):
+        real.close()
+    assert real.scene.world.closed  # its stepping threads stopped (left running before)
+
+
 def test_bad_setups_are_clean_errors() -> None:
     with pytest.raises(ConfigError, match="free root"):
         RealRobot("anymal_c", SimulatedBus("panda"))

@@ -281,8 +281,11 @@ class RealRobot:
         check_open(self._closed, "this RealRobot", where)
 
     def close(self) -> None:
-        """Close the bus and the controllers' scene."""
+        """Close the bus and the controllers' scene (the scene also when the bus's
+        ``close`` raises, which then propagates)."""
         if not self._closed:
             self._closed = True
-            self.bus.close()
-            self.scene.close()
+            try:
+                self.bus.close()
+            finally:
+                self.scene.close()

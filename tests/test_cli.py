@@ -169,6 +169,15 @@ def test_substeps_without_sweep_is_refused(monkeypatch: pytest.MonkeyPatch) -> N
     assert err == "robot-agents: error: argument --substeps: chooses the steps of the time-step sweep; add --sweep\n"
 
 
+@pytest.mark.parametrize("spec", ["panda", "robot_agents.robots.panda.panda:Panda"])
+def test_floating_is_refused_for_a_registered_robot(spec: str) -> None:
+    # a model file's option, as --up and --gripper are; "root: fixed" was printed before
+    code, out, err = run_fast("info", spec, "--floating")
+    assert (code, out) == (2, "")
+    assert err.startswith("robot-agents: error: resolve_robot: floating=True gives a model file's root a free joint")
+    assert err.count("\n") == 1
+
+
 @pytest.mark.usefixtures("no_simulation")
 @pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:

@@ -189,6 +189,20 @@ def test_a_closed_robot_and_bus_refuse_every_call() -> None:
         bus.set_gains(zeros, zeros, zeros)
 
 
+def test_touch_entries_come_from_the_model_at_the_measured_pose() -> None:
+    """docs/real-robots.md: the pads read only the robot's own contacts in the controllers' model."""
+    bus = SimulatedBus("panda_touch")
+    real = RealRobot("panda_touch", bus, control_mode="pd_joint_pos")
+    arm = bus.read()[0][:7]
+    real.step(np.r_[arm, 1.0])
+    np.testing.assert_array_equal(real.get_proprioception()["touch"], 0.0)  # open: nothing to touch
+    for _ in range(10):
+        real.step(np.r_[arm, -1.0])
+    real.sync()
+    assert np.all(real.get_proprioception()["touch"] > 1.0)  # closed on each other
+    real.close()
+
+
 def test_the_scene_is_closed_when_the_bus_fails_to_close() -> None:
     class FailingBus(SimulatedBus):
         def close(self) -> None:

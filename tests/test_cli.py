@@ -179,9 +179,10 @@ def test_floating_is_refused_for_a_registered_robot(spec: str) -> None:
 
 
 @pytest.mark.usefixtures("no_simulation")
-@pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
+@pytest.mark.parametrize("name", ["x.avi", "x.png", "x", ""])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:
-    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name))
+    # "": an empty --output is refused, not replaced by the default panda_demo.gif
+    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name) if name else "")
     assert code == 2
     assert err.count("\n") == 1  # one line, no traceback
     assert err.startswith("robot-agents: error: video output ")

@@ -452,9 +452,9 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
             if Path(args.csv).is_dir():
                 raise UsageError(f"argument --csv: expected a file name, got the existing directory {args.csv!r}")
         elif args.command == "demo":
-            default_output = default_demo_output(args.uid)
+            output = args.output if args.output is not None else default_demo_output(args.uid)
             parse_seconds(args.seconds)
-            check_output_path(args.output or default_output)
+            check_output_path(output)
         cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
@@ -473,7 +473,7 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
                 args.effort_limit,
                 args.csv,
             )
-        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
+        return cmd_demo(args.uid, output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
         sys.stderr.write(f"robot-agents: error: {err}\n")
         return 2

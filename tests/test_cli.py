@@ -351,6 +351,16 @@ def test_check_fails_with_numbers_for_unstable_gains(tmp_path: Path, monkeypatch
     assert "unstable: ['pd_joint_" in text
 
 
+def test_info_takes_a_class_whose_docstring_is_blank(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pendulum_file: Path
+) -> None:
+    module = f'import robot_agents as ra\n\nclass Blank(ra.Agent):\n    """\n    """\n    mjcf_path = {str(pendulum_file)!r}\n'
+    (tmp_path / "blank_doc.py").write_text(module)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, text = run("info", "blank_doc:Blank")  # an IndexError traceback before
+    assert code == 0 and text.startswith("blank_doc:Blank: Blank\n")
+
+
 def test_pd_stability_is_checked_at_the_robots_own_step() -> None:
     from robot_agents.checks import check_pd_stability
 

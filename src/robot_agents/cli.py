@@ -102,7 +102,8 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
     cls = cls if cls is not None else resolve_robot(uid, floating, up)
     scene = Scene(cls)
     agent = scene.agents[0]
-    out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
+    summary = (cls.__doc__ or "").strip().splitlines()
+    out.write(f"{uid}: {summary[0] if summary else cls.__name__}\n")
     out.write(f"model: {cls.model_path()}\n")
     for prefix, piece in composition(cls).pieces:
         out.write(f"  + {piece.__name__} ({piece.model_path().name}){f' as {prefix!r}' if prefix else ''}\n")

@@ -178,6 +178,17 @@ def test_floating_is_refused_for_a_registered_robot(spec: str) -> None:
     assert err.count("\n") == 1
 
 
+def test_a_compile_error_of_a_model_file_is_one_line(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.xml"
+    bad.write_text(
+        '<mujoco><worldbody><body name="a"><joint name="j"/><geom type="box" size="0 0 0"/></body></worldbody></mujoco>'
+    )
+    code, _, err = run_fast("info", str(bad))
+    assert code == 2
+    assert err.count("\n") == 1  # MuJoCo's message names the element on a second line
+    assert "must be positive in geom; Element name '', id 0, line 1" in err
+
+
 @pytest.mark.usefixtures("no_simulation")
 @pytest.mark.parametrize("name", ["x.avi", "x.png", "x", ""])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:

@@ -476,7 +476,9 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
             )
         return cmd_demo(args.uid, output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
-        sys.stderr.write(f"robot-agents: error: {err}\n")
+        # one line, also for a message that quotes MuJoCo's (its element on a second line)
+        message = "; ".join(line.strip() for line in str(err).splitlines() if line.strip())
+        sys.stderr.write(f"robot-agents: error: {message}\n")
         return 2
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -148,9 +149,51 @@ def test_demo_rejects_bad_seconds_before_simulating(tmp_path: Path, seconds: str
 
 
 @pytest.mark.usefixtures("no_simulation")
-@pytest.mark.parametrize("name", ["x.avi", "x.png", "x"])
+@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "61"])
+def test_check_rejects_bad_seconds_naming_what_they_are(seconds: str) -> None:
+    code, out, err = run_fast("check", "panda", f"--seconds={seconds}")
+    assert (code, out) == (2, "")
+    assert err == (
+        "robot-agents: error: argument --seconds: expected a number of seconds of random actions per mode, "
+        f"> 0 and <= 60, got {seconds!r}\n"
+    )
+
+
+def test_substeps_without_sweep_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    def run_checks(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the checks ran, the --substeps asked for ignored")
+
+    monkeypatch.setattr("robot_agents.checks.run_checks", run_checks)
+    code, out, err = run_fast("check", "panda", "--substeps", "10,20")
+    assert (code, out) == (2, "")
+    assert err == "robot-agents: error: argument --substeps: chooses the steps of the time-step sweep; add --sweep\n"
+
+
+@pytest.mark.parametrize("spec", ["panda", "robot_agents.robots.panda.panda:Panda"])
+def test_floating_is_refused_for_a_registered_robot(spec: str) -> None:
+    # a model file's option, as --up and --gripper are; "root: fixed" was printed before
+    code, out, err = run_fast("info", spec, "--floating")
+    assert (code, out) == (2, "")
+    assert err.startswith("robot-agents: error: resolve_robot: floating=True gives a model file's root a free joint")
+    assert err.count("\n") == 1
+
+
+def test_a_compile_error_of_a_model_file_is_one_line(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.xml"
+    bad.write_text(
+        '<mujoco><worldbody><body name="a"><joint name="j"/><geom type="box" size="0 0 0"/></body></worldbody></mujoco>'
+    )
+    code, _, err = run_fast("info", str(bad))
+    assert code == 2
+    assert err.count("\n") == 1  # MuJoCo's message names the element on a second line
+    assert "must be positive in geom; Element name '', id 0, line 1" in err
+
+
+@pytest.mark.usefixtures("no_simulation")
+@pytest.mark.parametrize("name", ["x.avi", "x.png", "x", ""])
 def test_demo_rejects_an_unsupported_output_suffix(tmp_path: Path, name: str) -> None:
-    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name))
+    # "": an empty --output is refused, not replaced by the default panda_demo.gif
+    code, _, err = run_fast("demo", "panda", "-o", str(tmp_path / name) if name else "")
     assert code == 2
     assert err.count("\n") == 1  # one line, no traceback
     assert err.startswith("robot-agents: error: video output ")
@@ -178,6 +221,40 @@ def test_demo_rejects_a_missing_output_directory(tmp_path: Path) -> None:
     assert code == 2
     assert err.count("\n") == 1
     assert f"expected an existing directory, but {str(tmp_path / 'no' / 'such' / 'dir')!r} does not exist" in err
+
+
+@pytest.mark.parametrize(
+    ("spec", "name"),
+    [("koch-v1.1", "koch-v1.1_demo.gif"), ("panda", "panda_demo.gif"), ("pendulum", "pendulum_demo.gif")],
+)
+def test_demo_names_its_default_video_after_the_robot(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, pendulum_file: Path, spec: str, name: str
+) -> None:
+    written: list[Path] = []
+
+    def run_demo(cls: object, output: Path, seconds_per_pose: float) -> object:
+        written.append(output)
+        return type("Summary", (), {"finite": True, "lines": lambda self: []})()
+
+    monkeypatch.setattr("robot_agents.demo.run_demo", run_demo)
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_fast("demo", str(pendulum_file) if spec == "pendulum" else spec)
+    assert (code, err) == (0, "")
+    assert written == [Path(name)]  # 'koch-v1_demo.gif' before: the uid's '.1' was taken for a suffix
+
+
+def test_demo_reports_a_video_that_cannot_be_written(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    def disk_full(*args: object, **kwargs: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Image.Image, "save", disk_full)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["demo", "panda", "-o", str(tmp_path / "x.gif"), "--seconds", "0.1"], out=io.StringIO())
+    assert code == 2
+    assert err.getvalue() == (
+        f"robot-agents: error: write_gif: cannot write {str(tmp_path / 'x.gif')!r}: No space left on device.\n"
+    )
 
 
 @pytest.mark.usefixtures("no_simulation")
@@ -213,6 +290,37 @@ def test_bad_arguments_fail_fast_from_the_shell(tmp_path: Path) -> None:
     )
     assert version.returncode == 0
     assert version.stdout == f"robot-agents {robot_agents.__version__}\n"
+
+
+def test_a_reader_that_stops_reading_gets_no_traceback(tmp_path: Path) -> None:
+    """robot-agents info panda | head -1: the pipe closes before the output is written."""
+    src = str(Path(robot_agents.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    command = [sys.executable, "-m", "robot_agents.cli", "info", "panda"]
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, cwd=tmp_path, text=True
+    ) as process:
+        assert process.stdout is not None and process.stderr is not None
+        process.stdout.close()  # as head does once it has its lines
+        err = process.stderr.read()
+        code = process.wait(timeout=60)
+    assert "Traceback" not in err and "BrokenPipeError" not in err, err
+    assert err == "" and code == 1
+
+
+def test_ctrl_c_stops_a_long_command_without_a_traceback(tmp_path: Path) -> None:
+    src = str(Path(robot_agents.__file__).parents[1])
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    env["PYTHONUNBUFFERED"] = "1"  # each line as it is written
+    command = [sys.executable, "-m", "robot_agents.cli", "check", "panda", "--seconds", "60"]
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, cwd=tmp_path, text=True
+    ) as process:
+        assert process.stdout is not None and process.stderr is not None
+        assert process.stdout.readline().startswith("panda: ")  # the robot is loaded, the checks to come
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    assert (process.returncode, err) == (130, "robot-agents: interrupted\n")
 
 
 UNSTABLE_MODULE = """
@@ -252,6 +360,16 @@ def test_check_fails_with_numbers_for_unstable_gains(tmp_path: Path, monkeypatch
     assert code == 1
     assert "[FAIL] PD drives stable at the physics step" in text and "at elbow (kp 1e+07" in text
     assert "unstable: ['pd_joint_" in text
+
+
+def test_info_takes_a_class_whose_docstring_is_blank(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pendulum_file: Path
+) -> None:
+    module = f'import robot_agents as ra\n\nclass Blank(ra.Agent):\n    """\n    """\n    mjcf_path = {str(pendulum_file)!r}\n'
+    (tmp_path / "blank_doc.py").write_text(module)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, text = run("info", "blank_doc:Blank")  # an IndexError traceback before
+    assert code == 0 and text.startswith("blank_doc:Blank: Blank\n")
 
 
 def test_pd_stability_is_checked_at_the_robots_own_step() -> None:

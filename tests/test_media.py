@@ -205,6 +205,12 @@ def test_output_directory_must_exist(tmp_path: Path) -> None:
     assert check_output_path(str(tmp_path / "fine.gif")) == tmp_path / "fine.gif"
 
 
+def test_a_file_that_cannot_be_written_is_a_media_error(tmp_path: Path) -> None:
+    (tmp_path / "taken.gif").mkdir()  # write_gif itself does not run check_output_path
+    with pytest.raises(MediaError, match=r"^write_gif: cannot write '.*taken\.gif': Is a directory\.$"):
+        write_gif(tmp_path / "taken.gif", few_colour_frames(1), fps=10)
+
+
 # ------------------------------------------------------------------------ bad input
 
 GOOD = np.zeros((4, 6, 3), dtype=np.uint8)

@@ -171,6 +171,50 @@ def test_a_rejected_action_sends_nothing_and_changes_nothing() -> None:
         real.step(np.zeros(real.action_space.shape))
 
 
+def test_a_closed_robot_and_bus_refuse_every_call() -> None:
+    bus = SimulatedBus("so100")
+    real = RealRobot("so100", bus)
+    real.close()
+    for name, call in (
+        ("set_control_mode", lambda: real.set_control_mode("pd_joint_pos")),
+        ("get_proprioception", real.get_proprioception),
+        ("get_obs", real.get_obs),
+        ("camera_params", real.camera_params),
+        ("move_to", lambda: real.move_to("rest")),
+    ):
+        with pytest.raises(StateError, match=rf"^RealRobot\.{name}: this RealRobot is closed"):
+            call()
+    zeros = np.zeros(len(bus.joint_names))
+    with pytest.raises(StateError, match=r"^SimulatedBus\.set_gains: this bus is closed"):
+        bus.set_gains(zeros, zeros, zeros)
+
+
+def test_touch_entries_come_from_the_model_at_the_measured_pose() -> None:
+    """docs/real-robots.md: the pads read only the robot's own contacts in the controllers' model."""
+    bus = SimulatedBus("panda_touch")
+    real = RealRobot("panda_touch", bus, control_mode="pd_joint_pos")
+    arm = bus.read()[0][:7]
+    real.step(np.r_[arm, 1.0])
+    np.testing.assert_array_equal(real.get_proprioception()["touch"], 0.0)  # open: nothing to touch
+    for _ in range(10):
+        real.step(np.r_[arm, -1.0])
+    real.sync()
+    assert np.all(real.get_proprioception()["touch"] > 1.0)  # closed on each other
+    real.close()
+
+
+def test_the_scene_is_closed_when_the_bus_fails_to_close() -> None:
+    class FailingBus(SimulatedBus):
+        def close(self) -> None:
+            super().close()
+            raise OSError("the port is gone")
+
+    real = RealRobot("so100", FailingBus("so100"))
+    with pytest.raises(OSError, match="the port is gone"):
+        real.close()
+    assert real.scene.world.closed  # its stepping threads stopped (left running before)
+
+
 def test_bad_setups_are_clean_errors() -> None:
     with pytest.raises(ConfigError, match="free root"):
         RealRobot("anymal_c", SimulatedBus("panda"))
@@ -195,6 +239,10 @@ def test_bad_setups_are_clean_errors() -> None:
         bus.write(np.zeros(2), np.zeros(2), np.zeros(2))
     with pytest.raises(ConfigError, match="values >= 0"):
         bus.set_gains(-np.ones(9), np.ones(9), np.ones(9))
+    for gains in ((np.full(9, np.inf), np.ones(9)), (np.ones(9), np.full(9, np.inf))):
+        with pytest.raises(ConfigError, match="stiffness and damping finite"):
+            bus.set_gains(*gains, np.ones(9))  # NaN physics on the next write before
+    bus.set_gains(np.ones(9), np.ones(9), np.full(9, np.inf))  # no effort limit
     bus.close()
 
 

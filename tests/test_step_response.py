@@ -145,6 +145,17 @@ def test_the_records_go_to_a_csv_table(tmp_path: Path) -> None:
     assert main(["tune", "panda", "--csv", str(tmp_path / "no" / "steps.csv")], io.StringIO()) == 2
 
 
+def test_a_csv_path_that_is_a_directory_is_refused_before_anything_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = io.StringIO()
+    assert main(["tune", "panda", "--csv", str(tmp_path)], out) == 2
+    assert out.getvalue() == ""  # no step response was run
+    assert capsys.readouterr().err == (
+        f"robot-agents: error: argument --csv: expected a file name, got the existing directory {str(tmp_path)!r}\n"
+    )
+
+
 def test_a_mimic_follower_is_stepped_through_its_leader() -> None:
     # the WidowX 250 S's right finger follows the left one mirrored (multiplier -1)
     left, right = step_responses("widowx250s", ".*_finger")

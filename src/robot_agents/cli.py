@@ -1,11 +1,12 @@
 """``robot-agents`` command line: ``list``, ``info ROBOT``, ``demo ROBOT``, ``check ROBOT``,
-``--version``. ROBOT is a registered uid, a model file path (the two-line robot) or
+``tune ROBOT``, ``--version``. ROBOT is a registered uid, a model file path (the two-line robot) or
 ``module:Class``."""
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -47,18 +48,29 @@ def parse_substeps(text: str | None) -> tuple[int, ...] | None:
     return values
 
 
-def parse_seconds(text: str) -> float:
-    """``--seconds``: a finite number of simulated seconds per pose, > 0 and <= :data:`MAX_SECONDS`."""
+def parse_seconds(text: str, what: str = "simulated seconds per pose") -> float:
+    """``--seconds``: a finite number of ``what`` (demo: simulated seconds per pose; check:
+    seconds of random actions per mode), > 0 and <= :data:`MAX_SECONDS`."""
     try:
         value = float(text)
     except ValueError:
         value = math.nan
     if not (math.isfinite(value) and 0.0 < value <= MAX_SECONDS):
-        raise UsageError(
-            f"argument --seconds: expected a number of simulated seconds per pose, > 0 and <= {MAX_SECONDS:g}, "
-            f"got {text!r}"
-        )
+        raise UsageError(f"argument --seconds: expected a number of {what}, > 0 and <= {MAX_SECONDS:g}, got {text!r}")
     return value
+
+
+def default_demo_output(spec: str) -> str:
+    """``demo``'s video when no ``--output`` is given: ``<uid>_demo.gif`` for a registered
+    uid (dots kept: ``koch-v1.1_demo.gif``), the file's stem for a model file, the class
+    name for ``module:Class``."""
+    if spec in list_agents():
+        name = spec
+    elif ":" in spec:
+        name = spec.rpartition(":")[2]
+    else:
+        name = Path(spec).stem
+    return f"{name}_demo.gif"
 
 
 def _table(rows: list[list[str]], out: TextIO) -> None:
@@ -90,7 +102,8 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
     cls = cls if cls is not None else resolve_robot(uid, floating, up)
     scene = Scene(cls)
     agent = scene.agents[0]
-    out.write(f"{uid}: {cls.__doc__.strip().splitlines()[0] if cls.__doc__ else cls.__name__}\n")
+    summary = (cls.__doc__ or "").strip().splitlines()
+    out.write(f"{uid}: {summary[0] if summary else cls.__name__}\n")
     out.write(f"model: {cls.model_path()}\n")
     for prefix, piece in composition(cls).pieces:
         out.write(f"  + {piece.__name__} ({piece.model_path().name}){f' as {prefix!r}' if prefix else ''}\n")
@@ -357,7 +370,9 @@ def build_parser() -> argparse.ArgumentParser:
     _robot_arguments(info)
     check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
     _robot_arguments(check)
-    check.add_argument("--seconds", default="5.0", help="seconds of random actions per mode (default: 5)")
+    check.add_argument(
+        "--seconds", default="5.0", help=f"seconds of random actions per mode, > 0 and <= {MAX_SECONDS:g} (default: 5)"
+    )
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
     )
@@ -406,17 +421,41 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     stream = out if out is not None else sys.stdout
     args = build_parser().parse_args(argv)
     try:
+        status = _run(args, stream)
+        stream.flush()  # here, not at exit: a closed pipe is reported below
+        return status
+    except KeyboardInterrupt:  # Ctrl-C during a long check or demo: no traceback
+        sys.stderr.write("robot-agents: interrupted\n")
+        return 130
+    except BrokenPipeError:
+        # the reader stopped reading (robot-agents list | head -3): stop quietly, as
+        # command-line tools do, and keep Python's exit-time flush from failing again
+        if stream is sys.stdout:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _run(args: argparse.Namespace, stream: TextIO) -> int:
+    """The command ``args`` names, its output to ``stream``; a bad argument or robot is
+    reported in one line on stderr (exit status 2)."""
+    try:
         if args.command == "list":
             return cmd_list(stream)
         # the command's own arguments first: a typo is reported before a model file loads
         if args.command == "check":
-            seconds, substeps = parse_seconds(args.seconds), parse_substeps(args.substeps)
-        elif args.command == "tune" and args.csv is not None and not Path(args.csv).parent.is_dir():
-            raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
+            seconds = parse_seconds(args.seconds, "seconds of random actions per mode")
+            substeps = parse_substeps(args.substeps)
+            if substeps is not None and not args.sweep:
+                raise UsageError("argument --substeps: chooses the steps of the time-step sweep; add --sweep")
+        elif args.command == "tune" and args.csv is not None:
+            if not Path(args.csv).parent.is_dir():
+                raise UsageError(f"argument --csv: the folder of {args.csv!r} does not exist")
+            if Path(args.csv).is_dir():
+                raise UsageError(f"argument --csv: expected a file name, got the existing directory {args.csv!r}")
         elif args.command == "demo":
-            default_output = f"{Path(args.uid).stem if ':' not in args.uid else args.uid.rpartition(':')[2]}_demo.gif"
+            output = args.output if args.output is not None else default_demo_output(args.uid)
             parse_seconds(args.seconds)
-            check_output_path(args.output or default_output)
+            check_output_path(output)
         cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
@@ -435,9 +474,11 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
                 args.effort_limit,
                 args.csv,
             )
-        return cmd_demo(args.uid, args.output or default_output, args.seconds, stream, args.floating, args.up, cls)
+        return cmd_demo(args.uid, output, args.seconds, stream, args.floating, args.up, cls)
     except (RobotAgentsError, UsageError) as err:
-        sys.stderr.write(f"robot-agents: error: {err}\n")
+        # one line, also for a message that quotes MuJoCo's (its element on a second line)
+        message = "; ".join(line.strip() for line in str(err).splitlines() if line.strip())
+        sys.stderr.write(f"robot-agents: error: {message}\n")
         return 2
 
 

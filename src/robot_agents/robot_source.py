@@ -108,6 +108,11 @@ def resolve_robot(
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
         return robot_from_file(path, floating, up, gripper, at, root_body, at_axis)
+    if floating:
+        raise ConfigError(
+            f"resolve_robot: floating=True gives a model file's root a free joint, and {spec!r} is a registered uid "
+            "or a class (declare fix_root_link = False instead)."
+        )
     if up != "z":
         raise ConfigError(
             f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "

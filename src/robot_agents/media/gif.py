@@ -64,7 +64,8 @@ def write_gif(path: str | os.PathLike[str], frames: Frames, fps: float) -> Path:
 
     Raises:
         MediaError: bad frames (see :func:`~robot_agents.media.frames.check_frames`),
-            frames larger than 65535 pixels on a side, or a bad ``fps``.
+            frames larger than 65535 pixels on a side, a bad ``fps``, or a file
+            that cannot be written (the system's reason).
 
     GIF is paletted: every frame is drawn with one shared palette of at most 256
     colours, chosen by Pillow's median cut from up to :data:`PALETTE_SAMPLE_FRAMES`
@@ -84,5 +85,8 @@ def write_gif(path: str | os.PathLike[str], frames: Frames, fps: float) -> Path:
     palette = _shared_palette(frame_list)
     images = [Image.fromarray(frame).quantize(palette=palette, dither=Image.Dither.NONE) for frame in frame_list]
     out_path = Path(path)
-    images[0].save(out_path, format="GIF", save_all=True, append_images=images[1:], duration=duration_ms, loop=0)
+    try:
+        images[0].save(out_path, format="GIF", save_all=True, append_images=images[1:], duration=duration_ms, loop=0)
+    except OSError as err:
+        raise MediaError(f"write_gif: cannot write {str(out_path)!r}: {err.strerror or err}.") from None
     return out_path

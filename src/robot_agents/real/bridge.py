@@ -166,6 +166,7 @@ class RealRobot:
     def set_control_mode(self, mode: str) -> None:
         """Switch modes: the new mode holds the measured pose (read from the bus) and
         its drive settings go to the bus (:meth:`JointBus.set_gains`)."""
+        self._check_open("RealRobot.set_control_mode")
         self.sync()
         self.agent.set_control_mode(mode)
         drives, columns = self.agent.drives, self._columns
@@ -178,6 +179,7 @@ class RealRobot:
 
     def get_proprioception(self) -> dict[str, Any]:
         """As in simulation (:meth:`Agent.get_proprioception`), from the last read."""
+        self._check_open("RealRobot.get_proprioception")
         return self.agent.get_proprioception()
 
     def get_obs(self) -> npt.NDArray[np.float32]:
@@ -279,8 +281,11 @@ class RealRobot:
         check_open(self._closed, "this RealRobot", where)
 
     def close(self) -> None:
-        """Close the bus and the controllers' scene."""
+        """Close the bus and the controllers' scene (the scene also when the bus's
+        ``close`` raises, which then propagates)."""
         if not self._closed:
             self._closed = True
-            self.bus.close()
-            self.scene.close()
+            try:
+                self.bus.close()
+            finally:
+                self.scene.close()

@@ -49,9 +49,9 @@ class SimulatedBus:
         # the drives take every target kind they are sent (position, velocity
         # feed-forward, effort), as hardware drives do
         drives = self.agent.drives
+        self._closed = False
         self.set_gains(drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
         self._names = tuple(self.agent.drives.joint_names)
-        self._closed = False
 
     @property
     def joint_names(self) -> Sequence[str]:
@@ -77,11 +77,21 @@ class SimulatedBus:
         self.scene.step()
 
     def set_gains(self, stiffness: FloatArray, damping: FloatArray, effort_limit: FloatArray) -> None:
+        if self._closed:
+            raise StateError("SimulatedBus.set_gains: this bus is closed.")
         drives = self.agent.drives
         values = [np.asarray(a, dtype=np.float64) for a in (stiffness, damping, effort_limit)]
         n = len(drives.joint_names)
-        if any(v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) for v in values):
-            raise ConfigError(f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, got {values}.")
+        # an effort limit may be inf (no limit); an infinite gain would make the physics NaN
+        finite = (True, True, False)
+        if any(
+            v.shape != (n,) or np.any(np.isnan(v)) or np.any(v < 0) or (must and not np.all(np.isfinite(v)))
+            for v, must in zip(values, finite, strict=True)
+        ):
+            raise ConfigError(
+                f"SimulatedBus.set_gains: expected ({n},) arrays of values >= 0, stiffness and damping finite "
+                f"(an effort limit may be inf), got {values}."
+            )
         declared = (drives.declared_stiffness, drives.declared_damping, drives.declared_effort_limit)
         # as a mode's override: NaN where the declared value stands
         override = DriveOverride(*(np.where(v == d, np.nan, v) for v, d in zip(values, declared, strict=True)))

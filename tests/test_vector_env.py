@@ -75,6 +75,32 @@ def test_next_step_autoreset_happens_in_the_step_after_truncation() -> None:
     np.testing.assert_array_equal(info["elapsed_steps"], [1, 1, 1])  # stepping again
 
 
+def test_an_autoreset_step_observes_once() -> None:
+    """NEXT_STEP: the step that resets the envs that ended is observed once, by their
+    reset (which observes every env); the step's own observation, camera renders and
+    all, was taken and thrown away before."""
+    env = make_vec(num_envs=2, obs_mode="rgb", max_episode_steps=2)
+    env.reset(seed=0)
+    calls: list[int] = []
+    observe = env.env._get_obs
+
+    def counting() -> Any:
+        calls.append(1)
+        return observe()
+
+    env.env._get_obs = counting
+    zero = np.zeros(env.action_space.shape)
+    for step, (observed, reset) in enumerate([(1, False), (1, False), (1, True), (1, False)]):
+        calls.clear()
+        obs, _, _, _, info = env.step(zero)
+        assert len(calls) == observed, step
+        assert (info["elapsed_steps"] == 0).all() == reset
+    env.env._get_obs = observe
+    rgb = obs["sensor_data"]["base_camera"]["rgb"]
+    assert rgb.shape[0] == 2 and rgb.any()
+    env.close()
+
+
 def test_a_state_saved_with_an_autoreset_pending_continues_exactly() -> None:
     """NEXT_STEP: a state saved on the step that ended the episodes holds the pending
     autoresets (``env.get_state()`` alone did not: the restored envs were not reset);

@@ -203,7 +203,13 @@ class RobotVectorEnv(VectorEnv):
     # -- step ------------------------------------------------------------------------------
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         n = self.num_envs
-        obs, reward, terminated, truncated, info = self.env.step(actions)
+        if self.autoreset_mode is AutoresetMode.NEXT_STEP and self._autoreset.any():
+            # The envs that ended last step are reset after this step, and that reset
+            # observes every env: the step's own observation (camera renders included)
+            # would be thrown away, so it is not taken.
+            obs, reward, terminated, truncated, info = self._step_unobserved(actions)
+        else:
+            obs, reward, terminated, truncated, info = self.env.step(actions)
         reward = np.asarray(reward, dtype=np.float64).reshape(n).copy()
         terminated = np.asarray(terminated, dtype=bool).reshape(n).copy()
         truncated = np.asarray(truncated, dtype=bool).reshape(n).copy()
@@ -229,6 +235,16 @@ class RobotVectorEnv(VectorEnv):
                     final_obs=final_obs, _final_obs=ended.copy(), final_info=final_info, _final_info=ended.copy()
                 )
         return obs, reward, terminated, truncated, info
+
+    def _step_unobserved(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        """``env.step(actions)`` with ``None`` for its observation (the bound observer
+        is swapped out for the call, so the plain step pays nothing for this)."""
+        observe = self.env._get_obs
+        self.env._get_obs = _no_observation
+        try:
+            return self.env.step(actions)
+        finally:
+            self.env._get_obs = observe
 
     def _reset_ended(self, ended: BoolArray, obs: Any, info: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
         """Reset envs ``ended`` (their random streams go on); their rows of ``obs`` and
@@ -256,6 +272,11 @@ class RobotVectorEnv(VectorEnv):
 
     def __repr__(self) -> str:
         return f"RobotVectorEnv({type(self.env).__name__}, num_envs={self.num_envs}, autoreset_mode={self.autoreset_mode.name})"
+
+
+def _no_observation() -> None:
+    """Stands in for an env's observer in a step whose observation is not used."""
+    return None
 
 
 def vector_entry_point(task: str) -> Any:

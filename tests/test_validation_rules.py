@@ -179,6 +179,27 @@ def test_numpy_scalars_are_taken_where_python_numbers_were() -> None:
     robot.close()
 
 
+@pytest.mark.parametrize(
+    ("keyword", "value", "message"),
+    [
+        ("max_episode_steps", 0, "expected max_episode_steps >= 1, got 0"),
+        ("max_episode_steps", 2.5, "expected max_episode_steps to be an int or None, got 2.5"),
+        ("raise_on_instability", "yes", "expected raise_on_instability to be a bool"),
+    ],
+)
+def test_bad_env_arguments_are_refused_before_the_scene_is_built(
+    keyword: str, value: object, message: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Checked first: a bad value cost the whole build (models compiled, renderers made)."""
+
+    def no_scene(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the scene was built before the arguments were checked")
+
+    monkeypatch.setattr("robot_agents.envs.base_env.Scene", no_scene)
+    with pytest.raises(ConfigError, match=message):
+        ra.make_env("PickCube-v1", robot_uids="panda", **{keyword: value})
+
+
 @pytest.mark.parametrize("value", [True, (1.0, True), "10", (), [[1.0, 2.0]], np.ones((2, 2))])
 def test_per_joint_values_are_numbers_or_tuples_of_numbers(value: Any) -> None:
     """Drive and mode gains (``PerJoint``) take one number or a flat sequence of numbers:

@@ -10,7 +10,7 @@ from typing import Any, cast
 
 import gymnasium as gym
 
-from robot_agents.envs.base_env import RobotEnv, task_keywords
+from robot_agents.envs.base_env import RobotEnv, check_max_episode_steps, task_keywords
 from robot_agents.envs.empty import EmptyEnv
 from robot_agents.envs.vector import RobotVectorEnv, vector_entry_point
 from robot_agents.errors import UnknownNameError
@@ -77,6 +77,7 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     if render_mode is not None and render_mode not in modes:  # gymnasium would wrap "human" around "rgb_array"
         raise UnknownNameError(where, "render_mode", str(render_mode), modes)
     steps = kwargs.pop("max_episode_steps", -1)
+    check_max_episode_steps(steps, task.__name__)  # before the build
     env = gym.make(f"{NAMESPACE}/{name}", **kwargs)
     if steps != -1:
         env.unwrapped.set_max_episode_steps(steps)  # type: ignore[attr-defined]

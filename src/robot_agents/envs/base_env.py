@@ -84,6 +84,15 @@ def check_render_size(size: Any, where: str) -> tuple[int, int]:
     return int(size[0]), int(size[1])
 
 
+def check_max_episode_steps(steps: object, where: str) -> None:
+    """:class:`ConfigError` (naming ``where``) unless ``steps`` is a whole number >= 1,
+    ``-1`` (the task's default) or ``None`` (never truncate)."""
+    if steps is not None and not is_whole(steps):
+        raise ConfigError(f"{where}: expected max_episode_steps to be an int or None, got {steps!r}.")
+    if steps is not None and steps != -1 and steps < 1:  # type: ignore[operator]
+        raise ConfigError(f"{where}: expected max_episode_steps >= 1, got {steps!r}.")
+
+
 class RobotEnv(gym.Env[Any, Any]):
     """A task with one or more robots in a :class:`~robot_agents.sim.Scene`.
 
@@ -172,6 +181,9 @@ class RobotEnv(gym.Env[Any, Any]):
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
         size = check_render_size(render_size, type(self).__name__)
         noise = check_real(robot_init_qpos_noise, "robot_init_qpos_noise", type(self).__name__, 0.0, unit=" (rad or m)")
+        # checked before the scene is built (models compiled, renderers made)
+        self.set_max_episode_steps(max_episode_steps)
+        self.raise_on_instability = check_bool(raise_on_instability, "raise_on_instability", type(self).__name__)
         self.scene = Scene(
             robot_uids,
             num_envs=num_envs,
@@ -194,11 +206,8 @@ class RobotEnv(gym.Env[Any, Any]):
         self._sensor_obs = SensorObservation(self.scene.cameras, mode, type(self).__name__) if mode.visual else None
         self.render_mode = render_mode
         self.render_size = size
-        self.max_episode_steps = self.default_max_episode_steps
-        self.set_max_episode_steps(max_episode_steps)
         self.robot_init_qpos_noise = noise
         self._clearance: Clearance | None = None
-        self.raise_on_instability = check_bool(raise_on_instability, "raise_on_instability", type(self).__name__)
         self.metadata = {**self.metadata, "render_fps": self.control_freq}
         self.elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
         self._env_rngs: list[np.random.Generator | None] = [None] * self.num_envs
@@ -588,10 +597,7 @@ class RobotEnv(gym.Env[Any, Any]):
 
     def set_max_episode_steps(self, steps: int | None) -> None:
         """Truncate episodes after ``steps`` steps (``None``: never; ``-1``: the task's default)."""
-        if steps is not None and not is_whole(steps):
-            raise ConfigError(f"{type(self).__name__}: expected max_episode_steps to be an int or None, got {steps!r}.")
-        if steps is not None and steps != -1 and steps < 1:
-            raise ConfigError(f"{type(self).__name__}: expected max_episode_steps >= 1, got {steps!r}.")
+        check_max_episode_steps(steps, type(self).__name__)
         self.max_episode_steps = self.default_max_episode_steps if steps == -1 else steps
 
     def _check_open(self, where: str) -> None:

@@ -257,6 +257,34 @@ def test_demo_reports_a_video_that_cannot_be_written(monkeypatch: pytest.MonkeyP
     )
 
 
+def test_a_demo_that_fails_midway_closes_its_scene_and_renderers(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    from robot_agents.demo import run_demo
+    from robot_agents.sim.scene import Scene
+
+    closed: list[str] = []
+    scene_close, renderer_close = Scene.close, mujoco.Renderer.close
+
+    def closing_scene(self: Scene) -> None:
+        closed.append("scene")
+        scene_close(self)
+
+    def closing_renderer(self: mujoco.Renderer) -> None:
+        closed.append("renderer")
+        renderer_close(self)
+
+    def disk_full(*args: object, **kwargs: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Scene, "close", closing_scene)
+    monkeypatch.setattr(mujoco.Renderer, "close", closing_renderer)
+    monkeypatch.setattr(Image.Image, "save", disk_full)
+    with pytest.raises(robot_agents.MediaError, match="No space left on device"):
+        run_demo("panda_wristcam", tmp_path / "x.gif", seconds_per_pose=0.1)
+    assert closed.count("scene") == 1 and "renderer" in closed  # the scene's, the framing view's, the robot's cameras'
+
+
 @pytest.mark.usefixtures("no_simulation")
 def test_demo_mp4_without_the_video_extra_says_how_to_install(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)  # as if not installed

@@ -9,6 +9,7 @@ at the same height, each panel labelled with its camera's name.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import time
@@ -112,95 +113,96 @@ def run_demo(
     cls: type[Agent] = get_agent(uid) if isinstance(uid, str) else uid
     mode = DEMO_MODE if DEMO_MODE in cls.modes() else cls.default_mode()
     scene = Scene(cls, control_modes=mode)
-    agent = scene.agents[0]
-    scene.reset()
-    renderer = make_renderer(scene.render_model, size[0], size[1])
-    camera = _framing_camera(scene, agent, size[0] / size[1])
-    robot_views = _robot_views(scene, size[1])
-    record_every = max(1, round(scene.control_freq / fps))
-    frames: list[npt.NDArray[np.uint8]] = []
-    peak_speed = 0.0
-    step_count = 0
+    with contextlib.ExitStack() as resources:  # closed also when a step or the video fails
+        resources.callback(scene.close)
+        agent = scene.agents[0]
+        scene.reset()
+        renderer = make_renderer(scene.render_model, size[0], size[1])
+        resources.callback(renderer.close)
+        camera = _framing_camera(scene, agent, size[0] / size[1])
+        robot_views = _robot_views(scene, size[1])
+        if robot_views is not None:
+            resources.callback(robot_views.close)
+        record_every = max(1, round(scene.control_freq / fps))
+        frames: list[npt.NDArray[np.uint8]] = []
+        peak_speed = 0.0
+        step_count = 0
 
-    def advance(action: npt.NDArray[np.float64]) -> None:
-        nonlocal peak_speed, step_count
-        agent.set_action(action)
-        scene.step()
-        peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
-        if step_count % record_every == 0:
-            renderer.update_scene(scene.world.render_sources([0])[0], camera=camera)
-            scene_view = renderer.render().copy()
-            if robot_views is None:
-                frames.append(scene_view)
-            else:
-                views = robot_views.capture(scene.world, ("rgb",), env_ids=[0])
-                panels = [draw_label(scene_view, SCENE_LABEL)]
-                panels += [draw_label(images["rgb"][0], name) for name, images in views.items()]
-                frames.append(np.concatenate(panels, axis=1))
-        step_count += 1
+        def advance(action: npt.NDArray[np.float64]) -> None:
+            nonlocal peak_speed, step_count
+            agent.set_action(action)
+            scene.step()
+            peak_speed = max(peak_speed, float(np.max(np.abs(agent.qvel))))
+            if step_count % record_every == 0:
+                renderer.update_scene(scene.world.render_sources([0])[0], camera=camera)
+                scene_view = renderer.render().copy()
+                if robot_views is None:
+                    frames.append(scene_view)
+                else:
+                    views = robot_views.capture(scene.world, ("rgb",), env_ids=[0])
+                    panels = [draw_label(scene_view, SCENE_LABEL)]
+                    panels += [draw_label(images["rgb"][0], name) for name, images in views.items()]
+                    frames.append(np.concatenate(panels, axis=1))
+            step_count += 1
 
-    steps_per_pose = max(1, round(seconds_per_pose * scene.control_freq))
-    position_mode = mode == DEMO_MODE
-    results: list[KeyframeResult] = []
-    poses = [(name, None) for name in agent.keyframe_names()]
-    for name, _ in [*poses[1:], *poses[:1]]:
-        goal = agent.keyframe_qpos(name)
-        begin = agent.qpos[0]
-        hold = None if position_mode else hold_action(agent)  # taken once: the pose reached
-        for i in range(steps_per_pose):
-            if hold is None:
-                blend = min(1.0, (i + 1) / (0.6 * steps_per_pose))
-                smooth = blend * blend * (3 - 2 * blend)
-                advance(_action_for(agent, begin + smooth * (goal - begin)))
-            else:
-                advance(hold)
-        if not position_mode:
-            scene.reset(keyframes=name)
-        results.append(KeyframeResult(name, float(np.max(np.abs(agent.qpos[0] - goal)))))
-    if position_mode and poses:
-        base = agent.keyframe_qpos(poses[0][0])
-        gripping = {
-            j for p in agent.parts_by_name.values() if isinstance(p, Gripper) for j in agent.part_joints[p.name]
-        }
-        # legs carrying the robot keep its stand: out-of-phase waves would topple it
-        held = gripping | set(agent.legs.joints)
-        movable = [i for i, n in enumerate(agent.joint_names) if n not in held]
-        span = agent.qpos_limits[movable, 1] - agent.qpos_limits[movable, 0]
-        # Up to 0.35 rad for a hinge, 5 cm for a slide (a floating mount stays in view).
-        slides = np.array([j.kind is JointKind.SLIDE for j in agent.index.joints])[movable]
-        amplitude = np.minimum(np.where(slides, 0.05, 0.35), 0.15 * np.where(np.isfinite(span), span, 2.0))
-        # grippers and hands close and open once meanwhile (their declared poses)
-        hands = [p for p in agent.parts_by_name.values() if isinstance(p, Gripper)]
-        finger_index = [[agent.joint_names.index(j) for j in agent.part_joints[p.name]] for p in hands]
-        for i in range(steps_per_pose * 2):
-            phase = 2 * np.pi * i / (steps_per_pose * 2)
-            target = base.copy()
-            target[movable] += amplitude * np.sin(phase + np.arange(len(movable)))
-            closing = 0.5 * (1 - np.cos(phase))  # 0 open, 1 closed, 0 open again
-            for part, index in zip(hands, finger_index, strict=True):
-                opened, closed = part.positions(len(index))
-                target[index] = opened + closing * (closed - opened)
-            target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
-            advance(_action_for(agent, target))
-    renderer.close()
-    if robot_views is not None:
-        robot_views.close()
-    finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
-    path = write_video(output, frames, fps=scene.control_freq / record_every)
-    summary = DemoSummary(
-        uid=cls.uid or cls.__name__,
-        dof=agent.dof,
-        control_mode=mode,
-        simulated_seconds=step_count * scene.control_timestep,
-        frames=len(frames),
-        video=path,
-        wall_seconds=time.perf_counter() - start,
-        keyframes=results,
-        max_abs_qvel=peak_speed,
-        finite=finite,
-    )
-    scene.close()
-    return summary
+        steps_per_pose = max(1, round(seconds_per_pose * scene.control_freq))
+        position_mode = mode == DEMO_MODE
+        results: list[KeyframeResult] = []
+        poses = [(name, None) for name in agent.keyframe_names()]
+        for name, _ in [*poses[1:], *poses[:1]]:
+            goal = agent.keyframe_qpos(name)
+            begin = agent.qpos[0]
+            hold = None if position_mode else hold_action(agent)  # taken once: the pose reached
+            for i in range(steps_per_pose):
+                if hold is None:
+                    blend = min(1.0, (i + 1) / (0.6 * steps_per_pose))
+                    smooth = blend * blend * (3 - 2 * blend)
+                    advance(_action_for(agent, begin + smooth * (goal - begin)))
+                else:
+                    advance(hold)
+            if not position_mode:
+                scene.reset(keyframes=name)
+            results.append(KeyframeResult(name, float(np.max(np.abs(agent.qpos[0] - goal)))))
+        if position_mode and poses:
+            base = agent.keyframe_qpos(poses[0][0])
+            gripping = {
+                j for p in agent.parts_by_name.values() if isinstance(p, Gripper) for j in agent.part_joints[p.name]
+            }
+            # legs carrying the robot keep its stand: out-of-phase waves would topple it
+            held = gripping | set(agent.legs.joints)
+            movable = [i for i, n in enumerate(agent.joint_names) if n not in held]
+            span = agent.qpos_limits[movable, 1] - agent.qpos_limits[movable, 0]
+            # Up to 0.35 rad for a hinge, 5 cm for a slide (a floating mount stays in view).
+            slides = np.array([j.kind is JointKind.SLIDE for j in agent.index.joints])[movable]
+            amplitude = np.minimum(np.where(slides, 0.05, 0.35), 0.15 * np.where(np.isfinite(span), span, 2.0))
+            # grippers and hands close and open once meanwhile (their declared poses)
+            hands = [p for p in agent.parts_by_name.values() if isinstance(p, Gripper)]
+            finger_index = [[agent.joint_names.index(j) for j in agent.part_joints[p.name]] for p in hands]
+            for i in range(steps_per_pose * 2):
+                phase = 2 * np.pi * i / (steps_per_pose * 2)
+                target = base.copy()
+                target[movable] += amplitude * np.sin(phase + np.arange(len(movable)))
+                closing = 0.5 * (1 - np.cos(phase))  # 0 open, 1 closed, 0 open again
+                for part, index in zip(hands, finger_index, strict=True):
+                    opened, closed = part.positions(len(index))
+                    target[index] = opened + closing * (closed - opened)
+                target = np.clip(target, agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+                advance(_action_for(agent, target))
+        finite = bool(np.all(np.isfinite(scene.world.get_state()))) and not np.any(scene.world.instability_counts())
+        path = write_video(output, frames, fps=scene.control_freq / record_every)
+        summary = DemoSummary(
+            uid=cls.uid or cls.__name__,
+            dof=agent.dof,
+            control_mode=mode,
+            simulated_seconds=step_count * scene.control_timestep,
+            frames=len(frames),
+            video=path,
+            wall_seconds=time.perf_counter() - start,
+            keyframes=results,
+            max_abs_qvel=peak_speed,
+            finite=finite,
+        )
+        return summary
 
 
 def _robot_views(scene: Scene, height: int) -> CameraRig | None:

@@ -282,3 +282,18 @@ def test_a_flat_mesh_gets_its_volume_from_its_surface(tmp_path: Path) -> None:
         ra.Scene(type("Typo", (robot_from_file(path),), {"compiler": ra.CompilerSettings(shell_meshes=("plat",))}))
     with pytest.raises(ra.ConfigError, match=r"shell_meshes: expected a tuple of mesh names, got 'plate'"):
         ra.CompilerSettings(shell_meshes="plate")  # type: ignore[arg-type]
+
+
+def test_a_name_given_twice_is_named_with_both_lines(tmp_path: Path) -> None:
+    # MuJoCo's URDF reader takes two joints of one name and failed later with a bare
+    # ValueError ("repeated name 'j' in joint") from the library's own spec walk
+    path = tmp_path / "twice.urdf"
+    links = link("base", BOX) + link("arm", BOX) + link("hand", BOX)
+    path.write_text(urdf(links, joint("j", "base", "arm") + "\n" + joint("j", "arm", "hand")))
+    with pytest.raises(ra.ModelError, match=r"twice\.urdf' has two joints named 'j' \(lines 4 and 5\)"):
+        robot_from_file(path).check()
+    path.write_text(urdf(links.replace('"hand"', '"arm"'), joint("j", "base", "arm")))
+    with pytest.raises(
+        ra.ModelError, match=r"has two links named 'arm' \(lines 3 and 3\).*rename one \(and the joints"
+    ):
+        robot_from_file(path).check()

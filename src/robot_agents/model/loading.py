@@ -304,6 +304,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")
+    _check_unique_names(file, root, source_lines)
     children = {child.get("link", "") for child in root.findall("joint/child")}
     roots = [name for name in links if name not in children]
     for joint in root.findall("joint"):
@@ -369,6 +370,25 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     spec.modelfiledir = str(file.parent)
     _add_mimic_equalities(spec, root)
     return spec
+
+
+def _check_unique_names(file: Path, root: ET.Element, source_lines: dict[ET.Element, int]) -> None:
+    """Raise :class:`ModelError` naming the first link or joint name the URDF gives twice
+    and the lines of both (MuJoCo's URDF reader takes it and fails later with a bare
+    "repeated name")."""
+    for tag, users in (("link", "joints"), ("joint", "mimics")):
+        seen: dict[str, ET.Element] = {}
+        for element in root.findall(tag):
+            name = element.get("name", "")
+            if name not in seen:
+                seen[name] = element
+                continue
+            lines = [source_lines.get(e, 0) for e in (seen[name], element)]
+            where = f" (lines {lines[0]} and {lines[1]})" if all(lines) else ""
+            raise ModelError(
+                f"load_model_spec: the URDF {str(file)!r} has two {tag}s named {name!r}{where}; expected each "
+                f"{tag} to have its own name: rename one (and the {users} that refer to it)."
+            )
 
 
 def _element_lines(file: Path, root: ET.Element) -> dict[ET.Element, int]:

@@ -297,3 +297,23 @@ def test_a_name_given_twice_is_named_with_both_lines(tmp_path: Path) -> None:
         ra.ModelError, match=r"has two links named 'arm' \(lines 3 and 3\).*rename one \(and the joints"
     ):
         robot_from_file(path).check()
+
+
+def test_a_files_settotalmass_holds_in_a_scene() -> None:
+    # gymnasium's half_cheetah.xml scales its masses to 14 kg (<compiler settotalmass>);
+    # MuJoCo applies it to the model compiled, and the robot attached into a scene lost
+    # it: 21.18 kg there
+    import gymnasium
+
+    path = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "half_cheetah.xml"
+    file = mujoco.MjModel.from_xml_path(str(path))
+    assert file.body_mass.sum() == pytest.approx(14.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # its motors: derived drives, a note
+        model = ra.Scene(robot_from_file(path)).model
+    assert model.body_mass.sum() == pytest.approx(14.0)
+    for body in range(1, file.nbody):
+        scene_body = model.body(f"half_cheetah-0/{file.body(body).name}").id
+        assert model.body_mass[scene_body] == pytest.approx(file.body_mass[body])
+        np.testing.assert_allclose(model.body_inertia[scene_body], file.body_inertia[body], rtol=1e-9)
+        np.testing.assert_allclose(model.body_ipos[scene_body], file.body_ipos[body], atol=1e-12)

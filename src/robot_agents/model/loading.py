@@ -58,7 +58,34 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
         raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
     compiler.apply(spec)
     name_unnamed(spec)
+    _bake_total_mass(spec)
     return spec
+
+
+def _bake_total_mass(spec: mujoco.MjSpec) -> None:
+    """Write a file's ``<compiler settotalmass>`` into its bodies: each body gets the
+    mass, centre of mass and principal inertia (kg, m, kg*m^2) the file compiles to, as
+    an explicit inertial, and the setting is cleared. MuJoCo scales a model's masses to
+    that total when the model itself is compiled; a robot attached into a scene lost it
+    (gymnasium's ``half_cheetah.xml``: 21.18 kg in a scene against the file's 14). A file
+    that does not compile keeps the setting: its compile error is reported later."""
+    if not spec.compiler.settotalmass > 0:
+        return
+    copy = spec.copy()
+    copy.compiler.fusestatic = False  # one compiled body per body of the spec, in its order
+    try:
+        model = copy.compile()
+    except ValueError:
+        return
+    for number, body in enumerate(spec.bodies[1:], start=1):
+        body.mass = float(model.body_mass[number])
+        body.ipos = model.body_ipos[number].tolist()
+        body.iquat = model.body_iquat[number].tolist()
+        body.inertia = model.body_inertia[number].tolist()
+        body.fullinertia = [math.nan, 0.0, 0.0, 0.0, 0.0, 0.0]  # unset: the principal inertia in its frame (iquat)
+        body.explicitinertial = True
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO  # every body's is explicit
+    spec.compiler.settotalmass = -1.0
 
 
 #: The speeds (rad/s for a hinge, m/s for a slide) from which a URDF's ``<limit

@@ -198,6 +198,37 @@ def test_a_fixed_robot_reaching_into_the_floor_is_mounted_above_it_unless_it_dec
     assert declared.check().mount_pose[2] == 0.0
 
 
+def test_a_fixed_robot_drawn_y_up_rests_on_the_floor_under_up_y(tmp_path: Path) -> None:
+    # the sunken arm drawn y-up (turned -90 deg about x): `up="y"` declared only the turn
+    # of the mount, and the arm stayed 0.1 m deep in the floor (`check`'s keyframe
+    # contacts failed); it now rests as its z-up twin does
+    from robot_agents.robot_source import robot_from_file
+
+    z_up = tmp_path / "sunken.xml"
+    z_up.write_text(SUNKEN_ARM_MJCF)
+    y_up = tmp_path / "sunken_y_up.xml"
+    y_up.write_text(
+        SUNKEN_ARM_MJCF.replace('pos="0 0 -0.05"', 'pos="0 -0.05 0"')
+        .replace('pos="0 0 0.05"', 'pos="0 0.05 0"')
+        .replace('axis="0 1 0"', 'axis="0 0 -1"')
+        .replace('fromto="0 0 0 0 0 0.3"', 'fromto="0 0 0 0 0.3 0"')
+    )
+    turned = robot_from_file(y_up, up="y")
+    assert turned.check().mount_pose[2] == pytest.approx(robot_from_file(z_up).check().mount_pose[2], abs=1e-9)
+    scenes = [scene_of(cls) for cls in (robot_from_file(z_up), turned)]
+    for scene in scenes:
+        scene.reset()
+    for body in ("base", "link"):  # the same world positions
+        places = [
+            scene.body_pose(f"{name}-0/{body}")[0, :3]
+            for scene, name in zip(scenes, ("sunken", "sunken_y_up"), strict=True)
+        ]
+        np.testing.assert_allclose(places[0], places[1], atol=1e-9)
+    assert robot_from_file(y_up, up="y", floating=True).rest_on_floor is True
+    with pytest.raises(ra.ConfigError, match=r"expected rest_on_floor to be a bool or None, got 1"):
+        two_line(z_up, rest_on_floor=1).check()
+
+
 FRICTION_WRIST_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
   <geom type="cylinder" size="0.04 0.02" mass="1"/>
   <body name="link" pos="0 0 0.03">

@@ -176,6 +176,8 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators", "convex_decomposition"):
         if not isinstance(getattr(cls, flag), bool):
             raise ConfigError(f"{name}: expected {flag} to be a bool, got {getattr(cls, flag)!r}.")
+    if cls.rest_on_floor is not None and not isinstance(cls.rest_on_floor, bool):
+        raise ConfigError(f"{name}: expected rest_on_floor to be a bool or None, got {cls.rest_on_floor!r}.")
     gravcomp = cls.gravity_compensation
     if not (
         gravcomp is None
@@ -485,8 +487,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
     declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
-    if index.free_joint is None and not declared_mount:
-        lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos)[2])
+    rest = not declared_mount if cls.rest_on_floor is None else cls.rest_on_floor
+    if index.free_joint is None and rest:
+        # the lowest point as the mount turns and places it
+        lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos, mount_quat)[2]) - mount[2]
         if lift > 0.006:
             mount = (mount[0], mount[1], mount[2] + lift, *mount[3:])
     exclusions: tuple[tuple[str, str], ...] = ()

@@ -487,8 +487,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
     declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
-    rest = not declared_mount if cls.rest_on_floor is None else cls.rest_on_floor
-    if index.free_joint is None and rest:
+    on_floor = not declared_mount if cls.rest_on_floor is None else cls.rest_on_floor
+    if index.free_joint is None and on_floor:
         # the lowest point as the mount turns and places it
         lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos, mount_quat)[2]) - mount[2]
         if lift > 0.006:

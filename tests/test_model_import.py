@@ -317,3 +317,31 @@ def test_a_files_settotalmass_holds_in_a_scene() -> None:
         assert model.body_mass[scene_body] == pytest.approx(file.body_mass[body])
         np.testing.assert_allclose(model.body_inertia[scene_body], file.body_inertia[body], rtol=1e-9)
         np.testing.assert_allclose(model.body_ipos[scene_body], file.body_ipos[body], atol=1e-12)
+
+
+def test_a_negative_mass_or_moment_is_an_error_not_a_fallback(tmp_path: Path) -> None:
+    # MuJoCo refuses a negative mass as a massless body and a negative diaginertia
+    # moment as an unbalanced one: the fallbacks simulated -0.5 kg as 0.001 kg
+    # (boundmass) and the moments as balanced ones, with a note about mjMINVAL
+    path = tmp_path / "negative.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX, mass=-0.5), joint("j", "base", "arm")))
+    with pytest.raises(ra.ModelError, match=r"mass of link 'arm' in .*negative\.urdf' \(line 3\) is -0\.5 kg.*<mass>"):
+        robot_from_file(path).check()
+    mjcf = tmp_path / "negative.xml"
+    body = '<body name="arm" pos="0 0 .2"><joint name="j" axis="0 1 0" range="-1 1"/><geom size=".05"/>'
+    for inertial, expected in (
+        (
+            'mass="-0.5" diaginertia="0.01 0.01 0.01"',
+            r"mass of body 'arm' in .*\(line 2\) is -0\.5 kg.*<inertial> mass",
+        ),
+        (
+            'mass="0.5" diaginertia="0.006 -0.006 0.01"',
+            r"inertia of body 'arm' in .*\(line 2\) is not positive-definite",
+        ),
+    ):
+        mjcf.write_text(
+            f'<mujoco><worldbody><body name="base"><geom size=".1"/>\n{body}<inertial pos="0 0 0" {inertial}/>'
+            "</body></body></worldbody></mujoco>"
+        )
+        with pytest.raises(ra.ModelError, match=expected):
+            robot_from_file(mjcf).check()

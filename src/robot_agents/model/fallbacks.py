@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import mujoco
+import numpy as np
 
 from robot_agents.errors import ModelError
 from robot_agents.model.compiler import CompilerSettings
@@ -48,6 +49,10 @@ def compile_with_fallbacks(
         try:
             return compile_spec(spec, name), compiler
         except ModelError as err:
+            negative = negative_inertial(spec)
+            if negative is not None:  # a file's fault that no setting fixes (bounded, it was simulated as another)
+                element, mass = negative
+                raise ModelError(inertia_message(name, path, f"Element name '{element}'", compiler, mass)) from None
             fix = next((changes for key, changes in FALLBACKS if key in str(err)), None)
             small = SMALL_VOLUME.search(str(err))
             if small is not None and small.group(1) not in compiler.shell_meshes:
@@ -71,8 +76,30 @@ def compile_with_fallbacks(
     raise ModelError(f"{name}: the model does not compile.")
 
 
-def inertia_message(name: str, path: Path, error: str, compiler: CompilerSettings) -> str:
-    """Where an inertia MuJoCo cannot use sits (file, link, line) and how to fix it."""
+def negative_inertial(spec: mujoco.MjSpec) -> tuple[str, float] | None:
+    """The first body whose explicit inertial has a negative mass or a negative principal
+    moment: its name and its mass (kg); ``None`` when there is none. MuJoCo refuses both
+    with the messages of a massless or unbalanced body, whose fallbacks (``boundmass``,
+    ``balanceinertia``) would then simulate another body: -0.5 kg as 0.001 kg."""
+    for body in spec.bodies[1:]:
+        if not body.explicitinertial:
+            continue
+        full = np.asarray(body.fullinertia, dtype=np.float64)
+        if np.isnan(full[0]):
+            moments = np.asarray(body.inertia, dtype=np.float64)
+        else:  # ixx, iyy, izz, ixy, ixz, iyz
+            moments = np.linalg.eigvalsh(
+                np.array([[full[0], full[3], full[4]], [full[3], full[1], full[5]], [full[4], full[5], full[2]]])
+            )
+        scale = float(np.max(np.abs(moments)))
+        if body.mass < 0 or float(np.min(moments)) < -1e-9 * scale:
+            return body.name, float(body.mass)
+    return None
+
+
+def inertia_message(name: str, path: Path, error: str, compiler: CompilerSettings, mass: float | None = None) -> str:
+    """Where an inertia MuJoCo cannot use sits (file, link, line) and how to fix it;
+    ``mass`` (kg): the body's, when it is negative the message says so."""
     found = re.search(r"Element name '([^']*)'", error)
     element = found.group(1) if found else ""
     line = 0
@@ -87,6 +114,12 @@ def inertia_message(name: str, path: Path, error: str, compiler: CompilerSetting
         if compiler.boundinertia or compiler.boundmass
         else ""
     )
+    if mass is not None and mass < 0:
+        return (
+            f"{name}: the mass of {where} in {str(path)!r}{f' (line {line})' if line else ''} is {mass:g} kg: MuJoCo "
+            "refuses it. Expected a mass >= 0 (0 for a link that only carries a frame); edit that "
+            f"{'<mass>' if path.suffix.lower() == '.urdf' else '<inertial> mass'}."
+        )
     return (
         f"{name}: the inertia of {where} in {str(path)!r}{f' (line {line})' if line else ''} is not "
         f"positive-definite: MuJoCo refuses it{tried}. Expected an <inertia> whose matrix has positive eigenvalues "

@@ -4,6 +4,7 @@ a note, and what cannot be fixed names the element, the file, the line and the f
 
 from __future__ import annotations
 
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -345,3 +346,20 @@ def test_a_negative_mass_or_moment_is_an_error_not_a_fallback(tmp_path: Path) ->
         )
         with pytest.raises(ra.ModelError, match=expected):
             robot_from_file(mjcf).check()
+
+
+def test_a_missing_mjcf_mesh_names_the_model_file_and_where_it_was_looked_for(tmp_path: Path) -> None:
+    # MuJoCo said only "Error opening file 'arm.obj'": not which model file, nor where
+    path = tmp_path / "missing_mesh.xml"
+    path.write_text(
+        '<mujoco>\n<compiler meshdir="meshes"/>\n<asset><mesh name="arm_mesh" file="arm.obj"/></asset>\n'
+        '<worldbody><body name="base"><geom size=".1"/><body name="arm"><joint name="j" axis="0 1 0" range="-1 1"/>'
+        '<geom type="mesh" mesh="arm_mesh"/></body></body></worldbody></mujoco>'
+    )
+    expected = str(tmp_path / "meshes" / "arm.obj")
+    with pytest.raises(
+        ra.ModelError,
+        match=rf"the mesh file 'arm.obj' of <mesh name='arm_mesh'> in .*missing_mesh\.xml' \(line 3\) was not found "
+        rf"at {re.escape(repr(expected))}",
+    ):
+        robot_from_file(path).check()

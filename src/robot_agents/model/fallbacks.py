@@ -53,6 +53,9 @@ def compile_with_fallbacks(
             if negative is not None:  # a file's fault that no setting fixes (bounded, it was simulated as another)
                 element, mass = negative
                 raise ModelError(inertia_message(name, path, f"Element name '{element}'", compiler, mass)) from None
+            missing = missing_file_message(name, spec, path, str(err))
+            if missing is not None:
+                raise ModelError(missing) from None
             fix = next((changes for key, changes in FALLBACKS if key in str(err)), None)
             small = SMALL_VOLUME.search(str(err))
             if small is not None and small.group(1) not in compiler.shell_meshes:
@@ -74,6 +77,41 @@ def compile_with_fallbacks(
             )
             spec = rebuild(compiler)
     raise ModelError(f"{name}: the model does not compile.")
+
+
+#: MuJoCo's refusal of an asset file it cannot open, followed by the name the file gives.
+MISSING_FILE = re.compile(r"Error opening file '([^']*)'")
+
+
+def missing_file_message(name: str, spec: mujoco.MjSpec, path: Path, error: str) -> str | None:
+    """For MuJoCo's "Error opening file" (a mesh or texture that is not there, which it
+    names without the model file or where it looked): the asset, the model file and its
+    line, and the path it was looked for at; ``None`` for any other error."""
+    found = MISSING_FILE.search(error)
+    if found is None:
+        return None
+    given = found.group(1)
+    for kind, tag, folder in (("meshes", "mesh", spec.meshdir), ("textures", "texture", spec.texturedir)):
+        # MuJoCo names the file with its folder (<compiler meshdir>) in front
+        asset = next(
+            (a for a in getattr(spec, kind) if a.file and Path(given) in (Path(a.file), Path(folder) / a.file)), None
+        )
+        if asset is None:
+            continue
+        file = Path(asset.file)
+        looked = file if file.is_absolute() else Path(spec.modelfiledir or path.parent) / folder / file
+        line = 0
+        if path.is_file():
+            text = path.read_text(errors="replace")
+            match = re.search(rf'<{tag}\b[^>]*\bfile\s*=\s*"{re.escape(asset.file)}"', text)
+            line = text.count("\n", 0, match.start()) + 1 if match else 0
+        return (
+            f"{name}: the {tag} file {asset.file!r} of <{tag} name={asset.name!r}> in {str(path)!r}"
+            f"{f' (line {line})' if line else ''} was not found at {str(looked)!r}; expected a file there (a path "
+            f"relative to the model file's folder, under its <compiler {tag}dir> when it has one): fix the path or "
+            "add the file."
+        )
+    return None
 
 
 def negative_inertial(spec: mujoco.MjSpec) -> tuple[str, float] | None:

@@ -363,3 +363,25 @@ def test_a_missing_mjcf_mesh_names_the_model_file_and_where_it_was_looked_for(tm
         rf"at {re.escape(repr(expected))}",
     ):
         robot_from_file(path).check()
+
+
+@pytest.mark.parametrize("suffix", [".mjcf", ".XML"])
+def test_mjcf_files_ending_otherwise_than_xml_load_with_their_includes_and_meshes(tmp_path: Path, suffix: str) -> None:
+    # MuJoCo 4 reads a file by its name's ending: "could not find decoder" for the
+    # documented ".mjcf" (and ".XML") before
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "cube.obj").write_text(
+        "".join(f"v {x} {y} {z}\n" for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05))
+        + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n"
+    )
+    (tmp_path / "defaults.xml").write_text('<mujoco><default><joint damping="0.7"/></default></mujoco>')
+    path = tmp_path / f"ärm with space{suffix}"
+    path.write_text(
+        '<mujoco><include file="defaults.xml"/><compiler meshdir="meshes"/><asset><mesh name="cube" file="cube.obj"/>'
+        '</asset><worldbody><body name="base"><geom type="mesh" mesh="cube" mass="2"/><body name="arm" pos="0 0 .2">'
+        '<joint name="j" axis="0 1 0" range="-1 1"/><geom size=".05" mass="0.5"/></body></body></worldbody></mujoco>'
+    )
+    model = robot_from_file(path).check().index.model
+    assert model.body_mass.sum() == pytest.approx(2.5)
+    assert model.dof_damping[model.joint("j").dofadr[0]] == pytest.approx(0.7)
+    assert model.mesh_vertnum[model.mesh("cube").id] == 8

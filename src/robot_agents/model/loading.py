@@ -180,7 +180,14 @@ def _line_of(text: str, pattern: str) -> int:
 def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     _parse_xml(file, "mujoco", "an MJCF")
     try:
-        spec = mujoco.MjSpec.from_file(str(file))
+        if file.suffix == ".xml":
+            spec = mujoco.MjSpec.from_file(str(file))
+        else:
+            # MuJoCo picks its reader by the name's ending and reads only ".xml" (".mjcf",
+            # ".XML": "could not find decoder"): the file's text under that name, in its own
+            # folder, where its includes and meshes are found
+            named = file.with_name(f"{file.stem}.xml")
+            spec = mujoco.MjSpec.from_file(str(named), include={str(named): file.read_bytes()})
     except ValueError as err:
         raise ModelError(f"load_model_spec: MuJoCo rejected {str(file)!r}: {err}") from None
     if compiler.meshdir is not None:

@@ -385,3 +385,24 @@ def test_mjcf_files_ending_otherwise_than_xml_load_with_their_includes_and_meshe
     assert model.body_mass.sum() == pytest.approx(2.5)
     assert model.dof_damping[model.joint("j").dofadr[0]] == pytest.approx(0.7)
     assert model.mesh_vertnum[model.mesh("cube").id] == 8
+
+
+def test_a_misspelled_link_or_mimic_joint_gets_the_close_names(tmp_path: Path) -> None:
+    path = tmp_path / "typo.urdf"
+    path.write_text(urdf(link("base", BOX) + link("forearm", BOX), joint("j", "base", "fore_arm")))
+    with pytest.raises(
+        ra.ModelError, match=r"names child link 'fore_arm', which is not in the file; did you mean 'forearm'\?"
+    ):
+        robot_from_file(path).check()
+    follower = joint("k", "forearm", "hand").replace("</joint>", '<mimic joint="J" multiplier="2"/></joint>')
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("forearm", BOX) + link("hand", BOX),
+            joint("j", "base", "forearm") + "\n" + follower,
+        )
+    )
+    with pytest.raises(
+        ra.ModelError,
+        match=r"joint 'k' in .*typo\.urdf' \(line 5\) mimics joint 'J', which is not in the URDF; did you mean 'j'\?",
+    ):
+        robot_from_file(path).check()

@@ -27,7 +27,7 @@ from xml.parsers import expat
 import mujoco
 import numpy as np
 
-from robot_agents.errors import ModelError
+from robot_agents.errors import ModelError, close_names
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.inertia import combine_inertias
 from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, mujoco_reads, readable_mesh
@@ -355,7 +355,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
                 line = _line_of(text, rf'<joint\s+name\s*=\s*"{re.escape(name)}"')
                 raise ModelError(
                     f"load_model_spec: joint {name!r} in {str(file)!r} (line {line}) names {end} link {link_name!r}, "
-                    f"which is not in the file; links: {links}."
+                    f"which is not in the file;{_did_you_mean(link_name, links)} links: {links}."
                 )
         parent = joint.find("parent")
         if jtype == "floating" and parent is not None and parent.get("link") not in roots:
@@ -402,7 +402,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
         message = _in_source_lines(str(err), serialized, root, source_lines, text)
         raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {message}") from None
     spec.modelfiledir = str(file.parent)
-    _add_mimic_equalities(spec, root)
+    _add_mimic_equalities(spec, root, file, source_lines)
     return spec
 
 
@@ -423,6 +423,12 @@ def _check_unique_names(file: Path, root: ET.Element, source_lines: dict[ET.Elem
                 f"load_model_spec: the URDF {str(file)!r} has two {tag}s named {name!r}{where}; expected each "
                 f"{tag} to have its own name: rename one (and the {users} that refer to it)."
             )
+
+
+def _did_you_mean(given: str, names: list[str]) -> str:
+    """`` did you mean 'a', 'b'?`` for the names closest to ``given``; empty when none is close."""
+    close = close_names(given, names)
+    return f" did you mean {', '.join(repr(n) for n in close)}?" if close else ""
 
 
 def _element_lines(file: Path, root: ET.Element) -> dict[ET.Element, int]:
@@ -467,19 +473,24 @@ def _in_source_lines(
     return mapped
 
 
-def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:
+def _add_mimic_equalities(
+    spec: mujoco.MjSpec, root: ET.Element, file: Path, source_lines: dict[ET.Element, int]
+) -> None:
     """Couple URDF ``<mimic>`` joints with joint equalities
     (``follower = multiplier * leader + offset``) where MuJoCo's URDF parser did not
-    (4.0.0's parser does; 3.3.7's drops the tag)."""
+    (4.0.0's parser does; 3.3.7's drops the tag). A mimic naming a joint the file does
+    not have is an error naming ``file`` and the mimic's line (``source_lines``)."""
     existing = {(eq.name1, eq.name2) for eq in spec.equalities if eq.type == mujoco.mjtEq.mjEQ_JOINT}
     names = [j.get("name", "") for j in root.findall("joint")]
     for joint in root.findall("joint"):
         mimic = joint.find("mimic")
         follower = joint.get("name", "")
         if mimic is not None and mimic.get("joint", "") not in names:
+            line = source_lines.get(mimic, 0)
             raise ModelError(
-                f"load_model_spec: joint {follower!r} mimics joint {mimic.get('joint', '')!r}, which is not in the "
-                f"URDF; joints: {names}."
+                f"load_model_spec: joint {follower!r} in {str(file)!r}{f' (line {line})' if line else ''} mimics joint "
+                f"{mimic.get('joint', '')!r}, which is not in the URDF;{_did_you_mean(mimic.get('joint', ''), names)} "
+                f"joints: {names}."
             )
         if mimic is None or (follower, mimic.get("joint", "")) in existing:
             continue

@@ -463,6 +463,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     own_parts: tuple[Part, ...] = ()
     if inferred:
         piece_joints, piece_bodies = _piece_names(composed)
+        parts = parts + _pieces_own_parts(composed, {d.joint for d in drives})
         held = any(isinstance(p, (Gripper, Hand)) for p in parts)  # a piece's gripper is the gripper
         own_parts = infer_parts(
             model, index, [d.joint for d in drives if d.joint not in piece_joints], grippers=not held
@@ -657,6 +658,22 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
         joints.update(prefix + joint for joint in own)
         bodies.update(prefix + body.name for body in spec.bodies if body.name and body.name != "world")
     return frozenset(joints), frozenset(bodies)
+
+
+def _pieces_own_parts(composed: Composition, driven: set[str]) -> tuple[Part, ...]:
+    """The parts each mounted piece that declares neither parts nor control modes (nor
+    pieces of its own) infers alone, under its prefix: a two-line gripper file's fingers
+    are its ``Gripper``. Pieces bring the parts they declare, and such a piece's driven
+    joints were in no part: no control mode commanded them. A piece without a driven
+    joint (a camera housing) brings none."""
+    found: list[Part] = []
+    for prefix, piece in composed.pieces:
+        if piece.parts or piece.control_modes or piece.attachments:
+            continue
+        _, own = _raw_spec(piece, piece.__name__, piece.compiler, attached=False)
+        if any(prefix + joint in driven for joint in own):
+            found += [_prefix_part(part, prefix) for part in piece.check().parts]
+    return tuple(found)
 
 
 def _to_piece_tool(

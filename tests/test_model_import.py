@@ -406,3 +406,13 @@ def test_a_misspelled_link_or_mimic_joint_gets_the_close_names(tmp_path: Path) -
         match=r"joint 'k' in .*typo\.urdf' \(line 5\) mimics joint 'J', which is not in the URDF; did you mean 'j'\?",
     ):
         robot_from_file(path).check()
+
+
+def test_a_link_without_inertial_is_weighed_from_its_collision_shapes_with_a_note(tmp_path: Path) -> None:
+    # URDF leaves such a link massless; MuJoCo's reader gave it its collision box's mass
+    # at water's density, 1 kg for a 10 cm box, and the total passed the file's silently
+    path = tmp_path / "unweighed.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX, mass=0.0), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"link\(s\) 'arm' \(line 3\) have collision shapes and no <inertial>"):
+        model = robot_from_file(path).check().index.model
+    assert model.body_mass[model.body("arm").id] == pytest.approx(1000.0 * 0.1**3)

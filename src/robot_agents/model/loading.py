@@ -279,10 +279,13 @@ def _rpy_matrix(rpy: list[float]) -> np.ndarray:
 def _check_links(file: Path, root: ET.Element, text: str) -> None:
     """Duplicate inertials (merged, with a note) and zero-size shapes, named with their
     line and fix."""
+    weighed: list[str] = []
     for link in root.findall("link"):
         name = link.get("name", "?")
         line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
         inertials = link.findall("inertial")
+        if not inertials and link.find("collision") is not None:
+            weighed.append(f"{name!r} (line {line})")
         if len(inertials) > 1:
             # a link has one: the body they describe together
             merged = _merged_inertial(inertials, f"load_model_spec: link {name!r} in {str(file)!r} (line {line})")
@@ -313,6 +316,15 @@ def _check_links(file: Path, root: ET.Element, text: str) -> None:
                     RuntimeWarning,
                     stacklevel=4,
                 )
+    if weighed:
+        # URDF leaves a link without <inertial> massless; MuJoCo's reader weighs its collision shapes
+        warnings.warn(
+            f"{str(file)!r}: link(s) {', '.join(weighed[:4])}{' ...' if len(weighed) > 4 else ''} have collision "
+            "shapes and no <inertial>: MuJoCo gives them the mass and inertia of those shapes at water's density "
+            "(1000 kg/m^3), which the file does not state. Give each an <inertial> to state its own.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
 
 
 def _zero_size(shape: ET.Element) -> bool:

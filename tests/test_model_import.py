@@ -416,3 +416,18 @@ def test_a_link_without_inertial_is_weighed_from_its_collision_shapes_with_a_not
     with pytest.warns(RuntimeWarning, match=r"link\(s\) 'arm' \(line 3\) have collision shapes and no <inertial>"):
         model = robot_from_file(path).check().index.model
     assert model.body_mass[model.body("arm").id] == pytest.approx(1000.0 * 0.1**3)
+
+
+def test_mujocos_compile_errors_name_the_model_file(tmp_path: Path) -> None:
+    # MuJoCo gives the element and its line; the message named only the robot's class
+    path = tmp_path / "untransmitted.xml"
+    path.write_text(
+        '<mujoco><worldbody><body name="base"><geom size=".1"/><body name="arm"><joint name="elbow" range="-1 1"/>'
+        '<geom size=".05"/></body></body></worldbody>\n<actuator><position name="a" joint="elbw"/></actuator></mujoco>'
+    )
+    with pytest.raises(
+        ra.ModelError,
+        match=rf"could not compile the model of {re.escape(repr(str(path)))}: Error: unknown transmission target "
+        r"'elbw'.*\nElement name 'a', id 0, line 2",
+    ):
+        robot_from_file(path).check()

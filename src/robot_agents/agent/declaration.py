@@ -449,7 +449,12 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     compiler = cls.compiler
     spec, drives = _build(cls, None, None, compiler)
     model, compiler = compile_with_fallbacks(
-        name, spec, compiler, lambda settings: _build(cls, None, None, settings, quiet=True)[0], model_path(cls)
+        name,
+        spec,
+        compiler,
+        lambda settings: _build(cls, None, None, settings, quiet=True)[0],
+        model_path(cls),
+        pieces=bool(cls.attachments),
     )
     if compiler is not cls.compiler:
         spec, drives = _build(cls, None, None, compiler, quiet=True)

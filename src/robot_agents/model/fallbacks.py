@@ -20,6 +20,8 @@ from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compiling import compile_spec
 
 NOT_POSITIVE = "inertia must have positive eigenvalues"
+#: How :func:`~robot_agents.model.compiling.compile_spec` introduces MuJoCo's message.
+COULD_NOT = "MuJoCo could not compile the model:"
 #: MuJoCo's refusal of a flat or open mesh, followed by the mesh's name.
 SMALL_VOLUME = re.compile(r"mesh volume is too small: (\S+?)\s*\.\s*Try setting inertia to shell")
 
@@ -40,11 +42,14 @@ def compile_with_fallbacks(
     compiler: CompilerSettings,
     rebuild: Callable[[CompilerSettings], mujoco.MjSpec],
     path: Path,
+    pieces: bool = False,
 ) -> tuple[mujoco.MjModel, CompilerSettings]:
     """Compile; on a known failure (inertia triangle inequality, massless moving body, a
     flat mesh: :data:`SMALL_VOLUME`) rebuild with the setting that fixes it and say so in
     one warning. ``name``: the robot's; ``rebuild``: its spec built again with other
-    compiler settings; ``path``: its model file (for an inertia's line)."""
+    compiler settings; ``path``: its model file (for an inertia's line, and named in
+    MuJoCo's other refusals); ``pieces``: the robot has pieces mounted, whose files an
+    error may be in."""
     for _ in range(len(FALLBACKS) + MAX_SHELL_MESHES + 1):
         try:
             return compile_spec(spec, name), compiler
@@ -64,7 +69,12 @@ def compile_with_fallbacks(
             if fix is None or all(getattr(compiler, k) == v for k, v in fix.items()):
                 if NOT_POSITIVE in str(err):
                     raise ModelError(inertia_message(name, path, str(err), compiler)) from None
-                raise
+                if str(path) in str(err):
+                    raise
+                # MuJoCo gives the element and its line; the file they are in:
+                files = f"{str(path)!r}{' or of a piece mounted on it' if pieces else ''}"
+                located = str(err).replace(COULD_NOT, f"{COULD_NOT[:-1]} of {files}:", 1)
+                raise ModelError(located) from None
             compiler = dataclasses.replace(compiler, **fix)
             lines = str(err).split(": MuJoCo could not compile the model: ")[-1].splitlines()
             reason = "; ".join(line.strip() for line in lines[:2] if line.strip())

@@ -280,12 +280,15 @@ def _check_links(file: Path, root: ET.Element, text: str) -> None:
     """Duplicate inertials (merged, with a note) and zero-size shapes, named with their
     line and fix."""
     weighed: list[str] = []
+    states_masses = root.find("link/inertial") is not None
     for link in root.findall("link"):
         name = link.get("name", "?")
         line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
         inertials = link.findall("inertial")
         if not inertials and link.find("collision") is not None:
             weighed.append(f"{name!r} (line {line})")
+            if states_masses:  # massless, as URDF has it (MuJoCo's reader would weigh its collision shapes)
+                link.insert(0, _massless_inertial())
         if len(inertials) > 1:
             # a link has one: the body they describe together
             merged = _merged_inertial(inertials, f"load_model_spec: link {name!r} in {str(file)!r} (line {line})")
@@ -317,14 +320,27 @@ def _check_links(file: Path, root: ET.Element, text: str) -> None:
                     stacklevel=4,
                 )
     if weighed:
-        # URDF leaves a link without <inertial> massless; MuJoCo's reader weighs its collision shapes
-        warnings.warn(
-            f"{str(file)!r}: link(s) {', '.join(weighed[:4])}{' ...' if len(weighed) > 4 else ''} have collision "
-            "shapes and no <inertial>: MuJoCo gives them the mass and inertia of those shapes at water's density "
-            "(1000 kg/m^3), which the file does not state. Give each an <inertial> to state its own.",
-            RuntimeWarning,
-            stacklevel=4,
-        )
+        links = f"{', '.join(weighed[:4])}{' ...' if len(weighed) > 4 else ''}"
+        if states_masses:
+            message = (
+                f"link(s) {links} have collision shapes and no <inertial>: massless, as URDF has it (MuJoCo's reader "
+                "would give them the mass of those shapes at water's density, 1000 kg/m^3: the ANYmal C's base "
+                "link, 29.4 kg on a 52.1 kg robot). Give each an <inertial> to state its mass."
+            )
+        else:  # a file stating no mass at all (a kinematic one): massless links would weigh 1 g each
+            message = (
+                f"the file states no <inertial>: link(s) {links} get the mass and inertia of their collision shapes "
+                "at water's density (1000 kg/m^3, MuJoCo's reader's rule). Give each an <inertial> to state its mass."
+            )
+        warnings.warn(f"{str(file)!r}: {message}", RuntimeWarning, stacklevel=4)
+
+
+def _massless_inertial() -> ET.Element:
+    """A URDF ``<inertial>`` of no mass and no inertia (a link that only carries shapes)."""
+    inertial = ET.Element("inertial")
+    ET.SubElement(inertial, "mass", value="0")
+    ET.SubElement(inertial, "inertia", dict.fromkeys(_INERTIA_TERMS, "0"))
+    return inertial
 
 
 def _zero_size(shape: ET.Element) -> bool:

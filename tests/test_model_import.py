@@ -427,3 +427,22 @@ def test_a_link_without_inertial_is_massless_as_urdf_has_it(tmp_path: Path) -> N
     with pytest.warns(RuntimeWarning, match=r"states no <inertial>: link\(s\) 'base' \(line 3\), 'arm' \(line 3\) get"):
         model = robot_from_file(path).check().index.model
     assert model.body_mass[model.body("arm").id] == pytest.approx(1000.0 * 0.1**3)
+
+
+def test_a_fixed_joints_mimic_is_dropped_and_a_mimic_of_a_fixed_joint_is_an_error(tmp_path: Path) -> None:
+    # example-robot-data's reduced Talos files freeze the gripper's joints and keep their
+    # mimics: MuJoCo refused them ("unknown element 'gripper_left_inner_double_joint' in
+    # equality constraint", Element name '')
+    path = tmp_path / "frozen.urdf"
+    links = link("base", BOX) + link("arm", BOX) + link("pad", BOX)
+    frozen = joint("frozen", "arm", "pad", "fixed").replace("</joint>", '<mimic joint="j" multiplier="-1"/></joint>')
+    path.write_text(urdf(links, joint("j", "base", "arm") + "\n" + frozen))
+    with pytest.warns(RuntimeWarning, match=r"dropped the <mimic> of 1 fixed joint\(s\) \('frozen' \(line 5\)\)"):
+        checked = robot_from_file(path).check()
+    assert checked.index.joint_names == ("j",) and checked.index.model.neq == 0
+    follower = joint("k", "arm", "pad").replace("</joint>", '<mimic joint="fixed"/></joint>')
+    path.write_text(urdf(links, joint("fixed", "base", "arm", "fixed") + "\n" + follower))
+    with pytest.raises(
+        ra.ModelError, match=r"joint 'k' in .*frozen\.urdf' \(line 5\) mimics joint 'fixed', which is fixed"
+    ):
+        robot_from_file(path).check()

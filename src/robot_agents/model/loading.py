@@ -392,6 +392,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
                 "MuJoCo supports a free joint only on the root link (set fix_root_link=False instead)."
             )
     _check_links(file, root, text)
+    _drop_fixed_mimics(file, root, source_lines)
     dropped: list[str] = []
     for link in root.findall("link"):
         for kind in ("visual", "collision"):
@@ -451,6 +452,36 @@ def _check_unique_names(file: Path, root: ET.Element, source_lines: dict[ET.Elem
                 f"load_model_spec: the URDF {str(file)!r} has two {tag}s named {name!r}{where}; expected each "
                 f"{tag} to have its own name: rename one (and the {users} that refer to it)."
             )
+
+
+def _drop_fixed_mimics(file: Path, root: ET.Element, source_lines: dict[ET.Element, int]) -> None:
+    """Drop the ``<mimic>`` of a fixed joint, with a note (it cannot move: a reduced model
+    that froze a gripper's joints keeps their mimics, example-robot-data's Talos files,
+    and MuJoCo's reader coupled a joint it does not make: "unknown element ... in
+    equality constraint"); a mimic of a fixed joint is an error naming its line."""
+    kinds = {joint.get("name", ""): joint.get("type", "") for joint in root.findall("joint")}
+    dropped = []
+    for joint in root.findall("joint"):
+        mimic = joint.find("mimic")
+        if mimic is None:
+            continue
+        line = source_lines.get(mimic, 0)
+        if kinds.get(mimic.get("joint", "")) == "fixed" and joint.get("type") != "fixed":
+            raise ModelError(
+                f"load_model_spec: joint {joint.get('name', '')!r} in {str(file)!r}{f' (line {line})' if line else ''} "
+                f"mimics joint {mimic.get('joint', '')!r}, which is fixed and does not move; expected a moving joint "
+                "to follow: remove the <mimic>, or make the follower fixed too."
+            )
+        if joint.get("type") == "fixed":
+            joint.remove(mimic)
+            dropped.append(f"{joint.get('name', '')!r}{f' (line {line})' if line else ''}")
+    if dropped:
+        warnings.warn(
+            f"{str(file)!r}: dropped the <mimic> of {len(dropped)} fixed joint(s) ({', '.join(dropped[:4])}"
+            f"{' ...' if len(dropped) > 4 else ''}): a fixed joint does not move.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
 
 
 def _did_you_mean(given: str, names: list[str]) -> str:

@@ -446,3 +446,50 @@ def test_a_fixed_joints_mimic_is_dropped_and_a_mimic_of_a_fixed_joint_is_an_erro
         ra.ModelError, match=r"joint 'k' in .*frozen\.urdf' \(line 5\) mimics joint 'fixed', which is fixed"
     ):
         robot_from_file(path).check()
+
+
+#: A 10 cm cube drawn in millimetres (a node scaled 0.001) whose material's texture
+#: sampler names a surface the file lacks (example-robot-data's ANYmal B feet).
+BROKEN_MATERIAL_DAE = """<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_effects>
+    <effect id="paint-effect"><profile_COMMON>
+      <newparam sid="tex-sampler"><sampler2D><source>missing-surface</source></sampler2D></newparam>
+      <technique sid="common"><phong><diffuse><texture texture="tex-sampler" texcoord="UVMap"/></diffuse></phong></technique>
+    </profile_COMMON></effect>
+  </library_effects>
+  <library_materials><material id="paint-material" name="paint"><instance_effect url="#paint-effect"/></material></library_materials>
+  <library_geometries>
+    <geometry id="box-mesh" name="box"><mesh>
+      <source id="box-positions"><float_array id="box-positions-array" count="24">-50 -50 -50 50 -50 -50 50 50 -50 -50 50 -50 -50 -50 50 50 -50 50 50 50 50 -50 50 50</float_array>
+        <technique_common><accessor source="#box-positions-array" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+      <vertices id="box-vertices"><input semantic="POSITION" source="#box-positions"/></vertices>
+      <triangles material="paint-material" count="12"><input semantic="VERTEX" source="#box-vertices" offset="0"/>
+        <p>0 2 1 0 3 2 4 5 6 4 6 7 0 1 5 0 5 4 1 2 6 1 6 5 2 3 7 2 7 6 3 0 4 3 4 7</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="Scene" name="Scene">
+    <node id="box" name="box" type="NODE"><matrix sid="transform">0.001 0 0 0 0 0.001 0 0 0 0 0.001 0 0 0 0 1</matrix>
+      <instance_geometry url="#box-mesh" name="box"><bind_material><technique_common>
+        <instance_material symbol="paint-material" target="#paint-material"/></technique_common></bind_material></instance_geometry>
+    </node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+"""
+
+
+def test_a_collada_mesh_with_a_broken_material_converts(tmp_path: Path) -> None:
+    # pycollada drops a shape whose material refers to a missing texture surface: the
+    # ANYmal B's collision feet read as no triangles ("has no triangles to convert")
+    pytest.importorskip("collada")
+    (tmp_path / "foot.dae").write_text(BROKEN_MATERIAL_DAE)
+    foot = '<collision><geometry><mesh filename="foot.dae"/></geometry></collision>'
+    path = tmp_path / "footed.urdf"
+    path.write_text(urdf(link("base", BOX) + link("foot", foot), joint("j", "base", "foot")))
+    model = robot_from_file(path).check().index.model
+    geom = next(g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH)
+    mesh = model.geom_dataid[geom]
+    vertices = model.mesh_vert[model.mesh_vertadr[mesh] : model.mesh_vertadr[mesh] + model.mesh_vertnum[mesh]]
+    np.testing.assert_allclose(vertices.max(axis=0) - vertices.min(axis=0), [0.1, 0.1, 0.1], rtol=1e-6)

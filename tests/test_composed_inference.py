@@ -166,3 +166,12 @@ def test_a_two_line_gripper_piece_brings_the_gripper_it_infers(arm_file: Path, t
             agent.set_action([0.0] * len(ARM_JOINTS) + [command])
             scene.step()
         assert agent.qpos[0, -2:] == pytest.approx([width, width], abs=1e-3)
+
+
+def test_a_two_line_arm_piece_brings_no_parts(arm_file: Path, tmp_path: Path) -> None:
+    # a second arm file mounted as a piece infers an arm whose end effector is "ee" as
+    # the robot's own: it brings nothing, as before (a bimanual robot declares its parts)
+    from robot_agents.robot_source import robot_from_file
+
+    checked = mounted(arm_file, robot_from_file(arm_file), prefix="right/").check()
+    assert checked.part_joints == {"arm": ARM_JOINTS}

@@ -666,18 +666,22 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
 
 
 def _pieces_own_parts(composed: Composition, driven: set[str]) -> tuple[Part, ...]:
-    """The parts each mounted piece that declares neither parts nor control modes (nor
-    pieces of its own) infers alone, under its prefix: a two-line gripper file's fingers
-    are its ``Gripper``. Pieces bring the parts they declare, and such a piece's driven
-    joints were in no part: no control mode commanded them. A piece without a driven
-    joint (a camera housing) brings none."""
+    """The gripper or hand each mounted piece that declares neither parts nor control
+    modes (nor pieces of its own) infers alone, under its prefix, where that is all it
+    infers: a two-line gripper file's fingers are its ``Gripper``. Pieces bring the parts
+    they declare, and such a piece's driven joints were in no part: no control mode
+    commanded them. A piece without a driven joint (a camera housing) brings none, nor
+    does one that infers an arm (a second arm file: left as before)."""
     found: list[Part] = []
     for prefix, piece in composed.pieces:
         if piece.parts or piece.control_modes or piece.attachments:
             continue
         _, own = _raw_spec(piece, piece.__name__, piece.compiler, attached=False)
-        if any(prefix + joint in driven for joint in own):
-            found += [_prefix_part(part, prefix) for part in piece.check().parts]
+        if not any(prefix + joint in driven for joint in own):
+            continue
+        inferred = piece.check().parts
+        if inferred and all(isinstance(part, (Gripper, Hand)) for part in inferred):
+            found += [_prefix_part(part, prefix) for part in inferred]
     return tuple(found)
 
 

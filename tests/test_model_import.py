@@ -493,3 +493,25 @@ def test_a_collada_mesh_with_a_broken_material_converts(tmp_path: Path) -> None:
     mesh = model.geom_dataid[geom]
     vertices = model.mesh_vert[model.mesh_vertadr[mesh] : model.mesh_vertadr[mesh] + model.mesh_vertnum[mesh]]
     np.testing.assert_allclose(vertices.max(axis=0) - vertices.min(axis=0), [0.1, 0.1, 0.1], rtol=1e-6)
+
+
+def test_a_mesh_scaled_to_zero_is_a_zero_size_shape(tmp_path: Path) -> None:
+    # a collision mesh scaled "0.5 0 2" compiled as a flat plate through the flat-mesh
+    # fallback (shell inertia); the zero-size rule of boxes, spheres and cylinders holds
+    (tmp_path / "cube.obj").write_text(
+        "".join(f"v {x} {y} {z}\n" for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05))
+        + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n"
+    )
+    flat = '<geometry><mesh filename="cube.obj" scale="0.5 0 2"/></geometry>'
+    path = tmp_path / "flat.urdf"
+    path.write_text(
+        urdf(link("base", BOX) + link("arm", f"{BOX}<collision>{flat}</collision>"), joint("j", "base", "arm"))
+    )
+    with pytest.raises(ra.ModelError, match=r"link 'arm' in .*flat\.urdf' \(line 3\) has a zero-size collision <mesh>"):
+        robot_from_file(path).check()
+    path.write_text(urdf(link("base", BOX) + link("arm", f"{BOX}<visual>{flat}</visual>"), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"dropped a zero-size visual <mesh> of link 'arm' \(line 3\)"):
+        robot_from_file(path).check()
+    mirrored = '<collision><geometry><mesh filename="cube.obj" scale="1 -1 1"/></geometry></collision>'
+    path.write_text(urdf(link("base", BOX) + link("arm", mirrored), joint("j", "base", "arm")))  # no fault
+    assert robot_from_file(path).check().index.model.nmesh == 1

@@ -356,6 +356,8 @@ def _zero_size(shape: ET.Element) -> bool:
         return any(v <= 0 for v in numbers("radius"))
     if shape.tag == "cylinder":
         return any(v <= 0 for v in numbers("radius") + numbers("length"))
+    if shape.tag == "mesh":  # a negative scale mirrors the mesh; a zero one flattens it
+        return any(v == 0 for v in numbers("scale"))
     return False
 
 

@@ -515,3 +515,33 @@ def test_a_mesh_scaled_to_zero_is_a_zero_size_shape(tmp_path: Path) -> None:
     mirrored = '<collision><geometry><mesh filename="cube.obj" scale="1 -1 1"/></geometry></collision>'
     path.write_text(urdf(link("base", BOX) + link("arm", mirrored), joint("j", "base", "arm")))  # no fault
     assert robot_from_file(path).check().index.model.nmesh == 1
+
+
+def test_a_nan_or_inf_in_a_file_names_the_element_and_line(tmp_path: Path) -> None:
+    # MuJoCo reads "nan" and "inf" as numbers: a NaN joint origin failed as "EndEffector
+    # 'ee'.pos: expected 3 finite numbers", an infinite mass compiled (and blew up)
+    path = tmp_path / "nan.urdf"
+    for arm, expected in (
+        (
+            link("arm", BOX, mass=float("inf")),
+            r"link 'arm' in .*nan\.urdf' \(line 3\) has mass \[inf\]; expected finite",
+        ),
+        (link("arm", BOX).replace('value="1.0"', 'value="nan"'), r"link 'arm' .* has mass \[nan\]"),
+    ):
+        path.write_text(urdf(link("base", BOX) + arm, joint("j", "base", "arm")))
+        with pytest.raises(ra.ModelError, match=expected):
+            robot_from_file(path).check()
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("arm", BOX),
+            joint("j", "base", "arm").replace('xyz="0 0 0.1"', 'xyz="0 0 0.1" rpy="0 nan 0"'),
+        )
+    )
+    with pytest.raises(
+        ra.ModelError, match=r"link 'arm' .* has quat \(its parent joint's <origin>\) \[nan, nan, nan, nan\]"
+    ):
+        robot_from_file(path).check()
+    mjcf = tmp_path / "nan.xml"
+    mjcf.write_text(DEGREES_MJCF.replace('<body name="arm" pos="0 0 .2">', '<body name="arm" pos="0 0 nan">'))
+    with pytest.raises(ra.ModelError, match=r"body 'arm' in .*nan\.xml' \(line 2\) has pos \[0\.0, 0\.0, nan\]"):
+        robot_from_file(mjcf).check()

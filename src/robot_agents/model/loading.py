@@ -58,8 +58,46 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
         raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
     compiler.apply(spec)
     name_unnamed(spec)
+    _check_finite(spec, file)
     _bake_total_mass(spec)
     return spec
+
+
+def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
+    """Raise :class:`ModelError` for a NaN or infinite number in a body's pose or inertial,
+    a joint's pose, axis, range or dynamics, or a geom's pose or size, naming the element,
+    the file and its line: MuJoCo reads ``nan`` and ``inf`` as numbers, and such a file
+    failed far from its cause (a NaN origin: "EndEffector 'ee'.pos: expected 3 finite
+    numbers"; an infinite mass compiled and blew up)."""
+    urdf = file.suffix.lower() == ".urdf"
+    checks: list[tuple[str, str, list[tuple[mujoco.MjsElement, str]]]] = []
+    bodies = []
+    for body in spec.bodies[1:]:
+        bodies += [(body, "pos"), (body, "quat")]
+        if body.explicitinertial:
+            bodies += [(body, "mass"), (body, "ipos"), (body, "inertia")]
+    checks.append(("link" if urdf else "body", "link" if urdf else "body", bodies))
+    fields = ("pos", "axis", "range", "damping", "armature", "frictionloss", "stiffness")
+    checks.append(("joint", "joint", [(joint, field) for joint in spec.joints for field in fields]))
+    checks.append(
+        ("geom", "link" if urdf else "geom", [(geom, f) for geom in spec.geoms for f in ("pos", "quat", "size")])
+    )
+    for kind, tag, pairs in checks:
+        for element, field in pairs:
+            values = np.atleast_1d(np.asarray(getattr(element, field), dtype=np.float64))
+            if np.all(np.isfinite(values)):
+                continue
+            name = element.name if kind != "geom" or not urdf else element.parent.name
+            text = file.read_text(errors="replace") if file.is_file() else ""
+            line = _line_of(text, rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(name)}"') if name else 0
+            owner = f"{kind} {element.name!r}" if kind != "geom" or not urdf else f"a shape of link {name!r}"
+            if urdf and kind == "link" and field in ("pos", "quat"):
+                field += " (its parent joint's <origin>)"
+            raise ModelError(
+                f"load_model_spec: {owner} in {str(file)!r}{f' (line {line})' if line else ''} has {field} "
+                f"{values.tolist()}; expected finite numbers (a NaN or inf in the file: an unexpanded or failed "
+                "expression?)."
+            )
 
 
 def _bake_total_mass(spec: mujoco.MjSpec) -> None:

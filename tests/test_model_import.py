@@ -545,3 +545,16 @@ def test_a_nan_or_inf_in_a_file_names_the_element_and_line(tmp_path: Path) -> No
     mjcf.write_text(DEGREES_MJCF.replace('<body name="arm" pos="0 0 .2">', '<body name="arm" pos="0 0 nan">'))
     with pytest.raises(ra.ModelError, match=r"body 'arm' in .*nan\.xml' \(line 2\) has pos \[0\.0, 0\.0, nan\]"):
         robot_from_file(mjcf).check()
+
+
+def test_a_zero_joint_axis_names_the_joint_and_line(tmp_path: Path) -> None:
+    # MuJoCo said "axis too small in joint", naming neither the joint nor the file
+    path = tmp_path / "axis.urdf"
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("arm", BOX),
+            joint("j", "base", "arm").replace('<axis xyz="0 1 0"/>', '<axis xyz="0 0 0"/>'),
+        )
+    )
+    with pytest.raises(ra.ModelError, match=r"joint 'j' in .*axis\.urdf' \(line 4\) has axis \[0\.0, 0\.0, 0\.0\]"):
+        robot_from_file(path).check()

@@ -65,7 +65,8 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
 
 def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
     """Raise :class:`ModelError` for a NaN or infinite number in a body's pose or inertial,
-    a joint's pose, axis, range or dynamics, or a geom's pose or size, naming the element,
+    a joint's pose, axis, range or dynamics, or a geom's pose or size, and for a hinge or
+    slide joint's zero axis, naming the element,
     the file and its line: MuJoCo reads ``nan`` and ``inf`` as numbers, and such a file
     failed far from its cause (a NaN origin: "EndEffector 'ee'.pos: expected 3 finite
     numbers"; an infinite mass compiled and blew up)."""
@@ -82,6 +83,15 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
     checks.append(
         ("geom", "link" if urdf else "geom", [(geom, f) for geom in spec.geoms for f in ("pos", "quat", "size")])
     )
+    for joint in spec.joints:  # MuJoCo: "axis too small in joint", naming none
+        moving = joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
+        if moving and np.all(np.isfinite(joint.axis)) and not np.linalg.norm(joint.axis) > 1e-9:
+            text = file.read_text(errors="replace") if file.is_file() else ""
+            line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*"{re.escape(joint.name)}"')
+            raise ModelError(
+                f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has axis "
+                f"{np.asarray(joint.axis).tolist()}; expected a direction (a nonzero axis)."
+            )
     for kind, tag, pairs in checks:
         for element, field in pairs:
             values = np.atleast_1d(np.asarray(getattr(element, field), dtype=np.float64))

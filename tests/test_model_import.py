@@ -558,3 +558,11 @@ def test_a_zero_joint_axis_names_the_joint_and_line(tmp_path: Path) -> None:
     )
     with pytest.raises(ra.ModelError, match=r"joint 'j' in .*axis\.urdf' \(line 4\) has axis \[0\.0, 0\.0, 0\.0\]"):
         robot_from_file(path).check()
+
+
+def test_a_file_without_a_body_says_so(tmp_path: Path) -> None:
+    # it said "expected exactly one top-level body, got 0: []"
+    path = tmp_path / "assets.xml"
+    path.write_text('<mujoco><default><joint damping="1"/></default><worldbody/></mujoco>')
+    with pytest.raises(ra.ModelError, match=r"assets\.xml\): expected the robot model to have a body, got none"):
+        robot_from_file(path).check()

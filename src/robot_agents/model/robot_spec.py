@@ -33,6 +33,11 @@ def root_body(spec: mujoco.MjSpec, where: str) -> mujoco.MjsBody:
     while body is not None:
         tops.append(body)
         body = spec.worldbody.next_body(body)
+    if not tops:
+        raise ModelError(
+            f"{where}: expected the robot model to have a body, got none: its <worldbody> holds no <body> (a file "
+            "of assets or defaults for others to include is no robot)."
+        )
     if len(tops) != 1:
         raise ModelError(
             f"{where}: expected the robot model to have exactly one top-level body, got {len(tops)}: "

@@ -175,3 +175,30 @@ def test_a_two_line_arm_piece_brings_no_parts(arm_file: Path, tmp_path: Path) ->
 
     checked = mounted(arm_file, robot_from_file(arm_file), prefix="right/").check()
     assert checked.part_joints == {"arm": ARM_JOINTS}
+
+
+GRIPPER_MJCF = """<mujoco model="grip"><compiler angle="radian"/><worldbody>
+  <body name="palm"><geom type="box" size="0.02 0.05 0.01" mass="0.3"/>
+    <body name="left" pos="0 0.02 0.01"><joint name="fl" type="slide" axis="0 1 0" range="0 0.03"/>
+      <geom type="box" size="0.005 0.005 0.02" pos="0 0 0.02" mass="0.05"/></body>
+    <body name="right" pos="0 -0.02 0.01"><joint name="fr" type="slide" axis="0 -1 0" range="0 0.03"/>
+      <geom type="box" size="0.005 0.005 0.02" pos="0 0 0.02" mass="0.05"/></body>
+  </body></worldbody>
+  <equality><joint joint1="fr" joint2="fl"/></equality>
+  <actuator><position name="grip" joint="fl" kp="500" kv="10" ctrlrange="0 0.03" forcerange="-20 20"/></actuator>
+</mujoco>"""
+
+
+def test_a_piece_file_driving_its_joints_leaves_the_arm_its_derived_drives(arm_file: Path, tmp_path: Path) -> None:
+    # the piece's own <actuator> counted as the robot's file driving its joints: the arm
+    # got no drives at all ("no control mode"), where a piece declaring its drives (the
+    # built-in ones) leaves it derived drives
+    from robot_agents.robot_source import robot_from_file
+
+    path = tmp_path / "grip.xml"
+    path.write_text(GRIPPER_MJCF)
+    checked = mounted(arm_file, robot_from_file(path), prefix="g/").check()
+    sources = {d.joint: d.source for d in checked.drives}
+    assert all(sources[j].startswith("derived gains") for j in ARM_JOINTS)
+    assert sources["g/fl"] == "the model file (actuator 'g/grip')"
+    assert checked.part_joints == {"arm": ARM_JOINTS, "g_gripper": ("g/fl", "g/fr")}

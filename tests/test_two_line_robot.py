@@ -159,7 +159,8 @@ def test_reacher_keeps_the_arm_and_drops_the_target_marker() -> None:
     # its two motors are PD drives within their torques, and joint_effort commands those
     assert {"pd_joint_delta_pos", "joint_effort"} <= set(cls.modes())
     chosen = two_line(GYM / "reacher.xml", root_body="target")
-    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target'"):
+    # (the note no longer asks for the root_body it was given)
+    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target' as the root_body chosen and dropped"):
         assert ra.Scene(chosen).agents[0].joint_names == ("target_x", "target_y")
 
 

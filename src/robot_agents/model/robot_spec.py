@@ -108,13 +108,11 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> list[s
     held = _mocap_held_joints(spec, keep, [b for b in dropped if b.mocap])
     report = drop_with_dependents(spec, dropped, world_geoms)
     extra = report.sentence()
-    how = (
-        "the root_body chosen"
-        if chosen is not None
-        else "the robot (set root_body on the robot class to choose another)"
-    )
+    how = "the root_body chosen" if chosen is not None else "the robot"
+    hint = "" if chosen is not None else " (set root_body on the robot class to choose another)"
     warnings.warn(
-        f"{where}: kept top-level body {kept!r} as {how} and dropped {dropped_names}{'; ' + extra if extra else ''}.",
+        f"{where}: kept top-level body {kept!r} as {how} and dropped {dropped_names}{hint}"
+        f"{'; ' + extra if extra else ''}.",
         RuntimeWarning,
         stacklevel=3,
     )

@@ -566,3 +566,15 @@ def test_a_file_without_a_body_says_so(tmp_path: Path) -> None:
     path.write_text('<mujoco><default><joint damping="1"/></default><worldbody/></mujoco>')
     with pytest.raises(ra.ModelError, match=r"assets\.xml\): expected the robot model to have a body, got none"):
         robot_from_file(path).check()
+
+
+def test_lines_are_found_with_single_quoted_attributes(tmp_path: Path) -> None:
+    # the line look-ups matched name="..." only: a file quoting with ' read "(line 0)"
+    path = tmp_path / "quoted.urdf"
+    text = urdf(link("base", BOX) + link("arm", BOX), joint("j", "base", "forearm"))
+    path.write_text(text.replace('"', "'"))
+    with pytest.raises(ra.ModelError, match=r"joint 'j' in .*quoted\.urdf' \(line 4\) names child link 'forearm'"):
+        robot_from_file(path).check()
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX, mass=-1.0), joint("j", "base", "arm")).replace('"', "'"))
+    with pytest.raises(ra.ModelError, match=r"mass of link 'arm' in .*quoted\.urdf' \(line 3\) is -1 kg"):
+        robot_from_file(path).check()

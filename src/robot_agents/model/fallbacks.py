@@ -113,7 +113,7 @@ def missing_file_message(name: str, spec: mujoco.MjSpec, path: Path, error: str)
         line = 0
         if path.is_file():
             text = path.read_text(errors="replace")
-            match = re.search(rf'<{tag}\b[^>]*\bfile\s*=\s*"{re.escape(asset.file)}"', text)
+            match = re.search(rf'<{tag}\b[^>]*\bfile\s*=\s*["\']{re.escape(asset.file)}["\']', text)
             line = text.count("\n", 0, match.start()) + 1 if match else 0
         return (
             f"{name}: the {tag} file {asset.file!r} of <{tag} name={asset.name!r}> in {str(path)!r}"
@@ -154,7 +154,7 @@ def inertia_message(name: str, path: Path, error: str, compiler: CompilerSetting
     if element and path.is_file():
         tag = "link" if path.suffix.lower() == ".urdf" else "body"
         text = path.read_text(errors="replace")
-        match = re.search(rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(element)}"', text)
+        match = re.search(rf'<{tag}\b[^>]*\bname\s*=\s*["\']{re.escape(element)}["\']', text)
         line = text.count("\n", 0, match.start()) + 1 if match else 0
     where = f"{'link' if path.suffix.lower() == '.urdf' else 'body'} {element!r}" if element else "a body"
     tried = (

@@ -87,7 +87,7 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
         moving = joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
         if moving and np.all(np.isfinite(joint.axis)) and not np.linalg.norm(joint.axis) > 1e-9:
             text = file.read_text(errors="replace") if file.is_file() else ""
-            line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*"{re.escape(joint.name)}"')
+            line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(joint.name)}["\']')
             raise ModelError(
                 f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has axis "
                 f"{np.asarray(joint.axis).tolist()}; expected a direction (a nonzero axis)."
@@ -99,7 +99,7 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
                 continue
             name = element.name if kind != "geom" or not urdf else element.parent.name
             text = file.read_text(errors="replace") if file.is_file() else ""
-            line = _line_of(text, rf'<{tag}\b[^>]*\bname\s*=\s*"{re.escape(name)}"') if name else 0
+            line = _line_of(text, rf'<{tag}\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']') if name else 0
             owner = f"{kind} {element.name!r}" if kind != "geom" or not urdf else f"a shape of link {name!r}"
             if urdf and kind == "link" and field in ("pos", "quat"):
                 field += " (its parent joint's <origin>)"
@@ -331,7 +331,7 @@ def _check_links(file: Path, root: ET.Element, text: str) -> None:
     states_masses = root.find("link/inertial") is not None
     for link in root.findall("link"):
         name = link.get("name", "?")
-        line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
+        line = _line_of(text, rf'<link\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']')
         inertials = link.findall("inertial")
         if not inertials and link.find("collision") is not None:
             weighed.append(f"{name!r} (line {line})")
@@ -430,7 +430,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
             end_element = joint.find(end)
             link_name = end_element.get("link", "") if end_element is not None else ""
             if link_name not in links:
-                line = _line_of(text, rf'<joint\s+name\s*=\s*"{re.escape(name)}"')
+                line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']')
                 raise ModelError(
                     f"load_model_spec: joint {name!r} in {str(file)!r} (line {line}) names {end} link {link_name!r}, "
                     f"which is not in the file;{_did_you_mean(link_name, links)} links: {links}."

@@ -462,3 +462,22 @@ def test_a_hand_file_is_a_hand_that_opens_and_closes(tmp_path: Path) -> None:
     )
     path.write_text(HAND.format(fingers="".join(long.format(k=k, y=0.025 * (k - 1)) for k in range(3))))
     assert [type(p) for p in two_line(path).check().parts] == [ra.Body]
+
+
+def test_a_files_free_root_fixed_by_the_default_gets_a_note(tmp_path: Path) -> None:
+    # a file whose root has a <freejoint> (gymnasium's ant) hung fixed in the air with
+    # two lines, silently: fix_root_link defaults to True
+    from robot_agents.robot_source import robot_from_file
+
+    path = tmp_path / "free_root.xml"
+    path.write_text(
+        PENDULUM_MJCF.replace('<body name="base" pos="0 0 1.0">', '<body name="base" pos="0 0 1.0"><freejoint/>')
+    )
+    with pytest.warns(
+        RuntimeWarning, match=r"the file gives root body 'base' a free joint; the robot is fixed to the world"
+    ):
+        assert two_line(path).check().index.free_joint is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # declared: no note
+        assert two_line(path, fix_root_link=True).check().index.free_joint is None
+    assert robot_from_file(path, floating=True).check().index.free_joint is not None

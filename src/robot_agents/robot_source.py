@@ -77,7 +77,9 @@ def robot_from_file(
     file = Path(path)
     field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
     name = "".join(part.capitalize() for part in file.stem.replace("-", "_").split("_")) or "Robot"
-    attributes: dict[str, object] = {"uid": file.stem, field: file, "fix_root_link": not floating}
+    attributes: dict[str, object] = {"uid": file.stem, field: file}
+    if floating:  # (undeclared, a file's free root is fixed with a note)
+        attributes["fix_root_link"] = False
     if up != "z":
         attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
         attributes["rest_on_floor"] = True  # the mount names the up axis only: a fixed robot still rests on the floor

@@ -330,7 +330,10 @@ def _build(
     parts = composition(cls)
     spec, own_joints = _raw_spec(cls, where, compiler)
     mocap_held = robot_spec.isolate_robot(spec, cls.root_body, where)
-    robot_spec.set_root_joint(spec, cls.fix_root_link, where)
+    from robot_agents.agent.definition import AgentDefinition  # (imports this module)
+
+    declared = any("fix_root_link" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
+    robot_spec.set_root_joint(spec, cls.fix_root_link, where, declared)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)

@@ -158,8 +158,10 @@ def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequen
             raise UnknownNameError(where, kind, name, available)
 
 
-def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None:
-    """Add a free joint to the root body, or remove one, as ``fix_root_link`` says."""
+def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str, declared: bool = True) -> None:
+    """Add a free joint to the root body, or remove one, as ``fix_root_link`` says;
+    ``declared``: the robot states ``fix_root_link`` (a file's free root removed by the
+    default, ``True``, gets a note: a two-line humanoid or quadruped hung fixed in the air)."""
     root = root_body(spec, where)
     free = [j for j in root.joints if j.type == mujoco.mjtJoint.mjJNT_FREE]
     if fix_root_link:
@@ -167,6 +169,14 @@ def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None
             spec.delete(joint)
         if free:
             _shift_keys(spec, drop=True)
+        if free and not declared:
+            warnings.warn(
+                f"{where}: the file gives root body {root.name!r} a free joint; the robot is fixed to the world "
+                "(fix_root_link defaults to True): set fix_root_link = False (robot-agents --floating) to keep it "
+                "free, or fix_root_link = True to silence this.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
     elif not free:
         moving = [j.name for j in root.joints]
         if moving:

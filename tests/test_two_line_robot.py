@@ -481,3 +481,13 @@ def test_a_files_free_root_fixed_by_the_default_gets_a_note(tmp_path: Path) -> N
         warnings.simplefilter("error")  # declared: no note
         assert two_line(path, fix_root_link=True).check().index.free_joint is None
     assert robot_from_file(path, floating=True).check().index.free_joint is not None
+
+
+def test_a_file_keyframe_outside_the_limits_is_moved_with_a_note(tmp_path: Path) -> None:
+    # the default keyframe moved the file's 3.0 rad to 2.0 (a tenth of the range inside
+    # the stop) without a word
+    path = tmp_path / "key_outside.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", '<keyframe><key name="home" qpos="3.0"/></keyframe></mujoco>'))
+    with pytest.warns(RuntimeWarning, match=r"keyframe 'home' puts joints outside their limits; .*: shoulder 3 -> 2\b"):
+        checked = two_line(path).check()
+    assert checked.keyframes["default"].qpos[0] == pytest.approx(2.5 - 0.1 * 5.0)

@@ -482,6 +482,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         parts = own_parts + parts
     part_joints = _resolve_parts(cls, parts, index, model)
     default = _composed_default(cls, index)
+    if not cls.keyframes:
+        _note_file_keyframe_moved(name, index, default)
     frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
     keyframes = {}
     for key, frame in frames.items():
@@ -666,6 +668,32 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
         joints.update(prefix + joint for joint in own)
         bodies.update(prefix + body.name for body in spec.bodies if body.name and body.name != "world")
     return frozenset(joints), frozenset(bodies)
+
+
+def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray) -> None:
+    """A note naming the joints whose value in the file's first keyframe lies outside
+    their limits, and where the derived default keyframe puts them instead
+    (:func:`~robot_agents.keyframe.default_qpos`): the file's pose was changed silently."""
+    model = index.model
+    if model.nkey == 0:
+        return
+    given = np.asarray(model.key_qpos[0][index.qpos_adr], dtype=np.float64)
+    moved = [
+        f"{joint.name} {given[joint.qpos_start]:.4g} -> {default[joint.qpos_start]:.4g}"
+        for joint in index.joints
+        if joint.nq == 1
+        and not np.isclose(given[joint.qpos_start], default[joint.qpos_start])
+        and joint.limited
+        and outside_limits(float(given[joint.qpos_start]), *index.qpos_limits[joint.qpos_start])
+    ]
+    if moved:
+        warnings.warn(
+            f"{name}: the file's keyframe {model.key(0).name or '#0'!r} puts joints outside their limits; its "
+            f"default keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
+            "(declare keyframes to choose).",
+            RuntimeWarning,
+            stacklevel=3,
+        )
 
 
 def _pieces_own_parts(composed: Composition, driven: set[str]) -> tuple[Part, ...]:

@@ -481,6 +481,17 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             note_nonconvex_fingers(name, model, own_parts)
         parts = own_parts + parts
     part_joints = _resolve_parts(cls, parts, index, model)
+    if inferred:
+        in_parts = {joint for joints in part_joints.values() for joint in joints}
+        idle = [d.joint for d in drives if d.joint not in in_parts]
+        if idle:  # a mounted piece's arm: its parts are not inferred
+            warnings.warn(
+                f"{name}: joints {idle[:6]}{' ...' if len(idle) > 6 else ''} have drives and are in none of the "
+                "robot's inferred parts: no control mode commands them (they hold their default pose); declare "
+                "parts to command them.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
     default = _composed_default(cls, index)
     if not cls.keyframes:
         _note_file_keyframe_moved(name, index, default)

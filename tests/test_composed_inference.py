@@ -128,3 +128,79 @@ def test_a_piece_tcp_must_name_a_body_or_site(arm_file: Path) -> None:
     wrong = type("Wrong2F85", (Robotiq2F85,), {"tcp": 3})
     with pytest.raises(ConfigError, match=r"Wrong2F85\.tcp: expected a body or site name, or None, got 3"):
         wrong.validate_definition()
+
+
+GRIPPER_URDF = """<robot name="grip">
+  <link name="palm"><inertial><mass value="0.3"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/>
+    </inertial><collision><geometry><box size="0.04 0.1 0.02"/></geometry></collision></link>
+  <link name="left"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/>
+    </inertial><collision><origin xyz="0 0 0.02"/><geometry><box size="0.01 0.01 0.04"/></geometry></collision></link>
+  <link name="right"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/>
+    </inertial><collision><origin xyz="0 0 0.02"/><geometry><box size="0.01 0.01 0.04"/></geometry></collision></link>
+  <joint name="fl" type="prismatic"><parent link="palm"/><child link="left"/><origin xyz="0 0.02 0.01"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.03" effort="20" velocity="0.1"/></joint>
+  <joint name="fr" type="prismatic"><parent link="palm"/><child link="right"/><origin xyz="0 -0.02 0.01"/>
+    <axis xyz="0 -1 0"/><limit lower="0" upper="0.03" effort="20" velocity="0.1"/><mimic joint="fl"/></joint>
+</robot>"""
+
+
+def test_a_two_line_gripper_piece_brings_the_gripper_it_infers(arm_file: Path, tmp_path: Path) -> None:
+    # a user's own gripper file mounted as a two-line piece: its fingers got a drive and
+    # no part, so no control mode commanded them (the action was the arm's alone)
+    from robot_agents.robot_source import robot_from_file
+
+    path = tmp_path / "grip.urdf"
+    path.write_text(GRIPPER_URDF)
+    piece = robot_from_file(path)
+    assert piece.check().part_joints == {"gripper": ("fl", "fr")}
+    checked = mounted(arm_file, piece, prefix="g/").check()
+    assert checked.part_joints == {"arm": ARM_JOINTS, "g_gripper": ("g/fl", "g/fr")}
+    gripper = checked.parts[1]
+    assert isinstance(gripper, ra.Gripper) and gripper.finger_links == (("g/left",), ("g/right",))
+    scene = ra.Scene(mounted(arm_file, piece, prefix="g/"))
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.action_space.shape == (1, len(ARM_JOINTS) + 1)
+    for command, width in ((1.0, 0.03), (-1.0, 0.0)):
+        for _ in range(30):
+            agent.set_action([0.0] * len(ARM_JOINTS) + [command])
+            scene.step()
+        assert agent.qpos[0, -2:] == pytest.approx([width, width], abs=1e-3)
+
+
+def test_a_two_line_arm_piece_brings_no_parts(arm_file: Path, tmp_path: Path) -> None:
+    # a second arm file mounted as a piece infers an arm whose end effector is "ee" as
+    # the robot's own: it brings nothing, as before (a bimanual robot declares its parts),
+    # and its driven joints, which no mode commands, are named in a note (silent before)
+    from robot_agents.robot_source import robot_from_file
+
+    with pytest.warns(RuntimeWarning, match=r"joints \['right/yaw', .* have drives and are in none of the robot's"):
+        checked = mounted(arm_file, robot_from_file(arm_file), prefix="right/").check()
+    assert checked.part_joints == {"arm": ARM_JOINTS}
+
+
+GRIPPER_MJCF = """<mujoco model="grip"><compiler angle="radian"/><worldbody>
+  <body name="palm"><geom type="box" size="0.02 0.05 0.01" mass="0.3"/>
+    <body name="left" pos="0 0.02 0.01"><joint name="fl" type="slide" axis="0 1 0" range="0 0.03"/>
+      <geom type="box" size="0.005 0.005 0.02" pos="0 0 0.02" mass="0.05"/></body>
+    <body name="right" pos="0 -0.02 0.01"><joint name="fr" type="slide" axis="0 -1 0" range="0 0.03"/>
+      <geom type="box" size="0.005 0.005 0.02" pos="0 0 0.02" mass="0.05"/></body>
+  </body></worldbody>
+  <equality><joint joint1="fr" joint2="fl"/></equality>
+  <actuator><position name="grip" joint="fl" kp="500" kv="10" ctrlrange="0 0.03" forcerange="-20 20"/></actuator>
+</mujoco>"""
+
+
+def test_a_piece_file_driving_its_joints_leaves_the_arm_its_derived_drives(arm_file: Path, tmp_path: Path) -> None:
+    # the piece's own <actuator> counted as the robot's file driving its joints: the arm
+    # got no drives at all ("no control mode"), where a piece declaring its drives (the
+    # built-in ones) leaves it derived drives
+    from robot_agents.robot_source import robot_from_file
+
+    path = tmp_path / "grip.xml"
+    path.write_text(GRIPPER_MJCF)
+    checked = mounted(arm_file, robot_from_file(path), prefix="g/").check()
+    sources = {d.joint: d.source for d in checked.drives}
+    assert all(sources[j].startswith("derived gains") for j in ARM_JOINTS)
+    assert sources["g/fl"] == "the model file (actuator 'g/grip')"
+    assert checked.part_joints == {"arm": ARM_JOINTS, "g_gripper": ("g/fl", "g/fr")}

@@ -4,6 +4,7 @@ a note, and what cannot be fixed names the element, the file, the line and the f
 
 from __future__ import annotations
 
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -282,3 +283,298 @@ def test_a_flat_mesh_gets_its_volume_from_its_surface(tmp_path: Path) -> None:
         ra.Scene(type("Typo", (robot_from_file(path),), {"compiler": ra.CompilerSettings(shell_meshes=("plat",))}))
     with pytest.raises(ra.ConfigError, match=r"shell_meshes: expected a tuple of mesh names, got 'plate'"):
         ra.CompilerSettings(shell_meshes="plate")  # type: ignore[arg-type]
+
+
+def test_a_name_given_twice_is_named_with_both_lines(tmp_path: Path) -> None:
+    # MuJoCo's URDF reader takes two joints of one name and failed later with a bare
+    # ValueError ("repeated name 'j' in joint") from the library's own spec walk
+    path = tmp_path / "twice.urdf"
+    links = link("base", BOX) + link("arm", BOX) + link("hand", BOX)
+    path.write_text(urdf(links, joint("j", "base", "arm") + "\n" + joint("j", "arm", "hand")))
+    with pytest.raises(ra.ModelError, match=r"twice\.urdf' has two joints named 'j' \(lines 4 and 5\)"):
+        robot_from_file(path).check()
+    path.write_text(urdf(links.replace('"hand"', '"arm"'), joint("j", "base", "arm")))
+    with pytest.raises(
+        ra.ModelError, match=r"has two links named 'arm' \(lines 3 and 3\).*rename one \(and the joints"
+    ):
+        robot_from_file(path).check()
+
+
+def test_a_files_settotalmass_holds_in_a_scene() -> None:
+    # gymnasium's half_cheetah.xml scales its masses to 14 kg (<compiler settotalmass>);
+    # MuJoCo applies it to the model compiled, and the robot attached into a scene lost
+    # it: 21.18 kg there
+    import gymnasium
+
+    path = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "half_cheetah.xml"
+    file = mujoco.MjModel.from_xml_path(str(path))
+    assert file.body_mass.sum() == pytest.approx(14.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # its motors: derived drives, a note
+        model = ra.Scene(robot_from_file(path)).model
+    assert model.body_mass.sum() == pytest.approx(14.0)
+    for body in range(1, file.nbody):
+        scene_body = model.body(f"half_cheetah-0/{file.body(body).name}").id
+        assert model.body_mass[scene_body] == pytest.approx(file.body_mass[body])
+        np.testing.assert_allclose(model.body_inertia[scene_body], file.body_inertia[body], rtol=1e-9)
+        np.testing.assert_allclose(model.body_ipos[scene_body], file.body_ipos[body], atol=1e-12)
+
+
+def test_a_negative_mass_or_moment_is_an_error_not_a_fallback(tmp_path: Path) -> None:
+    # MuJoCo refuses a negative mass as a massless body and a negative diaginertia
+    # moment as an unbalanced one: the fallbacks simulated -0.5 kg as 0.001 kg
+    # (boundmass) and the moments as balanced ones, with a note about mjMINVAL
+    path = tmp_path / "negative.urdf"
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX, mass=-0.5), joint("j", "base", "arm")))
+    with pytest.raises(ra.ModelError, match=r"mass of link 'arm' in .*negative\.urdf' \(line 3\) is -0\.5 kg.*<mass>"):
+        robot_from_file(path).check()
+    mjcf = tmp_path / "negative.xml"
+    body = '<body name="arm" pos="0 0 .2"><joint name="j" axis="0 1 0" range="-1 1"/><geom size=".05"/>'
+    for inertial, expected in (
+        (
+            'mass="-0.5" diaginertia="0.01 0.01 0.01"',
+            r"mass of body 'arm' in .*\(line 2\) is -0\.5 kg.*<inertial> mass",
+        ),
+        (
+            'mass="0.5" diaginertia="0.006 -0.006 0.01"',
+            r"inertia of body 'arm' in .*\(line 2\) is not positive-definite",
+        ),
+    ):
+        mjcf.write_text(
+            f'<mujoco><worldbody><body name="base"><geom size=".1"/>\n{body}<inertial pos="0 0 0" {inertial}/>'
+            "</body></body></worldbody></mujoco>"
+        )
+        with pytest.raises(ra.ModelError, match=expected):
+            robot_from_file(mjcf).check()
+
+
+def test_a_missing_mjcf_mesh_names_the_model_file_and_where_it_was_looked_for(tmp_path: Path) -> None:
+    # MuJoCo said only "Error opening file 'arm.obj'": not which model file, nor where
+    path = tmp_path / "missing_mesh.xml"
+    path.write_text(
+        '<mujoco>\n<compiler meshdir="meshes"/>\n<asset><mesh name="arm_mesh" file="arm.obj"/></asset>\n'
+        '<worldbody><body name="base"><geom size=".1"/><body name="arm"><joint name="j" axis="0 1 0" range="-1 1"/>'
+        '<geom type="mesh" mesh="arm_mesh"/></body></body></worldbody></mujoco>'
+    )
+    expected = str(tmp_path / "meshes" / "arm.obj")
+    with pytest.raises(
+        ra.ModelError,
+        match=rf"the mesh file 'arm.obj' of <mesh name='arm_mesh'> in .*missing_mesh\.xml' \(line 3\) was not found "
+        rf"at {re.escape(repr(expected))}",
+    ):
+        robot_from_file(path).check()
+
+
+@pytest.mark.parametrize("suffix", [".mjcf", ".XML"])
+def test_mjcf_files_ending_otherwise_than_xml_load_with_their_includes_and_meshes(tmp_path: Path, suffix: str) -> None:
+    # MuJoCo 4 reads a file by its name's ending: "could not find decoder" for the
+    # documented ".mjcf" (and ".XML") before
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "cube.obj").write_text(
+        "".join(f"v {x} {y} {z}\n" for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05))
+        + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n"
+    )
+    (tmp_path / "defaults.xml").write_text('<mujoco><default><joint damping="0.7"/></default></mujoco>')
+    path = tmp_path / f"ärm with space{suffix}"
+    path.write_text(
+        '<mujoco><include file="defaults.xml"/><compiler meshdir="meshes"/><asset><mesh name="cube" file="cube.obj"/>'
+        '</asset><worldbody><body name="base"><geom type="mesh" mesh="cube" mass="2"/><body name="arm" pos="0 0 .2">'
+        '<joint name="j" axis="0 1 0" range="-1 1"/><geom size=".05" mass="0.5"/></body></body></worldbody></mujoco>'
+    )
+    model = robot_from_file(path).check().index.model
+    assert model.body_mass.sum() == pytest.approx(2.5)
+    assert model.dof_damping[model.joint("j").dofadr[0]] == pytest.approx(0.7)
+    assert model.mesh_vertnum[model.mesh("cube").id] == 8
+
+
+def test_a_misspelled_link_or_mimic_joint_gets_the_close_names(tmp_path: Path) -> None:
+    path = tmp_path / "typo.urdf"
+    path.write_text(urdf(link("base", BOX) + link("forearm", BOX), joint("j", "base", "fore_arm")))
+    with pytest.raises(
+        ra.ModelError, match=r"names child link 'fore_arm', which is not in the file; did you mean 'forearm'\?"
+    ):
+        robot_from_file(path).check()
+    follower = joint("k", "forearm", "hand").replace("</joint>", '<mimic joint="J" multiplier="2"/></joint>')
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("forearm", BOX) + link("hand", BOX),
+            joint("j", "base", "forearm") + "\n" + follower,
+        )
+    )
+    with pytest.raises(
+        ra.ModelError,
+        match=r"joint 'k' in .*typo\.urdf' \(line 5\) mimics joint 'J', which is not in the URDF; did you mean 'j'\?",
+    ):
+        robot_from_file(path).check()
+
+
+def test_a_link_without_inertial_is_massless_as_urdf_has_it(tmp_path: Path) -> None:
+    # URDF leaves such a link massless; MuJoCo's reader gave it its collision box's mass
+    # at water's density (1 kg for a 10 cm box; example-robot-data's ANYmal C, whose base
+    # link carries its mass in a welded base_inertia link, weighed 81.5 kg, not 52.1)
+    path = tmp_path / "unweighed.urdf"
+    links = link("base", BOX, mass=2.0) + link("arm", BOX, mass=0.0) + link("tool", BOX, mass=0.0)
+    path.write_text(urdf(links, joint("j", "base", "arm") + joint("fixed", "arm", "tool", "fixed")))
+    with pytest.warns(RuntimeWarning) as record:
+        model = robot_from_file(path).check().index.model
+    notes = " ".join(str(w.message) for w in record)
+    assert "link(s) 'arm' (line 3), 'tool' (line 3) have collision shapes and no <inertial>: massless" in notes
+    assert "boundmass=0.001" in notes  # a moving massless link: bounded, as before
+    # 2 kg stated; the two massless links bounded to 1 g each (boundmass bounds every body)
+    assert model.body_mass.sum() == pytest.approx(2.002)
+    # a file stating no mass at all (a kinematic one) keeps MuJoCo's rule, noted
+    path.write_text(urdf(link("base", BOX, mass=0.0) + link("arm", BOX, mass=0.0), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"states no <inertial>: link\(s\) 'base' \(line 3\), 'arm' \(line 3\) get"):
+        model = robot_from_file(path).check().index.model
+    assert model.body_mass[model.body("arm").id] == pytest.approx(1000.0 * 0.1**3)
+
+
+def test_a_fixed_joints_mimic_is_dropped_and_a_mimic_of_a_fixed_joint_is_an_error(tmp_path: Path) -> None:
+    # example-robot-data's reduced Talos files freeze the gripper's joints and keep their
+    # mimics: MuJoCo refused them ("unknown element 'gripper_left_inner_double_joint' in
+    # equality constraint", Element name '')
+    path = tmp_path / "frozen.urdf"
+    links = link("base", BOX) + link("arm", BOX) + link("pad", BOX)
+    frozen = joint("frozen", "arm", "pad", "fixed").replace("</joint>", '<mimic joint="j" multiplier="-1"/></joint>')
+    path.write_text(urdf(links, joint("j", "base", "arm") + "\n" + frozen))
+    with pytest.warns(RuntimeWarning, match=r"dropped the <mimic> of 1 fixed joint\(s\) \('frozen' \(line 5\)\)"):
+        checked = robot_from_file(path).check()
+    assert checked.index.joint_names == ("j",) and checked.index.model.neq == 0
+    follower = joint("k", "arm", "pad").replace("</joint>", '<mimic joint="fixed"/></joint>')
+    path.write_text(urdf(links, joint("fixed", "base", "arm", "fixed") + "\n" + follower))
+    with pytest.raises(
+        ra.ModelError, match=r"joint 'k' in .*frozen\.urdf' \(line 5\) mimics joint 'fixed', which is fixed"
+    ):
+        robot_from_file(path).check()
+
+
+#: A 10 cm cube drawn in millimetres (a node scaled 0.001) whose material's texture
+#: sampler names a surface the file lacks (example-robot-data's ANYmal B feet).
+BROKEN_MATERIAL_DAE = """<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_effects>
+    <effect id="paint-effect"><profile_COMMON>
+      <newparam sid="tex-sampler"><sampler2D><source>missing-surface</source></sampler2D></newparam>
+      <technique sid="common"><phong><diffuse><texture texture="tex-sampler" texcoord="UVMap"/></diffuse></phong></technique>
+    </profile_COMMON></effect>
+  </library_effects>
+  <library_materials><material id="paint-material" name="paint"><instance_effect url="#paint-effect"/></material></library_materials>
+  <library_geometries>
+    <geometry id="box-mesh" name="box"><mesh>
+      <source id="box-positions"><float_array id="box-positions-array" count="24">-50 -50 -50 50 -50 -50 50 50 -50 -50 50 -50 -50 -50 50 50 -50 50 50 50 50 -50 50 50</float_array>
+        <technique_common><accessor source="#box-positions-array" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+      <vertices id="box-vertices"><input semantic="POSITION" source="#box-positions"/></vertices>
+      <triangles material="paint-material" count="12"><input semantic="VERTEX" source="#box-vertices" offset="0"/>
+        <p>0 2 1 0 3 2 4 5 6 4 6 7 0 1 5 0 5 4 1 2 6 1 6 5 2 3 7 2 7 6 3 0 4 3 4 7</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="Scene" name="Scene">
+    <node id="box" name="box" type="NODE"><matrix sid="transform">0.001 0 0 0 0 0.001 0 0 0 0 0.001 0 0 0 0 1</matrix>
+      <instance_geometry url="#box-mesh" name="box"><bind_material><technique_common>
+        <instance_material symbol="paint-material" target="#paint-material"/></technique_common></bind_material></instance_geometry>
+    </node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+"""
+
+
+def test_a_collada_mesh_with_a_broken_material_converts(tmp_path: Path) -> None:
+    # pycollada drops a shape whose material refers to a missing texture surface: the
+    # ANYmal B's collision feet read as no triangles ("has no triangles to convert")
+    pytest.importorskip("collada")
+    (tmp_path / "foot.dae").write_text(BROKEN_MATERIAL_DAE)
+    foot = '<collision><geometry><mesh filename="foot.dae"/></geometry></collision>'
+    path = tmp_path / "footed.urdf"
+    path.write_text(urdf(link("base", BOX) + link("foot", foot), joint("j", "base", "foot")))
+    model = robot_from_file(path).check().index.model
+    geom = next(g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH)
+    mesh = model.geom_dataid[geom]
+    vertices = model.mesh_vert[model.mesh_vertadr[mesh] : model.mesh_vertadr[mesh] + model.mesh_vertnum[mesh]]
+    np.testing.assert_allclose(vertices.max(axis=0) - vertices.min(axis=0), [0.1, 0.1, 0.1], rtol=1e-6)
+
+
+def test_a_mesh_scaled_to_zero_is_a_zero_size_shape(tmp_path: Path) -> None:
+    # a collision mesh scaled "0.5 0 2" compiled as a flat plate through the flat-mesh
+    # fallback (shell inertia); the zero-size rule of boxes, spheres and cylinders holds
+    (tmp_path / "cube.obj").write_text(
+        "".join(f"v {x} {y} {z}\n" for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05))
+        + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n"
+    )
+    flat = '<geometry><mesh filename="cube.obj" scale="0.5 0 2"/></geometry>'
+    path = tmp_path / "flat.urdf"
+    path.write_text(
+        urdf(link("base", BOX) + link("arm", f"{BOX}<collision>{flat}</collision>"), joint("j", "base", "arm"))
+    )
+    with pytest.raises(ra.ModelError, match=r"link 'arm' in .*flat\.urdf' \(line 3\) has a zero-size collision <mesh>"):
+        robot_from_file(path).check()
+    path.write_text(urdf(link("base", BOX) + link("arm", f"{BOX}<visual>{flat}</visual>"), joint("j", "base", "arm")))
+    with pytest.warns(RuntimeWarning, match=r"dropped a zero-size visual <mesh> of link 'arm' \(line 3\)"):
+        robot_from_file(path).check()
+    mirrored = '<collision><geometry><mesh filename="cube.obj" scale="1 -1 1"/></geometry></collision>'
+    path.write_text(urdf(link("base", BOX) + link("arm", mirrored), joint("j", "base", "arm")))  # no fault
+    assert robot_from_file(path).check().index.model.nmesh == 1
+
+
+def test_a_nan_or_inf_in_a_file_names_the_element_and_line(tmp_path: Path) -> None:
+    # MuJoCo reads "nan" and "inf" as numbers: a NaN joint origin failed as "EndEffector
+    # 'ee'.pos: expected 3 finite numbers", an infinite mass compiled (and blew up)
+    path = tmp_path / "nan.urdf"
+    for arm, expected in (
+        (
+            link("arm", BOX, mass=float("inf")),
+            r"link 'arm' in .*nan\.urdf' \(line 3\) has mass \[inf\]; expected finite",
+        ),
+        (link("arm", BOX).replace('value="1.0"', 'value="nan"'), r"link 'arm' .* has mass \[nan\]"),
+    ):
+        path.write_text(urdf(link("base", BOX) + arm, joint("j", "base", "arm")))
+        with pytest.raises(ra.ModelError, match=expected):
+            robot_from_file(path).check()
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("arm", BOX),
+            joint("j", "base", "arm").replace('xyz="0 0 0.1"', 'xyz="0 0 0.1" rpy="0 nan 0"'),
+        )
+    )
+    with pytest.raises(
+        ra.ModelError, match=r"link 'arm' .* has quat \(its parent joint's <origin>\) \[nan, nan, nan, nan\]"
+    ):
+        robot_from_file(path).check()
+    mjcf = tmp_path / "nan.xml"
+    mjcf.write_text(DEGREES_MJCF.replace('<body name="arm" pos="0 0 .2">', '<body name="arm" pos="0 0 nan">'))
+    with pytest.raises(ra.ModelError, match=r"body 'arm' in .*nan\.xml' \(line 2\) has pos \[0\.0, 0\.0, nan\]"):
+        robot_from_file(mjcf).check()
+
+
+def test_a_zero_joint_axis_names_the_joint_and_line(tmp_path: Path) -> None:
+    # MuJoCo said "axis too small in joint", naming neither the joint nor the file
+    path = tmp_path / "axis.urdf"
+    path.write_text(
+        urdf(
+            link("base", BOX) + link("arm", BOX),
+            joint("j", "base", "arm").replace('<axis xyz="0 1 0"/>', '<axis xyz="0 0 0"/>'),
+        )
+    )
+    with pytest.raises(ra.ModelError, match=r"joint 'j' in .*axis\.urdf' \(line 4\) has axis \[0\.0, 0\.0, 0\.0\]"):
+        robot_from_file(path).check()
+
+
+def test_a_file_without_a_body_says_so(tmp_path: Path) -> None:
+    # it said "expected exactly one top-level body, got 0: []"
+    path = tmp_path / "assets.xml"
+    path.write_text('<mujoco><default><joint damping="1"/></default><worldbody/></mujoco>')
+    with pytest.raises(ra.ModelError, match=r"assets\.xml\): expected the robot model to have a body, got none"):
+        robot_from_file(path).check()
+
+
+def test_lines_are_found_with_single_quoted_attributes(tmp_path: Path) -> None:
+    # the line look-ups matched name="..." only: a file quoting with ' read "(line 0)"
+    path = tmp_path / "quoted.urdf"
+    text = urdf(link("base", BOX) + link("arm", BOX), joint("j", "base", "forearm"))
+    path.write_text(text.replace('"', "'"))
+    with pytest.raises(ra.ModelError, match=r"joint 'j' in .*quoted\.urdf' \(line 4\) names child link 'forearm'"):
+        robot_from_file(path).check()
+    path.write_text(urdf(link("base", BOX) + link("arm", BOX, mass=-1.0), joint("j", "base", "arm")).replace('"', "'"))
+    with pytest.raises(ra.ModelError, match=r"mass of link 'arm' in .*quoted\.urdf' \(line 3\) is -1 kg"):
+        robot_from_file(path).check()

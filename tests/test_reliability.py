@@ -205,7 +205,10 @@ def test_a_mimic_of_a_missing_joint_is_an_error(tmp_path: Path) -> None:
     <limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="k"/></joint></robot>"""
     path = tmp_path / "m.urdf"
     path.write_text(urdf)
-    with pytest.raises(ra.ModelError, match=r"joint 'j' mimics joint 'k', which is not in the URDF; joints: \['j'\]"):
+    with pytest.raises(
+        ra.ModelError,
+        match=r"joint 'j' in .*m\.urdf' \(line 3\) mimics joint 'k', which is not in the URDF; joints: \['j'\]",
+    ):
         ra.Scene(type("M", (ra.Agent,), {"uid": "m", "urdf_path": path}))
 
 

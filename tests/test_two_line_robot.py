@@ -159,7 +159,8 @@ def test_reacher_keeps_the_arm_and_drops_the_target_marker() -> None:
     # its two motors are PD drives within their torques, and joint_effort commands those
     assert {"pd_joint_delta_pos", "joint_effort"} <= set(cls.modes())
     chosen = two_line(GYM / "reacher.xml", root_body="target")
-    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target'"):
+    # (the note no longer asks for the root_body it was given)
+    with pytest.warns(RuntimeWarning, match=r"kept top-level body 'target' as the root_body chosen and dropped"):
         assert ra.Scene(chosen).agents[0].joint_names == ("target_x", "target_y")
 
 
@@ -196,6 +197,37 @@ def test_a_fixed_robot_reaching_into_the_floor_is_mounted_above_it_unless_it_dec
     assert mixed.check().mount_pose[2] == pytest.approx(lifted)
     declared = two_line(path, mount_pose=(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0))
     assert declared.check().mount_pose[2] == 0.0
+
+
+def test_a_fixed_robot_drawn_y_up_rests_on_the_floor_under_up_y(tmp_path: Path) -> None:
+    # the sunken arm drawn y-up (turned -90 deg about x): `up="y"` declared only the turn
+    # of the mount, and the arm stayed 0.1 m deep in the floor (`check`'s keyframe
+    # contacts failed); it now rests as its z-up twin does
+    from robot_agents.robot_source import robot_from_file
+
+    z_up = tmp_path / "sunken.xml"
+    z_up.write_text(SUNKEN_ARM_MJCF)
+    y_up = tmp_path / "sunken_y_up.xml"
+    y_up.write_text(
+        SUNKEN_ARM_MJCF.replace('pos="0 0 -0.05"', 'pos="0 -0.05 0"')
+        .replace('pos="0 0 0.05"', 'pos="0 0.05 0"')
+        .replace('axis="0 1 0"', 'axis="0 0 -1"')
+        .replace('fromto="0 0 0 0 0 0.3"', 'fromto="0 0 0 0 0.3 0"')
+    )
+    turned = robot_from_file(y_up, up="y")
+    assert turned.check().mount_pose[2] == pytest.approx(robot_from_file(z_up).check().mount_pose[2], abs=1e-9)
+    scenes = [scene_of(cls) for cls in (robot_from_file(z_up), turned)]
+    for scene in scenes:
+        scene.reset()
+    for body in ("base", "link"):  # the same world positions
+        places = [
+            scene.body_pose(f"{name}-0/{body}")[0, :3]
+            for scene, name in zip(scenes, ("sunken", "sunken_y_up"), strict=True)
+        ]
+        np.testing.assert_allclose(places[0], places[1], atol=1e-9)
+    assert robot_from_file(y_up, up="y", floating=True).rest_on_floor is True
+    with pytest.raises(ra.ConfigError, match=r"expected rest_on_floor to be a bool or None, got 1"):
+        two_line(z_up, rest_on_floor=1).check()
 
 
 FRICTION_WRIST_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
@@ -430,3 +462,32 @@ def test_a_hand_file_is_a_hand_that_opens_and_closes(tmp_path: Path) -> None:
     )
     path.write_text(HAND.format(fingers="".join(long.format(k=k, y=0.025 * (k - 1)) for k in range(3))))
     assert [type(p) for p in two_line(path).check().parts] == [ra.Body]
+
+
+def test_a_files_free_root_fixed_by_the_default_gets_a_note(tmp_path: Path) -> None:
+    # a file whose root has a <freejoint> (gymnasium's ant) hung fixed in the air with
+    # two lines, silently: fix_root_link defaults to True
+    from robot_agents.robot_source import robot_from_file
+
+    path = tmp_path / "free_root.xml"
+    path.write_text(
+        PENDULUM_MJCF.replace('<body name="base" pos="0 0 1.0">', '<body name="base" pos="0 0 1.0"><freejoint/>')
+    )
+    with pytest.warns(
+        RuntimeWarning, match=r"the file gives root body 'base' a free joint; the robot is fixed to the world"
+    ):
+        assert two_line(path).check().index.free_joint is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # declared: no note
+        assert two_line(path, fix_root_link=True).check().index.free_joint is None
+    assert robot_from_file(path, floating=True).check().index.free_joint is not None
+
+
+def test_a_file_keyframe_outside_the_limits_is_moved_with_a_note(tmp_path: Path) -> None:
+    # the default keyframe moved the file's 3.0 rad to 2.0 (a tenth of the range inside
+    # the stop) without a word
+    path = tmp_path / "key_outside.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", '<keyframe><key name="home" qpos="3.0"/></keyframe></mujoco>'))
+    with pytest.warns(RuntimeWarning, match=r"keyframe 'home' puts joints outside their limits; .*: shoulder 3 -> 2\b"):
+        checked = two_line(path).check()
+    assert checked.keyframes["default"].qpos[0] == pytest.approx(2.5 - 0.1 * 5.0)

@@ -54,7 +54,8 @@ def robot_from_file(
     :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
     ``up`` (a key of :data:`UP_AXES`) names the file's up axis when it is not z: the robot
     then gets the ``mount_pose`` that turns that axis up (a floating robot's derived
-    keyframe and stance follow its mount). ``gripper``: a built-in piece
+    keyframe and stance follow its mount; a fixed one reaching into the floor is raised to
+    rest on it, as with no mount: ``rest_on_floor``). ``gripper``: a built-in piece
     (:func:`~robot_agents.registry.get_piece`) mounted on the file's body or site ``at``,
     under the prefix ``"<gripper>/"`` (the three-line robot: the arm's end effector is
     the piece's ``tcp``); ``at_axis`` (a key of :data:`OUT_AXES`) is the axis of ``at``
@@ -76,9 +77,12 @@ def robot_from_file(
     file = Path(path)
     field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
     name = "".join(part.capitalize() for part in file.stem.replace("-", "_").split("_")) or "Robot"
-    attributes: dict[str, object] = {"uid": file.stem, field: file, "fix_root_link": not floating}
+    attributes: dict[str, object] = {"uid": file.stem, field: file}
+    if floating:  # (undeclared, a file's free root is fixed with a note)
+        attributes["fix_root_link"] = False
     if up != "z":
         attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
+        attributes["rest_on_floor"] = True  # the mount names the up axis only: a fixed robot still rests on the floor
     if root_body is not None:
         attributes["root_body"] = root_body
     if gripper is not None and at is not None:

@@ -215,8 +215,9 @@ def apply_actuators(
             *declarations,
             DerivedActuators(joints=tuple(f"^{re.escape(j)}$" for j in unheld)),
         )
-    if derive_own and declarations and not (set(on_joint) & own):
+    if derive_own and (declarations or set(on_joint) - own) and not (set(on_joint) & own):
         # what a robot without pieces gets (the branch at the end), beside its pieces' drives
+        # (declared, or their own files' actuators: a user's gripper file driving its fingers)
         implied = DerivedActuators()
         declarations = (*declarations, implied)
     rest = [d for d in declarations if isinstance(d, DerivedActuators) and d.joints is None]

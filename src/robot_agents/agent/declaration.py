@@ -176,6 +176,8 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators", "convex_decomposition"):
         if not isinstance(getattr(cls, flag), bool):
             raise ConfigError(f"{name}: expected {flag} to be a bool, got {getattr(cls, flag)!r}.")
+    if cls.rest_on_floor is not None and not isinstance(cls.rest_on_floor, bool):
+        raise ConfigError(f"{name}: expected rest_on_floor to be a bool or None, got {cls.rest_on_floor!r}.")
     gravcomp = cls.gravity_compensation
     if not (
         gravcomp is None
@@ -328,7 +330,10 @@ def _build(
     parts = composition(cls)
     spec, own_joints = _raw_spec(cls, where, compiler)
     mocap_held = robot_spec.isolate_robot(spec, cls.root_body, where)
-    robot_spec.set_root_joint(spec, cls.fix_root_link, where)
+    from robot_agents.agent.definition import AgentDefinition  # (imports this module)
+
+    declared = any("fix_root_link" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
+    robot_spec.set_root_joint(spec, cls.fix_root_link, where, declared)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
@@ -447,7 +452,12 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     compiler = cls.compiler
     spec, drives = _build(cls, None, None, compiler)
     model, compiler = compile_with_fallbacks(
-        name, spec, compiler, lambda settings: _build(cls, None, None, settings, quiet=True)[0], model_path(cls)
+        name,
+        spec,
+        compiler,
+        lambda settings: _build(cls, None, None, settings, quiet=True)[0],
+        model_path(cls),
+        pieces=bool(cls.attachments),
     )
     if compiler is not cls.compiler:
         spec, drives = _build(cls, None, None, compiler, quiet=True)
@@ -461,6 +471,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     own_parts: tuple[Part, ...] = ()
     if inferred:
         piece_joints, piece_bodies = _piece_names(composed)
+        parts = parts + _pieces_own_parts(composed, {d.joint for d in drives})
         held = any(isinstance(p, (Gripper, Hand)) for p in parts)  # a piece's gripper is the gripper
         own_parts = infer_parts(
             model, index, [d.joint for d in drives if d.joint not in piece_joints], grippers=not held
@@ -470,7 +481,20 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
             note_nonconvex_fingers(name, model, own_parts)
         parts = own_parts + parts
     part_joints = _resolve_parts(cls, parts, index, model)
+    if inferred:
+        in_parts = {joint for joints in part_joints.values() for joint in joints}
+        idle = [d.joint for d in drives if d.joint not in in_parts]
+        if idle:  # a mounted piece's arm: its parts are not inferred
+            warnings.warn(
+                f"{name}: joints {idle[:6]}{' ...' if len(idle) > 6 else ''} have drives and are in none of the "
+                "robot's inferred parts: no control mode commands them (they hold their default pose); declare "
+                "parts to command them.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
     default = _composed_default(cls, index)
+    if not cls.keyframes:
+        _note_file_keyframe_moved(name, index, default)
     frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
     keyframes = {}
     for key, frame in frames.items():
@@ -485,8 +509,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
     declared_mount = any("mount_pose" in vars(k) for k in cls.__mro__ if k is not AgentDefinition)
-    if index.free_joint is None and not declared_mount:
-        lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos)[2])
+    on_floor = not declared_mount if cls.rest_on_floor is None else cls.rest_on_floor
+    if index.free_joint is None and on_floor:
+        # the lowest point as the mount turns and places it
+        lift = float(resting_base(model, index, next(iter(keyframes.values())).qpos, mount_quat)[2]) - mount[2]
         if lift > 0.006:
             mount = (mount[0], mount[1], mount[2] + lift, *mount[3:])
     exclusions: tuple[tuple[str, str], ...] = ()
@@ -653,6 +679,52 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
         joints.update(prefix + joint for joint in own)
         bodies.update(prefix + body.name for body in spec.bodies if body.name and body.name != "world")
     return frozenset(joints), frozenset(bodies)
+
+
+def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray) -> None:
+    """A note naming the joints whose value in the file's first keyframe lies outside
+    their limits, and where the derived default keyframe puts them instead
+    (:func:`~robot_agents.keyframe.default_qpos`): the file's pose was changed silently."""
+    model = index.model
+    if model.nkey == 0:
+        return
+    given = np.asarray(model.key_qpos[0][index.qpos_adr], dtype=np.float64)
+    moved = [
+        f"{joint.name} {given[joint.qpos_start]:.4g} -> {default[joint.qpos_start]:.4g}"
+        for joint in index.joints
+        if joint.nq == 1
+        and not np.isclose(given[joint.qpos_start], default[joint.qpos_start])
+        and joint.limited
+        and outside_limits(float(given[joint.qpos_start]), *index.qpos_limits[joint.qpos_start])
+    ]
+    if moved:
+        warnings.warn(
+            f"{name}: the file's keyframe {model.key(0).name or '#0'!r} puts joints outside their limits; its "
+            f"default keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
+            "(declare keyframes to choose).",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+def _pieces_own_parts(composed: Composition, driven: set[str]) -> tuple[Part, ...]:
+    """The gripper or hand each mounted piece that declares neither parts nor control
+    modes (nor pieces of its own) infers alone, under its prefix, where that is all it
+    infers: a two-line gripper file's fingers are its ``Gripper``. Pieces bring the parts
+    they declare, and such a piece's driven joints were in no part: no control mode
+    commanded them. A piece without a driven joint (a camera housing) brings none, nor
+    does one that infers an arm (a second arm file: left as before)."""
+    found: list[Part] = []
+    for prefix, piece in composed.pieces:
+        if piece.parts or piece.control_modes or piece.attachments:
+            continue
+        _, own = _raw_spec(piece, piece.__name__, piece.compiler, attached=False)
+        if not any(prefix + joint in driven for joint in own):
+            continue
+        inferred = piece.check().parts
+        if inferred and all(isinstance(part, (Gripper, Hand)) for part in inferred):
+            found += [_prefix_part(part, prefix) for part in inferred]
+    return tuple(found)
 
 
 def _to_piece_tool(

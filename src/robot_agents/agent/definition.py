@@ -38,6 +38,11 @@ class AgentDefinition:
             reach into the floor is raised to rest on it. A floating robot's mount
             orientation turns its derived keyframe and stance: ``(0, 0, 0, 0.7071068,
             0.7071068, 0, 0)`` stands a file drawn y-up.
+        rest_on_floor: a fixed-base robot reaching more than 5 mm into the floor at its
+            default keyframe is raised to rest 1 mm above it: ``None`` when it declares
+            no ``mount_pose``; ``True`` under its declared mount too, turned as the
+            mount turns it (:func:`robot_agents.robot_source.robot_from_file`'s ``up``:
+            a mount that only names the file's up axis); ``False`` never.
         compiler: MuJoCo compiler settings for the file (angle units, balanceinertia,
             boundmass, meshdir, package search paths; see :class:`CompilerSettings`).
         actuators: the drives, per joint pattern (:mod:`robot_agents.actuators`); a
@@ -84,6 +89,7 @@ class AgentDefinition:
     fix_root_link: ClassVar[bool] = True
     root_body: ClassVar[str | None] = None
     mount_pose: ClassVar[tuple[float, ...]] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    rest_on_floor: ClassVar[bool | None] = None
     compiler: ClassVar[CompilerSettings] = CompilerSettings()
     actuators: ClassVar[tuple[ActuatorConfig, ...]] = ()
     replace_file_actuators: ClassVar[bool] = False

@@ -826,7 +826,9 @@ def resting_base(
     relative to (a scene composes mount and base, :meth:`JointState.keyframe_base`). The
     lowest point is then found with the robot turned by the mount (a file drawn y-up
     stands upright under a mount turned +90 deg about x), and the returned position is in
-    the mount's frame, so that the composed base still rests 1 mm above the floor."""
+    the mount's frame, so that the composed base still rests 1 mm above the floor. A fixed
+    robot's (no free joint) is the world position of the mount at the origin, turned by
+    ``mount_quat``, that rests it 1 mm above the floor."""
     data = mujoco.MjData(model)
     data.qpos[index.qpos_adr] = qpos
     free = index.free_joint
@@ -838,6 +840,12 @@ def resting_base(
         if turned:
             mujoco.mju_mulQuat(data.qpos[free.qpos_adr + 3 : free.qpos_adr + 7], np.asarray(mount_quat, float), quat)
     mujoco.mj_kinematics(model, data)
+    if turned and free is None:  # a fixed robot's geoms as its turned mount places them
+        rotation = np.empty(9)
+        mujoco.mju_quat2Mat(rotation, np.asarray(mount_quat, dtype=np.float64))
+        turn = rotation.reshape(3, 3)
+        data.geom_xpos[:] = data.geom_xpos @ turn.T
+        data.geom_xmat[:] = (turn @ data.geom_xmat.reshape(-1, 3, 3)).reshape(-1, 9)
     lowest = min(
         (
             lowest_point(model, data, g)

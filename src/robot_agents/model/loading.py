@@ -27,7 +27,7 @@ from xml.parsers import expat
 import mujoco
 import numpy as np
 
-from robot_agents.errors import ModelError
+from robot_agents.errors import ModelError, close_names
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.inertia import combine_inertias
 from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, mujoco_reads, readable_mesh
@@ -58,7 +58,82 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
         raise ModelError(f"load_model_spec: expected a model file ending in .urdf, .xml or .mjcf, got {str(file)!r}.")
     compiler.apply(spec)
     name_unnamed(spec)
+    _check_finite(spec, file)
+    _bake_total_mass(spec)
     return spec
+
+
+def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
+    """Raise :class:`ModelError` for a NaN or infinite number in a body's pose or inertial,
+    a joint's pose, axis, range or dynamics, or a geom's pose or size, and for a hinge or
+    slide joint's zero axis, naming the element,
+    the file and its line: MuJoCo reads ``nan`` and ``inf`` as numbers, and such a file
+    failed far from its cause (a NaN origin: "EndEffector 'ee'.pos: expected 3 finite
+    numbers"; an infinite mass compiled and blew up)."""
+    urdf = file.suffix.lower() == ".urdf"
+    checks: list[tuple[str, str, list[tuple[mujoco.MjsElement, str]]]] = []
+    bodies = []
+    for body in spec.bodies[1:]:
+        bodies += [(body, "pos"), (body, "quat")]
+        if body.explicitinertial:
+            bodies += [(body, "mass"), (body, "ipos"), (body, "inertia")]
+    checks.append(("link" if urdf else "body", "link" if urdf else "body", bodies))
+    fields = ("pos", "axis", "range", "damping", "armature", "frictionloss", "stiffness")
+    checks.append(("joint", "joint", [(joint, field) for joint in spec.joints for field in fields]))
+    checks.append(
+        ("geom", "link" if urdf else "geom", [(geom, f) for geom in spec.geoms for f in ("pos", "quat", "size")])
+    )
+    for joint in spec.joints:  # MuJoCo: "axis too small in joint", naming none
+        moving = joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
+        if moving and np.all(np.isfinite(joint.axis)) and not np.linalg.norm(joint.axis) > 1e-9:
+            text = file.read_text(errors="replace") if file.is_file() else ""
+            line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(joint.name)}["\']')
+            raise ModelError(
+                f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has axis "
+                f"{np.asarray(joint.axis).tolist()}; expected a direction (a nonzero axis)."
+            )
+    for kind, tag, pairs in checks:
+        for element, field in pairs:
+            values = np.atleast_1d(np.asarray(getattr(element, field), dtype=np.float64))
+            if np.all(np.isfinite(values)):
+                continue
+            name = element.name if kind != "geom" or not urdf else element.parent.name
+            text = file.read_text(errors="replace") if file.is_file() else ""
+            line = _line_of(text, rf'<{tag}\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']') if name else 0
+            owner = f"{kind} {element.name!r}" if kind != "geom" or not urdf else f"a shape of link {name!r}"
+            if urdf and kind == "link" and field in ("pos", "quat"):
+                field += " (its parent joint's <origin>)"
+            raise ModelError(
+                f"load_model_spec: {owner} in {str(file)!r}{f' (line {line})' if line else ''} has {field} "
+                f"{values.tolist()}; expected finite numbers (a NaN or inf in the file: an unexpanded or failed "
+                "expression?)."
+            )
+
+
+def _bake_total_mass(spec: mujoco.MjSpec) -> None:
+    """Write a file's ``<compiler settotalmass>`` into its bodies: each body gets the
+    mass, centre of mass and principal inertia (kg, m, kg*m^2) the file compiles to, as
+    an explicit inertial, and the setting is cleared. MuJoCo scales a model's masses to
+    that total when the model itself is compiled; a robot attached into a scene lost it
+    (gymnasium's ``half_cheetah.xml``: 21.18 kg in a scene against the file's 14). A file
+    that does not compile keeps the setting: its compile error is reported later."""
+    if not spec.compiler.settotalmass > 0:
+        return
+    copy = spec.copy()
+    copy.compiler.fusestatic = False  # one compiled body per body of the spec, in its order
+    try:
+        model = copy.compile()
+    except ValueError:
+        return
+    for number, body in enumerate(spec.bodies[1:], start=1):
+        body.mass = float(model.body_mass[number])
+        body.ipos = model.body_ipos[number].tolist()
+        body.iquat = model.body_iquat[number].tolist()
+        body.inertia = model.body_inertia[number].tolist()
+        body.fullinertia = [math.nan, 0.0, 0.0, 0.0, 0.0, 0.0]  # unset: the principal inertia in its frame (iquat)
+        body.explicitinertial = True
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO  # every body's is explicit
+    spec.compiler.settotalmass = -1.0
 
 
 #: The speeds (rad/s for a hinge, m/s for a slide) from which a URDF's ``<limit
@@ -153,7 +228,14 @@ def _line_of(text: str, pattern: str) -> int:
 def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     _parse_xml(file, "mujoco", "an MJCF")
     try:
-        spec = mujoco.MjSpec.from_file(str(file))
+        if file.suffix == ".xml":
+            spec = mujoco.MjSpec.from_file(str(file))
+        else:
+            # MuJoCo picks its reader by the name's ending and reads only ".xml" (".mjcf",
+            # ".XML": "could not find decoder"): the file's text under that name, in its own
+            # folder, where its includes and meshes are found
+            named = file.with_name(f"{file.stem}.xml")
+            spec = mujoco.MjSpec.from_file(str(named), include={str(named): file.read_bytes()})
     except ValueError as err:
         raise ModelError(f"load_model_spec: MuJoCo rejected {str(file)!r}: {err}") from None
     if compiler.meshdir is not None:
@@ -245,10 +327,16 @@ def _rpy_matrix(rpy: list[float]) -> np.ndarray:
 def _check_links(file: Path, root: ET.Element, text: str) -> None:
     """Duplicate inertials (merged, with a note) and zero-size shapes, named with their
     line and fix."""
+    weighed: list[str] = []
+    states_masses = root.find("link/inertial") is not None
     for link in root.findall("link"):
         name = link.get("name", "?")
-        line = _line_of(text, rf'<link\s+name\s*=\s*"{re.escape(name)}"')
+        line = _line_of(text, rf'<link\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']')
         inertials = link.findall("inertial")
+        if not inertials and link.find("collision") is not None:
+            weighed.append(f"{name!r} (line {line})")
+            if states_masses:  # massless, as URDF has it (MuJoCo's reader would weigh its collision shapes)
+                link.insert(0, _massless_inertial())
         if len(inertials) > 1:
             # a link has one: the body they describe together
             merged = _merged_inertial(inertials, f"load_model_spec: link {name!r} in {str(file)!r} (line {line})")
@@ -279,6 +367,28 @@ def _check_links(file: Path, root: ET.Element, text: str) -> None:
                     RuntimeWarning,
                     stacklevel=4,
                 )
+    if weighed:
+        links = f"{', '.join(weighed[:4])}{' ...' if len(weighed) > 4 else ''}"
+        if states_masses:
+            message = (
+                f"link(s) {links} have collision shapes and no <inertial>: massless, as URDF has it (MuJoCo's reader "
+                "would give them the mass of those shapes at water's density, 1000 kg/m^3: the ANYmal C's base "
+                "link, 29.4 kg on a 52.1 kg robot). Give each an <inertial> to state its mass."
+            )
+        else:  # a file stating no mass at all (a kinematic one): massless links would weigh 1 g each
+            message = (
+                f"the file states no <inertial>: link(s) {links} get the mass and inertia of their collision shapes "
+                "at water's density (1000 kg/m^3, MuJoCo's reader's rule). Give each an <inertial> to state its mass."
+            )
+        warnings.warn(f"{str(file)!r}: {message}", RuntimeWarning, stacklevel=4)
+
+
+def _massless_inertial() -> ET.Element:
+    """A URDF ``<inertial>`` of no mass and no inertia (a link that only carries shapes)."""
+    inertial = ET.Element("inertial")
+    ET.SubElement(inertial, "mass", value="0")
+    ET.SubElement(inertial, "inertia", dict.fromkeys(_INERTIA_TERMS, "0"))
+    return inertial
 
 
 def _zero_size(shape: ET.Element) -> bool:
@@ -294,6 +404,8 @@ def _zero_size(shape: ET.Element) -> bool:
         return any(v <= 0 for v in numbers("radius"))
     if shape.tag == "cylinder":
         return any(v <= 0 for v in numbers("radius") + numbers("length"))
+    if shape.tag == "mesh":  # a negative scale mirrors the mesh; a zero one flattens it
+        return any(v == 0 for v in numbers("scale"))
     return False
 
 
@@ -304,6 +416,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     links = [link.get("name", "") for link in root.findall("link")]
     if not links:
         raise ModelError(f"load_model_spec: the URDF {str(file)!r} has no <link>; expected at least one.")
+    _check_unique_names(file, root, source_lines)
     children = {child.get("link", "") for child in root.findall("joint/child")}
     roots = [name for name in links if name not in children]
     for joint in root.findall("joint"):
@@ -317,10 +430,10 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
             end_element = joint.find(end)
             link_name = end_element.get("link", "") if end_element is not None else ""
             if link_name not in links:
-                line = _line_of(text, rf'<joint\s+name\s*=\s*"{re.escape(name)}"')
+                line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']')
                 raise ModelError(
                     f"load_model_spec: joint {name!r} in {str(file)!r} (line {line}) names {end} link {link_name!r}, "
-                    f"which is not in the file; links: {links}."
+                    f"which is not in the file;{_did_you_mean(link_name, links)} links: {links}."
                 )
         parent = joint.find("parent")
         if jtype == "floating" and parent is not None and parent.get("link") not in roots:
@@ -329,6 +442,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
                 "MuJoCo supports a free joint only on the root link (set fix_root_link=False instead)."
             )
     _check_links(file, root, text)
+    _drop_fixed_mimics(file, root, source_lines)
     dropped: list[str] = []
     for link in root.findall("link"):
         for kind in ("visual", "collision"):
@@ -367,8 +481,63 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
         message = _in_source_lines(str(err), serialized, root, source_lines, text)
         raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {message}") from None
     spec.modelfiledir = str(file.parent)
-    _add_mimic_equalities(spec, root)
+    _add_mimic_equalities(spec, root, file, source_lines)
     return spec
+
+
+def _check_unique_names(file: Path, root: ET.Element, source_lines: dict[ET.Element, int]) -> None:
+    """Raise :class:`ModelError` naming the first link or joint name the URDF gives twice
+    and the lines of both (MuJoCo's URDF reader takes it and fails later with a bare
+    "repeated name")."""
+    for tag, users in (("link", "joints"), ("joint", "mimics")):
+        seen: dict[str, ET.Element] = {}
+        for element in root.findall(tag):
+            name = element.get("name", "")
+            if name not in seen:
+                seen[name] = element
+                continue
+            lines = [source_lines.get(e, 0) for e in (seen[name], element)]
+            where = f" (lines {lines[0]} and {lines[1]})" if all(lines) else ""
+            raise ModelError(
+                f"load_model_spec: the URDF {str(file)!r} has two {tag}s named {name!r}{where}; expected each "
+                f"{tag} to have its own name: rename one (and the {users} that refer to it)."
+            )
+
+
+def _drop_fixed_mimics(file: Path, root: ET.Element, source_lines: dict[ET.Element, int]) -> None:
+    """Drop the ``<mimic>`` of a fixed joint, with a note (it cannot move: a reduced model
+    that froze a gripper's joints keeps their mimics, example-robot-data's Talos files,
+    and MuJoCo's reader coupled a joint it does not make: "unknown element ... in
+    equality constraint"); a mimic of a fixed joint is an error naming its line."""
+    kinds = {joint.get("name", ""): joint.get("type", "") for joint in root.findall("joint")}
+    dropped = []
+    for joint in root.findall("joint"):
+        mimic = joint.find("mimic")
+        if mimic is None:
+            continue
+        line = source_lines.get(mimic, 0)
+        if kinds.get(mimic.get("joint", "")) == "fixed" and joint.get("type") != "fixed":
+            raise ModelError(
+                f"load_model_spec: joint {joint.get('name', '')!r} in {str(file)!r}{f' (line {line})' if line else ''} "
+                f"mimics joint {mimic.get('joint', '')!r}, which is fixed and does not move; expected a moving joint "
+                "to follow: remove the <mimic>, or make the follower fixed too."
+            )
+        if joint.get("type") == "fixed":
+            joint.remove(mimic)
+            dropped.append(f"{joint.get('name', '')!r}{f' (line {line})' if line else ''}")
+    if dropped:
+        warnings.warn(
+            f"{str(file)!r}: dropped the <mimic> of {len(dropped)} fixed joint(s) ({', '.join(dropped[:4])}"
+            f"{' ...' if len(dropped) > 4 else ''}): a fixed joint does not move.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+
+
+def _did_you_mean(given: str, names: list[str]) -> str:
+    """`` did you mean 'a', 'b'?`` for the names closest to ``given``; empty when none is close."""
+    close = close_names(given, names)
+    return f" did you mean {', '.join(repr(n) for n in close)}?" if close else ""
 
 
 def _element_lines(file: Path, root: ET.Element) -> dict[ET.Element, int]:
@@ -413,19 +582,24 @@ def _in_source_lines(
     return mapped
 
 
-def _add_mimic_equalities(spec: mujoco.MjSpec, root: ET.Element) -> None:
+def _add_mimic_equalities(
+    spec: mujoco.MjSpec, root: ET.Element, file: Path, source_lines: dict[ET.Element, int]
+) -> None:
     """Couple URDF ``<mimic>`` joints with joint equalities
     (``follower = multiplier * leader + offset``) where MuJoCo's URDF parser did not
-    (4.0.0's parser does; 3.3.7's drops the tag)."""
+    (4.0.0's parser does; 3.3.7's drops the tag). A mimic naming a joint the file does
+    not have is an error naming ``file`` and the mimic's line (``source_lines``)."""
     existing = {(eq.name1, eq.name2) for eq in spec.equalities if eq.type == mujoco.mjtEq.mjEQ_JOINT}
     names = [j.get("name", "") for j in root.findall("joint")]
     for joint in root.findall("joint"):
         mimic = joint.find("mimic")
         follower = joint.get("name", "")
         if mimic is not None and mimic.get("joint", "") not in names:
+            line = source_lines.get(mimic, 0)
             raise ModelError(
-                f"load_model_spec: joint {follower!r} mimics joint {mimic.get('joint', '')!r}, which is not in the "
-                f"URDF; joints: {names}."
+                f"load_model_spec: joint {follower!r} in {str(file)!r}{f' (line {line})' if line else ''} mimics joint "
+                f"{mimic.get('joint', '')!r}, which is not in the URDF;{_did_you_mean(mimic.get('joint', ''), names)} "
+                f"joints: {names}."
             )
         if mimic is None or (follower, mimic.get("joint", "")) in existing:
             continue

@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from robot_agents.errors import ModelError
 
@@ -95,10 +97,29 @@ def readable_mesh(path: Path) -> Path:
         ) from None
     except Exception as err:  # trimesh raises many kinds for unreadable files
         raise ModelError(f"mesh {str(path)!r} could not be read for conversion: {err}") from None
+    if len(getattr(mesh, "faces", ())) == 0 and suffix == ".dae":
+        mesh = _collada_without_materials(path, mesh)
     if len(getattr(mesh, "faces", ())) == 0:
         raise ModelError(f"mesh {str(path)!r} has no triangles to convert.")
     write_cache_file(target, lambda partial: mesh.export(str(partial), file_type="obj"))
     return target
+
+
+def _collada_without_materials(path: Path, mesh: Any) -> Any:
+    """``path``'s COLLADA shapes read again without their material bindings: pycollada
+    drops a shape whose material refers to a missing texture surface (example-robot-data's
+    ANYmal B feet, ``anymal_foot.dae``: 4604 triangles read as none), and a converted
+    mesh keeps no materials. ``mesh``: the first reading, returned when this fails too."""
+    import io
+
+    import trimesh
+
+    text = path.read_text(encoding="utf-8", errors="replace")
+    stripped = re.sub(r"<bind_material\b.*?</bind_material>", "", text, flags=re.S)
+    try:
+        return trimesh.load(io.BytesIO(stripped.encode("utf-8")), file_type="dae", force="mesh")
+    except Exception:  # trimesh raises many kinds for unreadable files
+        return mesh
 
 
 def write_cache_file(target: Path, write: Callable[[Path], object], suffix: str = ".tmp") -> None:

@@ -33,6 +33,11 @@ def root_body(spec: mujoco.MjSpec, where: str) -> mujoco.MjsBody:
     while body is not None:
         tops.append(body)
         body = spec.worldbody.next_body(body)
+    if not tops:
+        raise ModelError(
+            f"{where}: expected the robot model to have a body, got none: its <worldbody> holds no <body> (a file "
+            "of assets or defaults for others to include is no robot)."
+        )
     if len(tops) != 1:
         raise ModelError(
             f"{where}: expected the robot model to have exactly one top-level body, got {len(tops)}: "
@@ -103,9 +108,11 @@ def isolate_robot(spec: mujoco.MjSpec, chosen: str | None, where: str) -> list[s
     held = _mocap_held_joints(spec, keep, [b for b in dropped if b.mocap])
     report = drop_with_dependents(spec, dropped, world_geoms)
     extra = report.sentence()
+    how = "the root_body chosen" if chosen is not None else "the robot"
+    hint = "" if chosen is not None else " (set root_body on the robot class to choose another)"
     warnings.warn(
-        f"{where}: kept top-level body {kept!r} as the robot and dropped {dropped_names} "
-        f"(set root_body on the robot class to choose another){'; ' + extra if extra else ''}.",
+        f"{where}: kept top-level body {kept!r} as {how} and dropped {dropped_names}{hint}"
+        f"{'; ' + extra if extra else ''}.",
         RuntimeWarning,
         stacklevel=3,
     )
@@ -151,8 +158,10 @@ def _check_names(where: str, kind: str, wanted: Iterable[str], available: Sequen
             raise UnknownNameError(where, kind, name, available)
 
 
-def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None:
-    """Add a free joint to the root body, or remove one, as ``fix_root_link`` says."""
+def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str, declared: bool = True) -> None:
+    """Add a free joint to the root body, or remove one, as ``fix_root_link`` says;
+    ``declared``: the robot states ``fix_root_link`` (a file's free root removed by the
+    default, ``True``, gets a note: a two-line humanoid or quadruped hung fixed in the air)."""
     root = root_body(spec, where)
     free = [j for j in root.joints if j.type == mujoco.mjtJoint.mjJNT_FREE]
     if fix_root_link:
@@ -160,6 +169,14 @@ def set_root_joint(spec: mujoco.MjSpec, fix_root_link: bool, where: str) -> None
             spec.delete(joint)
         if free:
             _shift_keys(spec, drop=True)
+        if free and not declared:
+            warnings.warn(
+                f"{where}: the file gives root body {root.name!r} a free joint; the robot is fixed to the world "
+                "(fix_root_link defaults to True): set fix_root_link = False (robot-agents --floating) to keep it "
+                "free, or fix_root_link = True to silence this.",
+                RuntimeWarning,
+                stacklevel=3,
+            )
     elif not free:
         moving = [j.name for j in root.joints]
         if moving:

@@ -4,6 +4,7 @@ a note, and what cannot be fixed names the element, the file, the line and the f
 
 from __future__ import annotations
 
+import math
 import re
 import sys
 import warnings
@@ -558,6 +559,17 @@ def test_a_zero_joint_axis_names_the_joint_and_line(tmp_path: Path) -> None:
     )
     with pytest.raises(ra.ModelError, match=r"joint 'j' in .*axis\.urdf' \(line 4\) has axis \[0\.0, 0\.0, 0\.0\]"):
         robot_from_file(path).check()
+
+
+def test_an_mjcf_joint_range_given_upside_down_is_an_error(tmp_path: Path) -> None:
+    # MuJoCo's autolimits read range="1 0" as no limit at all, without a word
+    path = tmp_path / "swapped.xml"
+    body = '<body name="arm"><joint name="elbow" range="{}"/><geom size="0.05" mass="1"/></body>'
+    path.write_text(f"<mujoco>\n<worldbody>\n{body.format('1 0')}\n</worldbody>\n</mujoco>")
+    with pytest.raises(ra.ModelError, match=r"joint 'elbow' in .*swapped\.xml' \(line 3\) has range \[1\.0, 0\.0\]"):
+        robot_from_file(path).check()
+    path.write_text(f"<mujoco>\n<worldbody>\n{body.format('0 1')}\n</worldbody>\n</mujoco>")
+    assert robot_from_file(path).check().index.joints[0].range == pytest.approx((0.0, math.radians(1.0)))  # degrees
 
 
 def test_a_file_without_a_body_says_so(tmp_path: Path) -> None:

@@ -92,6 +92,18 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
                 f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has axis "
                 f"{np.asarray(joint.axis).tolist()}; expected a direction (a nonzero axis)."
             )
+    if not urdf and spec.compiler.autolimits:  # URDF: lower > upper is pybullet's "no limit"
+        for joint in spec.joints:
+            low, high = (float(v) for v in joint.range)
+            if joint.limited == mujoco.mjtLimited.mjLIMITED_AUTO and low > high:
+                # MuJoCo's autolimits reads such a range as no limit, without a word
+                text = file.read_text(errors="replace") if file.is_file() else ""
+                line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(joint.name)}["\']')
+                raise ModelError(
+                    f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has "
+                    f"range {[low, high]}; expected lower <= upper (MuJoCo would leave the joint unlimited; swap "
+                    "the values, or drop the range for an unlimited joint)."
+                )
     for kind, tag, pairs in checks:
         for element, field in pairs:
             values = np.atleast_1d(np.asarray(getattr(element, field), dtype=np.float64))
@@ -122,7 +134,9 @@ def _bake_total_mass(spec: mujoco.MjSpec) -> None:
     copy = spec.copy()
     copy.compiler.fusestatic = False  # one compiled body per body of the spec, in its order
     try:
-        model = copy.compile()
+        with warnings.catch_warnings():  # MuJoCo's deprecation of the setting: it is cleared below
+            warnings.filterwarnings("ignore", message="compiler attribute 'settotalmass' is deprecated")
+            model = copy.compile()
     except ValueError:
         return
     for number, body in enumerate(spec.bodies[1:], start=1):

@@ -271,6 +271,21 @@ def test_velocity_targets_are_met_on_joints_with_their_own_damping(tmp_path: obj
     run(scene, agent, [0.5, 0.0], 10)  # 0.5 rad/s
     np.testing.assert_allclose(agent.qvel[0, 0], 0.5, rtol=0.01)
     scene.close()
+    # a plain PD loop (damping_feedforward=False, Unitree's motors) settles where the real
+    # one does against that damping: kv / (kv + b) = 2/3 of the target
+    plain = ra.PDActuator(
+        joints=("shoulder", "elbow"), stiffness=200.0, damping=20.0, effort_limit=50.0, damping_feedforward=False
+    )
+    scene = ra.Scene(
+        make_pendulum_class(path, uid="test_plain_pd_pendulum", actuators=(plain,)), control_modes="pd_joint_vel"
+    )
+    scene.reset(keyframes="down")
+    agent = scene.agents[0]
+    run(scene, agent, [0.5, 0.0], 10)
+    np.testing.assert_allclose(agent.qvel[0, 0], 0.5 * 20 / 30, rtol=0.01)
+    scene.close()
+    with pytest.raises(ra.ConfigError, match=r"PDActuator.damping_feedforward: expected True or False, got 1"):
+        ra.PDActuator(joints="shoulder", stiffness=1.0, damping_feedforward=1)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(("joint", "speed"), [("joint_wrist_roll", 0.3), ("joint_arm_l0", 0.05)])

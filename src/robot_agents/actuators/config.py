@@ -64,6 +64,14 @@ class ActuatorConfig:
         velocity_limit: the motor's rated speed (rad/s or m/s); bounds velocity modes.
         armature: reflected rotor inertia added to each joint (kg*m^2 or kg).
         friction: dry friction of each joint (``frictionloss``, N*m or N).
+        damping_feedforward: feed each joint's own damping (the model's
+            ``dof_damping``) forward with velocity targets, so that a joint meets them
+            (``True``: a drive whose servo loop tracks speed, as Dynamixel-style servos
+            with integral action do, and as ManiSkill's drives, which leave URDF joint
+            damping out); ``False``: the plain PD loop of a drive that closes
+            ``kp (q* - q) + kd (qd* - qd) + tau*`` and nothing more (Unitree's low-level
+            motor command): its joint settles at ``kv / (kv + b)`` of a velocity target,
+            as the real one does against its joint's damping.
     """
 
     joints: Patterns
@@ -71,12 +79,15 @@ class ActuatorConfig:
     velocity_limit: PerJoint | None = None
     armature: PerJoint | None = None
     friction: PerJoint | None = None
+    damping_feedforward: bool = True
 
     def __post_init__(self) -> None:
         owner = type(self).__name__
         object.__setattr__(self, "joints", as_patterns(self.joints, f"{owner}.joints"))
         for name in ("effort_limit", "velocity_limit", "armature", "friction", "stiffness", "damping"):
             _check_per_joint(owner, name, getattr(self, name, None))
+        if not isinstance(self.damping_feedforward, bool):
+            raise ConfigError(f"{owner}.damping_feedforward: expected True or False, got {self.damping_feedforward!r}.")
         for name in ("effort_limit", "velocity_limit"):
             value = getattr(self, name)
             if value is not None and np.any(np.asarray(value, dtype=np.float64) <= 0.0):

@@ -134,6 +134,8 @@ class Drives:
         self.passive_damping = np.array(model.dof_damping[self.dof_adr], dtype=np.float64)
         for _, follower_dof, column, _, slope in linear_followers(model, self.dof_adr):
             self.passive_damping[column] += slope**2 * float(model.dof_damping[follower_dof])
+        # a plain PD loop (damping_feedforward=False) does not compensate it
+        self.passive_damping *= np.array([d.damping_feedforward for d in declarations], dtype=np.float64)
         self._declared_biastype = model.actuator_biastype[self.actuator_ids].copy()
         self._declared_forcelimited = model.actuator_forcelimited[self.actuator_ids].copy()
         self._declared_forcerange = model.actuator_forcerange[self.actuator_ids].copy()

@@ -69,6 +69,9 @@ class DriveDeclaration:
     #: The drive stands in for a model file's torque motor (see :func:`apply_actuators`):
     #: ``joint_effort`` commands the motor's torques through it.
     replaces_motor: bool = False
+    #: The joint's own damping is fed forward with velocity targets
+    #: (:attr:`ActuatorConfig.damping_feedforward`).
+    damping_feedforward: bool = True
 
 
 def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:
@@ -371,22 +374,31 @@ def _add_declared(
     limits = per_joint(owner, "effort_limit", decl.effort_limit, n, np.inf)
     speeds = per_joint(owner, "velocity_limit", decl.velocity_limit, n, np.inf)
     result = []
+    feedforward = decl.damping_feedforward
     for k, joint in enumerate(matched):
         limit, speed = float(limits[k]), float(speeds[k])
         if isinstance(decl, PDActuator):
             kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, kp, kv, limit)
-            result.append(DriveDeclaration(joint, DriveKind.AFFINE, owner, kp, kv, limit, speed))
+            result.append(
+                DriveDeclaration(joint, DriveKind.AFFINE, owner, kp, kv, limit, speed, damping_feedforward=feedforward)
+            )
         elif isinstance(decl, VelocityActuator):
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, 0.0, kv, limit)
-            result.append(DriveDeclaration(joint, DriveKind.AFFINE, owner, 0.0, kv, limit, speed))
+            result.append(
+                DriveDeclaration(joint, DriveKind.AFFINE, owner, 0.0, kv, limit, speed, damping_feedforward=feedforward)
+            )
         elif isinstance(decl, MotorActuator):
             kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, 0.0, 0.0, limit)
-            result.append(DriveDeclaration(joint, DriveKind.EXPLICIT, owner, kp, kv, limit, speed))
+            result.append(
+                DriveDeclaration(
+                    joint, DriveKind.EXPLICIT, owner, kp, kv, limit, speed, damping_feedforward=feedforward
+                )
+            )
         elif isinstance(decl, (PIDActuator, DCMotorActuator)):
             actuator = spec.add_actuator(
                 name=_actuator_name(joint, taken), target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT
@@ -395,7 +407,11 @@ def _add_declared(
             if np.isfinite(limit):
                 actuator.forcelimited = 1
                 actuator.forcerange = [-limit, limit]
-            result.append(DriveDeclaration(joint, kind, owner, decl.stiffness, decl.damping, limit, speed))
+            result.append(
+                DriveDeclaration(
+                    joint, kind, owner, decl.stiffness, decl.damping, limit, speed, damping_feedforward=feedforward
+                )
+            )
         else:
             raise ConfigError(f"{owner}: unknown actuator declaration type {type(decl).__name__}.")
     return result

@@ -89,6 +89,13 @@ MAX_DELTA = 0.7
 #: 0.013-0.019 kg*m^2); PhysX integrates its drives implicitly, limits included.
 UNITREE_KP = 60.0
 UNITREE_KD = 5.0
+#: The real motors close ``tau = kp (q* - q) + kd (dq* - dq) + tau_ff`` (unitree_sdk2's
+#: low-level command, the fields ``kp``, ``kd``, ``q``, ``dq``, ``tau`` of ``MotorCmd``)
+#: and nothing more, so the joints' own damping (2 N*m*s/rad in the MJCF) is not fed
+#: forward: a velocity target is met at kd / (kd + b) = 5/7 of it, as on the robot.
+#: (Fed forward, random velocity targets also pushed a calf 0.25-0.31 rad past its limit
+#: at 320-400 Hz, against 0.19-0.21: the time-step sweep of 2026-11-29, docs/timestep.md.)
+UNITREE_DAMPING_FEEDFORWARD = False
 #: Hip and thigh drives, and the knees' (stronger): Unitree's gains, Menagerie's efforts.
 GO2_HIP_THIGH_DRIVES = PDActuator(
     joints=ACTION_PATTERNS[:2],
@@ -98,6 +105,7 @@ GO2_HIP_THIGH_DRIVES = PDActuator(
     velocity_limit=30.1,
     armature=0.01,
     friction=0.2,
+    damping_feedforward=UNITREE_DAMPING_FEEDFORWARD,
 )
 GO2_KNEE_DRIVES = PDActuator(
     joints=ACTION_PATTERNS[2],
@@ -107,6 +115,7 @@ GO2_KNEE_DRIVES = PDActuator(
     velocity_limit=20.07,
     armature=0.01,
     friction=0.2,
+    damping_feedforward=UNITREE_DAMPING_FEEDFORWARD,
 )
 GO2_LEGS = Legs(name="legs", joints=ACTION_PATTERNS, max_delta=MAX_DELTA)
 

@@ -376,6 +376,19 @@ def test_reach_pose_success_by_hand() -> None:
         np.testing.assert_allclose(info["rotation_error"][3], 0.15, atol=1e-9)
 
 
+def test_reach_goals_are_not_met_at_the_start() -> None:
+    """A ReachPose goal is drawn again while it lies within two success thresholds of the
+    tool at the reset (PickCube's rule for its goal and cube): on the SO-100, 2 of 500
+    envs (seed 0) started already succeeded, a free success at the first step."""
+    env = ra.make_env("ReachPose-v1", robot_uids="so100", num_envs=500).unwrapped
+    env.reset(seed=0)
+    start = env.agent.tcp_pose[:, :3]
+    distance = np.linalg.norm(env.goal_pose[:, :3] - start, axis=1)
+    assert distance.min() > 2.0 * env.position_threshold
+    assert not env.evaluate()["success"].any()
+    env.close()
+
+
 # -- rewards ------------------------------------------------------------------------------------
 @pytest.mark.parametrize("task", TASKS)
 def test_rewards_finite_and_bounded_in_every_mode(task: str) -> None:

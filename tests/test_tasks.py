@@ -318,6 +318,19 @@ def test_a_prop_drawn_only_inside_the_robot_raises() -> None:
     assert abs(clear[2] - env.layout.table_height - env.layout.cube_half_size) < 1e-12
 
 
+def test_a_goal_region_too_small_for_the_threshold_raises_instead_of_hanging() -> None:
+    """PickCube draws its goal again while it lies within two success thresholds of the
+    cube: where no goal of the region can lie that far (a gripper opening large for the
+    reach makes a large cube and threshold), the reset raises after 100 draws; before,
+    it drew forever."""
+    env = ra.make_env("PickCube-v1", robot_uids="panda").unwrapped
+    env.reset(seed=0)
+    env.goal_threshold = env.layout.reach  # no goal of the region lies 2 R from the cube
+    with pytest.raises(ra.ConfigError, match=r"100 goals drawn in env 0 all lie within"):
+        env.reset(seed=0)
+    env.close()
+
+
 # -- success ------------------------------------------------------------------------------------
 def test_pick_cube_success_by_hand() -> None:
     env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=3, robot_init_qpos_noise=0.0).unwrapped

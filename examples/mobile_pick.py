@@ -262,6 +262,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--video", help="save the episode as a video (.mp4 or .gif)")
     args = parser.parse_args(argv)
+    if args.seed < 0:
+        parser.error(f"expected --seed >= 0, got {args.seed}")
     result = pick(args.robot, args.seed, args.video)
     print(
         f"{result.robot} seed {result.seed}: {'success' if result.success else 'FAILED'}; "

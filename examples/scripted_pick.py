@@ -859,6 +859,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--video", help="record one episode (one task, one robot, --seed) to this .gif / .mp4")
     parser.add_argument("--seed", type=int, default=0, help="with --video: the episode's seed")
     args = parser.parse_args(argv)
+    if args.seeds < 1 or args.seed < 0:
+        parser.error(f"expected --seeds >= 1 and --seed >= 0, got --seeds {args.seeds} and --seed {args.seed}")
     if args.video:
         if len(args.task or ()) != 1 or len(args.robots or ()) != 1:
             parser.error("--video records one episode: give one --task and one robot in --robots")

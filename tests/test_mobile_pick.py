@@ -116,6 +116,9 @@ def test_command_line(capsys: pytest.CaptureFixture[str]) -> None:
     assert example.main(["--robot", "spot", "--seed", "0"]) == 0
     line = capsys.readouterr().out.strip()
     assert line.startswith("spot seed 0: success; drove ")
+    with pytest.raises(SystemExit) as exit_info:  # before: a traceback from the env's reset
+        example.main(["--robot", "spot", "--seed", "-1"])
+    assert exit_info.value.code == 2 and "--seed" in capsys.readouterr().err
 
 
 def test_held_legs_start_at_their_keyframe() -> None:

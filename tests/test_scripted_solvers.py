@@ -165,6 +165,19 @@ def test_video_wants_one_task_and_one_robot() -> None:
     assert exit_info.value.code == 2
 
 
+def test_seeds_below_one_are_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--seeds 0`` is refused by the command line (before, a traceback from the world:
+    ``BatchedWorld: expected num_envs ... got 0``), and so is a negative ``--seed``."""
+    for argv in (
+        ["--task", "PushCube-v1", "--robots", "panda", "--seeds", "0"],
+        ["--task", "PickCube-v1", "--robots", "so100", "--seed", "-1", "--video", "x.gif"],
+    ):
+        with pytest.raises(SystemExit) as exit_info:
+            solver.main(argv)
+        assert exit_info.value.code == 2
+    assert "--seed" in capsys.readouterr().err
+
+
 def test_the_ramp_takes_the_nearest_turn_of_a_full_turn_joint() -> None:
     """The UR10e's joints span +-2 pi (its elbow +-pi): an IK solution a whole turn away
     on one of them is driven as the same angle near where the joint is; a joint that

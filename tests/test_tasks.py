@@ -318,6 +318,19 @@ def test_a_prop_drawn_only_inside_the_robot_raises() -> None:
     assert abs(clear[2] - env.layout.table_height - env.layout.cube_half_size) < 1e-12
 
 
+def test_a_goal_region_too_small_for_the_threshold_raises_instead_of_hanging() -> None:
+    """PickCube draws its goal again while it lies within two success thresholds of the
+    cube: where no goal of the region can lie that far (a gripper opening large for the
+    reach makes a large cube and threshold), the reset raises after 100 draws; before,
+    it drew forever."""
+    env = ra.make_env("PickCube-v1", robot_uids="panda").unwrapped
+    env.reset(seed=0)
+    env.goal_threshold = env.layout.reach  # no goal of the region lies 2 R from the cube
+    with pytest.raises(ra.ConfigError, match=r"100 goals drawn in env 0 all lie within"):
+        env.reset(seed=0)
+    env.close()
+
+
 # -- success ------------------------------------------------------------------------------------
 def test_pick_cube_success_by_hand() -> None:
     env = ra.make_env("PickCube-v1", robot_uids="panda", num_envs=3, robot_init_qpos_noise=0.0).unwrapped
@@ -374,6 +387,19 @@ def test_reach_pose_success_by_hand() -> None:
         info = env.evaluate()
         np.testing.assert_array_equal(info["success"], [True, True, False, not orientation])
         np.testing.assert_allclose(info["rotation_error"][3], 0.15, atol=1e-9)
+
+
+def test_reach_goals_are_not_met_at_the_start() -> None:
+    """A ReachPose goal is drawn again while it lies within two success thresholds of the
+    tool at the reset (PickCube's rule for its goal and cube): on the SO-100, 2 of 500
+    envs (seed 0) started already succeeded, a free success at the first step."""
+    env = ra.make_env("ReachPose-v1", robot_uids="so100", num_envs=500).unwrapped
+    env.reset(seed=0)
+    start = env.agent.tcp_pose[:, :3]
+    distance = np.linalg.norm(env.goal_pose[:, :3] - start, axis=1)
+    assert distance.min() > 2.0 * env.position_threshold
+    assert not env.evaluate()["success"].any()
+    env.close()
 
 
 # -- rewards ------------------------------------------------------------------------------------

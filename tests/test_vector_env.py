@@ -185,6 +185,25 @@ def test_partial_reset_with_a_mask_touches_only_those_envs() -> None:
         env.reset(options={"reset_mask": np.array([1, 0, 0, 0])})  # not bools
 
 
+def test_an_unknown_reset_option_names_the_vector_env_and_its_options() -> None:
+    """The vector env's reset takes ``reset_mask`` besides the env's ``env_ids`` and
+    ``keyframe``: a misspelt option is refused naming it and all three, nothing reset
+    (before, the batched env's message named ``PickCubeEnv.reset`` and left
+    ``reset_mask`` out)."""
+    env = make_vec(num_envs=2)
+    env.reset(seed=0)
+    env.step(np.zeros(env.action_space.shape))
+    before = env.get_state()
+    with pytest.raises(
+        ra.ConfigError, match=r"RobotVectorEnv\.reset.*'resetmask'.*'reset_mask', 'env_ids', 'keyframe'"
+    ):
+        env.reset(seed=1, options={"resetmask": np.array([True, False])})
+    after = env.get_state()
+    np.testing.assert_array_equal(after["physics"], before["physics"])
+    np.testing.assert_array_equal(after["elapsed_steps"], before["elapsed_steps"])
+    assert after["rng"] == before["rng"]
+
+
 def test_same_step_autoreset_returns_the_final_observation_in_info() -> None:
     env = make_vec(num_envs=2, autoreset_mode="same_step", max_episode_steps=2)
     assert env.metadata["autoreset_mode"] is AutoresetMode.SAME_STEP

@@ -58,7 +58,8 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     it does not take, or a ``render_mode`` it does not offer, raises
     :class:`UnknownNameError` before anything is built. ``max_episode_steps`` is
     the task's own limit (truncation per env, ``(num_envs,)``, at any batch size), not
-    Gymnasium's ``TimeLimit`` wrapper.
+    Gymnasium's ``TimeLimit`` wrapper (which ``gymnasium.make(..., max_episode_steps=N)``
+    adds: one ``truncated`` for the whole batch, the task's limit unchanged).
     """
     register_envs()
     if not isinstance(env_id, str):

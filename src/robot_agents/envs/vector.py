@@ -44,10 +44,12 @@ import numpy.typing as npt
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from robot_agents.envs.base_env import RobotEnv
-from robot_agents.errors import ConfigError, StateError
+from robot_agents.envs.base_env import RESET_OPTIONS, RobotEnv
+from robot_agents.errors import ConfigError, StateError, close_names
 
 BoolArray = npt.NDArray[np.bool_]
+#: The keys :meth:`RobotVectorEnv.reset` takes: Gymnasium's ``reset_mask`` and the env's own.
+VECTOR_RESET_OPTIONS = ("reset_mask", *RESET_OPTIONS)
 
 
 def single_space(space: gym.Space[Any]) -> gym.Space[Any]:
@@ -185,6 +187,17 @@ class RobotVectorEnv(VectorEnv):
                 f"got {options!r}."
             )
         options = dict(options or {})
+        unknown = sorted(str(key) for key in options if key not in VECTOR_RESET_OPTIONS)
+        if unknown:
+            hints = [
+                f"{name!r}: did you mean {close[0]!r}?"
+                for name in unknown
+                if (close := close_names(name, VECTOR_RESET_OPTIONS))
+            ]
+            raise ConfigError(
+                f"RobotVectorEnv.reset: unknown options {unknown}; expected "
+                f"{', '.join(map(repr, VECTOR_RESET_OPTIONS))}." + "".join(f" {hint}" for hint in hints)
+            )
         if "reset_mask" in options:
             mask = np.asarray(options.pop("reset_mask"))
             if mask.shape != (self.num_envs,) or mask.dtype != np.bool_ or not mask.any():

@@ -9,7 +9,8 @@ centre uniformly within ``0.1 R`` of the workspace centre on the table, turned
 uniformly about z, drawn again while it would touch the robot
 (:meth:`TableTopEnv.draw_cube_pose`); the goal's x, y uniform within ``0.1 R``, its
 height above the resting cube's centre uniform in ``[0, 0.2 R]`` (``GOAL_HEIGHT``),
-drawn again while it lies within twice the success threshold of the cube.
+drawn again while it lies within twice the success threshold of the cube (at most 100
+times, then :class:`ConfigError`: a goal region the threshold fills).
 
 Success: the cube's centre within ``1.25`` half-edges of the goal (2.5 cm for the
 Panda's 4 cm cube) and the arm still (every arm joint slower than 0.2 rad/s or m/s).
@@ -33,7 +34,7 @@ import numpy.typing as npt
 from robot_agents.agent import Agent
 from robot_agents.envs.markers import Marker, goal_sphere
 from robot_agents.envs.tasks.layout import FloatArray
-from robot_agents.envs.tasks.table_top import TableTopEnv, cube_prop
+from robot_agents.envs.tasks.table_top import SPAWN_DRAWS, TableTopEnv, cube_prop
 from robot_agents.errors import ConfigError
 from robot_agents.model.scene import Prop
 from robot_agents.parts.declaration import Arm, Gripper
@@ -85,10 +86,17 @@ class PickCubeEnv(TableTopEnv):
             rng = self.env_rng(int(env))
             poses[row] = self.draw_cube_pose(int(env))
             cube = poses[row, :3]
-            while True:
+            for _ in range(SPAWN_DRAWS):
                 goal = np.array([*rng.uniform(-s, s, 2), h + half + rng.uniform(0.0, GOAL_HEIGHT * layout.reach)])
                 if np.linalg.norm(goal - cube) > 2.0 * self.goal_threshold:
                     break
+            else:
+                raise ConfigError(
+                    f"{type(self).__name__}.reset: {SPAWN_DRAWS} goals drawn in env {env} all lie within "
+                    f"{2.0 * self.goal_threshold:.4f} m (twice the success threshold) of the cube at {cube.round(4)}; "
+                    f"expected a goal region (within {s:.4f} m of the workspace centre, up to "
+                    f"{GOAL_HEIGHT * layout.reach:.4f} m above the resting cube) larger than the threshold."
+                )
             self.goal_pos[env] = goal
         self.place_body("cube", poses, env_ids)
 

@@ -9,8 +9,9 @@ construction: position, and orientation when the arm has at least 6 joints (a
 Randomization (each env from its own stream): the arm's joints at the default
 keyframe plus uniform offsets (hinges up to 0.6 rad, slides up to ``0.25 R``),
 clipped to their limits; drawn again (up to 100 times, then the keyframe's own tool
-pose) while the arm would touch itself or the table there, or the tool would be
-lower than ``0.05 R`` above the table top.
+pose) while the arm would touch itself or the table there, the tool would be lower
+than ``0.05 R`` above the table top, or the goal position would lie within two success
+thresholds of the tool at the reset (it would start met).
 
 Success: the tool within ``0.02 R`` of the goal position (1.9 cm for the Panda, 1 cm
 for the SO-100) and, with orientation, within 0.1 rad of its orientation.
@@ -49,6 +50,9 @@ POSITION_THRESHOLD = 0.02
 ROTATION_THRESHOLD = 0.1
 #: Joints an arm needs for goals with an orientation.
 ORIENTATION_DOF = 6
+#: A goal is drawn again while its position lies within this many position thresholds
+#: of the tool at the reset (it would start met, or nearly).
+START_CLEARANCE = 2.0
 
 
 class ReachPoseEnv(TableTopEnv):
@@ -81,8 +85,9 @@ class ReachPoseEnv(TableTopEnv):
         """One reachable goal pose of env ``env`` (see the module doc)."""
         agent, layout = self.agent, self.layout
         base = np.array(self.scene.world.qpos[env], dtype=np.float64)
-        base[agent.qpos_adr] = rest
         tool = agent.frames.end_effector(None, "ReachPoseEnv")
+        start = agent.kinematics.pose(base, tool)[0, :3]  # the tool at the reset (m, world)
+        base[agent.qpos_adr] = rest
         for _ in range(MAX_DRAWS):
             qpos = base.copy()
             for joint in self._arm_joints:
@@ -97,7 +102,11 @@ class ReachPoseEnv(TableTopEnv):
                     value = min(max(value, joint.range[0]), joint.range[1])
                 qpos[joint.qpos_adr] = value
             pose: FloatArray = agent.kinematics.pose(qpos, tool)[0]
-            if pose[2] >= layout.table_height + 0.05 * layout.reach and not self._collides(qpos):
+            if (
+                pose[2] >= layout.table_height + 0.05 * layout.reach
+                and np.linalg.norm(pose[:3] - start) > START_CLEARANCE * self.position_threshold
+                and not self._collides(qpos)
+            ):
                 return pose
         fallback: FloatArray = agent.kinematics.pose(base, tool)[0]
         return fallback

@@ -365,6 +365,10 @@ def test_each_env_has_its_own_seeded_stream() -> None:
     assert not np.array_equal(after[1], rows[1])  # env 1 went on with its stream
     with pytest.raises(ra.ConfigError, match="one per env"):
         batch.reset(seed=[1, 2])
+    batch.reset(seed=np.array([11, 12, 13]))  # an integer array, as Gymnasium's SyncVectorEnv takes
+    np.testing.assert_array_equal(batch.unwrapped.agent.qpos, rows)
+    with pytest.raises(ra.ConfigError, match="one per env"):
+        batch.reset(seed=np.array([1.0, 2.0, 3.0]))
 
 
 def test_an_env_refuses_pickling_and_names_whose_action_was_bad() -> None:

@@ -17,7 +17,8 @@ from robot_agents.validation import check_array, is_whole
 
 def check_seeds(seed: Any, num_envs: int, where: str) -> list[int | None]:
     """The seed of each env (``None``: keep its stream) from a reset's ``seed``: an int
-    ``s >= 0`` seeds env ``i`` with ``s + i``; a list gives one per env."""
+    ``s >= 0`` seeds env ``i`` with ``s + i``; a list (or a 1-D integer array) gives one
+    per env."""
 
     def valid(value: Any) -> bool:
         return bool(is_whole(value) and value >= 0)
@@ -26,6 +27,8 @@ def check_seeds(seed: Any, num_envs: int, where: str) -> list[int | None]:
         return [None] * num_envs
     if valid(seed):
         return [int(seed) + i for i in range(num_envs)]
+    if isinstance(seed, np.ndarray) and seed.ndim == 1 and seed.dtype.kind in "iu":
+        seed = seed.tolist()  # Gymnasium's SyncVectorEnv takes an integer array too
     if (
         isinstance(seed, Sequence)
         and not isinstance(seed, str)

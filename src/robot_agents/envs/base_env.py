@@ -31,7 +31,6 @@ from robot_agents.errors import (
     PhysicsError,
     StateError,
     UnknownNameError,
-    close_names,
 )
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
@@ -366,17 +365,7 @@ class RobotEnv(gym.Env[Any, Any]):
         options = dict(options or {})
         env_ids = options.pop("env_ids", None)
         keyframe = options.pop("keyframe", None)
-        if options:
-            unknown = sorted(map(str, options))
-            hints = [
-                f"{name!r}: did you mean {close[0]!r}?"
-                for name in unknown
-                if (close := close_names(name, RESET_OPTIONS))
-            ]
-            raise ConfigError(
-                f"{where}: unknown options {unknown}; expected {', '.join(map(repr, RESET_OPTIONS))}."
-                + "".join(f" {hint}" for hint in hints)
-            )
+        episode_checks.check_reset_options(list(options), RESET_OPTIONS, where)
         ids = self.agent.state.env_ids(env_ids, where)
         self.scene.check_keyframes(keyframe, where)
         if isinstance(seed, (int, np.integer)):

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError, StateError
+from robot_agents.errors import ConfigError, StateError, close_names
 from robot_agents.validation import check_array, is_whole
 
 
@@ -39,6 +39,19 @@ def check_seeds(seed: Any, num_envs: int, where: str) -> list[int | None]:
     raise ConfigError(
         f"{where}: expected seed to be an int >= 0, None, or a list of {num_envs} ints >= 0 or None "
         f"(one per env), got {seed!r}."
+    )
+
+
+def check_reset_options(given: Sequence[str], accepted: Sequence[str], where: str) -> None:
+    """:class:`ConfigError` naming the reset options in ``given`` that are not in
+    ``accepted`` (with close-name hints); nothing when all are known."""
+    unknown = sorted(str(name) for name in given if name not in accepted)
+    if not unknown:
+        return
+    hints = [f"{name!r}: did you mean {close[0]!r}?" for name in unknown if (close := close_names(name, accepted))]
+    raise ConfigError(
+        f"{where}: unknown options {unknown}; expected {', '.join(map(repr, accepted))}."
+        + "".join(f" {hint}" for hint in hints)
     )
 
 

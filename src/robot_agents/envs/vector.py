@@ -45,7 +45,8 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from robot_agents.envs.base_env import RESET_OPTIONS, RobotEnv
-from robot_agents.errors import ConfigError, StateError, close_names
+from robot_agents.envs.episode_checks import check_reset_options
+from robot_agents.errors import ConfigError, StateError
 
 BoolArray = npt.NDArray[np.bool_]
 #: The keys :meth:`RobotVectorEnv.reset` takes: Gymnasium's ``reset_mask`` and the env's own.
@@ -187,17 +188,7 @@ class RobotVectorEnv(VectorEnv):
                 f"got {options!r}."
             )
         options = dict(options or {})
-        unknown = sorted(str(key) for key in options if key not in VECTOR_RESET_OPTIONS)
-        if unknown:
-            hints = [
-                f"{name!r}: did you mean {close[0]!r}?"
-                for name in unknown
-                if (close := close_names(name, VECTOR_RESET_OPTIONS))
-            ]
-            raise ConfigError(
-                f"RobotVectorEnv.reset: unknown options {unknown}; expected "
-                f"{', '.join(map(repr, VECTOR_RESET_OPTIONS))}." + "".join(f" {hint}" for hint in hints)
-            )
+        check_reset_options(list(options), VECTOR_RESET_OPTIONS, "RobotVectorEnv.reset")
         if "reset_mask" in options:
             mask = np.asarray(options.pop("reset_mask"))
             if mask.shape != (self.num_envs,) or mask.dtype != np.bool_ or not mask.any():

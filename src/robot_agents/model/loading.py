@@ -59,6 +59,7 @@ def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _
     compiler.apply(spec)
     name_unnamed(spec)
     _check_finite(spec, file)
+    _check_joint_ranges(spec, file)
     _bake_total_mass(spec)
     return spec
 
@@ -86,24 +87,10 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
     for joint in spec.joints:  # MuJoCo: "axis too small in joint", naming none
         moving = joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
         if moving and np.all(np.isfinite(joint.axis)) and not np.linalg.norm(joint.axis) > 1e-9:
-            text = file.read_text(errors="replace") if file.is_file() else ""
-            line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(joint.name)}["\']')
             raise ModelError(
-                f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has axis "
+                f"load_model_spec: {_joint_in_file(file, joint.name)} has axis "
                 f"{np.asarray(joint.axis).tolist()}; expected a direction (a nonzero axis)."
             )
-    if not urdf and spec.compiler.autolimits:  # URDF: lower > upper is pybullet's "no limit"
-        for joint in spec.joints:
-            low, high = (float(v) for v in joint.range)
-            if joint.limited == mujoco.mjtLimited.mjLIMITED_AUTO and low > high:
-                # MuJoCo's autolimits reads such a range as no limit, without a word
-                text = file.read_text(errors="replace") if file.is_file() else ""
-                line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(joint.name)}["\']')
-                raise ModelError(
-                    f"load_model_spec: joint {joint.name!r} in {str(file)!r}{f' (line {line})' if line else ''} has "
-                    f"range {[low, high]}; expected lower <= upper (MuJoCo would leave the joint unlimited; swap "
-                    "the values, or drop the range for an unlimited joint)."
-                )
     for kind, tag, pairs in checks:
         for element, field in pairs:
             values = np.atleast_1d(np.asarray(getattr(element, field), dtype=np.float64))
@@ -120,6 +107,29 @@ def _check_finite(spec: mujoco.MjSpec, file: Path) -> None:
                 f"{values.tolist()}; expected finite numbers (a NaN or inf in the file: an unexpanded or failed "
                 "expression?)."
             )
+
+
+def _check_joint_ranges(spec: mujoco.MjSpec, file: Path) -> None:
+    """Raise :class:`ModelError` for an MJCF joint whose ``range`` is upside down under
+    autolimits (``range="1 0"``): MuJoCo reads it as no limit, without a word. A URDF's
+    ``lower > upper`` stays pybullet's "no limit"."""
+    if file.suffix.lower() == ".urdf" or not spec.compiler.autolimits:
+        return
+    for joint in spec.joints:
+        low, high = (float(v) for v in joint.range)
+        if joint.limited == mujoco.mjtLimited.mjLIMITED_AUTO and low > high:
+            raise ModelError(
+                f"load_model_spec: {_joint_in_file(file, joint.name)} has range {[low, high]}; expected lower <= "
+                "upper (MuJoCo would leave the joint unlimited; swap the values, or drop the range for an "
+                "unlimited joint)."
+            )
+
+
+def _joint_in_file(file: Path, name: str) -> str:
+    """``joint 'name' in 'file' (line N)`` for messages (no line when it is not found)."""
+    text = file.read_text(errors="replace") if file.is_file() else ""
+    line = _line_of(text, rf'<joint\b[^>]*\bname\s*=\s*["\']{re.escape(name)}["\']')
+    return f"joint {name!r} in {str(file)!r}{f' (line {line})' if line else ''}"
 
 
 def _bake_total_mass(spec: mujoco.MjSpec) -> None:

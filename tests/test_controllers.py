@@ -304,3 +304,96 @@ def test_stretch_velocity_mode_reaches_the_commanded_speed(joint: str, speed: fl
     run(scene, agent, action, 20)  # 1 s
     np.testing.assert_allclose(agent.qvel[0, arm.binding.dof_adr[index]], speed, rtol=0.02)
     scene.close()
+
+
+# A turntable on a continuous (unlimited) hinge, with a limited tilt joint on it.
+SPINNER_MJCF = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+      <body name="rotor" pos="0 0 0.1">
+        <joint name="spin" axis="0 0 1" damping="0.01"/>
+        <geom type="box" size="0.1 0.02 0.02" mass="0.2"/>
+        <body name="arm" pos="0.1 0 0">
+          <joint name="tilt" axis="0 1 0" range="-1 1"/>
+          <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01" mass="0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <position name="spin_drive" joint="spin" kp="5" kv="0.5"/>
+    <position name="tilt_drive" joint="tilt" kp="5" kv="0.2" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def spun_spinner(tmp_path: object) -> tuple[ra.Scene, ra.Agent]:
+    """The two-line spinner robot, its hinge turned to 7.5 rad (past one turn) at 1 rad/s
+    in ``pd_joint_vel`` and stopped there."""
+    from pathlib import Path
+
+    from robot_agents.robot_source import robot_from_file
+
+    path = Path(str(tmp_path)) / "spinner.xml"
+    path.write_text(SPINNER_MJCF)
+    scene = ra.Scene(robot_from_file(path), control_modes="pd_joint_vel")
+    scene.reset()
+    agent = scene.agents[0]
+    velocity = agent.controller.parts["main"]
+    run(scene, agent, velocity.from_raw(np.array([1.0, 0.0])), 150)  # 7.5 s at 20 Hz
+    run(scene, agent, velocity.from_raw(np.zeros(2)), 40)
+    assert agent.qpos[0, 0] == pytest.approx(7.5, abs=1e-3)
+    return scene, agent
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_pos", "pd_joint_pos_vel"])
+def test_an_unlimited_hinge_holds_past_a_turn_and_takes_absolute_targets_the_short_way(
+    tmp_path: object, mode: str
+) -> None:
+    """A continuous hinge at 7.5 rad (after turning in velocity mode): the absolute mode's
+    hold keeps it there (clipped to the +-2 pi action bound it swung back 1.22 rad to
+    2 pi), and a target of pi - 0.1 is taken modulo 2 pi to 3 pi - 0.1, the angle nearest
+    the measured one (it went down 4.4 rad to pi - 0.1 instead of up 1.8 rad). The
+    limited tilt joint takes its targets as given, bit for bit."""
+    from robot_agents.checks import hold_action
+
+    scene, agent = spun_spinner(tmp_path)
+    agent.set_control_mode(mode)
+    controller = agent.controller.parts["main"]
+    np.testing.assert_allclose(controller.raw_low[:2], [-2 * np.pi, -1.0])  # bounds unchanged
+    start = agent.qpos[0].copy()
+    hold = hold_action(agent)
+    assert -2 * np.pi <= controller.to_raw(hold[None])[0, 0] <= 2 * np.pi
+    run(scene, agent, hold, 20)
+    np.testing.assert_allclose(agent.qpos[0], start, atol=1e-6)
+    np.testing.assert_allclose(controller.get_state()["target_qpos"][0, 0], start[0], rtol=0, atol=1e-12)
+
+    action = controller.from_raw(np.array([np.pi - 0.1, 0.3] + [0.0, 0.0] * (mode == "pd_joint_pos_vel")))
+    path = []
+    for _ in range(40):
+        agent.set_action(action)
+        scene.step()
+        path.append(agent.qpos[0, 0])
+    target = controller.get_state()["target_qpos"][0]
+    assert target[0] == pytest.approx(3 * np.pi - 0.1, abs=1e-12)
+    assert target[1] == controller.to_raw(action[None])[0, 1]  # the limited joint: as given
+    assert np.all(np.diff(path) > -1e-3)  # up the short way, never back down
+    np.testing.assert_allclose(agent.qpos[0, :2], [3 * np.pi - 0.1, 0.3], atol=5e-3)
+    scene.close()
+
+
+def test_delta_from_target_turns_an_unlimited_hinge_past_a_turn(tmp_path: object) -> None:
+    """Delta-from-target adds to the current target with no bound on a continuous hinge
+    (no clip at +-2 pi, no wrap): ten steps of +0.1 rad from 7.5 rad reach 8.5 rad."""
+    scene, agent = spun_spinner(tmp_path)
+    agent.set_control_mode("pd_joint_target_delta_pos")
+    controller = agent.controller.parts["main"]
+    start = controller.get_state()["target_qpos"][0, 0]
+    run(scene, agent, controller.from_raw(np.array([0.1, 0.0])), 10)
+    assert controller.get_state()["target_qpos"][0, 0] == pytest.approx(start + 1.0, abs=1e-12)
+    run(scene, agent, controller.from_raw(np.zeros(2)), 40)
+    assert agent.qpos[0, 0] == pytest.approx(start + 1.0, abs=5e-3)
+    scene.close()

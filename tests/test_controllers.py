@@ -397,3 +397,85 @@ def test_delta_from_target_turns_an_unlimited_hinge_past_a_turn(tmp_path: object
     run(scene, agent, controller.from_raw(np.zeros(2)), 40)
     assert agent.qpos[0, 0] == pytest.approx(start + 1.0, abs=5e-3)
     scene.close()
+
+
+def test_a_velocity_target_on_a_joint_with_dry_friction_settles_short_by_friction_over_damping(
+    tmp_path: object,
+) -> None:
+    """docs/control-modes.md, why ``frictionloss`` is not fed forward: a Go2-like joint
+    (kv 5, damping b 2 fed forward, frictionloss f 0.2 N*m, armature 0.01) settles
+    ``f / (kv + b)`` = 0.029 rad/s short of 0.5 rad/s; below MuJoCo's friction
+    constraint's soft zone (0.01 rad/s) it resists in proportion to speed, not with ``f``."""
+    from pathlib import Path
+
+    path = Path(str(tmp_path)) / "dry.xml"
+    path.write_text(SPINNER_MJCF.replace('damping="0.01"', 'damping="2" armature="0.01" frictionloss="0.2"'))
+    drive = ra.PDActuator(joints=("spin", "tilt"), stiffness=60.0, damping=5.0, effort_limit=20.0)
+    attributes = {"uid": "dry", "mjcf_path": path, "actuators": (drive,), "replace_file_actuators": True}
+    cls = type("DrySpinner", (ra.Agent,), attributes)
+    scene = ra.Scene(cls, control_modes="pd_joint_vel")
+    scene.reset()
+    agent = scene.agents[0]
+    velocity = agent.controller.parts["main"]
+    run(scene, agent, velocity.from_raw(np.array([0.5, 0.0])), 40)
+    assert agent.qvel[0, 0] == pytest.approx(0.5 - 0.2 / 7, abs=1e-6)
+    run(scene, agent, velocity.from_raw(np.array([0.01, 0.0])), 40)
+    assert 0.0 < agent.qvel[0, 0] < 0.01  # the soft zone: slowed, not stopped 0.019 short
+    scene.close()
+    # a plain PD loop (damping_feedforward=False, the Go2's): short by (b qd* + f) / (kd + b)
+    plain = ra.PDActuator(
+        joints=("spin", "tilt"), stiffness=60.0, damping=5.0, effort_limit=20.0, damping_feedforward=False
+    )
+    scene = ra.Scene(
+        type("PlainDrySpinner", (ra.Agent,), {**attributes, "actuators": (plain,)}), control_modes="pd_joint_vel"
+    )
+    scene.reset()
+    agent = scene.agents[0]
+    run(scene, agent, agent.controller.parts["main"].from_raw(np.array([0.5, 0.0])), 40)
+    assert agent.qvel[0, 0] == pytest.approx(0.5 - (2 * 0.5 + 0.2) / 7, abs=1e-6)
+    scene.close()
+
+
+def test_a_sign_friction_feedforward_overdrives_slow_targets() -> None:
+    """The feed-forward docs/control-modes.md turns down, ``sign(qd*) f`` on top of the
+    same joint's velocity servo (MuJoCo alone): exact above the soft zone (0.1 rad/s),
+    but below it the constraint resists with less than ``f``, so the joint runs
+    faster than asked (0.0149 rad/s for 0.01, 0.0118 for 0.002), the more so the lighter
+    the joint (armature 0.001: 0.028 for 0.01)."""
+    kv, b, f = 5.0, 2.0, 0.2
+
+    def joint(armature: float) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        model = mujoco.MjModel.from_xml_string(
+            '<mujoco><option timestep="0.0025" integrator="implicitfast" gravity="0 0 0"/><worldbody><body>'
+            f'<joint name="j" axis="0 0 1" damping="{b}" frictionloss="{f}" armature="{armature}"/>'
+            '<geom type="box" size="0.1 0.02 0.02" mass="0.5"/></body></worldbody>'
+            f'<actuator><velocity joint="j" kv="{kv}"/></actuator></mujoco>'
+        )
+        return model, mujoco.MjData(model)
+
+    def command(model: mujoco.MjModel, data: mujoco.MjData, target: float, feedforward: bool, steps: int) -> None:
+        data.ctrl[0] = target * (kv + b) / kv  # the library's damping feed-forward
+        data.qfrc_applied[0] = f * np.sign(target) if feedforward else 0.0  # the friction feed-forward
+        for _ in range(steps):
+            mujoco.mj_step(model, data)
+
+    def settle(target: float, armature: float) -> float:
+        model, data = joint(armature)
+        command(model, data, target, True, 1200)  # 3 s
+        return float(data.qvel[0])
+
+    assert settle(0.1, 0.01) == pytest.approx(0.1, abs=1e-6)
+    assert settle(0.01, 0.01) == pytest.approx(0.0149, abs=2e-4)
+    assert settle(0.002, 0.01) == pytest.approx(0.0118, abs=2e-4)
+    assert settle(0.01, 0.001) == pytest.approx(0.0282, abs=5e-4)
+    # a command jittering about zero: +-0.005 rad/s alternating at 20 Hz for 2 s
+    spread = {}
+    for feedforward in (False, True):
+        model, data = joint(0.01)
+        angles = []
+        for step in range(40):
+            command(model, data, 0.005 * (-1) ** step, feedforward, 20)
+            angles.append(data.qpos[0])
+        spread[feedforward] = float(np.ptp(angles))
+    assert spread[False] == pytest.approx(4.7e-5, rel=0.05)
+    assert spread[True] == pytest.approx(4.4e-4, rel=0.05)

@@ -49,7 +49,8 @@ def nearest_turn(targets: FloatArray, reference: FloatArray) -> FloatArray:
     """``targets`` shifted by whole turns to the angles nearest ``reference`` (rad, both
     ``(num_envs, k)``): ``targets + 2 pi round((reference - targets) / 2 pi)``, a new
     array; a target already within half a turn of its reference comes back unchanged (the
-    same bits), one exactly half a turn away stays too (``round`` halves to even)."""
+    same value; ``-0.0`` becomes ``0.0``), one exactly half a turn away stays too
+    (``round`` halves to even)."""
     shifted: FloatArray = targets + TURN * np.round((reference - targets) / TURN)
     return shifted
 

@@ -304,3 +304,178 @@ def test_stretch_velocity_mode_reaches_the_commanded_speed(joint: str, speed: fl
     run(scene, agent, action, 20)  # 1 s
     np.testing.assert_allclose(agent.qvel[0, arm.binding.dof_adr[index]], speed, rtol=0.02)
     scene.close()
+
+
+# A turntable on a continuous (unlimited) hinge, with a limited tilt joint on it.
+SPINNER_MJCF = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+      <body name="rotor" pos="0 0 0.1">
+        <joint name="spin" axis="0 0 1" damping="0.01"/>
+        <geom type="box" size="0.1 0.02 0.02" mass="0.2"/>
+        <body name="arm" pos="0.1 0 0">
+          <joint name="tilt" axis="0 1 0" range="-1 1"/>
+          <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01" mass="0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <position name="spin_drive" joint="spin" kp="5" kv="0.5"/>
+    <position name="tilt_drive" joint="tilt" kp="5" kv="0.2" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def spun_spinner(tmp_path: object) -> tuple[ra.Scene, ra.Agent]:
+    """The two-line spinner robot, its hinge turned to 7.5 rad (past one turn) at 1 rad/s
+    in ``pd_joint_vel`` and stopped there."""
+    from pathlib import Path
+
+    from robot_agents.robot_source import robot_from_file
+
+    path = Path(str(tmp_path)) / "spinner.xml"
+    path.write_text(SPINNER_MJCF)
+    scene = ra.Scene(robot_from_file(path), control_modes="pd_joint_vel")
+    scene.reset()
+    agent = scene.agents[0]
+    velocity = agent.controller.parts["main"]
+    run(scene, agent, velocity.from_raw(np.array([1.0, 0.0])), 150)  # 7.5 s at 20 Hz
+    run(scene, agent, velocity.from_raw(np.zeros(2)), 40)
+    assert agent.qpos[0, 0] == pytest.approx(7.5, abs=1e-3)
+    return scene, agent
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_pos", "pd_joint_pos_vel"])
+def test_an_unlimited_hinge_holds_past_a_turn_and_takes_absolute_targets_the_short_way(
+    tmp_path: object, mode: str
+) -> None:
+    """A continuous hinge at 7.5 rad (after turning in velocity mode): the absolute mode's
+    hold keeps it there (clipped to the +-2 pi action bound it swung back 1.22 rad to
+    2 pi), and a target of pi - 0.1 is taken modulo 2 pi to 3 pi - 0.1, the angle nearest
+    the measured one (it went down 4.4 rad to pi - 0.1 instead of up 1.8 rad). The
+    limited tilt joint takes its targets as given, bit for bit."""
+    from robot_agents.checks import hold_action
+
+    scene, agent = spun_spinner(tmp_path)
+    agent.set_control_mode(mode)
+    controller = agent.controller.parts["main"]
+    np.testing.assert_allclose(controller.raw_low[:2], [-2 * np.pi, -1.0])  # bounds unchanged
+    start = agent.qpos[0].copy()
+    hold = hold_action(agent)
+    assert -2 * np.pi <= controller.to_raw(hold[None])[0, 0] <= 2 * np.pi
+    run(scene, agent, hold, 20)
+    np.testing.assert_allclose(agent.qpos[0], start, atol=1e-6)
+    np.testing.assert_allclose(controller.get_state()["target_qpos"][0, 0], start[0], rtol=0, atol=1e-12)
+
+    action = controller.from_raw(np.array([np.pi - 0.1, 0.3] + [0.0, 0.0] * (mode == "pd_joint_pos_vel")))
+    path = []
+    for _ in range(40):
+        agent.set_action(action)
+        scene.step()
+        path.append(agent.qpos[0, 0])
+    target = controller.get_state()["target_qpos"][0]
+    assert target[0] == pytest.approx(3 * np.pi - 0.1, abs=1e-12)
+    assert target[1] == controller.to_raw(action[None])[0, 1]  # the limited joint: as given
+    assert np.all(np.diff(path) > -1e-3)  # up the short way, never back down
+    np.testing.assert_allclose(agent.qpos[0, :2], [3 * np.pi - 0.1, 0.3], atol=5e-3)
+    scene.close()
+
+
+def test_delta_from_target_turns_an_unlimited_hinge_past_a_turn(tmp_path: object) -> None:
+    """Delta-from-target adds to the current target with no bound on a continuous hinge
+    (no clip at +-2 pi, no wrap): ten steps of +0.1 rad from 7.5 rad reach 8.5 rad."""
+    scene, agent = spun_spinner(tmp_path)
+    agent.set_control_mode("pd_joint_target_delta_pos")
+    controller = agent.controller.parts["main"]
+    start = controller.get_state()["target_qpos"][0, 0]
+    run(scene, agent, controller.from_raw(np.array([0.1, 0.0])), 10)
+    assert controller.get_state()["target_qpos"][0, 0] == pytest.approx(start + 1.0, abs=1e-12)
+    run(scene, agent, controller.from_raw(np.zeros(2)), 40)
+    assert agent.qpos[0, 0] == pytest.approx(start + 1.0, abs=5e-3)
+    scene.close()
+
+
+def test_a_velocity_target_on_a_joint_with_dry_friction_settles_short_by_friction_over_damping(
+    tmp_path: object,
+) -> None:
+    """docs/control-modes.md, why ``frictionloss`` is not fed forward: a Go2-like joint
+    (kv 5, damping b 2 fed forward, frictionloss f 0.2 N*m, armature 0.01) settles
+    ``f / (kv + b)`` = 0.029 rad/s short of 0.5 rad/s; below MuJoCo's friction
+    constraint's soft zone (0.01 rad/s) it resists in proportion to speed, not with ``f``."""
+    from pathlib import Path
+
+    path = Path(str(tmp_path)) / "dry.xml"
+    path.write_text(SPINNER_MJCF.replace('damping="0.01"', 'damping="2" armature="0.01" frictionloss="0.2"'))
+    drive = ra.PDActuator(joints=("spin", "tilt"), stiffness=60.0, damping=5.0, effort_limit=20.0)
+    attributes = {"uid": "dry", "mjcf_path": path, "actuators": (drive,), "replace_file_actuators": True}
+    cls = type("DrySpinner", (ra.Agent,), attributes)
+    scene = ra.Scene(cls, control_modes="pd_joint_vel")
+    scene.reset()
+    agent = scene.agents[0]
+    velocity = agent.controller.parts["main"]
+    run(scene, agent, velocity.from_raw(np.array([0.5, 0.0])), 40)
+    assert agent.qvel[0, 0] == pytest.approx(0.5 - 0.2 / 7, abs=1e-6)
+    run(scene, agent, velocity.from_raw(np.array([0.01, 0.0])), 40)
+    assert 0.0 < agent.qvel[0, 0] < 0.01  # the soft zone: slowed, not stopped 0.019 short
+    scene.close()
+    # a plain PD loop (damping_feedforward=False, the Go2's): short by (b qd* + f) / (kd + b)
+    plain = ra.PDActuator(
+        joints=("spin", "tilt"), stiffness=60.0, damping=5.0, effort_limit=20.0, damping_feedforward=False
+    )
+    scene = ra.Scene(
+        type("PlainDrySpinner", (ra.Agent,), {**attributes, "actuators": (plain,)}), control_modes="pd_joint_vel"
+    )
+    scene.reset()
+    agent = scene.agents[0]
+    run(scene, agent, agent.controller.parts["main"].from_raw(np.array([0.5, 0.0])), 40)
+    assert agent.qvel[0, 0] == pytest.approx(0.5 - (2 * 0.5 + 0.2) / 7, abs=1e-6)
+    scene.close()
+
+
+def test_a_sign_friction_feedforward_overdrives_slow_targets() -> None:
+    """The feed-forward docs/control-modes.md turns down, ``sign(qd*) f`` on top of the
+    same joint's velocity servo (MuJoCo alone): exact above the soft zone (0.1 rad/s),
+    but below it the constraint resists with less than ``f``, so the joint runs
+    faster than asked (0.0149 rad/s for 0.01, 0.0118 for 0.002), the more so the lighter
+    the joint (armature 0.001: 0.028 for 0.01)."""
+    kv, b, f = 5.0, 2.0, 0.2
+
+    def joint(armature: float) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        model = mujoco.MjModel.from_xml_string(
+            '<mujoco><option timestep="0.0025" integrator="implicitfast" gravity="0 0 0"/><worldbody><body>'
+            f'<joint name="j" axis="0 0 1" damping="{b}" frictionloss="{f}" armature="{armature}"/>'
+            '<geom type="box" size="0.1 0.02 0.02" mass="0.5"/></body></worldbody>'
+            f'<actuator><velocity joint="j" kv="{kv}"/></actuator></mujoco>'
+        )
+        return model, mujoco.MjData(model)
+
+    def command(model: mujoco.MjModel, data: mujoco.MjData, target: float, feedforward: bool, steps: int) -> None:
+        data.ctrl[0] = target * (kv + b) / kv  # the library's damping feed-forward
+        data.qfrc_applied[0] = f * np.sign(target) if feedforward else 0.0  # the friction feed-forward
+        for _ in range(steps):
+            mujoco.mj_step(model, data)
+
+    def settle(target: float, armature: float) -> float:
+        model, data = joint(armature)
+        command(model, data, target, True, 1200)  # 3 s
+        return float(data.qvel[0])
+
+    assert settle(0.1, 0.01) == pytest.approx(0.1, abs=1e-6)
+    assert settle(0.01, 0.01) == pytest.approx(0.0149, abs=2e-4)
+    assert settle(0.002, 0.01) == pytest.approx(0.0118, abs=2e-4)
+    assert settle(0.01, 0.001) == pytest.approx(0.0282, abs=5e-4)
+    # a command jittering about zero: +-0.005 rad/s alternating at 20 Hz for 2 s
+    spread = {}
+    for feedforward in (False, True):
+        model, data = joint(0.01)
+        angles = []
+        for step in range(40):
+            command(model, data, 0.005 * (-1) ** step, feedforward, 20)
+            angles.append(data.qpos[0])
+        spread[feedforward] = float(np.ptp(angles))
+    assert spread[False] == pytest.approx(4.7e-5, rel=0.05)
+    assert spread[True] == pytest.approx(4.4e-4, rel=0.05)

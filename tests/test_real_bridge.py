@@ -142,6 +142,69 @@ def test_targets_far_from_the_measured_pose_are_limited() -> None:
     unlimited.close()
 
 
+def test_a_velocity_target_sent_with_a_held_back_position_target_is_scaled_with_it() -> None:
+    """The Panda's end-effector feed-forward with max_target_step=0.01 rad and a
+    full-scale command: each joint's velocity target goes out scaled by the fraction of
+    its position step that is sent, so the pair is the IK's straight joint path shortened
+    until its midpoint is on the bound (0.4 rad/s at 20 Hz) and a joint moves at most
+    twice the bound a step. Unscaled (up to 13 rad/s), a joint moved 0.53 rad in one step;
+    joints not held back keep their velocity targets bit for bit."""
+    bus = RecordingBus("panda")
+    real = RealRobot("panda", bus, control_mode="pd_ee_delta_pose", max_target_step=0.01)
+    targets = real.agent.drives.targets  # the controllers' targets, in the bus's order here
+    assert list(bus.joint_names) == list(real.agent.drives.joint_names)
+    action = np.zeros(real.action_space.shape)
+    action[[0, 2, 3]] = [1.0, -1.0, 1.0]
+    for step in range(10):
+        measured = bus.read()[0]
+        sent = real.step(action)
+        velocity = bus.writes[-1][1]
+        wanted, wanted_velocity = targets.position[0], targets.velocity[0]
+        held = sent != wanted
+        assert held[:7].all() or step > 0  # every arm joint held back at first
+        np.testing.assert_allclose(np.abs(sent - measured)[held], 0.01, rtol=1e-12)
+        fraction = (sent - measured)[held] / (wanted - measured)[held]
+        assert np.all((fraction > 0) & (fraction < 1))
+        np.testing.assert_allclose(velocity[held], wanted_velocity[held] * fraction, rtol=1e-12)
+        arm_held = held[:7]
+        np.testing.assert_allclose(np.abs(velocity[:7][arm_held]), 2 * 0.01 * 20, rtol=1e-9)  # 2 s / dt
+        np.testing.assert_array_equal(velocity[~held], wanted_velocity[~held])
+        assert np.abs(bus.read()[0] - measured)[:7].max() <= 2 * 0.01 * 1.05
+    real.close()
+    # pd_joint_pos_vel: the policy's own velocities are scaled the same way
+    bus = RecordingBus("panda")
+    real = RealRobot("panda", bus, control_mode="pd_joint_pos_vel", max_target_step=0.05)
+    measured = bus.read()[0]
+    controller = real.agent.controller.parts["arm"]
+    raw = np.concatenate([measured[:7] + np.array([0.2, 0.02, 0, 0, 0, 0, -0.5]), np.full(7, 0.5)])
+    arm = real.agent.controller.slices["arm"]
+    action = np.zeros(real.action_space.shape)
+    action[arm] = controller.from_raw(raw)
+    real.step(action)
+    velocity = bus.writes[-1][1][:7]
+    np.testing.assert_allclose(velocity, [0.5 * 0.25, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5 * 0.1], rtol=1e-9)
+    real.close()
+
+
+def test_a_velocity_mode_is_not_slowed_by_max_target_step() -> None:
+    """pd_joint_vel's drives have no position stiffness: the position targets it leaves
+    (the pose held when the mode started) are clipped on the way out and pull on
+    nothing, and the velocity targets go as commanded after the joint has turned past
+    the bound."""
+    bus = RecordingBus("ur_10e")
+    real = RealRobot("ur_10e", bus, control_mode="pd_joint_vel", max_target_step=0.05)
+    start = bus.read()[0]
+    action = np.zeros(real.action_space.shape)
+    action[0] = 0.5
+    for _ in range(20):
+        real.step(action)
+        np.testing.assert_array_equal(bus.writes[-1][1], real.agent.drives.targets.velocity[0])
+    speed = real.agent.controller.parts[next(iter(real.agent.controller.parts))].to_raw(action[None])[0, 0]
+    assert abs(bus.read()[0][0] - start[0]) > 10 * 0.05
+    assert bus.read()[1][0] == pytest.approx(speed, rel=0.02)
+    real.close()
+
+
 def test_a_mode_switch_sends_the_modes_drive_settings() -> None:
     bus = RecordingBus("ur_10e")
     real = RealRobot("ur_10e", bus, control_mode="pd_joint_pos")

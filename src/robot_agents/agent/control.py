@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride, Drives, override_for
 from robot_agents.agent.declaration import SINGLE_PART, ModeConfig
-from robot_agents.agent.index import RobotIndex
+from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding
 from robot_agents.controllers.combined import CombinedController, ControlledSim
 from robot_agents.errors import ActionError, UnknownNameError
@@ -117,6 +117,7 @@ class ControlModes:
             dof_adr=np.array([j.dof_adr for j in joints], dtype=np.int64),
             columns=self.drives.columns(config.joint_names, where),
             qpos_range=ranges,
+            periodic=np.array([j.kind is JointKind.HINGE and not j.limited for j in joints], dtype=bool),
         )
 
     def activate(self, mode: Any, where: str) -> None:

@@ -54,6 +54,9 @@ class JointBinding:
         dof_adr: index of each joint in ``qvel``, shape ``(n,)``.
         columns: each joint's column in the robot's joint targets (its drive), ``(n,)``.
         qpos_range: joint limits, shape ``(n, 2)``; ``(-inf, inf)`` for unlimited joints.
+        periodic: ``(n,)`` booleans, true for an unlimited hinge (a continuous joint,
+            whose angle is periodic: ``q`` and ``q + 2 pi`` are the same pose); empty
+            (the default): none is.
     """
 
     joint_names: tuple[str, ...]
@@ -61,6 +64,7 @@ class JointBinding:
     dof_adr: IntArray
     columns: IntArray
     qpos_range: FloatArray
+    periodic: npt.NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
     #: ``qpos_adr`` / ``dof_adr`` / ``columns`` as slices where they are contiguous
     #: (indexing with a slice is a view and several times faster than with an array).
     qpos_sel: slice | IntArray = field(init=False, repr=False)
@@ -68,6 +72,8 @@ class JointBinding:
     column_sel: slice | IntArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        periodic = np.asarray(self.periodic, dtype=bool).reshape(-1)
+        object.__setattr__(self, "periodic", periodic if periodic.size else np.zeros(len(self.joint_names), dtype=bool))
         object.__setattr__(self, "qpos_sel", index_selector(self.qpos_adr))
         object.__setattr__(self, "dof_sel", index_selector(self.dof_adr))
         object.__setattr__(self, "column_sel", index_selector(self.columns))

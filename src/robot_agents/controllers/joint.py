@@ -5,6 +5,14 @@ They produce joint targets; the robot's drives track them (for PD drives the law
 ``kp (q* - q) + kv (qd* - qd) + b qd*`` runs inside physics at every substep, clamped to
 the drive's effort limit; ``b``, the joint's own damping, is fed forward so that a
 velocity target is met).
+
+An unlimited hinge (a continuous joint: a wheel, a roll joint without stops) is treated
+as a continuous-rotation servo: its angle ``q`` may run past ``2 pi`` (in velocity or
+delta modes), and an *absolute* target ``a`` is taken modulo ``2 pi`` to the angle nearest
+the measured one, ``q* = a + 2 pi round((q - a) / 2 pi)``, so that the joint turns the
+short way (at most ``pi``) and never unwinds the turns it has made. Delta modes add to the
+measured angle or to the current target, with no bound. Limited joints (and unlimited
+slides) take absolute targets as they are, clipped to their limits.
 """
 
 from __future__ import annotations
@@ -29,8 +37,34 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.errors import ConfigError
 
-#: Absolute targets of an unlimited joint are bounded to +-2 pi rad (+-2 pi m for a slide).
+#: Absolute targets of an unlimited joint are bounded to +-2 pi rad (+-2 pi m for a slide);
+#: an unlimited hinge takes them modulo 2 pi (see the module docstring).
 UNBOUNDED_TARGET = 2 * np.pi
+
+#: One turn (rad): the period of an unlimited hinge's angle.
+TURN = 2 * np.pi
+
+
+def nearest_turn(targets: FloatArray, reference: FloatArray) -> FloatArray:
+    """``targets`` shifted by whole turns to the angles nearest ``reference`` (rad, both
+    ``(num_envs, k)``): ``targets + 2 pi round((reference - targets) / 2 pi)``, a new
+    array; a target already within half a turn of its reference comes back unchanged (the
+    same value; ``-0.0`` becomes ``0.0``), one exactly half a turn away stays too
+    (``round`` halves to even)."""
+    shifted: FloatArray = targets + TURN * np.round((reference - targets) / TURN)
+    return shifted
+
+
+def within_bounds_by_turns(angles: FloatArray, low: FloatArray, high: FloatArray) -> FloatArray:
+    """``angles`` (rad, ``(num_envs, k)``) where they lie within ``[low, high]`` (each
+    ``(k,)``), otherwise the same angle modulo ``2 pi`` within them when one is (first the
+    one in ``[-pi, pi]``, then a turn up or down), else the angle in ``[-pi, pi]``; a new
+    array. The absolute target of an unlimited hinge that holds it where it is."""
+    wrapped = angles - TURN * np.round(angles / TURN)
+    wrapped = np.where(wrapped < low, wrapped + TURN, np.where(wrapped > high, wrapped - TURN, wrapped))
+    wrapped = np.where((wrapped < low) | (wrapped > high), angles - TURN * np.round(angles / TURN), wrapped)
+    held: FloatArray = np.where((angles < low) | (angles > high), wrapped, angles)
+    return held
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -39,8 +73,9 @@ class PDJointPosConfig(ControllerConfig):
 
     Attributes:
         lower, upper: action bounds (rad or m). For absolute targets ``None`` means the
-            joint limits (``+-2 pi`` for an unlimited joint); delta modes must give them
-            (e.g. ``-0.1``/``0.1``).
+            joint limits (``+-2 pi`` for an unlimited joint, whose absolute targets, for
+            a hinge, are taken modulo ``2 pi`` to the angle nearest the measured one: see
+            the module docstring); delta modes must give them (e.g. ``-0.1``/``0.1``).
         use_delta: the action is a change of the target, not the target.
         use_target: with ``use_delta``, add the change to the previous *target* instead
             of the measured position (``pd_joint_target_delta_pos``).
@@ -172,6 +207,14 @@ class PDJointPosController(Controller):
             self._base = self._ABSOLUTE
         else:
             self._base = self._FROM_TARGET if config.use_target else self._FROM_MEASURED
+        # Unlimited hinges among the joints (absolute targets are taken modulo a turn):
+        # their positions in the joint list and in qpos; None when there is none (limited
+        # joints take the path they always took, bit for bit).
+        periodic = np.flatnonzero(binding.periodic)
+        self._periodic: IntArray | None = periodic.astype(np.int64) if periodic.size else None
+        self._periodic_qpos: IntArray = binding.qpos_adr[periodic].astype(np.int64)
+        leaders = periodic[periodic < self._action_joints]
+        self._periodic_leaders: IntArray | None = leaders.astype(np.int64) if leaders.size else None
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         cfg, name = self.config, type(self.config).__name__
@@ -196,16 +239,41 @@ class PDJointPosController(Controller):
 
     def hold_raw(self, sim: SimView) -> FloatArray:
         """Absolute modes: the measured positions of the action's joints (the leader alone
-        for mimic joints), ``(num_envs, action_dim)`` in rad or m; delta modes: zero."""
+        for mimic joints), ``(num_envs, action_dim)`` in rad or m; delta modes: zero. An
+        unlimited hinge turned past its action bounds (``+-2 pi``) holds with the same
+        angle modulo ``2 pi`` within them, which :meth:`apply` takes back to the measured
+        angle (a clipped one would unwind it)."""
         if self.config.use_delta:
             return super().hold_raw(sim)
         held: FloatArray = sim.qpos[:, self.binding.qpos_adr[: self._action_joints]]
+        return self._fold_periodic(held)
+
+    def _fold_periodic(self, held: FloatArray) -> FloatArray:
+        """``held`` (absolute positions of the action's leading joints, a new array) with
+        each unlimited hinge's angle brought within the action bounds by whole turns."""
+        leaders = self._periodic_leaders
+        if leaders is None:
+            return held
+        held[:, leaders] = within_bounds_by_turns(held[:, leaders], self.raw_low[leaders], self.raw_high[leaders])
         return held
+
+    def _nearest_to_measured(self, targets: FloatArray, sim: SimView) -> FloatArray:
+        """Absolute ``targets`` ``(num_envs, n)`` with each unlimited hinge's moved by whole
+        turns to the angle nearest its measured one (a new array where any is moved)."""
+        periodic = self._periodic
+        if periodic is None:
+            return targets
+        targets = np.array(targets, dtype=np.float64)  # never write into the caller's action
+        measured = sim.qpos.take(self._periodic_qpos, axis=1)
+        targets[:, periodic] = nearest_turn(targets[:, periodic], measured)
+        return targets
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         change = raw if self._plain else raw * self._multipliers_row  # (N, 1) * (1, n) -> (N, n)
         if self._base == self._ABSOLUTE:
             targets = change + self._offsets_row if self._has_offsets else change
+            if self._periodic is not None:
+                targets = self._nearest_to_measured(targets, sim)
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
         elif self._qpos_take is None:
@@ -359,14 +427,17 @@ class PDJointPosVelController(PDJointPosController):
         ``(num_envs, 2 n)``; delta modes: zero."""
         if self.config.use_delta:
             return super().hold_raw(sim)
-        positions = sim.qpos[:, self.binding.qpos_adr]
+        positions = self._fold_periodic(sim.qpos[:, self.binding.qpos_adr])
         held: FloatArray = np.concatenate([positions, np.zeros_like(positions)], axis=1)
         return held
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         n = self.binding.size
-        base = sim.qpos[:, self.binding.qpos_sel] if self.config.use_delta else 0.0
-        self.target_qpos = self._clip_to_limits(base + raw[:, :n])
+        if self.config.use_delta:
+            targets = sim.qpos[:, self.binding.qpos_sel] + raw[:, :n]
+        else:
+            targets = self._nearest_to_measured(0.0 + raw[:, :n], sim)
+        self.target_qpos = self._clip_to_limits(targets)
         self.target_qvel = raw[:, n:]
         self.targets.position[:, self._columns] = self.target_qpos
         self.targets.velocity[:, self._columns] = self.target_qvel

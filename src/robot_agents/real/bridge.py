@@ -72,7 +72,11 @@ class RealRobot:
         control_mode: the mode to start in (default: the robot's default mode).
         max_target_step: the farthest (rad or m, one number or one per bus joint) a
             position target may lie from the measured position; targets beyond are
-            clipped towards it (a safety limit for hardware; ``None``: no limit).
+            clipped towards it (a safety limit for hardware; ``None``: no limit). The
+            velocity target sent with a clipped position target (the feed-forward of
+            end-effector modes, ``pd_joint_pos_vel``'s velocities) is scaled by the same
+            fraction, ``(clipped - measured) / (target - measured)``, on joints whose
+            drive has position stiffness in the mode (see :meth:`step`).
 
     Raises:
         ConfigError: the robot has a free root or a mobile base, the bus's joints are
@@ -206,16 +210,43 @@ class RealRobot:
     def step(self, action: npt.ArrayLike) -> FloatArray:
         """Read the state, turn ``action`` into joint targets with the mode's controllers
         and send them; returns the position targets sent ``(n,)``, bus order. A rejected
-        action (:class:`ActionError`) sends nothing and changes no controller state."""
+        action (:class:`ActionError`) sends nothing and changes no controller state.
+
+        With ``max_target_step``, a position target ``p`` farther than the bound from the
+        measured position ``q`` is sent as ``p'`` on the bound, and the velocity target
+        ``v`` sent with it as ``v (p' - q) / (p - q)``: the command shrunk as a whole, on
+        joints whose drive has position stiffness in the mode. End-effector modes send the
+        midpoint of the step's joint path with the speed that covers it, ``(q + s) / 2``
+        and ``(s - q) / dt``; the scaled pair is the same path cut to the bound, and the
+        unscaled speed (up to 13 rad/s on the Panda with a bound of 0.01 rad) drove a
+        joint 0.5 rad in one step. Zero would cut the feed-forward off wherever the bound
+        is reached, a jump in the command each time a steady motion crosses it; scaling
+        is continuous there (the fraction is 1 at the bound). A velocity mode's position
+        targets (stiffness 0) pull on nothing: its velocities go as they are."""
         self._check_open("RealRobot.step")
         agent = self.agent
         checked = agent.validate_action(action)  # before anything moves (raises ActionError)
         self.sync()
         agent.set_action(checked)
         targets = agent.drives.targets
-        position = self._limited(targets.position[0, self._columns].copy())
-        self.bus.write(position, targets.velocity[0, self._columns].copy(), targets.effort[0, self._columns].copy())
+        wanted = targets.position[0, self._columns].copy()
+        position = self._limited(wanted.copy())
+        velocity = targets.velocity[0, self._columns].copy()
+        if self._max_step is not None:
+            self._scale_held_back(velocity, wanted, position)
+        self.bus.write(position, velocity, targets.effort[0, self._columns].copy())
         return position
+
+    def _scale_held_back(self, velocity: FloatArray, wanted: FloatArray, sent: FloatArray) -> None:
+        """Scale in place the velocity targets ``(n,)`` (bus order) of the joints whose
+        position target ``wanted`` was held back to ``sent`` by ``max_target_step``, by
+        the fraction of the step that is sent, ``(sent - measured) / (wanted - measured)``
+        (in ``(0, 1)``), where the mode's drive has position stiffness; other entries
+        keep their bits."""
+        held = (sent != wanted) & (self.agent.drives.stiffness[self._columns] > 0.0)
+        if np.any(held):
+            measured = self._measured[held]
+            velocity[held] *= (sent[held] - measured) / (wanted[held] - measured)
 
     def move_to(self, keyframe: str, steps: int = 40) -> float:
         """Bring the robot to ``keyframe`` (its driven joints) along a smooth ramp of

@@ -18,6 +18,7 @@ from gymnasium.utils.env_checker import check_env
 
 import robot_agents as ra
 from robot_agents.envs.tasks.mobile_pick_cube import LIFT_HEIGHT, START_DISTANCE
+from robot_agents.kinematics.rotations import quat_to_matrix
 
 ROOT = Path(__file__).resolve().parents[1]
 TASK = "MobilePickCube-v1"
@@ -87,10 +88,58 @@ def test_task_starts_away_from_the_stance_and_scores_a_lift() -> None:
     env.place_body("cube", cube)
     info = env.evaluate()
     assert np.allclose(info["lift"], 0.06) and not info["success"].any()
-    # the reward then is the reaching term alone (normalized by the maximum, 3)
-    reach = 1.0 - np.tanh(np.linalg.norm(env.agent.tcp_pose[:, :3] - cube[:, :3], axis=1) / (0.2 * env.layout.reach))
+    # the reward then is the reaching term alone (normalized by the maximum, 3): half for
+    # the base within working distance of the cube, half for the tool at the cube
+    reach_length = env.layout.reach
+    far = np.maximum(info["base_to_obj_dist"] - env.work_distance, 0.0) / reach_length
+    np.testing.assert_allclose(
+        info["base_to_obj_dist"], np.linalg.norm(env.agent.base_pos[:, :2] - cube[:, :2], axis=1)
+    )
+    assert np.all(far > 0.0)  # every start is farther
+    tool = np.linalg.norm(env.agent.tcp_pose[:, :3] - cube[:, :3], axis=1) / (0.2 * reach_length)
+    reach = 0.5 * (1.0 - np.tanh(far)) + 0.5 * (1.0 - np.tanh(tool))
     np.testing.assert_allclose(env.compute_reward(info), reach / 3.0, rtol=1e-9)
     env.close()
+
+
+@pytest.mark.parametrize("uid", ROBOTS)
+def test_reward_rises_along_a_scripted_approach(uid: str) -> None:
+    """The base drives straight from its start to the example's picking pose (2 cm a
+    step, set there and held a step), then the grasp point moves to the example's
+    stand-off short of the cube (5 mm a step): the normalized reward rises at every
+    step, by at least 1e-4 for each 2 cm the base drives. Before, the reaching term was
+    the tool's alone, in units of 0.2 R: about 1e-5 at the start, with a gain per step
+    of the drive below 1e-5 until the tool came within about 0.5 m of the cube."""
+    env = ra.make_env(TASK, robot_uids=uid, control_mode=example.MODE).unwrapped
+    env.reset(seed=0)
+    robot, agent = example.MobileManipulator(env), env.agent
+    cube = env.body_pose("cube")[0, :3]
+    goal_xy, goal_yaw = example.standing_pose(robot, env, cube)
+    start = agent.base_pos[0, :2].copy()
+    drive: list[float] = []
+    legs = int(np.ceil(np.linalg.norm(goal_xy - start) / 0.02))
+    for k in range(1, legs + 1):
+        agent.set_base_pose(start + (goal_xy - start) * k / legs, goal_yaw)
+        drive.append(float(env.step(robot.action(np.zeros(3)))[1]))
+    tool = agent.tcp_pose[0]
+    rotation = quat_to_matrix(tool[3:])
+    grasp_offset = rotation @ np.array(env.layout.gripper.grasp_point)
+    approach = rotation @ np.array(env.layout.gripper.approach_axis)
+    standoff = cube - approach * (example.STANDOFF_EDGES * 2.0 * env.layout.cube_half_size + example.STANDOFF)
+    target, reach = tool[:3].copy(), list[float]()
+    while np.linalg.norm(standoff - grasp_offset - target) > 1e-6:
+        move = standoff - grasp_offset - target
+        move *= min(1.0, 0.005 / float(np.linalg.norm(move)))
+        target += move
+        reach.append(float(env.step(robot.action(move))[1]))
+    env.close()
+    rewards = np.array(drive + reach)
+    assert len(drive) > 40 and len(reach) > 10
+    assert np.all(np.diff(rewards) > 0.0), np.diff(rewards).min()
+    assert np.diff(drive).min() > 1e-4, np.diff(drive).min()
+    # the reaching term is a third of the normalized reward: the drive earns more than a
+    # quarter of it, the stand-off (a cube edge + 6 cm short of the cube) most of it
+    assert drive[0] < 0.15 and drive[-1] - drive[0] > 0.08 and 0.2 < reach[-1] < 1.0 / 3.0
 
 
 def test_check_env_and_camera_observations() -> None:

@@ -15,10 +15,15 @@ at its default keyframe).
 Success: the cube grasped (``agent.is_grasping``) with its centre at least 5 cm above
 where it rested on the table.
 
-Dense reward: ``1 - tanh(|tcp - cube|)`` (lengths in ``0.2 R``; it rises as the base
-comes closer, from about 1e-4 at the start: Stretch, seed 0, 1.2-1.4 m), ``+ 1`` while
-grasped, ``+ min(lift / 5 cm, 1)`` while grasped; 3 on success. ``normalized_dense``
-divides by 3, ``sparse`` is 1 on success.
+Dense reward: reaching, ``0.5 * (1 - tanh(far / R))`` (``far``: how much farther the
+base's ground point lies from the cube, horizontally, than ``work_distance``, the
+stance's distance to the workspace centre plus ``0.3 R``; it rises while the base drives
+closer and is 0.5 once the base is that near) ``+ 0.5 * (1 - tanh(|tcp - cube| / 0.2
+R))`` (PickCube's term: it rises as the tool closes in); ``+ 1`` while grasped, ``+
+min(lift / 5 cm, 1)`` while grasped; 3 on success. ``dense`` lies in ``[0, 3]``,
+``normalized_dense`` divides by 3, ``sparse`` is 1 on success. (Before 2026-11-29 the
+reaching term was the tool's alone: about 1e-5 of the normalized reward at the start,
+the tool 1.1-1.9 m from the cube, with next to no gain from driving.)
 """
 
 from __future__ import annotations
@@ -47,6 +52,31 @@ START_BEARING = math.pi / 4
 START_TURN = math.pi / 4
 #: How high above its resting height the cube must be for a success (m).
 LIFT_HEIGHT = 0.05
+#: The reaching reward's share for the base coming within working distance of the cube;
+#: the rest is the tool's (PickCube's term).
+BASE_REACH_SHARE = 0.5
+#: The base works within the stance's distance to the workspace centre plus this share
+#: of the reach from the cube (horizontally): the spawn square's half-diagonal (0.14 R)
+#: and room to stand back from the table.
+WORK_MARGIN = 0.3
+
+
+def reaching_reward(
+    base_to_cube: FloatArray,
+    work_distance: float,
+    reach: float,
+    tcp_to_cube: FloatArray,
+    length_scale: float,
+) -> FloatArray:
+    """MobilePickCube's reaching term, in ``[0, 1]`` per env: ``BASE_REACH_SHARE`` for
+    the base's horizontal distance to the cube beyond ``work_distance`` (``1 - tanh`` of
+    it in units of ``reach``: full once within), the rest for the tool's distance to the
+    cube (``1 - tanh`` of it in units of ``length_scale``). Distances in m."""
+    far = np.maximum(base_to_cube - work_distance, 0.0) / reach
+    base_term = 1.0 - np.tanh(far)
+    tool_term = 1.0 - np.tanh(tcp_to_cube / length_scale)
+    term: FloatArray = BASE_REACH_SHARE * base_term + (1.0 - BASE_REACH_SHARE) * tool_term
+    return term
 
 
 class MobilePickCubeEnv(TableTopEnv):
@@ -68,6 +98,11 @@ class MobilePickCubeEnv(TableTopEnv):
         #: Where the base stands to work at the table: ground point (x, y) and yaw.
         self.stance_xy = np.array(pose[:2])
         self.stance_yaw = z_rotation_angle(pose[3:])
+        #: The base works within this horizontal distance of the cube (m): the stance's
+        #: distance to the workspace centre plus ``WORK_MARGIN * R`` (the reaching reward).
+        self.work_distance = float(np.linalg.norm(self.layout.center[:2] - self.stance_xy)) + WORK_MARGIN * (
+            self.layout.reach
+        )
         #: Resting height of the cube's centre (m).
         self.cube_rest_z = self.layout.table_height + self.layout.cube_half_size
 
@@ -87,13 +122,25 @@ class MobilePickCubeEnv(TableTopEnv):
     def evaluate(self) -> dict[str, Any]:
         lift = self.body_pose("cube")[:, 2] - self.cube_rest_z
         grasped = self.agent.is_grasping("cube")
-        return {"success": grasped & (lift >= LIFT_HEIGHT), "is_grasped": grasped, "lift": lift}
+        base = np.linalg.norm(self.body_pose("cube")[:, :2] - self.agent.base_pos[:, :2], axis=1)
+        return {
+            "success": grasped & (lift >= LIFT_HEIGHT),
+            "is_grasped": grasped,
+            "lift": lift,
+            "base_to_obj_dist": base,
+        }
 
     def compute_reward(self, info: Mapping[str, Any]) -> FloatArray:
         cube = self.body_pose("cube")[:, :3]
         tcp = self.agent.tcp_pose[:, :3]
         grasped = info["is_grasped"].astype(np.float64)
-        reward = 1.0 - np.tanh(np.linalg.norm(tcp - cube, axis=1) / self.length_scale)
+        reward = reaching_reward(
+            info["base_to_obj_dist"],
+            self.work_distance,
+            self.layout.reach,
+            np.linalg.norm(tcp - cube, axis=1),
+            self.length_scale,
+        )
         reward += grasped * (1.0 + np.clip(info["lift"] / LIFT_HEIGHT, 0.0, 1.0))
         return self.reward(reward, info["success"])
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
 import os
 import signal
 import subprocess
@@ -149,14 +150,66 @@ def test_demo_rejects_bad_seconds_before_simulating(tmp_path: Path, seconds: str
 
 
 @pytest.mark.usefixtures("no_simulation")
-@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "61"])
+@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "61", "1e-300", "0.049", "1e9"])
 def test_check_rejects_bad_seconds_naming_what_they_are(seconds: str) -> None:
+    """At least one control step: before, 1e-300 s (no step at all) ran no random action
+    and the check passed."""
     code, out, err = run_fast("check", "panda", f"--seconds={seconds}")
     assert (code, out) == (2, "")
     assert err == (
         "robot-agents: error: argument --seconds: expected a number of seconds of random actions per mode, "
-        f"> 0 and <= 60, got {seconds!r}\n"
+        f">= 0.05 (one control step at 20 Hz, the checks' control rate) and <= 60, got {seconds!r}\n"
     )
+
+
+@pytest.mark.parametrize("seconds", ["0.05", "60"])
+def test_check_takes_seconds_from_one_control_step(monkeypatch: pytest.MonkeyPatch, seconds: str) -> None:
+    asked: list[float] = []
+
+    def run_checks(cls: object, random_seconds: float) -> list[object]:
+        asked.append(random_seconds)
+        return []
+
+    monkeypatch.setattr("robot_agents.checks.run_checks", run_checks)
+    code, _, err = run_fast("check", "panda", f"--seconds={seconds}")
+    assert (code, err, asked) == (0, "", [float(seconds)])
+
+
+@pytest.mark.parametrize("seconds", [1e-300, 0.049, math.nan, math.inf])
+def test_random_actions_check_refuses_less_than_a_control_step(seconds: float) -> None:
+    from robot_agents.checks import check_random_actions
+
+    with pytest.raises(robot_agents.ConfigError, match=r"check_random_actions: expected seconds covering .* got"):
+        check_random_actions(robot_agents.get_agent("panda"), seconds=seconds)
+
+
+@pytest.mark.parametrize("substeps", ["1001", "10,2000", "99999999999999999999", "0", "0,10", "ten", ""])
+def test_check_bounds_the_sweeps_substeps(monkeypatch: pytest.MonkeyPatch, substeps: str) -> None:
+    """Each count from 1 to 1000 (20 kHz at 20 Hz control), said in one line before the
+    robot loads; before, a huge count was taken and the sweep ran at its step."""
+
+    def sweep_timestep(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the sweep ran although its --substeps were bad")
+
+    monkeypatch.setattr("robot_agents.tuning.timestep.sweep_timestep", sweep_timestep)
+    code, out, err = run_fast("check", "/nonexistent/robot.urdf", "--sweep", f"--substeps={substeps}")
+    assert (code, out) == (2, "")
+    assert err == (
+        "robot-agents: error: argument --substeps: expected whole numbers from 1 to 1000 separated by commas "
+        f"(e.g. 10,20,50,100; 1000 is 20 kHz at 20 Hz control), got {substeps!r}\n"
+    )
+
+
+def test_check_sweeps_up_to_a_thousand_substeps(monkeypatch: pytest.MonkeyPatch) -> None:
+    asked: list[object] = []
+
+    def sweep_timestep(cls: object, substeps: object, stop_after: object) -> None:
+        asked.append(substeps)
+        raise robot_agents.ConfigError("stop here")
+
+    monkeypatch.setattr("robot_agents.tuning.timestep.sweep_timestep", sweep_timestep)
+    code, _, err = run_fast("check", "panda", "--sweep", "--substeps=1,1000")
+    assert (code, err, asked) == (2, "robot-agents: error: stop here\n", [(1, 1000)])
 
 
 def test_substeps_without_sweep_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -429,7 +482,7 @@ def test_check_sweeps_the_substeps_asked_for(tmp_path: Path, capsys: pytest.Capt
     assert len(rows) == 2 and "| 500 |" not in text
     for bad in ("0,10", "ten", ""):
         assert main(["check", str(urdf), "--sweep", "--substeps", bad]) == 2
-        assert "--substeps: expected whole numbers >= 1" in capsys.readouterr().err
+        assert "--substeps: expected whole numbers from 1 to 1000" in capsys.readouterr().err
 
 
 def test_demo_holds_keyframes_in_a_mode_without_absolute_joint_targets(tmp_path: Path, pendulum_file: Path) -> None:

@@ -3,6 +3,7 @@ each check has a number and a pass / fail, and says what to change when it fails
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -17,9 +18,9 @@ from robot_agents.agent import Agent
 from robot_agents.agent.derived import joint_actuator
 from robot_agents.agent.legs import standing_legs
 from robot_agents.controllers.ee import PDEEController
-from robot_agents.errors import RobotAgentsError
+from robot_agents.errors import ConfigError, RobotAgentsError
 from robot_agents.model.inertia import combine_inertias
-from robot_agents.sim.scene import Scene, default_sim_freq
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, Scene, default_sim_freq
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -220,7 +221,14 @@ def run_random_actions(
 
 
 def check_random_actions(cls: type[Agent], seconds: float = 5.0, seed: int = 0) -> CheckResult:
-    """``seconds`` of uniformly random actions in every mode without instability."""
+    """``seconds`` of uniformly random actions in every mode without instability;
+    :class:`ConfigError` unless ``seconds`` covers at least one control step (0.05 s at
+    the scenes' 20 Hz control: fewer ran no action and passed)."""
+    if not (math.isfinite(seconds) and seconds * DEFAULT_CONTROL_FREQ >= 1.0):
+        raise ConfigError(
+            f"check_random_actions: expected seconds covering at least one control step "
+            f"(>= {1.0 / DEFAULT_CONTROL_FREQ:g} s at {DEFAULT_CONTROL_FREQ} Hz control), got {seconds!r}."
+        )
     failed: list[str] = []
     for mode in cls.modes():
         try:
@@ -318,7 +326,6 @@ def check_standing(cls: type[Agent]) -> CheckResult | None:
     """A robot whose legs carry a free base stands from each keyframe at its physics
     step (the sweep's standing claim, :mod:`robot_agents.tuning.standing_claim`);
     ``None`` for other robots."""
-    from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
     from robot_agents.tuning.claims import Penetration
     from robot_agents.tuning.standing_claim import STAND_SECONDS, standing_claim
 

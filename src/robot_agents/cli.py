@@ -25,7 +25,13 @@ from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning import timestep
 
 MAX_SECONDS = 60.0
-"""Upper bound of ``demo --seconds`` (simulated seconds per pose)."""
+"""Upper bound of ``demo --seconds`` (simulated seconds per pose) and ``check --seconds``."""
+CHECK_MIN_SECONDS = 1.0 / DEFAULT_CONTROL_FREQ
+"""Lower bound of ``check --seconds``: one control step of the checks' scenes (0.05 s at
+their 20 Hz control); fewer seconds ran no random action at all and passed."""
+MAX_SUBSTEPS = 1000
+"""Upper bound of each ``check --sweep --substeps`` count: 20 kHz at the sweep's 20 Hz
+control, a 0.05 ms physics step (the default sweep stops at 50, 1 kHz)."""
 
 
 class UsageError(Exception):
@@ -34,29 +40,39 @@ class UsageError(Exception):
 
 def parse_substeps(text: str | None) -> tuple[int, ...] | None:
     """``--substeps``: comma-separated physics substeps per control step to sweep, each a
-    whole number >= 1 (``None``: the sweep's default, 2-50 at 20 Hz control: 40 Hz-1 kHz)."""
+    whole number from 1 to :data:`MAX_SUBSTEPS` (``None``: the sweep's default, 2-50 at
+    20 Hz control: 40 Hz-1 kHz)."""
     if text is None:
         return None
     try:
         values = tuple(int(part) for part in text.split(","))
     except ValueError:
         values = ()
-    if not values or min(values) < 1:
+    if not values or min(values) < 1 or max(values) > MAX_SUBSTEPS:
         raise UsageError(
-            f"argument --substeps: expected whole numbers >= 1 separated by commas (e.g. 10,20,50,100), got {text!r}"
+            f"argument --substeps: expected whole numbers from 1 to {MAX_SUBSTEPS} separated by commas "
+            f"(e.g. 10,20,50,100; {MAX_SUBSTEPS} is {DEFAULT_CONTROL_FREQ * MAX_SUBSTEPS / 1000:g} kHz at "
+            f"{DEFAULT_CONTROL_FREQ} Hz control), got {text!r}"
         )
     return values
 
 
-def parse_seconds(text: str, what: str = "simulated seconds per pose") -> float:
+def parse_seconds(text: str, what: str = "simulated seconds per pose", minimum: float | None = None) -> float:
     """``--seconds``: a finite number of ``what`` (demo: simulated seconds per pose; check:
-    seconds of random actions per mode), > 0 and <= :data:`MAX_SECONDS`."""
+    seconds of random actions per mode), > 0 (or >= ``minimum``, and then said why: check
+    takes at least one control step, :data:`CHECK_MIN_SECONDS`) and <= :data:`MAX_SECONDS`."""
     try:
         value = float(text)
     except ValueError:
         value = math.nan
-    if not (math.isfinite(value) and 0.0 < value <= MAX_SECONDS):
-        raise UsageError(f"argument --seconds: expected a number of {what}, > 0 and <= {MAX_SECONDS:g}, got {text!r}")
+    low_ok = value > 0.0 if minimum is None else value >= minimum
+    if not (math.isfinite(value) and low_ok and value <= MAX_SECONDS):
+        low = (
+            "> 0"
+            if minimum is None
+            else f">= {minimum:g} (one control step at {DEFAULT_CONTROL_FREQ} Hz, the checks' control rate)"
+        )
+        raise UsageError(f"argument --seconds: expected a number of {what}, {low} and <= {MAX_SECONDS:g}, got {text!r}")
     return value
 
 
@@ -371,7 +387,10 @@ def build_parser() -> argparse.ArgumentParser:
     check = sub.add_parser("check", help="describe a robot and run its physics checks (exit 1 on a failure)")
     _robot_arguments(check)
     check.add_argument(
-        "--seconds", default="5.0", help=f"seconds of random actions per mode, > 0 and <= {MAX_SECONDS:g} (default: 5)"
+        "--seconds",
+        default="5.0",
+        help=f"seconds of random actions per mode, >= {CHECK_MIN_SECONDS:g} (one control step at "
+        f"{DEFAULT_CONTROL_FREQ} Hz) and <= {MAX_SECONDS:g} (default: 5)",
     )
     check.add_argument(
         "--sweep", action="store_true", help="the time-step sweep: every physics claim per step, largest step first"
@@ -379,7 +398,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument(
         "--substeps",
         default=None,
-        help="with --sweep: physics substeps per control step to try, comma-separated "
+        help=f"with --sweep: physics substeps per control step to try, 1 to {MAX_SUBSTEPS}, comma-separated "
         f"(default {','.join(map(str, substeps))}: {DEFAULT_CONTROL_FREQ * min(substeps):g} Hz-"
         f"{DEFAULT_CONTROL_FREQ * max(substeps) / 1000:g} kHz at {DEFAULT_CONTROL_FREQ:g} Hz control; "
         "e.g. 50,100,200 for up to 4 kHz)",
@@ -443,7 +462,7 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
             return cmd_list(stream)
         # the command's own arguments first: a typo is reported before a model file loads
         if args.command == "check":
-            seconds = parse_seconds(args.seconds, "seconds of random actions per mode")
+            seconds = parse_seconds(args.seconds, "seconds of random actions per mode", CHECK_MIN_SECONDS)
             substeps = parse_substeps(args.substeps)
             if substeps is not None and not args.sweep:
                 raise UsageError("argument --substeps: chooses the steps of the time-step sweep; add --sweep")

@@ -107,9 +107,9 @@ def test_reward_rises_along_a_scripted_approach(uid: str) -> None:
     """The base drives straight from its start to the example's picking pose (2 cm a
     step, set there and held a step), then the grasp point moves to the example's
     stand-off short of the cube (5 mm a step): the normalized reward rises at every
-    step, by at least 1e-4 for each 2 cm the base drives. Before, the reaching term was
-    the tool's alone, in units of 0.2 R: about 1e-5 at the start, with a gain per step
-    of the drive below 1e-5 until the tool came within about 0.5 m of the cube."""
+    step, by more than 1e-4 for each 2 cm the base drives. Before, the reaching term was
+    the tool's alone, in units of 0.2 R: 1e-6 to 1e-4 at the start, gaining less than
+    1e-5 a step of the drive while the tool was more than 0.9-1.1 m from the cube."""
     env = ra.make_env(TASK, robot_uids=uid, control_mode=example.MODE).unwrapped
     env.reset(seed=0)
     robot, agent = example.MobileManipulator(env), env.agent

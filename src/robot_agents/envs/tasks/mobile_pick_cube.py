@@ -22,8 +22,8 @@ closer and is 0.5 once the base is that near) ``+ 0.5 * (1 - tanh(|tcp - cube| /
 R))`` (PickCube's term: it rises as the tool closes in); ``+ 1`` while grasped, ``+
 min(lift / 5 cm, 1)`` while grasped; 3 on success. ``dense`` lies in ``[0, 3]``,
 ``normalized_dense`` divides by 3, ``sparse`` is 1 on success. (Before 2026-11-29 the
-reaching term was the tool's alone: about 1e-5 of the normalized reward at the start,
-the tool 1.1-1.9 m from the cube, with next to no gain from driving.)
+reaching term was the tool's alone: 1e-6 to 1e-4 of the normalized reward at the
+start, the tool 1.1-1.9 m from the cube, with next to no gain from driving.)
 """
 
 from __future__ import annotations

@@ -41,7 +41,7 @@ from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
+from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, file_keyframe_names, resolve_keyframe
 from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
@@ -492,19 +492,22 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 RuntimeWarning,
                 stacklevel=3,
             )
-    default = _composed_default(cls, index)
-    if not cls.keyframes:
-        _note_file_keyframe_moved(name, index, default)
-    frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
     keyframes = {}
-    for key, frame in frames.items():
-        keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
     mount = mount_pose(cls)
     # a floating robot's mount turns it (a file drawn y-up stands under a mount turned about x)
     mount_quat = None if tuple(mount[3:]) == (1.0, 0.0, 0.0, 0.0) else np.array(mount[3:])
-    if not cls.keyframes and index.free_joint is not None:
-        base = resting_base(model, index, keyframes["default"].qpos, mount_quat)
-        keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
+    if cls.keyframes:
+        default = _composed_default(cls, index)
+        for key, frame in cls.keyframes.items():
+            keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
+    else:  # every keyframe of the file, the first as "default" (file_keyframe_names)
+        for number, key in enumerate(file_keyframe_names(model)):
+            default = _composed_default(cls, index, number)
+            _note_file_keyframe_moved(name, index, default, number)
+            keyframes[key] = resolve_keyframe(Keyframe(), index, f"{name}.keyframes[{key!r}]", default)
+            if index.free_joint is not None:
+                base = resting_base(model, index, keyframes[key].qpos, mount_quat, number)
+                keyframes[key] = dataclasses.replace(keyframes[key], base=base)
     from robot_agents.agent.definition import AgentDefinition  # (imports this module)
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
@@ -681,14 +684,14 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
     return frozenset(joints), frozenset(bodies)
 
 
-def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray) -> None:
-    """A note naming the joints whose value in the file's first keyframe lies outside
-    their limits, and where the derived default keyframe puts them instead
+def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray, key: int = 0) -> None:
+    """A note naming the joints whose value in the file's keyframe at place ``key`` (from
+    0) lies outside their limits, and where the derived keyframe puts them instead
     (:func:`~robot_agents.keyframe.default_qpos`): the file's pose was changed silently."""
     model = index.model
-    if model.nkey == 0:
+    if model.nkey <= key:
         return
-    given = np.asarray(model.key_qpos[0][index.qpos_adr], dtype=np.float64)
+    given = np.asarray(model.key_qpos[key][index.qpos_adr], dtype=np.float64)
     moved = [
         f"{joint.name} {given[joint.qpos_start]:.4g} -> {default[joint.qpos_start]:.4g}"
         for joint in index.joints
@@ -699,8 +702,8 @@ def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray)
     ]
     if moved:
         warnings.warn(
-            f"{name}: the file's keyframe {model.key(0).name or '#0'!r} puts joints outside their limits; its "
-            f"default keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
+            f"{name}: the file's keyframe {model.key(key).name or f'#{key}'!r} puts joints outside their limits; "
+            f"its {file_keyframe_names(model)[key]!r} keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
             "(declare keyframes to choose).",
             RuntimeWarning,
             stacklevel=3,
@@ -826,9 +829,10 @@ def assert_frame(model: mujoco.MjModel, ee: EndEffector, where: str) -> None:
         resolve_frame(model, ee.command_frame, "", where + " command_frame")
 
 
-def _composed_default(cls: type[AgentDefinition], index: RobotIndex) -> np.ndarray:
-    """The default pose: the model's, with each mounted piece's first keyframe on its joints."""
-    default = default_qpos(index)
+def _composed_default(cls: type[AgentDefinition], index: RobotIndex, key: int = 0) -> np.ndarray:
+    """The default pose: the model's (its file's keyframe at place ``key``, from 0), with
+    each mounted piece's first keyframe on its joints."""
+    default = default_qpos(index, key)
     for prefix, piece in composition(cls).pieces:
         if not piece.keyframes:
             continue

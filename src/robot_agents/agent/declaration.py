@@ -36,7 +36,7 @@ from robot_agents.agent.derived import (
     velocity_servos,
 )
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
-from robot_agents.agent.derived_task_space import derive_task_space
+from robot_agents.agent.derived_task_space import derive_task_space, note_unlimited_slides, unlimited_slides
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
@@ -289,10 +289,14 @@ def _with_task_space(
     if not asked and (part.task_space is not None or not derived):
         return part
     space = derive_task_space(model, index, part, part_joints[part.name], keyframe, name)
+    if space is not None:
+        slides = unlimited_slides(model, index, part_joints[part.name], name)
+        if slides:
+            note_unlimited_slides(name, part, slides, space)
     if space is None and asked:
         raise ConfigError(
             f"{name}.parts[{part.name!r}]: MeasuredTaskSpace() cannot be measured on this arm: end-effector modes "
-            "need 3 or more hinge or limited slide joints and an end effector that the joints move; got joints "
+            "need 3 or more hinge or slide joints and an end effector that the joints move; got joints "
             f"{list(part_joints[part.name])} and end effectors {[ee.link for ee in part.end_effectors]}."
         )
     return part if space is None else dataclasses.replace(part, task_space=space)

@@ -28,6 +28,7 @@ from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gai
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import (
     DERIVED_SOURCE,
+    infer_gripper,
     infer_parts,
     resting_base,
     self_contacts,
@@ -477,9 +478,13 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         piece_joints, piece_bodies = _piece_names(composed)
         parts = parts + _pieces_own_parts(composed, {d.joint for d in drives})
         held = any(isinstance(p, (Gripper, Hand)) for p in parts)  # a piece's gripper is the gripper
-        own_parts = infer_parts(
-            model, index, [d.joint for d in drives if d.joint not in piece_joints], grippers=not held
-        )
+        own_driven = [d.joint for d in drives if d.joint not in piece_joints]
+        file_fingers: list[str] = []
+        if held and own_driven:
+            # the file's own fingers beside a mounted gripper: out of the arm (whose end
+            # effector would sit on a finger), in no part, with a note naming them
+            own_driven, file_fingers = _file_gripper_beside_piece(name, model, index, own_driven, composed)
+        own_parts = infer_parts(model, index, own_driven, grippers=not held)
         own_parts = tuple(_to_piece_tool(p, composed, piece_bodies, model, index) for p in own_parts)
         if not _decomposes(cls):
             note_nonconvex_fingers(name, model, own_parts)
@@ -487,7 +492,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     part_joints = _resolve_parts(cls, parts, index, model)
     if inferred:
         in_parts = {joint for joints in part_joints.values() for joint in joints}
-        idle = [d.joint for d in drives if d.joint not in in_parts]
+        idle = [d.joint for d in drives if d.joint not in in_parts and d.joint not in file_fingers]
         if idle:  # a mounted piece's arm: its parts are not inferred
             warnings.warn(
                 f"{name}: joints {idle[:6]}{' ...' if len(idle) > 6 else ''} have drives and are in none of the "
@@ -674,6 +679,33 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     )
     _CHECKED[cls] = checked
     return checked
+
+
+def _file_gripper_beside_piece(
+    name: str, model: mujoco.MjModel, index: RobotIndex, driven: list[str], composed: Composition
+) -> tuple[list[str], list[str]]:
+    """``driven`` (the robot's own driven joints, a gripper piece mounted on it) less
+    the fingers of a gripper its own file has at the end of them (:func:`infer_gripper`),
+    and those finger joints (empty when it has none). The piece is the robot's gripper:
+    the file's fingers stay out of the arm, whose end effector is the piece's ``tcp``
+    (on a finger before), in no part, holding their default pose; a note names them."""
+    found = infer_gripper(model, index, driven)
+    if found is None:
+        return driven, []
+    gripper, hand, _, count = found
+    fingers = driven[len(driven) - count :]
+    followers = [c.follower for c in index.couplings if c.leader in fingers]
+    links = [link for finger in gripper.finger_links for link in finger]
+    pieces = ", ".join(f"{piece.__name__} ({prefix!r})" for prefix, piece in composed.pieces)
+    warnings.warn(
+        f"{name}: the model file has its own gripper on {hand!r} (fingers {links[:4]}, joints "
+        f"{fingers + followers}) beside the mounted {pieces}: the mounted piece is the robot's gripper and its tool "
+        "point the arm's end effector; the file's fingers are in no part and hold their default pose (no control "
+        "mode commands them). Mount no gripper to use the file's own, or declare parts to command both.",
+        RuntimeWarning,
+        stacklevel=4,
+    )
+    return driven[: len(driven) - count], fingers
 
 
 def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]:

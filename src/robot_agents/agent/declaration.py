@@ -46,6 +46,7 @@ from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, file
 from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
@@ -392,7 +393,7 @@ class CheckedRobot:
         index: names to addresses in the robot's own model (prefix ``""``).
         drives: the drive of each driven joint.
         keyframes: every keyframe resolved to the robot's vectors (a robot that declares
-            none gets ``"default"``: see :func:`check`).
+            none gets ``"default"`` and its file's other keyframes: see :func:`check`).
         part_joints: each part's joints, in model order.
         parts: the parts (declared, mounted pieces', or inferred).
         modes: the control-mode table (declared, or generated from the parts).
@@ -438,8 +439,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     at its end a gripper whose finger geoms get stiff pad contact; with pieces mounted,
     the robot's own joints are inferred so, beside the pieces' parts, and an arm ends at
     the ``tcp`` of the piece below it), a ``"default"``
-    keyframe (the file's own keyframe or the model's pose, values outside the limits
-    moved inside them; a floating robot resting on the floor), drives (PD gains from
+    keyframe (the file's first keyframe or the model's pose, values outside the limits
+    moved inside them; a floating robot resting on the floor) and the file's other
+    keyframes under their names (:func:`~robot_agents.keyframe.file_keyframe_names`),
+    drives (PD gains from
     the model's inertia, over the joints' ranges for a fixed robot, when neither the
     robot nor its file has any, beside its pieces' drives; sliding fingers pressing with
     their effort limit),
@@ -483,7 +486,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         if held and own_driven:
             # the file's own fingers beside a mounted gripper: out of the arm (whose end
             # effector would sit on a finger), in no part, with a note naming them
-            own_driven, file_fingers = _file_gripper_beside_piece(name, model, index, own_driven, composed)
+            own_driven, file_fingers = _file_gripper_beside_piece(cls, compiler, index, own_driven, composed)
         own_parts = infer_parts(model, index, own_driven, grippers=not held)
         own_parts = tuple(_to_piece_tool(p, composed, piece_bodies, model, index) for p in own_parts)
         if not _decomposes(cls):
@@ -682,30 +685,44 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
 
 
 def _file_gripper_beside_piece(
-    name: str, model: mujoco.MjModel, index: RobotIndex, driven: list[str], composed: Composition
+    cls: type[AgentDefinition],
+    compiler: CompilerSettings,
+    index: RobotIndex,
+    driven: list[str],
+    composed: Composition,
 ) -> tuple[list[str], list[str]]:
     """``driven`` (the robot's own driven joints, a gripper piece mounted on it) less
-    the fingers of a gripper its own file has at the end of them (:func:`infer_gripper`),
-    and those finger joints (empty when it has none). The piece is the robot's gripper:
-    the file's fingers stay out of the arm, whose end effector is the piece's ``tcp``
-    (on a finger before), in no part, holding their default pose; a note names them."""
-    found = infer_gripper(model, index, driven)
+    the joints of a gripper its own file has (:func:`infer_gripper` on the file alone,
+    compiled without the pieces: a piece mounted on the hand moves there, which the
+    linkage and one-jaw rules refuse), and those finger joints with their followers
+    (empty when it has none). The piece is the robot's gripper: the file's fingers stay
+    out of the arm, whose end effector is the piece's ``tcp`` (on a finger before), in
+    no part, holding their default pose; a note names them."""
+    name = cls.__name__
+    alone = type(name, (cls,), {"attachments": ()})
+    spec, drives = _build(alone, None, None, compiler, quiet=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # its notes were given for the composed robot
+        model = compile_spec(spec, name)
+    found = infer_gripper(model, RobotIndex(model, "", name), [d.joint for d in drives])
     if found is None:
         return driven, []
     gripper, hand, _, count = found
-    fingers = driven[len(driven) - count :]
-    followers = [c.follower for c in index.couplings if c.leader in fingers]
+    leaders = [d.joint for d in drives][-count:]
+    fingers = leaders + [c.follower for c in index.couplings if c.leader in leaders]
+    if not set(leaders) <= set(driven) or not all(f in index.joint_names for f in fingers):
+        return driven, []  # (the file's joints are the composed robot's own, by name)
     links = [link for finger in gripper.finger_links for link in finger]
     pieces = ", ".join(f"{piece.__name__} ({prefix!r})" for prefix, piece in composed.pieces)
     warnings.warn(
-        f"{name}: the model file has its own gripper on {hand!r} (fingers {links[:4]}, joints "
-        f"{fingers + followers}) beside the mounted {pieces}: the mounted piece is the robot's gripper and its tool "
-        "point the arm's end effector; the file's fingers are in no part and hold their default pose (no control "
-        "mode commands them). Mount no gripper to use the file's own, or declare parts to command both.",
+        f"{name}: the model file has its own gripper on {hand!r} (fingers {links[:4]}, joints {fingers[:6]}"
+        f"{' ...' if len(fingers) > 6 else ''}) beside the mounted {pieces}: the mounted piece is the robot's gripper "
+        "and its tool point the arm's end effector; the file's fingers are in no part and hold their default pose "
+        "(no control mode commands them). Mount no gripper to use the file's own, or declare parts to command both.",
         RuntimeWarning,
         stacklevel=4,
     )
-    return driven[: len(driven) - count], fingers
+    return [j for j in driven if j not in leaders], fingers
 
 
 def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]:

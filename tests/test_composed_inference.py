@@ -204,3 +204,48 @@ def test_a_piece_file_driving_its_joints_leaves_the_arm_its_derived_drives(arm_f
     assert all(sources[j].startswith("derived gains") for j in ARM_JOINTS)
     assert sources["g/fl"] == "the model file (actuator 'g/grip')"
     assert checked.part_joints == {"arm": ARM_JOINTS, "g_gripper": ("g/fl", "g/fr")}
+
+
+@pytest.mark.parametrize(
+    ("fingers", "links", "joints"),
+    [
+        ("mimic", ["left_finger", "right_finger"], ["left_joint", "right_joint"]),
+        ("two", ["left_finger", "right_finger"], ["left_joint", "right_joint"]),
+        ("linkage", ["left_finger", "right_finger"], ["left_outer_joint", "left_inner_joint"]),
+        ("one_jaw", ["moving_jaw", "hand", "fixed_jaw"], ["jaw_joint"]),
+    ],
+)
+def test_a_gripper_mounted_beside_the_files_own_fingers_holds_the_end_effector(
+    tmp_path: Path, fingers: str, links: list[str], joints: list[str]
+) -> None:
+    """``--gripper franka_hand --at hand`` on an arm file with a gripper of its own on
+    ``hand``: its end effector sat on a finger (``left_finger``, ``moving_jaw``), and
+    the finger's joint was the arm's last."""
+    from robot_agents.checks import check_random_actions
+    from robot_agents.robot_source import robot_from_file
+    from tests.test_derived_gripper import linkage, one_jaw, slide_fingers, urdf
+
+    text = {"mimic": slide_fingers(True), "two": slide_fingers(False), "linkage": linkage(), "one_jaw": one_jaw()}
+    path = tmp_path / "fingered.urdf"
+    path.write_text(urdf(text[fingers]))
+    cls = robot_from_file(path, gripper="franka_hand", at="hand")
+    with warnings.catch_warnings(record=True) as notes:
+        warnings.simplefilter("always")
+        checked = cls.check()
+    texts = [str(n.message) for n in notes]
+    named = f"own gripper on 'hand' (fingers {links}, joints [{', '.join(map(repr, joints))}"  # (then its followers)
+    assert any(named in t and "PandaHand ('franka_hand/')" in t for t in texts), texts
+    assert not any("are in none of the robot's inferred parts" in t for t in texts)  # one note, not two
+    arm, gripper = checked.parts
+    assert isinstance(arm, ra.Arm) and checked.part_joints["arm"] == ("shoulder", "elbow")
+    assert [ee.link for ee in arm.end_effectors] == ["franka_hand/panda_hand_tcp"]
+    assert isinstance(gripper, ra.Gripper)
+    assert all(j.startswith("franka_hand/") for j in checked.part_joints[gripper.name])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        result = check_random_actions(cls, seconds=1.0)  # the file's fingers held, the piece's moving
+    assert result.passed, result.detail
+    # alone, the file's fingers are its gripper, as before
+    alone = robot_from_file(path).check()
+    assert [type(p).__name__ for p in alone.parts] == ["Arm", "Gripper"]
+    assert alone.part_joints["arm"] == ("shoulder", "elbow")

@@ -308,3 +308,59 @@ def test_a_derived_robot_gets_stiff_joint_stops(tmp_path: Path, pendulum_file: P
     declared = ra.Scene(make_pendulum_class(pendulum_file), floor=False).model
     for j in range(declared.njnt):
         np.testing.assert_array_equal(declared.jnt_solref[j], [0.02, 1.0])
+
+
+#: A telescoping arm: a turret, a boom whose slide has no stops ({limits}), a forearm
+#: and a wrist.
+TELESCOPE = """<mujoco>
+  <worldbody>
+    <body name="base" pos="0 0 0.1">
+      <geom type="cylinder" size="0.05 0.05" mass="2"/>
+      <body name="turret" pos="0 0 0.05">
+        <joint name="yaw" axis="0 0 1" range="-170 170"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.2" size="0.03" mass="1"/>
+        <body name="boom" pos="0 0 0.2">
+          <joint name="extend" type="slide" axis="1 0 0" {limits}/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.025" mass="0.5"/>
+          <body name="fore" pos="0.3 0 0">
+            <joint name="pitch" axis="0 1 0" range="-100 100"/>
+            <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02" mass="0.3"/>
+            <body name="hand" pos="0.2 0 0">
+              <joint name="wrist" axis="0 1 0" range="-100 100"/>
+              <geom type="box" size="0.03 0.03 0.03" mass="0.1"/>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_an_arm_with_an_unlimited_slide_gets_end_effector_modes_with_a_note(tmp_path: Path) -> None:
+    # a slide without limits in the arm: no end-effector mode, and no word why
+    path = tmp_path / "telescope.xml"
+    path.write_text(TELESCOPE.format(limits=""))
+    cls = type("Telescope", (ra.Agent,), {"uid": "telescope", "mjcf_path": path})
+    with pytest.warns(RuntimeWarning, match=r"slide joint\(s\) \['extend'\] without limits: .*held at the keyframe"):
+        checked = cls.check()
+    space = checked.parts[0].task_space  # type: ignore[union-attr]
+    assert space is not None
+    assert {m for m in checked.modes if m.startswith("pd_ee")} == {"pd_ee_delta_pos", "pd_ee_target_delta_pos"}
+    # the box: what the other joints reach with the boom at its keyframe (the hand 0.3 +
+    # 0.2 m out, 0.2 m above the yaw joint), grown by 5 % of that reach
+    assert space.position_bounds.upper[0] == pytest.approx(0.5 + 0.05 * math.hypot(0.5, 0.2), abs=0.005)
+    # the delta modes carry the tool along the slide past that box
+    scene = ra.Scene(cls, control_modes="pd_ee_delta_pos", floor=False)
+    agent = scene.agents[0]
+    scene.reset()
+    for _ in range(40):
+        agent.set_action(np.array([[1.0, 0.0, 0.0]]))
+        scene.step()
+    tool = agent.frame_pose("ee", relative_to="root")[0]
+    assert tool[0] > space.position_bounds.upper[0] + 0.2
+    assert agent.qpos[0, 1] > 0.2  # the boom extended
+    scene.close()
+    result = check_random_actions(cls, seconds=2.0)
+    assert result.passed, result.detail

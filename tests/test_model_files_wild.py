@@ -14,6 +14,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.agent.declaration import build_spec
+from robot_agents.checks import run_random_actions
 from robot_agents.cli import main as cli_main
 from robot_agents.robot_source import robot_from_file
 
@@ -1106,3 +1107,41 @@ def test_a_gripper_mounted_along_another_axis_of_the_frame_points_along_it(tmp_p
         robot_from_file(path, at_axis=axis)
     with pytest.raises(ra.ConfigError, match="declare its attachments instead"):
         resolve_robot("panda", at_axis=axis)
+
+
+def test_a_fixed_arm_mixing_position_servos_and_motors_gets_joint_modes(tmp_path: Path) -> None:
+    # an arm's <position> servos and a <motor> wrist: the whole robot got joint_effort alone
+    cls = actuated_arm(
+        tmp_path,
+        '<position joint="shoulder" kp="40" kv="4" ctrlrange="-3 3" forcerange="-20 20"/>',
+        '<motor joint="elbow" ctrlrange="-4 4"/>',
+    )
+    with pytest.warns(RuntimeWarning, match=r"1 joint\(s\) with torque motors.*position servos on \['shoulder'\] stay"):
+        checked = cls.check()
+    shoulder, elbow = checked.drives
+    assert not shoulder.replaces_motor and shoulder.source == "the model file"  # the file's servo, as it is
+    assert elbow.replaces_motor and elbow.stiffness > 0 and elbow.damping > 0 and elbow.effort_limit == 4.0
+    assert {"pd_joint_pos", "pd_joint_delta_pos", "pd_joint_vel", "joint_effort"} <= set(checked.modes)
+    assert checked.default_mode == "pd_joint_delta_pos"
+    scene = scene_of(cls)
+    agent, data = scene.agents[0], scene.world.datas[0]
+    scene.reset()
+    agent.set_control_mode("pd_joint_pos")
+    for _ in range(3 * scene.control_freq):  # both joints reach position targets
+        agent.set_action(np.array([[0.4, -0.3]]))
+        scene.step()
+    np.testing.assert_allclose(agent.qpos[0], [0.4, -0.3], atol=0.02)
+    assert abs(data.actuator_force[1]) <= 4.0 + 1e-9
+    # joint_effort: the servo's stiffness and damping relaxed too, efforts within each limit
+    agent.set_control_mode("joint_effort")
+    agent.set_action(np.array([[0.5, -0.25]]))
+    scene.step()
+    np.testing.assert_allclose(data.qfrc_actuator, [10.0, -1.0], rtol=1e-9)
+    agent.set_control_mode("pd_joint_delta_pos")
+    run_random_actions(scene, 1.0, 0)
+    assert not np.any(scene.world.instability_counts())
+    scene.close()
+    # velocity servos with motors: no joint mode drives a velocity servo and a position drive together
+    velocity = actuated_arm(tmp_path, '<velocity joint="shoulder" kv="4"/>', '<motor joint="elbow" ctrlrange="-4 4"/>')
+    with pytest.warns(RuntimeWarning, match=r"\['elbow'\] with torque motors and \['shoulder'\] with velocity servos"):
+        assert list(velocity.check().modes) == ["joint_effort"]

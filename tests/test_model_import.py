@@ -366,6 +366,59 @@ def test_a_missing_mjcf_mesh_names_the_model_file_and_where_it_was_looked_for(tm
         robot_from_file(path).check()
 
 
+_CUBE = [(x, y, z) for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05)]
+_CUBE_FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+
+
+def _stripped_arm(tmp_path: Path, files: tuple[str, str]) -> Path:
+    """An arm whose two meshes are written with folders (``files``) that
+    ``<compiler strippath="true">`` drops: MuJoCo looks for them in ``meshes/``."""
+    path = tmp_path / "stripped.xml"
+    path.write_text(
+        '<mujoco>\n<compiler meshdir="meshes" strippath="true"/>\n<asset>'
+        f'<mesh name="a" file="{files[0]}"/><mesh name="b" file="{files[1]}"/></asset>\n'
+        '<worldbody><body name="base"><geom type="mesh" mesh="a"/><body name="arm" pos="0 0 0.2">'
+        '<joint name="j" axis="0 1 0" range="-1 1"/><geom type="mesh" mesh="b"/></body></body></worldbody></mujoco>'
+    )
+    return path
+
+
+def test_a_missing_mesh_under_strippath_names_where_mujoco_looked(tmp_path: Path) -> None:
+    # MuJoCo looked for meshes/arm.stl and the message (its own) named "meshes/arm.stl"
+    # alone; a mesh to convert was looked for at meshes/some/dir/arm.ply, where MuJoCo
+    # does not look, and refused though it was there
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "base.obj").write_text(
+        "".join(f"v {x} {y} {z}\n" for x, y, z in _CUBE)
+        + "".join(f"f {' '.join(str(i + 1) for i in f)}\n" for f in _CUBE_FACES)
+    )
+    path = _stripped_arm(tmp_path, ("other/base.obj", "/some/dir/arm.stl"))
+    expected = str(tmp_path / "meshes" / "arm.stl")
+    with pytest.raises(
+        ra.ModelError,
+        match=rf"the mesh file '/some/dir/arm.stl' of <mesh name='b'> in .*stripped\.xml' \(line 3\) was not found "
+        rf"at {re.escape(repr(expected))} \(the file's <compiler strippath=\"true\"> drops the folders",
+    ):
+        robot_from_file(path).check()
+    path = _stripped_arm(tmp_path, ("other/base.obj", "some/dir/arm.ply"))
+    expected = str(tmp_path / "meshes" / "arm.ply")
+    with pytest.raises(
+        ra.ModelError, match=rf"mesh 'some/dir/arm.ply' of .* was not found at {re.escape(repr(expected))}"
+    ):
+        robot_from_file(path).check()
+    pytest.importorskip("trimesh")
+    (tmp_path / "meshes" / "arm.ply").write_text(
+        f"ply\nformat ascii 1.0\nelement vertex {len(_CUBE)}\nproperty float x\nproperty float y\nproperty float z\n"
+        f"element face {len(_CUBE_FACES)}\nproperty list uchar int vertex_indices\nend_header\n"
+        + "".join(f"{x} {y} {z}\n" for x, y, z in _CUBE)
+        + "".join(f"4 {' '.join(map(str, f))}\n" for f in _CUBE_FACES)
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        model = robot_from_file(path).check().index.model
+    assert model.nmesh == 2  # the converted mesh and the stripped .obj beside it both read
+
+
 @pytest.mark.parametrize("suffix", [".mjcf", ".XML"])
 def test_mjcf_files_ending_otherwise_than_xml_load_with_their_includes_and_meshes(tmp_path: Path, suffix: str) -> None:
     # MuJoCo 4 reads a file by its name's ending: "could not find decoder" for the

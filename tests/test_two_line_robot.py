@@ -491,3 +491,50 @@ def test_a_file_keyframe_outside_the_limits_is_moved_with_a_note(tmp_path: Path)
     with pytest.warns(RuntimeWarning, match=r"keyframe 'home' puts joints outside their limits; .*: shoulder 3 -> 2\b"):
         checked = two_line(path).check()
     assert checked.keyframes["default"].qpos[0] == pytest.approx(2.5 - 0.1 * 5.0)
+
+
+def test_every_keyframe_of_a_file_is_kept_by_name(tmp_path: Path) -> None:
+    # only the file's first keyframe was kept: reset(keyframes="ready") was an unknown name
+    keys = (
+        '<keyframe><key name="home" qpos="0.1 0.2"/><key name="ready" qpos="0.5 -0.4"/><key qpos="-0.3 0.6"/>'
+        '<key name="default" qpos="3.0 0.7"/><key name="key2" qpos="0.2 0.2"/></keyframe>'
+    )
+    path = tmp_path / "keys.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", keys + "</mujoco>"))
+    # the note names the keyframe outside the limits, and only it
+    with pytest.warns(
+        RuntimeWarning, match=r"keyframe 'default' puts joints .*'default_3' keyframe .*shoulder 3 -> 2\b"
+    ):
+        checked = two_line(path).check()
+    assert list(checked.keyframes) == ["default", "ready", "key2", "default_3", "key2_4"]
+    np.testing.assert_allclose(checked.keyframes["default"].qpos, [0.1, 0.2])
+    np.testing.assert_allclose(checked.keyframes["ready"].qpos, [0.5, -0.4])
+    np.testing.assert_allclose(checked.keyframes["key2"].qpos, [-0.3, 0.6])
+    np.testing.assert_allclose(checked.keyframes["default_3"].qpos, [2.0, 0.7])
+    np.testing.assert_allclose(checked.keyframes["key2_4"].qpos, [0.2, 0.2])
+    scene = scene_of(two_line(path), num_envs=2)
+    scene.reset(keyframes="ready")
+    scene.reset(env_ids=[1], keyframes="key2")
+    np.testing.assert_allclose(scene.agents[0].qpos, [[0.5, -0.4], [-0.3, 0.6]])
+    with pytest.raises(ra.errors.UnknownNameError, match="read"):
+        scene.reset(keyframes="home")  # the first keyframe is "default", whatever its name in the file
+
+
+def test_a_floating_files_keyframes_each_rest_on_the_floor_in_their_own_orientation(tmp_path: Path) -> None:
+    from robot_agents.robot_source import robot_from_file
+
+    keys = '<keyframe><key qpos="0 0 2 1 0 0 0 0.1 0.2"/><key name="side" qpos="0 0 2 0.7071068 0.7071068 0 0 0 0"/></keyframe>'
+    path = tmp_path / "float_keys.xml"
+    path.write_text(
+        PENDULUM_MJCF.replace(
+            '<body name="base" pos="0 0 1.0">', '<body name="base" pos="0 0 1.0"><freejoint/>'
+        ).replace("</mujoco>", keys + "</mujoco>")
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        checked = robot_from_file(path, floating=True).check()
+    assert list(checked.keyframes) == ["default", "side"]
+    np.testing.assert_allclose(checked.keyframes["default"].base[3:], [1, 0, 0, 0])
+    np.testing.assert_allclose(checked.keyframes["side"].base[3:], [0.7071068, 0.7071068, 0, 0], atol=1e-6)
+    # each lowered to rest 1 mm above the floor: lying on its side it rests lower than hanging
+    assert 0 < checked.keyframes["side"].base[2] < checked.keyframes["default"].base[2]

@@ -30,6 +30,8 @@ from robot_agents.patterns import as_patterns, match
 from robot_agents.validation import ball_angles, check_quat, check_quat_rows, outside_limits
 
 if TYPE_CHECKING:
+    import mujoco
+
     from robot_agents.agent.index import RobotIndex
 
 FloatArray = npt.NDArray[np.float64]
@@ -111,20 +113,52 @@ class ResolvedKeyframe:
 INSIDE_LIMITS = 0.1
 
 
-def default_qpos(index: RobotIndex) -> FloatArray:
+def default_qpos(index: RobotIndex, key: int = 0) -> FloatArray:
     """The robot's default ``qpos`` ``(nq,)``: the file's first keyframe if it has one,
     else the model's reference pose (``qpos0``; identity quaternions for ball joints).
     A value outside its joint's limits (a model's zero pose may lie outside them) is
     moved :data:`INSIDE_LIMITS` of the range inside the nearer limit: resting on a stop,
     a drive would press into it, and an arm with its elbow at a stop is stretched
-    straight (a singular pose, where IK and end-effector modes stall)."""
+    straight (a singular pose, where IK and end-effector modes stall).
+
+    ``key``: which of the file's keyframes (its place in the file, from 0) to read, moved
+    inside the limits the same way (the derived keyframes: :func:`file_keyframe_names`).
+
+    Raises:
+        ConfigError: ``key`` is not one of the model's keyframes.
+    """
     model = index.model
-    source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
+    if key != 0 and not 0 <= key < model.nkey:
+        raise ConfigError(
+            f"default_qpos: expected a keyframe number from 0 to {model.nkey - 1} (the file's keyframes), got {key!r}."
+        )
+    source = model.key_qpos[key] if model.nkey > 0 else model.qpos0
     values = np.array(source[index.qpos_adr], dtype=np.float64)
     low, high = index.qpos_limits[:, 0], index.qpos_limits[:, 1]
     inside = INSIDE_LIMITS * np.where(np.isfinite(high - low), high - low, 0.0)
     default: FloatArray = np.where(values < low, low + inside, np.where(values > high, high - inside, values))
     return default
+
+
+#: The name of a robot's first keyframe when it declares none: the file's first
+#: keyframe (or its reference pose), whatever the file calls it.
+DEFAULT_KEYFRAME = "default"
+
+
+def file_keyframe_names(model: mujoco.MjModel) -> list[str]:
+    """The names a robot declaring no keyframes gives its file's keyframes, in the file's
+    order: the first is :data:`DEFAULT_KEYFRAME` (``"default"``: a model without
+    keyframes has that one alone), each other its own ``name``, an unnamed one
+    ``"key<i>"`` (``i`` its place among the file's keyframes, from 0: the third is
+    ``"key2"``), and a name already taken (``"default"``, or ``"key2"`` written on
+    another keyframe) gets ``"_<i>"`` added."""
+    names = [DEFAULT_KEYFRAME]
+    for key in range(1, model.nkey):
+        name = model.key(key).name or f"key{key}"
+        while name in names:
+            name += f"_{key}"
+        names.append(name)
+    return names
 
 
 #: How far (rad or m) a keyframe may put a follower from where its coupling puts it.

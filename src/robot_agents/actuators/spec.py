@@ -167,11 +167,21 @@ def apply_actuators(
         # reacher): PD drives derived as for a file without actuators, each within its
         # motor's effort, so that joint and end-effector modes work; joint_effort still
         # commands the motors' torques (the drives' stiffness and damping relaxed).
-        motors = {a.target: _adopted(a, "the model file", a.target).effort_limit for a in file_actuators}
+        # A file mixing motors with position servos (an arm's <position> joints and a
+        # <motor> wrist): the motors get such PD drives, the servos stay as the file has them.
+        motor_actuators = [a for a in file_actuators if _is_motor(a)]
+        motors = {a.target: _adopted(a, "the model file", a.target).effort_limit for a in motor_actuators}
+        servos = [a.target for a in file_actuators if not _is_motor(a)]
+        kept = (
+            f"; its position servos on {servos[:4]}{' ...' if len(servos) > 4 else ''} stay as the file has them "
+            "(joint_effort relaxes their stiffness and damping too)"
+            if servos
+            else ""
+        )
         warnings.warn(
             f"{where}: the model file drives {len(motors)} joint(s) with torque motors: each gets a PD drive with "
             "gains derived from its inertia, its effort within the motor's, for the joint and end-effector modes; "
-            "joint_effort commands the motors' torques. Declare actuators = (ra.FileActuators(),) to keep the "
+            f"joint_effort commands the motors' torques{kept}. Declare actuators = (ra.FileActuators(),) to keep the "
             "motors alone.",
             RuntimeWarning,
             stacklevel=4,
@@ -180,7 +190,14 @@ def apply_actuators(
             *declarations,  # a mounted piece's drives (a built-in gripper on robosuite's arm)
             DerivedActuators(joints=tuple(f"^{re.escape(j)}$" for j in motors), effort_limit=tuple(motors.values())),
         )
-        replace_file_actuators = True
+        if servos:
+            for actuator in motor_actuators:
+                spec.delete(actuator)
+            file_actuators = [a for a in file_actuators if not _is_motor(a)]
+        else:
+            replace_file_actuators = True
+    elif file_actuators and not replace_file_actuators and replace_motors:
+        _note_motors_kept(spec, own, where)
     if replace_file_actuators:
         for actuator in file_actuators:
             spec.delete(actuator)
@@ -444,19 +461,58 @@ def _native(actuator: mujoco.MjsActuator, decl: PIDActuator | DCMotorActuator, o
 
 def _fixed_and_motor_driven(spec: mujoco.MjSpec, own: Collection[str]) -> bool:
     """A fully actuated robot without a free joint whose file's actuators are all torque
-    motors on joints (affine or no bias without stiffness or damping), one on each of
-    the drivable joints of its own file (``own``; a mounted piece's are the piece's)."""
+    motors on joints (affine or no bias without stiffness or damping), or torque motors
+    and position servos (affine with stiffness: ``<position>``), one on each of the
+    drivable joints of its own file (``own``; a mounted piece's are the piece's). A file
+    with velocity servos (damping, no stiffness) or another kind is not: its motors'
+    joints could be given PD drives, but a part mixing velocity servos with position
+    drives has no joint mode that drives both (efforts only, as before)."""
     if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in spec.joints):
         return False
     if (set(drivable_joints(spec)) & set(own)) - {a.target for a in spec.actuators}:
         return False  # underactuated (gymnasium's hopper on its passive root joints, a pendulum): efforts only
-    return all(
+    plain = all(
         actuator.trntype == mujoco.mjtTrn.mjTRN_JOINT
         and actuator.gaintype == mujoco.mjtGain.mjGAIN_FIXED
         and actuator.dyntype == mujoco.mjtDyn.mjDYN_NONE
         and actuator.biastype in (mujoco.mjtBias.mjBIAS_NONE, mujoco.mjtBias.mjBIAS_AFFINE)
-        and _is_motor(actuator)
+        and (_is_motor(actuator) or _is_position_servo(actuator))
         for actuator in spec.actuators
+    )
+    return plain and any(_is_motor(actuator) for actuator in spec.actuators)
+
+
+def _note_motors_kept(spec: mujoco.MjSpec, own: Collection[str], where: str) -> None:
+    """A note for a fixed, fully actuated robot whose file mixes torque motors with
+    velocity servos (or another kind than position servos): its motors stay motors and
+    its modes are efforts alone (:func:`_fixed_and_motor_driven` is false), and why."""
+    if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in spec.joints):
+        return
+    if (set(drivable_joints(spec)) & set(own)) - {a.target for a in spec.actuators}:
+        return  # underactuated: efforts only, as the file means
+    joint_driven = [a for a in spec.actuators if a.trntype == mujoco.mjtTrn.mjTRN_JOINT]
+    motors = [a.target for a in joint_driven if _is_motor(a)]
+    others = [a.target for a in joint_driven if not _is_motor(a) and not _is_position_servo(a)]
+    if not motors or not others:
+        return
+    warnings.warn(
+        f"{where}: the model file drives {motors[:4]}{' ...' if len(motors) > 4 else ''} with torque motors and "
+        f"{others[:4]}{' ...' if len(others) > 4 else ''} with velocity servos (or actuators that are neither motors "
+        "nor position servos): no joint mode commands velocity servos, which cannot hold a position, together with "
+        "position drives, so the robot gets joint_effort alone. Declare actuators (replace_file_actuators = True "
+        "with no actuators gives every joint a derived PD drive and every joint mode), or control_modes.",
+        RuntimeWarning,
+        stacklevel=5,
+    )
+
+
+def _is_position_servo(actuator: mujoco.MjsActuator) -> bool:
+    """An affine actuator with stiffness (``<position>``, or ``<general>`` written so)
+    whose gain matches it (``gainprm[0] == -biasprm[1]``): its control is a joint target."""
+    return bool(
+        actuator.biastype == mujoco.mjtBias.mjBIAS_AFFINE
+        and float(actuator.biasprm[1]) < 0.0
+        and np.isclose(float(actuator.gainprm[0]), -float(actuator.biasprm[1]))
     )
 
 

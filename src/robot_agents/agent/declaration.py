@@ -28,6 +28,7 @@ from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gai
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
 from robot_agents.agent.derived import (
     DERIVED_SOURCE,
+    infer_gripper,
     infer_parts,
     resting_base,
     self_contacts,
@@ -36,15 +37,16 @@ from robot_agents.agent.derived import (
     velocity_servos,
 )
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
-from robot_agents.agent.derived_task_space import derive_task_space
+from robot_agents.agent.derived_task_space import derive_task_space, note_unlimited_slides, unlimited_slides
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, resolve_keyframe
+from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, file_keyframe_names, resolve_keyframe
 from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
+from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
@@ -289,10 +291,14 @@ def _with_task_space(
     if not asked and (part.task_space is not None or not derived):
         return part
     space = derive_task_space(model, index, part, part_joints[part.name], keyframe, name)
+    if space is not None:
+        slides = unlimited_slides(model, index, part_joints[part.name], name)
+        if slides:
+            note_unlimited_slides(name, part, slides, space)
     if space is None and asked:
         raise ConfigError(
             f"{name}.parts[{part.name!r}]: MeasuredTaskSpace() cannot be measured on this arm: end-effector modes "
-            "need 3 or more hinge or limited slide joints and an end effector that the joints move; got joints "
+            "need 3 or more hinge or slide joints and an end effector that the joints move; got joints "
             f"{list(part_joints[part.name])} and end effectors {[ee.link for ee in part.end_effectors]}."
         )
     return part if space is None else dataclasses.replace(part, task_space=space)
@@ -387,7 +393,7 @@ class CheckedRobot:
         index: names to addresses in the robot's own model (prefix ``""``).
         drives: the drive of each driven joint.
         keyframes: every keyframe resolved to the robot's vectors (a robot that declares
-            none gets ``"default"``: see :func:`check`).
+            none gets ``"default"`` and its file's other keyframes: see :func:`check`).
         part_joints: each part's joints, in model order.
         parts: the parts (declared, mounted pieces', or inferred).
         modes: the control-mode table (declared, or generated from the parts).
@@ -433,8 +439,10 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     at its end a gripper whose finger geoms get stiff pad contact; with pieces mounted,
     the robot's own joints are inferred so, beside the pieces' parts, and an arm ends at
     the ``tcp`` of the piece below it), a ``"default"``
-    keyframe (the file's own keyframe or the model's pose, values outside the limits
-    moved inside them; a floating robot resting on the floor), drives (PD gains from
+    keyframe (the file's first keyframe or the model's pose, values outside the limits
+    moved inside them; a floating robot resting on the floor) and the file's other
+    keyframes under their names (:func:`~robot_agents.keyframe.file_keyframe_names`),
+    drives (PD gains from
     the model's inertia, over the joints' ranges for a fixed robot, when neither the
     robot nor its file has any, beside its pieces' drives; sliding fingers pressing with
     their effort limit),
@@ -473,9 +481,13 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         piece_joints, piece_bodies = _piece_names(composed)
         parts = parts + _pieces_own_parts(composed, {d.joint for d in drives})
         held = any(isinstance(p, (Gripper, Hand)) for p in parts)  # a piece's gripper is the gripper
-        own_parts = infer_parts(
-            model, index, [d.joint for d in drives if d.joint not in piece_joints], grippers=not held
-        )
+        own_driven = [d.joint for d in drives if d.joint not in piece_joints]
+        file_fingers: list[str] = []
+        if held and own_driven:
+            # the file's own fingers beside a mounted gripper: out of the arm (whose end
+            # effector would sit on a finger), in no part, with a note naming them
+            own_driven, file_fingers = _file_gripper_beside_piece(cls, compiler, index, own_driven, composed)
+        own_parts = infer_parts(model, index, own_driven, grippers=not held)
         own_parts = tuple(_to_piece_tool(p, composed, piece_bodies, model, index) for p in own_parts)
         if not _decomposes(cls):
             note_nonconvex_fingers(name, model, own_parts)
@@ -483,7 +495,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     part_joints = _resolve_parts(cls, parts, index, model)
     if inferred:
         in_parts = {joint for joints in part_joints.values() for joint in joints}
-        idle = [d.joint for d in drives if d.joint not in in_parts]
+        idle = [d.joint for d in drives if d.joint not in in_parts and d.joint not in file_fingers]
         if idle:  # a mounted piece's arm: its parts are not inferred
             warnings.warn(
                 f"{name}: joints {idle[:6]}{' ...' if len(idle) > 6 else ''} have drives and are in none of the "
@@ -492,19 +504,22 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 RuntimeWarning,
                 stacklevel=3,
             )
-    default = _composed_default(cls, index)
-    if not cls.keyframes:
-        _note_file_keyframe_moved(name, index, default)
-    frames = dict(cls.keyframes) if cls.keyframes else {"default": Keyframe()}
     keyframes = {}
-    for key, frame in frames.items():
-        keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
     mount = mount_pose(cls)
     # a floating robot's mount turns it (a file drawn y-up stands under a mount turned about x)
     mount_quat = None if tuple(mount[3:]) == (1.0, 0.0, 0.0, 0.0) else np.array(mount[3:])
-    if not cls.keyframes and index.free_joint is not None:
-        base = resting_base(model, index, keyframes["default"].qpos, mount_quat)
-        keyframes["default"] = dataclasses.replace(keyframes["default"], base=base)
+    if cls.keyframes:
+        default = _composed_default(cls, index)
+        for key, frame in cls.keyframes.items():
+            keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
+    else:  # every keyframe of the file, the first as "default" (file_keyframe_names)
+        for number, key in enumerate(file_keyframe_names(model)):
+            default = _composed_default(cls, index, number)
+            _note_file_keyframe_moved(name, index, default, number)
+            keyframes[key] = resolve_keyframe(Keyframe(), index, f"{name}.keyframes[{key!r}]", default)
+            if index.free_joint is not None:
+                base = resting_base(model, index, keyframes[key].qpos, mount_quat, number)
+                keyframes[key] = dataclasses.replace(keyframes[key], base=base)
     from robot_agents.agent.definition import AgentDefinition  # (imports this module)
 
     # the robot's own classes, wherever AgentDefinition (whose default this is) sits in the MRO
@@ -669,6 +684,47 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     return checked
 
 
+def _file_gripper_beside_piece(
+    cls: type[AgentDefinition],
+    compiler: CompilerSettings,
+    index: RobotIndex,
+    driven: list[str],
+    composed: Composition,
+) -> tuple[list[str], list[str]]:
+    """``driven`` (the robot's own driven joints, a gripper piece mounted on it) less
+    the joints of a gripper its own file has (:func:`infer_gripper` on the file alone,
+    compiled without the pieces: a piece mounted on the hand moves there, which the
+    linkage and one-jaw rules refuse), and those finger joints with their followers
+    (empty when it has none). The piece is the robot's gripper: the file's fingers stay
+    out of the arm, whose end effector is the piece's ``tcp`` (on a finger before), in
+    no part, holding their default pose; a note names them."""
+    name = cls.__name__
+    alone = type(name, (cls,), {"attachments": ()})
+    spec, drives = _build(alone, None, None, compiler, quiet=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # its notes were given for the composed robot
+        model = compile_spec(spec, name)
+    found = infer_gripper(model, RobotIndex(model, "", name), [d.joint for d in drives])
+    if found is None:
+        return driven, []
+    gripper, hand, _, count = found
+    leaders = [d.joint for d in drives][-count:]
+    fingers = leaders + [c.follower for c in index.couplings if c.leader in leaders]
+    if not set(leaders) <= set(driven) or not all(f in index.joint_names for f in fingers):
+        return driven, []  # (the file's joints are the composed robot's own, by name)
+    links = [link for finger in gripper.finger_links for link in finger]
+    pieces = ", ".join(f"{piece.__name__} ({prefix!r})" for prefix, piece in composed.pieces)
+    warnings.warn(
+        f"{name}: the model file has its own gripper on {hand!r} (fingers {links[:4]}, joints {fingers[:6]}"
+        f"{' ...' if len(fingers) > 6 else ''}) beside the mounted {pieces}: the mounted piece is the robot's gripper "
+        "and its tool point the arm's end effector; the file's fingers are in no part and hold their default pose "
+        "(no control mode commands them). Mount no gripper to use the file's own, or declare parts to command both.",
+        RuntimeWarning,
+        stacklevel=4,
+    )
+    return [j for j in driven if j not in leaders], fingers
+
+
 def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]:
     """The joints and bodies of the mounted pieces, as named in the composed model (each
     piece's own file's, under its full prefix: nested pieces are listed too)."""
@@ -681,14 +737,14 @@ def _piece_names(composed: Composition) -> tuple[frozenset[str], frozenset[str]]
     return frozenset(joints), frozenset(bodies)
 
 
-def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray) -> None:
-    """A note naming the joints whose value in the file's first keyframe lies outside
-    their limits, and where the derived default keyframe puts them instead
+def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray, key: int = 0) -> None:
+    """A note naming the joints whose value in the file's keyframe at place ``key`` (from
+    0) lies outside their limits, and where the derived keyframe puts them instead
     (:func:`~robot_agents.keyframe.default_qpos`): the file's pose was changed silently."""
     model = index.model
-    if model.nkey == 0:
+    if model.nkey <= key:
         return
-    given = np.asarray(model.key_qpos[0][index.qpos_adr], dtype=np.float64)
+    given = np.asarray(model.key_qpos[key][index.qpos_adr], dtype=np.float64)
     moved = [
         f"{joint.name} {given[joint.qpos_start]:.4g} -> {default[joint.qpos_start]:.4g}"
         for joint in index.joints
@@ -699,8 +755,8 @@ def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray)
     ]
     if moved:
         warnings.warn(
-            f"{name}: the file's keyframe {model.key(0).name or '#0'!r} puts joints outside their limits; its "
-            f"default keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
+            f"{name}: the file's keyframe {model.key(key).name or f'#{key}'!r} puts joints outside their limits; "
+            f"its {file_keyframe_names(model)[key]!r} keyframe moves them inside: {', '.join(moved[:4])}{' ...' if len(moved) > 4 else ''} "
             "(declare keyframes to choose).",
             RuntimeWarning,
             stacklevel=3,
@@ -826,9 +882,10 @@ def assert_frame(model: mujoco.MjModel, ee: EndEffector, where: str) -> None:
         resolve_frame(model, ee.command_frame, "", where + " command_frame")
 
 
-def _composed_default(cls: type[AgentDefinition], index: RobotIndex) -> np.ndarray:
-    """The default pose: the model's, with each mounted piece's first keyframe on its joints."""
-    default = default_qpos(index)
+def _composed_default(cls: type[AgentDefinition], index: RobotIndex, key: int = 0) -> np.ndarray:
+    """The default pose: the model's (its file's keyframe at place ``key``, from 0), with
+    each mounted piece's first keyframe on its joints."""
+    default = default_qpos(index, key)
     for prefix, piece in composition(cls).pieces:
         if not piece.keyframes:
             continue

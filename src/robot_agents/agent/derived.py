@@ -816,11 +816,15 @@ def lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> float
 
 
 def resting_base(
-    model: mujoco.MjModel, index: RobotIndex, qpos: np.ndarray, mount_quat: npt.ArrayLike | None = None
+    model: mujoco.MjModel,
+    index: RobotIndex,
+    qpos: np.ndarray,
+    mount_quat: npt.ArrayLike | None = None,
+    key: int = 0,
 ) -> np.ndarray:
     """A floating robot's base pose ``(7,)`` at ``qpos`` that puts its lowest colliding
     geom 1 mm above the floor (z = 0), at the origin, in the file's root orientation
-    (:func:`file_root_orientation`).
+    (:func:`file_root_orientation`; ``key``: of the file's keyframe at that place, from 0).
 
     ``mount_quat`` ``(4,)`` (w, x, y, z): the orientation of the mount the base pose is
     relative to (a scene composes mount and base, :meth:`JointState.keyframe_base`). The
@@ -835,7 +839,7 @@ def resting_base(
     quat = np.array([1.0, 0.0, 0.0, 0.0])
     turned = mount_quat is not None and not np.array_equal(np.asarray(mount_quat, dtype=np.float64), quat)
     if free is not None:
-        quat = file_root_orientation(model, free.qpos_adr)
+        quat = file_root_orientation(model, free.qpos_adr, key)
         data.qpos[free.qpos_adr : free.qpos_adr + 7] = (0.0, 0.0, 0.0, *quat)
         if turned:
             mujoco.mju_mulQuat(data.qpos[free.qpos_adr + 3 : free.qpos_adr + 7], np.asarray(mount_quat, float), quat)
@@ -864,11 +868,12 @@ def resting_base(
     return np.array([*position, *quat])
 
 
-def file_root_orientation(model: mujoco.MjModel, qpos_adr: int) -> np.ndarray:
-    """The unit quaternion ``(w, x, y, z)`` a model file gives its free root: its first
-    keyframe's, else the compiled reference (``qpos0``: the root body's ``quat`` /
-    ``euler`` composed with the free joint's own reference)."""
-    source = model.key_qpos[0] if model.nkey > 0 else model.qpos0
+def file_root_orientation(model: mujoco.MjModel, qpos_adr: int, key: int = 0) -> np.ndarray:
+    """The unit quaternion ``(w, x, y, z)`` a model file gives its free root: its
+    keyframe's at place ``key`` (from 0; the first by default), else the compiled
+    reference (``qpos0``: the root body's ``quat`` / ``euler`` composed with the free
+    joint's own reference)."""
+    source = model.key_qpos[key] if model.nkey > key else model.qpos0
     quat = np.array(source[qpos_adr + 3 : qpos_adr + 7], dtype=np.float64)
     norm = float(np.linalg.norm(quat))
     return quat / norm if np.isfinite(norm) and norm > 1e-9 else np.array([1.0, 0.0, 0.0, 0.0])

@@ -6,7 +6,8 @@ Measured on the arm itself, at the robot's default keyframe, in its root frame (
 frame end-effector commands are given in):
 
 - **Reach**: :data:`REACH_SAMPLES` configurations are drawn with a fixed seed
-  uniformly within the arm joints' limits (``±pi`` for an unlimited hinge), the other
+  uniformly within the arm joints' limits (``±pi`` for an unlimited hinge; an unlimited
+  slide, a rail or a telescope without stops, held at its keyframe value), the other
   joints at the keyframe; the reach is the farthest the tool point gets from the arm's
   first joint (the keyframe's tool point included), as the task layout measures it
   (:mod:`robot_agents.envs.tasks.layout`).
@@ -19,10 +20,17 @@ frame end-effector commands are given in):
   IK; one of 3-5 joints the two position modes with
   :data:`~robot_agents.kinematics.ik_config.POSITION_IK` (as the SO-100 and the Koch);
   one of fewer joints, or with a ball or free joint, none.
+- **Unlimited slides**: an arm with a slide without limits gets its modes too (IK moves
+  it like any joint, so the delta modes carry the tool along it without bound), but its
+  reach and ``pd_ee_pose``'s box are those of the other joints with the slide at its
+  keyframe value (a travel without end has no box); a note says so
+  (:func:`note_unlimited_slides`). Give the slide a ``range`` to cover its travel, or
+  declare the arm's ``TaskSpace``.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import mujoco
@@ -54,7 +62,7 @@ def derive_task_space(
 ) -> TaskSpace | None:
     """The task space of ``arm`` (see the module's description), or ``None`` when it
     gets no end-effector modes (fewer than 3 joints, a joint that is not a hinge or a
-    slide, a slide without limits, or a tool that does not move).
+    slide, or a tool that does not move).
 
     Args:
         model: the robot's own compiled model (alone, at the origin).
@@ -68,8 +76,6 @@ def derive_task_space(
     if len(ids) < POSITION_JOINTS or not arm.end_effectors:
         return None
     if any(int(model.jnt_type[j]) not in _ONE_DOF for j in ids):
-        return None
-    if any(int(model.jnt_type[j]) == mujoco.mjtJoint.mjJNT_SLIDE and not model.jnt_limited[j] for j in ids):
         return None
     frames = RobotFrames(model, index, arm.end_effectors[:1], where)
     tool, command = frames.end_effectors[arm.end_effectors[0].name]
@@ -102,4 +108,35 @@ def derive_task_space(
         max_rotation=MAX_ROTATION,
         ik=POSITION_IK,
         modes=("pd_ee_delta_pos", "pd_ee_target_delta_pos"),
+    )
+
+
+def unlimited_slides(model: mujoco.MjModel, index: RobotIndex, joints: Sequence[str], where: str) -> list[str]:
+    """The slides of ``joints`` without limits (their travel has no end: the measured
+    reach and box hold them at the keyframe)."""
+    return [
+        name
+        for name in joints
+        if int(model.jnt_type[index.joint(name, where).id]) == mujoco.mjtJoint.mjJNT_SLIDE
+        and not model.jnt_limited[index.joint(name, where).id]
+    ]
+
+
+def note_unlimited_slides(where: str, arm: Arm, slides: Sequence[str], space: TaskSpace) -> None:
+    """A note for an arm whose measured task space holds unlimited ``slides`` at the
+    keyframe: ``pd_ee_pose`` reaches only the box of the other joints, the delta modes
+    move along the slides without bound. Points at the caller of
+    :func:`~robot_agents.agent.declaration.check` (through ``_with_task_space`` and the
+    generator that calls it there)."""
+    box = space.position_bounds
+    lower = ", ".join(f"{v:.3g}" for v in box.lower)
+    upper = ", ".join(f"{v:.3g}" for v in box.upper)
+    absolute = " pd_ee_pose's bounds," if "pd_ee_pose" in space.modes else ""
+    warnings.warn(
+        f"{where}: arm {arm.name!r} has slide joint(s) {list(slides)} without limits: its end-effector modes' reach "
+        f"and{absolute} the box ({lower}) .. ({upper}) m, are measured with them held at the keyframe (a travel "
+        "without end has no box); the delta modes move the tool along them without bound. Give them a range to "
+        "cover their travel, or declare the arm's TaskSpace.",
+        RuntimeWarning,
+        stacklevel=6,
     )

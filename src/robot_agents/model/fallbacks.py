@@ -18,6 +18,7 @@ import numpy as np
 from robot_agents.errors import ModelError
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.compiling import compile_spec
+from robot_agents.model.loading import looked_up, stripped_note
 
 NOT_POSITIVE = "inertia must have positive eigenvalues"
 #: How :func:`~robot_agents.model.compiling.compile_spec` introduces MuJoCo's message.
@@ -102,14 +103,12 @@ def missing_file_message(name: str, spec: mujoco.MjSpec, path: Path, error: str)
         return None
     given = found.group(1)
     for kind, tag, folder in (("meshes", "mesh", spec.meshdir), ("textures", "texture", spec.texturedir)):
-        # MuJoCo names the file with its folder (<compiler meshdir>) in front
-        asset = next(
-            (a for a in getattr(spec, kind) if a.file and Path(given) in (Path(a.file), Path(folder) / a.file)), None
-        )
+        # MuJoCo names the file with its folder (<compiler meshdir>) in front, and under
+        # <compiler strippath="true"> without the folders written in the file's name
+        asset = next((a for a in getattr(spec, kind) if a.file and Path(given) in _named(spec, a.file, folder)), None)
         if asset is None:
             continue
-        file = Path(asset.file)
-        looked = file if file.is_absolute() else Path(spec.modelfiledir or path.parent) / folder / file
+        looked = looked_up(spec, asset.file, Path(spec.modelfiledir or path.parent) / folder)
         line = 0
         if path.is_file():
             text = path.read_text(errors="replace")
@@ -117,11 +116,20 @@ def missing_file_message(name: str, spec: mujoco.MjSpec, path: Path, error: str)
             line = text.count("\n", 0, match.start()) + 1 if match else 0
         return (
             f"{name}: the {tag} file {asset.file!r} of <{tag} name={asset.name!r}> in {str(path)!r}"
-            f"{f' (line {line})' if line else ''} was not found at {str(looked)!r}; expected a file there (a path "
+            f"{f' (line {line})' if line else ''} was not found at {str(looked)!r}{stripped_note(spec, asset.file)}; "
+            "expected a file there (a path "
             f"relative to the model file's folder, under its <compiler {tag}dir> when it has one): fix the path or "
             "add the file."
         )
     return None
+
+
+def _named(spec: mujoco.MjSpec, name: str, folder: str) -> tuple[Path, Path]:
+    """How MuJoCo names an asset file written ``name`` when it cannot open it: with its
+    folder (``meshdir`` / ``texturedir``) in front or not, its own folders dropped under
+    ``<compiler strippath="true">``."""
+    shown = Path(name).name if spec.strippath else name
+    return Path(shown), Path(folder) / shown
 
 
 def negative_inertial(spec: mujoco.MjSpec) -> tuple[str, float] | None:

@@ -36,6 +36,36 @@ _URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating",
 _DEFAULT_SETTINGS = CompilerSettings()
 
 
+def looked_up(spec: mujoco.MjSpec, name: str, folder: Path) -> Path:
+    """Where MuJoCo looks for an asset file written ``name`` (a mesh's, a texture's) whose
+    folder is ``folder`` (the model file's folder joined with its ``meshdir`` /
+    ``texturedir``): under ``<compiler strippath="true">`` the name's own folders are
+    dropped (an absolute path too: only the file's name is kept), then a relative name is
+    taken inside ``folder``."""
+    path = Path(Path(name).name if spec.strippath else name)
+    return path if path.is_absolute() else folder / path
+
+
+def stripped_note(spec: mujoco.MjSpec, name: str) -> str:
+    """Words saying that ``<compiler strippath="true">`` dropped the folders of ``name``
+    (empty when it did not: no strippath, or a bare file name)."""
+    if not spec.strippath or Path(name).name == name:
+        return ""
+    return f' (the file\'s <compiler strippath="true"> drops the folders written in {name!r})'
+
+
+def bake_strippath(spec: mujoco.MjSpec) -> None:
+    """Apply ``<compiler strippath="true">`` to every asset file name of ``spec`` (meshes,
+    textures with their cube faces, height fields, skins) and turn it off, so that a name
+    this library writes (a converted mesh's absolute path) is read as written."""
+    for asset in (*spec.meshes, *spec.hfields, *spec.skins, *spec.textures):
+        if asset.file:
+            asset.file = Path(asset.file).name
+    for texture in spec.textures:
+        texture.cubefiles = [Path(face).name if face else face for face in texture.cubefiles]
+    spec.strippath = False
+
+
 def load_model_spec(path: str | os.PathLike[str], compiler: CompilerSettings = _DEFAULT_SETTINGS) -> mujoco.MjSpec:
     """Parse a ``.urdf`` or ``.xml``/``.mjcf`` file into a new MjSpec with the declared
     ``compiler`` settings applied.
@@ -270,11 +300,16 @@ def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
         suffix = Path(mesh.file).suffix.lower() if mesh.file else ""
         if not mesh.file or (suffix in SUPPORTED_MESH_SUFFIXES and suffix != ".stl"):
             continue
-        source = Path(mesh.file) if Path(mesh.file).is_absolute() else base / mesh.file
+        source = looked_up(spec, mesh.file, base)
         if suffix == ".stl" and (not source.is_file() or mujoco_reads(source)):
             continue  # MuJoCo reads it (or finds it where this does not look, or says it is missing)
         if not source.is_file():
-            raise ModelError(f"load_model_spec: mesh {mesh.file!r} of {str(file)!r} was not found at {str(source)!r}.")
+            raise ModelError(
+                f"load_model_spec: mesh {mesh.file!r} of {str(file)!r} was not found at {str(source)!r}"
+                f"{stripped_note(spec, mesh.file)}."
+            )
+        if spec.strippath:  # the converted mesh's own path must stay as written
+            bake_strippath(spec)
         try:
             mesh.file = str(readable_mesh(source))
         except MeshConversionUnavailable as err:

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import mujoco
@@ -18,7 +19,7 @@ import pytest
 from PIL import Image
 
 import robot_agents
-from robot_agents.cli import main
+from robot_agents.cli import main, show_note
 from robot_agents.media.label import LABEL_BACKGROUND
 
 
@@ -549,3 +550,30 @@ def test_every_builtin_piece_names_its_tcp() -> None:
         assert piece.tcp is not None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, piece.tcp) >= 0, name
     with pytest.raises(robot_agents.UnknownNameError, match=r"get_piece.*'robotiq'.*robotiq_2f85"):
         get_piece("robotiq")
+
+
+def test_the_librarys_notes_are_one_line_each_on_stderr(tmp_path: Path) -> None:
+    """A note the library raises while a command runs (here: a file's free joint fixed)
+    reaches the user as ``robot-agents: note: ...``, one line, without Python's source
+    location and code line (which named the library's internals)."""
+    model = tmp_path / "free.xml"
+    model.write_text(
+        '<mujoco><worldbody><body name="b" pos="0 0 0.5"><freejoint/><geom size="0.1"/>'
+        '<body name="c"><joint name="j" range="-1 1"/><geom size="0.05" pos="0.2 0 0"/></body>'
+        "</body></worldbody></mujoco>"
+    )
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["info", str(model)], out=out)
+    assert code == 0 and out.getvalue().startswith(f"{model}: Free")
+    lines = err.getvalue().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("robot-agents: note: Free (")
+    assert "free joint" in lines[0] and "Warning" not in lines[0] and ".py:" not in lines[0]
+    assert warnings.showwarning is not show_note  # put back after the command
+
+
+def test_show_note_names_a_warning_that_is_not_a_note() -> None:
+    err = io.StringIO()
+    show_note(DeprecationWarning("old"), DeprecationWarning, "x.py", 1, file=err)
+    show_note(RuntimeWarning("derived"), RuntimeWarning, "x.py", 1, file=err)
+    assert err.getvalue() == "robot-agents: DeprecationWarning: old\nrobot-agents: note: derived\n"

@@ -8,6 +8,7 @@ import argparse
 import math
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
@@ -435,12 +436,32 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def show_note(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """A warning raised while a command runs, as one line on stderr: the library's notes
+    (``RuntimeWarning``: what a model file left out and what was derived or changed) as
+    ``robot-agents: note: ...``, any other as ``robot-agents: <category>: ...``; without
+    Python's source location and code line, which name the library's internals, not the
+    user's input. (:func:`warnings.showwarning`'s signature.)"""
+    kind = "note" if issubclass(category, RuntimeWarning) else category.__name__
+    (file if file is not None else sys.stderr).write(f"robot-agents: {kind}: {message}\n")
+
+
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
-    """Entry point; returns the exit status."""
+    """Entry point; returns the exit status. Warnings while the command runs are printed
+    by :func:`show_note` (Python's filters still decide which are shown: each once)."""
     stream = out if out is not None else sys.stdout
     args = build_parser().parse_args(argv)
     try:
-        status = _run(args, stream)
+        with warnings.catch_warnings():
+            warnings.showwarning = show_note
+            status = _run(args, stream)
         stream.flush()  # here, not at exit: a closed pipe is reported below
         return status
     except KeyboardInterrupt:  # Ctrl-C during a long check or demo: no traceback

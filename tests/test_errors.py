@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -115,6 +116,35 @@ def test_bad_set_state(env) -> None:  # type: ignore[no-untyped-def]
     bad_mode = {**state, "agents": [{**state["agents"][0], "control_mode": "nope"}]}
     assert_unchanged(env, lambda: u.set_state(bad_mode), ra.UnknownNameError, "unknown control mode 'nope'")
     assert_unchanged(env, lambda: u.set_state({"physics": 1}), ra.StateError, "keys 'physics' and 'agents'")
+
+
+def test_a_misspelt_state_key_is_refused_not_ignored(env) -> None:  # type: ignore[no-untyped-def]
+    """An unknown key of a state (env, vector env, scene, a scene's robot entry, a
+    robot's own) is refused with the closest key: ignored, the part it meant (the step
+    counts here) would silently stay as it was."""
+    u = env.unwrapped
+    state, agent_state = u.get_state(), u.agent.get_state()
+    env.step(np.zeros((2, 8)))
+    misspelt = {key if key != "elapsed_steps" else "elapsed_step": value for key, value in state.items()}
+    assert_unchanged(
+        env, lambda: u.set_state(misspelt), ra.StateError, "['elapsed_step']", "did you mean 'elapsed_steps'?"
+    )
+    np.testing.assert_array_equal(u.elapsed_steps, [2, 2])
+    vector_state = {**state, "autoreset": np.zeros(2, dtype=bool)}
+    assert_unchanged(env, lambda: u.set_state(vector_state), ra.StateError, "RobotVectorEnv.set_state")
+    assert_unchanged(env, lambda: u.scene.set_state(state), ra.StateError, "restore it with RobotEnv.set_state")
+    robot = {**state, "agents": [agent_state]}  # a robot's own state in the scene's list: its joints would be lost
+    assert_unchanged(env, lambda: u.set_state(robot), ra.StateError, "['base_pose', 'qpos', 'qvel']")
+    extra = {**agent_state, "control_modes": agent_state["control_mode"]}
+    assert_unchanged(env, lambda: u.agent.set_state(extra), ra.StateError, "did you mean 'control_mode'?")
+    vector = gym.make_vec("robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point")
+    vector.reset(seed=0)
+    saved = vector.get_state()
+    renamed = {key if key != "autoreset" else "auto_reset": value for key, value in saved.items()}
+    with pytest.raises(ra.StateError, match="did you mean 'autoreset'"):
+        vector.set_state(renamed)
+    vector.set_state(saved)
+    vector.close()
 
 
 def test_keyframe_of_wrong_size_fails_at_load(pendulum_file: Path) -> None:

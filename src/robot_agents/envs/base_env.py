@@ -38,8 +38,8 @@ from robot_agents.sensors.framing import framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
-from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.validation import check_bool, check_open, check_real, is_whole
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, ENV_STATE_KEYS, SCENE_STATE_KEYS, RobotSpecifier, Scene
+from robot_agents.validation import check_bool, check_open, check_real, check_state_keys, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -541,6 +541,15 @@ class RobotEnv(gym.Env[Any, Any]):
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         given = state if isinstance(state, Mapping) else {}
+        check_state_keys(
+            given,
+            SCENE_STATE_KEYS + ENV_STATE_KEYS,
+            "state",
+            where,
+            " 'autoreset' belongs to RobotVectorEnv.get_state(): restore it with RobotVectorEnv.set_state."
+            if "autoreset" in given
+            else "",
+        )
         steps = (
             episode_checks.check_elapsed_steps(given["elapsed_steps"], self.num_envs, where)
             if "elapsed_steps" in given
@@ -550,7 +559,10 @@ class RobotEnv(gym.Env[Any, Any]):
         episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
         rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
         modes = [agent.control_mode for agent in self.agents]
-        self.scene.set_state(state)
+        # the scene's part (a state that is no dict: the scene names what it takes)
+        self.scene.set_state(
+            {key: given[key] for key in SCENE_STATE_KEYS if key in given} if isinstance(state, Mapping) else state
+        )
         if [agent.control_mode for agent in self.agents] != modes:
             self._update_spaces()
         if steps is not None:

@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.agent.agent import CONTROL_STATE_KEYS, JOINT_STATE_KEYS
 from robot_agents.agent.declaration import composition
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.model.physics_twin import physics_twin
@@ -24,13 +25,19 @@ from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sensors.segmentation import segmentation_id_map
 from robot_agents.sim.world import BatchedWorld
-from robot_agents.validation import POSE_AXES, check_open, check_pose, is_whole
+from robot_agents.validation import POSE_AXES, check_open, check_pose, check_state_keys, is_whole
 
 #: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
 #: contacts stable with the implicitfast integrator.
 DEFAULT_SIM_FREQ = 500
 #: Default control rate (Hz), as in ManiSkill: 25 substeps per action at 500 Hz.
 DEFAULT_CONTROL_FREQ = 20
+#: The keys of :meth:`Scene.get_state` (``set_state`` refuses others: a misspelt key
+#: would leave that part of the state unrestored).
+SCENE_STATE_KEYS = ("physics", "sleep", "sensors", "agents")
+#: The keys :meth:`RobotEnv.get_state` adds to the scene's (named when given to
+#: :meth:`Scene.set_state`).
+ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng")
 
 RobotSpecifier = str | type[Agent]
 
@@ -324,6 +331,14 @@ class Scene:
         self._check_open("Scene.set_state")
         if not isinstance(state, Mapping) or "physics" not in state or "agents" not in state:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
+        env_keys = [key for key in ENV_STATE_KEYS if key in state]
+        check_state_keys(
+            state,
+            SCENE_STATE_KEYS,
+            "state",
+            "Scene.set_state",
+            f" {env_keys} belong to an env's state: restore it with RobotEnv.set_state." if env_keys else "",
+        )
         physics = self.world.check_state(state["physics"], "Scene.set_state")
         sleep = self.world.check_sleep_state(state["sleep"], "Scene.set_state") if "sleep" in state else None
         sensors = self.world.check_sensor_state(state["sensors"], "Scene.set_state") if "sensors" in state else None
@@ -346,6 +361,17 @@ class Scene:
                     f"Scene.set_state: expected agents[{k}] ({self.robot_ids[k]}) to be a dict with keys "
                     f"'control_mode' and 'controller', got {agent_state!r:.80}."
                 )
+            joint_keys = [key for key in JOINT_STATE_KEYS if key in agent_state]
+            check_state_keys(
+                agent_state,
+                CONTROL_STATE_KEYS,
+                f"agents[{k}] ({self.robot_ids[k]}) state",
+                "Scene.set_state",
+                f" {joint_keys} belong to Agent.get_state(): the scene restores joints from 'physics'; "
+                "restore a robot's own state with Agent.set_state."
+                if joint_keys
+                else "",
+            )
             drive_targets.append(agent.check_control_state(agent_state, f"Scene.set_state (agents[{k}])"))
         for agent, agent_state, targets in zip(self.agents, agent_states, drive_targets, strict=True):
             agent.restore_control_state(agent_state, targets)

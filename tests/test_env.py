@@ -153,6 +153,41 @@ def test_a_restored_control_mode_brings_its_spaces_back() -> None:
     assert two.action_space is same
 
 
+def test_the_spaces_follow_a_mode_changed_below_the_env() -> None:
+    """A control mode changed through the robot (``Agent.set_state`` of a state saved in
+    another mode, ``Agent.set_control_mode``) or the scene: the env's and the vector
+    env's spaces follow (they stayed at the old mode, and the observations no longer
+    fitted the observation space)."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, control_mode="pd_ee_delta_pose")
+    u = env.unwrapped
+    env.reset(seed=0)
+    robot_state = u.agent.get_state()
+    u.set_control_mode("pd_joint_pos")
+    u.agent.set_state(robot_state)
+    assert env.action_space.shape == u.action_space.shape == (2, 7)
+    obs, *_ = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs)
+    u.agent.set_control_mode("pd_joint_vel")
+    assert env.action_space == u.agent.action_space
+    assert env.observation_space.contains(u.step(env.action_space.sample())[0])
+    same = env.action_space
+    assert env.action_space is same  # unchanged modes: the spaces (and their random streams) are kept
+    vector = gym.make_vec(
+        "robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point", control_mode="pd_joint_pos"
+    )
+    vector.reset(seed=0)
+    saved = vector.env.get_state()
+    vector.env.agent.set_control_mode("pd_ee_delta_pose")
+    assert vector.single_action_space.shape == (7,) and vector.action_space.shape == (2, 7)
+    obs, *_ = vector.step(vector.action_space.sample())
+    assert vector.observation_space.contains(obs)
+    vector.env.set_state(saved)
+    assert vector.single_action_space.shape == (8,) and vector.action_space.shape == (2, 8)
+    assert vector.observation_space.contains(vector.step(vector.action_space.sample())[0])
+    vector.close()
+    env.close()
+
+
 def test_empty_or_two_dimensional_env_ids_are_refused() -> None:
     """An empty selection is refused whatever holds it (a list was, an empty int array
     reset nothing), and so is an array of two dimensions (it was flattened)."""

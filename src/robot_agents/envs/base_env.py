@@ -225,8 +225,7 @@ class RobotEnv(gym.Env[Any, Any]):
         )
         #: The observation of every env (:meth:`StateObservation.observe`, bound once).
         self._get_obs: Callable[[], Any] = self._observation.observe
-        self.action_space = self._build_action_space()
-        self.observation_space = self._build_observation_space()
+        self._update_spaces()
 
     # ------------------------------------------------------------------ task hooks
     def _scene_props(self) -> Sequence[Prop]:
@@ -336,8 +335,38 @@ class RobotEnv(gym.Env[Any, Any]):
         """Build :attr:`action_space` and :attr:`observation_space` again for the robots'
         current control modes (the controller's targets are observed, so both differ per
         mode)."""
+        self._space_modes = [agent.control_mode for agent in self.scene.agents]
         self.action_space = self._build_action_space()
         self.observation_space = self._build_observation_space()
+
+    def _follow_control_modes(self) -> None:
+        """Build the spaces again when a robot's control mode changed since they were
+        built, however it changed (:meth:`Agent.set_control_mode`, :meth:`Agent.set_state`,
+        :meth:`Scene.set_state`, not only this env's methods)."""
+        if [agent.control_mode for agent in self.scene.agents] != self._space_modes:
+            self._update_spaces()
+
+    @property
+    def action_space(self) -> gym.Space[Any]:
+        """The action space of the robots' current control modes (a ``Dict`` by robot id
+        for several robots)."""
+        self._follow_control_modes()
+        return self._action_space
+
+    @action_space.setter
+    def action_space(self, space: gym.Space[Any]) -> None:
+        self._action_space = space
+
+    @property
+    def observation_space(self) -> gym.Space[Any]:
+        """The observation space of the robots' current control modes (the controllers'
+        targets are observed)."""
+        self._follow_control_modes()
+        return self._observation_space
+
+    @observation_space.setter
+    def observation_space(self, space: gym.Space[Any]) -> None:
+        self._observation_space = space
 
     # ------------------------------------------------------------------ observations
     def _build_observation_space(self) -> gym.Space[Any]:

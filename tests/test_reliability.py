@@ -222,3 +222,22 @@ def test_diverging_motion_is_reported_and_absurd_speeds_refused(tmp_path: Path) 
     agent.reset(qvel=np.full(agent.dof, 9e3), env_ids=[1])
     info = env.step(np.zeros((2, 8)))[4]
     np.testing.assert_array_equal(info["physics_unstable"], [False, True])
+
+
+@pytest.mark.parametrize("num_envs", [1, 2])
+def test_a_step_that_ends_with_nan_speeds_is_reported(num_envs: int) -> None:
+    """MuJoCo checks a substep's speeds before integrating it: a blow-up in the last
+    substep of a control step leaves NaN joint speeds that its guard only resets at the
+    next step. Such a step is unstable (it was not flagged: ``NaN > MAX_SPEED`` is
+    false), at one substep per action and with several envs."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=num_envs, control_freq=500).unwrapped
+    env.reset(seed=0)
+    env.model.dof_damping[:] = -100.0  # negative damping pumps energy in until it blows up
+    ended_nan = 0
+    for _ in range(60):
+        info = env.step(np.zeros((num_envs, 8)))[4]
+        nan = ~np.all(np.isfinite(env.agent.qvel), axis=1)
+        ended_nan += int(nan.sum())
+        assert np.all(info["physics_unstable"][nan])
+    assert ended_nan > 0
+    env.close()

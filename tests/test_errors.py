@@ -768,3 +768,18 @@ def test_a_bool_is_not_a_gripper_state() -> None:
     assert all(np.array_equal(before[k], after[k]) for k in before)
     agent.set_gripper_target_state(1.0)  # a number is
     env.close()
+
+
+@pytest.mark.parametrize("name", ["random", "seed", "default_rng"])
+def test_a_bad_random_state_leaves_numpys_global_stream_alone(env, name: str) -> None:  # type: ignore[no-untyped-def]
+    """A state's ``rng`` entry names its bit generator; a name of ``np.random`` that is
+    none (``random``, ``seed``) was called before the entry was refused, drawing from or
+    re-seeding NumPy's global stream."""
+    u = env.unwrapped
+    state = u.get_state()
+    np.random.seed(3)
+    before = np.random.get_state()
+    bad = {**state, "rng": [{"bit_generator": name}, None]}
+    assert_unchanged(env, lambda: u.set_state(bad), ra.StateError, "expected rng[0]")
+    after = np.random.get_state()
+    assert after[2] == before[2] and np.array_equal(after[1], before[1])

@@ -85,7 +85,12 @@ def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generato
             out.append(None)
             continue
         try:
-            bit_generator = getattr(np.random, str(entry["bit_generator"]))()
+            # only a bit generator class is called: any other name of np.random (random,
+            # seed) would draw from or re-seed NumPy's global stream before refusing
+            kind = getattr(np.random, str(entry["bit_generator"]))
+            if not (isinstance(kind, type) and issubclass(kind, np.random.BitGenerator)):
+                raise TypeError(kind)
+            bit_generator = kind()
             bit_generator.state = entry
         except Exception:  # a malformed state: whatever NumPy raises
             raise StateError(

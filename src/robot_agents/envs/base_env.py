@@ -620,6 +620,10 @@ class RobotEnv(gym.Env[Any, Any]):
             )
         frames = []
         for env, data in enumerate(self.scene.world.render_sources()):
+            # Twice, as the sensor cameras do: MuJoCo lays the floor out around the camera
+            # of the *previous* update, so one update made a frame depend on what was
+            # drawn before (a renderer's first frame, a re-framed camera after a reset).
+            self._renderer.update_scene(data, camera=self._render_camera)
             self._renderer.update_scene(data, camera=self._render_camera)
             draw_markers(self._renderer.scene, self._render_markers(env))
             frames.append(self._renderer.render().copy())

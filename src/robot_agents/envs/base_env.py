@@ -34,7 +34,7 @@ from robot_agents.errors import (
 )
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
-from robot_agents.sensors.framing import framing_camera, robot_bounds
+from robot_agents.sensors.framing import framed_camera, framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
@@ -551,15 +551,24 @@ class RobotEnv(gym.Env[Any, Any]):
     def get_state(self) -> dict[str, Any]:
         """Exact state for :meth:`set_state`: the scene's (physics, sensors, controllers,
         drive targets), the episode step counts, the task's per-episode arrays
-        (:attr:`episode_state`: its goals) and each env's random stream (the draws of
-        its next resets)."""
+        (:attr:`episode_state`: its goals), each env's random stream (the draws of
+        its next resets) and :meth:`render`'s framing camera."""
         self._check_open(f"{type(self).__name__}.get_state")
         return {
             **self.scene.get_state(),
             "elapsed_steps": self.elapsed_steps.copy(),
             "episode": {name: np.array(getattr(self, name), dtype=np.float64) for name in self.episode_state},
             "rng": [None if rng is None else rng.bit_generator.state for rng in self._env_rngs],
+            "render_camera": self._render_camera_state(),
         }
+
+    def _render_camera_state(self) -> FloatArray | None:
+        """:meth:`render`'s framing camera as ``(lookat x, y, z, distance, azimuth,
+        elevation)``, ``None`` before it was framed (after a reset, until the next render)."""
+        camera = self._render_camera
+        if camera is None:
+            return None
+        return np.array([*camera.lookat, camera.distance, camera.azimuth, camera.elevation], dtype=np.float64)
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
@@ -587,6 +596,7 @@ class RobotEnv(gym.Env[Any, Any]):
         shapes = {name: np.shape(getattr(self, name)) for name in self.episode_state}
         episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
         rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
+        camera = episode_checks.render_camera(given["render_camera"], where) if "render_camera" in given else None
         modes = [agent.control_mode for agent in self.agents]
         # the scene's part (a state that is no dict: the scene names what it takes)
         self.scene.set_state(
@@ -601,10 +611,14 @@ class RobotEnv(gym.Env[Any, Any]):
                 getattr(self, name)[...] = array
         if rngs is not None:
             self._env_rngs = rngs
+        if "render_camera" in given:  # the frames render() draws follow the state, not this env's past
+            self._render_camera = None if camera is None else framed_camera(camera)
 
     def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
-        camera that frames the robots from their extent at the last reset."""
+        camera that frames the robots from their extent in env 0 at the first render after
+        a reset; :meth:`get_state` saves that camera, so a restored state renders as it
+        did where it was saved."""
         self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")

@@ -98,3 +98,21 @@ def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generato
             ) from None
         out.append(np.random.Generator(bit_generator))
     return out
+
+
+def render_camera(value: Any, where: str) -> npt.NDArray[np.float64] | None:
+    """A state's ``render_camera``: ``None`` (framed at the next render) or the framing
+    camera ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m, deg, deg), finite
+    with a distance > 0."""
+    if value is None:
+        return None
+    try:
+        camera = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        camera = np.full(1, np.nan)
+    if camera.shape != (6,) or not np.all(np.isfinite(camera)) or camera[3] <= 0:
+        raise StateError(
+            f"{where}: expected render_camera to be None or 6 finite numbers (lookat x, y, z, distance > 0, "
+            f"azimuth, elevation), got {value!r:.80}."
+        )
+    return camera

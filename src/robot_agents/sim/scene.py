@@ -37,7 +37,7 @@ DEFAULT_CONTROL_FREQ = 20
 SCENE_STATE_KEYS = ("physics", "sleep", "sensors", "agents")
 #: The keys :meth:`RobotEnv.get_state` adds to the scene's (named when given to
 #: :meth:`Scene.set_state`).
-ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng")
+ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng", "render_camera")
 
 RobotSpecifier = str | type[Agent]
 

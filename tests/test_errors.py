@@ -783,3 +783,19 @@ def test_a_bad_random_state_leaves_numpys_global_stream_alone(env, name: str) ->
     assert_unchanged(env, lambda: u.set_state(bad), ra.StateError, "expected rng[0]")
     after = np.random.get_state()
     assert after[2] == before[2] and np.array_equal(after[1], before[1])
+
+
+def test_a_state_of_another_num_envs_is_named_as_such(env) -> None:  # type: ignore[no-untyped-def]
+    """A state saved by an env of another ``num_envs`` is refused saying so (it was
+    refused for the first array whose shape differed: ``elapsed_steps``), by the env and
+    by the vector env."""
+    three = ra.make_env("Empty-v1", robot_uids="panda", num_envs=3, control_mode="pd_joint_target_delta_pos")
+    three.reset(seed=0)
+    other = three.unwrapped.get_state()
+    u = env.unwrapped
+    assert_unchanged(env, lambda: u.set_state(other), ra.StateError, "the state is of 3 envs", "num_envs=2")
+    vector = gym.make_vec("robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point")
+    with pytest.raises(ra.StateError, match="the state is of 3 envs"):
+        vector.set_state({**other, "autoreset": np.zeros(3, dtype=bool)})
+    vector.close()
+    three.close()

@@ -30,8 +30,8 @@ IntArray = npt.NDArray[np.int64]
 
 #: How far a restored state's joints may lie beyond their limits (rad or m). Contacts
 #: and limit constraints are soft, so a simulated state can be outside: saturated
-#: random actions push built-in robots up to 0.13 rad past a limit (the Panda in
-#: ``pd_ee_pose``; the SO100 0.085 in its default mode), so a state saved by
+#: random actions push built-in robots up to 0.18 rad past a limit (the Unitree Go2;
+#: the Panda 0.13 in ``pd_ee_pose``, the WidowX AI 0.13), so a state saved by
 #: :meth:`Agent.get_state` must restore there. A joint a whole radian or metre past a
 #: limit is a mistake instead (degrees, another robot's joints).
 STATE_LIMIT_MARGIN = 1.0

@@ -588,6 +588,7 @@ class RobotEnv(gym.Env[Any, Any]):
             if "autoreset" in given
             else "",
         )
+        episode_checks.check_num_envs(given, self.num_envs, where)
         steps = (
             episode_checks.check_elapsed_steps(given["elapsed_steps"], self.num_envs, where)
             if "elapsed_steps" in given

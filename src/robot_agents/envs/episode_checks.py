@@ -116,3 +116,14 @@ def render_camera(value: Any, where: str) -> npt.NDArray[np.float64] | None:
             f"azimuth, elevation), got {value!r:.80}."
         )
     return camera
+
+
+def check_num_envs(state: Mapping[str, Any], num_envs: int, where: str) -> None:
+    """:class:`StateError` when a state's ``physics`` rows say it was saved by an env of
+    another ``num_envs`` (said first, not as the first array whose shape differs)."""
+    rows = np.shape(state["physics"])[:1] if "physics" in state else ()
+    if rows and rows[0] != num_envs and np.ndim(state["physics"]) == 2:
+        raise StateError(
+            f"{where}: the state is of {rows[0]} envs and this env has num_envs={num_envs}; a state restores into "
+            "an env made with the same arguments (num_envs, robots, task)."
+        )

@@ -45,7 +45,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from robot_agents.envs.base_env import RESET_OPTIONS, RobotEnv
-from robot_agents.envs.episode_checks import check_reset_options
+from robot_agents.envs.episode_checks import check_num_envs, check_reset_options
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.sim.scene import ENV_STATE_KEYS, SCENE_STATE_KEYS
 from robot_agents.validation import check_state_keys
@@ -199,6 +199,7 @@ class RobotVectorEnv(VectorEnv):
         where = "RobotVectorEnv.set_state"
         given = state if isinstance(state, Mapping) else {}
         check_state_keys(given, (*SCENE_STATE_KEYS, *ENV_STATE_KEYS, "autoreset"), "state", where)
+        check_num_envs(given, self.num_envs, where)
         pending = np.zeros(self.num_envs, dtype=bool)
         if "autoreset" in given:
             flags = np.asarray(given["autoreset"])

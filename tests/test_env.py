@@ -200,6 +200,9 @@ def test_empty_or_two_dimensional_env_ids_are_refused() -> None:
             env.reset(options={"env_ids": ids})
     with pytest.raises(ra.StateError, match=r"1-D sequence, got an array of shape \(1, 1\)"):
         env.reset(options={"env_ids": np.array([[1]])})
+    for mask in (np.array([True, False]), [True, True]):  # a bool mask is named as one
+        with pytest.raises(ra.StateError, match=r"got bools .*np\.flatnonzero\(mask\)"):
+            env.reset(options={"env_ids": mask})
     assert np.array_equal(u.get_state()["physics"], before["physics"])
     env.reset(options={"env_ids": np.array([1])})
     env.reset(options={"env_ids": 0})

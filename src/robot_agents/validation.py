@@ -109,6 +109,11 @@ def check_env_ids(env_ids: Any, num_envs: int, where: str, error: type[RobotAgen
     if given.size == 0:
         raise error(f"{where}: expected at least one env id in [0, {num_envs}), got an empty selection {env_ids!r}.")
     ids = given.reshape(-1)
+    if ids.dtype == np.bool_:  # a mask, read as the ids 0 and 1 by a plain int check
+        raise error(
+            f"{where}: expected env ids (ints) in [0, {num_envs}), got bools {ids.tolist()}; for a mask, pass "
+            f"np.flatnonzero(mask) (a vector env's reset takes options={{'reset_mask': mask}})."
+        )
     if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= num_envs):
         raise error(f"{where}: expected env ids in [0, {num_envs}), got {ids.tolist()}.")
     if len(np.unique(ids)) != len(ids):

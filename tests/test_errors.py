@@ -137,6 +137,16 @@ def test_a_misspelt_state_key_is_refused_not_ignored(env) -> None:  # type: igno
     assert_unchanged(env, lambda: u.set_state(robot), ra.StateError, "['base_pose', 'qpos', 'qvel']")
     extra = {**agent_state, "control_modes": agent_state["control_mode"]}
     assert_unchanged(env, lambda: u.agent.set_state(extra), ra.StateError, "did you mean 'control_mode'?")
+    drives = {**agent_state, "drives": {**agent_state["drives"], "positions": agent_state["drives"]["position"]}}
+    assert_unchanged(env, lambda: u.agent.set_state(drives), ra.StateError, "unknown drive target keys ['positions']")
+    fetch = ra.make_env("Empty-v1", robot_uids="fetch", num_envs=2).unwrapped
+    fetch.reset(seed=0)
+    fetch_state = fetch.get_state()
+    base = {**fetch_state["agents"][0], "base": {**fetch_state["agents"][0]["base"], "refused_move": 0}}
+    with pytest.raises(ra.StateError, match="did you mean 'refused_moves'"):
+        fetch.set_state({**fetch_state, "agents": [base]})
+    np.testing.assert_array_equal(fetch.get_state()["physics"], fetch_state["physics"])
+    fetch.close()
     vector = gym.make_vec("robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point")
     vector.reset(seed=0)
     saved = vector.get_state()

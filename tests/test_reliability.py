@@ -109,6 +109,44 @@ def test_fuzz_rejected_calls_leave_everything_bit_identical(uid: str) -> None:
     env.close()
 
 
+def test_fuzz_rejected_calls_in_a_scene_of_two_different_robots() -> None:
+    """The fuzz of bad calls in a Panda + SO100 scene: a bad action of one robot applies
+    neither robot's, another robot's state, keyframe or mode is refused, and everything
+    is bit-identical afterwards."""
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "so100"), num_envs=2)
+    u = env.unwrapped
+    env.reset(seed=np.int64(1))
+    good = {rid: np.full(space.shape, 0.3) for rid, space in u.action_space.items()}
+    env.step(good)
+    state = u.get_state()
+    panda, so100 = u.agents
+    calls = [
+        lambda: env.step({**good, "so100-1": np.zeros((2, 5))}),
+        lambda: env.step({**good, "so100-1": np.full((2, 6), np.nan)}),
+        lambda: env.step({**good, "panda-0": "up"}),
+        lambda: env.step({"panda-0": good["panda-0"]}),
+        lambda: env.step({**good, "so100-2": good["so100-1"]}),
+        lambda: env.step(good["panda-0"]),
+        lambda: u.set_state({**state, "agents": state["agents"][::-1]}),
+        lambda: u.set_state({**state, "agents": state["agents"][:1]}),
+        lambda: so100.set_state(panda.get_state()),
+        lambda: env.reset(seed=5, options={"keyframe": ("rest", "ready")}),
+        lambda: env.reset(seed=5, options={"keyframe": ["rest"]}),
+        lambda: u.set_control_mode("pd_ee_delta_pose", robot=1),
+        lambda: u.set_control_mode("pd_joint_pos", robot=2),
+        lambda: u.scene.reset(qpos=[None, np.zeros(3)]),
+    ]
+    for k in np.random.default_rng(7).permutation(len(calls)):
+        before = snapshot(env)
+        with pytest.raises(ra.RobotAgentsError):
+            calls[k]()
+        try:
+            assert_same(before, snapshot(env))
+        except AssertionError as err:
+            raise AssertionError(f"bad call {k} changed the state") from err
+    env.close()
+
+
 @pytest.mark.parametrize(
     ("make", "fragment"),
     [

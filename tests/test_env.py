@@ -425,3 +425,21 @@ def test_an_env_refuses_pickling_and_names_whose_action_was_bad() -> None:
     after = env.unwrapped.get_state()
     np.testing.assert_array_equal(after["physics"], before["physics"])
     env.close()
+
+
+def test_reset_keyframes_by_robot_id() -> None:
+    """``options["keyframe"]`` keyed by robot id, as actions are (a robot left out takes
+    its default): the same reset as one name per robot; an unknown id is named with the
+    closest, before anything is reset."""
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "so100"), num_envs=2, robot_init_qpos_noise=0.0)
+    u = env.unwrapped
+    env.reset(seed=0, options={"keyframe": (None, "zero")})
+    expected = u.get_state()["physics"]
+    env.reset(seed=0, options={"keyframe": {"so100-1": "zero"}})
+    np.testing.assert_array_equal(u.get_state()["physics"], expected)
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'so100-1'"):
+        env.reset(seed=1, options={"keyframe": {"so100-0": "zero"}})
+    with pytest.raises(ra.UnknownNameError, match="unknown keyframe 'zeros'"):
+        env.reset(seed=1, options={"keyframe": {"so100-1": "zeros"}})
+    np.testing.assert_array_equal(u.get_state()["physics"], expected)
+    env.close()

@@ -379,8 +379,8 @@ class RobotEnv(gym.Env[Any, Any]):
         self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[Any, dict[str, Any]]:
         """Reset every env (or ``options["env_ids"]``) to each robot's keyframe
-        (``options["keyframe"]``, default the first) plus seeded noise, then the task's
-        randomization.
+        (``options["keyframe"]``: a name, one per robot or a dict by robot id; default the
+        first) plus seeded noise, then the task's randomization.
 
         ``seed``: ``None`` continues each env's random stream; an int ``s`` re-seeds env
         ``i`` (of those reset) with ``s + i``; a list of ``num_envs`` ints or ``None``

@@ -259,13 +259,14 @@ class Scene:
     def reset(
         self,
         env_ids: npt.ArrayLike | None = None,
-        keyframes: str | Sequence[str | None] | None = None,
+        keyframes: str | Sequence[str | None] | Mapping[str, str | None] | None = None,
         qpos: Sequence[npt.ArrayLike | None] | None = None,
     ) -> None:
         """Reset the envs ``env_ids`` (a sequence of env indices; all by default): props and
         time to their initial state, each robot to a keyframe (``keyframes``: one name for
-        every robot or one per robot, ``None`` for its first) or to the given ``qpos`` (one
-        entry per robot, each ``(nq,)`` for every env or ``(len(env_ids), nq)``, rad / m;
+        every robot, one per robot or a dict by robot id, ``None`` for its first) or to the
+        given ``qpos`` (one entry per robot, each ``(nq,)`` for every env or
+        ``(len(env_ids), nq)``, rad / m;
         ``None`` entries take the keyframe). Every robot's input is checked before any env
         is rewound."""
         where = "Scene.reset"
@@ -295,14 +296,24 @@ class Scene:
             agent.apply_reset(write)
 
     def check_keyframes(self, keyframes: Any, where: str) -> list[str | None]:
-        """One keyframe name (or ``None``: the default) per robot, checked."""
+        """One keyframe name (or ``None``: the default) per robot, checked: from one name
+        for every robot, one per robot, or a dict by robot id (as actions are keyed; a
+        robot it leaves out takes its default)."""
+        if isinstance(keyframes, Mapping):
+            for key in keyframes:
+                if key not in self.robot_ids:
+                    raise UnknownNameError(
+                        f"{where} (keyframes keyed by robot id)", "robot id", str(key), self.robot_ids
+                    )
+            keyframes = [keyframes.get(rid) for rid in self.robot_ids]
         if keyframes is None or isinstance(keyframes, str):
             frames: list[Any] = [keyframes] * len(self.agents)
         elif isinstance(keyframes, Sequence) and len(keyframes) == len(self.agents):
             frames = list(keyframes)
         else:
             raise StateError(
-                f"{where}: expected a keyframe name, None, or one per robot ({len(self.agents)}), got {keyframes!r}."
+                f"{where}: expected a keyframe name, None, one per robot ({len(self.agents)}) or a dict by robot id "
+                f"({', '.join(self.robot_ids)}), got {keyframes!r}."
             )
         for agent, frame in zip(self.agents, frames, strict=True):
             names = agent.keyframe_names()

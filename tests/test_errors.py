@@ -809,3 +809,18 @@ def test_a_state_of_another_num_envs_is_named_as_such(env) -> None:  # type: ign
         vector.set_state({**other, "autoreset": np.zeros(3, dtype=bool)})
     vector.close()
     three.close()
+
+
+def test_a_random_state_numpy_would_truncate_is_refused(env) -> None:  # type: ignore[no-untyped-def]
+    """NumPy takes a bit generator's state of 1.5 or True as 1: a state that is not the
+    one given is refused (it was restored as another stream); every bit generator's own
+    state still restores."""
+    u = env.unwrapped
+    state = u.get_state()
+    for value in (1.5, True):
+        entry = {**state["rng"][0], "state": {**state["rng"][0]["state"], "state": value}}
+        assert_unchanged(env, lambda entry=entry: u.set_state({**state, "rng": [entry, None]}), ra.StateError, "rng[0]")
+    for name in ("PCG64", "MT19937", "Philox", "SFC64", "PCG64DXSM"):
+        stream = np.random.Generator(getattr(np.random, name)(5))
+        u.set_state({**state, "rng": [stream.bit_generator.state, None]})
+        assert u.env_rng(0).random() == stream.random()

@@ -74,6 +74,21 @@ def check_arrays(state: Any, shapes: Mapping[str, tuple[int, ...]], where: str) 
     return {name: check_array(state[name], shape, f"episode {name!r}", where) for name, shape in shapes.items()}
 
 
+def _same_state(kept: Any, given: Any) -> bool:
+    """``kept`` (what a bit generator holds) equals ``given`` (what it was set to),
+    arrays (MT19937's key) compared by value and dtype kind."""
+    if isinstance(kept, Mapping):
+        return (
+            isinstance(given, Mapping) and set(kept) == set(given) and all(_same_state(kept[k], given[k]) for k in kept)
+        )
+    if isinstance(kept, np.ndarray):
+        given = np.asarray(given)
+        return kept.shape == given.shape and kept.dtype.kind == given.dtype.kind and bool(np.all(kept == given))
+    if isinstance(given, (bool, np.bool_)) or (isinstance(given, (float, np.floating)) and not isinstance(kept, float)):
+        return False  # NumPy took True for 1 and 1.0 for 1: numbers of another kind than it keeps
+    return bool(kept == given)
+
+
 def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generator | None]:
     """A state's ``rng`` list (``None`` or a bit generator's state per env) as new
     generators (the env's own are untouched until the state is written)."""
@@ -92,6 +107,8 @@ def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generato
                 raise TypeError(kind)
             bit_generator = kind()
             bit_generator.state = entry
+            if not _same_state(bit_generator.state, entry):  # NumPy truncates a 1.5: not that state
+                raise ValueError(entry)
         except Exception:  # a malformed state: whatever NumPy raises
             raise StateError(
                 f"{where}: expected rng[{env}] to be None or a NumPy bit generator's state, got {entry!r:.80}."

@@ -824,3 +824,19 @@ def test_a_random_state_numpy_would_truncate_is_refused(env) -> None:  # type: i
         stream = np.random.Generator(getattr(np.random, name)(5))
         u.set_state({**state, "rng": [stream.bit_generator.state, None]})
         assert u.env_rng(0).random() == stream.random()
+
+
+def test_a_base_dynamics_of_another_type_is_a_library_error() -> None:
+    """A base state's or a ``Base`` part's ``dynamics`` that is an array raised NumPy's
+    ``ValueError`` (an array's truth value) instead of the library's error."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", num_envs=2).unwrapped
+    env.reset(seed=0)
+    state = env.get_state()
+    agent_state = state["agents"][0]
+    bad = {**agent_state, "base": {**agent_state["base"], "dynamics": np.array(["dynamic", "kinematic"])}}
+    with pytest.raises(ra.StateError, match="expected base dynamics"):
+        env.set_state({**state, "agents": [bad]})
+    np.testing.assert_array_equal(env.get_state()["physics"], state["physics"])
+    with pytest.raises(ra.ConfigError, match="dynamics must be"):
+        ra.Base(name="base", joints=("x",), dynamics=np.array(["dynamic"]))  # type: ignore[arg-type]
+    env.close()

@@ -218,7 +218,11 @@ class MobileBase:
             raise StateError(f"{where}: expected the base state as a dict with keys {keys}, got {state!r:.80}.")
         check_state_keys(state, keys, "base state", where)
         dynamics = state["dynamics"]
-        if dynamics not in ("dynamic", "kinematic") or (dynamics == "kinematic" and self.planar is None):
+        if (
+            not isinstance(dynamics, str)
+            or dynamics not in ("dynamic", "kinematic")
+            or (dynamics == "kinematic" and self.planar is None)
+        ):
             raise StateError(
                 f"{where}: expected base dynamics 'dynamic' or 'kinematic' (planar bases), got {dynamics!r}."
             )

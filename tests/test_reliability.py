@@ -5,10 +5,12 @@ closed env refuses use; episodes truncate per env at any batch size."""
 
 from __future__ import annotations
 
+import copy
 import math
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -278,4 +280,67 @@ def test_a_step_that_ends_with_nan_speeds_is_reported(num_envs: int) -> None:
         ended_nan += int(nan.sum())
         assert np.all(info["physics_unstable"][nan])
     assert ended_nan > 0
+    env.close()
+
+
+def _state_paths(tree: Any, path: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
+    paths = [path]
+    if isinstance(tree, dict):
+        for key, value in tree.items():
+            paths += _state_paths(value, (*path, key))
+    elif isinstance(tree, list):
+        for k, value in enumerate(tree):
+            paths += _state_paths(value, (*path, k))
+    return paths
+
+
+def _corrupted(state: Any, rng: np.random.Generator) -> Any:
+    """A copy of ``state`` with one entry dropped, replaced by junk, given a NaN / inf /
+    huge value, or cut."""
+    junk = [None, "x", 1, 1.5, True, math.nan, [], {}, np.zeros(3), np.zeros((2, 0)), np.array(["a"]), [1, 2]]
+    state = copy.deepcopy(state)
+    paths = _state_paths(state)[1:]
+    path = paths[rng.integers(len(paths))]
+    parent = state
+    for key in path[:-1]:
+        parent = parent[key]
+    key, value, op = path[-1], parent[path[-1]], rng.integers(4)
+    if op == 0:
+        del parent[key]
+    elif op == 1:
+        parent[key] = junk[rng.integers(len(junk))]
+    elif op == 2 and isinstance(value, np.ndarray) and value.size:
+        value = value.astype(np.float64)
+        value.flat[rng.integers(value.size)] = [math.nan, math.inf, -1e300, 1e5][rng.integers(4)]
+        parent[key] = value
+    elif isinstance(value, np.ndarray) and value.ndim:
+        parent[key] = value[..., :-1] if rng.random() < 0.5 else value[:1]
+    return state
+
+
+@pytest.mark.parametrize("robots", [("panda", "so100"), "fetch"])
+def test_fuzz_corrupted_states_raise_library_errors_and_change_nothing(robots: Any) -> None:
+    """Seeded corruptions of a saved state, at the env and at the robot level: accepted,
+    or refused with a library error and everything as it was (a base's ``dynamics`` as an
+    array raised NumPy's ``ValueError``)."""
+    env = ra.make_env("Empty-v1", robot_uids=robots, num_envs=2, sleep=True)
+    u = env.unwrapped
+    env.reset(seed=0)
+    space = u.action_space
+    env.step(
+        {k: np.full(s.shape, 0.2) for k, s in space.items()}
+        if isinstance(space, gym.spaces.Dict)
+        else np.full(space.shape, 0.2)
+    )
+    rng = np.random.default_rng(0)
+    for target in (u, u.agents[-1]):
+        saved = target.get_state()
+        for _ in range(120):
+            bad = _corrupted(saved, rng)
+            before = u.get_state()
+            try:
+                target.set_state(bad)
+            except ra.RobotAgentsError:
+                assert repr(u.get_state()) == repr(before)
+            target.set_state(saved)
     env.close()

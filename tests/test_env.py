@@ -153,6 +153,41 @@ def test_a_restored_control_mode_brings_its_spaces_back() -> None:
     assert two.action_space is same
 
 
+def test_the_spaces_follow_a_mode_changed_below_the_env() -> None:
+    """A control mode changed through the robot (``Agent.set_state`` of a state saved in
+    another mode, ``Agent.set_control_mode``) or the scene: the env's and the vector
+    env's spaces follow (they stayed at the old mode, and the observations no longer
+    fitted the observation space)."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2, control_mode="pd_ee_delta_pose")
+    u = env.unwrapped
+    env.reset(seed=0)
+    robot_state = u.agent.get_state()
+    u.set_control_mode("pd_joint_pos")
+    u.agent.set_state(robot_state)
+    assert env.action_space.shape == u.action_space.shape == (2, 7)
+    obs, *_ = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs)
+    u.agent.set_control_mode("pd_joint_vel")
+    assert env.action_space == u.agent.action_space
+    assert env.observation_space.contains(u.step(env.action_space.sample())[0])
+    same = env.action_space
+    assert env.action_space is same  # unchanged modes: the spaces (and their random streams) are kept
+    vector = gym.make_vec(
+        "robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point", control_mode="pd_joint_pos"
+    )
+    vector.reset(seed=0)
+    saved = vector.env.get_state()
+    vector.env.agent.set_control_mode("pd_ee_delta_pose")
+    assert vector.single_action_space.shape == (7,) and vector.action_space.shape == (2, 7)
+    obs, *_ = vector.step(vector.action_space.sample())
+    assert vector.observation_space.contains(obs)
+    vector.env.set_state(saved)
+    assert vector.single_action_space.shape == (8,) and vector.action_space.shape == (2, 8)
+    assert vector.observation_space.contains(vector.step(vector.action_space.sample())[0])
+    vector.close()
+    env.close()
+
+
 def test_empty_or_two_dimensional_env_ids_are_refused() -> None:
     """An empty selection is refused whatever holds it (a list was, an empty int array
     reset nothing), and so is an array of two dimensions (it was flattened)."""
@@ -165,6 +200,9 @@ def test_empty_or_two_dimensional_env_ids_are_refused() -> None:
             env.reset(options={"env_ids": ids})
     with pytest.raises(ra.StateError, match=r"1-D sequence, got an array of shape \(1, 1\)"):
         env.reset(options={"env_ids": np.array([[1]])})
+    for mask in (np.array([True, False]), [True, True]):  # a bool mask is named as one
+        with pytest.raises(ra.StateError, match=r"got bools .*np\.flatnonzero\(mask\)"):
+            env.reset(options={"env_ids": mask})
     assert np.array_equal(u.get_state()["physics"], before["physics"])
     env.reset(options={"env_ids": np.array([1])})
     env.reset(options={"env_ids": 0})
@@ -386,4 +424,22 @@ def test_an_env_refuses_pickling_and_names_whose_action_was_bad() -> None:
         env.step({"panda-0": np.zeros(8), "panda-1": np.full(8, np.nan)})
     after = env.unwrapped.get_state()
     np.testing.assert_array_equal(after["physics"], before["physics"])
+    env.close()
+
+
+def test_reset_keyframes_by_robot_id() -> None:
+    """``options["keyframe"]`` keyed by robot id, as actions are (a robot left out takes
+    its default): the same reset as one name per robot; an unknown id is named with the
+    closest, before anything is reset."""
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "so100"), num_envs=2, robot_init_qpos_noise=0.0)
+    u = env.unwrapped
+    env.reset(seed=0, options={"keyframe": (None, "zero")})
+    expected = u.get_state()["physics"]
+    env.reset(seed=0, options={"keyframe": {"so100-1": "zero"}})
+    np.testing.assert_array_equal(u.get_state()["physics"], expected)
+    with pytest.raises(ra.UnknownNameError, match="Did you mean 'so100-1'"):
+        env.reset(seed=1, options={"keyframe": {"so100-0": "zero"}})
+    with pytest.raises(ra.UnknownNameError, match="unknown keyframe 'zeros'"):
+        env.reset(seed=1, options={"keyframe": {"so100-1": "zeros"}})
+    np.testing.assert_array_equal(u.get_state()["physics"], expected)
     env.close()

@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -115,6 +116,45 @@ def test_bad_set_state(env) -> None:  # type: ignore[no-untyped-def]
     bad_mode = {**state, "agents": [{**state["agents"][0], "control_mode": "nope"}]}
     assert_unchanged(env, lambda: u.set_state(bad_mode), ra.UnknownNameError, "unknown control mode 'nope'")
     assert_unchanged(env, lambda: u.set_state({"physics": 1}), ra.StateError, "keys 'physics' and 'agents'")
+
+
+def test_a_misspelt_state_key_is_refused_not_ignored(env) -> None:  # type: ignore[no-untyped-def]
+    """An unknown key of a state (env, vector env, scene, a scene's robot entry, a
+    robot's own) is refused with the closest key: ignored, the part it meant (the step
+    counts here) would silently stay as it was."""
+    u = env.unwrapped
+    state, agent_state = u.get_state(), u.agent.get_state()
+    env.step(np.zeros((2, 8)))
+    misspelt = {key if key != "elapsed_steps" else "elapsed_step": value for key, value in state.items()}
+    assert_unchanged(
+        env, lambda: u.set_state(misspelt), ra.StateError, "['elapsed_step']", "did you mean 'elapsed_steps'?"
+    )
+    np.testing.assert_array_equal(u.elapsed_steps, [2, 2])
+    vector_state = {**state, "autoreset": np.zeros(2, dtype=bool)}
+    assert_unchanged(env, lambda: u.set_state(vector_state), ra.StateError, "RobotVectorEnv.set_state")
+    assert_unchanged(env, lambda: u.scene.set_state(state), ra.StateError, "restore it with RobotEnv.set_state")
+    robot = {**state, "agents": [agent_state]}  # a robot's own state in the scene's list: its joints would be lost
+    assert_unchanged(env, lambda: u.set_state(robot), ra.StateError, "['base_pose', 'qpos', 'qvel']")
+    extra = {**agent_state, "control_modes": agent_state["control_mode"]}
+    assert_unchanged(env, lambda: u.agent.set_state(extra), ra.StateError, "did you mean 'control_mode'?")
+    drives = {**agent_state, "drives": {**agent_state["drives"], "positions": agent_state["drives"]["position"]}}
+    assert_unchanged(env, lambda: u.agent.set_state(drives), ra.StateError, "unknown drive target keys ['positions']")
+    fetch = ra.make_env("Empty-v1", robot_uids="fetch", num_envs=2).unwrapped
+    fetch.reset(seed=0)
+    fetch_state = fetch.get_state()
+    base = {**fetch_state["agents"][0], "base": {**fetch_state["agents"][0]["base"], "refused_move": 0}}
+    with pytest.raises(ra.StateError, match="did you mean 'refused_moves'"):
+        fetch.set_state({**fetch_state, "agents": [base]})
+    np.testing.assert_array_equal(fetch.get_state()["physics"], fetch_state["physics"])
+    fetch.close()
+    vector = gym.make_vec("robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point")
+    vector.reset(seed=0)
+    saved = vector.get_state()
+    renamed = {key if key != "autoreset" else "auto_reset": value for key, value in saved.items()}
+    with pytest.raises(ra.StateError, match="did you mean 'autoreset'"):
+        vector.set_state(renamed)
+    vector.set_state(saved)
+    vector.close()
 
 
 def test_keyframe_of_wrong_size_fails_at_load(pendulum_file: Path) -> None:
@@ -737,4 +777,66 @@ def test_a_bool_is_not_a_gripper_state() -> None:
     after = agent.drives.get_target_state()
     assert all(np.array_equal(before[k], after[k]) for k in before)
     agent.set_gripper_target_state(1.0)  # a number is
+    env.close()
+
+
+@pytest.mark.parametrize("name", ["random", "seed", "default_rng"])
+def test_a_bad_random_state_leaves_numpys_global_stream_alone(env, name: str) -> None:  # type: ignore[no-untyped-def]
+    """A state's ``rng`` entry names its bit generator; a name of ``np.random`` that is
+    none (``random``, ``seed``) was called before the entry was refused, drawing from or
+    re-seeding NumPy's global stream."""
+    u = env.unwrapped
+    state = u.get_state()
+    np.random.seed(3)
+    before = np.random.get_state()
+    bad = {**state, "rng": [{"bit_generator": name}, None]}
+    assert_unchanged(env, lambda: u.set_state(bad), ra.StateError, "expected rng[0]")
+    after = np.random.get_state()
+    assert after[2] == before[2] and np.array_equal(after[1], before[1])
+
+
+def test_a_state_of_another_num_envs_is_named_as_such(env) -> None:  # type: ignore[no-untyped-def]
+    """A state saved by an env of another ``num_envs`` is refused saying so (it was
+    refused for the first array whose shape differed: ``elapsed_steps``), by the env and
+    by the vector env."""
+    three = ra.make_env("Empty-v1", robot_uids="panda", num_envs=3, control_mode="pd_joint_target_delta_pos")
+    three.reset(seed=0)
+    other = three.unwrapped.get_state()
+    u = env.unwrapped
+    assert_unchanged(env, lambda: u.set_state(other), ra.StateError, "the state is of 3 envs", "num_envs=2")
+    vector = gym.make_vec("robot_agents/Empty-v1", num_envs=2, vectorization_mode="vector_entry_point")
+    with pytest.raises(ra.StateError, match="the state is of 3 envs"):
+        vector.set_state({**other, "autoreset": np.zeros(3, dtype=bool)})
+    vector.close()
+    three.close()
+
+
+def test_a_random_state_numpy_would_truncate_is_refused(env) -> None:  # type: ignore[no-untyped-def]
+    """NumPy takes a bit generator's state of 1.5 or True as 1: a state that is not the
+    one given is refused (it was restored as another stream); every bit generator's own
+    state still restores."""
+    u = env.unwrapped
+    state = u.get_state()
+    for value in (1.5, True):
+        entry = {**state["rng"][0], "state": {**state["rng"][0]["state"], "state": value}}
+        assert_unchanged(env, lambda entry=entry: u.set_state({**state, "rng": [entry, None]}), ra.StateError, "rng[0]")
+    for name in ("PCG64", "MT19937", "Philox", "SFC64", "PCG64DXSM"):
+        stream = np.random.Generator(getattr(np.random, name)(5))
+        u.set_state({**state, "rng": [stream.bit_generator.state, None]})
+        assert u.env_rng(0).random() == stream.random()
+
+
+def test_a_base_dynamics_of_another_type_is_a_library_error() -> None:
+    """A base state's or a ``Base`` part's ``dynamics`` that is an array raised NumPy's
+    ``ValueError`` (an array's truth value) instead of the library's error."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", num_envs=2).unwrapped
+    env.reset(seed=0)
+    state = env.get_state()
+    agent_state = state["agents"][0]
+    bad = {**agent_state, "base": {**agent_state["base"], "dynamics": np.array(["dynamic", "kinematic"])}}
+    with pytest.raises(ra.StateError, match="expected base dynamics"):
+        env.set_state({**state, "agents": [bad]})
+    np.testing.assert_array_equal(env.get_state()["physics"], state["physics"])
+    with pytest.raises(ra.ConfigError, match="dynamics must be"):
+        ra.Base(name="base", joints=("x",), dynamics=np.array(["dynamic"]))  # type: ignore[arg-type]
     env.close()

@@ -213,6 +213,32 @@ def test_agent_state_round_trip_and_rejection() -> None:
     assert agent.control_mode == "pd_joint_target_delta_pos"
 
 
+def test_a_state_pushed_past_a_joint_limit_restores() -> None:
+    """Joint limits are soft: random end-effector poses press the Panda's joints past
+    them (0.056 rad here, up to 0.13 rad measured), and what ``get_state`` saved there
+    must restore (a 0.05 rad margin refused it); a joint a radian past is still refused."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_pose", num_envs=4).unwrapped
+    env.reset(seed=0)
+    scene, agent = env.scene, env.agent
+    low, high = agent.qpos_limits[:, 0], agent.qpos_limits[:, 1]
+    rng = np.random.default_rng(0)
+    for _ in range(17):
+        agent.set_action(rng.uniform(-1, 1, agent.action_space.shape))
+        scene.step()
+    past = float(np.max(np.maximum(agent.qpos - high, low - agent.qpos)))
+    assert past > 0.05
+    saved = agent.get_state()
+    agent.reset(keyframe="ready")
+    agent.set_state(saved)
+    np.testing.assert_array_equal(agent.qpos, saved["qpos"])
+    far = saved["qpos"].copy()
+    far[0, 3] = high[3] + 1.01
+    before = scene.get_state()
+    with pytest.raises(ra.StateError, match=r"more than 1\.0 beyond its limits"):
+        agent.set_state({**saved, "qpos": far})
+    np.testing.assert_array_equal(before["physics"], scene.get_state()["physics"])
+
+
 def test_instability_is_reported_and_cleared_by_reset(pendulum_file: Path) -> None:
     # A 1e7 N*m/rad gain on a light link at a 2 ms step blows up: MuJoCo resets the
     # env silently, and the world reports it.

@@ -5,10 +5,12 @@ closed env refuses use; episodes truncate per env at any batch size."""
 
 from __future__ import annotations
 
+import copy
 import math
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -106,6 +108,44 @@ def test_fuzz_rejected_calls_leave_everything_bit_identical(uid: str) -> None:
             assert_same(before, snapshot(env))
         except AssertionError as err:
             raise AssertionError(f"{uid}: {name} changed the state") from err
+    env.close()
+
+
+def test_fuzz_rejected_calls_in_a_scene_of_two_different_robots() -> None:
+    """The fuzz of bad calls in a Panda + SO100 scene: a bad action of one robot applies
+    neither robot's, another robot's state, keyframe or mode is refused, and everything
+    is bit-identical afterwards."""
+    env = ra.make_env("Empty-v1", robot_uids=("panda", "so100"), num_envs=2)
+    u = env.unwrapped
+    env.reset(seed=np.int64(1))
+    good = {rid: np.full(space.shape, 0.3) for rid, space in u.action_space.items()}
+    env.step(good)
+    state = u.get_state()
+    panda, so100 = u.agents
+    calls = [
+        lambda: env.step({**good, "so100-1": np.zeros((2, 5))}),
+        lambda: env.step({**good, "so100-1": np.full((2, 6), np.nan)}),
+        lambda: env.step({**good, "panda-0": "up"}),
+        lambda: env.step({"panda-0": good["panda-0"]}),
+        lambda: env.step({**good, "so100-2": good["so100-1"]}),
+        lambda: env.step(good["panda-0"]),
+        lambda: u.set_state({**state, "agents": state["agents"][::-1]}),
+        lambda: u.set_state({**state, "agents": state["agents"][:1]}),
+        lambda: so100.set_state(panda.get_state()),
+        lambda: env.reset(seed=5, options={"keyframe": ("rest", "ready")}),
+        lambda: env.reset(seed=5, options={"keyframe": ["rest"]}),
+        lambda: u.set_control_mode("pd_ee_delta_pose", robot=1),
+        lambda: u.set_control_mode("pd_joint_pos", robot=2),
+        lambda: u.scene.reset(qpos=[None, np.zeros(3)]),
+    ]
+    for k in np.random.default_rng(7).permutation(len(calls)):
+        before = snapshot(env)
+        with pytest.raises(ra.RobotAgentsError):
+            calls[k]()
+        try:
+            assert_same(before, snapshot(env))
+        except AssertionError as err:
+            raise AssertionError(f"bad call {k} changed the state") from err
     env.close()
 
 
@@ -222,3 +262,85 @@ def test_diverging_motion_is_reported_and_absurd_speeds_refused(tmp_path: Path) 
     agent.reset(qvel=np.full(agent.dof, 9e3), env_ids=[1])
     info = env.step(np.zeros((2, 8)))[4]
     np.testing.assert_array_equal(info["physics_unstable"], [False, True])
+
+
+@pytest.mark.parametrize("num_envs", [1, 2])
+def test_a_step_that_ends_with_nan_speeds_is_reported(num_envs: int) -> None:
+    """MuJoCo checks a substep's speeds before integrating it: a blow-up in the last
+    substep of a control step leaves NaN joint speeds that its guard only resets at the
+    next step. Such a step is unstable (it was not flagged: ``NaN > MAX_SPEED`` is
+    false), at one substep per action and with several envs."""
+    env = ra.make_env("Empty-v1", robot_uids="panda", num_envs=num_envs, control_freq=500).unwrapped
+    env.reset(seed=0)
+    env.model.dof_damping[:] = -100.0  # negative damping pumps energy in until it blows up
+    ended_nan = 0
+    for _ in range(60):
+        info = env.step(np.zeros((num_envs, 8)))[4]
+        nan = ~np.all(np.isfinite(env.agent.qvel), axis=1)
+        ended_nan += int(nan.sum())
+        assert np.all(info["physics_unstable"][nan])
+    assert ended_nan > 0
+    env.close()
+
+
+def _state_paths(tree: Any, path: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
+    paths = [path]
+    if isinstance(tree, dict):
+        for key, value in tree.items():
+            paths += _state_paths(value, (*path, key))
+    elif isinstance(tree, list):
+        for k, value in enumerate(tree):
+            paths += _state_paths(value, (*path, k))
+    return paths
+
+
+def _corrupted(state: Any, rng: np.random.Generator) -> Any:
+    """A copy of ``state`` with one entry dropped, replaced by junk, given a NaN / inf /
+    huge value, or cut."""
+    junk = [None, "x", 1, 1.5, True, math.nan, [], {}, np.zeros(3), np.zeros((2, 0)), np.array(["a"]), [1, 2]]
+    state = copy.deepcopy(state)
+    paths = _state_paths(state)[1:]
+    path = paths[rng.integers(len(paths))]
+    parent = state
+    for key in path[:-1]:
+        parent = parent[key]
+    key, value, op = path[-1], parent[path[-1]], rng.integers(4)
+    if op == 0:
+        del parent[key]
+    elif op == 1:
+        parent[key] = junk[rng.integers(len(junk))]
+    elif op == 2 and isinstance(value, np.ndarray) and value.size:
+        value = value.astype(np.float64)
+        value.flat[rng.integers(value.size)] = [math.nan, math.inf, -1e300, 1e5][rng.integers(4)]
+        parent[key] = value
+    elif isinstance(value, np.ndarray) and value.ndim:
+        parent[key] = value[..., :-1] if rng.random() < 0.5 else value[:1]
+    return state
+
+
+@pytest.mark.parametrize("robots", [("panda", "so100"), "fetch"])
+def test_fuzz_corrupted_states_raise_library_errors_and_change_nothing(robots: Any) -> None:
+    """Seeded corruptions of a saved state, at the env and at the robot level: accepted,
+    or refused with a library error and everything as it was (a base's ``dynamics`` as an
+    array raised NumPy's ``ValueError``)."""
+    env = ra.make_env("Empty-v1", robot_uids=robots, num_envs=2, sleep=True)
+    u = env.unwrapped
+    env.reset(seed=0)
+    space = u.action_space
+    env.step(
+        {k: np.full(s.shape, 0.2) for k, s in space.items()}
+        if isinstance(space, gym.spaces.Dict)
+        else np.full(space.shape, 0.2)
+    )
+    rng = np.random.default_rng(0)
+    for target in (u, u.agents[-1]):
+        saved = target.get_state()
+        for _ in range(120):
+            bad = _corrupted(saved, rng)
+            before = u.get_state()
+            try:
+                target.set_state(bad)
+            except ra.RobotAgentsError:
+                assert repr(u.get_state()) == repr(before)
+            target.set_state(saved)
+    env.close()

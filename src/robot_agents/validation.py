@@ -15,13 +15,13 @@ as zero.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError, RobotAgentsError, StateError
+from robot_agents.errors import ConfigError, RobotAgentsError, StateError, close_names
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
@@ -109,6 +109,11 @@ def check_env_ids(env_ids: Any, num_envs: int, where: str, error: type[RobotAgen
     if given.size == 0:
         raise error(f"{where}: expected at least one env id in [0, {num_envs}), got an empty selection {env_ids!r}.")
     ids = given.reshape(-1)
+    if ids.dtype == np.bool_:  # a mask, read as the ids 0 and 1 by a plain int check
+        raise error(
+            f"{where}: expected env ids (ints) in [0, {num_envs}), got bools {ids.tolist()}; for a mask, pass "
+            f"np.flatnonzero(mask) (a vector env's reset takes options={{'reset_mask': mask}})."
+        )
     if ids.dtype.kind not in "iu" or np.any(ids < 0) or np.any(ids >= num_envs):
         raise error(f"{where}: expected env ids in [0, {num_envs}), got {ids.tolist()}.")
     if len(np.unique(ids)) != len(ids):
@@ -202,6 +207,19 @@ def outside_limits(
     values, low, high = np.asarray(values), np.asarray(low), np.asarray(high)
     outside: npt.NDArray[np.bool_] = (values < low - margin) | (values > high + margin)
     return outside
+
+
+def check_state_keys(given: Iterable[Any], accepted: Sequence[str], what: str, where: str, hint: str = "") -> None:
+    """:class:`StateError` naming the keys of a state dict (``what``, e.g. ``"state"``)
+    that are not in ``accepted``, with the closest accepted names: a misspelt key of a
+    state would otherwise be ignored and that part of the state not restored."""
+    unknown = sorted(str(key) for key in given if key not in accepted)
+    if not unknown:
+        return
+    hints = "".join(
+        f" {name!r}: did you mean {close[0]!r}?" for name in unknown if (close := close_names(name, accepted))
+    )
+    raise StateError(f"{where}: unknown {what} keys {unknown}; expected {', '.join(map(repr, accepted))}.{hints}{hint}")
 
 
 def check_open(closed: bool, what: str, where: str) -> None:

@@ -35,7 +35,7 @@ from robot_agents.actuators.spec import DriveDeclaration, DriveKind
 from robot_agents.errors import ConfigError, ModelError, StateError, UnknownNameError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.ik import linear_followers
-from robot_agents.validation import check_array, check_real
+from robot_agents.validation import check_array, check_real, check_state_keys
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -307,6 +307,7 @@ class Drives:
             raise StateError(
                 f"{where}: expected drive targets as a dict with position, velocity, effort; got {state!r:.80}."
             )
+        check_state_keys(state, ("position", "velocity", "effort"), "drive target", where)
         position, velocity, effort = (
             check_array(state[key], shape, f"drive {key} targets", where) for key in ("position", "velocity", "effort")
         )

@@ -39,13 +39,18 @@ from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.kinematics.forward import FrameRef, Kinematics
 from robot_agents.parts.declaration import Arm, Base, Gripper, Legs, Part
 from robot_agents.sensors.touch import TouchReader
-from robot_agents.validation import is_real
+from robot_agents.validation import check_state_keys, is_real
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
+
+#: The keys of :meth:`Agent.get_control_state` (``base``: a planar base's dynamics).
+CONTROL_STATE_KEYS = ("control_mode", "controller", "drives", "base")
+#: The joint keys :meth:`Agent.get_state` adds to them.
+JOINT_STATE_KEYS = ("qpos", "qvel", "base_pose")
 
 
 class Agent(MobileManipulatorAPI, AgentDefinition):
@@ -415,6 +420,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """Restore :meth:`get_state`; everything is checked before anything is written."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
+        if isinstance(state, Mapping):
+            check_state_keys(state, JOINT_STATE_KEYS + CONTROL_STATE_KEYS, "state", where)
         checked = self.state.check_state(state, where)
         targets = self.check_control_state(state, where)
         self.restore_control_state(state, targets)

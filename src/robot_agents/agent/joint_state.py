@@ -28,9 +28,13 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 
-#: How far a restored state's joints may lie beyond their limits (rad or m): contacts
-#: and limit constraints are soft, so a simulated state can be slightly outside.
-STATE_LIMIT_MARGIN = 0.05
+#: How far a restored state's joints may lie beyond their limits (rad or m). Contacts
+#: and limit constraints are soft, so a simulated state can be outside: saturated
+#: random actions push built-in robots up to 0.18 rad past a limit (the Unitree Go2;
+#: the Panda 0.13 in ``pd_ee_pose``, the WidowX AI 0.13), so a state saved by
+#: :meth:`Agent.get_state` must restore there. A joint a whole radian or metre past a
+#: limit is a mistake instead (degrees, another robot's joints).
+STATE_LIMIT_MARGIN = 1.0
 
 
 def mounted_pose(mount: FloatArray, base: FloatArray) -> FloatArray:
@@ -225,7 +229,7 @@ class JointState:
             env, entry = np.argwhere(far)[0]
             raise StateError(
                 f"{where}: qpos entry {entry} of env {env} is {qpos[env, entry]:.6g}, more than {STATE_LIMIT_MARGIN} "
-                f"beyond its limits [{low[entry]:.6g}, {high[entry]:.6g}] (a state get_state() cannot have given)."
+                f"beyond its limits [{low[entry]:.6g}, {high[entry]:.6g}] (rad or m; degrees, or another robot's joints?)."
             )
         self._ball_norms(qpos, where)
         qvel = self.batch(state["qvel"], self.num_envs, self.index.nv, "qvel", where)

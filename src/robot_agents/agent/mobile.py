@@ -16,7 +16,7 @@ import numpy.typing as npt
 from robot_agents.agent.index import RobotIndex
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.kinematics.rotations import quat_to_yaw, z_rotation_angle
-from robot_agents.validation import check_bool, outside_limits
+from robot_agents.validation import check_bool, check_state_keys, outside_limits
 
 if TYPE_CHECKING:
     from robot_agents.agent.joint_state import JointState
@@ -216,8 +216,13 @@ class MobileBase:
         keys = ("dynamics", "refuse_collisions", "refused_moves", "last_refused")
         if not isinstance(state, Mapping) or any(k not in state for k in keys):
             raise StateError(f"{where}: expected the base state as a dict with keys {keys}, got {state!r:.80}.")
+        check_state_keys(state, keys, "base state", where)
         dynamics = state["dynamics"]
-        if dynamics not in ("dynamic", "kinematic") or (dynamics == "kinematic" and self.planar is None):
+        if (
+            not isinstance(dynamics, str)
+            or dynamics not in ("dynamic", "kinematic")
+            or (dynamics == "kinematic" and self.planar is None)
+        ):
             raise StateError(
                 f"{where}: expected base dynamics 'dynamic' or 'kinematic' (planar bases), got {dynamics!r}."
             )

@@ -34,12 +34,12 @@ from robot_agents.errors import (
 )
 from robot_agents.model.scene import Prop
 from robot_agents.sensors.camera import MAX_SIZE, CameraConfig, is_pixel_count
-from robot_agents.sensors.framing import framing_camera, robot_bounds
+from robot_agents.sensors.framing import framed_camera, framing_camera, robot_bounds
 from robot_agents.sensors.overrides import SensorOverrides
 from robot_agents.sensors.renderer import make_renderer
 from robot_agents.sensors.segmentation import SegmentationEntry
-from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, RobotSpecifier, Scene
-from robot_agents.validation import check_bool, check_open, check_real, is_whole
+from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ, ENV_STATE_KEYS, SCENE_STATE_KEYS, RobotSpecifier, Scene
+from robot_agents.validation import check_bool, check_open, check_real, check_state_keys, is_whole
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -225,8 +225,7 @@ class RobotEnv(gym.Env[Any, Any]):
         )
         #: The observation of every env (:meth:`StateObservation.observe`, bound once).
         self._get_obs: Callable[[], Any] = self._observation.observe
-        self.action_space = self._build_action_space()
-        self.observation_space = self._build_observation_space()
+        self._update_spaces()
 
     # ------------------------------------------------------------------ task hooks
     def _scene_props(self) -> Sequence[Prop]:
@@ -336,8 +335,38 @@ class RobotEnv(gym.Env[Any, Any]):
         """Build :attr:`action_space` and :attr:`observation_space` again for the robots'
         current control modes (the controller's targets are observed, so both differ per
         mode)."""
+        self._space_modes = [agent.control_mode for agent in self.scene.agents]
         self.action_space = self._build_action_space()
         self.observation_space = self._build_observation_space()
+
+    def _follow_control_modes(self) -> None:
+        """Build the spaces again when a robot's control mode changed since they were
+        built, however it changed (:meth:`Agent.set_control_mode`, :meth:`Agent.set_state`,
+        :meth:`Scene.set_state`, not only this env's methods)."""
+        if [agent.control_mode for agent in self.scene.agents] != self._space_modes:
+            self._update_spaces()
+
+    @property
+    def action_space(self) -> gym.Space[Any]:
+        """The action space of the robots' current control modes (a ``Dict`` by robot id
+        for several robots)."""
+        self._follow_control_modes()
+        return self._action_space
+
+    @action_space.setter
+    def action_space(self, space: gym.Space[Any]) -> None:
+        self._action_space = space
+
+    @property
+    def observation_space(self) -> gym.Space[Any]:
+        """The observation space of the robots' current control modes (the controllers'
+        targets are observed)."""
+        self._follow_control_modes()
+        return self._observation_space
+
+    @observation_space.setter
+    def observation_space(self, space: gym.Space[Any]) -> None:
+        self._observation_space = space
 
     # ------------------------------------------------------------------ observations
     def _build_observation_space(self) -> gym.Space[Any]:
@@ -350,8 +379,8 @@ class RobotEnv(gym.Env[Any, Any]):
         self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[Any, dict[str, Any]]:
         """Reset every env (or ``options["env_ids"]``) to each robot's keyframe
-        (``options["keyframe"]``, default the first) plus seeded noise, then the task's
-        randomization.
+        (``options["keyframe"]``: a name, one per robot or a dict by robot id; default the
+        first) plus seeded noise, then the task's randomization.
 
         ``seed``: ``None`` continues each env's random stream; an int ``s`` re-seeds env
         ``i`` (of those reset) with ``s + i``; a list of ``num_envs`` ints or ``None``
@@ -522,15 +551,24 @@ class RobotEnv(gym.Env[Any, Any]):
     def get_state(self) -> dict[str, Any]:
         """Exact state for :meth:`set_state`: the scene's (physics, sensors, controllers,
         drive targets), the episode step counts, the task's per-episode arrays
-        (:attr:`episode_state`: its goals) and each env's random stream (the draws of
-        its next resets)."""
+        (:attr:`episode_state`: its goals), each env's random stream (the draws of
+        its next resets) and :meth:`render`'s framing camera."""
         self._check_open(f"{type(self).__name__}.get_state")
         return {
             **self.scene.get_state(),
             "elapsed_steps": self.elapsed_steps.copy(),
             "episode": {name: np.array(getattr(self, name), dtype=np.float64) for name in self.episode_state},
             "rng": [None if rng is None else rng.bit_generator.state for rng in self._env_rngs],
+            "render_camera": self._render_camera_state(),
         }
+
+    def _render_camera_state(self) -> FloatArray | None:
+        """:meth:`render`'s framing camera as ``(lookat x, y, z, distance, azimuth,
+        elevation)``, ``None`` before it was framed (after a reset, until the next render)."""
+        camera = self._render_camera
+        if camera is None:
+            return None
+        return np.array([*camera.lookat, camera.distance, camera.azimuth, camera.elevation], dtype=np.float64)
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
@@ -541,6 +579,16 @@ class RobotEnv(gym.Env[Any, Any]):
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         given = state if isinstance(state, Mapping) else {}
+        check_state_keys(
+            given,
+            SCENE_STATE_KEYS + ENV_STATE_KEYS,
+            "state",
+            where,
+            " 'autoreset' belongs to RobotVectorEnv.get_state(): restore it with RobotVectorEnv.set_state."
+            if "autoreset" in given
+            else "",
+        )
+        episode_checks.check_num_envs(given, self.num_envs, where)
         steps = (
             episode_checks.check_elapsed_steps(given["elapsed_steps"], self.num_envs, where)
             if "elapsed_steps" in given
@@ -549,8 +597,12 @@ class RobotEnv(gym.Env[Any, Any]):
         shapes = {name: np.shape(getattr(self, name)) for name in self.episode_state}
         episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
         rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
+        camera = episode_checks.render_camera(given["render_camera"], where) if "render_camera" in given else None
         modes = [agent.control_mode for agent in self.agents]
-        self.scene.set_state(state)
+        # the scene's part (a state that is no dict: the scene names what it takes)
+        self.scene.set_state(
+            {key: given[key] for key in SCENE_STATE_KEYS if key in given} if isinstance(state, Mapping) else state
+        )
         if [agent.control_mode for agent in self.agents] != modes:
             self._update_spaces()
         if steps is not None:
@@ -560,10 +612,14 @@ class RobotEnv(gym.Env[Any, Any]):
                 getattr(self, name)[...] = array
         if rngs is not None:
             self._env_rngs = rngs
+        if "render_camera" in given:  # the frames render() draws follow the state, not this env's past
+            self._render_camera = None if camera is None else framed_camera(camera)
 
     def render(self) -> Any:
         """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
-        camera that frames the robots from their extent at the last reset."""
+        camera that frames the robots from their extent in env 0 at the first render after
+        a reset; :meth:`get_state` saves that camera, so a restored state renders as it
+        did where it was saved."""
         self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
@@ -579,6 +635,10 @@ class RobotEnv(gym.Env[Any, Any]):
             )
         frames = []
         for env, data in enumerate(self.scene.world.render_sources()):
+            # Twice, as the sensor cameras do: MuJoCo lays the floor out around the camera
+            # of the *previous* update, so one update made a frame depend on what was
+            # drawn before (a renderer's first frame, a re-framed camera after a reset).
+            self._renderer.update_scene(data, camera=self._render_camera)
             self._renderer.update_scene(data, camera=self._render_camera)
             draw_markers(self._renderer.scene, self._render_markers(env))
             frames.append(self._renderer.render().copy())

@@ -74,6 +74,21 @@ def check_arrays(state: Any, shapes: Mapping[str, tuple[int, ...]], where: str) 
     return {name: check_array(state[name], shape, f"episode {name!r}", where) for name, shape in shapes.items()}
 
 
+def _same_state(kept: Any, given: Any) -> bool:
+    """``kept`` (what a bit generator holds) equals ``given`` (what it was set to),
+    arrays (MT19937's key) compared by value and dtype kind."""
+    if isinstance(kept, Mapping):
+        return (
+            isinstance(given, Mapping) and set(kept) == set(given) and all(_same_state(kept[k], given[k]) for k in kept)
+        )
+    if isinstance(kept, np.ndarray):
+        given = np.asarray(given)
+        return kept.shape == given.shape and kept.dtype.kind == given.dtype.kind and bool(np.all(kept == given))
+    if isinstance(given, (bool, np.bool_)) or (isinstance(given, (float, np.floating)) and not isinstance(kept, float)):
+        return False  # NumPy took True for 1 and 1.0 for 1: numbers of another kind than it keeps
+    return bool(kept == given)
+
+
 def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generator | None]:
     """A state's ``rng`` list (``None`` or a bit generator's state per env) as new
     generators (the env's own are untouched until the state is written)."""
@@ -85,11 +100,47 @@ def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generato
             out.append(None)
             continue
         try:
-            bit_generator = getattr(np.random, str(entry["bit_generator"]))()
+            # only a bit generator class is called: any other name of np.random (random,
+            # seed) would draw from or re-seed NumPy's global stream before refusing
+            kind = getattr(np.random, str(entry["bit_generator"]))
+            if not (isinstance(kind, type) and issubclass(kind, np.random.BitGenerator)):
+                raise TypeError(kind)
+            bit_generator = kind()
             bit_generator.state = entry
+            if not _same_state(bit_generator.state, entry):  # NumPy truncates a 1.5: not that state
+                raise ValueError(entry)
         except Exception:  # a malformed state: whatever NumPy raises
             raise StateError(
                 f"{where}: expected rng[{env}] to be None or a NumPy bit generator's state, got {entry!r:.80}."
             ) from None
         out.append(np.random.Generator(bit_generator))
     return out
+
+
+def render_camera(value: Any, where: str) -> npt.NDArray[np.float64] | None:
+    """A state's ``render_camera``: ``None`` (framed at the next render) or the framing
+    camera ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m, deg, deg), finite
+    with a distance > 0."""
+    if value is None:
+        return None
+    try:
+        camera = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        camera = np.full(1, np.nan)
+    if camera.shape != (6,) or not np.all(np.isfinite(camera)) or camera[3] <= 0:
+        raise StateError(
+            f"{where}: expected render_camera to be None or 6 finite numbers (lookat x, y, z, distance > 0, "
+            f"azimuth, elevation), got {value!r:.80}."
+        )
+    return camera
+
+
+def check_num_envs(state: Mapping[str, Any], num_envs: int, where: str) -> None:
+    """:class:`StateError` when a state's ``physics`` rows say it was saved by an env of
+    another ``num_envs`` (said first, not as the first array whose shape differs)."""
+    rows = np.shape(state["physics"])[:1] if "physics" in state else ()
+    if rows and rows[0] != num_envs and np.ndim(state["physics"]) == 2:
+        raise StateError(
+            f"{where}: the state is of {rows[0]} envs and this env has num_envs={num_envs}; a state restores into "
+            "an env made with the same arguments (num_envs, robots, task)."
+        )

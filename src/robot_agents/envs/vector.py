@@ -45,8 +45,10 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from robot_agents.envs.base_env import RESET_OPTIONS, RobotEnv
-from robot_agents.envs.episode_checks import check_reset_options
+from robot_agents.envs.episode_checks import check_num_envs, check_reset_options
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.sim.scene import ENV_STATE_KEYS, SCENE_STATE_KEYS
+from robot_agents.validation import check_state_keys
 
 BoolArray = npt.NDArray[np.bool_]
 #: The keys :meth:`RobotVectorEnv.reset` takes: Gymnasium's ``reset_mask`` and the env's own.
@@ -109,8 +111,9 @@ class RobotVectorEnv(VectorEnv):
     whose autoreset is pending (bool ``(num_envs,)``: they ended on the last step and
     the next one resets them); :meth:`set_state` restores both, so the continuation is
     bit-identical, and its action and observation spaces follow a restored control
-    mode. ``env.get_state()`` / ``env.set_state()`` leave the pending autoresets (and
-    the vector env's spaces) out.
+    mode. ``env.get_state()`` / ``env.set_state()`` leave the pending autoresets out.
+    The spaces follow the robots' control modes however they change (``env.set_state``,
+    ``env.agent.set_control_mode``).
     """
 
     def __init__(
@@ -135,10 +138,46 @@ class RobotVectorEnv(VectorEnv):
         self._autoreset: BoolArray = np.zeros(self.num_envs, dtype=bool)
 
     def _update_spaces(self) -> None:
-        self.single_observation_space = single_space(self.env.observation_space)
-        self.single_action_space = self.env.single_action_space
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._space_modes = [agent.control_mode for agent in self.env.agents]
+        single_obs, single_act = single_space(self.env.observation_space), self.env.single_action_space
+        self._spaces = {
+            "single_observation_space": single_obs,
+            "single_action_space": single_act,
+            "observation_space": batch_space(single_obs, self.num_envs),
+            "action_space": batch_space(single_act, self.num_envs),
+        }
+
+    def _space(self, name: str) -> gym.Space[Any]:
+        """A space of the robots' current control modes, built again when a mode changed
+        since it was built, however it changed (``envs.env.set_state``,
+        ``envs.env.agent.set_control_mode``)."""
+        if [agent.control_mode for agent in self.env.agents] != self._space_modes:
+            self._update_spaces()
+        return self._spaces[name]
+
+    def _set_space(self, name: str, space: gym.Space[Any]) -> None:
+        self._spaces[name] = space
+
+    single_observation_space = property(
+        lambda self: self._space("single_observation_space"),
+        lambda self, space: self._set_space("single_observation_space", space),
+        doc="One env's observation space (of the robots' current control modes).",
+    )
+    single_action_space = property(
+        lambda self: self._space("single_action_space"),
+        lambda self, space: self._set_space("single_action_space", space),
+        doc="One env's action space (of the robots' current control modes).",
+    )
+    observation_space = property(
+        lambda self: self._space("observation_space"),
+        lambda self, space: self._set_space("observation_space", space),
+        doc="The batched observation space.",
+    )
+    action_space = property(
+        lambda self: self._space("action_space"),
+        lambda self, space: self._set_space("action_space", space),
+        doc="The batched action space.",
+    )
 
     def set_control_mode(self, mode: str, robot: int = 0) -> None:
         """Switch a robot's control mode in every env; the action spaces follow."""
@@ -159,6 +198,8 @@ class RobotVectorEnv(VectorEnv):
         is written."""
         where = "RobotVectorEnv.set_state"
         given = state if isinstance(state, Mapping) else {}
+        check_state_keys(given, (*SCENE_STATE_KEYS, *ENV_STATE_KEYS, "autoreset"), "state", where)
+        check_num_envs(given, self.num_envs, where)
         pending = np.zeros(self.num_envs, dtype=bool)
         if "autoreset" in given:
             flags = np.asarray(given["autoreset"])

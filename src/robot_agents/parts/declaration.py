@@ -294,7 +294,7 @@ class Base(Part):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.dynamics not in ("dynamic", "kinematic"):
+        if not isinstance(self.dynamics, str) or self.dynamics not in ("dynamic", "kinematic"):
             raise ConfigError(f"Base {self.name!r}: dynamics must be 'dynamic' or 'kinematic', got {self.dynamics!r}.")
         if self.wheels and (len(self.wheels) % 2 or not self.wheel_radius > 0 or not self.wheel_separation > 0):
             raise ConfigError(

@@ -63,3 +63,13 @@ def framing_camera(
     camera.distance = max(min_distance, margin * radius / math.sin(half_fov))
     camera.azimuth, camera.elevation = azimuth, elevation
     return camera
+
+
+def framed_camera(values: FloatArray) -> mujoco.MjvCamera:
+    """The free camera ``(lookat x, y, z, distance, azimuth, elevation)`` describes (the
+    numbers :meth:`RobotEnv.get_state` saves of :func:`framing_camera`'s camera)."""
+    camera = mujoco.MjvCamera()
+    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+    camera.lookat[:] = values[:3]
+    camera.distance, camera.azimuth, camera.elevation = float(values[3]), float(values[4]), float(values[5])
+    return camera

@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent import Agent
+from robot_agents.agent.agent import CONTROL_STATE_KEYS, JOINT_STATE_KEYS
 from robot_agents.agent.declaration import composition
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
 from robot_agents.model.physics_twin import physics_twin
@@ -24,13 +25,19 @@ from robot_agents.sensors.overrides import SensorOverrides, plan_cameras
 from robot_agents.sensors.rig import CameraRig
 from robot_agents.sensors.segmentation import segmentation_id_map
 from robot_agents.sim.world import BatchedWorld
-from robot_agents.validation import POSE_AXES, check_open, check_pose, is_whole
+from robot_agents.validation import POSE_AXES, check_open, check_pose, check_state_keys, is_whole
 
 #: Default physics rate (Hz): a 2 ms step keeps the stiff PD actuators and finger
 #: contacts stable with the implicitfast integrator.
 DEFAULT_SIM_FREQ = 500
 #: Default control rate (Hz), as in ManiSkill: 25 substeps per action at 500 Hz.
 DEFAULT_CONTROL_FREQ = 20
+#: The keys of :meth:`Scene.get_state` (``set_state`` refuses others: a misspelt key
+#: would leave that part of the state unrestored).
+SCENE_STATE_KEYS = ("physics", "sleep", "sensors", "agents")
+#: The keys :meth:`RobotEnv.get_state` adds to the scene's (named when given to
+#: :meth:`Scene.set_state`).
+ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng", "render_camera")
 
 RobotSpecifier = str | type[Agent]
 
@@ -252,13 +259,14 @@ class Scene:
     def reset(
         self,
         env_ids: npt.ArrayLike | None = None,
-        keyframes: str | Sequence[str | None] | None = None,
+        keyframes: str | Sequence[str | None] | Mapping[str, str | None] | None = None,
         qpos: Sequence[npt.ArrayLike | None] | None = None,
     ) -> None:
         """Reset the envs ``env_ids`` (a sequence of env indices; all by default): props and
         time to their initial state, each robot to a keyframe (``keyframes``: one name for
-        every robot or one per robot, ``None`` for its first) or to the given ``qpos`` (one
-        entry per robot, each ``(nq,)`` for every env or ``(len(env_ids), nq)``, rad / m;
+        every robot, one per robot or a dict by robot id, ``None`` for its first) or to the
+        given ``qpos`` (one entry per robot, each ``(nq,)`` for every env or
+        ``(len(env_ids), nq)``, rad / m;
         ``None`` entries take the keyframe). Every robot's input is checked before any env
         is rewound."""
         where = "Scene.reset"
@@ -288,14 +296,24 @@ class Scene:
             agent.apply_reset(write)
 
     def check_keyframes(self, keyframes: Any, where: str) -> list[str | None]:
-        """One keyframe name (or ``None``: the default) per robot, checked."""
+        """One keyframe name (or ``None``: the default) per robot, checked: from one name
+        for every robot, one per robot, or a dict by robot id (as actions are keyed; a
+        robot it leaves out takes its default)."""
+        if isinstance(keyframes, Mapping):
+            for key in keyframes:
+                if key not in self.robot_ids:
+                    raise UnknownNameError(
+                        f"{where} (keyframes keyed by robot id)", "robot id", str(key), self.robot_ids
+                    )
+            keyframes = [keyframes.get(rid) for rid in self.robot_ids]
         if keyframes is None or isinstance(keyframes, str):
             frames: list[Any] = [keyframes] * len(self.agents)
         elif isinstance(keyframes, Sequence) and len(keyframes) == len(self.agents):
             frames = list(keyframes)
         else:
             raise StateError(
-                f"{where}: expected a keyframe name, None, or one per robot ({len(self.agents)}), got {keyframes!r}."
+                f"{where}: expected a keyframe name, None, one per robot ({len(self.agents)}) or a dict by robot id "
+                f"({', '.join(self.robot_ids)}), got {keyframes!r}."
             )
         for agent, frame in zip(self.agents, frames, strict=True):
             names = agent.keyframe_names()
@@ -324,6 +342,14 @@ class Scene:
         self._check_open("Scene.set_state")
         if not isinstance(state, Mapping) or "physics" not in state or "agents" not in state:
             raise StateError("Scene.set_state: expected a dict with keys 'physics' and 'agents' from get_state().")
+        env_keys = [key for key in ENV_STATE_KEYS if key in state]
+        check_state_keys(
+            state,
+            SCENE_STATE_KEYS,
+            "state",
+            "Scene.set_state",
+            f" {env_keys} belong to an env's state: restore it with RobotEnv.set_state." if env_keys else "",
+        )
         physics = self.world.check_state(state["physics"], "Scene.set_state")
         sleep = self.world.check_sleep_state(state["sleep"], "Scene.set_state") if "sleep" in state else None
         sensors = self.world.check_sensor_state(state["sensors"], "Scene.set_state") if "sensors" in state else None
@@ -346,6 +372,17 @@ class Scene:
                     f"Scene.set_state: expected agents[{k}] ({self.robot_ids[k]}) to be a dict with keys "
                     f"'control_mode' and 'controller', got {agent_state!r:.80}."
                 )
+            joint_keys = [key for key in JOINT_STATE_KEYS if key in agent_state]
+            check_state_keys(
+                agent_state,
+                CONTROL_STATE_KEYS,
+                f"agents[{k}] ({self.robot_ids[k]}) state",
+                "Scene.set_state",
+                f" {joint_keys} belong to Agent.get_state(): the scene restores joints from 'physics'; "
+                "restore a robot's own state with Agent.set_state."
+                if joint_keys
+                else "",
+            )
             drive_targets.append(agent.check_control_state(agent_state, f"Scene.set_state (agents[{k}])"))
         for agent, agent_state, targets in zip(self.agents, agent_states, drive_targets, strict=True):
             agent.restore_control_state(agent_state, targets)

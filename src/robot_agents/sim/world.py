@@ -220,11 +220,13 @@ class BatchedWorld:
         # MuJoCo's reset after a blow-up sets time back to 0, so a step that did not
         # advance time by all its substeps was reset (a cheap test; instability_counts()
         # reads the warnings). Joint speeds whose norm passes MAX_SPEED are flagged
-        # before MuJoCo's own guard would reset the env.
+        # before MuJoCo's own guard would reset the env, and so are NaN speeds: the
+        # implicit integrators can leave them after MuJoCo's checks of a substep (its
+        # guard resets the env only at the next step). ``not x <= y`` is true for NaN.
         advance = (self.substeps - 0.5) * float(self.model.opt.timestep)
         flags = self.last_step_unstable
         for env, (data, qvel) in enumerate(zip(self.datas, self._env_arrays("qvel"), strict=True)):
-            flags[env] = data.time < started[env] + advance or qvel @ qvel > _MAX_SPEED_SQUARED
+            flags[env] = data.time < started[env] + advance or not qvel @ qvel <= _MAX_SPEED_SQUARED
         if flags.any():
             self.unstable_steps += flags
 
@@ -239,7 +241,9 @@ class BatchedWorld:
         mujoco.mj_camlight(model, data)
         self._cache.clear()
         qvel = self._qvel0
-        unstable = data.time < started + (self.substeps - 0.5) * self._opt.timestep or qvel @ qvel > _MAX_SPEED_SQUARED
+        unstable = (
+            data.time < started + (self.substeps - 0.5) * self._opt.timestep or not qvel @ qvel <= _MAX_SPEED_SQUARED
+        )
         self.last_step_unstable[0] = unstable
         if unstable:
             self.unstable_steps[0] += 1

@@ -3,6 +3,7 @@ the two-line definition derives from them, and what it says when it cannot."""
 
 from __future__ import annotations
 
+import contextlib
 import io
 import re
 import warnings
@@ -204,17 +205,22 @@ ZERO_VISUAL_URDF = """<?xml version="1.0"?>
 def test_load_notes_are_given_once_per_robot(tmp_path: Path) -> None:
     path = tmp_path / "zero_visual.urdf"
     path.write_text(ZERO_VISUAL_URDF)
+    err = io.StringIO()
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
-        assert cli_main(["check", str(path), "--seconds", "0.2"], io.StringIO()) == 0
+        with contextlib.redirect_stderr(err):  # the command line prints its notes, one line each
+            assert cli_main(["check", str(path), "--seconds", "0.2"], io.StringIO()) == 0
         cls = two_line(path)
         cls.check()
         for _ in range(2):
             ra.Scene(cls).close()
         env = ra.make_env("Empty-v1", robot_uids=cls)
         env.close()
+    assert [line for line in err.getvalue().splitlines() if "zero-size visual" in line] == [
+        f"robot-agents: note: {str(path)!r}: dropped a zero-size visual <sphere> of link 'arm' (line 5)."
+    ]  # the command line's robot once
     notes = [str(w.message) for w in record if "zero-size visual" in str(w.message)]
-    assert len(notes) == 2, notes  # the command line's robot once, the class once
+    assert len(notes) == 1, notes  # the class once
 
 
 def inertia_urdf(inertia: str) -> str:

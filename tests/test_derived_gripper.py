@@ -447,3 +447,34 @@ def test_a_jaw_that_opens_a_little_past_its_widest_is_still_a_jaw(tmp_path: Path
     assert [type(p).__name__ for p in checked.parts] == ["Arm", "Gripper"]
     gripper = checked.parts[1]
     assert isinstance(gripper, Gripper) and gripper.open == (-0.85,) and gripper.closed == (0.3,)
+
+
+def test_a_jaw_without_an_effort_limit_gets_a_stiffer_overdamped_spring(tmp_path: Path) -> None:
+    """The one-jaw fixture with ``effort="0"`` on its jaw (the mani-skill wheel's SO-100
+    and Koch URDFs): nothing states its force, so its derived drive is a
+    ``GRIP_BANDWIDTH_HZ`` spring on the jaw's inertia, not the drives' 10 Hz one
+    ((25 / 10)^2 = 6.25 times as stiff), overdamped over ``GRIP_TIME_CONSTANT``, still
+    without an effort limit; the arm's joints keep theirs. With the file's 20 N*m the
+    hinged jaw keeps its inertia gains. It still opens and closes fully."""
+    from robot_agents.actuators.gains import GRIP_BANDWIDTH_HZ, GRIP_TIME_CONSTANT
+
+    limited = robot(tmp_path, urdf(one_jaw())).check().derived_gains
+    text = urdf(one_jaw()).replace(
+        '<limit lower="-0.5" upper="0.3" effort="20"', '<limit lower="-0.5" upper="0.3" effort="0"'
+    )
+    free_path = tmp_path / "free"
+    free_path.mkdir()
+    cls = robot(free_path, text)
+    free = cls.check().derived_gains
+    assert limited is not None and free is not None
+    kp_limited, kv_limited, effort_limited = limited["jaw_joint"]
+    kp, kv, effort = free["jaw_joint"]
+    assert effort_limited == 20.0 and not math.isfinite(effort)
+    assert kv_limited == pytest.approx(2.0 * kp_limited / (2.0 * math.pi * 10.0), rel=1e-6)  # critical at 10 Hz
+    assert kp == pytest.approx(kp_limited * (GRIP_BANDWIDTH_HZ / 10.0) ** 2, rel=1e-6)
+    assert kv == pytest.approx(kp * GRIP_TIME_CONSTANT)
+    for name in ("shoulder", "elbow"):
+        assert free[name][:2] == limited[name][:2]
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0) > 0.95
+    assert opening_after(scene, -1.0) < 0.05

@@ -478,3 +478,39 @@ def test_a_jaw_without_an_effort_limit_gets_a_stiffer_overdamped_spring(tmp_path
     scene = reset_scene(cls)
     assert opening_after(scene, 1.0) > 0.95
     assert opening_after(scene, -1.0) < 0.05
+
+
+def test_one_jaw_closing_axis_is_the_way_its_tip_closes(tmp_path: Path) -> None:
+    """The table-top layout's closing axis of a one-jaw gripper runs the way the jaw
+    carries the tool point as it closes (``layout._jaw_closing``: the hinge's axis
+    crossed with the lever), from the moving jaw (the first finger) towards the fixed
+    one: -y of the hand for the one-jaw fixture. The layout keeps the axis of the open
+    fingers' nearest points unless it points more than 45 deg off that (the Unitree Z1
+    file with its meshes decomposed: along the jaw's width)."""
+    from robot_agents.envs.tasks.layout import table_top_layout
+
+    cls = type("OneJawLayout", (robot(tmp_path, urdf(one_jaw())),), {"uid": "one_jaw_layout"})
+    ra.register_agent(cls, override=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        geometry = table_top_layout(cls).gripper
+    assert geometry is not None
+    closing = np.array(geometry.closing_axis)
+    assert closing @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(10.0))
+    # the jaw's own closing direction, at the tool point of the scene's default pose
+    from robot_agents.envs.tasks.layout import _jaw_closing
+
+    scene = reset_scene(cls)
+    agent = scene.agents[0]
+    data = mujoco.MjData(scene.model)
+    data.qpos[:] = scene.world.qpos[0]
+    mujoco.mj_kinematics(scene.model, data)
+    point = agent.frame_pose("ee")[0]
+    gripper = agent.gripper()
+    opened, _ = gripper.positions(1)
+    swept = _jaw_closing(agent, gripper, data, ("jaw_joint",), opened, point, "test")
+    assert swept is not None
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, point[3:])
+    in_tool = rotation.reshape(3, 3).T @ swept
+    assert in_tool @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(30.0))  # 20 deg: the lever leans

@@ -9,7 +9,8 @@ N-1, one batch) with the generic scripted solver; printed: successes per task.
 
 ``--servos`` adds a third line for the files whose servos the library knows: their
 URDFs write ``effort="0"`` (or nothing), so the two-line robot's drives have no effort
-limit and its jaw presses with whatever a 10 Hz spring on its light jaw gives; the third
+limit and its jaw presses with whatever a 25 Hz spring on its light jaw gives
+(``robot_agents.actuators.gains.GRIP_BANDWIDTH_HZ``; the arm's joints 10 Hz ones); the third
 line states the datasheet facts of :mod:`robot_agents.robots.servo_arms.servos` with
 ``ra.DerivedActuators`` (gains still derived): :data:`SERVOS`.
 

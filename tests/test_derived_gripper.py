@@ -447,3 +447,70 @@ def test_a_jaw_that_opens_a_little_past_its_widest_is_still_a_jaw(tmp_path: Path
     assert [type(p).__name__ for p in checked.parts] == ["Arm", "Gripper"]
     gripper = checked.parts[1]
     assert isinstance(gripper, Gripper) and gripper.open == (-0.85,) and gripper.closed == (0.3,)
+
+
+def test_a_jaw_without_an_effort_limit_gets_a_stiffer_overdamped_spring(tmp_path: Path) -> None:
+    """The one-jaw fixture with ``effort="0"`` on its jaw (the mani-skill wheel's SO-100
+    and Koch URDFs): nothing states its force, so its derived drive is a
+    ``GRIP_BANDWIDTH_HZ`` spring on the jaw's inertia, not the drives' 10 Hz one
+    ((25 / 10)^2 = 6.25 times as stiff), overdamped over ``GRIP_TIME_CONSTANT``, still
+    without an effort limit; the arm's joints keep theirs. With the file's 20 N*m the
+    hinged jaw keeps its inertia gains. It still opens and closes fully."""
+    from robot_agents.actuators.gains import GRIP_BANDWIDTH_HZ, GRIP_TIME_CONSTANT
+
+    limited = robot(tmp_path, urdf(one_jaw())).check().derived_gains
+    text = urdf(one_jaw()).replace(
+        '<limit lower="-0.5" upper="0.3" effort="20"', '<limit lower="-0.5" upper="0.3" effort="0"'
+    )
+    free_path = tmp_path / "free"
+    free_path.mkdir()
+    cls = robot(free_path, text)
+    free = cls.check().derived_gains
+    assert limited is not None and free is not None
+    kp_limited, kv_limited, effort_limited = limited["jaw_joint"]
+    kp, kv, effort = free["jaw_joint"]
+    assert effort_limited == 20.0 and not math.isfinite(effort)
+    assert kv_limited == pytest.approx(2.0 * kp_limited / (2.0 * math.pi * 10.0), rel=1e-6)  # critical at 10 Hz
+    assert kp == pytest.approx(kp_limited * (GRIP_BANDWIDTH_HZ / 10.0) ** 2, rel=1e-6)
+    assert kv == pytest.approx(kp * GRIP_TIME_CONSTANT)
+    for name in ("shoulder", "elbow"):
+        assert free[name][:2] == limited[name][:2]
+    scene = reset_scene(cls)
+    assert opening_after(scene, 1.0) > 0.95
+    assert opening_after(scene, -1.0) < 0.05
+
+
+def test_one_jaw_closing_axis_is_the_way_its_tip_closes(tmp_path: Path) -> None:
+    """The table-top layout's closing axis of a one-jaw gripper runs the way the jaw
+    carries the tool point as it closes (``layout._jaw_closing``: the hinge's axis
+    crossed with the lever), from the moving jaw (the first finger) towards the fixed
+    one: -y of the hand for the one-jaw fixture. The layout keeps the axis of the open
+    fingers' nearest points unless it points more than 45 deg off that (the Unitree Z1
+    file with its meshes decomposed: along the jaw's width)."""
+    from robot_agents.envs.tasks.layout import table_top_layout
+
+    cls = type("OneJawLayout", (robot(tmp_path, urdf(one_jaw())),), {"uid": "one_jaw_layout"})
+    ra.register_agent(cls, override=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        geometry = table_top_layout(cls).gripper
+    assert geometry is not None
+    closing = np.array(geometry.closing_axis)
+    assert closing @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(10.0))
+    # the jaw's own closing direction, at the tool point of the scene's default pose
+    from robot_agents.envs.tasks.layout import _jaw_closing
+
+    scene = reset_scene(cls)
+    agent = scene.agents[0]
+    data = mujoco.MjData(scene.model)
+    data.qpos[:] = scene.world.qpos[0]
+    mujoco.mj_kinematics(scene.model, data)
+    point = agent.frame_pose("ee")[0]
+    gripper = agent.gripper()
+    opened, _ = gripper.positions(1)
+    swept = _jaw_closing(agent, gripper, data, ("jaw_joint",), opened, point, "test")
+    assert swept is not None
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, point[3:])
+    in_tool = rotation.reshape(3, 3).T @ swept
+    assert in_tool @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(30.0))  # 20 deg: the lever leans

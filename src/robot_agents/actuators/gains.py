@@ -46,7 +46,7 @@ integrates, and far beyond that bound a stance bounces on its feet.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -72,6 +72,26 @@ STANCE_SAG = 0.005
 #: friction (``frictionloss``), rad or m: as far as a standing leg may sag
 #: (:data:`STANCE_SAG`), half the keyframe-hold tolerance.
 FRICTION_STALL = STANCE_SAG
+#: Bandwidth (Hz) of a gripper joint that its file gives no effort limit (the
+#: mani-skill wheel's SO-100 and Koch URDFs write ``effort="0"``): stiffer than the
+#: drives' 10 Hz, which on a light jaw (the SO-100's 20 g) pressed a cube with 0.08 N*m
+#: and let it pivot and drop as the carry set off, but far below the step's stability
+#: bound, whose squeeze on the cube shoved the light arm and pressed the cube out of
+#: the jaw. Scripted PickCube-v1, 20 seeds, at 10 / 14 / 25 / 44 / 80 Hz: the SO-100
+#: file 4 / 17 / 19 / - / 0, the Koch file 6 / 12 / 17 / 6 / 0, damped over 0.05 s (2026-11-29; see
+#: docs/using-a-model-file.md, "Two-line robots in the tasks").
+GRIP_BANDWIDTH_HZ = 25.0
+GRIP_OMEGA = 2.0 * math.pi * GRIP_BANDWIDTH_HZ
+#: Time constant (s) of such a joint's drive: damped ``kv = kp * GRIP_TIME_CONSTANT``
+#: (overdamped; MuJoCo's ``implicitfast`` integrates an unclamped drive's damping
+#: implicitly), it closes as a first-order lag, at first the distance over 0.1 s (two
+#: 20 Hz control steps), slower than its 10 Hz spring's fastest (the distance over
+#: ``e / omega``, 0.043 s): a light jaw stopped by nothing but what it closes on. At the
+#: stability bound, critically damped, the SO-100 file's jaw shot through the cube in
+#: one 2 ms step. Scripted, 20 seeds, at 0.02 / 0.05 / 0.1 s: the Koch file's
+#: PickCube-v1 16 / 18 / 19, PushCube-v1 20 / 18 / 20 (20 before); the SO-100 file's
+#: PickCube-v1 - / 19 / 20.
+GRIP_TIME_CONSTANT = 0.1
 #: Share of the explicit-stiffness bound ``4 I / dt^2`` that stance gains stay below:
 #: half of :data:`robot_agents.checks.STABLE_SHARE`, the share the physics check passes below.
 STANCE_STABLE_SHARE = 0.25
@@ -229,7 +249,7 @@ def gains_over_configurations(
 
 
 def grip_gains(
-    gains: SuggestedGains, strokes: Mapping[str, float], timestep: float
+    gains: SuggestedGains, strokes: Mapping[str, float], timestep: float, unbounded: Iterable[str] = ()
 ) -> tuple[SuggestedGains, tuple[str, ...]]:
     """``gains`` with each gripper joint of ``strokes`` (joint -> its open-to-closed
     travel, rad or m) stiff enough to press with its whole effort limit when commanded
@@ -237,13 +257,24 @@ def grip_gains(
     with the force the file's motor gives, not with what a 10 Hz spring on a light
     finger gives (a Panda finger of 15 g: 59 N/m, 1.4 N on a 4 cm cube); at most
     :data:`STANCE_STABLE_SHARE` of the explicit-stiffness bound (``timestep`` in s),
-    damping critical for the new stiffness. Joints without an effort limit keep their
-    gains. Returns the gains and the joints stiffened."""
+    damping critical for the new stiffness. Each joint of ``unbounded`` (a gripper
+    joint whose file gives it no effort limit: the SO-100's and the Koch's jaws, whose
+    URDFs write ``effort="0"``) that has none gets a :data:`GRIP_BANDWIDTH_HZ` spring
+    on its inertia (within that bound), damped over :data:`GRIP_TIME_CONSTANT`: nothing
+    states its force, and a 10 Hz spring on a 20 g jaw pressed with 0.08 N*m. Other
+    joints without an effort limit keep their gains. Returns the gains and the joints
+    stiffened."""
     cap = _stiffness_cap(gains, timestep)
     stiffness, damping = gains.stiffness.copy(), gains.damping.copy()
     raised = []
+    free = set(unbounded)
     for i, joint in enumerate(gains.joints):
         stroke, effort = strokes.get(joint), gains.effort_limit[i]
+        if joint in free and not math.isfinite(effort):
+            stiffness[i] = max(stiffness[i], min(float(gains.inertia[i]) * GRIP_OMEGA**2, float(cap[i])))
+            damping[i] = max(damping[i], stiffness[i] * GRIP_TIME_CONSTANT)
+            raised.append(joint)
+            continue
         if stroke is None or not stroke > 0.0 or not math.isfinite(effort):
             continue
         wanted = min(effort / stroke, cap[i])

@@ -559,9 +559,12 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         # jaws and linkages keep their inertia gains: their torque reaches the object
         # through levers, and a linkage's loop gives under a full-effort squeeze)
         strokes: dict[str, float] = {}
+        unbounded: list[str] = []  # jaws and fingers the file gives no effort: pressing is their job
         for gripper in (p for p in parts if is_jaw_gripper(p)):
             names = part_joints[gripper.name]
             opened, closed = gripper.positions(len(names))
+            if all(j in driven_joints for j in names):  # not a linkage (its loop gives under a squeeze)
+                unbounded.extend(j for j in names if j in derived_joints)
             strokes.update(
                 {
                     j: float(abs(o - c))
@@ -569,7 +572,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                     if j in derived_joints and index.joint(j, name).kind is JointKind.SLIDE
                 }
             )
-        gains, _ = grip_gains(gains, strokes, timestep)
+        gains, _ = grip_gains(gains, strokes, timestep, unbounded)
         # dry friction in the file (frictionloss) would stall inertia gains short of their targets
         gains, capped = friction_gains(gains, timestep)
         if capped:

@@ -116,6 +116,12 @@ DOWN_CONTACT_DEPTH = 1e-3
 #: Gripper positions, open to closed, over which the fingers' reach past the grasp point
 #: is measured (``GripperGeometry.tip_reach``).
 TIP_REACH_SAMPLES = 9
+#: A gripper of one hinge keeps the closing axis its open fingers' nearest points give
+#: unless that axis points this far from the way the jaw carries the tool point as it
+#: closes (cosine; 45 deg): with the Unitree Z1 file's meshes decomposed, the open jaw's
+#: nearest point to the tool point lay to its side, and the axis ran along the jaw's
+#: width (PickCube 0 of 20, the cube set beside the jaws).
+JAW_AXIS_AGREEMENT = math.cos(math.radians(45.0))
 #: Geoms lower than the table top plus this (m) sweep the floor around the table.
 LOW_GEOM_MARGIN = 0.01
 
@@ -454,6 +460,30 @@ def _robot_geom_boxes(
     return boxes
 
 
+def _jaw_closing(
+    agent: Agent, gripper: Any, data: mujoco.MjData, names: Sequence[str], opened: Any, point: Any, where: str
+) -> FloatArray | None:
+    """For a gripper of one hinge (a jaw turning onto a fixed jaw): the closing axis as
+    the jaw's motion gives it (world, unit): the way the tool point, carried by the jaw,
+    moves as it closes (the hinge's axis crossed with the lever from its anchor), from
+    the first finger towards the second (turned round where the jaw is the second);
+    else ``None``."""
+    if len(names) != 1:
+        return None
+    joint = agent.index.joint(names[0], where)
+    if joint.kind is not JointKind.HINGE:
+        return None
+    _, shut = gripper.positions(1)
+    sign = 1.0 if float(shut[0]) > float(opened[0]) else -1.0
+    jaw = int(agent.index.model.jnt_bodyid[joint.id])
+    first = {agent.index.body_id(link, where) for link in gripper.finger_links[0]}
+    if jaw not in first:
+        sign = -sign  # the moving jaw is the second finger: the axis runs towards it
+    swept = sign * np.cross(data.xaxis[joint.id], point[:3] - data.xanchor[joint.id])
+    length = float(np.linalg.norm(swept))
+    return swept / length if length > 1e-9 else None
+
+
 def _gripper_geometry(
     agent: Agent, probe: Scene, data: mujoco.MjData, keyframe: FloatArray, tool: Any, wrist: int, where: str
 ) -> GripperGeometry | None:
@@ -510,6 +540,13 @@ def _gripper_geometry(
     approach /= max(float(np.linalg.norm(approach)), 1e-9)
     closing -= approach * float(closing @ approach)
     closing /= max(float(np.linalg.norm(closing)), 1e-9)
+    swept = _jaw_closing(agent, gripper, data, names, opened, point, where)
+    if swept is not None:  # one jaw: the axis its tip closes along, where the nearest points miss it
+        swept = to_tool @ swept
+        swept -= approach * float(swept @ approach)
+        length = float(np.linalg.norm(swept))
+        if length > 1e-9 and abs(float(closing @ swept)) < JAW_AXIS_AGREEMENT * length:
+            closing = swept / length
     grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
     # the fingers' farthest reach along the approach axis (their geoms' boxes), over
     # their stroke from open to closed (a linkage's pads swing out past the tool point

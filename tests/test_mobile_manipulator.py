@@ -333,3 +333,71 @@ def test_a_camera_placement_follows_its_link(mm_cls: type[ra.Agent]) -> None:
         rotation = np.empty(9)
         mujoco.mju_quat2Mat(rotation, turned)
         np.testing.assert_allclose(pose[:3, :3], rotation.reshape(3, 3), atol=1e-6)
+
+
+def test_base_pos_and_base_rot_are_settable_as_habitats(mm_cls: type[ra.Agent]) -> None:
+    """``agent.base_pos = p`` and ``agent.base_rot = yaw`` (Habitat's property setters)
+    teleport every env's base and read back; they raised AttributeError (no setter)."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    for dynamics in ("dynamic", "kinematic"):
+        agent.set_base_dynamics(dynamics)
+        agent.base_rot = 0.5
+        np.testing.assert_allclose(agent.base_rot, [0.5, 0.5], atol=1e-15)
+        agent.base_pos = [1.0, 2.0, 0.0]  # x, y, z (z: the base's own)
+        np.testing.assert_array_equal(agent.base_pos, [[1.0, 2.0, 0.0]] * 2)
+        np.testing.assert_allclose(agent.base_rot, [0.5, 0.5], atol=1e-15)  # the yaw kept
+        agent.base_pos = [[0.3, -0.2], [-1.0, 0.5]]  # x, y per env
+        agent.base_rot = [0.1, -3.0]
+        np.testing.assert_array_equal(agent.base_pos[:, :2], [[0.3, -0.2], [-1.0, 0.5]])
+        np.testing.assert_allclose(agent.base_rot, [0.1, -3.0], atol=1e-15)
+        before = agent.qpos
+        agent.base_pos = agent.base_pos  # a round trip holds
+        np.testing.assert_array_equal(agent.qpos, before)
+        agent.set_action(np.zeros(agent.action_space.shape))  # a zero base velocity holds it
+        scene.step()
+        np.testing.assert_allclose(agent.base_pos[:, :2], [[0.3, -0.2], [-1.0, 0.5]], atol=1e-4)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_pos: the base moves in its plane at z = 0"):
+        agent.base_pos = [1.0, 2.0, 0.5]
+    with pytest.raises(ra.StateError, match=r"base_pos: expected the base position \(x, y\) or \(x, y, z\)"):
+        agent.base_pos = [1.0]
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_rot: expected yaw"):
+        agent.base_rot = float("nan")
+    scene.close()
+
+
+def test_workspace_box_is_in_the_base_frame_whatever_the_keyframe_base_pose(mm_cls: type[ra.Agent]) -> None:
+    """``ee_constraint`` is a box in the base link's frame: a first keyframe that starts
+    the base turned (and away from the mount) gives the same box. It was sampled in the
+    mount's frame, so a keyframe yaw of 90 deg swapped its x and y ranges, and
+    ``clip_ee_to_workspace`` moved a base-frame point the arm was at."""
+    turned = type(
+        "TurnedMobileManipulator",
+        (mm_cls,),
+        {
+            "uid": "test_turned_mobile_manipulator",
+            "keyframes": {
+                "home": ra.Keyframe(
+                    qpos={
+                        "root_x_axis_joint": 1.5,
+                        "root_z_rotation_joint": np.pi / 2,
+                        "torso_lift_joint": 0.1,
+                        "j2": -0.5,
+                        "j3": 1.0,
+                        "j5": 0.5,
+                    }
+                )
+            },
+        },
+    )
+    boxes = []
+    for cls in (mm_cls, turned):
+        scene = ra.Scene(cls)
+        scene.reset()
+        agent = scene.agents[0]
+        boxes.append(np.array(agent.params.ee_constraint[0]))
+        at_rest = agent.frame_pose("tool", relative_to="base_link")[:, :3]  # the tool in the base frame
+        np.testing.assert_array_equal(agent.clip_ee_to_workspace(at_rest), at_rest)
+        scene.close()
+    np.testing.assert_allclose(boxes[1], boxes[0], atol=1e-9)

@@ -65,13 +65,34 @@ class MobileManipulatorAPI:
     # ------------------------------------------------------------------ mobile base (Habitat's names)
     @property
     def base_pos(self) -> FloatArray:
-        """Ground point under the base, ``(num_envs, 3)`` (m, world)."""
+        """Ground point under the base, ``(num_envs, 3)`` (m, world; z is the mount's).
+
+        Settable, as Habitat's: ``agent.base_pos = p`` teleports every env's base to
+        ``p``, ``(3,)`` / ``(num_envs, 3)`` (x, y, z; z must be the base's z, which the
+        base cannot leave: ``agent.base_pos = agent.base_pos`` holds) or ``(2,)`` /
+        ``(num_envs, 2)`` (x, y), keeps its yaw and holds it there (as :meth:`set_base_pose`)."""
         return self.mobile.position
+
+    @base_pos.setter
+    def base_pos(self, value: npt.ArrayLike) -> None:
+        where = f"{type(self).__name__}.base_pos"
+        self._check_open(where)
+        self._set_base_pose(self.mobile.ground_xy(value, where), None, None, where)
 
     @property
     def base_rot(self) -> FloatArray:
-        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``)."""
+        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``; positive turns
+        from +x towards +y, to the left).
+
+        Settable, as Habitat's: ``agent.base_rot = yaw`` (rad, a number or one per env)
+        turns every env's base in place and holds it there (as :meth:`set_base_pose`)."""
         return self.mobile.yaw
+
+    @base_rot.setter
+    def base_rot(self, value: npt.ArrayLike) -> None:
+        where = f"{type(self).__name__}.base_rot"
+        self._check_open(where)
+        self._set_base_pose(None, value, None, where)
 
     def set_base_pose(
         self, xy: npt.ArrayLike | None = None, yaw: npt.ArrayLike | None = None, env_ids: npt.ArrayLike | None = None
@@ -79,6 +100,11 @@ class MobileManipulatorAPI:
         """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
         where = f"{type(self).__name__}.set_base_pose"
         self._check_open(where)
+        self._set_base_pose(xy, yaw, env_ids, where)
+
+    def _set_base_pose(
+        self, xy: npt.ArrayLike | None, yaw: npt.ArrayLike | None, env_ids: npt.ArrayLike | None, where: str
+    ) -> None:
         self.mobile.set(xy, yaw, env_ids, where)
         self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
 
@@ -144,7 +170,8 @@ class MobileManipulatorAPI:
         return self.manipulator.ee_local_offset(i)
 
     def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """Base-frame positions ``(num_envs, 3)`` clipped into the sampled workspace box."""
+        """Base-frame positions ``(num_envs, 3)`` (``params.base_link``'s frame) clipped
+        into the sampled workspace box."""
         return self.manipulator.clip_ee_to_workspace(pos, i)
 
     def calculate_ee_forward_kinematics(self, q: npt.ArrayLike, i: int = 0) -> FloatArray:

@@ -25,6 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKSolver, LinearFollowers
 from robot_agents.kinematics.ik_config import IKConfig
 from robot_agents.validation import POSE_AXES, check_bool, check_quat_rows, check_whole, is_whole
@@ -59,7 +60,8 @@ class MobileManipulatorParams:
         ee_links: the body or site each end effector is fixed to.
         ee_offsets: each end effector's position in its link's frame (m).
         ee_constraint: per end effector, the box ``(3, 2)`` (min, max per axis, m) of
-            its positions in the base frame over the arm's joint ranges (512 samples,
+            its positions in the base frame (``base_link``'s; the root frame for a robot
+            without planar base joints) over the arm's joint ranges (512 samples,
             fixed seed, and the keyframe with each arm joint at each of its limits;
             joints that follow an arm joint through a linear joint equality, such as
             Stretch's telescope segments, with it; the other joints at the first
@@ -205,10 +207,19 @@ class ManipulatorView:
         return int(i)
 
     def _base_frame_poses(self, configurations: FloatArray, i: int) -> FloatArray:
-        """End-effector positions ``(n, 3)`` in the base (root) frame."""
+        """End-effector positions ``(n, 3)`` in the base frame: the frame of the body the
+        planar base joints move (``params.base_link``), wherever ``configurations`` put
+        the base (a keyframe may start the base turned or away from the mount); the root
+        frame for a robot without planar base joints."""
         agent = self.agent
-        root = agent.frames.reference("root", "workspace")
-        poses = agent.frames.pose(self._ee_frames[i], root, configurations)
+        mobile = agent.mobile
+        reference: FrameRef | None
+        if mobile.kind == "planar":
+            body = mobile._base_body()
+            reference = FrameRef(FrameKind.BODY, body, agent.index.model.body(body).name)
+        else:
+            reference = agent.frames.reference("root", "workspace")
+        poses = agent.frames.pose(self._ee_frames[i], reference, configurations)
         return poses[:, :3]
 
     def _workspace(self) -> tuple[tuple[tuple[float, float], ...], ...]:
@@ -356,7 +367,8 @@ class ManipulatorView:
         return np.array(self.params.ee_offsets[self._ee(i, "ee_local_offset")], dtype=np.float64)
 
     def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """Base-frame positions ``(num_envs, 3)`` clipped into ``ee_constraint[i]``."""
+        """Base-frame positions ``(num_envs, 3)`` (``params.base_link``'s frame) clipped
+        into ``ee_constraint[i]``."""
         box = np.array(self.params.ee_constraint[self._ee(i, "clip_ee_to_workspace")])
         n = self.agent.state.num_envs
         points = self.agent.state.batch(pos, n, 3, "end-effector position (m)", f"{self.owner}.clip_ee_to_workspace")

@@ -124,6 +124,32 @@ class MobileBase:
         pos[:, 2] = self.state.mount_pose[2]
         return pos
 
+    def ground_xy(self, value: npt.ArrayLike, where: str) -> FloatArray:
+        """A ``base_pos`` given as ``(2,)`` / ``(num_envs, 2)`` (x, y) or ``(3,)`` /
+        ``(num_envs, 3)`` (x, y, z with z the base's own, :attr:`position`'s: the base
+        moves in its plane) as ``(num_envs, 2)`` (m, world)."""
+        self._require(where)
+        n = self.world.num_envs
+        try:
+            array = np.asarray(value)
+        except Exception:  # whatever the input's own __array__ raises
+            raise StateError(f"{where}: expected numeric base position, got {type(value).__name__}.") from None
+        width = array.shape[-1] if array.ndim in (1, 2) else 0
+        if width not in (2, 3):
+            raise StateError(
+                f"{where}: expected the base position (x, y) or (x, y, z) (m, world) of shape (2,), (3,), "
+                f"({n}, 2) or ({n}, 3), got {array.shape}."
+            )
+        rows = self.state.batch(array, n, width, "base position (m, world)", where)
+        height = float(self.state.mount_pose[2])
+        if width == 3 and not np.all(np.abs(rows[:, 2] - height) <= 1e-9):
+            given = float(rows[np.argmax(np.abs(rows[:, 2] - height)), 2])
+            raise StateError(
+                f"{where}: the base moves in its plane at z = {height:.6g} m (base_pos's z); expected that z or "
+                f"(x, y) alone, got z = {given:.6g}."
+            )
+        return rows[:, :2]
+
     def _yaws(self, yaw: npt.ArrayLike, n: int, where: str) -> FloatArray:
         """``yaw`` (a number, or one per env) as finite angles ``(n,)`` (rad)."""
         try:

@@ -401,3 +401,26 @@ def test_workspace_box_is_in_the_base_frame_whatever_the_keyframe_base_pose(mm_c
         np.testing.assert_array_equal(agent.clip_ee_to_workspace(at_rest), at_rest)
         scene.close()
     np.testing.assert_allclose(boxes[1], boxes[0], atol=1e-9)
+
+
+def test_gripper_state_checks_every_driven_finger(mm_cls: type[ra.Agent]) -> None:
+    """``is_gripper_open`` / ``is_gripper_closed`` hold when every driven gripper joint is
+    within ``gripper_state_eps`` of the state (Habitat's ``np.amax(...) < eps``): with the
+    left finger closed and the right one open the gripper is neither. Only the first
+    finger was read, so it counted as closed."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    q = agent.qpos
+    left, right = (agent.joint_names.index(j) for j in agent.params.gripper_joints)
+    q[0, [left, right]] = [0.0, 0.04]  # env 0: left closed, right open
+    q[1, [left, right]] = [0.04, 0.0]  # env 1: the other way round
+    agent.reset(qpos=q)
+    assert not agent.is_gripper_closed().any() and not agent.is_gripper_open().any()
+    eps = agent.params.gripper_state_eps
+    q[0, [left, right]] = [0.0, 0.9 * eps]  # both within eps of closed
+    q[1, [left, right]] = [0.04 - 0.9 * eps, 0.04]  # both within eps of open
+    agent.reset(qpos=q)
+    assert agent.is_gripper_closed().tolist() == [True, False]
+    assert agent.is_gripper_open().tolist() == [False, True]
+    scene.close()

@@ -185,11 +185,11 @@ class MobileManipulatorAPI:
         return self.manipulator.calculate_ee_inverse_kinematics(pose, i, position_only, restarts)
 
     def is_gripper_open(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``open``."""
+        """Per env: every driven gripper joint within its tolerance of ``open``."""
         return self.grippers.within(gripper, 1.0)
 
     def is_gripper_closed(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``closed``."""
+        """Per env: every driven gripper joint within its tolerance of ``closed``."""
         return self.grippers.within(gripper, 0.0)
 
     def gripper_opening(self, gripper: str | None = None) -> FloatArray:

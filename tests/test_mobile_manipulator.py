@@ -424,3 +424,53 @@ def test_gripper_state_checks_every_driven_finger(mm_cls: type[ra.Agent]) -> Non
     assert agent.is_gripper_closed().tolist() == [True, False]
     assert agent.is_gripper_open().tolist() == [False, True]
     scene.close()
+
+
+def test_arm_motor_pos_and_gripper_joint_pos_are_settable_as_habitats(mm_cls: type[ra.Agent]) -> None:
+    """``agent.arm_motor_pos = q`` sets the arm's drive targets (the arm then moves there)
+    and ``agent.gripper_joint_pos = g`` teleports the fingers and holds them, as Habitat's
+    setters; both raised AttributeError (no setter)."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    before = agent.arm_joint_pos
+    goal = before + np.array([0.2, -0.1, 0.1, 0.0, 0.1, 0.0])
+    agent.arm_motor_pos = goal
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)
+    np.testing.assert_array_equal(agent.arm_joint_pos, before)  # not moved
+    for _ in range(40):
+        scene.step()
+    np.testing.assert_allclose(agent.arm_joint_pos, goal, atol=0.01)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.arm_motor_pos: .*limits"):
+        agent.arm_motor_pos = [0.0, 5.0, 0.0, 0.0, 0.0, 0.0]  # j2 beyond [-2, 2]
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)  # refused: unchanged
+    agent.gripper_joint_pos = [[0.01, 0.01], [0.03, 0.03]]
+    np.testing.assert_array_equal(agent.gripper_joint_pos, [[0.01, 0.01], [0.03, 0.03]])
+    for _ in range(10):
+        scene.step()
+    np.testing.assert_allclose(agent.gripper_joint_pos, [[0.01, 0.01], [0.03, 0.03]], atol=2e-3)  # held
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.gripper_joint_pos: expected gripper joint"):
+        agent.gripper_joint_pos = [0.01]
+    scene.close()
+
+
+def test_a_gripper_teleport_keeps_the_arm_targets_and_an_arm_teleport_the_gripper_targets(
+    mm_cls: type[ra.Agent],
+) -> None:
+    """Habitat code sets the arm's motor targets, then opens the gripper: the arm still
+    goes to its targets. ``open_gripper()`` (and every arm / gripper teleport) held every
+    joint of the robot at the measured pose instead, so the arm stayed where it was."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    goal = agent.arm_joint_pos + np.array([0.2, -0.1, 0.1, 0.0, 0.1, 0.0])
+    agent.arm_motor_pos = goal
+    agent.open_gripper()
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)
+    agent.set_gripper_target_state(1.0)  # close
+    agent.arm_joint_pos = goal  # teleport the arm: the gripper keeps closing
+    for _ in range(20):
+        scene.step()
+    np.testing.assert_allclose(agent.arm_joint_pos, goal, atol=0.01)
+    assert agent.is_gripper_closed().all()
+    scene.close()

@@ -129,13 +129,22 @@ class MobileManipulatorAPI:
     @arm_joint_pos.setter
     def arm_joint_pos(self, values: npt.ArrayLike) -> None:
         """Teleport the arm joints to ``values`` ``(n,)`` or ``(num_envs, n)`` (rad / m;
-        within their limits, else :class:`StateError`) at rest, and hold them there."""
+        within their limits, else :class:`StateError`) at rest, and hold them there (the
+        other joints' drive targets stay)."""
         self.manipulator.set_arm_joint_pos(values)
 
     @property
     def arm_motor_pos(self) -> FloatArray:
-        """Arm drive position targets ``(num_envs, n)``."""
+        """Arm drive position targets ``(num_envs, n)`` (rad / m).
+
+        Settable, as Habitat's: ``agent.arm_motor_pos = q`` (``(n,)`` or ``(num_envs, n)``,
+        within the joints' limits) sets the targets until the next action overwrites them;
+        the joints are not moved."""
         return self.manipulator.arm_motor_pos
+
+    @arm_motor_pos.setter
+    def arm_motor_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_arm_motor_pos(values)
 
     @property
     def arm_velocity(self) -> FloatArray:
@@ -144,17 +153,27 @@ class MobileManipulatorAPI:
 
     @property
     def gripper_joint_pos(self) -> FloatArray:
-        """Gripper joint positions ``(num_envs, n)``."""
+        """Gripper joint positions ``(num_envs, n)`` (rad / m).
+
+        Settable, as Habitat's: ``agent.gripper_joint_pos = g`` (``(n,)`` or
+        ``(num_envs, n)``, within the joints' limits) teleports the gripper joints at rest
+        and holds them there."""
         return self.manipulator.gripper_joint_pos
+
+    @gripper_joint_pos.setter
+    def gripper_joint_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_gripper_joint_pos(values)
 
     def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Put the gripper joints of ``env_ids`` (default: every env) at the open state
-        (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there."""
+        (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there
+        (the other joints' drive targets stay)."""
         self.manipulator.open_gripper(env_ids)
 
     def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Put the gripper joints of ``env_ids`` (default: every env) at the closed state
-        (``params.gripper_closed_state``, rad / m; teleport, at rest) and hold them there."""
+        (``params.gripper_closed_state``, rad / m; teleport, at rest) and hold them there
+        (the other joints' drive targets stay)."""
         self.manipulator.close_gripper(env_ids)
 
     def set_gripper_target_state(self, state: npt.ArrayLike) -> None:

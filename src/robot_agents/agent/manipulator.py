@@ -272,10 +272,37 @@ class ManipulatorView:
         value: FloatArray = self.agent.drives.targets.position[:, columns].copy()
         return value
 
+    def set_arm_motor_pos(self, values: npt.ArrayLike) -> None:
+        """Arm drive position targets at ``values`` ``(n,)`` or ``(num_envs, n)`` (rad / m,
+        within the joints' limits), until the next action overwrites them; the joints are
+        not moved (Habitat's ``arm_motor_pos`` setter)."""
+        where = f"{self.owner}.arm_motor_pos"
+        self._require_arm("arm_motor_pos")
+        agent = self.agent
+        agent._check_open(where)
+        state = agent.state
+        rows = state.batch(values, state.num_envs, len(self._arm_qpos), "arm drive position targets", where)
+        by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
+        state.check_within_limits(rows, np.array([by_adr[int(a)] for a in self._arm_qpos], dtype=np.int64), where)
+        columns = agent.drives.columns(self.arm_joints, where)
+        agent.drives.targets.position[:, columns] = rows
+        agent.drives.write(agent.world.ctrl)
+
     @property
     def gripper_joint_pos(self) -> FloatArray:
         value: FloatArray = self.agent.world.qpos[:, self._grip_qpos].copy()
         return value
+
+    def set_gripper_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
+        """Teleport the gripper joints of ``env_ids`` (default: every env) to ``values``
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero),
+        the joints that follow them through linear joint equalities with them, and hold
+        them there."""
+        where = f"{self.owner}.gripper_joint_pos"
+        self._require_gripper("gripper_joint_pos")
+        self._write(
+            self._grip_qpos, self._grip_dof, self._grip_followers, values, env_ids, where, "gripper joint positions"
+        )
 
     def _write(
         self,
@@ -299,8 +326,27 @@ class ManipulatorView:
         by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
         state.check_within_limits(rows, np.array([by_adr[int(a)] for a in qpos_adr], dtype=np.int64), where)
         self.agent.world.write_joint_state(ids, qpos_adr, rows, dof_adr, np.zeros((len(ids), len(dof_adr))))
-        self.agent.drives.hold(ids, np.asarray(self.agent.world.qpos)[ids])
-        self.agent.controller.reset(ids, self.agent.world)
+        self._hold(ids, qpos_adr)
+
+    def _hold(self, ids: npt.NDArray[np.int64], qpos_adr: npt.NDArray[np.int64]) -> None:
+        """After a teleport of the joints at ``qpos_adr`` in envs ``ids``: the controllers
+        that command one of them restart from the measured state and their joints' drives
+        hold it; every other drive target stays (an arm target set through
+        ``arm_motor_pos`` survives ``open_gripper()``, as in Habitat)."""
+        agent = self.agent
+        world, drives = agent.world, agent.drives
+        written = {int(a) for a in qpos_adr}
+        touched = [c for c in agent.controller.parts.values() if written & {int(a) for a in c.binding.qpos_adr}]
+        held = written | {int(a) for c in touched for a in c.binding.qpos_adr}
+        columns = np.array([k for k, a in enumerate(drives.qpos_adr) if int(a) in held], dtype=np.int64)
+        if len(columns):
+            rows = np.ix_(ids, columns)
+            drives.targets.position[rows] = np.asarray(world.qpos)[np.ix_(ids, drives.qpos_adr[columns])]
+            drives.targets.velocity[rows] = 0.0
+            drives.targets.effort[rows] = 0.0
+        for controller in touched:
+            controller.reset(ids, world)
+        drives.write(world.ctrl, world.qpos, world.qvel)
 
     # -- gripper -----------------------------------------------------------------------
     def _require_gripper(self, where: str) -> None:

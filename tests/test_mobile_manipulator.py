@@ -364,6 +364,11 @@ def test_base_pos_and_base_rot_are_settable_as_habitats(mm_cls: type[ra.Agent]) 
         agent.base_pos = [1.0]
     with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_rot: expected yaw"):
         agent.base_rot = float("nan")
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_rot: expected yaw .* got True"):
+        agent.base_rot = True  # not an angle (it turned the base to 1 rad)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.set_base_pose: expected yaw"):
+        agent.set_base_pose(None, [False, True])
+    np.testing.assert_allclose(agent.base_rot, [0.1, -3.0], atol=1e-15)  # refused: unchanged
     scene.close()
 
 

@@ -153,6 +153,8 @@ class MobileBase:
     def _yaws(self, yaw: npt.ArrayLike, n: int, where: str) -> FloatArray:
         """``yaw`` (a number, or one per env) as finite angles ``(n,)`` (rad)."""
         try:
+            if np.asarray(yaw).dtype.kind == "b":  # True is not an angle
+                raise TypeError
             values = np.asarray(yaw, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
             raise StateError(f"{where}: expected yaw as a number or {n} numbers (rad), got {yaw!r}.") from None

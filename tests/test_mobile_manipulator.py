@@ -141,7 +141,7 @@ def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
     assert p.arm_init_params == (0.0, -0.5, 1.0, 0.0, 0.5, 0.0)
     assert p.gripper_open_state == (0.04, 0.04) and p.gripper_closed_state == (0.0, 0.0)
     assert p.ee_links == ("gripper_link",) and p.ee_offsets == ((0.1, 0.0, 0.0),)
-    assert p.base_link.endswith("base_link") and p.base_dynamics == "dynamic"
+    assert p.base_link == "base_link" and p.base_dynamics == "dynamic"  # the robot's name, as ee_links
     box = np.array(p.ee_constraint[0])
     assert box.shape == (3, 2) and np.all(box[:, 1] - box[:, 0] > 0.3)  # reach ~0.77 m
     np.testing.assert_allclose(agent.ee_local_offset(0), [0.1, 0.0, 0.0])
@@ -402,7 +402,7 @@ def test_workspace_box_is_in_the_base_frame_whatever_the_keyframe_base_pose(mm_c
         scene.reset()
         agent = scene.agents[0]
         boxes.append(np.array(agent.params.ee_constraint[0]))
-        at_rest = agent.frame_pose("tool", relative_to="base_link")[:, :3]  # the tool in the base frame
+        at_rest = agent.frame_pose("tool", relative_to=agent.params.base_link)[:, :3]  # the tool in the base frame
         np.testing.assert_array_equal(agent.clip_ee_to_workspace(at_rest), at_rest)
         scene.close()
     np.testing.assert_allclose(boxes[1], boxes[0], atol=1e-9)

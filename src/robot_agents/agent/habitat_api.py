@@ -164,6 +164,25 @@ class MobileManipulatorAPI:
     def gripper_joint_pos(self, values: npt.ArrayLike) -> None:
         self.manipulator.set_gripper_joint_pos(values)
 
+    @property
+    def leg_joint_pos(self) -> FloatArray:
+        """Leg joint positions ``(num_envs, n)`` (rad / m) of ``Legs`` parts (Habitat's leg
+        base: Spot's).
+
+        Settable, as Habitat's: ``agent.leg_joint_pos = q`` (``(n,)`` or ``(num_envs, n)``,
+        within the joints' limits) teleports the legs at rest and holds them there (held
+        legs are then pinned there while a kinematic base moves)."""
+        return self.manipulator.leg_joint_pos
+
+    @leg_joint_pos.setter
+    def leg_joint_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_leg_joint_pos(values)
+
+    @property
+    def leg_motor_pos(self) -> FloatArray:
+        """Leg drive position targets ``(num_envs, n)`` (rad / m)."""
+        return self.manipulator.leg_motor_pos
+
     def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Put the gripper joints of ``env_ids`` (default: every env) at the open state
         (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there

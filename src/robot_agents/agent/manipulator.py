@@ -52,6 +52,7 @@ class MobileManipulatorParams:
         gripper_joints: the gripper's joints (first = the leader).
         wheel_joints: passive wheel hinges of the base (left then right).
         leg_joints: joints of ``Legs`` parts.
+        leg_init_params: leg joint positions of the first keyframe (rad / m).
         arm_init_params: arm joint positions of the first keyframe (rad / m).
         gripper_init_params: gripper joint positions of the first keyframe.
         gripper_open_state, gripper_closed_state: gripper joint positions when open /
@@ -66,7 +67,8 @@ class MobileManipulatorParams:
             joints that follow an arm joint through a linear joint equality, such as
             Stretch's telescope segments, with it; the other joints at the first
             keyframe).
-        base_link: the body the base joints move (``""`` for a fixed robot).
+        base_link: the body the base joints move (``""`` for a fixed robot), by the
+            robot's own name (as ``frame_pose`` takes it, without the scene's prefix).
         base_dynamics: ``"dynamic"`` or ``"kinematic"``, as the base runs now
             (:meth:`Agent.set_base_dynamics` included).
     """
@@ -76,6 +78,7 @@ class MobileManipulatorParams:
     wheel_joints: tuple[str, ...]
     leg_joints: tuple[str, ...]
     arm_init_params: tuple[float, ...]
+    leg_init_params: tuple[float, ...]
     gripper_init_params: tuple[float, ...]
     gripper_open_state: tuple[float, ...]
     gripper_closed_state: tuple[float, ...]
@@ -131,6 +134,11 @@ class ManipulatorView:
         index = agent.index
         arm_info = [index.joint(j, owner) for j in self.arm_joints]
         grip_info = [index.joint(j, owner) for j in self.gripper_joints]
+        self.leg_joints = tuple(j for p in parts if isinstance(p, Legs) for j in joints[p.name])
+        leg_info = [index.joint(j, owner) for j in self.leg_joints]
+        self._leg_qpos = np.array([j.qpos_adr for j in leg_info], dtype=np.int64)
+        self._leg_dof = np.array([j.dof_adr for j in leg_info], dtype=np.int64)
+        self._leg_followers = LinearFollowers.of(agent.world.model, self._leg_dof)
         self._arm_qpos = np.array([j.qpos_adr for j in arm_info], dtype=np.int64)
         self._arm_dof = np.array([j.dof_adr for j in arm_info], dtype=np.int64)
         self._grip_qpos = np.array([j.qpos_adr for j in grip_info], dtype=np.int64)
@@ -166,8 +174,9 @@ class ManipulatorView:
             arm_joints=self.arm_joints,
             gripper_joints=self.gripper_joints,
             wheel_joints=base.wheels if base else (),
-            leg_joints=tuple(j for p in parts if isinstance(p, Legs) for j in joints[p.name]),
+            leg_joints=self.leg_joints,
             arm_init_params=start(self._arm_qpos),
+            leg_init_params=start(self._leg_qpos),
             gripper_init_params=start(self._grip_qpos),
             gripper_open_state=_per_joint(gripper.open, n_grip) if gripper else (),
             gripper_closed_state=_per_joint(gripper.closed, n_grip) if gripper else (),
@@ -175,7 +184,12 @@ class ManipulatorView:
             ee_links=tuple(ee.link for ee in (arm.end_effectors if arm else ())),
             ee_offsets=tuple(ee.pos for ee in (arm.end_effectors if arm else ())),
             ee_constraint=self._workspace(),
-            base_link=index.model.body(agent.mobile._base_body()).name if agent.mobile.kind != "fixed" else "",
+            # the robot's own name (as ee_links and frame_pose take it), without the scene prefix
+            base_link=(
+                index.model.body(agent.mobile._base_body()).name.removeprefix(index.prefix)
+                if agent.mobile.kind != "fixed"
+                else ""
+            ),
             base_dynamics=agent.mobile.dynamics,
         )
 
@@ -291,6 +305,33 @@ class ManipulatorView:
     @property
     def gripper_joint_pos(self) -> FloatArray:
         value: FloatArray = self.agent.world.qpos[:, self._grip_qpos].copy()
+        return value
+
+    # -- legs (Habitat's leg base) -------------------------------------------------------
+    def _require_legs(self, where: str) -> None:
+        if not len(self._leg_qpos):
+            raise ConfigError(f"{self.owner}.{where}: the robot has no Legs part.")
+
+    @property
+    def leg_joint_pos(self) -> FloatArray:
+        self._require_legs("leg_joint_pos")
+        value: FloatArray = self.agent.world.qpos[:, self._leg_qpos].copy()
+        return value
+
+    def set_leg_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
+        """Teleport the leg joints of ``env_ids`` (default: every env) to ``values``
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero)
+        and hold them there (held legs are pinned there while a kinematic base moves)."""
+        where = f"{self.owner}.leg_joint_pos"
+        self._require_legs("leg_joint_pos")
+        self._write(self._leg_qpos, self._leg_dof, self._leg_followers, values, env_ids, where, "leg joint positions")
+
+    @property
+    def leg_motor_pos(self) -> FloatArray:
+        """The leg drives' position targets ``(num_envs, n)`` (rad / m)."""
+        self._require_legs("leg_motor_pos")
+        columns = self.agent.drives.columns(self.leg_joints, f"{self.owner}.leg_motor_pos")
+        value: FloatArray = self.agent.drives.targets.position[:, columns].copy()
         return value
 
     def set_gripper_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:

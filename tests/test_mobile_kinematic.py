@@ -148,6 +148,25 @@ def test_kinematic_move_into_a_wall_is_refused(wheeled_file: Path) -> None:
     assert planar(agent)[0] == pytest.approx(1.2, abs=1e-9) and agent.mobile.refused_moves[0] == 0
 
 
+def test_a_base_already_in_the_wall_may_back_out_but_not_go_deeper(wheeled_file: Path) -> None:
+    """A base that starts a step touching the world (put there, or something came to rest
+    against it) may move out of the contact or along it; a move deeper is refused. Every
+    move was refused, so it could never leave."""
+    scene, agent = make(wheeled_file, "kinematic", refuse=True)
+    agent.set_base_pose([0.87, 0.0], 0.0)  # front face at 1.17 m: 2 cm into the wall
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 0.5)  # deeper: refused
+    assert planar(agent)[0] == pytest.approx(0.87, abs=1e-12) and agent.mobile.last_refused[0]
+    refused = agent.mobile.refused_moves[0]
+    run(agent, scene, [0.0, 0.0, 0.0, 0.5], 0.5)  # turning in place at the wall: a corner goes deeper
+    assert planar(agent)[2] == 0.0 and agent.mobile.last_refused[0]
+    run(agent, scene, [0.0, 0.0, -0.4, 0.0], 0.5)  # back out at 0.2 m/s for 0.5 s
+    assert planar(agent)[0] == pytest.approx(0.87 - 0.1, abs=1e-9) and not agent.mobile.last_refused[0]
+    assert agent.mobile.refused_moves[0] >= refused
+    run(agent, scene, [0.0, 0.0, 0.4, 0.0], 2.0)  # and forward again: it stops at the wall's face
+    assert planar(agent)[0] + 0.3 <= 1.15 + 1e-9 and agent.mobile.last_refused[0]
+    scene.close()
+
+
 def test_env_info_reports_refused_moves(wheeled_file: Path) -> None:
     class WalledEmpty(EmptyEnv):
         def _scene_props(self) -> list[ra.Prop]:

@@ -39,6 +39,12 @@ def wrap_angle_float(angle: float) -> float:
     return math.pi - (math.pi - angle) % (2 * math.pi)
 
 
+#: A kinematic move from a pose already in contact is refused when it takes the base more
+#: than this much deeper (m) than it was: moves out of (or along) the contact go through.
+#: (From a pose in no contact, any touch refuses the move.)
+DEEPER = 1e-9
+
+
 class MobileBase:
     """The base of one robot: planar joints ``(x, y, yaw)`` of a ``Base`` part, or the
     root's free joint. Poses are in the world frame; planar joints are taken relative
@@ -82,6 +88,8 @@ class MobileBase:
         #: Whether the last control step's kinematic move was refused, per env.
         self.last_refused = np.zeros(n, dtype=bool)
         self._start: FloatArray | None = None
+        #: Per env, how deep the base was in the world at the step's start (m).
+        self._start_depth: FloatArray | None = None
         self._base_geoms = self._rigid_geoms() if self.planar is not None else np.zeros(0, dtype=np.int64)
         robot_bodies = index.subtree_bodies(index.root_body_id)
         # contacts with these never refuse a move: the robot itself and the ground (planes)
@@ -312,6 +320,10 @@ class MobileBase:
         self._start_row = None
         self._start = qpos.take(self._planar_adr, axis=1)  # new arrays (as fancy indexing gives)
         self._wheel_start = qpos.take(self._wheel_qadr, axis=1)
+        if self.dynamics == "kinematic" and self.refuse_collisions:
+            # how deep the base already is in the world (something came to touch it, or it
+            # was put there): a move is refused only if it goes deeper
+            self._start_depth = self._penetration()
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus
@@ -336,7 +348,9 @@ class MobileBase:
             self.world.write_joint_state(ids, adr, end, dofs, velocity)
             self.last_refused[:] = False
             if self.refuse_collisions:
-                hit = self._touching_world()
+                start_depth = self._start_depth if self._start_depth is not None else np.zeros(n)
+                # clear at the start: any touch refuses; touching: only a deeper one
+                hit = self._penetration() > np.where(start_depth > 0, start_depth + DEEPER, 0.0)
                 if hit.any():
                     back = np.flatnonzero(hit)
                     self.world.write_joint_state(back, adr, start[back], dofs, np.zeros((len(back), 3)))
@@ -345,11 +359,12 @@ class MobileBase:
         if self.wheels and self._wheel_start is not None:
             self._turn_wheels(start, self._planar_qpos(), self._wheel_start, control_dt)
 
-    def _touching_world(self) -> npt.NDArray[np.bool_]:
-        """Per env: does a base geom touch a geom outside the robot (not the ground)?"""
+    def _penetration(self) -> FloatArray:
+        """Per env: how deep (m) a base geom is in a geom outside the robot (not the
+        ground), the deepest contact's; 0 where none touches."""
         datas = self.world.physics_sources()
         base, robot = self._base_geoms, self._ignored_geoms
-        hit = np.zeros(len(datas), dtype=bool)
+        depth = np.zeros(len(datas))
         for env, data in enumerate(datas):
             if data.ncon == 0:
                 continue
@@ -357,8 +372,10 @@ class MobileBase:
             touching = data.contact.dist < 0
             one = np.isin(g1, base) & ~np.isin(g2, robot)
             two = np.isin(g2, base) & ~np.isin(g1, robot)
-            hit[env] = bool(np.any(touching & (one | two)))
-        return hit
+            mine = touching & (one | two)
+            if mine.any():
+                depth[env] = float(-np.min(data.contact.dist[mine]))
+        return depth
 
     def _turn_wheels(self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float) -> None:
         """Turn the wheels by the base's motion from ``start`` to ``end`` (``(num_envs, 3)``),

@@ -197,6 +197,13 @@ class MobileBase:
                 ),
                 axis=1,
             )
+            # a coordinate not given keeps its joint's value bit for bit (read back through
+            # the body's pose it could come back an ulp off: an xy teleport turned the base)
+            current = self.world.qpos[ids][:, self._planar_adr]
+            if xy is None:
+                values[:, :2] = current[:, :2]
+            if yaw is None:
+                values[:, 2] = current[:, 2]
             for k, joint in enumerate((x, y, turn)):
                 low, high = joint.range
                 outside = outside_limits(values[:, k], low, high)

@@ -141,7 +141,7 @@ def test_params_are_derived_from_the_parts(mm_cls: type[ra.Agent]) -> None:
     assert p.arm_init_params == (0.0, -0.5, 1.0, 0.0, 0.5, 0.0)
     assert p.gripper_open_state == (0.04, 0.04) and p.gripper_closed_state == (0.0, 0.0)
     assert p.ee_links == ("gripper_link",) and p.ee_offsets == ((0.1, 0.0, 0.0),)
-    assert p.base_link.endswith("base_link") and p.base_dynamics == "dynamic"
+    assert p.base_link == "base_link" and p.base_dynamics == "dynamic"  # the robot's name, as ee_links
     box = np.array(p.ee_constraint[0])
     assert box.shape == (3, 2) and np.all(box[:, 1] - box[:, 0] > 0.3)  # reach ~0.77 m
     np.testing.assert_allclose(agent.ee_local_offset(0), [0.1, 0.0, 0.0])
@@ -333,3 +333,171 @@ def test_a_camera_placement_follows_its_link(mm_cls: type[ra.Agent]) -> None:
         rotation = np.empty(9)
         mujoco.mju_quat2Mat(rotation, turned)
         np.testing.assert_allclose(pose[:3, :3], rotation.reshape(3, 3), atol=1e-6)
+
+
+def test_base_pos_and_base_rot_are_settable_as_habitats(mm_cls: type[ra.Agent]) -> None:
+    """``agent.base_pos = p`` and ``agent.base_rot = yaw`` (Habitat's property setters)
+    teleport every env's base and read back; they raised AttributeError (no setter)."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    for dynamics in ("dynamic", "kinematic"):
+        agent.set_base_dynamics(dynamics)
+        agent.base_rot = 0.5
+        np.testing.assert_allclose(agent.base_rot, [0.5, 0.5], atol=1e-15)
+        agent.base_pos = [1.0, 2.0, 0.0]  # x, y, z (z: the base's own)
+        np.testing.assert_array_equal(agent.base_pos, [[1.0, 2.0, 0.0]] * 2)
+        np.testing.assert_allclose(agent.base_rot, [0.5, 0.5], atol=1e-15)  # the yaw kept
+        agent.base_pos = [[0.3, -0.2], [-1.0, 0.5]]  # x, y per env
+        agent.base_rot = [0.1, -3.0]
+        np.testing.assert_array_equal(agent.base_pos[:, :2], [[0.3, -0.2], [-1.0, 0.5]])
+        np.testing.assert_allclose(agent.base_rot, [0.1, -3.0], atol=1e-15)
+        before = agent.qpos
+        agent.base_pos = agent.base_pos  # a round trip holds
+        np.testing.assert_array_equal(agent.qpos, before)
+        agent.set_action(np.zeros(agent.action_space.shape))  # a zero base velocity holds it
+        scene.step()
+        np.testing.assert_allclose(agent.base_pos[:, :2], [[0.3, -0.2], [-1.0, 0.5]], atol=1e-4)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_pos: the base moves in its plane at z = 0"):
+        agent.base_pos = [1.0, 2.0, 0.5]
+    with pytest.raises(ra.StateError, match=r"base_pos: expected the base position \(x, y\) or \(x, y, z\)"):
+        agent.base_pos = [1.0]
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_rot: expected yaw"):
+        agent.base_rot = float("nan")
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.base_rot: expected yaw .* got True"):
+        agent.base_rot = True  # not an angle (it turned the base to 1 rad)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.set_base_pose: expected yaw"):
+        agent.set_base_pose(None, [False, True])
+    np.testing.assert_allclose(agent.base_rot, [0.1, -3.0], atol=1e-15)  # refused: unchanged
+    scene.close()
+
+
+def test_workspace_box_is_in_the_base_frame_whatever_the_keyframe_base_pose(mm_cls: type[ra.Agent]) -> None:
+    """``ee_constraint`` is a box in the base link's frame: a first keyframe that starts
+    the base turned (and away from the mount) gives the same box. It was sampled in the
+    mount's frame, so a keyframe yaw of 90 deg swapped its x and y ranges, and
+    ``clip_ee_to_workspace`` moved a base-frame point the arm was at."""
+    turned = type(
+        "TurnedMobileManipulator",
+        (mm_cls,),
+        {
+            "uid": "test_turned_mobile_manipulator",
+            "keyframes": {
+                "home": ra.Keyframe(
+                    qpos={
+                        "root_x_axis_joint": 1.5,
+                        "root_z_rotation_joint": np.pi / 2,
+                        "torso_lift_joint": 0.1,
+                        "j2": -0.5,
+                        "j3": 1.0,
+                        "j5": 0.5,
+                    }
+                )
+            },
+        },
+    )
+    boxes = []
+    for cls in (mm_cls, turned):
+        scene = ra.Scene(cls)
+        scene.reset()
+        agent = scene.agents[0]
+        boxes.append(np.array(agent.params.ee_constraint[0]))
+        at_rest = agent.frame_pose("tool", relative_to=agent.params.base_link)[:, :3]  # the tool in the base frame
+        np.testing.assert_array_equal(agent.clip_ee_to_workspace(at_rest), at_rest)
+        scene.close()
+    np.testing.assert_allclose(boxes[1], boxes[0], atol=1e-9)
+
+
+def test_gripper_state_checks_every_driven_finger(mm_cls: type[ra.Agent]) -> None:
+    """``is_gripper_open`` / ``is_gripper_closed`` hold when every driven gripper joint is
+    within ``gripper_state_eps`` of the state (Habitat's ``np.amax(...) < eps``): with the
+    left finger closed and the right one open the gripper is neither. Only the first
+    finger was read, so it counted as closed."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    q = agent.qpos
+    left, right = (agent.joint_names.index(j) for j in agent.params.gripper_joints)
+    q[0, [left, right]] = [0.0, 0.04]  # env 0: left closed, right open
+    q[1, [left, right]] = [0.04, 0.0]  # env 1: the other way round
+    agent.reset(qpos=q)
+    assert not agent.is_gripper_closed().any() and not agent.is_gripper_open().any()
+    eps = agent.params.gripper_state_eps
+    q[0, [left, right]] = [0.0, 0.9 * eps]  # both within eps of closed
+    q[1, [left, right]] = [0.04 - 0.9 * eps, 0.04]  # both within eps of open
+    agent.reset(qpos=q)
+    assert agent.is_gripper_closed().tolist() == [True, False]
+    assert agent.is_gripper_open().tolist() == [False, True]
+    scene.close()
+
+
+def test_arm_motor_pos_and_gripper_joint_pos_are_settable_as_habitats(mm_cls: type[ra.Agent]) -> None:
+    """``agent.arm_motor_pos = q`` sets the arm's drive targets (the arm then moves there)
+    and ``agent.gripper_joint_pos = g`` teleports the fingers and holds them, as Habitat's
+    setters; both raised AttributeError (no setter)."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    before = agent.arm_joint_pos
+    goal = before + np.array([0.2, -0.1, 0.1, 0.0, 0.1, 0.0])
+    agent.arm_motor_pos = goal
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)
+    np.testing.assert_array_equal(agent.arm_joint_pos, before)  # not moved
+    for _ in range(40):
+        scene.step()
+    np.testing.assert_allclose(agent.arm_joint_pos, goal, atol=0.01)
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.arm_motor_pos: .*limits"):
+        agent.arm_motor_pos = [0.0, 5.0, 0.0, 0.0, 0.0, 0.0]  # j2 beyond [-2, 2]
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)  # refused: unchanged
+    agent.gripper_joint_pos = [[0.01, 0.01], [0.03, 0.03]]
+    np.testing.assert_array_equal(agent.gripper_joint_pos, [[0.01, 0.01], [0.03, 0.03]])
+    for _ in range(10):
+        scene.step()
+    np.testing.assert_allclose(agent.gripper_joint_pos, [[0.01, 0.01], [0.03, 0.03]], atol=2e-3)  # held
+    with pytest.raises(ra.StateError, match=r"TestMobileManipulator\.gripper_joint_pos: expected gripper joint"):
+        agent.gripper_joint_pos = [0.01]
+    scene.close()
+
+
+def test_a_gripper_teleport_keeps_the_arm_targets_and_an_arm_teleport_the_gripper_targets(
+    mm_cls: type[ra.Agent],
+) -> None:
+    """Habitat code sets the arm's motor targets, then opens the gripper: the arm still
+    goes to its targets. ``open_gripper()`` (and every arm / gripper teleport) held every
+    joint of the robot at the measured pose instead, so the arm stayed where it was."""
+    scene = ra.Scene(mm_cls, num_envs=2)
+    scene.reset()
+    agent = scene.agents[0]
+    goal = agent.arm_joint_pos + np.array([0.2, -0.1, 0.1, 0.0, 0.1, 0.0])
+    agent.arm_motor_pos = goal
+    agent.open_gripper()
+    np.testing.assert_array_equal(agent.arm_motor_pos, goal)
+    agent.set_gripper_target_state(1.0)  # close
+    agent.arm_joint_pos = goal  # teleport the arm: the gripper keeps closing
+    for _ in range(20):
+        scene.step()
+    np.testing.assert_allclose(agent.arm_joint_pos, goal, atol=0.01)
+    assert agent.is_gripper_closed().all()
+    scene.close()
+
+
+def test_a_teleport_keeps_the_coordinates_it_is_not_given_bit_for_bit(mm_cls: type[ra.Agent]) -> None:
+    """``base_pos = ...`` keeps the yaw joint as it is and ``base_rot = ...`` the x / y
+    joints, to the bit, on a robot mounted turned: the coordinate not given was read back
+    through the body's pose and written again, an ulp off in about half the cases (an
+    xy-only teleport turned the base)."""
+    mount = (1.0, -0.5, 0.0, float(np.cos(0.35)), 0.0, 0.0, float(np.sin(0.35)))
+    scene = ra.Scene(mm_cls, num_envs=2, robot_poses=[mount])
+    scene.reset()
+    agent = scene.agents[0]
+    planar = [agent.joint_names.index(j) for j in ("root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint")]
+    for yaw in np.linspace(-3.0, 3.0, 31):
+        agent.base_rot = yaw
+        before = agent.qpos[:, planar]
+        agent.base_pos = agent.base_pos
+        np.testing.assert_array_equal(agent.qpos[:, planar[2]], before[:, 2])
+        agent.base_pos = [0.3, 0.7]
+        before = agent.qpos[:, planar]
+        agent.base_rot = agent.base_rot
+        np.testing.assert_array_equal(agent.qpos[:, planar[:2]], before[:, :2])
+    scene.close()

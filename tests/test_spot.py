@@ -365,3 +365,28 @@ def test_a_kinematic_move_that_puts_a_held_leg_into_the_table_is_refused() -> No
     assert np.linalg.norm(agent.base_pos - start) < 0.3
     assert agent.mobile.refused_moves[0] > 50
     env.close()
+
+
+def test_leg_joint_pos_as_habitats_leg_base() -> None:
+    """Habitat's leg-base names: ``params.leg_init_params`` (the standing keyframe),
+    ``agent.leg_joint_pos`` (read, and set: teleport and hold; the held legs are then
+    pinned at the new pose while the kinematic base moves) and ``agent.leg_motor_pos``
+    (the drives' targets). They raised AttributeError."""
+    scene = ra.Scene("spot")
+    scene.reset(keyframes="standing")
+    agent = scene.agents[0]
+    assert agent.params.leg_joints == LEG_JOINTS
+    np.testing.assert_array_equal(agent.params.leg_init_params, np.tile(STANDING_LEGS, 4))
+    np.testing.assert_array_equal(agent.leg_joint_pos[0], np.tile(STANDING_LEGS, 4))
+    crouch = np.tile(STANDING_LEGS, 4) + np.tile([0.0, 0.1, -0.2], 4)
+    agent.leg_joint_pos = crouch
+    np.testing.assert_array_equal(agent.leg_motor_pos[0], crouch)
+    rng = np.random.default_rng(0)
+    space = agent.single_action_space
+    for _ in range(10):
+        agent.set_action(rng.uniform(space.low, space.high))
+        scene.step()
+    np.testing.assert_array_equal(agent.leg_joint_pos[0], crouch)  # pinned at the new pose
+    with pytest.raises(ra.StateError, match=r"Spot\.leg_joint_pos: expected leg joint positions of shape \(12,\)"):
+        agent.leg_joint_pos = [0.0]
+    scene.close()

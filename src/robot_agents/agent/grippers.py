@@ -38,6 +38,7 @@ class GripperParts:
         self.owner = owner
         self.parts = {p.name: p for p in parts if isinstance(p, Gripper)}
         self.part_joints = part_joints
+        self._state_cache: dict[str, tuple[npt.NDArray[np.int64], FloatArray, FloatArray]] = {}
         gripping = {j for name in self.parts for j in part_joints[name]}
         self._static_dofs = np.array(
             [a for j in index.joints if j.name not in gripping for a in range(j.dof_adr, j.dof_adr + j.nv)],
@@ -86,10 +87,39 @@ class GripperParts:
         return groups
 
     def within(self, gripper: str | None, opening: float) -> BoolArray:
-        """Per env: the opening within the part's tolerance of ``opening`` (0 closed, 1 open)."""
+        """Per env: every driven joint of the part that moves between ``open`` and
+        ``closed`` within the part's tolerance (rad or m) of its position at ``opening``
+        (0 closed, 1 open), as Habitat's ``is_gripper_open`` / ``is_gripper_closed``
+        check every gripper joint: one finger closed and the other open is neither.
+        Passive joints (a linkage's followers) are left out; a part with no driven joint
+        that moves is read at its first joint that moves."""
         part = self.part(gripper)
-        _, opened, closed = self._measured_joint(part)
-        return np.asarray(np.abs(self.opening(gripper) - opening) <= part.tolerance / abs(opened - closed))
+        qpos_adr, opened, closed = self._state_joints(part)
+        target = closed + opening * (opened - closed)
+        error = np.abs(self.world.qpos[:, qpos_adr] - target)
+        return np.asarray(np.all(error <= part.tolerance, axis=1))
+
+    def _state_joints(self, part: Gripper) -> tuple[npt.NDArray[np.int64], FloatArray, FloatArray]:
+        """The ``qpos`` addresses of the joints :meth:`within` reads and their ``open``
+        and ``closed`` positions (found once per part)."""
+        found = self._state_cache.get(part.name)
+        if found is None:
+            names = self.part_joints[part.name]
+            opened, closed = part.positions(len(names))
+            model = self.index.model
+            joint_actuators = model.actuator_trntype == mujoco.mjtTrn.mjTRN_JOINT
+            driven = {int(j) for j in model.actuator_trnid[joint_actuators, 0]}
+            keep = [
+                k
+                for k, name in enumerate(names)
+                if opened[k] != closed[k] and self.index.joint(name, self.owner).id in driven
+            ]
+            if not keep:
+                keep = [list(names).index(self._measured_joint(part)[0])]
+            adr = np.array([self.index.joint(names[k], self.owner).qpos_adr for k in keep], dtype=np.int64)
+            found = (adr, np.array(opened[keep]), np.array(closed[keep]))
+            self._state_cache[part.name] = found
+        return found
 
     def opening(self, gripper: str | None) -> FloatArray:
         """Per env, 0 at ``closed`` and 1 at ``open`` (the part's first joint that moves

@@ -65,13 +65,34 @@ class MobileManipulatorAPI:
     # ------------------------------------------------------------------ mobile base (Habitat's names)
     @property
     def base_pos(self) -> FloatArray:
-        """Ground point under the base, ``(num_envs, 3)`` (m, world)."""
+        """Ground point under the base, ``(num_envs, 3)`` (m, world; z is the mount's).
+
+        Settable, as Habitat's: ``agent.base_pos = p`` teleports every env's base to
+        ``p``, ``(3,)`` / ``(num_envs, 3)`` (x, y, z; z must be the base's z, which the
+        base cannot leave: ``agent.base_pos = agent.base_pos`` holds) or ``(2,)`` /
+        ``(num_envs, 2)`` (x, y), keeps its yaw and holds it there (as :meth:`set_base_pose`)."""
         return self.mobile.position
+
+    @base_pos.setter
+    def base_pos(self, value: npt.ArrayLike) -> None:
+        where = f"{type(self).__name__}.base_pos"
+        self._check_open(where)
+        self._set_base_pose(self.mobile.ground_xy(value, where), None, None, where)
 
     @property
     def base_rot(self) -> FloatArray:
-        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``)."""
+        """Base yaw about world +z, ``(num_envs,)`` (rad, in ``(-pi, pi]``; positive turns
+        from +x towards +y, to the left).
+
+        Settable, as Habitat's: ``agent.base_rot = yaw`` (rad, a number or one per env)
+        turns every env's base in place and holds it there (as :meth:`set_base_pose`)."""
         return self.mobile.yaw
+
+    @base_rot.setter
+    def base_rot(self, value: npt.ArrayLike) -> None:
+        where = f"{type(self).__name__}.base_rot"
+        self._check_open(where)
+        self._set_base_pose(None, value, None, where)
 
     def set_base_pose(
         self, xy: npt.ArrayLike | None = None, yaw: npt.ArrayLike | None = None, env_ids: npt.ArrayLike | None = None
@@ -79,6 +100,11 @@ class MobileManipulatorAPI:
         """Teleport the base to ``xy`` ``(2,)`` / ``(n, 2)`` (m) and ``yaw`` (rad), then hold."""
         where = f"{type(self).__name__}.set_base_pose"
         self._check_open(where)
+        self._set_base_pose(xy, yaw, env_ids, where)
+
+    def _set_base_pose(
+        self, xy: npt.ArrayLike | None, yaw: npt.ArrayLike | None, env_ids: npt.ArrayLike | None, where: str
+    ) -> None:
         self.mobile.set(xy, yaw, env_ids, where)
         self.control.active.reset(self.state.env_ids(env_ids, where), self.world)
 
@@ -103,13 +129,22 @@ class MobileManipulatorAPI:
     @arm_joint_pos.setter
     def arm_joint_pos(self, values: npt.ArrayLike) -> None:
         """Teleport the arm joints to ``values`` ``(n,)`` or ``(num_envs, n)`` (rad / m;
-        within their limits, else :class:`StateError`) at rest, and hold them there."""
+        within their limits, else :class:`StateError`) at rest, and hold them there (the
+        other joints' drive targets stay)."""
         self.manipulator.set_arm_joint_pos(values)
 
     @property
     def arm_motor_pos(self) -> FloatArray:
-        """Arm drive position targets ``(num_envs, n)``."""
+        """Arm drive position targets ``(num_envs, n)`` (rad / m).
+
+        Settable, as Habitat's: ``agent.arm_motor_pos = q`` (``(n,)`` or ``(num_envs, n)``,
+        within the joints' limits) sets the targets until the next action overwrites them;
+        the joints are not moved."""
         return self.manipulator.arm_motor_pos
+
+    @arm_motor_pos.setter
+    def arm_motor_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_arm_motor_pos(values)
 
     @property
     def arm_velocity(self) -> FloatArray:
@@ -118,17 +153,46 @@ class MobileManipulatorAPI:
 
     @property
     def gripper_joint_pos(self) -> FloatArray:
-        """Gripper joint positions ``(num_envs, n)``."""
+        """Gripper joint positions ``(num_envs, n)`` (rad / m).
+
+        Settable, as Habitat's: ``agent.gripper_joint_pos = g`` (``(n,)`` or
+        ``(num_envs, n)``, within the joints' limits) teleports the gripper joints at rest
+        and holds them there."""
         return self.manipulator.gripper_joint_pos
+
+    @gripper_joint_pos.setter
+    def gripper_joint_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_gripper_joint_pos(values)
+
+    @property
+    def leg_joint_pos(self) -> FloatArray:
+        """Leg joint positions ``(num_envs, n)`` (rad / m) of ``Legs`` parts (Habitat's leg
+        base: Spot's).
+
+        Settable, as Habitat's: ``agent.leg_joint_pos = q`` (``(n,)`` or ``(num_envs, n)``,
+        within the joints' limits) teleports the legs at rest and holds them there (held
+        legs are then pinned there while a kinematic base moves)."""
+        return self.manipulator.leg_joint_pos
+
+    @leg_joint_pos.setter
+    def leg_joint_pos(self, values: npt.ArrayLike) -> None:
+        self.manipulator.set_leg_joint_pos(values)
+
+    @property
+    def leg_motor_pos(self) -> FloatArray:
+        """Leg drive position targets ``(num_envs, n)`` (rad / m)."""
+        return self.manipulator.leg_motor_pos
 
     def open_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Put the gripper joints of ``env_ids`` (default: every env) at the open state
-        (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there."""
+        (``params.gripper_open_state``, rad / m; teleport, at rest) and hold them there
+        (the other joints' drive targets stay)."""
         self.manipulator.open_gripper(env_ids)
 
     def close_gripper(self, env_ids: npt.ArrayLike | None = None) -> None:
         """Put the gripper joints of ``env_ids`` (default: every env) at the closed state
-        (``params.gripper_closed_state``, rad / m; teleport, at rest) and hold them there."""
+        (``params.gripper_closed_state``, rad / m; teleport, at rest) and hold them there
+        (the other joints' drive targets stay)."""
         self.manipulator.close_gripper(env_ids)
 
     def set_gripper_target_state(self, state: npt.ArrayLike) -> None:
@@ -144,7 +208,8 @@ class MobileManipulatorAPI:
         return self.manipulator.ee_local_offset(i)
 
     def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """Base-frame positions ``(num_envs, 3)`` clipped into the sampled workspace box."""
+        """Base-frame positions ``(num_envs, 3)`` (``params.base_link``'s frame) clipped
+        into the sampled workspace box."""
         return self.manipulator.clip_ee_to_workspace(pos, i)
 
     def calculate_ee_forward_kinematics(self, q: npt.ArrayLike, i: int = 0) -> FloatArray:
@@ -158,11 +223,11 @@ class MobileManipulatorAPI:
         return self.manipulator.calculate_ee_inverse_kinematics(pose, i, position_only, restarts)
 
     def is_gripper_open(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``open``."""
+        """Per env: every driven gripper joint within its tolerance of ``open``."""
         return self.grippers.within(gripper, 1.0)
 
     def is_gripper_closed(self, gripper: str | None = None) -> BoolArray:
-        """Per env: the gripper within its tolerance of ``closed``."""
+        """Per env: every driven gripper joint within its tolerance of ``closed``."""
         return self.grippers.within(gripper, 0.0)
 
     def gripper_opening(self, gripper: str | None = None) -> FloatArray:

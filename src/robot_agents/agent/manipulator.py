@@ -25,6 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
+from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKSolver, LinearFollowers
 from robot_agents.kinematics.ik_config import IKConfig
 from robot_agents.validation import POSE_AXES, check_bool, check_quat_rows, check_whole, is_whole
@@ -51,6 +52,7 @@ class MobileManipulatorParams:
         gripper_joints: the gripper's joints (first = the leader).
         wheel_joints: passive wheel hinges of the base (left then right).
         leg_joints: joints of ``Legs`` parts.
+        leg_init_params: leg joint positions of the first keyframe (rad / m).
         arm_init_params: arm joint positions of the first keyframe (rad / m).
         gripper_init_params: gripper joint positions of the first keyframe.
         gripper_open_state, gripper_closed_state: gripper joint positions when open /
@@ -59,12 +61,14 @@ class MobileManipulatorParams:
         ee_links: the body or site each end effector is fixed to.
         ee_offsets: each end effector's position in its link's frame (m).
         ee_constraint: per end effector, the box ``(3, 2)`` (min, max per axis, m) of
-            its positions in the base frame over the arm's joint ranges (512 samples,
+            its positions in the base frame (``base_link``'s; the root frame for a robot
+            without planar base joints) over the arm's joint ranges (512 samples,
             fixed seed, and the keyframe with each arm joint at each of its limits;
             joints that follow an arm joint through a linear joint equality, such as
             Stretch's telescope segments, with it; the other joints at the first
             keyframe).
-        base_link: the body the base joints move (``""`` for a fixed robot).
+        base_link: the body the base joints move (``""`` for a fixed robot), by the
+            robot's own name (as ``frame_pose`` takes it, without the scene's prefix).
         base_dynamics: ``"dynamic"`` or ``"kinematic"``, as the base runs now
             (:meth:`Agent.set_base_dynamics` included).
     """
@@ -74,6 +78,7 @@ class MobileManipulatorParams:
     wheel_joints: tuple[str, ...]
     leg_joints: tuple[str, ...]
     arm_init_params: tuple[float, ...]
+    leg_init_params: tuple[float, ...]
     gripper_init_params: tuple[float, ...]
     gripper_open_state: tuple[float, ...]
     gripper_closed_state: tuple[float, ...]
@@ -129,6 +134,11 @@ class ManipulatorView:
         index = agent.index
         arm_info = [index.joint(j, owner) for j in self.arm_joints]
         grip_info = [index.joint(j, owner) for j in self.gripper_joints]
+        self.leg_joints = tuple(j for p in parts if isinstance(p, Legs) for j in joints[p.name])
+        leg_info = [index.joint(j, owner) for j in self.leg_joints]
+        self._leg_qpos = np.array([j.qpos_adr for j in leg_info], dtype=np.int64)
+        self._leg_dof = np.array([j.dof_adr for j in leg_info], dtype=np.int64)
+        self._leg_followers = LinearFollowers.of(agent.world.model, self._leg_dof)
         self._arm_qpos = np.array([j.qpos_adr for j in arm_info], dtype=np.int64)
         self._arm_dof = np.array([j.dof_adr for j in arm_info], dtype=np.int64)
         self._grip_qpos = np.array([j.qpos_adr for j in grip_info], dtype=np.int64)
@@ -164,8 +174,9 @@ class ManipulatorView:
             arm_joints=self.arm_joints,
             gripper_joints=self.gripper_joints,
             wheel_joints=base.wheels if base else (),
-            leg_joints=tuple(j for p in parts if isinstance(p, Legs) for j in joints[p.name]),
+            leg_joints=self.leg_joints,
             arm_init_params=start(self._arm_qpos),
+            leg_init_params=start(self._leg_qpos),
             gripper_init_params=start(self._grip_qpos),
             gripper_open_state=_per_joint(gripper.open, n_grip) if gripper else (),
             gripper_closed_state=_per_joint(gripper.closed, n_grip) if gripper else (),
@@ -173,7 +184,12 @@ class ManipulatorView:
             ee_links=tuple(ee.link for ee in (arm.end_effectors if arm else ())),
             ee_offsets=tuple(ee.pos for ee in (arm.end_effectors if arm else ())),
             ee_constraint=self._workspace(),
-            base_link=index.model.body(agent.mobile._base_body()).name if agent.mobile.kind != "fixed" else "",
+            # the robot's own name (as ee_links and frame_pose take it), without the scene prefix
+            base_link=(
+                index.model.body(agent.mobile._base_body()).name.removeprefix(index.prefix)
+                if agent.mobile.kind != "fixed"
+                else ""
+            ),
             base_dynamics=agent.mobile.dynamics,
         )
 
@@ -205,10 +221,19 @@ class ManipulatorView:
         return int(i)
 
     def _base_frame_poses(self, configurations: FloatArray, i: int) -> FloatArray:
-        """End-effector positions ``(n, 3)`` in the base (root) frame."""
+        """End-effector positions ``(n, 3)`` in the base frame: the frame of the body the
+        planar base joints move (``params.base_link``), wherever ``configurations`` put
+        the base (a keyframe may start the base turned or away from the mount); the root
+        frame for a robot without planar base joints."""
         agent = self.agent
-        root = agent.frames.reference("root", "workspace")
-        poses = agent.frames.pose(self._ee_frames[i], root, configurations)
+        mobile = agent.mobile
+        reference: FrameRef | None
+        if mobile.kind == "planar":
+            body = mobile._base_body()
+            reference = FrameRef(FrameKind.BODY, body, agent.index.model.body(body).name)
+        else:
+            reference = agent.frames.reference("root", "workspace")
+        poses = agent.frames.pose(self._ee_frames[i], reference, configurations)
         return poses[:, :3]
 
     def _workspace(self) -> tuple[tuple[tuple[float, float], ...], ...]:
@@ -261,10 +286,64 @@ class ManipulatorView:
         value: FloatArray = self.agent.drives.targets.position[:, columns].copy()
         return value
 
+    def set_arm_motor_pos(self, values: npt.ArrayLike) -> None:
+        """Arm drive position targets at ``values`` ``(n,)`` or ``(num_envs, n)`` (rad / m,
+        within the joints' limits), until the next action overwrites them; the joints are
+        not moved (Habitat's ``arm_motor_pos`` setter)."""
+        where = f"{self.owner}.arm_motor_pos"
+        self._require_arm("arm_motor_pos")
+        agent = self.agent
+        agent._check_open(where)
+        state = agent.state
+        rows = state.batch(values, state.num_envs, len(self._arm_qpos), "arm drive position targets", where)
+        by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
+        state.check_within_limits(rows, np.array([by_adr[int(a)] for a in self._arm_qpos], dtype=np.int64), where)
+        columns = agent.drives.columns(self.arm_joints, where)
+        agent.drives.targets.position[:, columns] = rows
+        agent.drives.write(agent.world.ctrl)
+
     @property
     def gripper_joint_pos(self) -> FloatArray:
         value: FloatArray = self.agent.world.qpos[:, self._grip_qpos].copy()
         return value
+
+    # -- legs (Habitat's leg base) -------------------------------------------------------
+    def _require_legs(self, where: str) -> None:
+        if not len(self._leg_qpos):
+            raise ConfigError(f"{self.owner}.{where}: the robot has no Legs part.")
+
+    @property
+    def leg_joint_pos(self) -> FloatArray:
+        self._require_legs("leg_joint_pos")
+        value: FloatArray = self.agent.world.qpos[:, self._leg_qpos].copy()
+        return value
+
+    def set_leg_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
+        """Teleport the leg joints of ``env_ids`` (default: every env) to ``values``
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero)
+        and hold them there (held legs are pinned there while a kinematic base moves)."""
+        where = f"{self.owner}.leg_joint_pos"
+        self._require_legs("leg_joint_pos")
+        self._write(self._leg_qpos, self._leg_dof, self._leg_followers, values, env_ids, where, "leg joint positions")
+
+    @property
+    def leg_motor_pos(self) -> FloatArray:
+        """The leg drives' position targets ``(num_envs, n)`` (rad / m)."""
+        self._require_legs("leg_motor_pos")
+        columns = self.agent.drives.columns(self.leg_joints, f"{self.owner}.leg_motor_pos")
+        value: FloatArray = self.agent.drives.targets.position[:, columns].copy()
+        return value
+
+    def set_gripper_joint_pos(self, values: npt.ArrayLike, env_ids: npt.ArrayLike | None = None) -> None:
+        """Teleport the gripper joints of ``env_ids`` (default: every env) to ``values``
+        ``(n,)`` or ``(len(env_ids), n)`` (rad / m, within their limits; velocities zero),
+        the joints that follow them through linear joint equalities with them, and hold
+        them there."""
+        where = f"{self.owner}.gripper_joint_pos"
+        self._require_gripper("gripper_joint_pos")
+        self._write(
+            self._grip_qpos, self._grip_dof, self._grip_followers, values, env_ids, where, "gripper joint positions"
+        )
 
     def _write(
         self,
@@ -288,8 +367,27 @@ class ManipulatorView:
         by_adr = {int(a): k for k, a in enumerate(agent.index.qpos_adr)}
         state.check_within_limits(rows, np.array([by_adr[int(a)] for a in qpos_adr], dtype=np.int64), where)
         self.agent.world.write_joint_state(ids, qpos_adr, rows, dof_adr, np.zeros((len(ids), len(dof_adr))))
-        self.agent.drives.hold(ids, np.asarray(self.agent.world.qpos)[ids])
-        self.agent.controller.reset(ids, self.agent.world)
+        self._hold(ids, qpos_adr)
+
+    def _hold(self, ids: npt.NDArray[np.int64], qpos_adr: npt.NDArray[np.int64]) -> None:
+        """After a teleport of the joints at ``qpos_adr`` in envs ``ids``: the controllers
+        that command one of them restart from the measured state and their joints' drives
+        hold it; every other drive target stays (an arm target set through
+        ``arm_motor_pos`` survives ``open_gripper()``, as in Habitat)."""
+        agent = self.agent
+        world, drives = agent.world, agent.drives
+        written = {int(a) for a in qpos_adr}
+        touched = [c for c in agent.controller.parts.values() if written & {int(a) for a in c.binding.qpos_adr}]
+        held = written | {int(a) for c in touched for a in c.binding.qpos_adr}
+        columns = np.array([k for k, a in enumerate(drives.qpos_adr) if int(a) in held], dtype=np.int64)
+        if len(columns):
+            rows = np.ix_(ids, columns)
+            drives.targets.position[rows] = np.asarray(world.qpos)[np.ix_(ids, drives.qpos_adr[columns])]
+            drives.targets.velocity[rows] = 0.0
+            drives.targets.effort[rows] = 0.0
+        for controller in touched:
+            controller.reset(ids, world)
+        drives.write(world.ctrl, world.qpos, world.qvel)
 
     # -- gripper -----------------------------------------------------------------------
     def _require_gripper(self, where: str) -> None:
@@ -356,7 +454,8 @@ class ManipulatorView:
         return np.array(self.params.ee_offsets[self._ee(i, "ee_local_offset")], dtype=np.float64)
 
     def clip_ee_to_workspace(self, pos: npt.ArrayLike, i: int = 0) -> FloatArray:
-        """Base-frame positions ``(num_envs, 3)`` clipped into ``ee_constraint[i]``."""
+        """Base-frame positions ``(num_envs, 3)`` (``params.base_link``'s frame) clipped
+        into ``ee_constraint[i]``."""
         box = np.array(self.params.ee_constraint[self._ee(i, "clip_ee_to_workspace")])
         n = self.agent.state.num_envs
         points = self.agent.state.batch(pos, n, 3, "end-effector position (m)", f"{self.owner}.clip_ee_to_workspace")

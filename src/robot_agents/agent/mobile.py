@@ -39,6 +39,12 @@ def wrap_angle_float(angle: float) -> float:
     return math.pi - (math.pi - angle) % (2 * math.pi)
 
 
+#: A kinematic move from a pose already in contact is refused when it takes the base more
+#: than this much deeper (m) than it was: moves out of (or along) the contact go through.
+#: (From a pose in no contact, any touch refuses the move.)
+DEEPER = 1e-9
+
+
 class MobileBase:
     """The base of one robot: planar joints ``(x, y, yaw)`` of a ``Base`` part, or the
     root's free joint. Poses are in the world frame; planar joints are taken relative
@@ -82,6 +88,8 @@ class MobileBase:
         #: Whether the last control step's kinematic move was refused, per env.
         self.last_refused = np.zeros(n, dtype=bool)
         self._start: FloatArray | None = None
+        #: Per env, how deep the base was in the world at the step's start (m).
+        self._start_depth: FloatArray | None = None
         self._base_geoms = self._rigid_geoms() if self.planar is not None else np.zeros(0, dtype=np.int64)
         robot_bodies = index.subtree_bodies(index.root_body_id)
         # contacts with these never refuse a move: the robot itself and the ground (planes)
@@ -124,9 +132,37 @@ class MobileBase:
         pos[:, 2] = self.state.mount_pose[2]
         return pos
 
+    def ground_xy(self, value: npt.ArrayLike, where: str) -> FloatArray:
+        """A ``base_pos`` given as ``(2,)`` / ``(num_envs, 2)`` (x, y) or ``(3,)`` /
+        ``(num_envs, 3)`` (x, y, z with z the base's own, :attr:`position`'s: the base
+        moves in its plane) as ``(num_envs, 2)`` (m, world)."""
+        self._require(where)
+        n = self.world.num_envs
+        try:
+            array = np.asarray(value)
+        except Exception:  # whatever the input's own __array__ raises
+            raise StateError(f"{where}: expected numeric base position, got {type(value).__name__}.") from None
+        width = array.shape[-1] if array.ndim in (1, 2) else 0
+        if width not in (2, 3):
+            raise StateError(
+                f"{where}: expected the base position (x, y) or (x, y, z) (m, world) of shape (2,), (3,), "
+                f"({n}, 2) or ({n}, 3), got {array.shape}."
+            )
+        rows = self.state.batch(array, n, width, "base position (m, world)", where)
+        height = float(self.state.mount_pose[2])
+        if width == 3 and not np.all(np.abs(rows[:, 2] - height) <= 1e-9):
+            given = float(rows[np.argmax(np.abs(rows[:, 2] - height)), 2])
+            raise StateError(
+                f"{where}: the base moves in its plane at z = {height:.6g} m (base_pos's z); expected that z or "
+                f"(x, y) alone, got z = {given:.6g}."
+            )
+        return rows[:, :2]
+
     def _yaws(self, yaw: npt.ArrayLike, n: int, where: str) -> FloatArray:
         """``yaw`` (a number, or one per env) as finite angles ``(n,)`` (rad)."""
         try:
+            if np.asarray(yaw).dtype.kind == "b":  # True is not an angle
+                raise TypeError
             values = np.asarray(yaw, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
             raise StateError(f"{where}: expected yaw as a number or {n} numbers (rad), got {yaw!r}.") from None
@@ -161,6 +197,13 @@ class MobileBase:
                 ),
                 axis=1,
             )
+            # a coordinate not given keeps its joint's value bit for bit (read back through
+            # the body's pose it could come back an ulp off: an xy teleport turned the base)
+            current = self.world.qpos[ids][:, self._planar_adr]
+            if xy is None:
+                values[:, :2] = current[:, :2]
+            if yaw is None:
+                values[:, 2] = current[:, 2]
             for k, joint in enumerate((x, y, turn)):
                 low, high = joint.range
                 outside = outside_limits(values[:, k], low, high)
@@ -284,6 +327,10 @@ class MobileBase:
         self._start_row = None
         self._start = qpos.take(self._planar_adr, axis=1)  # new arrays (as fancy indexing gives)
         self._wheel_start = qpos.take(self._wheel_qadr, axis=1)
+        if self.dynamics == "kinematic" and self.refuse_collisions:
+            # how deep the base already is in the world (something came to touch it, or it
+            # was put there): a move is refused only if it goes deeper
+            self._start_depth = self._penetration()
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus
@@ -308,7 +355,9 @@ class MobileBase:
             self.world.write_joint_state(ids, adr, end, dofs, velocity)
             self.last_refused[:] = False
             if self.refuse_collisions:
-                hit = self._touching_world()
+                start_depth = self._start_depth if self._start_depth is not None else np.zeros(n)
+                # clear at the start: any touch refuses; touching: only a deeper one
+                hit = self._penetration() > np.where(start_depth > 0, start_depth + DEEPER, 0.0)
                 if hit.any():
                     back = np.flatnonzero(hit)
                     self.world.write_joint_state(back, adr, start[back], dofs, np.zeros((len(back), 3)))
@@ -317,11 +366,12 @@ class MobileBase:
         if self.wheels and self._wheel_start is not None:
             self._turn_wheels(start, self._planar_qpos(), self._wheel_start, control_dt)
 
-    def _touching_world(self) -> npt.NDArray[np.bool_]:
-        """Per env: does a base geom touch a geom outside the robot (not the ground)?"""
+    def _penetration(self) -> FloatArray:
+        """Per env: how deep (m) a base geom is in a geom outside the robot (not the
+        ground), the deepest contact's; 0 where none touches."""
         datas = self.world.physics_sources()
         base, robot = self._base_geoms, self._ignored_geoms
-        hit = np.zeros(len(datas), dtype=bool)
+        depth = np.zeros(len(datas))
         for env, data in enumerate(datas):
             if data.ncon == 0:
                 continue
@@ -329,8 +379,10 @@ class MobileBase:
             touching = data.contact.dist < 0
             one = np.isin(g1, base) & ~np.isin(g2, robot)
             two = np.isin(g2, base) & ~np.isin(g1, robot)
-            hit[env] = bool(np.any(touching & (one | two)))
-        return hit
+            mine = touching & (one | two)
+            if mine.any():
+                depth[env] = float(-np.min(data.contact.dist[mine]))
+        return depth
 
     def _turn_wheels(self, start: FloatArray, end: FloatArray, wheel_start: FloatArray, control_dt: float) -> None:
         """Turn the wheels by the base's motion from ``start`` to ``end`` (``(num_envs, 3)``),

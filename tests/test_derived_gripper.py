@@ -491,26 +491,29 @@ def test_one_jaw_closing_axis_is_the_way_its_tip_closes(tmp_path: Path) -> None:
 
     cls = type("OneJawLayout", (robot(tmp_path, urdf(one_jaw())),), {"uid": "one_jaw_layout"})
     ra.register_agent(cls, override=True)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        geometry = table_top_layout(cls).gripper
-    assert geometry is not None
-    closing = np.array(geometry.closing_axis)
-    assert closing @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(10.0))
-    # the jaw's own closing direction, at the tool point of the scene's default pose
-    from robot_agents.envs.tasks.layout import _jaw_closing
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            geometry = table_top_layout(cls).gripper
+        assert geometry is not None
+        closing = np.array(geometry.closing_axis)
+        assert closing @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(10.0))
+        # the jaw's own closing direction, at the tool point of the scene's default pose
+        from robot_agents.envs.tasks.layout import _jaw_closing
 
-    scene = reset_scene(cls)
-    agent = scene.agents[0]
-    data = mujoco.MjData(scene.model)
-    data.qpos[:] = scene.world.qpos[0]
-    mujoco.mj_kinematics(scene.model, data)
-    point = agent.frame_pose("ee")[0]
-    gripper = agent.gripper()
-    opened, _ = gripper.positions(1)
-    swept = _jaw_closing(agent, gripper, data, ("jaw_joint",), opened, point, "test")
-    assert swept is not None
-    rotation = np.empty(9)
-    mujoco.mju_quat2Mat(rotation, point[3:])
-    in_tool = rotation.reshape(3, 3).T @ swept
-    assert in_tool @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(30.0))  # 20 deg: the lever leans
+        scene = reset_scene(cls)
+        agent = scene.agents[0]
+        data = mujoco.MjData(scene.model)
+        data.qpos[:] = scene.world.qpos[0]
+        mujoco.mj_kinematics(scene.model, data)
+        point = agent.frame_pose("ee")[0]
+        gripper = agent.gripper()
+        opened, _ = gripper.positions(1)
+        swept = _jaw_closing(agent, gripper, data, ("jaw_joint",), opened, point, "test")
+        assert swept is not None
+        rotation = np.empty(9)
+        mujoco.mju_quat2Mat(rotation, point[3:])
+        in_tool = rotation.reshape(3, 3).T @ swept
+        assert in_tool @ np.array([0.0, -1.0, 0.0]) > math.cos(math.radians(30.0))  # 20 deg: the lever leans
+    finally:
+        ra.unregister_agent("one_jaw_layout")  # the registry as found: other tests list every robot

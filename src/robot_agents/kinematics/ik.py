@@ -22,6 +22,10 @@ the null space of the task, ``(I - J^+ J) k (q_rest - q)``, which changes joint
 positions without moving the end effector (to first order); joints taken out of the
 step at a limit are not pulled (the others' step assumes they stay).
 
+Unlimited hinges (continuous joints) count modulo ``2 pi``: a solution is taken to the
+turn nearest its seed (the same pose; :meth:`IKSolver.solve` with restarts, to the turn
+of the caller's seed), and the pull aims at the turn of the rest angle nearest the joint.
+
 Only the chain's joints move; every other joint (fingers, other robots, objects)
 stays at the value given in ``context_qpos``, except followers of a chain joint through
 linear joint equalities (``follower = c0 + c1 * leader``, possibly through a chain of
@@ -49,6 +53,8 @@ from robot_agents.kinematics.rotations import quat_angle, rotation_error_into
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
+
+_TURN = 2 * np.pi
 
 
 class IKSolver:
@@ -101,6 +107,14 @@ class IKSolver:
                 raise ConfigError(
                     f"IKSolver({frame.name}): expected rest_qpos of {n} values, got {self.rest_qpos.size}."
                 )
+        hinge = np.array([int(model.jnt_type[int(model.dof_jntid[adr])]) for adr in self.dof_adr]) == int(
+            mujoco.mjtJoint.mjJNT_HINGE
+        )
+        periodic = hinge & ~np.isfinite(self.lower) & ~np.isfinite(self.upper)
+        #: Unlimited hinges (continuous joints), whose angles are only defined modulo
+        #: ``2 pi``: solutions are taken to the turn nearest the seed, and the null-space
+        #: pull aims at the turn of ``rest_qpos`` nearest the joint (``None``: none).
+        self.periodic: IntArray | None = np.flatnonzero(periodic) if periodic.any() else None
         self._qpos_sel = index_selector(self.qpos_adr)
         self._dof_sel = index_selector(self.dof_adr)
         self._followers = linear_followers(model, self.dof_adr)
@@ -177,6 +191,7 @@ class IKSolver:
         rng: np.random.Generator | None = None
         low = np.where(np.isfinite(self.lower), self.lower, -np.pi)
         high = np.where(np.isfinite(self.upper), self.upper, np.pi)
+        periodic = self.periodic
         for env in range(num_envs):
             self.solve_one(context_qpos[env], target[env], seed[env], result, env, position_only, max_iterations)
             best = (result.qpos[env].copy(), result.position_error[env], result.rotation_error[env])
@@ -193,6 +208,9 @@ class IKSolver:
                     result.qpos[env], result.position_error[env], result.rotation_error[env] = best
                 else:
                     best = (result.qpos[env].copy(), result.position_error[env], result.rotation_error[env])
+            if periodic is not None:  # a restart's solution lies near its random seed: back to the caller's turn
+                row = result.qpos[env]
+                row[periodic] = _nearest_turn(row[periodic], seed[env][periodic])
         return result
 
     def solve_one(
@@ -308,7 +326,11 @@ class IKSolver:
                     mujoco.mju_cholSolve(solution, system, task)
                     step = transpose.dot(solution)
             if cfg.null_space_gain > 0:
-                pull = cfg.null_space_gain * (self.rest_qpos - q)
+                rest = self.rest_qpos
+                if self.periodic is not None:  # an unlimited hinge rests at the turn of its rest angle nearest it
+                    rest = rest.copy()
+                    rest[self.periodic] = _nearest_turn(rest[self.periodic], q[self.periodic])
+                pull = cfg.null_space_gain * (rest - q)
                 if held is not None:  # out of the task step: the others count on them staying
                     pull[held] = 0.0
                 np.matmul(jacobian, transpose, out=system)
@@ -322,6 +344,14 @@ class IKSolver:
             q = np.minimum(np.maximum(q + step, lower), upper)
             done += 1
         success = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
+        if self.periodic is not None:
+            # An unlimited hinge's angle matters modulo 2 pi: the solution's turn nearest
+            # the seed (the same pose), so the joint never goes more than half a turn.
+            periodic = self.periodic
+            wrapped = _nearest_turn(best_q[periodic], seed[periodic])
+            if np.any(wrapped != best_q[periodic]):
+                best_q = best_q.copy()
+                best_q[periodic] = wrapped
         if not success and best_q is not start_q:
             best_q, best_position, best_rotation = self._no_farther_than_asked(
                 start_q, start_pose, best_q, best_pose, best_position, best_rotation, target, position_only
@@ -453,6 +483,13 @@ def _largest_magnitude(values: FloatArray) -> float:
     if total != total:
         return float(np.abs(values).max())
     return max(map(abs, entries))
+
+
+def _nearest_turn(angles: FloatArray, reference: FloatArray) -> FloatArray:
+    """``angles`` (rad) shifted by whole turns to the values nearest ``reference``: the
+    arithmetic of :func:`robot_agents.controllers.joint.nearest_turn`, a new array."""
+    shifted: FloatArray = angles + _TURN * np.round((reference - angles) / _TURN)
+    return shifted
 
 
 def _distance(a: FloatArray, b: FloatArray) -> float:

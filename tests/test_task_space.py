@@ -553,6 +553,16 @@ def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
     after = scene.get_state()
     assert np.array_equal(before["physics"], after["physics"])
     np.testing.assert_equal(before["agents"], after["agents"])
+    # A quaternion of any length commands its direction: one with entries beyond the
+    # bounds [-1, 1] is scaled down as a whole, not clipped entry by entry (which turned
+    # 3 * goal into another orientation, 46 deg off here). The user's action is kept.
+    long = action.copy()
+    long[3:7] = 3.0 * goal
+    kept = long.copy()
+    agent.set_action(long)
+    assert np.array_equal(long, kept)
+    commanded = ee_part(agent).target_pose[0, 3:]
+    assert np.linalg.norm(rotation_error(commanded, goal)) < 1e-12
     scene.close()
 
 

@@ -180,6 +180,11 @@ class PDEEController(Controller):
     def checks_actions(self) -> bool:
         return self.quaternion_input
 
+    @property
+    def direction_entries(self) -> slice | None:
+        """Quaternion input: entries 3-6, scaled down as one (normalized here anyway)."""
+        return slice(3, 7) if self.quaternion_input else None
+
     def check_raw_action(self, raw: FloatArray) -> str | None:
         if not self.quaternion_input:
             return None

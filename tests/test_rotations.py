@@ -137,6 +137,17 @@ def test_quat_normalize_keeps_direction_and_sign() -> None:
     np.testing.assert_array_equal(quat_normalize(np.zeros(4)), np.zeros(4))
 
 
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("size", [1e-13, 1e-300, 1e200, 1e308])
+def test_quat_normalize_gives_a_unit_quaternion_of_any_length(size: float) -> None:
+    """Tiny and huge quaternions normalize to unit length in their direction (before,
+    a norm under 1e-12 was divided by 1e-12: 1e-13 came back with norm 0.1; 1e200
+    overflowed to a zero quaternion with a warning)."""
+    direction = np.array([0.5, -0.5, 0.5, 0.5])
+    unit = quat_normalize(size * direction / np.abs(direction).max())
+    np.testing.assert_allclose(unit, direction, atol=1e-15)
+
+
 def test_matrix_to_quat_round_trips_up_to_sign() -> None:
     rng = np.random.default_rng(3)
     quats = random_quats(rng, 200)

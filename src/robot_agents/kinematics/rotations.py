@@ -87,10 +87,14 @@ def quat_conjugate(q: npt.ArrayLike) -> FloatArray:
 
 
 def quat_normalize(q: npt.ArrayLike) -> FloatArray:
-    """``q / |q|``, shape ``(..., 4)``; the sign is kept and a zero quaternion stays zero
-    (check the norm first where zero is an error)."""
+    """``q / |q|``, shape ``(..., 4)``, for a quaternion of any length (unit norm also for
+    ``1e-300`` or ``1e300``); the sign is kept and a zero quaternion stays zero (check the
+    norm first where zero is an error)."""
     q = np.asarray(q, dtype=np.float64)
-    out: FloatArray = q / np.maximum(np.linalg.norm(q, axis=-1, keepdims=True), _TINY)
+    # Divided by the largest entry first: |q| of a tiny or huge q under- or overflows.
+    largest = np.abs(q).max(axis=-1, keepdims=True)
+    scaled = q / np.where(largest > 0.0, largest, 1.0)
+    out: FloatArray = scaled / np.where(largest > 0.0, np.linalg.norm(scaled, axis=-1, keepdims=True), 1.0)
     return out
 
 

@@ -253,12 +253,15 @@ class PDEEController(Controller):
         solve_one, position_only = self.solver.solve_one, self._position_only
         (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
         measured = self._measured_parts
+        followers, move_followers = self.solver.followers, self.solver.move_followers
         for env in range(self.num_envs):
             if from_target:
                 # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
                 configuration = self._configuration
                 configuration[:] = qpos[env]
                 configuration[qpos_sel] = start[env]
+                if followers:  # joints coupled to the chain sit where IK puts them (Stretch's telescope)
+                    move_followers(configuration, start[env])
                 self._kinematics_load(configuration)
                 root.update()
             else:

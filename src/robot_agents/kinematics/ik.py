@@ -152,8 +152,14 @@ class IKSolver:
     def size(self) -> int:
         return len(self.qpos_adr)
 
-    def _move_followers(self, qpos: FloatArray, q: FloatArray) -> None:
-        """Followers of chain joints take ``c0 + c1 * leader`` (linear joint couplings)."""
+    @property
+    def followers(self) -> bool:
+        """Whether joints outside the chain follow it (:func:`linear_followers`)."""
+        return bool(self._followers)
+
+    def move_followers(self, qpos: FloatArray, q: FloatArray) -> None:
+        """Followers of chain joints take ``c0 + c1 * leader`` in the configuration
+        ``qpos`` ``(nq,)`` (linear joint couplings), the chain at ``q`` ``(n,)``."""
         for qadr, _, column, offset, slope in self._followers:
             qpos[qadr] = offset + slope * q[column]
 
@@ -264,7 +270,7 @@ class IKSolver:
             if iteration or not loaded:
                 scratch_qpos[qpos_sel] = q
                 if followers:
-                    self._move_followers(scratch_qpos, q)
+                    self.move_followers(scratch_qpos, q)
                 mujoco.mj_kinematics(model, data)
                 mujoco.mj_comPos(model, data)
             bound.update()
@@ -395,7 +401,7 @@ class IKSolver:
             fraction *= 0.5
             q = start_q + fraction * (best_q - start_q)
             data.qpos[self._qpos_sel] = q
-            self._move_followers(data.qpos, q)
+            self.move_followers(data.qpos, q)
             mujoco.mj_kinematics(kinematics.model, data)
             kinematics.loaded_pose(self.frame, pose)
             if within(pose):

@@ -290,6 +290,31 @@ def test_ik_null_space_pull_keeps_the_pose_and_nears_the_rest_posture() -> None:
     scene.close()
 
 
+def test_ik_null_space_pull_does_not_keep_the_solve_from_tight_tolerances() -> None:
+    """The pull is projected on the task's exact null space: it no longer leaks into the
+    task each iteration. 200 targets 0.1 rad (joint space) from the rest pose, tolerances
+    0.01 mm / 0.1 mrad, a pull of 0.3: all solved within 10 iterations (before: none, in
+    10 or 100, since the damped projector's leak, some 1e-4 m an iteration, was chased
+    and never caught; 98 % at 0.1 mm, and 10 % with a pull of 0.5)."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    rng = np.random.default_rng(0)
+    count = 200
+    limits = agent.qpos_limits[:7]
+    context = np.repeat(scene.world.qpos, count, axis=0)
+    seed = np.repeat(agent.qpos[:, :7], count, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = np.clip(seed + rng.normal(0.0, 0.1, (count, 7)), limits[:, 0], limits[:, 1])
+    config = IKConfig(null_space_gain=0.3, position_tolerance=1e-5, rotation_tolerance=1e-4)
+    solver = panda_solver(scene, config)
+    targets = agent.kinematics.pose(configurations, solver.frame)
+    result = solver.solve(context, targets, seed)
+    assert result.success.all(), f"{result.success.mean():.0%} solved"
+    assert result.position_error.max() <= 1e-5 and result.rotation_error.max() <= 1e-4
+    scene.close()
+
+
 def test_ik_null_space_pull_spares_joints_held_at_a_limit() -> None:
     """A joint at a limit that the task step pushes further is taken out of the step;
     the null-space pull must leave it out too: pulled back toward its rest while the

@@ -239,6 +239,29 @@ def test_ik_null_space_pull_of_an_unlimited_hinge_aims_at_the_nearest_turn_of_it
     scene.close()
 
 
+@pytest.mark.filterwarnings("error")
+def test_undamped_ik_at_a_singularity_gives_finite_steps_without_a_warning() -> None:
+    """``damping=0`` (plain Gauss-Newton) is allowed; at a singularity (the Panda near its
+    zero configuration, the arm stretched up) ``J J^T`` has a zero pivot. Before, the
+    step came out NaN there, with NumPy's "invalid value encountered in dot" and the
+    iteration wasted; the factor's pivots are now floored at 1e-12 (which never binds
+    with damping: every pivot is at least lambda^2)."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    solver = panda_solver(scene, IKConfig(damping=0.0))
+    context = scene.world.qpos.copy()
+    context[0, agent.qpos_adr[:7]] = 0.0
+    start = agent.kinematics.pose(context, solver.frame)
+    for offset in ((0.0, 0.0, 0.05), (0.05, 0.0, 0.0), (0.0, 0.0, -0.05)):
+        target = start.copy()
+        target[0, :3] += offset
+        for position_only in (False, True):
+            result = solver.solve(context, target, np.zeros((1, 7)), position_only, max_iterations=50)
+            assert np.all(np.isfinite(result.qpos)) and np.all(np.isfinite(result.position_error))
+    scene.close()
+
+
 def test_ik_solves_100_random_reachable_targets_from_rest() -> None:
     """Targets are FK of random configurations over the whole joint range; IK starts at
     the rest keyframe (72 of them are solved from there directly; the others lie on

@@ -56,6 +56,11 @@ IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
 
 _TURN = 2 * np.pi
+#: Smallest pivot of the Cholesky factor of ``J J^T + lambda^2 I`` (m^2): only binds
+#: without damping (``damping=0``) at a singularity, where a zero pivot made the step
+#: NaN (a NumPy warning and a wasted iteration); with damping every pivot is at least
+#: ``lambda^2``.
+_MIN_PIVOT = 1e-12
 #: Singular values of the Jacobian below this fraction of the largest count as zero in
 #: the null-space projector (their directions then take the pull as it is).
 _NULL_SPACE_RCOND = 1e-10
@@ -314,7 +319,7 @@ class IKSolver:
                 task *= max_task / size
             np.matmul(jacobian, transpose, out=system)
             system += damping
-            mujoco.mju_cholFactor(system, 0.0)
+            mujoco.mju_cholFactor(system, _MIN_PIVOT)
             mujoco.mju_cholSolve(solution, system, task)
             step = transpose.dot(solution)
             # Joints at a limit that the step pushes further are taken out of the
@@ -332,7 +337,7 @@ class IKSolver:
                     jacobian[:, blocked] = 0.0
                     np.matmul(jacobian, transpose, out=system)
                     system += damping
-                    mujoco.mju_cholFactor(system, 0.0)
+                    mujoco.mju_cholFactor(system, _MIN_PIVOT)
                     mujoco.mju_cholSolve(solution, system, task)
                     step = transpose.dot(solution)
             if cfg.null_space_gain > 0:

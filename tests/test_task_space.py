@@ -22,6 +22,7 @@ from robot_agents.kinematics import IKConfig, IKSolver, resolve_frame
 from robot_agents.kinematics.rotations import (
     quat_multiply,
     quat_rotate,
+    quat_to_euler,
     rotation_error,
     rotvec_to_quat,
 )
@@ -611,6 +612,49 @@ def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
     assert np.array_equal(long, kept)
     commanded = ee_part(agent).target_pose[0, 3:]
     assert np.linalg.norm(rotation_error(commanded, goal)) < 1e-12
+    scene.close()
+
+
+def test_absolute_pose_as_euler_angles() -> None:
+    """``rotation_format=RotationFormat.EULER``: ``[x, y, z, a, b, c]`` with intrinsic
+    x-y-z Euler angles, ``R = Rx(a) Ry(b) Rz(c)`` as ManiSkill's ``pd_ee_pose`` reads
+    them: the hand reaches the orientation they give (1 deg), and the hold action is the
+    Euler angles of the target, which hold it."""
+
+    class EulerPanda(Panda):
+        uid = "test_euler_panda"
+        default_control_mode = "ee"
+        control_modes = {
+            "ee": {
+                "arm": replace(
+                    ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
+                    rotation_format=RotationFormat.EULER,
+                ),
+                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
+            }
+        }
+
+    scene = ra.Scene(EulerPanda)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    assert agent.controller.action_dim == 7
+    controller = ee_part(agent)
+    assert "Euler" in controller.describe()
+    goal = quat_multiply(rotvec_to_quat(np.array([0.2, 0.0, 0.5])), controller.target_pose[0, 3:])
+    angles = quat_to_euler(goal)
+    a, b, c = angles
+    by_hand = quat_multiply(
+        quat_multiply([math.cos(a / 2), math.sin(a / 2), 0, 0], [math.cos(b / 2), 0, math.sin(b / 2), 0]),
+        [math.cos(c / 2), 0, 0, math.sin(c / 2)],
+    )
+    assert np.linalg.norm(rotation_error(by_hand, goal)) < 1e-12  # Rx(a) Ry(b) Rz(c)
+    action = np.concatenate([[0.45, 0.1, 0.35], angles, [0.04]])
+    run(scene, action, 40)
+    pose = agent.frame_pose("panda_hand_tcp", relative_to="root")[0]
+    np.testing.assert_allclose(pose[:3], [0.45, 0.1, 0.35], atol=2e-3)
+    assert np.linalg.norm(rotation_error(pose[3:], goal)) < math.radians(1)
+    held = controller.hold_raw(scene.world)
+    np.testing.assert_allclose(held[0, 3:], angles, atol=1e-12)
     scene.close()
 
 

@@ -263,6 +263,34 @@ def test_undamped_ik_at_a_singularity_gives_finite_steps_without_a_warning() -> 
     scene.close()
 
 
+def test_ik_solve_refuses_bad_arguments_with_a_library_error() -> None:
+    """Before: a NaN seed came back as NaN joints, a zero target quaternion was taken as
+    "any orientation" (success), and a wrong shape raised a TypeError or IndexError from
+    inside the solver. One env's 1-d arguments are a batch of one."""
+    scene = ra.Scene("panda")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    solver = panda_solver(scene)
+    context, seed = scene.world.qpos, agent.qpos[:, :7]
+    target = agent.kinematics.pose(context, solver.frame)
+    zero_quat = np.concatenate([target[:, :3] + 0.05, np.zeros((1, 4))], axis=1)
+    bad = {
+        "seed contains NaN": (context, target, np.full((1, 7), np.nan)),
+        "target contains NaN": (context, np.full((1, 7), np.nan), seed),
+        "non-zero target quaternion": (context, zero_quat, seed),
+        r"target of shape \(num_envs, 7\)": (context, target[:, :3], seed),
+        r"seed of shape \(num_envs, 7\)": (context, target, seed[:, :6]),
+        "same number of envs": (context, np.repeat(target, 2, axis=0), seed),
+    }
+    for match, (c, t, s) in bad.items():
+        with pytest.raises(ra.StateError, match=match):
+            solver.solve(c, t, s)
+    solver.solve(context, zero_quat, seed, position_only=True)  # the quaternion is not used
+    one = solver.solve(context[0], target[0], seed[0])
+    assert one.qpos.shape == (1, 7) and one.success.all()
+    scene.close()
+
+
 def test_ik_solves_100_random_reachable_targets_from_rest() -> None:
     """Targets are FK of random configurations over the whole joint range; IK starts at
     the rest keyframe (72 of them are solved from there directly; the others lie on

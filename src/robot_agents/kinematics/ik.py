@@ -45,7 +45,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, StateError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
 from robot_agents.kinematics.ik_config import IKConfig, IKResult
@@ -174,9 +174,9 @@ class IKSolver:
 
     def solve(
         self,
-        context_qpos: FloatArray,
-        target: FloatArray,
-        seed: FloatArray,
+        context_qpos: npt.ArrayLike,
+        target: npt.ArrayLike,
+        seed: npt.ArrayLike,
         position_only: bool = False,
         max_iterations: int | None = None,
         restarts: int = 0,
@@ -194,7 +194,13 @@ class IKSolver:
                 configurations within the joint limits (drawn from a fixed-seed
                 generator, so results are deterministic). Use it for global targets;
                 controllers use 0, since another IK branch means a large motion.
+
+        Raises:
+            StateError: an argument of the wrong shape (one env's ``(nq,)``, ``(7,)``,
+                ``(n,)`` are taken as a batch of one), with NaN or inf, or a target
+                whose quaternion is zero (where ``position_only`` is false).
         """
+        context_qpos, target, seed = self._checked(context_qpos, target, seed, position_only)
         num_envs = len(seed)
         result = IKResult(
             qpos=np.empty((num_envs, self.size)),
@@ -227,6 +233,43 @@ class IKSolver:
                 row = result.qpos[env]
                 row[periodic] = _nearest_turn(row[periodic], seed[env][periodic])
         return result
+
+    def _checked(
+        self, context_qpos: npt.ArrayLike, target: npt.ArrayLike, seed: npt.ArrayLike, position_only: bool
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`solve`'s arguments as float arrays ``(num_envs, ...)``, checked."""
+        where = f"IKSolver({self.frame.name}).solve"
+        arrays = []
+        for name, value, width in (
+            ("context_qpos", context_qpos, self.kinematics.model.nq),
+            ("target", target, 7),
+            ("seed", seed, self.size),
+        ):
+            try:
+                array = np.asarray(value, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise StateError(f"{where}: expected {name} as numbers, got {type(value).__name__}.") from None
+            array = array[None] if array.ndim == 1 else array
+            if array.ndim != 2 or array.shape[1] != width:
+                raise StateError(f"{where}: expected {name} of shape (num_envs, {width}), got {np.shape(value)}.")
+            if not np.all(np.isfinite(array)):
+                raise StateError(f"{where}: {name} contains NaN or inf.")
+            arrays.append(array)
+        context, goal, start = arrays
+        if not (len(context) == len(goal) == len(start)):
+            raise StateError(
+                f"{where}: expected context_qpos, target and seed for the same number of envs, got "
+                f"{len(context)}, {len(goal)} and {len(start)}."
+            )
+        if not position_only:
+            norms = np.linalg.norm(goal[:, 3:], axis=1)
+            if np.any(norms < 1e-9):
+                env = int(np.argmin(norms))
+                raise StateError(
+                    f"{where}: expected a non-zero target quaternion (w, x, y, z), got {goal[env, 3:].tolist()} "
+                    f"in env {env}."
+                )
+        return context, goal, start
 
     def solve_one(
         self,

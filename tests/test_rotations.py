@@ -14,6 +14,7 @@ from robot_agents.kinematics.rotations import (
     FORWARD_X_UP_Z_CAMERA_QUAT,
     GL_TO_CV,
     compose_into,
+    euler_to_quat,
     look_at_quat,
     look_at_xyaxes,
     matrix_to_quat,
@@ -24,6 +25,7 @@ from robot_agents.kinematics.rotations import (
     quat_multiply,
     quat_normalize,
     quat_rotate,
+    quat_to_euler,
     quat_to_matrix,
     quat_to_rotvec,
     quat_to_yaw,
@@ -135,6 +137,49 @@ def test_quat_normalize_keeps_direction_and_sign() -> None:
     np.testing.assert_allclose(np.linalg.norm(unit, axis=1), 1.0, atol=1e-15)
     np.testing.assert_allclose(unit * np.linalg.norm(raw, axis=1, keepdims=True), raw, rtol=1e-14)
     np.testing.assert_array_equal(quat_normalize(np.zeros(4)), np.zeros(4))
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("size", [1e-13, 1e-300, 1e200, 1e308])
+def test_quat_normalize_gives_a_unit_quaternion_of_any_length(size: float) -> None:
+    """Tiny and huge quaternions normalize to unit length in their direction (before,
+    a norm under 1e-12 was divided by 1e-12: 1e-13 came back with norm 0.1; 1e200
+    overflowed to a zero quaternion with a warning)."""
+    direction = np.array([0.5, -0.5, 0.5, 0.5])
+    unit = quat_normalize(size * direction / np.abs(direction).max())
+    np.testing.assert_allclose(unit, direction, atol=1e-15)
+
+
+def test_euler_angles_are_intrinsic_xyz_and_round_trip() -> None:
+    """``euler_to_quat`` is ``R = Rx(a) Ry(b) Rz(c)`` (MuJoCo's ``"xyz"``, PyTorch3D's
+    ``"XYZ"``), and ``quat_to_euler`` inverts it: the angles back within 1e-12 (b within
+    +-pi/2), any rotation back to itself, also at gimbal lock (b = +-pi/2)."""
+    rng = np.random.default_rng(4)
+    angles = rng.uniform((-np.pi, -np.pi / 2, -np.pi), (np.pi, np.pi / 2, np.pi), (200, 3))
+
+    def axis_matrix(axis: int, angle: float) -> np.ndarray:
+        c, s = math.cos(angle), math.sin(angle)
+        i, j = [(1, 2), (2, 0), (0, 1)][axis]
+        m = np.eye(3)
+        m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
+        return m
+
+    quats = euler_to_quat(angles)
+    for (a, b, c), quat in zip(angles, quats, strict=True):
+        expected = axis_matrix(0, a) @ axis_matrix(1, b) @ axis_matrix(2, c)
+        np.testing.assert_allclose(quat_to_matrix(quat), expected, atol=1e-14)
+        mine = np.empty(4)
+        mujoco.mju_euler2Quat(mine, np.array([a, b, c]), "xyz")
+        assert min(np.abs(mine - quat).max(), np.abs(mine + quat).max()) < 1e-15
+    np.testing.assert_allclose(quat_to_euler(quats), angles, atol=1e-12)
+    # Any rotation (random quaternions, both signs) and gimbal lock come back to themselves.
+    random = rng.normal(size=(200, 4))
+    random /= np.linalg.norm(random, axis=1, keepdims=True)
+    locked = euler_to_quat([[0.4, np.pi / 2, -0.3], [-1.0, -np.pi / 2, 2.0], [3.0, np.pi / 2, 3.0]])
+    for quat in (random, -random, locked):
+        back = euler_to_quat(quat_to_euler(quat))
+        assert np.abs(quat_angle(back, quat)).max() < 1e-7
+    assert np.all(np.abs(quat_to_euler(random)[:, 1]) <= np.pi / 2)
 
 
 def test_matrix_to_quat_round_trips_up_to_sign() -> None:

@@ -11,7 +11,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.kinematics import IKSolver, resolve_frame
-from robot_agents.kinematics.rotations import quat_to_matrix
+from robot_agents.kinematics.rotations import quat_to_matrix, relative_pose
 from robot_agents.robots.robotiq.robotiq import CLOSED, SQUEEZE, TCP
 from robot_agents.robots.ufactory.xarm6 import UFACTORY_STAND_CAMERA
 from tests.ik_check import assert_ik_reaches_random_targets
@@ -149,3 +149,31 @@ def test_wrist_camera_sits_on_ufactorys_stand_and_sees_the_fingers() -> None:
     near = depth < 0.17
     assert near[48:].mean() > 0.05 and near[:16].mean() == 0.0
     env.close()
+
+
+@pytest.mark.parametrize("uid", ["xarm6_robotiq", "xarm6_robotiq_wristcam"])
+def test_pd_ee_pose_bounds_cover_every_reachable_tcp_position(uid: str) -> None:
+    """The absolute end-effector mode's position bounds are the flange's box grown by the
+    Robotiq's length: the TCP of 2000 random arm configurations lies inside them (before,
+    the flange's box clipped 3 % of them, out to 0.88 m and up to 1.16 m), and a command
+    at the far edge of the reach is taken as it is."""
+    scene = ra.Scene(uid, control_modes="pd_ee_pose")
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    low, high = agent.single_action_space.low[:3], agent.single_action_space.high[:3]
+    arm = np.arange(6)
+    rng = np.random.default_rng(0)
+    limits = agent.qpos_limits[arm]
+    configurations = np.repeat(scene.world.qpos, 2000, axis=0)
+    configurations[:, agent.qpos_adr[arm]] = rng.uniform(limits[:, 0], limits[:, 1], (2000, 6))
+    tcp = agent.kinematics.pose(configurations, agent.frames.end_effector("tcp", "test"))
+    points = relative_pose(tcp, agent.kinematics.pose(configurations, agent.root_frame))[:, :3]
+    assert np.all((points >= low) & (points <= high))
+    far = points[np.argmax(points[:, 0])]
+    assert far[0] > 0.85
+    action = np.concatenate([far, np.zeros(agent.single_action_space.shape[0] - 3)])
+    agent.set_action(action)
+    scene.step()
+    controller = next(c for c in agent.controller.parts.values() if hasattr(c, "target_pose"))
+    np.testing.assert_array_equal(controller.target_pose[0, :3], far)
+    scene.close()

@@ -213,7 +213,9 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity, one
         column per joint of the robot (a joint's own column: a leader's does not include
         the joints that follow it through equalities; add ``c1`` times theirs for
-        ``follower = c0 + c1 * leader``). ``qpos`` as in :meth:`frame_pose`;
+        ``follower = c0 + c1 * leader``; a free-floating base, whose free joint is not
+        one of the robot's joints, has none: the base is held where it is). ``qpos`` as
+        in :meth:`frame_pose`;
         ``relative_to``: world axes, or the derivative of the pose relative to ``"root"``
         or a frame (in its axes; a frame the joints move too: its own motion taken out)."""
         where = f"{type(self).__name__}.frame_jacobian"

@@ -88,6 +88,18 @@ class JointBinding:
 clip_ufunc: np.ufunc = importlib.import_module("numpy._core.umath" if hasattr(np, "_core") else "numpy.core.umath").clip
 
 
+def scale_directions(action: FloatArray, entries: Sequence[slice]) -> FloatArray:
+    """``action`` ``(num_envs, A)`` with each group of ``entries`` (a direction, e.g. a
+    quaternion) whose largest magnitude exceeds 1 divided by it, so that a later clip to
+    ``[-1, 1]`` leaves its direction; a new array when any is scaled."""
+    for group in entries:
+        largest = np.abs(action[:, group]).max(axis=1)
+        if np.any(largest > 1.0):
+            action = np.array(action, dtype=np.float64)
+            action[:, group] /= np.maximum(largest, 1.0)[:, None]
+    return action
+
+
 def one_pass_clip_exact(low: FloatArray, high: FloatArray) -> bool:
     """True when ``clip_ufunc`` with these bounds returns exactly the bits of
     ``np.minimum(np.maximum(x, low), high)`` for every ``x``: they can only differ where
@@ -259,6 +271,9 @@ class Controller(abc.ABC):
 
     def to_raw(self, action: FloatArray) -> FloatArray:
         """Clip an action of shape ``(num_envs, action_dim)`` and undo normalization."""
+        entries = self.direction_entries
+        if entries is not None:
+            action = scale_directions(action, (entries,))
         if self.config.normalize_action:
             unit = np.clip(action, -1.0, 1.0)
             return self.unit_low + (unit + 1.0) * 0.5 * (self.unit_high - self.unit_low)
@@ -316,6 +331,14 @@ class Controller(abc.ABC):
     def checks_actions(self) -> bool:
         """True when :meth:`check_raw_action` can reject an action within the bounds."""
         return False
+
+    @property
+    def direction_entries(self) -> slice | None:
+        """Entries of the action that are one direction (a quaternion, normalized by the
+        controller), or ``None``: beyond the bounds they are scaled down together, by their
+        largest magnitude, instead of clipped one by one (which would turn the direction).
+        Bounded to ``[-1, 1]`` (in normalized units too)."""
+        return None
 
     def check_raw_action(self, raw: FloatArray) -> str | None:
         """Why a clipped, de-normalized action ``(num_envs, action_dim)`` cannot be applied,

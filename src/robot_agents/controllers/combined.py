@@ -10,7 +10,14 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride, Drives
-from robot_agents.controllers.base import Controller, FloatArray, IntArray, clip_ufunc, one_pass_clip_exact
+from robot_agents.controllers.base import (
+    Controller,
+    FloatArray,
+    IntArray,
+    clip_ufunc,
+    one_pass_clip_exact,
+    scale_directions,
+)
 from robot_agents.errors import StateError
 
 
@@ -79,6 +86,12 @@ class CombinedController:
         self._scale_row, self._offset_row = self._scale[None], self._offset[None]
         self._apply = [(c.apply, self.slices[name]) for name, c in self.parts.items()]
         self._checked = [(name, c) for name, c in self.parts.items() if c.checks_actions]
+        # Directions (quaternions) in the action, scaled down as one vector before the clip.
+        self._directions = [
+            slice(self.slices[name].start + entries.start, self.slices[name].start + entries.stop)
+            for name, c in self.parts.items()
+            if (entries := c.direction_entries) is not None
+        ]
         self._reporting = [c for c in controllers if type(c).step_info is not Controller.step_info]
 
     @property
@@ -101,6 +114,8 @@ class CombinedController:
     def _to_raw(self, action: FloatArray) -> FloatArray:
         # clip, then scale and shift, in place on one new array (the result is handed to
         # the controllers, which may keep views of it)
+        if self._directions:
+            action = scale_directions(action, self._directions)
         if self._one_pass_clip:
             raw: FloatArray = clip_ufunc(action, self._clip_low_row, self._clip_high_row)
         else:

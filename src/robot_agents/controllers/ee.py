@@ -49,7 +49,7 @@ from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.kinematics.forward import BoundFrame, FrameKind, FrameRef
 from robot_agents.kinematics.ik import IKSolver
 from robot_agents.kinematics.ik_config import IKResult
-from robot_agents.kinematics.rotations import quat_to_rotvec, rotvec_to_quat_into
+from robot_agents.kinematics.rotations import quat_to_euler, quat_to_rotvec, rotvec_to_quat_into
 
 BoolArray = npt.NDArray[np.bool_]
 
@@ -85,6 +85,11 @@ class PDEEController(Controller):
         self.quaternion_input = (
             isinstance(config, PDEEPoseConfig)
             and config.rotation_format is RotationFormat.QUAT
+            and not config.use_delta
+        )
+        self.euler_input = (
+            isinstance(config, PDEEPoseConfig)
+            and config.rotation_format is RotationFormat.EULER
             and not config.use_delta
         )
         super().__init__(config, binding, context)
@@ -180,6 +185,11 @@ class PDEEController(Controller):
     def checks_actions(self) -> bool:
         return self.quaternion_input
 
+    @property
+    def direction_entries(self) -> slice | None:
+        """Quaternion input: entries 3-6, scaled down as one (normalized here anyway)."""
+        return slice(3, 7) if self.quaternion_input else None
+
     def check_raw_action(self, raw: FloatArray) -> str | None:
         if not self.quaternion_input:
             return None
@@ -231,6 +241,8 @@ class PDEEController(Controller):
             position[...] = raw[:3]
             if self.quaternion_input:
                 quat[...] = raw[3:7]
+            elif self.euler_input:
+                mujoco.mju_euler2Quat(quat, raw[3:6], "xyz")  # intrinsic x-y-z: Rx Ry Rz
             elif self.rotation:
                 rotvec_to_quat_into(quat, raw[3:6], self._axis)
         if self._workspace is not None:
@@ -248,12 +260,15 @@ class PDEEController(Controller):
         solve_one, position_only = self.solver.solve_one, self._position_only
         (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
         measured = self._measured_parts
+        followers, move_followers = self.solver.followers, self.solver.move_followers
         for env in range(self.num_envs):
             if from_target:
                 # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
                 configuration = self._configuration
                 configuration[:] = qpos[env]
                 configuration[qpos_sel] = start[env]
+                if followers:  # joints coupled to the chain sit where IK puts them (Stretch's telescope)
+                    move_followers(configuration, start[env])
                 self._kinematics_load(configuration)
                 root.update()
             else:
@@ -294,7 +309,8 @@ class PDEEController(Controller):
     def hold_raw(self, sim: SimView) -> FloatArray:
         """Absolute modes: the current target pose (the measured tool pose, in the command
         frame, since the reset): position (m) and, where the mode commands it, rotation
-        (a rotation vector in rad, or a ``w, x, y, z`` quaternion for quaternion input),
+        (a rotation vector in rad, a ``w, x, y, z`` quaternion for quaternion input, or
+        intrinsic x-y-z Euler angles in rad for Euler input),
         ``(num_envs, action_dim)``; delta modes: zero."""
         if self.config.use_delta:
             return super().hold_raw(sim)
@@ -304,6 +320,8 @@ class PDEEController(Controller):
             return position
         if self.quaternion_input:
             rotation = pose[:, 3:]
+        elif self.euler_input:
+            rotation = quat_to_euler(pose[:, 3:])
         else:  # one pose at a time, the same arithmetic as for a single pose
             rotation = np.stack([quat_to_rotvec(quat) for quat in pose[:, 3:]]).reshape(-1, 3)
         held: FloatArray = np.concatenate([pose[:, :3], rotation], axis=1)
@@ -372,5 +390,5 @@ class PDEEController(Controller):
         if cfg.use_delta:
             kind = ("delta-from-target " if cfg.use_target else "delta ") + what
         else:
-            kind = what + (" (quaternion)" if self.quaternion_input else "")
+            kind = what + (" (quaternion)" if self.quaternion_input else " (Euler x-y-z)" if self.euler_input else "")
         return f"end-effector {kind} via IK{' (normalized)' if cfg.normalize_action else ''}"

@@ -42,6 +42,9 @@ class RotationFormat(Enum):
     ROTVEC = "rotvec"
     #: Unit quaternion ``(w, x, y, z)``: 4 numbers (normalized by the controller).
     QUAT = "quat"
+    #: Intrinsic x-y-z Euler angles ``(a, b, c)`` (rad), ``R = Rx(a) Ry(b) Rz(c)``: 3
+    #: numbers, ManiSkill's ``pd_ee_pose`` convention (PyTorch3D's ``"XYZ"``).
+    EULER = "euler"
 
 
 def per_axis(owner: str, name: str, value: PerAxis) -> FloatArray:
@@ -126,8 +129,8 @@ class PDEEPoseConfig(PDEEPosConfig):
             vectors; quaternion entries are bounded to ``[-1, 1]``).
         rotation_frame: axes rotation deltas turn about (root-aligned through the
             tool point, or the end effector's own).
-        rotation_format: absolute modes take a rotation vector or a quaternion; deltas
-            are always rotation vectors.
+        rotation_format: absolute modes take a rotation vector, a quaternion or
+            intrinsic x-y-z Euler angles; deltas are always rotation vectors.
     """
 
     rot_lower: PerAxis = -0.1

@@ -17,7 +17,8 @@ Two kinds of functions:
 - **Batched** (numpy, vectorized over any leading batch shape, return new arrays):
   :func:`quat_multiply`, :func:`quat_conjugate`, :func:`quat_normalize`,
   :func:`quat_rotate`, :func:`quat_to_matrix`, :func:`rotvec_to_quat`,
-  :func:`quat_to_rotvec`, :func:`quat_angle`, :func:`rotation_error`,
+  :func:`quat_to_rotvec`, :func:`euler_to_quat`, :func:`quat_to_euler`,
+  :func:`quat_angle`, :func:`rotation_error`,
   :func:`pose_multiply`, :func:`pose_inverse`, :func:`relative_pose`. They also take a
   single ``(4,)`` / ``(3,)`` / ``(7,)`` value, but pay numpy's per-call overhead.
 - **Single, with MuJoCo's C helpers** (one value at a time; ``*_into`` write into
@@ -87,10 +88,14 @@ def quat_conjugate(q: npt.ArrayLike) -> FloatArray:
 
 
 def quat_normalize(q: npt.ArrayLike) -> FloatArray:
-    """``q / |q|``, shape ``(..., 4)``; the sign is kept and a zero quaternion stays zero
-    (check the norm first where zero is an error)."""
+    """``q / |q|``, shape ``(..., 4)``, for a quaternion of any length (unit norm also for
+    ``1e-300`` or ``1e300``); the sign is kept and a zero quaternion stays zero (check the
+    norm first where zero is an error)."""
     q = np.asarray(q, dtype=np.float64)
-    out: FloatArray = q / np.maximum(np.linalg.norm(q, axis=-1, keepdims=True), _TINY)
+    # Divided by the largest entry first: |q| of a tiny or huge q under- or overflows.
+    largest = np.abs(q).max(axis=-1, keepdims=True)
+    scaled = q / np.where(largest > 0.0, largest, 1.0)
+    out: FloatArray = scaled / np.where(largest > 0.0, np.linalg.norm(scaled, axis=-1, keepdims=True), 1.0)
     return out
 
 
@@ -150,6 +155,42 @@ def quat_to_rotvec(q: npt.ArrayLike) -> FloatArray:
     scale = np.where(small, 2.0 / np.maximum(w, _TINY), angle / np.where(small, 1.0, sin_half))
     out: FloatArray = v * scale
     return out
+
+
+def euler_to_quat(angles: npt.ArrayLike) -> FloatArray:
+    """Unit quaternions ``(..., 4)`` of intrinsic x-y-z Euler angles ``(a, b, c)`` (rad,
+    ``(..., 3)``): turn ``a`` about x, then ``b`` about the turned y, then ``c`` about
+    the twice-turned z, ``R = Rx(a) Ry(b) Rz(c)`` (PyTorch3D's and ManiSkill's ``"XYZ"``,
+    MuJoCo's ``eulerseq="xyz"``)."""
+    angles = np.asarray(angles, dtype=np.float64)
+    half = 0.5 * angles
+    cos, sin = np.cos(half), np.sin(half)
+    zero = np.zeros(half.shape[:-1])
+    x = np.stack((cos[..., 0], sin[..., 0], zero, zero), axis=-1)
+    y = np.stack((cos[..., 1], zero, sin[..., 1], zero), axis=-1)
+    z = np.stack((cos[..., 2], zero, zero, sin[..., 2]), axis=-1)
+    return quat_multiply(quat_multiply(x, y), z)
+
+
+def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
+    """Intrinsic x-y-z Euler angles ``(..., 3)`` (rad) of unit quaternions ``(..., 4)``,
+    the inverse of :func:`euler_to_quat`: ``a`` and ``c`` in ``[-pi, pi]``, ``b`` in
+    ``[-pi/2, pi/2]``. At gimbal lock (``b = +-pi/2``, where only ``a +- c`` is
+    defined) ``c`` is 0."""
+    matrix = quat_to_matrix(q)
+    # R = Rx(a) Ry(b) Rz(c): R[0, 2] = sin b, R[1, 2] = -sin a cos b, R[2, 2] = cos a cos b,
+    # R[0, 1] = -cos b sin c, R[0, 0] = cos b cos c.
+    sin_b = np.clip(matrix[..., 0, 2], -1.0, 1.0)
+    cos_b = np.hypot(matrix[..., 0, 0], matrix[..., 0, 1])
+    locked = cos_b < 1e-9
+    a = np.where(
+        locked,
+        np.arctan2(matrix[..., 2, 1], matrix[..., 1, 1]),
+        np.arctan2(-matrix[..., 1, 2], matrix[..., 2, 2]),
+    )
+    b = np.arctan2(sin_b, cos_b)
+    c = np.where(locked, 0.0, np.arctan2(-matrix[..., 0, 1], matrix[..., 0, 0]))
+    return np.stack((a, b, c), axis=-1)
 
 
 def quat_angle(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:

@@ -27,7 +27,7 @@ import numpy as np
 
 import robot_agents as ra
 from robot_agents.controllers import PDEEController
-from robot_agents.kinematics.rotations import rotation_error
+from robot_agents.kinematics import finite_difference_jacobian
 
 #: A yawed, raised mount: root and world frames differ in the Jacobian check.
 MOUNT = (0.3, -0.2, 0.5, math.cos(math.pi / 6), 0.0, 0.0, math.sin(math.pi / 6))
@@ -80,17 +80,7 @@ def ik_row(uid: str, count: int) -> str | None:
 
 
 def numeric_jacobian(agent: ra.Agent, frame: str, qpos: np.ndarray, relative_to: str) -> np.ndarray:
-    eps = 1e-6
-    out = np.zeros((qpos.shape[0], 6, agent.dof))
-    for joint in range(agent.dof):
-        plus, minus = qpos.copy(), qpos.copy()
-        plus[:, joint] += eps
-        minus[:, joint] -= eps
-        a = agent.frame_pose(frame, plus, relative_to=relative_to)
-        b = agent.frame_pose(frame, minus, relative_to=relative_to)
-        out[:, :3, joint] = (a[:, :3] - b[:, :3]) / (2 * eps)
-        out[:, 3:, joint] = rotation_error(a[:, 3:], b[:, 3:]) / (2 * eps)
-    return out
+    return finite_difference_jacobian(lambda q: agent.frame_pose(frame, q, relative_to=relative_to), qpos)
 
 
 def jacobian_row(uid: str) -> str:

@@ -18,7 +18,7 @@ from robot_agents.controllers import (
     WorkspaceBox,
     ee_control_modes,
 )
-from robot_agents.kinematics import IKConfig, IKResult, IKSolver, resolve_frame
+from robot_agents.kinematics import IKConfig, IKResult, IKSolver, finite_difference_jacobian, resolve_frame
 from robot_agents.kinematics.rotations import (
     quat_multiply,
     quat_rotate,
@@ -50,20 +50,9 @@ def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
 
 # ---------------------------------------------------------------------------- kinematics
 def numeric_jacobian(agent: ra.Agent, frame: str, qpos: np.ndarray, relative_to: str = "world") -> np.ndarray:
-    """Central differences (step 1e-6) of ``frame_pose(frame, relative_to=...)`` over each
-    joint, ``(num_envs, 6, dof)``: position, then rotation as a rotation vector in the
-    reference's axes."""
-    eps = 1e-6
-    numeric = np.zeros((qpos.shape[0], 6, agent.dof))
-    for j in range(agent.dof):
-        plus, minus = qpos.copy(), qpos.copy()
-        plus[:, j] += eps
-        minus[:, j] -= eps
-        pose_plus = agent.frame_pose(frame, plus, relative_to=relative_to)
-        pose_minus = agent.frame_pose(frame, minus, relative_to=relative_to)
-        numeric[:, :3, j] = (pose_plus[:, :3] - pose_minus[:, :3]) / (2 * eps)
-        numeric[:, 3:, j] = rotation_error(pose_plus[:, 3:], pose_minus[:, 3:]) / (2 * eps)
-    return numeric
+    """Central differences of ``frame_pose(frame, relative_to=...)`` over each joint,
+    ``(num_envs, 6, dof)`` (:func:`finite_difference_jacobian`)."""
+    return finite_difference_jacobian(lambda q: agent.frame_pose(frame, q, relative_to=relative_to), qpos)
 
 
 @pytest.mark.parametrize(("uid", "frame"), [("panda", "panda_hand_tcp"), ("floating_panda_gripper", "panda_hand_tcp")])

@@ -618,21 +618,20 @@ def test_a_workspace_box_apart_from_the_position_bounds_is_refused() -> None:
 
 
 # ---------------------------------------------------------------------------- formats
-def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
-    class QuatPanda(Panda):
-        uid = "test_quat_panda"
-        default_control_mode = "ee"
-        control_modes = {
-            "ee": {
-                "arm": replace(
-                    ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
-                    rotation_format=RotationFormat.QUAT,
-                ),
-                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
-            }
-        }
+def panda_with_pose_format(rotation_format: RotationFormat) -> type[ra.Agent]:
+    """The Panda with one mode, ``"ee"``: ``pd_ee_pose`` reading its rotation in
+    ``rotation_format``, and the gripper."""
+    arm = replace(
+        ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
+        rotation_format=rotation_format,
+    )
+    modes = {"ee": {"arm": arm, "gripper": Panda.modes()["pd_joint_pos"]["gripper"]}}  # type: ignore[index]
+    name = f"Panda{rotation_format.name.title()}Pose"
+    return type(name, (Panda,), {"uid": f"test_{name.lower()}", "default_control_mode": "ee", "control_modes": modes})
 
-    scene = ra.Scene(QuatPanda)
+
+def test_absolute_pose_as_quaternion_and_zero_quaternion_rejected() -> None:
+    scene = ra.Scene(panda_with_pose_format(RotationFormat.QUAT))
     agent = scene.agents[0]
     scene.reset(keyframes="rest")
     assert agent.controller.action_dim == 8
@@ -670,20 +669,7 @@ def test_absolute_pose_as_euler_angles() -> None:
     them: the hand reaches the orientation they give (1 deg), and the hold action is the
     Euler angles of the target, which hold it."""
 
-    class EulerPanda(Panda):
-        uid = "test_euler_panda"
-        default_control_mode = "ee"
-        control_modes = {
-            "ee": {
-                "arm": replace(
-                    ee_control_modes(PANDA_ARM, PANDA_TASK_SPACE)["pd_ee_pose"],  # type: ignore[type-var]
-                    rotation_format=RotationFormat.EULER,
-                ),
-                "gripper": Panda.modes()["pd_joint_pos"]["gripper"],  # type: ignore[index]
-            }
-        }
-
-    scene = ra.Scene(EulerPanda)
+    scene = ra.Scene(panda_with_pose_format(RotationFormat.EULER))
     agent = scene.agents[0]
     scene.reset(keyframes="rest")
     assert agent.controller.action_dim == 7

@@ -18,7 +18,7 @@ from robot_agents.controllers import (
     WorkspaceBox,
     ee_control_modes,
 )
-from robot_agents.kinematics import IKConfig, IKResult, IKSolver, finite_difference_jacobian, resolve_frame
+from robot_agents.kinematics import FrameRef, IKConfig, IKResult, IKSolver, finite_difference_jacobian, resolve_frame
 from robot_agents.kinematics.rotations import (
     quat_multiply,
     quat_rotate,
@@ -49,6 +49,20 @@ def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
 
 
 # ---------------------------------------------------------------------------- kinematics
+def arm_targets(
+    scene: ra.Scene, frame: FrameRef, rng: np.random.Generator, count: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``count`` reachable poses of ``frame``: the Panda's seven arm joints drawn uniformly
+    within their limits, the rest of the scene as it is. Returns the scene's ``qpos``
+    repeated (the solves' context), the drawn configurations and the poses ``(count, 7)``."""
+    agent = scene.agents[0]
+    limits = agent.qpos_limits[:7]
+    context = np.repeat(scene.world.qpos, count, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
+    return context, configurations, agent.kinematics.pose(configurations, frame)
+
+
 def numeric_jacobian(agent: ra.Agent, frame: str, qpos: np.ndarray, relative_to: str = "world") -> np.ndarray:
     """Central differences of ``frame_pose(frame, relative_to=...)`` over each joint,
     ``(num_envs, 6, dof)`` (:func:`finite_difference_jacobian`)."""
@@ -319,11 +333,7 @@ def test_ik_restarts_keep_the_failure_closest_by_the_solvers_own_measure() -> No
     solver = panda_solver(scene)
     rng = np.random.default_rng(0)
     count = 100
-    limits = agent.qpos_limits[:7]
-    context = np.repeat(scene.world.qpos, count, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
-    targets = agent.kinematics.pose(configurations, solver.frame)
+    context, _, targets = arm_targets(scene, solver.frame, rng, count)
     targets[:, 3:] = quat_multiply(rotvec_to_quat(rng.normal(0.0, 1.0, (count, 3))), targets[:, 3:])
     seed = np.repeat(agent.qpos[:, :7], count, axis=0)
     config = solver.config
@@ -400,11 +410,8 @@ def test_ik_null_space_pull_spares_joints_held_at_a_limit() -> None:
     rng = np.random.default_rng(2)
     count = 200
     limits = agent.qpos_limits[:7]
-    context = np.repeat(scene.world.qpos, count, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
     plain = panda_solver(scene)
-    targets = agent.kinematics.pose(configurations, plain.frame)
+    context, _, targets = arm_targets(scene, plain.frame, rng, count)
     seed = np.repeat(agent.qpos[:, :7], count, axis=0)
     free = plain.solve(context, targets, seed, max_iterations=100)
     at_limit = np.any((free.qpos <= limits[:, 0]) | (free.qpos >= limits[:, 1]), axis=1)
@@ -787,11 +794,7 @@ def test_failed_ik_never_moves_the_tool_farther_than_its_target() -> None:
     solver = panda_solver(scene)
     rng = np.random.default_rng(5)
     count = 200
-    limits = agent.qpos_limits[:7]
-    context = np.repeat(scene.world.qpos, count, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
-    targets = agent.kinematics.pose(configurations, solver.frame)
+    context, configurations, targets = arm_targets(scene, solver.frame, rng, count)
     shoulder = np.array([0.0, 0.0, 0.333])
     targets[:, :3] = shoulder + 1.25 * (targets[:, :3] - shoulder)  # pushed out of reach
     seed = np.repeat(agent.qpos[:, :7], count, axis=0)

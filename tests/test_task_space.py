@@ -50,13 +50,14 @@ def run(scene: ra.Scene, action: np.ndarray, steps: int) -> None:
 
 # ---------------------------------------------------------------------------- kinematics
 def arm_targets(
-    scene: ra.Scene, frame: FrameRef, rng: np.random.Generator, count: int
+    scene: ra.Scene, frame: FrameRef, rng: np.random.Generator, count: int, limits: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``count`` reachable poses of ``frame``: the Panda's seven arm joints drawn uniformly
-    within their limits, the rest of the scene as it is. Returns the scene's ``qpos``
-    repeated (the solves' context), the drawn configurations and the poses ``(count, 7)``."""
+    within ``limits`` (``(7, 2)``; default their joint limits), the rest of the scene as
+    it is. Returns the scene's ``qpos`` repeated (the solves' context), the drawn
+    configurations and the poses ``(count, 7)``."""
     agent = scene.agents[0]
-    limits = agent.qpos_limits[:7]
+    limits = agent.qpos_limits[:7] if limits is None else limits
     context = np.repeat(scene.world.qpos, count, axis=0)
     configurations = context.copy()
     configurations[:, agent.qpos_adr[:7]] = rng.uniform(limits[:, 0], limits[:, 1], (count, 7))
@@ -204,10 +205,7 @@ def test_ik_solutions_of_unlimited_hinges_take_the_turn_nearest_the_seed() -> No
     count = 50
     low = np.where(np.isfinite(solver.lower), solver.lower, -np.pi)
     high = np.where(np.isfinite(solver.upper), solver.upper, np.pi)
-    context = np.repeat(scene.world.qpos, count, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = rng.uniform(low, high, (count, 7))
-    targets = agent.kinematics.pose(configurations, solver.frame)
+    context, configurations, targets = arm_targets(scene, solver.frame, rng, count, np.stack([low, high], axis=1))
     seed = np.repeat(agent.qpos[:, :7], count, axis=0)
     seed[:, 0] += 2 * np.pi
     seed[:, 6] -= 4 * np.pi

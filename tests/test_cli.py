@@ -541,13 +541,17 @@ def test_a_model_file_takes_a_builtin_gripper(tmp_path: Path, capsys: pytest.Cap
 
 
 def test_every_builtin_piece_names_its_tcp() -> None:
+    from robot_agents.agent.declaration import composition
     from robot_agents.registry import get_piece
     from robot_agents.robots.catalog import BUILTIN_PIECES
 
     for name in BUILTIN_PIECES:
         piece = get_piece(name)
-        model = mujoco.MjModel.from_xml_path(str(piece.model_path()))
-        assert piece.tcp is not None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, piece.tcp) >= 0, name
+        assert piece.tcp is not None, name
+        # a body of the piece's file or of a piece it mounts (the WidowX gripper's bar and fingers)
+        files = [piece, *(inner for _, inner in composition(piece).pieces)]
+        models = [mujoco.MjModel.from_xml_path(str(cls.model_path())) for cls in files]
+        assert any(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, piece.tcp) >= 0 for model in models), name
     with pytest.raises(robot_agents.UnknownNameError, match=r"get_piece.*'robotiq'.*robotiq_2f85"):
         get_piece("robotiq")
 

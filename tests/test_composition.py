@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.agent.declaration import composition
+from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.robots.panda.panda import PandaHand
 
 # A fixed bar with two tool sites, 40 cm apart, the right one turned 90 deg about z.
@@ -133,3 +135,44 @@ def test_bad_attachments_are_clear(two_hands: type[ra.Agent]) -> None:
     )
     with pytest.raises(ra.RobotAgentsError):
         ra.Scene(clash)
+
+
+# A one-hinge wrist whose flange faces down, turned about z, off the hinge's axis.
+WRIST_MJCF = """
+<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="link" pos="0 0 0.6">
+      <joint name="wrist" axis="0 0 1" range="-3 3"/>
+      <geom type="cylinder" size="0.04 0.05" mass="1"/>
+      <body name="flange" pos="0.02 0 -0.06" quat="0 0.38268343 0.92387953 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("name", sorted(BUILTIN_PIECES))
+def test_every_builtin_piece_points_its_tcp_out_of_the_flange(tmp_path: Path, name: str) -> None:
+    """The pieces' convention (robot_agents.robots.catalog.BUILTIN_PIECES): mounted with
+    no turn, each piece's ``tcp`` lies on the flange's z axis, out of the flange; the
+    piece brings its parts under its prefix and rests free of contacts."""
+    path = tmp_path / "wrist.xml"
+    path.write_text(WRIST_MJCF)
+    piece = ra.get_piece(name)
+
+    class Wrist(ra.Agent):
+        mjcf_path = path
+        actuators = (ra.PDActuator(joints="wrist", stiffness=50.0, damping=5.0),)
+        attachments = (ra.Attachment(piece, at="flange", prefix="tool/"),)
+        parts = (ra.Arm(name="arm", joints="wrist", end_effectors=(ra.EndEffector(f"tool/{piece.tcp}", name="tcp"),)),)
+
+    scene = ra.Scene(Wrist)
+    scene.reset()
+    agent = scene.agents[0]
+    assert set(agent.part_joints) == {"arm", *(f"tool_{part.name}" for part in composition(piece).parts)}
+    assert scene.world.datas[0].ncon == 0
+    tcp = agent.frame_pose(f"tool/{piece.tcp}", relative_to="flange")[0, :3]
+    np.testing.assert_allclose(tcp[:2], 0.0, atol=1e-9)
+    assert 0.05 < tcp[2] < 0.2, tcp
+    scene.close()

@@ -41,4 +41,5 @@ BUILTIN_PIECES: dict[str, str] = {
     "robotiq_2f85": "robot_agents.robots.robotiq.robotiq:Robotiq2F85",
     "franka_hand": "robot_agents.robots.panda.panda:PandaHand",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStickTool",
+    "widowx250s_gripper": "robot_agents.robots.widowx.widowx250s:WidowX250SGripperPiece",
 }

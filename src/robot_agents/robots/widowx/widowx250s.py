@@ -39,6 +39,13 @@ Sources of the numbers:
   the horn's mid stroke: force limit 1.5 / (2 * 0.014) = 54 N, speed 6.39 * 0.014 =
   0.089 m/s, stiffness 5.5 / (2 * 0.014^2) = 14100 N/m, damping 600 N*s/m, armature
   0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
+- The gripper as a piece for another arm (:class:`WidowX250SGripperPiece`,
+  ``get_piece("widowx250s_gripper")``): the gripper's servo link ``gripper_link`` (its
+  inertial, servo box, ``ee_arm_link`` and horn as in ``wx250s_arm.xml``, the same
+  source) fixed on a mount frame whose z axis points out of the flange, turned -90 deg
+  about y from the WidowX's frames (x out of the wrist), and the bar and fingers on its
+  ``ee_arm_link`` as on the arm (``wx250s_gripper_mount.xml``). The built-in robots do
+  not use it: their files and models are as they were.
 - Keyframes: ``home`` is Menagerie's keyframe of the wx250s; ``zero`` is Interbotix's
   home pose (every joint at 0, the arm stretched out); ``sleep`` is Interbotix's sleep
   pose (``sleep_positions`` of the same config file).
@@ -188,6 +195,29 @@ class WidowX250SGripper(Agent):
     # The fingers slide along the bar they ride on; the pair never needs a contact.
     self_collision_exclusions = (("gripper_bar_link", "left_finger_link"), ("gripper_bar_link", "right_finger_link"))
     keyframes = {"open": Keyframe(qpos={"left_finger": 0.037})}
+
+
+class WidowX250SGripperPiece(Agent):
+    """The WidowX 250 S gripper as a piece for another arm's flange
+    (``ra.get_piece("widowx250s_gripper")``): root body ``gripper_mount`` on the flange
+    face, its z axis out of the flange (every built-in piece's convention), carrying the
+    gripper's servo link ``gripper_link`` turned -90 deg about y (the WidowX's own frames
+    point x out of the wrist: ``wx250s_gripper_mount.xml``) and, on its ``ee_arm_link``,
+    :class:`WidowX250SGripper` (bar and fingers, as on the arm). The fingers slide along
+    the mount's y; TCP ``ee_gripper_link``, 0.093575 m out of the flange; part
+    ``gripper`` with the fingers' drive; keyframes ``open`` (default, 74 mm between
+    the pads) and ``closed`` (30 mm, the fingers' stop).
+
+    qpos order: ``left_finger``, ``right_finger`` (the right finger mirrors the left).
+    """
+
+    mjcf_path = ASSETS / "wx250s_gripper_mount.xml"
+    tcp = "ee_gripper_link"
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(WidowX250SGripper, at="ee_arm_link"),)
+    keyframes = {
+        "open": Keyframe(qpos={"left_finger": 0.037}),
+        "closed": Keyframe(qpos={"left_finger": 0.015}),
+    }
 
 
 @register_agent()
@@ -419,4 +449,5 @@ __all__ = [
     "WidowX250SBridgeDatasetFlatTable",
     "WidowX250SBridgeDatasetSink",
     "WidowX250SGripper",
+    "WidowX250SGripperPiece",
 ]

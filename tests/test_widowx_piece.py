@@ -144,8 +144,9 @@ def solver(scene: ra.Scene) -> IKSolver:
 
 def test_on_a_ur10e_flange_it_grasps_lifts_and_holds_a_cube() -> None:
     """A 4 cm, 100 g cube on a pedestal under the TCP at the rest keyframe's tool
-    orientation (pointing down): grasped, lifted 10 cm over 1 s and held 2 s with the
-    pads carrying its weight (tests/grasp_check.py), let go once open."""
+    orientation (pointing down): squeezed with the gripper servo's force through its
+    horn (1.5 N*m / (2 * 0.014 m) = 53.6 N per finger), lifted 10 cm over 1 s and held
+    2 s with the pads carrying its weight (tests/grasp_check.py), let go once open."""
     scene = ra.Scene(UR10eWidowXGripper, control_modes="pd_joint_pos")
     agent = scene.agents[0]
     scene.reset(keyframes="rest")
@@ -185,7 +186,18 @@ def test_on_a_ur10e_flange_it_grasps_lifts_and_holds_a_cube() -> None:
         scene.step()
 
     fingers = [[f"{agent.prefix}wx/{side}_finger_link"] for side in ("left", "right")]
-    assert_grasps_lifts_and_holds(scene, act, grasp, lift, fingers, CUBE_MASS, min_force=0.9 * FINGER_EFFORT)
+    ids = [[scene.model.body(name).id for name in finger] for finger in fingers]
+
+    def squeezes_with_the_servos_force() -> None:
+        # the target 2 mm past the stop is 7 mm inside the cube: the drive saturates
+        left, right = scene.world.contact_forces(ids, scene.model.body("cube").id)[0]
+        opening = rotation(agent.tcp_pose[0, 3:])[:, 1]  # the left finger opens along the TCP's +y
+        assert left @ opening == pytest.approx(-FINGER_EFFORT, rel=0.01)  # (the force on the cube)
+        assert right @ opening == pytest.approx(FINGER_EFFORT, rel=0.01)
+
+    assert_grasps_lifts_and_holds(
+        scene, act, grasp, lift, fingers, CUBE_MASS, 0.9 * FINGER_EFFORT, squeezes_with_the_servos_force
+    )
     scene.close()
 
 

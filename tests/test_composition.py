@@ -152,6 +152,12 @@ WRIST_MJCF = """
 """
 
 
+#: How far out of the flange each piece's tcp lies (m): the Franka Hand's TCP 0.1034 m past
+#: its flange (Franka), the stick's tip, the 2F-85's pad centres closed (Menagerie), the
+#: WidowX gripper's ee_gripper_link (0.043 + 0.023 + 0.027575 m, Interbotix).
+TCP_OUT = {"franka_hand": 0.1034, "panda_stick": 0.15, "robotiq_2f85": 0.1553, "widowx250s_gripper": 0.093575}
+
+
 @pytest.mark.parametrize("name", sorted(BUILTIN_PIECES))
 def test_every_builtin_piece_points_its_tcp_out_of_the_flange(tmp_path: Path, name: str) -> None:
     """The pieces' convention (robot_agents.robots.catalog.BUILTIN_PIECES): mounted with
@@ -175,4 +181,6 @@ def test_every_builtin_piece_points_its_tcp_out_of_the_flange(tmp_path: Path, na
     tcp = agent.frame_pose(f"tool/{piece.tcp}", relative_to="flange")[0, :3]
     np.testing.assert_allclose(tcp[:2], 0.0, atol=1e-9)
     assert 0.05 < tcp[2] < 0.2, tcp
+    if name in TCP_OUT:  # (docs/robots.md, "Pieces")
+        assert tcp[2] == pytest.approx(TCP_OUT[name], abs=1e-9)
     scene.close()

@@ -75,6 +75,8 @@ def test_the_piece_is_the_arms_gripper_turned_z_out_of_its_mount() -> None:
     out, on the axis), the fingers slide along the mount's y; its bodies weigh what the
     WidowX's gripper assembly weighs and sit as there, relative to gripper_link."""
     assert ra.get_piece("widowx250s_gripper") is WidowX250SGripperPiece
+    with pytest.raises(ra.UnknownNameError, match=r"get_piece.*'widowx_gripper'.*Did you mean 'widowx250s_gripper'"):
+        ra.get_piece("widowx_gripper")
     checked = WidowX250SGripperPiece.check()
     assert list(checked.keyframes) == ["open", "closed"]
     assert checked.part_joints == {"gripper": ("left_finger", "right_finger")}

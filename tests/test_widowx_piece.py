@@ -89,6 +89,11 @@ def test_the_piece_is_the_arms_gripper_turned_z_out_of_its_mount() -> None:
     turned = rotation(tcp[3:])
     np.testing.assert_allclose(turned[:, 0], [0.0, 0.0, 1.0], atol=1e-12)  # the WidowX's x: out of the mount
     np.testing.assert_allclose(turned[:, 1], [0.0, 1.0, 0.0], atol=1e-12)  # the fingers' axis
+    for keyframe, gap in (("open", OPENING[1]), ("closed", OPENING[0])):
+        scene.reset(keyframes=keyframe)  # (``closed`` names the left finger: the right mirrors it)
+        assert pad_gap(scene, agent.prefix) == pytest.approx(gap, abs=1e-9)
+        assert scene.world.datas[0].ncon == 0
+    scene.reset()  # open, as the arm's default
     model = scene.model
     own = [b for b in range(model.nbody) if model.body(b).name.startswith(agent.prefix)]
     assert sum(model.body_mass[b] for b in own) == pytest.approx(MASS, abs=1e-9)

@@ -363,3 +363,85 @@ def test_a_restored_state_renders_as_where_it_was_saved() -> None:
     assert other.get_state()["render_camera"] is None
     for made in (env, fresh, other):
         made.close()
+
+
+DEFORMABLE_MJCF = """
+<mujoco>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.05" pos="0 0 0.05" mass="5"/>
+      <body name="pad" pos="0 0 0.1">
+        <joint name="lift" type="slide" axis="0 0 1" range="-0.05 0.05"/>
+        <geom name="pad" type="box" size="0.05 0.05 0.01" pos="0 0 0.01" mass="0.5"/>
+        <body name="arm" pos="0.4 0 0">
+          <geom type="box" size="0.01 0.01 0.01" mass="0.1" group="3"/>
+        </body>
+      </body>
+      <flexcomp name="cloth" type="grid" count="3 3 1" spacing="0.1 0.1 0.1" pos="-0.4 0 0.4" dim="2" radius="0.005">
+        <edge equality="true"/>
+      </flexcomp>
+    </body>
+  </worldbody>
+  <deformable>
+    <skin name="wide" vertex="0 -0.1 0.2  0.4 -0.1 0.2  0 0.1 0.2  0.4 0.1 0.2" face="0 1 2  1 3 2">
+      <bone body="pad" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 2" vertweight="1 1"/>
+      <bone body="arm" bindpos="0.4 0 0" bindquat="1 0 0 0" vertid="1 3" vertweight="1 1"/>
+    </skin>
+    <skin name="patch" vertex="0 0.3 0.2  0.1 0.3 0.2  0 0.4 0.2  0.1 0.4 0.2" face="0 1 2  1 3 2">
+      <bone body="arm" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 1 2 3" vertweight="1 1 1 1"/>
+    </skin>
+  </deformable>
+</mujoco>
+"""
+
+
+def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
+    """MuJoCo's segmentation names a flex or skin by its own index, not a body's (they
+    read -1, as the background, before). A skin bound to one bone reads that body's id;
+    a cloth (a flex of nine vertex bodies) and a skin bound to two links read ids after
+    the bodies, named in the id map and within the observation space's bounds."""
+    path = tmp_path / "deformable.xml"
+    path.write_text(DEFORMABLE_MJCF)
+    robot = type(
+        "Deformable",
+        (ra.Agent,),
+        {
+            "uid": "deformable",
+            "mjcf_path": path,
+            "keyframes": {"home": ra.Keyframe(qpos={"lift": 0.0})},
+            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
+        },
+    )
+    camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.5), target=(0, 0, 0), up=(1, 0, 0), width=96, height=96)
+    scene = ra.Scene(robot, cameras=[camera])
+    model = scene.render_model
+    nbody = model.nbody
+    images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["top"]
+    depth, seg = images["depth"][0, :, :, 0], images["segmentation"][0, :, :, 0]
+    assert not np.any((depth < camera.far) & (seg == -1))  # everything seen is named
+    id_map = scene.cameras.segmentation_id_map
+    assert id_map[nbody] == ra.SegmentationEntry("deformable-0/cloth", "flex", "deformable-0")
+    assert id_map[nbody + 1] == ra.SegmentationEntry("deformable-0/wide", "skin", "deformable-0")
+    assert max(id_map) == nbody + 1
+    params = scene.cameras.params(scene.world)["top"]
+
+    def pixel(point: Sequence[float]) -> tuple[int, int]:
+        u, v, w = params["intrinsic_cv"][0] @ params["extrinsic_cv"][0] @ np.append(point, 1.0)
+        return round(v / w), round(u / w)
+
+    data = scene.world.render_sources()[0]
+    arm = model.body("deformable-0/arm").id
+    cloth_centre = data.xpos[model.body("deformable-0/cloth_4").id]
+    assert seg[pixel(cloth_centre)] == nbody  # the cloth's middle vertex
+    assert seg[pixel((0.2, 0.0, 0.3))] == nbody + 1  # the skin between the pad and the arm (z 0.1 + 0.2)
+    assert seg[pixel((0.45, 0.35, 0.3))] == arm  # the skin bound to the arm alone: the arm's id
+    assert np.count_nonzero(seg == nbody) > 50 and np.count_nonzero(seg == nbody + 1) > 50
+    scene.close()
+    env_class = type("DeformableEnv", (ra.RobotEnv,), {"_scene_cameras": lambda self: (camera,)})
+    env = env_class(robot_uids=robot, obs_mode="segmentation")
+    obs, _ = env.reset(seed=0)
+    space = env.observation_space["sensor_data"]["top"]["segmentation"]
+    assert space.high.max() == nbody + 1 and space.contains(obs["sensor_data"]["top"]["segmentation"])
+    assert np.isin([nbody, nbody + 1], obs["sensor_data"]["top"]["segmentation"]).all()
+    env.close()

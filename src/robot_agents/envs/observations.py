@@ -27,7 +27,7 @@ import numpy as np
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.sensors.pointcloud import fuse, pixel_rays
 from robot_agents.sensors.rig import TEXTURES, CameraRig
-from robot_agents.sensors.segmentation import BACKGROUND_ID, SEGMENTATION_DTYPE
+from robot_agents.sensors.segmentation import BACKGROUND_ID, SEGMENTATION_DTYPE, max_segmentation_id
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -92,7 +92,7 @@ class SensorObservation:
         self.mode = mode
         self.where = where
         rig.prepare()  # a missing OpenGL backend fails here, before any episode
-        self._max_id = max(rig.model.nbody - 1, 0)
+        self._max_id = max_segmentation_id(rig.model)
         self._rays = {}
         if mode.pointcloud:
             self._rays = {

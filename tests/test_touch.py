@@ -138,3 +138,23 @@ def test_panda_fingertip_pads_read_the_squeeze() -> None:
     assert env.unwrapped.observation_space["agent"]["touch"].shape == (1, 2)
     touch_state = ra.make_env("Empty-v1", robot_uids="panda_touch", obs_mode="state").observation_space.shape
     assert touch_state == (1, plain[1] + 2)
+
+
+def test_touch_readings_in_the_observations_are_the_weight_on_the_pad(pad_file: Path) -> None:
+    """A 2.5 kg box on the pad reads its weight, 24.52 N (2%), in both sensors, at the
+    documented place of the flat state (qpos, qvel, targets, touch: one joint, so
+    entries 3 and 4) and in ``obs["agent"]["touch"]``, after 1 s of settling."""
+    box = ra.Prop("box", "box", size=(0.04, 0.04, 0.04), pos=(0.0, 0.0, 0.165), mass=2.5)
+    env_class = type("PadEnv", (ra.RobotEnv,), {"_scene_props": lambda self: (box,)})
+    readings = {}
+    for mode in ("state", "state_dict"):
+        env = env_class(robot_uids=touch_pad_class(pad_file), obs_mode=mode, control_mode="pd_joint_pos")
+        obs, _ = env.reset(seed=0)
+        for _ in range(env.scene.control_freq):
+            obs, *_ = env.step(np.zeros(1))
+        readings[mode] = obs[:, 3:5] if mode == "state" else obs["agent"]["touch"]
+        np.testing.assert_array_equal(readings[mode], env.agent.touch.astype(np.float32))
+        env.close()
+    assert readings["state"].shape == (1, 2)
+    np.testing.assert_allclose(readings["state"], 2.5 * 9.81, rtol=0.02)
+    np.testing.assert_array_equal(readings["state"], readings["state_dict"])

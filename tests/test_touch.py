@@ -77,6 +77,23 @@ def test_touch_declaration_errors(pad_file: Path) -> None:
         ra.TouchSensorConfig("t", link="pad", shape="cone")
     with pytest.raises(ra.ConfigError, match="positive sizes"):
         ra.TouchSensorConfig("t", link="pad", size=(0.01, 0.0, 0.01))
+    # Names are checked when declared (a site index reached MuJoCo's TypeError, a list
+    # shape Python's "unhashable type").
+    for fields, fragment in (
+        ({"site": 3}, "expected site to be a non-empty name, got 3"),
+        ({"link": ""}, "expected link to be a non-empty name, got ''"),
+        ({"link": "pad", "shape": ["box"]}, "expected shape in"),
+    ):
+        with pytest.raises(ra.ConfigError, match=fragment):
+            ra.TouchSensorConfig("t", **fields)  # type: ignore[arg-type]
+    # A robot's touch site rides on one of its links: a site on "world" was built into
+    # the robot's own world and lost when the robot entered the scene (the TouchReader
+    # then raised "touch sensor 'touch_pad-0/t' is not in the compiled model").
+    on_world = touch_pad_class(pad_file, touch_sensors=(ra.TouchSensorConfig("t", link="world"),))
+    with pytest.raises(
+        ra.UnknownNameError, match=r"TouchPad.touch_sensors\['t'\].link: unknown body 'world'. Available: 'base', 'pad'"
+    ):
+        ra.Scene(on_world)
     bad_link = touch_pad_class(pad_file, touch_sensors=(ra.TouchSensorConfig("t", link="padd"),))
     with pytest.raises(
         ra.UnknownNameError, match=r"TouchPad.touch_sensors\['t'\].link: unknown body 'padd'. Did you mean 'pad'"

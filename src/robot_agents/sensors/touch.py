@@ -62,7 +62,11 @@ class TouchSensorConfig:
                 f"{where}: expected exactly one of link (a new site) or site (an existing one), "
                 f"got link={self.link!r}, site={self.site!r}."
             )
-        if self.shape not in SITE_SHAPES:
+        for name in ("link", "site"):
+            value = getattr(self, name)
+            if value is not None and (not isinstance(value, str) or not value):
+                raise ConfigError(f"{where}: expected {name} to be a non-empty name, got {value!r}.")
+        if not isinstance(self.shape, str) or self.shape not in SITE_SHAPES:
             raise ConfigError(f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}.")
         size = float_tuple(self.size, SITE_SHAPES[self.shape], f"size of a {self.shape} (m)", where)
         if min(size) <= 0:

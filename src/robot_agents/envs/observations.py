@@ -6,7 +6,7 @@ Every visual mode returns the ``state_dict`` observation (``agent``, ``extra``) 
 
 - ``sensor_data``: per camera the mode's textures: ``rgb`` ``(N, H, W, 3)`` uint8,
   ``depth`` ``(N, H, W, 1)`` float32 metres, ``segmentation`` ``(N, H, W, 1)`` int16
-  body ids; or
+  segmentation ids (body ids; see :mod:`robot_agents.sensors.segmentation`); or
 - ``pointcloud`` (mode ``pointcloud``): ``xyzw`` ``(N, P, 4)`` float32, ``rgb``
   ``(N, P, 3)`` uint8, ``segmentation`` ``(N, P, 1)`` int16, fused from all cameras.
 

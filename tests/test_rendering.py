@@ -47,7 +47,8 @@ def box_distance(points: np.ndarray) -> np.ndarray:
 
 def test_depth_of_a_plane_is_its_distance() -> None:
     """A camera 0.7 m above the floor looking straight down sees 0.7 m everywhere (depth
-    is along the optical axis); tilted, the centre pixel sees the distance to its target."""
+    is along the optical axis); tilted 30 deg, each pixel sees the depth where its ray meets
+    the floor (0.61-1.19 m, within 1e-5 m), the centre pixel the distance to its target."""
     down = ra.CameraConfig.look_at("down", eye=(3, 3, 0.7), target=(3, 3, 0), up=(1, 0, 0), width=65, height=65)
     tilted = ra.CameraConfig.look_at("tilted", eye=(3, 3, 0.7), target=(3.4, 3, 0), width=65, height=65, fovy=60.0)
     scene = ra.Scene("panda", cameras=[down, tilted])
@@ -57,6 +58,15 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     assert depth[0, 32, 32, 0] == pytest.approx(0.7, abs=1e-3)
     assert np.max(np.abs(depth - 0.7)) < 1e-3
     assert images["tilted"]["depth"][0, 32, 32, 0] == pytest.approx(math.hypot(0.4, 0.7), abs=1e-3)
+    # Every pixel of the tilted view: the floor where the pixel's ray meets z = 0, at the
+    # depth along the optical axis z_cam = 0.7 / (-d_z), d = R K^-1 (u, v, 1) (OpenCV axes).
+    params = scene.cameras.params(scene.world)["tilted"]
+    rotation = params["extrinsic_cv"][0, :, :3].T  # camera (OpenCV) to world
+    v, u = np.divmod(np.arange(65 * 65), 65)
+    rays = rotation @ np.linalg.inv(params["intrinsic_cv"][0]) @ np.stack([u, v, np.ones_like(u)])
+    assert np.all(rays[2] < -0.15)  # the whole view sees the floor, nearer than 5 m
+    expected = (0.7 / -rays[2]).reshape(65, 65)
+    np.testing.assert_allclose(images["tilted"]["depth"][0, :, :, 0], expected, atol=1e-5, rtol=0)  # 2.2e-7 measured
     # Looking at the sky: nothing within the far plane reads exactly `far`.
     up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
     scene = ra.Scene("panda", cameras=[up])

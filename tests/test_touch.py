@@ -83,6 +83,9 @@ def test_touch_declaration_errors(pad_file: Path) -> None:
         ({"site": 3}, "expected site to be a non-empty name, got 3"),
         ({"link": ""}, "expected link to be a non-empty name, got ''"),
         ({"link": "pad", "shape": ["box"]}, "expected shape in"),
+        # On an existing site the site's own shape senses: a size was ignored without a word.
+        ({"site": "pad_top", "size": (0.1, 0.1, 0.1)}, r"site='pad_top' senses over .* got size=\(0.1, 0.1, 0.1\)"),
+        ({"site": "pad_top", "pos": (0, 0, 0.01)}, r"expected no shape, size, pos or quat .* got pos=\(0, 0, 0.01\)"),
     ):
         with pytest.raises(ra.ConfigError, match=fragment):
             ra.TouchSensorConfig("t", **fields)  # type: ignore[arg-type]

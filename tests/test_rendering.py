@@ -15,6 +15,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sensors.pointcloud import pixel_rays, world_points
+from robot_agents.sensors.segmentation import deformable_ids, flex_bodies
 
 BOX_POS = np.array([0.6, 0.4, 0.1])
 BOX_HALF = np.array([0.05, 0.08, 0.1])
@@ -385,6 +386,8 @@ DEFORMABLE_MJCF = """
         <geom name="pad" type="box" size="0.05 0.05 0.01" pos="0 0 0.01" mass="0.5"/>
         <body name="arm" pos="0.4 0 0">
           <geom type="box" size="0.01 0.01 0.01" mass="0.1" group="3"/>
+          <flexcomp name="plate" type="grid" count="3 3 1" spacing="0.05 0.05 0.05" pos="0 -0.35 0.2" dim="2"
+            rigid="true" radius="0.005"/>
         </body>
       </body>
       <flexcomp name="cloth" type="grid" count="3 3 1" spacing="0.1 0.1 0.1" pos="-0.4 0 0.4" dim="2" radius="0.005">
@@ -409,7 +412,9 @@ def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
     """MuJoCo's segmentation names a flex or skin by its own index, not a body's (they
     read -1, as the background, before). A skin bound to one bone reads that body's id;
     a cloth (a flex of nine vertex bodies) and a skin bound to two links read ids after
-    the bodies, named in the id map and within the observation space's bounds."""
+    the bodies, named in the id map and within the observation space's bounds; a rigid
+    flex on one link reads the link's id, and an interpolated flex is placed by its
+    nodes' bodies."""
     path = tmp_path / "deformable.xml"
     path.write_text(DEFORMABLE_MJCF)
     robot = type(
@@ -446,6 +451,7 @@ def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
     assert seg[pixel(cloth_centre)] == nbody  # the cloth's middle vertex
     assert seg[pixel((0.2, 0.0, 0.3))] == nbody + 1  # the skin between the pad and the arm (z 0.1 + 0.2)
     assert seg[pixel((0.45, 0.35, 0.3))] == arm  # the skin bound to the arm alone: the arm's id
+    assert seg[pixel((0.4, -0.35, 0.3))] == arm  # a rigid flex, every vertex on the arm: the arm's id
     assert np.count_nonzero(seg == nbody) > 50 and np.count_nonzero(seg == nbody + 1) > 50
     scene.close()
     env_class = type("DeformableEnv", (ra.RobotEnv,), {"_scene_cameras": lambda self: (camera,)})
@@ -455,6 +461,14 @@ def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
     assert space.high.max() == nbody + 1 and space.contains(obs["sensor_data"]["top"]["segmentation"])
     assert np.isin([nbody, nbody + 1], obs["sensor_data"]["top"]["segmentation"]).all()
     env.close()
+    # An interpolated flex moves with its 8 nodes' bodies (its vertices' are the world's).
+    soft = mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody><body name="holder" pos="0 0 0.5"><geom type="box" size=".02 .02 .02"/>
+        <flexcomp name="soft" type="grid" count="4 4 4" spacing=".05 .05 .05" dim="3" dof="trilinear" radius=".001">
+        <edge equality="true"/></flexcomp></body></worldbody></mujoco>"""
+    )
+    assert soft.flex_interp[0] == 1 and len(set(flex_bodies(soft, 0).tolist())) == 8
+    assert deformable_ids(soft).own == ((soft.nbody, "flex", 0),)
 
 
 def test_fovy_camera_images_follow_its_intrinsic_matrix() -> None:

@@ -61,6 +61,11 @@ def test_intrinsics_from_field_of_view_and_resizing() -> None:
     doubled = full.resized(128, 96)
     # Scaling maps pixel edges onto pixel edges: c' = (c + 0.5) * 2 - 0.5.
     np.testing.assert_allclose(doubled.intrinsic_matrix(), [[120, 0, 60.5], [0, 100, 40.5], [0, 0, 1]])
+    for size in (("64", 48), (64, None), (0, 48)):  # a string or None raised TypeError in the scaling
+        with pytest.raises(
+            ra.ConfigError, match=r"CameraConfig 'cam'.resized: expected (width|height) to be an integer"
+        ):
+            full.resized(*size)  # type: ignore[arg-type]
 
 
 def test_look_at_points_the_camera_at_the_target() -> None:

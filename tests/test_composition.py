@@ -11,8 +11,9 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.agent.declaration import composition
+from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.robots.catalog import BUILTIN_PIECES
-from robot_agents.robots.panda.panda import PandaHand
+from robot_agents.robots.panda.panda import FINGERTIP_TOUCH, PandaHand
 
 # A fixed bar with two tool sites, 40 cm apart, the right one turned 90 deg about z.
 BAR_MJCF = """
@@ -120,6 +121,53 @@ def test_wrist_camera_housing_is_a_piece() -> None:
     assert model.body_parentid[housing] == model.body("panda_wristcam-0/panda_hand").id
     assert model.body_mass[housing] == pytest.approx(0.072)  # Intel D415 datasheet
     np.testing.assert_allclose(model.body_pos[housing], [0.0465, 0.0, 0.0235])
+
+
+def test_sensors_of_a_piece_mounted_twice_are_named_by_its_prefix(two_hands: type[ra.Agent]) -> None:
+    """A piece with a camera and touch pads, mounted twice ("left/", "right/"): each copy's
+    sensors are named like its parts (``left_palm_camera``), each camera rides its own
+    hand and each pad its own finger (both copies declared the same uid before: "the
+    model already has a camera named 'palm_camera'")."""
+    offset_quat = (0.0, 0.70710678, 0.70710678, 0.0)
+
+    class SensingHand(PandaHand):
+        cameras = (
+            ra.CameraConfig(
+                "palm_camera", mount="panda_hand", pos=(0.05, 0.0, 0.03), quat=offset_quat, width=8, height=8
+            ),
+        )
+        touch_sensors = FINGERTIP_TOUCH
+
+    attachments = (
+        ra.Attachment(SensingHand, at="left_mount", prefix="left/"),
+        ra.Attachment(SensingHand, at="right_mount", prefix="right/", pos=(0.0, 0.0, 0.01)),
+    )
+    scene = ra.Scene(type("SensingHands", (two_hands,), {"attachments": attachments}))
+    scene.reset()
+    model, data, agent = scene.model, scene.world.datas[0], scene.agents[0]
+    assert scene.cameras.keys == ["left_palm_camera", "right_palm_camera"]
+    params = scene.cameras.params(scene.world)
+    offset = np.eye(4)
+    offset[:3, :3], offset[:3, 3] = quat_to_matrix(offset_quat), (0.05, 0.0, 0.03)
+    positions = []
+    for side in ("left", "right"):
+        hand = model.body(f"two_hands-0/{side}/panda_hand").id
+        link = np.eye(4)
+        link[:3, :3], link[:3, 3] = data.xmat[hand].reshape(3, 3), data.xpos[hand]
+        pose = params[f"{side}_palm_camera"]["cam2world_gl"][0]
+        np.testing.assert_allclose(pose, link @ offset, atol=1e-6)
+        positions.append(pose[:3, 3])
+    assert np.linalg.norm(positions[0] - positions[1]) > 0.3  # the mounts are 0.4 m apart
+    names = ("left_left_pad_touch", "left_right_pad_touch", "right_left_pad_touch", "right_right_pad_touch")
+    assert agent.touch_reader.names == names and agent.touch.shape == (1, 4)
+    for name, finger in zip(
+        names,
+        ("left/panda_leftfinger", "left/panda_rightfinger", "right/panda_leftfinger", "right/panda_rightfinger"),
+        strict=True,
+    ):
+        site = model.sensor_objid[model.sensor(f"two_hands-0/{name}").id]
+        assert model.site_bodyid[site] == model.body(f"two_hands-0/{finger}").id
+    scene.close()
 
 
 def test_bad_attachments_are_clear(two_hands: type[ra.Agent]) -> None:

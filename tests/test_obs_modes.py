@@ -140,3 +140,38 @@ def test_an_observation_space_too_large_for_memory_is_a_config_error() -> None:
     ):
         assert fragment in message, message
     scene.close()
+
+
+def _mismatches(space: gym.Space[Any], obs: Any, path: str = "") -> list[str]:
+    """Entries of ``obs`` whose keys, dtype, shape or values do not match ``space`` exactly."""
+    if isinstance(space, gym.spaces.Dict):
+        found = [f"{path}: keys {sorted(obs)} != {sorted(space.spaces)}"] if set(obs) != set(space.spaces) else []
+        return found + [m for k in space.spaces if k in obs for m in _mismatches(space[k], obs[k], f"{path}/{k}")]
+    assert isinstance(space, gym.spaces.Box)
+    array = np.asarray(obs)
+    if array.dtype != space.dtype or array.shape != space.shape:
+        return [f"{path}: {array.dtype} {array.shape} != {space.dtype} {space.shape}"]
+    return [] if space.contains(array) else [f"{path}: values {array.min()}..{array.max()} outside the bounds"]
+
+
+@pytest.mark.parametrize("obs_mode", ["state", "state_dict", *VISUAL_MODES])
+def test_observations_match_their_space_exactly(obs_mode: str) -> None:
+    """Every entry has its space's dtype and shape (not merely one that casts) and lies in
+    its bounds, after reset and steps, for a robot with touch pads and a wrist camera and
+    for Stretch, whose head camera's depth reaches its 100 m far plane."""
+    from robot_agents.robots.panda.panda import FINGERTIP_TOUCH, PandaWristCam
+
+    class TouchWristCam(PandaWristCam):
+        touch_sensors = FINGERTIP_TOUCH
+
+    for robot, cameras in ((TouchWristCam, SMALL), ("stretch", {"head_camera": {"width": 12, "height": 16}})):
+        env = ra.make_env("Empty-v1", robot_uids=robot, obs_mode=obs_mode, num_envs=2, sensor_configs=cameras)
+        obs, _ = env.reset(seed=0)
+        found = _mismatches(env.observation_space, obs)
+        for _ in range(3):
+            obs, *_ = env.step(env.action_space.sample())
+            found += _mismatches(env.observation_space, obs)
+        assert not found, found
+        if obs_mode in ("depth", "sensor_data") and robot == "stretch":
+            assert obs["sensor_data"]["head_camera"]["depth"].max() == 100.0  # the sky, at the far plane
+        env.close()

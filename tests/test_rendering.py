@@ -15,6 +15,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sensors.pointcloud import pixel_rays, world_points
+from robot_agents.sensors.segmentation import deformable_ids, flex_bodies
 
 BOX_POS = np.array([0.6, 0.4, 0.1])
 BOX_HALF = np.array([0.05, 0.08, 0.1])
@@ -47,7 +48,8 @@ def box_distance(points: np.ndarray) -> np.ndarray:
 
 def test_depth_of_a_plane_is_its_distance() -> None:
     """A camera 0.7 m above the floor looking straight down sees 0.7 m everywhere (depth
-    is along the optical axis); tilted, the centre pixel sees the distance to its target."""
+    is along the optical axis); tilted 30 deg, each pixel sees the depth where its ray meets
+    the floor (0.61-1.19 m, within 1e-5 m), the centre pixel the distance to its target."""
     down = ra.CameraConfig.look_at("down", eye=(3, 3, 0.7), target=(3, 3, 0), up=(1, 0, 0), width=65, height=65)
     tilted = ra.CameraConfig.look_at("tilted", eye=(3, 3, 0.7), target=(3.4, 3, 0), width=65, height=65, fovy=60.0)
     scene = ra.Scene("panda", cameras=[down, tilted])
@@ -57,6 +59,15 @@ def test_depth_of_a_plane_is_its_distance() -> None:
     assert depth[0, 32, 32, 0] == pytest.approx(0.7, abs=1e-3)
     assert np.max(np.abs(depth - 0.7)) < 1e-3
     assert images["tilted"]["depth"][0, 32, 32, 0] == pytest.approx(math.hypot(0.4, 0.7), abs=1e-3)
+    # Every pixel of the tilted view: the floor where the pixel's ray meets z = 0, at the
+    # depth along the optical axis z_cam = 0.7 / (-d_z), d = R K^-1 (u, v, 1) (OpenCV axes).
+    params = scene.cameras.params(scene.world)["tilted"]
+    rotation = params["extrinsic_cv"][0, :, :3].T  # camera (OpenCV) to world
+    v, u = np.divmod(np.arange(65 * 65), 65)
+    rays = rotation @ np.linalg.inv(params["intrinsic_cv"][0]) @ np.stack([u, v, np.ones_like(u)])
+    assert np.all(rays[2] < -0.15)  # the whole view sees the floor, nearer than 5 m
+    expected = (0.7 / -rays[2]).reshape(65, 65)
+    np.testing.assert_allclose(images["tilted"]["depth"][0, :, :, 0], expected, atol=1e-5, rtol=0)  # 2.2e-7 measured
     # Looking at the sky: nothing within the far plane reads exactly `far`.
     up = ra.CameraConfig.look_at("up", eye=(3, 3, 0.7), target=(3, 3, 2), up=(1, 0, 0), width=8, height=8, far=5.0)
     scene = ra.Scene("panda", cameras=[up])
@@ -363,3 +374,161 @@ def test_a_restored_state_renders_as_where_it_was_saved() -> None:
     assert other.get_state()["render_camera"] is None
     for made in (env, fresh, other):
         made.close()
+
+
+DEFORMABLE_MJCF = """
+<mujoco>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.05" pos="0 0 0.05" mass="5"/>
+      <body name="pad" pos="0 0 0.1">
+        <joint name="lift" type="slide" axis="0 0 1" range="-0.05 0.05"/>
+        <geom name="pad" type="box" size="0.05 0.05 0.01" pos="0 0 0.01" mass="0.5"/>
+        <body name="arm" pos="0.4 0 0">
+          <geom type="box" size="0.01 0.01 0.01" mass="0.1" group="3"/>
+          <flexcomp name="plate" type="grid" count="3 3 1" spacing="0.05 0.05 0.05" pos="0 -0.35 0.2" dim="2"
+            rigid="true" radius="0.005"/>
+        </body>
+      </body>
+      <flexcomp name="cloth" type="grid" count="3 3 1" spacing="0.1 0.1 0.1" pos="-0.4 0 0.4" dim="2" radius="0.005">
+        <edge equality="true"/>
+      </flexcomp>
+    </body>
+  </worldbody>
+  <deformable>
+    <skin name="wide" vertex="0 -0.1 0.2  0.4 -0.1 0.2  0 0.1 0.2  0.4 0.1 0.2" face="0 1 2  1 3 2">
+      <bone body="pad" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 2" vertweight="1 1"/>
+      <bone body="arm" bindpos="0.4 0 0" bindquat="1 0 0 0" vertid="1 3" vertweight="1 1"/>
+    </skin>
+    <skin name="patch" vertex="0 0.3 0.2  0.1 0.3 0.2  0 0.4 0.2  0.1 0.4 0.2" face="0 1 2  1 3 2">
+      <bone body="arm" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 1 2 3" vertweight="1 1 1 1"/>
+    </skin>
+  </deformable>
+</mujoco>
+"""
+
+
+def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
+    """MuJoCo's segmentation names a flex or skin by its own index, not a body's (they
+    read -1, as the background, before). A skin bound to one bone reads that body's id;
+    a cloth (a flex of nine vertex bodies) and a skin bound to two links read ids after
+    the bodies, named in the id map and within the observation space's bounds; a rigid
+    flex on one link reads the link's id, and an interpolated flex is placed by its
+    nodes' bodies."""
+    path = tmp_path / "deformable.xml"
+    path.write_text(DEFORMABLE_MJCF)
+    robot = type(
+        "Deformable",
+        (ra.Agent,),
+        {
+            "uid": "deformable",
+            "mjcf_path": path,
+            "keyframes": {"home": ra.Keyframe(qpos={"lift": 0.0})},
+            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
+        },
+    )
+    camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.5), target=(0, 0, 0), up=(1, 0, 0), width=96, height=96)
+    scene = ra.Scene(robot, cameras=[camera])
+    model = scene.render_model
+    nbody = model.nbody
+    images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["top"]
+    depth, seg = images["depth"][0, :, :, 0], images["segmentation"][0, :, :, 0]
+    assert not np.any((depth < camera.far) & (seg == -1))  # everything seen is named
+    id_map = scene.cameras.segmentation_id_map
+    assert id_map[nbody] == ra.SegmentationEntry("deformable-0/cloth", "flex", "deformable-0")
+    assert id_map[nbody + 1] == ra.SegmentationEntry("deformable-0/wide", "skin", "deformable-0")
+    assert max(id_map) == nbody + 1
+    params = scene.cameras.params(scene.world)["top"]
+
+    def pixel(point: Sequence[float]) -> tuple[int, int]:
+        u, v, w = params["intrinsic_cv"][0] @ params["extrinsic_cv"][0] @ np.append(point, 1.0)
+        return round(v / w), round(u / w)
+
+    data = scene.world.render_sources()[0]
+    arm = model.body("deformable-0/arm").id
+    cloth_centre = data.xpos[model.body("deformable-0/cloth_4").id]
+    assert seg[pixel(cloth_centre)] == nbody  # the cloth's middle vertex
+    assert seg[pixel((0.2, 0.0, 0.3))] == nbody + 1  # the skin between the pad and the arm (z 0.1 + 0.2)
+    assert seg[pixel((0.45, 0.35, 0.3))] == arm  # the skin bound to the arm alone: the arm's id
+    assert seg[pixel((0.4, -0.35, 0.3))] == arm  # a rigid flex, every vertex on the arm: the arm's id
+    assert np.count_nonzero(seg == nbody) > 50 and np.count_nonzero(seg == nbody + 1) > 50
+    scene.close()
+    env_class = type("DeformableEnv", (ra.RobotEnv,), {"_scene_cameras": lambda self: (camera,)})
+    env = env_class(robot_uids=robot, obs_mode="segmentation")
+    obs, _ = env.reset(seed=0)
+    space = env.observation_space["sensor_data"]["top"]["segmentation"]
+    assert space.high.max() == nbody + 1 and space.contains(obs["sensor_data"]["top"]["segmentation"])
+    assert np.isin([nbody, nbody + 1], obs["sensor_data"]["top"]["segmentation"]).all()
+    env.close()
+    # An interpolated flex moves with its 8 nodes' bodies (its vertices' are the world's).
+    soft = mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody><body name="holder" pos="0 0 0.5"><geom type="box" size=".02 .02 .02"/>
+        <flexcomp name="soft" type="grid" count="4 4 4" spacing=".05 .05 .05" dim="3" dof="trilinear" radius=".001">
+        <edge equality="true"/></flexcomp></body></worldbody></mujoco>"""
+    )
+    assert soft.flex_interp[0] == 1 and len(set(flex_bodies(soft, 0).tolist())) == 8
+    assert deformable_ids(soft).own == ((soft.nbody, "flex", 0),)
+
+
+def test_fovy_camera_images_follow_its_intrinsic_matrix() -> None:
+    """A 96 x 64 camera, fovy 50 deg, 1 m above the floor looking down (image up = world
+    +x, right = world -y): the edges of two 1 cm plates, 0.23 m to the right of and
+    0.13 m above the optical axis, fall between the pixels K predicts, the vertical
+    focal length fx = fy = 32 / tan(25 deg) = 68.62 px serving both axes."""
+    eye = np.array([3.0, 3.0, 1.0])
+    plates = (
+        ra.Prop("right", "box", size=(0.3, 0.3, 0.005), pos=(3.0, 3.0 - 0.23 - 0.3, 0.005), mass=None),
+        ra.Prop("ahead", "box", size=(0.3, 0.3, 0.005), pos=(3.0 + 0.13 + 0.3, 3.0 + 0.2, 0.005), mass=None),
+    )
+    camera = ra.CameraConfig.look_at(
+        "down", eye=eye, target=(3.0, 3.0, 0.0), up=(1, 0, 0), width=96, height=64, fovy=50.0
+    )
+    scene = ra.Scene("panda", props=plates, cameras=[camera])
+    k = scene.cameras.intrinsic("down")
+    focal = 32 / math.tan(math.radians(25))
+    np.testing.assert_allclose(k, [[focal, 0, 47.5], [0, focal, 31.5], [0, 0, 1]])
+    seg = scene.cameras.capture(scene.world, ("segmentation",))["down"]["segmentation"][0, :, :, 0]
+    right, ahead = (scene.model.body(name).id for name in ("right", "ahead"))
+    # The plates' top edges, 0.99 m from the camera: columns right of u, rows above v.
+    u = 47.5 + focal * 0.23 / 0.99
+    v = 31.5 - focal * 0.13 / 0.99
+    assert 0.2 < u % 1 < 0.8 and 0.2 < v % 1 < 0.8  # no pixel centre within 0.2 px of an edge
+    row = seg[40]  # below the ahead plate: floor, then the right plate
+    np.testing.assert_array_equal(row == right, np.arange(96) > u)
+    column = seg[:, 30]  # left of the right plate: the ahead plate, then floor
+    np.testing.assert_array_equal(column == ahead, np.arange(64) < v)
+    scene.close()
+
+
+def test_point_cloud_is_the_depth_image_back_projected() -> None:
+    """The pointcloud mode's points are the depth mode's pixels back-projected with
+    ``intrinsic_cv`` and ``extrinsic_cv`` (inverted here by hand) to within float32
+    rounding (1e-6 m; 6.3e-7 m at most measured), and its colours and ids are the images' pixels, row by row."""
+    options: dict[str, Any] = {"robot_uids": "panda", "robot_init_qpos_noise": 0.0, "num_envs": 2}
+    cloud = BoxEnv(obs_mode="pointcloud", **options).reset(seed=0)[0]
+    images = BoxEnv(obs_mode="sensor_data", **options).reset(seed=0)[0]
+    start = 0
+    for key in ("front", "side", "overview"):
+        data, params = images["sensor_data"][key], images["sensor_param"][key]
+        n, h, w, _ = data["depth"].shape
+        for env in range(n):
+            k = params["intrinsic_cv"][env].astype(np.float64)
+            extrinsic = params["extrinsic_cv"][env].astype(np.float64)
+            depth = data["depth"][env, :, :, 0].astype(np.float64).reshape(-1)
+            v, u = np.divmod(np.arange(h * w), w)
+            camera_points = np.linalg.inv(k) @ np.stack([u * depth, v * depth, depth])
+            world = extrinsic[:, :3].T @ (camera_points - extrinsic[:, 3:])  # x = R^T (x_cam - t)
+            xyzw = cloud["pointcloud"]["xyzw"][env, start : start + h * w].astype(np.float64)
+            seen = depth < 10.0
+            np.testing.assert_array_equal(xyzw[:, 3], seen)
+            np.testing.assert_allclose(xyzw[seen, :3], world.T[seen], atol=1e-6)
+            np.testing.assert_array_equal(
+                cloud["pointcloud"]["rgb"][env, start : start + h * w], data["rgb"][env].reshape(-1, 3)
+            )
+            np.testing.assert_array_equal(
+                cloud["pointcloud"]["segmentation"][env, start : start + h * w],
+                data["segmentation"][env].reshape(-1, 1),
+            )
+        start += h * w
+    assert start == cloud["pointcloud"]["xyzw"].shape[1]

@@ -328,6 +328,56 @@ def test_head_camera_follows_its_link_and_pans() -> None:
     env.close()
 
 
+def _rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """URDF's fixed-axis roll-pitch-yaw: Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr, cp, sp, cy, sy = (f(a) for a in (roll, pitch, yaw) for f in (math.cos, math.sin))
+    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def test_head_camera_is_the_urdf_colour_optical_frame() -> None:
+    """The head camera's frame is Hello Robot's ``camera_color_optical_frame``
+    (stretch_urdf SE3: ``camera_link`` on ``link_head_tilt`` at (0.03 + 0.0106,
+    -0.0122 + 0.0175, 0.0182 + 0.0125) m unrotated, the colour frame 0.015 m along its y,
+    the optical frame at rpy (-pi/2, 0, -pi/2)), in MuJoCo's axes (turned pi about x).
+    The camera carried Menagerie's orientation, the same view rolled 180 deg: at zero
+    pan and tilt its image's right was the sky, the real camera's is the floor."""
+    scene = ra.Scene("stretch", cameras=())
+    scene.reset()
+    agent = scene.agents[0]
+    data = scene.world.datas[0]
+    tilt_link = agent.index.body_id("link_head_tilt", "test")
+    link = np.eye(4)
+    link[:3, :3], link[:3, 3] = data.xmat[tilt_link].reshape(3, 3), data.xpos[tilt_link]
+    camera_link = np.eye(4)
+    camera_link[:3, 3] = (0.03 + 0.0106, -0.0122 + 0.0175, 0.0182 + 0.0125)
+    optical = np.eye(4)
+    optical[:3, :3], optical[:3, 3] = _rpy(-math.pi / 2, 0.0, -math.pi / 2), (0.0, 0.015, 0.0)
+    expected = link @ camera_link @ optical @ np.diag([1.0, -1.0, -1.0, 1.0])  # OpenCV -> MuJoCo axes
+    pose = scene.cameras.params(scene.world)["head_camera"]["cam2world_gl"][0]
+    np.testing.assert_allclose(pose, expected, atol=1e-9)
+    # At zero pan and tilt: looking along the base's +x, image right = world down,
+    # image up = the robot's right (-y).
+    np.testing.assert_allclose(pose[:3, :3] @ [0, 0, -1], [1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(pose[:3, 0], [0, 0, -1], atol=1e-9)
+    np.testing.assert_allclose(pose[:3, 1], [0, -1, 0], atol=1e-9)
+    # In the image: the floor fills the right half, the sky (depth at the far plane)
+    # the left; a box on the robot's left (+y) shows in the lower half.
+    depth = scene.cameras.capture(scene.world, ("depth",))["head_camera"]["depth"][0, :, :, 0]
+    far = HEAD_CAMERA.far
+    assert np.all(depth[:, :60] == far) and np.all(depth[:, 68:] < far)
+    scene.close()
+    box = ra.Prop("box", "box", size=(0.1, 0.1, 0.1), pos=(3.0, 0.6, 0.1), mass=None)
+    scene = ra.Scene("stretch", props=[box])
+    scene.reset()
+    seg = scene.cameras.capture(scene.world, ("segmentation",))["head_camera"]["segmentation"][0, :, :, 0]
+    rows, columns = np.nonzero(seg == scene.model.body("box").id)
+    assert rows.size > 20 and rows.min() > 64 and columns.min() > 64  # lower half, floor side
+    scene.close()
+
+
 # -------------------------------------------------------------------------- base
 def test_base_drives_0_4_m_in_2_s() -> None:
     """(v, wz) = (0.2 m/s, 0) for 2 s: 0.4 m along the robot's heading (+-5 %)."""

@@ -77,6 +77,26 @@ def test_touch_declaration_errors(pad_file: Path) -> None:
         ra.TouchSensorConfig("t", link="pad", shape="cone")
     with pytest.raises(ra.ConfigError, match="positive sizes"):
         ra.TouchSensorConfig("t", link="pad", size=(0.01, 0.0, 0.01))
+    # Names are checked when declared (a site index reached MuJoCo's TypeError, a list
+    # shape Python's "unhashable type").
+    for fields, fragment in (
+        ({"site": 3}, "expected site to be a non-empty name, got 3"),
+        ({"link": ""}, "expected link to be a non-empty name, got ''"),
+        ({"link": "pad", "shape": ["box"]}, "expected shape in"),
+        # On an existing site the site's own shape senses: a size was ignored without a word.
+        ({"site": "pad_top", "size": (0.1, 0.1, 0.1)}, r"site='pad_top' senses over .* got size=\(0.1, 0.1, 0.1\)"),
+        ({"site": "pad_top", "pos": (0, 0, 0.01)}, r"expected no shape, size, pos or quat .* got pos=\(0, 0, 0.01\)"),
+    ):
+        with pytest.raises(ra.ConfigError, match=fragment):
+            ra.TouchSensorConfig("t", **fields)  # type: ignore[arg-type]
+    # A robot's touch site rides on one of its links: a site on "world" was built into
+    # the robot's own world and lost when the robot entered the scene (the TouchReader
+    # then raised "touch sensor 'touch_pad-0/t' is not in the compiled model").
+    on_world = touch_pad_class(pad_file, touch_sensors=(ra.TouchSensorConfig("t", link="world"),))
+    with pytest.raises(
+        ra.UnknownNameError, match=r"TouchPad.touch_sensors\['t'\].link: unknown body 'world'. Available: 'base', 'pad'"
+    ):
+        ra.Scene(on_world)
     bad_link = touch_pad_class(pad_file, touch_sensors=(ra.TouchSensorConfig("t", link="padd"),))
     with pytest.raises(
         ra.UnknownNameError, match=r"TouchPad.touch_sensors\['t'\].link: unknown body 'padd'. Did you mean 'pad'"
@@ -138,3 +158,23 @@ def test_panda_fingertip_pads_read_the_squeeze() -> None:
     assert env.unwrapped.observation_space["agent"]["touch"].shape == (1, 2)
     touch_state = ra.make_env("Empty-v1", robot_uids="panda_touch", obs_mode="state").observation_space.shape
     assert touch_state == (1, plain[1] + 2)
+
+
+def test_touch_readings_in_the_observations_are_the_weight_on_the_pad(pad_file: Path) -> None:
+    """A 2.5 kg box on the pad reads its weight, 24.52 N (2%), in both sensors, at the
+    documented place of the flat state (qpos, qvel, targets, touch: one joint, so
+    entries 3 and 4) and in ``obs["agent"]["touch"]``, after 1 s of settling."""
+    box = ra.Prop("box", "box", size=(0.04, 0.04, 0.04), pos=(0.0, 0.0, 0.165), mass=2.5)
+    env_class = type("PadEnv", (ra.RobotEnv,), {"_scene_props": lambda self: (box,)})
+    readings = {}
+    for mode in ("state", "state_dict"):
+        env = env_class(robot_uids=touch_pad_class(pad_file), obs_mode=mode, control_mode="pd_joint_pos")
+        obs, _ = env.reset(seed=0)
+        for _ in range(env.scene.control_freq):
+            obs, *_ = env.step(np.zeros(1))
+        readings[mode] = obs[:, 3:5] if mode == "state" else obs["agent"]["touch"]
+        np.testing.assert_array_equal(readings[mode], env.agent.touch.astype(np.float32))
+        env.close()
+    assert readings["state"].shape == (1, 2)
+    np.testing.assert_allclose(readings["state"], 2.5 * 9.81, rtol=0.02)
+    np.testing.assert_array_equal(readings["state"], readings["state_dict"])

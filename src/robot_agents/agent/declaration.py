@@ -82,13 +82,20 @@ class Composition:
     pieces: tuple[tuple[str, type[AgentDefinition]], ...]
 
 
+def _label(name: str, prefix: str) -> str:
+    """A piece's own name (a part's, a sensor's uid) under attachment ``prefix``:
+    ``"left/"`` + ``"gripper"`` -> ``"left_gripper"`` (no ``/``, which separates robot
+    ids from sensor uids); unchanged without a prefix."""
+    label = re.sub(r"\W+", "_", prefix).strip("_")
+    return f"{label}_{name}" if label else name
+
+
 def _prefix_part(part: Part, prefix: str) -> Part:
     """``part`` of a piece attached with ``prefix``: its names prefixed, and its own name
     too (``"left/"`` + ``"gripper"`` -> ``"left_gripper"``), so two hands can coexist."""
     if not prefix:
         return part
-    label = re.sub(r"\W+", "_", prefix).strip("_")
-    changes: dict[str, Any] = {"joints": prefixed(part.joints, prefix), "name": f"{label}_{part.name}"}
+    changes: dict[str, Any] = {"joints": prefixed(part.joints, prefix), "name": _label(part.name, prefix)}
     end_effectors = getattr(part, "end_effectors", None)
     if end_effectors:
         changes["end_effectors"] = tuple(
@@ -124,10 +131,14 @@ def composition(cls: type[AgentDefinition]) -> Composition:
         parts += [_prefix_part(part, p) for part in inner.parts]
         materials.update({p + name: m for name, m in inner.link_materials.items()})
         exclusions += [(p + a, p + b) for a, b in inner.self_collision_exclusions]
-        cameras += [dataclasses.replace(c, mount=p + c.mount) for c in inner.cameras]
+        # A piece's sensors are named like its parts (two copies of one piece: two of each).
+        cameras += [dataclasses.replace(c, uid=_label(c.uid, p), mount=p + c.mount) for c in inner.cameras]
         touch += [
             dataclasses.replace(
-                t, link=None if t.link is None else p + t.link, site=None if t.site is None else p + t.site
+                t,
+                uid=_label(t.uid, p),
+                link=None if t.link is None else p + t.link,
+                site=None if t.site is None else p + t.site,
             )
             for t in inner.touch_sensors
         ]

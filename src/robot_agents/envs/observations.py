@@ -6,7 +6,7 @@ Every visual mode returns the ``state_dict`` observation (``agent``, ``extra``) 
 
 - ``sensor_data``: per camera the mode's textures: ``rgb`` ``(N, H, W, 3)`` uint8,
   ``depth`` ``(N, H, W, 1)`` float32 metres, ``segmentation`` ``(N, H, W, 1)`` int16
-  body ids; or
+  segmentation ids (body ids; see :mod:`robot_agents.sensors.segmentation`); or
 - ``pointcloud`` (mode ``pointcloud``): ``xyzw`` ``(N, P, 4)`` float32, ``rgb``
   ``(N, P, 3)`` uint8, ``segmentation`` ``(N, P, 1)`` int16, fused from all cameras.
 
@@ -27,7 +27,7 @@ import numpy as np
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.sensors.pointcloud import fuse, pixel_rays
 from robot_agents.sensors.rig import TEXTURES, CameraRig
-from robot_agents.sensors.segmentation import BACKGROUND_ID, SEGMENTATION_DTYPE
+from robot_agents.sensors.segmentation import BACKGROUND_ID, SEGMENTATION_DTYPE, max_segmentation_id
 
 if TYPE_CHECKING:
     from robot_agents.sim.backend import SimBackend
@@ -92,7 +92,7 @@ class SensorObservation:
         self.mode = mode
         self.where = where
         rig.prepare()  # a missing OpenGL backend fails here, before any episode
-        self._max_id = max(rig.model.nbody - 1, 0)
+        self._max_id = max_segmentation_id(rig.model)
         self._rays = {}
         if mode.pointcloud:
             self._rays = {

@@ -8,7 +8,7 @@ touch sensors. See ``docs/sensors.md``.
 - :mod:`.rig`: :class:`CameraRig`, the scene's cameras rendered per env.
 - :mod:`.renderer`: ``mujoco.Renderer`` per image size, exact intrinsics, near/far.
 - :mod:`.camera_params`: intrinsic / extrinsic matrices and camera poses.
-- :mod:`.segmentation`: per-pixel body ids and their names.
+- :mod:`.segmentation`: per-pixel body ids (and flex / skin ids) and their names.
 - :mod:`.pointcloud`: depth to world-frame points, fused over cameras.
 """
 

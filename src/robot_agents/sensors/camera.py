@@ -177,6 +177,12 @@ class CameraConfig:
 
     def resized(self, width: int, height: int) -> CameraConfig:
         """The same view at another image size (an intrinsic matrix is scaled with it)."""
+        for name, value in (("width", width), ("height", height)):
+            if not is_pixel_count(value):
+                raise ConfigError(
+                    f"CameraConfig {self.uid!r}.resized: expected {name} to be an integer number of pixels in "
+                    f"[1, {MAX_SIZE}], got {value!r}."
+                )
         if self.intrinsic is None:
             return dataclasses.replace(self, width=width, height=height)
         sx, sy = width / self.width, height / self.height

@@ -3,7 +3,7 @@
 Layout (ManiSkill's): ``xyzw`` ``(N, P, 4)`` float32 world coordinates (m) with ``w = 1``
 for pixels that see something and ``w = 0`` (and ``xyz = 0``) for those that see
 nothing (depth at the far plane); ``rgb`` ``(N, P, 3)`` uint8; ``segmentation``
-``(N, P, 1)`` int16 body ids. ``P`` is the sum of ``H * W`` over the cameras, in camera
+``(N, P, 1)`` int16 segmentation ids. ``P`` is the sum of ``H * W`` over the cameras, in camera
 order, each camera's pixels row by row.
 """
 

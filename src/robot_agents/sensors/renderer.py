@@ -144,7 +144,7 @@ class CameraRenderer:
     ) -> None:
         """Render one camera of one env into the given arrays: ``rgb`` ``(H, W, 3)``
         uint8, ``depth`` ``(H, W)`` float32 metres along the optical axis,
-        ``segmentation`` ``(H, W)`` int16 body ids (see :mod:`.segmentation`)."""
+        ``segmentation`` ``(H, W)`` int16 segmentation ids (see :mod:`.segmentation`)."""
         width, height = config.width, config.height
         renderer = self._renderer(width, height)
         with clipping_planes(self.model, config.near, config.far):

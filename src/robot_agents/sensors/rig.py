@@ -116,7 +116,7 @@ class CameraRig:
         - ``rgb``: ``(N, H, W, 3)`` uint8;
         - ``depth``: ``(N, H, W, 1)`` float32, metres along the optical axis, ``far``
           where nothing is seen;
-        - ``segmentation``: ``(N, H, W, 1)`` int16 body ids (``-1`` background).
+        - ``segmentation``: ``(N, H, W, 1)`` int16 segmentation ids: body ids, ``-1`` background (see :mod:`.segmentation`).
 
         ``textures``: names from :data:`TEXTURES`, or one name (``"depth"``).
         ``env_ids``: the envs to render (``None``: all), distinct ids in ``[0, num_envs)``.

@@ -64,7 +64,7 @@ def add_touch_sensors(spec: mujoco.MjSpec, sensors: Sequence[TouchSensorConfig],
             site_name = config.site
         else:
             body = spec.body(str(config.link))
-            if body is None:
+            if body is None or body == spec.worldbody:  # a robot's touch site rides on one of its links
                 raise UnknownNameError(f"{label}.link", "body", str(config.link), _body_names(spec))
             if spec.site(config.uid) is not None:
                 raise ConfigError(f"{label}: the model already has a site named {config.uid!r}; rename the sensor.")

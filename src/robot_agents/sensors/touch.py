@@ -37,8 +37,9 @@ class TouchSensorConfig:
     Attributes:
         uid: sensor name (also the name of the site it creates).
         link: body to put a new site on; or
-        site: an existing site of the model (then ``shape``, ``size``, ``pos``, ``quat``
-            are not used). Exactly one of ``link`` / ``site``.
+        site: an existing site of the model, which senses over its own shape and pose
+            (``shape``, ``size``, ``pos``, ``quat`` left at their defaults; others raise).
+            Exactly one of ``link`` / ``site``.
         shape: ``"box"``, ``"sphere"``, ``"capsule"``, ``"cylinder"`` or ``"ellipsoid"``.
         size: MuJoCo site size (m): box half extents (3), sphere radius (1), capsule /
             cylinder radius and half length (2), ellipsoid radii (3).
@@ -62,7 +63,22 @@ class TouchSensorConfig:
                 f"{where}: expected exactly one of link (a new site) or site (an existing one), "
                 f"got link={self.link!r}, site={self.site!r}."
             )
-        if self.shape not in SITE_SHAPES:
+        for name in ("link", "site"):
+            value = getattr(self, name)
+            if value is not None and (not isinstance(value, str) or not value):
+                raise ConfigError(f"{where}: expected {name} to be a non-empty name, got {value!r}.")
+        if self.site is not None:
+            given = [
+                f"{name}={getattr(self, name)!r}"
+                for name, default in _NEW_SITE_DEFAULTS.items()
+                if not _same(getattr(self, name), default)
+            ]
+            if given:
+                raise ConfigError(
+                    f"{where}: site={self.site!r} senses over that site's own shape and pose; expected no "
+                    f"shape, size, pos or quat (they shape a new site on a link), got {', '.join(given)}."
+                )
+        if not isinstance(self.shape, str) or self.shape not in SITE_SHAPES:
             raise ConfigError(f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}.")
         size = float_tuple(self.size, SITE_SHAPES[self.shape], f"size of a {self.shape} (m)", where)
         if min(size) <= 0:
@@ -70,6 +86,25 @@ class TouchSensorConfig:
         object.__setattr__(self, "size", size)
         object.__setattr__(self, "pos", float_tuple(self.pos, 3, "pos (m)", where))
         object.__setattr__(self, "quat", unit_quat_tuple(self.quat, where))
+
+
+#: The fields that shape a new site, with their defaults.
+_NEW_SITE_DEFAULTS: dict[str, object] = {
+    "shape": "box",
+    "size": (0.01, 0.01, 0.01),
+    "pos": (0.0, 0.0, 0.0),
+    "quat": (1.0, 0.0, 0.0, 0.0),
+}
+
+
+def _same(value: object, default: object) -> bool:
+    """``value`` equals ``default`` (a tuple compared element-wise, as any sequence)."""
+    if isinstance(default, tuple):
+        try:
+            return bool(np.array_equal(np.asarray(value, dtype=np.float64), np.asarray(default)))
+        except (TypeError, ValueError):
+            return False
+    return value == default
 
 
 class TouchReader:

@@ -33,8 +33,18 @@ Sources of the numbers:
   base). ``home`` comes first because the table-top tasks lay out their workspace from
   the first keyframe's tool, which must lie ahead of the arm.
 - Head camera: the D435i's colour camera on the ``realsense`` body of the head tilt link,
-  0.015 m along its y axis, with Menagerie's orientation and 58 deg vertical field of view:
-  at zero pan and tilt it looks along +x with the image in portrait (the D435i is mounted
+  0.015 m along its y axis, 58 deg vertical field of view (Menagerie's mount and fovy;
+  ``realsense`` is the URDF's ``camera_link``, (0.0406, 0.0053, 0.0307) m on
+  ``link_head_tilt`` through ``camera_bottom_screw_frame``). Its orientation is Hello
+  Robot's: ``stretch_urdf`` ``SE3/stretch_description_SE3_eoa_wrist_dw3_tool_sg3.urdf``
+  fixes ``camera_color_frame`` to ``camera_link`` unrotated and
+  ``camera_color_optical_frame`` (OpenCV axes) at rpy (-pi/2, 0, -pi/2) to it, so the
+  image's right is ``camera_link`` -y and its up is ``camera_link`` +z; our camera's
+  ``quat`` (MuJoCo axes: the optical frame turned pi about its x) is that frame.
+  Menagerie's ``quat=".5 -.5 -.5 .5"`` is that view rolled by 180 deg (image right =
+  world up at zero tilt; the real camera's image right is world down, which is why Hello
+  Robot's viewers turn it 90 deg clockwise to show it upright). At zero pan and tilt it
+  looks along +x with the image in portrait, the sky on its left (the D435i is mounted
   turned 90 deg on the robot).
 
 Our model: primitive shapes written for this library (no meshes); the planar base joints
@@ -143,12 +153,14 @@ STRETCH_BASE = Base(
 
 RUBBER_TIP = FrictionMaterial(sliding=1.5, torsional=0.02, rolling=0.001)
 
-#: The head's RealSense D435i colour camera (Menagerie's mount and field of view).
+#: The head's RealSense D435i colour camera (Menagerie's mount and field of view, the
+#: URDF's ``camera_color_optical_frame`` orientation: image right = ``camera_link`` -y,
+#: image up = ``camera_link`` +z).
 HEAD_CAMERA = CameraConfig(
     uid="head_camera",
     mount="realsense",
     pos=(0.0, 0.015, 0.0),
-    quat=(0.5, -0.5, -0.5, 0.5),
+    quat=(0.5, 0.5, -0.5, -0.5),
     width=128,
     height=128,
     fovy=58.0,

@@ -316,9 +316,15 @@ class Scene:
                 f"({', '.join(self.robot_ids)}), got {keyframes!r}."
             )
         for agent, frame in zip(self.agents, frames, strict=True):
-            names = agent.keyframe_names()
-            if frame is not None and (not isinstance(frame, str) or frame not in names):
-                raise UnknownNameError(f"{where} ({type(agent).__name__})", "keyframe", str(frame), names)
+            checked = agent.check()
+            if frame is not None and (not isinstance(frame, str) or checked.keyframe_name(frame) is None):
+                raise UnknownNameError(
+                    f"{where} ({type(agent).__name__})",
+                    "keyframe",
+                    str(frame),
+                    checked.keyframes,
+                    checked.keyframe_aliases,
+                )
         return frames
 
     # ------------------------------------------------------------------ state

@@ -547,6 +547,13 @@ def test_a_files_first_keyframe_answers_to_its_own_name_too(tmp_path: Path) -> N
         assert "Did you mean 'home'?" in str(err.value)
         assert "Available: 'default', 'home' (= 'default'), 'key2', 'ready'." in str(err.value)
     np.testing.assert_array_equal(scene.get_state()["physics"], before["physics"])  # nothing written
+    from robot_agents.real import SimulatedBus
+
+    bus = SimulatedBus(cls, keyframe="home")  # a bus started at a keyframe takes the alias too
+    np.testing.assert_allclose(bus.read()[0], [0.1, 0.2])
+    bus.close()
+    with pytest.raises(ra.errors.UnknownNameError, match=r"'home' \(= 'default'\)"):
+        SimulatedBus(cls, keyframe="hom")
     out = io.StringIO()
     from robot_agents.cli import main as cli_main
 

@@ -58,7 +58,8 @@ from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
-from robot_agents.model.loading import load_model_spec, urdf_velocity_limits
+from robot_agents.model.load_scope import load_spec, one_read_per_file
+from robot_agents.model.loading import urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
 from robot_agents.parts.declaration import Arm, Base, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
@@ -273,7 +274,7 @@ def _raw_spec(
     """The model file with every mounted piece attached (no options applied yet; the
     file alone with ``attached=False``), and the names of the joints of the robot's own
     file (not of its pieces)."""
-    spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
+    spec = load_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
     own = frozenset(j.name for j in spec.joints)
     for attachment in cls.attachments if attached else ():
         attach(spec, _raw_spec(attachment.piece, where)[0], attachment, where)
@@ -381,16 +382,17 @@ def _build(
 def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
-    checked = check(cls)
-    return _build(
-        cls,
-        cameras,
-        checked.derived_gains,
-        checked.compiler,
-        checked.derived_exclusions,
-        quiet=True,
-        pads=checked.derived_pads,
-    )[0]
+    with one_read_per_file():  # a class not checked yet: its check's reads are the build's
+        checked = check(cls)
+        return _build(
+            cls,
+            cameras,
+            checked.derived_gains,
+            checked.compiler,
+            checked.derived_exclusions,
+            quiet=True,
+            pads=checked.derived_pads,
+        )[0]
 
 
 @dataclass(frozen=True)
@@ -477,6 +479,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     cached = _CHECKED.get(cls)
     if cached is not None:
         return cached
+    with one_read_per_file():  # the robot's and its pieces' files parsed once each
+        checked = _check(cls)
+    _CHECKED[cls] = checked
+    return checked
+
+
+def _check(cls: type[AgentDefinition]) -> CheckedRobot:
+    """:func:`check`, uncached."""
     name = cls.__name__
     compiler = cls.compiler
     spec, drives = _build(cls, None, None, compiler)
@@ -709,7 +719,6 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         ),
         keyframe_aliases=aliases,
     )
-    _CHECKED[cls] = checked
     return checked
 
 

@@ -610,6 +610,10 @@ def test_a_files_keyframe_velocities_are_where_the_robot_starts(tmp_path: Path) 
         env.reset(seed=0)  # the default keyframe: the file's first
         np.testing.assert_array_equal(env.agent.qvel, [[0.5, -0.3], [0.5, -0.3]])
         assert not np.array_equal(env.agent.qpos, [[0.1, 0.2], [0.1, 0.2]])  # the noise did move them
+        env.reset(seed=0, options={"keyframe": "still"})
+        np.testing.assert_array_equal(env.agent.qvel, 0.0)
+        env.reset(seed=0, options={"keyframe": "swing"})  # the first keyframe by its file name
+        np.testing.assert_array_equal(env.agent.qvel, [[0.5, -0.3], [0.5, -0.3]])
         env.close()
     finally:
         ra.unregister_agent(cls.uid)

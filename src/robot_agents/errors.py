@@ -27,7 +27,7 @@ class UnknownNameError(RobotAgentsError, KeyError):
         self.kind = kind
         self.given = given
         self.aliases = dict(aliases or {})
-        self.available = sorted({*available, *self.aliases})
+        self.available = sorted([*available, *self.aliases])
         self.suggestions = close_names(given, self.available)
         super().__init__(self.message)
 

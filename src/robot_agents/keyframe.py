@@ -213,8 +213,9 @@ def resolve_keyframe(
     Raises:
         ConfigError / UnknownNameError: a pattern matches no joint, two patterns name one
             joint, a value has the wrong size, a position is outside its joint's limits,
-            a speed passes :data:`~robot_agents.limits.MAX_SPEED`, or a ball joint's quaternion is zero or turned beyond its range (a non-zero
-            one is normalized, in the returned ``qpos``). The message names
+            a speed passes :data:`~robot_agents.limits.MAX_SPEED`, or a ball joint's
+            quaternion is zero or turned beyond its range (a non-zero one is
+            normalized, in the returned ``qpos``). The message names
             ``where`` (the keyframe).
     """
     if not isinstance(frame, Keyframe):

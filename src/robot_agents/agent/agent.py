@@ -321,12 +321,15 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         qpos: FloatArray = self.keyframe(name, f"{type(self).__name__}.keyframe_qpos").qpos.copy()
         return qpos
 
-    def keyframe(self, name: str, where: str) -> ResolvedKeyframe:
-        """Keyframe ``name`` (or an alias of it) resolved to the robot's vectors.
+    def keyframe(self, name: str, where: str | None = None) -> ResolvedKeyframe:
+        """Keyframe ``name`` (or an alias of it) resolved to the robot's vectors: ``qpos``
+        ``(nq,)``, ``qvel`` ``(nv,)``, base pose ``(7,)`` and velocity ``(6,)`` (shared:
+        copy before changing them).
 
         Raises:
-            UnknownNameError: no keyframe has that name (``where`` names the call; the
-                keyframes and aliases listed)."""
+            UnknownNameError: no keyframe has that name (``where`` names the call in the
+                message; the keyframes and aliases listed)."""
+        where = where if where is not None else f"{type(self).__name__}.keyframe"
         checked = self.check()
         found = checked.keyframe_name(name) if isinstance(name, str) else None
         if found is None:

@@ -59,6 +59,7 @@ RUNS = {
     ("integrator_claims.py", "floating_panda_gripper", "160"): "| `floating_panda_gripper` | 160 |",
     ("mobile_pick_seeds.py", "spot", "--seeds", "1"): "| `spot` | 1/1 |",
     ("sleep_option.py", "--rounds", "1"): "round trip",
+    ("load_time.py", "--rounds", "1"): "| xarm6_robotiq (a fresh subclass) |",
     ("ik_reach.py", "--robots", "so100", "--count", "2", "--jacobians"): "| `so100` (position) | 5 |",
     ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
     ("task_throughput.py", "--rounds", "1", "--block", "2", "--batch-block", "1", "--maniskill-python", "/absent"): (

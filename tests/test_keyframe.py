@@ -183,3 +183,24 @@ def test_a_base_pose_on_a_fixed_root_robot_is_not_ignored_in_silence() -> None:
         raised = type("RaisedPanda", (Panda,), {"keyframes": {"up": ra.Keyframe(qpos={"panda_joint1": 0.0}, **base)}})
         with pytest.warns(RuntimeWarning, match=r"RaisedPanda.keyframes\['up'\]: base_pos .* they are ignored"):
             raised.check()
+
+
+def test_a_keyframe_carries_a_root_velocity_checked_like_its_speeds() -> None:
+    """``base_vel`` (MuJoCo's free-joint velocity) is six finite numbers; a fixed root
+    ignores it with a warning; a speed no robot reaches is refused at the class check,
+    where a reset would refuse it only when used."""
+    from robot_agents.limits import MAX_SPEED
+    from robot_agents.robots.panda.panda import Panda
+
+    assert ra.Keyframe().base_vel == (0.0,) * 6
+    with pytest.raises(ra.ConfigError, match=r"Keyframe.base_vel: expected 6 values, got 3"):
+        ra.Keyframe(base_vel=(1.0, 0.0, 0.0))
+    moving = type("MovingPanda", (Panda,), {"keyframes": {"up": ra.Keyframe(base_vel=(0.0, 0.0, 1.0, 0, 0, 0))}})
+    with pytest.warns(RuntimeWarning, match=r"MovingPanda.keyframes\['up'\]: base_vel .* root is fixed: it is ignored"):
+        checked = moving.check()
+    np.testing.assert_array_equal(checked.keyframes["up"].base_vel, np.zeros(6))
+    fast = type("FastPanda", (Panda,), {"keyframes": {"fast": ra.Keyframe(qvel={"panda_joint1": 2 * MAX_SPEED})}})
+    with pytest.raises(
+        ra.ConfigError, match=r"FastPanda.keyframes\['fast'\]: expected speeds below 10000 .* got up to 2e\+04"
+    ):
+        fast.check()

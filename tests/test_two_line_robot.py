@@ -516,8 +516,58 @@ def test_every_keyframe_of_a_file_is_kept_by_name(tmp_path: Path) -> None:
     scene.reset(keyframes="ready")
     scene.reset(env_ids=[1], keyframes="key2")
     np.testing.assert_allclose(scene.agents[0].qpos, [[0.5, -0.4], [-0.3, 0.6]])
-    with pytest.raises(ra.errors.UnknownNameError, match="read"):
-        scene.reset(keyframes="home")  # the first keyframe is "default", whatever its name in the file
+
+
+def test_a_files_first_keyframe_answers_to_its_own_name_too(tmp_path: Path) -> None:
+    # the first keyframe was reachable as "default" only: reset(keyframes="home") was refused,
+    # listing 'default'
+    keys = '<keyframe><key name="home" qpos="0.1 0.2"/><key name="ready" qpos="0.5 -0.4"/><key qpos="-0.3 0.6"/></keyframe>'
+    path = tmp_path / "home.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", keys + "</mujoco>"))
+    cls = two_line(path)
+    # listed once (sweeps over keyframes do not hold the same pose twice), the alias apart
+    assert cls.keyframe_names() == ["default", "ready", "key2"]
+    assert cls.keyframe_aliases() == {"home": "default"}
+    scene = scene_of(cls, num_envs=2)
+    agent = scene.agents[0]
+    scene.reset(keyframes="ready")
+    scene.reset(env_ids=[1], keyframes="home")
+    np.testing.assert_allclose(agent.qpos, [[0.5, -0.4], [0.1, 0.2]])
+    np.testing.assert_array_equal(agent.keyframe_qpos("home"), agent.keyframe_qpos("default"))
+    agent.reset("home", env_ids=[0])
+    np.testing.assert_allclose(agent.qpos, [[0.1, 0.2], [0.1, 0.2]])
+    before = scene.get_state()
+    for refused in (
+        lambda: scene.reset(keyframes="hom"),
+        lambda: agent.reset("hom"),
+        lambda: agent.keyframe_qpos("hom"),
+    ):
+        with pytest.raises(ra.errors.UnknownNameError) as err:
+            refused()
+        assert "Did you mean 'home'?" in str(err.value)
+        assert "Available: 'default', 'home' (= 'default'), 'key2', 'ready'." in str(err.value)
+    np.testing.assert_array_equal(scene.get_state()["physics"], before["physics"])  # nothing written
+    from robot_agents.real import SimulatedBus
+
+    bus = SimulatedBus(cls, keyframe="home")  # a bus started at a keyframe takes the alias too
+    np.testing.assert_allclose(bus.read()[0], [0.1, 0.2])
+    bus.close()
+    with pytest.raises(ra.errors.UnknownNameError, match=r"'home' \(= 'default'\)"):
+        SimulatedBus(cls, keyframe="hom")
+    out = io.StringIO()
+    from robot_agents.cli import main as cli_main
+
+    assert cli_main(["info", str(path)], out=out) == 0
+    assert "  default (also 'home'): qpos = [0.1000, 0.2000]" in out.getvalue()
+    # an unnamed first keyframe, or one named "default", has no other name; the first
+    # keyframe's name is taken: a later unnamed key at its place gets "_<i>"
+    for first, aliases in (('<key qpos="0.1 0.2"/>', {}), ('<key name="default" qpos="0.1 0.2"/>', {})):
+        path.write_text(PENDULUM_MJCF.replace("</mujoco>", f"<keyframe>{first}</keyframe></mujoco>"))
+        assert two_line(path).keyframe_aliases() == aliases
+    path.write_text(
+        PENDULUM_MJCF.replace("</mujoco>", '<keyframe><key name="key1" qpos="0.1 0.2"/><key/></keyframe></mujoco>')
+    )
+    assert two_line(path).keyframe_names() == ["default", "key1_1"]
 
 
 def test_a_floating_files_keyframes_each_rest_on_the_floor_in_their_own_orientation(tmp_path: Path) -> None:
@@ -538,3 +588,65 @@ def test_a_floating_files_keyframes_each_rest_on_the_floor_in_their_own_orientat
     np.testing.assert_allclose(checked.keyframes["side"].base[3:], [0.7071068, 0.7071068, 0, 0], atol=1e-6)
     # each lowered to rest 1 mm above the floor: lying on its side it rests lower than hanging
     assert 0 < checked.keyframes["side"].base[2] < checked.keyframes["default"].base[2]
+
+
+def test_a_files_keyframe_velocities_are_where_the_robot_starts(tmp_path: Path) -> None:
+    # a file key's qvel was dropped: every derived keyframe started at rest
+    keys = '<keyframe><key name="swing" qpos="0.1 0.2" qvel="0.5 -0.3"/><key name="still" qpos="0.5 -0.4"/></keyframe>'
+    path = tmp_path / "swing.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", keys + "</mujoco>"))
+    cls = two_line(path)
+    scene = scene_of(cls, num_envs=2)
+    agent = scene.agents[0]
+    scene.reset(keyframes="swing")
+    np.testing.assert_array_equal(agent.qvel, [[0.5, -0.3], [0.5, -0.3]])
+    scene.reset(env_ids=[1], keyframes="still")
+    np.testing.assert_array_equal(agent.qvel, [[0.5, -0.3], [0.0, 0.0]])
+    # the env's reset noise moves the positions and keeps the keyframe's velocities
+    ra.register_agent(cls, override=True)
+    try:
+        env = ra.make_env("Empty-v1", robot_uids=cls.uid, num_envs=2).unwrapped
+        assert env.robot_init_qpos_noise > 0
+        env.reset(seed=0)  # the default keyframe: the file's first
+        np.testing.assert_array_equal(env.agent.qvel, [[0.5, -0.3], [0.5, -0.3]])
+        assert not np.array_equal(env.agent.qpos, [[0.1, 0.2], [0.1, 0.2]])  # the noise did move them
+        env.reset(seed=0, options={"keyframe": "still"})
+        np.testing.assert_array_equal(env.agent.qvel, 0.0)
+        env.reset(seed=0, options={"keyframe": "swing"})  # the first keyframe by its file name
+        np.testing.assert_array_equal(env.agent.qvel, [[0.5, -0.3], [0.5, -0.3]])
+        env.close()
+    finally:
+        ra.unregister_agent(cls.uid)
+    # a floating robot's root velocity too: linear in the world (turned by the mount),
+    # angular in the root's own frame, as MuJoCo's free joint carries them
+    keys = '<keyframe><key qpos="0 0 2 1 0 0 0 0.1 0.2" qvel="0.1 0.2 0.3 0.4 0.5 0.6 0.7 -0.8"/></keyframe>'
+    path.write_text(
+        PENDULUM_MJCF.replace(
+            '<body name="base" pos="0 0 1.0">', '<body name="base" pos="0 0 1.0"><freejoint/>'
+        ).replace("</mujoco>", keys + "</mujoco>")
+    )
+    half = math.sqrt(0.5)
+    floating = scene_of(two_line(path, fix_root_link=False, mount_pose=(1.0, 0.0, 0.0, half, 0.0, 0.0, half)))
+    floating.reset()
+    free = floating.agents[0].index.free_joint
+    assert free is not None
+    np.testing.assert_array_equal(floating.agents[0].qvel, [[0.7, -0.8]])
+    root = floating.world.qvel[0, free.dof_adr : free.dof_adr + 6]
+    np.testing.assert_allclose(root, [-0.2, 0.1, 0.3, 0.4, 0.5, 0.6], atol=1e-15)  # 90 deg about z
+
+
+def test_a_files_keyframe_activations_are_not_written_and_a_note_says_so(tmp_path: Path) -> None:
+    servo = '<general joint="{}" dyntype="filter" dynprm="0.05" gainprm="10" biastype="affine" biasprm="0 -10 -1"/>'
+    extra = (
+        f"<actuator>{servo.format('shoulder')}{servo.format('elbow')}</actuator>"
+        '<keyframe><key name="home" qpos="0.1 0.2" act="0.1 0.2"/></keyframe>'
+    )
+    path = tmp_path / "filtered.xml"
+    path.write_text(PENDULUM_MJCF.replace("</mujoco>", extra + "</mujoco>"))
+    cls = two_line(path)
+    with pytest.warns(RuntimeWarning, match=r"keyframe\(s\) 'home' set actuator activations \(act\); a reset does not"):
+        cls.check()
+    scene = scene_of(cls)
+    scene.reset(keyframes="home")
+    np.testing.assert_array_equal(scene.world.physics_sources([0])[0].act, [0.0, 0.0])
+    np.testing.assert_allclose(scene.agents[0].qpos, [[0.1, 0.2]])

@@ -13,6 +13,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
+import numpy as np
+
 import robot_agents
 from robot_agents.agent import Agent
 from robot_agents.agent.declaration import composition
@@ -158,8 +160,16 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
         rows.append([name, f"{lo:.4f}", f"{hi:.4f}", effort, speed])
     _table(rows, out)
     out.write("\nkeyframes:\n")
+    aliases = cls.keyframe_aliases()
     for name in cls.keyframe_names():
-        out.write(f"  {name}: qpos = [{', '.join(f'{q:.4f}' for q in agent.keyframe_qpos(name))}]\n")
+        also = [alias for alias, target in aliases.items() if target == name]
+        label = name + (f" (also {', '.join(map(repr, also))})" if also else "")
+        frame = agent.keyframe(name, "robot-agents info")
+        out.write(f"  {label}: qpos = [{', '.join(f'{q:.4f}' for q in frame.qpos)}]\n")
+        if np.any(frame.qvel) or np.any(frame.base_vel):
+            speeds = ", ".join(f"{v:.4f}" for v in frame.qvel)
+            base = f", base_vel = [{', '.join(f'{v:.4f}' for v in frame.base_vel)}]" if np.any(frame.base_vel) else ""
+            out.write(f"  {' ' * len(label)}  qvel = [{speeds}]{base}\n")
     out.write("\n")
     rows = [["control mode", "action", "parts"]]
     for mode in cls.modes():

@@ -8,7 +8,7 @@ look-ups, *what* is available (with the closest names first).
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 
 class RobotAgentsError(Exception):
@@ -18,18 +18,27 @@ class RobotAgentsError(Exception):
 class UnknownNameError(RobotAgentsError, KeyError):
     """A name (robot uid, control mode, keyframe, joint, ...) that does not exist."""
 
-    def __init__(self, where: str, kind: str, given: str, available: Iterable[str]) -> None:
+    def __init__(
+        self, where: str, kind: str, given: str, available: Iterable[str], aliases: Mapping[str, str] | None = None
+    ) -> None:
+        """``aliases``: other names of available ones (alias -> name), listed and
+        suggested beside them (``'home' (= 'default')``)."""
         self.where = where
         self.kind = kind
         self.given = given
-        self.available = sorted(available)
+        self.aliases = dict(aliases or {})
+        self.available = sorted([*available, *self.aliases])
         self.suggestions = close_names(given, self.available)
         super().__init__(self.message)
 
     @property
     def message(self) -> str:
         hint = f" Did you mean {', '.join(repr(s) for s in self.suggestions)}?" if self.suggestions else ""
-        avail = ", ".join(repr(a) for a in self.available) if self.available else "(none)"
+        avail = (
+            ", ".join(repr(a) + (f" (= {self.aliases[a]!r})" if a in self.aliases else "") for a in self.available)
+            if self.available
+            else "(none)"
+        )
         return f"{self.where}: unknown {self.kind} {self.given!r}.{hint} Available: {avail}."
 
     def __str__(self) -> str:  # KeyError would otherwise quote the message

@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.limits import MAX_SPEED
 from robot_agents.patterns import as_patterns, match
 from robot_agents.validation import ball_angles, check_quat, check_quat_rows, outside_limits
 
@@ -79,12 +80,16 @@ class Keyframe:
             scene's ``robot_poses`` or its ``mount_pose``) and ignores it, with a warning.
         base_quat: root orientation as a unit quaternion ``(w, x, y, z)``, relative to
             the mount's orientation.
+        base_vel: root velocity ``(6,)`` as MuJoCo's free joint carries it: linear
+            (m/s) in the mount's frame, then angular (rad/s) in the root body's own
+            frame; zeros when omitted. A fixed root ignores a non-zero one, with a warning.
     """
 
     qpos: JointValues = field(default_factory=dict)
     qvel: JointValues | None = None
     base_pos: tuple[float, ...] = (0.0, 0.0, 0.0)
     base_quat: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)
+    base_vel: tuple[float, ...] = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "qpos", _as_values("qpos", self.qpos))
@@ -92,6 +97,7 @@ class Keyframe:
             object.__setattr__(self, "qvel", _as_values("qvel", self.qvel))
         object.__setattr__(self, "base_pos", _as_floats("base_pos", self.base_pos, 3))
         object.__setattr__(self, "base_quat", check_quat(self.base_quat, "Keyframe.base_quat"))
+        object.__setattr__(self, "base_vel", _as_floats("base_vel", self.base_vel, 6))
 
     @property
     def by_name(self) -> bool:
@@ -101,11 +107,13 @@ class Keyframe:
 
 @dataclass(frozen=True)
 class ResolvedKeyframe:
-    """A keyframe as the robot's vectors: ``qpos`` ``(nq,)``, ``qvel`` ``(nv,)``, base pose ``(7,)``."""
+    """A keyframe as the robot's vectors: ``qpos`` ``(nq,)``, ``qvel`` ``(nv,)``, base pose
+    ``(7,)`` and base velocity ``(6,)`` (:attr:`Keyframe.base_vel`; zeros for a fixed root)."""
 
     qpos: FloatArray
     qvel: FloatArray
     base: FloatArray
+    base_vel: FloatArray = field(default_factory=lambda: np.zeros(6))
 
 
 #: How far inside its range (a share of it) a joint whose default value lies outside
@@ -141,24 +149,52 @@ def default_qpos(index: RobotIndex, key: int = 0) -> FloatArray:
 
 
 #: The name of a robot's first keyframe when it declares none: the file's first
-#: keyframe (or its reference pose), whatever the file calls it.
+#: keyframe (or its reference pose); the file's own name of that keyframe is an alias of it.
 DEFAULT_KEYFRAME = "default"
 
 
 def file_keyframe_names(model: mujoco.MjModel) -> list[str]:
     """The names a robot declaring no keyframes gives its file's keyframes, in the file's
     order: the first is :data:`DEFAULT_KEYFRAME` (``"default"``: a model without
-    keyframes has that one alone), each other its own ``name``, an unnamed one
+    keyframes has that one alone; its own name in the file is another name of it,
+    :func:`file_keyframe_aliases`), each other its own ``name``, an unnamed one
     ``"key<i>"`` (``i`` its place among the file's keyframes, from 0: the third is
-    ``"key2"``), and a name already taken (``"default"``, or ``"key2"`` written on
-    another keyframe) gets ``"_<i>"`` added."""
+    ``"key2"``), and a name already taken (``"default"``, the first keyframe's own name,
+    or ``"key2"`` written on another keyframe) gets ``"_<i>"`` added."""
     names = [DEFAULT_KEYFRAME]
+    taken = {DEFAULT_KEYFRAME, *file_keyframe_aliases(model)}
     for key in range(1, model.nkey):
         name = model.key(key).name or f"key{key}"
-        while name in names:
+        while name in taken:
             name += f"_{key}"
         names.append(name)
+        taken.add(name)
     return names
+
+
+def file_keyframe_aliases(model: mujoco.MjModel) -> dict[str, str]:
+    """Other names of a robot's file keyframes, alias -> keyframe name: the file's own
+    name of its first keyframe (``<key name="home">``) names :data:`DEFAULT_KEYFRAME`
+    too, so both ``reset(keyframes="home")`` and ``"default"`` reach it. Empty when the
+    file has no keyframes or its first is unnamed or named ``"default"``."""
+    first = model.key(0).name if model.nkey > 0 else ""
+    return {first: DEFAULT_KEYFRAME} if first and first != DEFAULT_KEYFRAME else {}
+
+
+def file_keyframe(model: mujoco.MjModel, index: RobotIndex, key: int) -> Keyframe:
+    """The file's keyframe at place ``key`` (from 0) as the :class:`Keyframe` a robot
+    declaring none resolves: its joint velocities ``qvel`` (the robot's joints, in model
+    order), its positions left to the default the caller gives (:func:`default_qpos`),
+    and for a floating robot its root's velocity (:attr:`Keyframe.base_vel`). A model
+    without keyframes (``key`` 0): all zero. The file key's ``act`` (actuator
+    activations; the robot's check notes it) and mocap poses are not read (see
+    docs/defining-a-robot.md, "Keyframes by joint name")."""
+    if key >= model.nkey:
+        return Keyframe()
+    qvel = np.asarray(model.key_qvel[key], dtype=np.float64)
+    free = index.free_joint
+    base_vel = (0.0,) * 6 if free is None else tuple(float(v) for v in qvel[free.dof_adr : free.dof_adr + 6])
+    return Keyframe(qvel=tuple(float(v) for v in qvel[index.dof_adr]), base_vel=base_vel)
 
 
 #: How far (rad or m) a keyframe may put a follower from where its coupling puts it.
@@ -177,8 +213,9 @@ def resolve_keyframe(
     Raises:
         ConfigError / UnknownNameError: a pattern matches no joint, two patterns name one
             joint, a value has the wrong size, a position is outside its joint's limits,
-            or a ball joint's quaternion is zero or turned beyond its range (a non-zero
-            one is normalized, in the returned ``qpos``). The message names
+            a speed passes :data:`~robot_agents.limits.MAX_SPEED`, or a ball joint's
+            quaternion is zero or turned beyond its range (a non-zero one is
+            normalized, in the returned ``qpos``). The message names
             ``where`` (the keyframe).
     """
     if not isinstance(frame, Keyframe):
@@ -192,6 +229,19 @@ def resolve_keyframe(
     )
     _check_limits(qpos, index, where)
     base = np.array([*frame.base_pos, *frame.base_quat], dtype=np.float64)
+    base_vel = np.array(frame.base_vel, dtype=np.float64)
+    fastest = float(np.max(np.abs(np.concatenate([qvel, base_vel]))))
+    if fastest > MAX_SPEED:  # a reset would refuse it (limits.check_speeds)
+        raise ConfigError(
+            f"{where}: expected speeds below {MAX_SPEED:g} (rad/s or m/s) in qvel and base_vel, got up to {fastest:.3g}."
+        )
+    if index.free_joint is None and np.any(base_vel):
+        warnings.warn(
+            f"{where}: base_vel {frame.base_vel} moves a free root; this robot's root is fixed: it is ignored.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+        base_vel = np.zeros(6)
     if index.free_joint is None and not np.array_equal(base, IDENTITY_BASE):
         # not an error: a legged robot's variant with its root fixed (hung up to test its
         # legs) keeps the keyframes written for it standing
@@ -201,7 +251,7 @@ def resolve_keyframe(
             RuntimeWarning,
             stacklevel=2,
         )
-    return ResolvedKeyframe(qpos, qvel, base)
+    return ResolvedKeyframe(qpos, qvel, base, base_vel)
 
 
 def _fill(

@@ -42,6 +42,7 @@ from robot_agents.sensors.touch import TouchReader
 from robot_agents.validation import check_state_keys, is_real
 
 if TYPE_CHECKING:
+    from robot_agents.keyframe import ResolvedKeyframe
     from robot_agents.sim.backend import SimBackend
 
 FloatArray = npt.NDArray[np.float64]
@@ -82,7 +83,6 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         end_effectors = [ee for part in checked.parts if isinstance(part, Arm) for ee in part.end_effectors]
         self.frames = RobotFrames(model, self.index, end_effectors, name)
         self.state = JointState(world, self.index, np.asarray(mount_pose, dtype=np.float64).reshape(7), name)
-        self._resolved_keyframes = checked.keyframes
         self.touch_reader = TouchReader(model, prefix, declaration.composition(type(self)).touch_sensors)
         context = ControllerContext(
             num_envs=self.num_envs,
@@ -316,13 +316,25 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     # ------------------------------------------------------------------ reset / state
     def keyframe_qpos(self, name: str) -> FloatArray:
-        """Keyframe ``name`` as the robot's ``qpos`` vector ``(nq,)`` (a copy)."""
-        if not isinstance(name, str) or name not in self._resolved_keyframes:
-            raise UnknownNameError(
-                f"{type(self).__name__}.keyframe_qpos", "keyframe", str(name), self._resolved_keyframes
-            )
-        qpos: FloatArray = self._resolved_keyframes[name].qpos.copy()
+        """Keyframe ``name`` (or an alias of it: :meth:`keyframe_aliases`) as the robot's
+        ``qpos`` vector ``(nq,)`` (a copy)."""
+        qpos: FloatArray = self.keyframe(name, f"{type(self).__name__}.keyframe_qpos").qpos.copy()
         return qpos
+
+    def keyframe(self, name: str, where: str | None = None) -> ResolvedKeyframe:
+        """Keyframe ``name`` (or an alias of it) resolved to the robot's vectors: ``qpos``
+        ``(nq,)``, ``qvel`` ``(nv,)``, base pose ``(7,)`` and velocity ``(6,)`` (shared:
+        copy before changing them).
+
+        Raises:
+            UnknownNameError: no keyframe has that name (``where`` names the call in the
+                message; the keyframes and aliases listed)."""
+        where = where if where is not None else f"{type(self).__name__}.keyframe"
+        checked = self.check()
+        found = checked.keyframe_name(name) if isinstance(name, str) else None
+        if found is None:
+            raise UnknownNameError(where, "keyframe", str(name), checked.keyframes, checked.keyframe_aliases)
+        return checked.keyframes[found]
 
     def reset(
         self,
@@ -354,13 +366,12 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         frame = None
         if name is not None:
             if not isinstance(name, str):  # agent.reset([0]): the first argument is the keyframe
+                choices = ", ".join(map(repr, self.check().keyframe_choices()))
                 raise StateError(
                     f"{where}: expected a keyframe name (str) or None as the first argument, got {name!r}; "
-                    f"env ids go by keyword: reset(env_ids=...). Keyframes: {', '.join(map(repr, self._resolved_keyframes))}."
+                    f"env ids go by keyword: reset(env_ids=...). Keyframes: {choices}."
                 )
-            if name not in self._resolved_keyframes:
-                raise UnknownNameError(where, "keyframe", name, self._resolved_keyframes)
-            frame = self._resolved_keyframes[name]
+            frame = self.keyframe(name, where)
         if frame is None and qpos is None:
             raise StateError(f"{where}: {type(self).__name__} has no keyframes; pass qpos of shape ({self.nq},).")
         return self.state.prepare(ids, qpos, qvel, frame, where)

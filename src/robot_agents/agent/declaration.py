@@ -42,7 +42,15 @@ from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.task_space import MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
-from robot_agents.keyframe import Keyframe, ResolvedKeyframe, default_qpos, file_keyframe_names, resolve_keyframe
+from robot_agents.keyframe import (
+    Keyframe,
+    ResolvedKeyframe,
+    default_qpos,
+    file_keyframe,
+    file_keyframe_aliases,
+    file_keyframe_names,
+    resolve_keyframe,
+)
 from robot_agents.kinematics.forward import FrameKind, resolve_frame
 from robot_agents.model import robot_spec
 from robot_agents.model.compiler import CompilerSettings
@@ -50,7 +58,8 @@ from robot_agents.model.compiling import compile_spec
 from robot_agents.model.compose import Attachment, attach
 from robot_agents.model.decompose import Decomposition, decompose, note_nonconvex_fingers
 from robot_agents.model.fallbacks import compile_with_fallbacks
-from robot_agents.model.loading import load_model_spec, urdf_velocity_limits
+from robot_agents.model.load_scope import load_spec, one_read_per_file
+from robot_agents.model.loading import urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import FRICTION_CONES
 from robot_agents.parts.declaration import Arm, Base, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
@@ -276,7 +285,7 @@ def _raw_spec(
     """The model file with every mounted piece attached (no options applied yet; the
     file alone with ``attached=False``), and the names of the joints of the robot's own
     file (not of its pieces)."""
-    spec = load_model_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
+    spec = load_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
     own = frozenset(j.name for j in spec.joints)
     for attachment in cls.attachments if attached else ():
         attach(spec, _raw_spec(attachment.piece, where)[0], attachment, where)
@@ -384,16 +393,17 @@ def _build(
 def build_spec(cls: type[AgentDefinition], cameras: Sequence[CameraConfig] | None = None) -> mujoco.MjSpec:
     """A fresh MjSpec of the composed robot with every declared (or derived) option
     applied. ``cameras`` replaces the declared cameras (an env's overrides)."""
-    checked = check(cls)
-    return _build(
-        cls,
-        cameras,
-        checked.derived_gains,
-        checked.compiler,
-        checked.derived_exclusions,
-        quiet=True,
-        pads=checked.derived_pads,
-    )[0]
+    with one_read_per_file():  # a class not checked yet: its check's reads are the build's
+        checked = check(cls)
+        return _build(
+            cls,
+            cameras,
+            checked.derived_gains,
+            checked.compiler,
+            checked.derived_exclusions,
+            quiet=True,
+            pads=checked.derived_pads,
+        )[0]
 
 
 @dataclass(frozen=True)
@@ -419,6 +429,9 @@ class CheckedRobot:
             ``mount_pose``; for a fixed-base robot that declares none and would reach
             more than 5 mm into the floor at its default keyframe (a hand, a gripper),
             raised to rest 1 mm above it.
+        keyframe_aliases: other names of keyframes, alias -> keyframe name: for a robot
+            declaring no keyframes, its file's own name of the first (``{"home":
+            "default"}``; :func:`~robot_agents.keyframe.file_keyframe_aliases`).
         derived_pads: the finger bodies of a gripper the file implies, whose colliding
             geoms get the built-in Panda's stiff fingertip contact
             (:func:`robot_agents.model.robot_spec.set_pad_contact`; a body the robot
@@ -437,6 +450,16 @@ class CheckedRobot:
     derived_exclusions: tuple[tuple[str, str], ...] = ()
     mount_pose: tuple[float, ...] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
     derived_pads: tuple[str, ...] = ()
+    keyframe_aliases: dict[str, str] = dataclasses.field(default_factory=dict)
+
+    def keyframe_name(self, name: str) -> str | None:
+        """The keyframe ``name`` is (itself or the one it is an alias of), ``None`` when none."""
+        name = self.keyframe_aliases.get(name, name)
+        return name if name in self.keyframes else None
+
+    def keyframe_choices(self) -> list[str]:
+        """Every name a keyframe answers to: the keyframes', then the aliases."""
+        return [*self.keyframes, *self.keyframe_aliases]
 
 
 _CHECKED: weakref.WeakKeyDictionary[type, CheckedRobot] = weakref.WeakKeyDictionary()
@@ -467,6 +490,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
     cached = _CHECKED.get(cls)
     if cached is not None:
         return cached
+    with one_read_per_file():  # the robot's and its pieces' files parsed once each
+        checked = _check(cls)
+    _CHECKED[cls] = checked
+    return checked
+
+
+def _check(cls: type[AgentDefinition]) -> CheckedRobot:
+    """:func:`check`, uncached."""
     name = cls.__name__
     compiler = cls.compiler
     spec, drives = _build(cls, None, None, compiler)
@@ -516,6 +547,7 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
                 stacklevel=3,
             )
     keyframes = {}
+    aliases: dict[str, str] = {}
     mount = mount_pose(cls)
     # a floating robot's mount turns it (a file drawn y-up stands under a mount turned about x)
     mount_quat = None if tuple(mount[3:]) == (1.0, 0.0, 0.0, 0.0) else np.array(mount[3:])
@@ -523,11 +555,14 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         default = _composed_default(cls, index)
         for key, frame in cls.keyframes.items():
             keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
-    else:  # every keyframe of the file, the first as "default" (file_keyframe_names)
+    else:  # every keyframe of the file, the first as "default" (file_keyframe_names), with its velocities
+        aliases = file_keyframe_aliases(model)
+        _note_file_activations(name, index)
         for number, key in enumerate(file_keyframe_names(model)):
             default = _composed_default(cls, index, number)
             _note_file_keyframe_moved(name, index, default, number)
-            keyframes[key] = resolve_keyframe(Keyframe(), index, f"{name}.keyframes[{key!r}]", default)
+            frame = file_keyframe(model, index, number)
+            keyframes[key] = resolve_keyframe(frame, index, f"{name}.keyframes[{key!r}]", default)
             if index.free_joint is not None:
                 base = resting_base(model, index, keyframes[key].qpos, mount_quat, number)
                 keyframes[key] = dataclasses.replace(keyframes[key], base=base)
@@ -693,8 +728,8 @@ def check(cls: type[AgentDefinition]) -> CheckedRobot:
         derived_pads=tuple(
             dict.fromkeys(link for p in own_parts if is_jaw_gripper(p) for f in p.finger_links for link in f)
         ),
+        keyframe_aliases=aliases,
     )
-    _CHECKED[cls] = checked
     return checked
 
 
@@ -774,6 +809,26 @@ def _note_file_keyframe_moved(name: str, index: RobotIndex, default: np.ndarray,
             "(declare keyframes to choose).",
             RuntimeWarning,
             stacklevel=3,
+        )
+
+
+def _note_file_activations(name: str, index: RobotIndex) -> None:
+    """A note when the file's keyframes set actuator activations (``act``, for actuators
+    with their own dynamics: a filter, an integrator), which a reset does not write: it
+    sets the robot's joints (positions, velocities) and the control mode's targets, and
+    an activation starts where the scene's does (zero), then follows the controls the
+    mode gives. Writing the file's would start an actuator on a command the mode did
+    not give."""
+    model = index.model
+    keys = [k for k in range(model.nkey) if model.na and np.any(model.key_act[k])]
+    if keys:
+        names = ", ".join(repr(model.key(k).name or f"key{k}") for k in keys[:4])
+        warnings.warn(
+            f"{name}: the model file's keyframe(s) {names}{' ...' if len(keys) > 4 else ''} set actuator activations "
+            "(act); a reset does not: activations start at zero and follow the control mode's commands (joint "
+            "positions and velocities are the keyframe's).",
+            RuntimeWarning,
+            stacklevel=4,
         )
 
 

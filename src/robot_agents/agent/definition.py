@@ -153,8 +153,16 @@ class AgentDefinition:
 
     @classmethod
     def keyframe_names(cls) -> list[str]:
-        """Keyframe names, the default first (``["default"]`` for a robot that declares none)."""
+        """Keyframe names, the default first (``["default"]`` for a robot that declares none),
+        each keyframe once (an alias is not listed: :meth:`keyframe_aliases`)."""
         return list(cls.check().keyframes)
+
+    @classmethod
+    def keyframe_aliases(cls) -> dict[str, str]:
+        """Other names keyframes answer to, alias -> keyframe name: a robot declaring no
+        keyframes answers to its model file's own name of its first keyframe beside
+        ``"default"`` (``{"home": "default"}``); empty otherwise."""
+        return dict(cls.check().keyframe_aliases)
 
     @classmethod
     def default_keyframe(cls) -> str | None:

@@ -168,6 +168,16 @@ class JointState:
         """World pose of a keyframe's base ``(7,)`` given relative to the mount."""
         return mounted_pose(self.mount_pose, base)
 
+    def keyframe_base_vel(self, base_vel: FloatArray) -> FloatArray:
+        """World velocity of a free base ``(6,)`` (MuJoCo's free joint: linear in the world,
+        angular in the body's frame) from a keyframe's, whose linear part is in the mount's
+        frame: turned by the mount's orientation."""
+        if not np.any(base_vel):
+            return np.zeros(6)  # (exact zeros: no -0.0 from the turn)
+        turned = np.array(base_vel, dtype=np.float64)
+        mujoco.mju_rotVecQuat(turned[:3], np.asarray(base_vel[:3], dtype=np.float64), self.mount_pose[3:])
+        return turned
+
     def prepare(
         self,
         ids: IntArray,
@@ -191,7 +201,8 @@ class JointState:
         if frame is not None and len(self._free_qpos):
             base = np.broadcast_to(self.keyframe_base(frame.base), (n, 7))
             new_qpos = np.concatenate([new_qpos, base], axis=1)
-            new_qvel = np.concatenate([new_qvel, np.zeros((n, 6))], axis=1)
+            base_vel = np.broadcast_to(self.keyframe_base_vel(frame.base_vel), (n, 6))
+            new_qvel = np.concatenate([new_qvel, base_vel], axis=1)
             qpos_adr = np.concatenate([qpos_adr, self._free_qpos])
             dof_adr = np.concatenate([dof_adr, self._free_dofs])
         return JointWrite(ids, qpos_adr, new_qpos, dof_adr, np.asarray(new_qvel))

@@ -415,7 +415,8 @@ class RobotEnv(gym.Env[Any, Any]):
         one robot after the other, from the env's stream); drawn again while it puts a
         robot geom more than :data:`RESET_PENETRATION_TOLERANCE` deeper into a fixed
         geom or another robot geom than the noiseless keyframe does (up to
-        :data:`RESET_NOISE_DRAWS` draws, then the keyframe itself)."""
+        :data:`RESET_NOISE_DRAWS` draws, then the keyframe itself). Joint velocities stay
+        the keyframe's."""
         clearance = self.clearance
         std = self.robot_init_qpos_noise
         rows = [np.empty((len(ids), agent.qpos_adr.size)) for agent in self.agents]
@@ -436,7 +437,7 @@ class RobotEnv(gym.Env[Any, Any]):
             for agent_rows, row in zip(rows, draws, strict=True):
                 agent_rows[k] = row
         for agent, agent_rows in zip(self.agents, rows, strict=True):
-            agent.reset(qpos=agent_rows, env_ids=ids)
+            agent.reset(qpos=agent_rows, qvel=agent.qvel[ids], env_ids=ids)  # the keyframe's velocities kept
 
     @property
     def clearance(self) -> Clearance:

@@ -41,9 +41,10 @@ class SimulatedBus:
         mode = "pd_joint_pos" if "pd_joint_pos" in cls.modes() else None
         self.scene = Scene(cls, sim_freq=sim_freq, control_freq=control_freq, control_modes=mode)
         self.agent = self.scene.agents[0]
-        if keyframe is not None and keyframe not in cls.keyframe_names():
+        checked = cls.check()
+        if keyframe is not None and checked.keyframe_name(keyframe) is None:
             self.scene.close()
-            raise UnknownNameError("SimulatedBus", "keyframe", keyframe, list(cls.keyframe_names()))
+            raise UnknownNameError("SimulatedBus", "keyframe", keyframe, checked.keyframes, checked.keyframe_aliases)
         if cls.keyframe_names():
             self.scene.reset(keyframes=keyframe)
         # the drives take every target kind they are sent (position, velocity

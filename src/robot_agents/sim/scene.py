@@ -17,6 +17,7 @@ from robot_agents.agent import Agent
 from robot_agents.agent.agent import CONTROL_STATE_KEYS, JOINT_STATE_KEYS
 from robot_agents.agent.declaration import composition
 from robot_agents.errors import ConfigError, StateError, UnknownNameError
+from robot_agents.model.load_scope import one_read_per_file
 from robot_agents.model.physics_twin import physics_twin
 from robot_agents.model.scene import Prop, RobotMount, SceneOptions, compile_scene, compose_scene
 from robot_agents.registry import agent_class
@@ -123,35 +124,36 @@ class Scene:
             raise ConfigError(f"Scene: expected a robot uid, an Agent subclass, or a sequence of them, got {robots!r}.")
         if not specifiers:
             raise ConfigError("Scene: expected at least one robot, got none.")
-        classes = [agent_class(r, "Scene") for r in specifiers]
-        if sim_freq is None:
-            sim_freq = default_sim_freq(classes)
-        for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
-            if not is_whole(value) or value <= 0:
-                raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
-        if sim_freq % control_freq:
-            raise ConfigError(
-                f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
+        with one_read_per_file():  # each model file parsed once for the checks and builds below
+            classes = [agent_class(r, "Scene") for r in specifiers]
+            if sim_freq is None:
+                sim_freq = default_sim_freq(classes)
+            for name, value in (("sim_freq", sim_freq), ("control_freq", control_freq)):
+                if not is_whole(value) or value <= 0:
+                    raise ConfigError(f"Scene: expected {name} to be a positive integer (Hz), got {value!r}.")
+            if sim_freq % control_freq:
+                raise ConfigError(
+                    f"Scene: expected sim_freq to be a multiple of control_freq, got sim_freq={sim_freq}, control_freq={control_freq}."
+                )
+            poses = self._poses(robot_poses, [cls.check().mount_pose for cls in classes])
+            modes = self._modes(control_modes, len(classes))
+            self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
+            self.props = tuple(props)
+            self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
+            planned = plan_cameras(
+                [(rid, composition(cls).cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)],
+                cameras,
+                sensor_configs,
             )
-        poses = self._poses(robot_poses, [cls.check().mount_pose for cls in classes])
-        modes = self._modes(control_modes, len(classes))
-        self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
-        self.props = tuple(props)
-        self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
-        planned = plan_cameras(
-            [(rid, composition(cls).cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)],
-            cameras,
-            sensor_configs,
-        )
-        mounts = [
-            RobotMount(
-                prefix=f"{rid}/",
-                spec=cls.build_spec(cameras=[c.config for c in planned if c.robot == rid]),
-                pos=tuple(p[:3]),  # type: ignore[arg-type]
-                quat=tuple(p[3:]),  # type: ignore[arg-type]
-            )
-            for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
-        ]
+            mounts = [
+                RobotMount(
+                    prefix=f"{rid}/",
+                    spec=cls.build_spec(cameras=[c.config for c in planned if c.robot == rid]),
+                    pos=tuple(p[:3]),  # type: ignore[arg-type]
+                    quat=tuple(p[3:]),  # type: ignore[arg-type]
+                )
+                for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
+            ]
         cone, impratio = contact_options(classes)
         options = SceneOptions(timestep=1.0 / sim_freq, floor=floor, cone=cone, impratio=impratio)
         self.spec = compose_scene(mounts, self.props, options, [c.config for c in planned if c.robot is None])
@@ -316,9 +318,15 @@ class Scene:
                 f"({', '.join(self.robot_ids)}), got {keyframes!r}."
             )
         for agent, frame in zip(self.agents, frames, strict=True):
-            names = agent.keyframe_names()
-            if frame is not None and (not isinstance(frame, str) or frame not in names):
-                raise UnknownNameError(f"{where} ({type(agent).__name__})", "keyframe", str(frame), names)
+            checked = agent.check()
+            if frame is not None and (not isinstance(frame, str) or checked.keyframe_name(frame) is None):
+                raise UnknownNameError(
+                    f"{where} ({type(agent).__name__})",
+                    "keyframe",
+                    str(frame),
+                    checked.keyframes,
+                    checked.keyframe_aliases,
+                )
         return frames
 
     # ------------------------------------------------------------------ state

@@ -270,8 +270,9 @@ def step_responses(
             f"{where}: {cls.__name__} has no {STEP_MODE!r} mode to step joint targets in; "
             f"its modes: {', '.join(modes)}."
         )
-    if keyframe is not None and keyframe not in cls.keyframe_names():
-        raise UnknownNameError(where, "keyframe", keyframe, cls.keyframe_names())
+    checked = cls.check()
+    if keyframe is not None and checked.keyframe_name(keyframe) is None:
+        raise UnknownNameError(where, "keyframe", keyframe, checked.keyframes, checked.keyframe_aliases)
     rate = int(sim_freq) if sim_freq is not None else default_sim_freq([cls])
     # one physics step per control step: every step recorded
     scene = Scene(cls, sim_freq=rate, control_freq=rate, control_modes=STEP_MODE)

@@ -10,7 +10,9 @@ stream and one render camera per env. Another task, robot or scene whose arrays
 happen to have the same shapes would take such a state and go on from something that
 never happened. :data:`SOURCE_FIELDS` is what decides that meaning:
 
-- ``task``: the task class, ``"<module>.<qualified name>"``;
+- ``task``: the task class's qualified name (``"PickCubeEnv"``; not its module, so a
+  task class defined in a script, ``__main__`` there, is the same task imported from it
+  elsewhere);
 - ``robots``: the scene's robot ids (``"<uid>-<k>"``, in order);
 - ``num_envs``, ``sim_freq`` / ``control_freq`` (Hz), ``sleep``;
 - ``robot_poses``: each robot's world pose ``(x, y, z, qw, qx, qy, qz)``;
@@ -65,7 +67,7 @@ def state_source(task: type, scene: Scene) -> dict[str, Any]:
     """The fingerprint of the states an env of class ``task`` on ``scene`` saves (a new
     dict of plain data at every call)."""
     return {
-        "task": f"{task.__module__}.{task.__qualname__}",
+        "task": task.__qualname__,
         "robots": list(scene.robot_ids),
         "num_envs": int(scene.num_envs),
         "sim_freq": int(scene.sim_freq),

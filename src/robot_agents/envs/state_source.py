@@ -26,7 +26,7 @@ colours and friction, and changes made to ``env.model`` after the env was built.
 
 The fingerprint is plain data (str, int, float, bool, None, lists and dicts of them),
 the same in every process: it pickles and compares without the env that made it.
-Numbers are compared to a relative :data:`SOURCE_RTOL`, so a layout computed on
+Numbers are compared to :data:`SOURCE_RTOL`, relative (absolute near zero), so a layout computed on
 another CPU (whose vectorized NumPy may round a last bit otherwise) still matches.
 """
 
@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 
 #: The fields of a state's ``"source"`` (see the module doc).
 SOURCE_FIELDS = ("task", "robots", "num_envs", "sim_freq", "control_freq", "sleep", "robot_poses", "props")
-#: Relative tolerance of the numbers compared (poses, sizes, masses).
+#: Tolerance of the numbers compared (poses, sizes, masses): relative, and absolute near zero.
 SOURCE_RTOL = 1e-9
 
 

@@ -377,7 +377,7 @@ def test_render_frames_the_robot_whatever_its_size() -> None:
         env.reset(seed=0)
         assert env.render().shape == (120, 160, 3)
         u = env.unwrapped
-        shares[uid] = (robot_pixel_share(u, u._render_camera), robot_pixel_share(u, "render_camera"))
+        shares[uid] = (robot_pixel_share(u, u._render_cameras[0]), robot_pixel_share(u, "render_camera"))
         env.close()
     framed, fixed = shares["floating_panda_gripper"]
     assert framed > 3 * fixed

@@ -134,7 +134,7 @@ def test_a_misspelt_state_key_is_refused_not_ignored(env) -> None:  # type: igno
     assert_unchanged(env, lambda: u.set_state(vector_state), ra.StateError, "RobotVectorEnv.set_state")
     assert_unchanged(env, lambda: u.scene.set_state(state), ra.StateError, "restore it with RobotEnv.set_state")
     robot = {**state, "agents": [agent_state]}  # a robot's own state in the scene's list: its joints would be lost
-    assert_unchanged(env, lambda: u.set_state(robot), ra.StateError, "['base_pose', 'qpos', 'qvel']")
+    assert_unchanged(env, lambda: u.set_state(robot), ra.StateError, "['base_pose', 'qpos', 'qvel', 'warmstart']")
     extra = {**agent_state, "control_modes": agent_state["control_mode"]}
     assert_unchanged(env, lambda: u.agent.set_state(extra), ra.StateError, "did you mean 'control_mode'?")
     drives = {**agent_state, "drives": {**agent_state["drives"], "positions": agent_state["drives"]["position"]}}

@@ -213,6 +213,73 @@ def test_agent_state_round_trip_and_rejection() -> None:
     assert agent.control_mode == "pd_joint_target_delta_pos"
 
 
+def _agent_round_trip(uid: str, drop: tuple[str, ...] = ()) -> float:
+    """Largest difference (time left out) between the physics state 15 steps after a
+    robot's own state was saved, and after it was restored (keys ``drop`` left out) once
+    3 other steps had moved the robot on: 0.0 for a bit-identical continuation."""
+    env = ra.make_env("Empty-v1", robot_uids=uid).unwrapped
+    env.reset(seed=0)
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, (20, *env.action_space.shape))
+    for action in actions[:5]:
+        env.step(action)
+    saved = {key: value for key, value in env.agent.get_state().items() if key not in drop}
+    for action in actions[5:]:
+        env.step(action)
+    expected = env.get_state()["physics"][:, 1:]
+    for action in actions[5:8]:
+        env.step(action)
+    env.agent.set_state(saved)
+    for action in actions[5:]:
+        env.step(action)
+    difference = float(np.abs(env.get_state()["physics"][:, 1:] - expected).max())
+    env.close()
+    return difference
+
+
+@pytest.mark.parametrize("uid", ["unitree_go2", "anymal_c", "panda"])
+def test_a_robots_own_state_continues_exactly(uid: str) -> None:
+    """With the rest of the scene as it was, ``Agent.set_state`` continues bit for bit:
+    the state holds a free base's velocity (the Go2's base kept moving as it was at the
+    restore: 0.044 rad apart 15 steps on) and the solver's warm start of the robot's dofs
+    (cleared, ANYmal C's feet on the floor ended 4.5e-5 apart). An older state without
+    them still restores, as before."""
+    assert _agent_round_trip(uid) == 0.0
+    if uid == "unitree_go2":
+        assert _agent_round_trip(uid, drop=("base_velocity",)) > 1e-3
+    if uid == "anymal_c":
+        assert _agent_round_trip(uid, drop=("warmstart",)) > 1e-6
+
+
+def test_a_base_velocity_and_a_warm_start_are_checked() -> None:
+    """A ``base_velocity`` for a robot without a free base, one of another shape or
+    faster than ``MAX_SPEED``, and a warm start of another shape or with NaN are refused
+    before anything is written."""
+    env = ra.make_env("Empty-v1", robot_uids="unitree_go2", num_envs=2).unwrapped
+    env.reset(seed=0)
+    env.step(np.full((2, 12), 0.3))
+    agent = env.agent
+    saved = agent.get_state()
+    assert saved["base_velocity"].shape == (2, 6) and saved["warmstart"].shape == (2, 18)
+    before = env.get_state()
+    for key, bad, fragment in (
+        ("base_velocity", np.zeros((2, 5)), r"expected base_velocity of shape \(6,\) or \(2, 6\)"),
+        ("base_velocity", np.full(6, 1e5), "base_velocity"),
+        ("warmstart", np.zeros((2, 12)), r"expected warmstart of shape \(18,\) or \(2, 18\)"),
+        ("warmstart", np.full((2, 18), np.nan), "warmstart contains NaN"),
+    ):
+        with pytest.raises(ra.StateError, match=fragment):
+            agent.set_state({**saved, key: bad})
+        assert repr(env.get_state()) == repr(before)
+    panda = ra.make_env("Empty-v1", robot_uids="panda").unwrapped
+    panda.reset(seed=0)
+    state = panda.agent.get_state()
+    assert "base_velocity" not in state and state["warmstart"].shape == (1, 9)
+    with pytest.raises(ra.StateError, match="has no free base"):
+        panda.agent.set_state({**state, "base_velocity": np.zeros(6)})
+    env.close()
+    panda.close()
+
+
 def test_a_state_pushed_past_a_joint_limit_restores() -> None:
     """Joint limits are soft: random end-effector poses press the Panda's joints past
     them (0.056 rad here, up to 0.13 rad measured), and what ``get_state`` saved there

@@ -312,7 +312,7 @@ def test_the_render_camera_frames_the_robots_in_portrait_images_too(render_size:
     assert frame.shape == (render_size[1], render_size[0], 3)
     env_ = env.unwrapped
     lower, upper = env_._render_bounds()
-    camera = env_._render_camera
+    camera = env_._render_cameras[0]
     radius = float(np.linalg.norm(upper - lower)) / 2
     width, height = render_size
     half_fovy = math.radians(float(env_.render_model.vis.global_.fovy)) / 2
@@ -352,7 +352,7 @@ def test_a_restored_state_renders_as_where_it_was_saved() -> None:
     env = ra.make_env("Empty-v1", **kwargs).unwrapped
     env.reset(seed=0)
     unframed = env.get_state()
-    assert unframed["render_camera"] is None
+    assert unframed["render_camera"] == [None]
     env.render()
     for _ in range(15):
         env.step(np.ones(8))
@@ -371,7 +371,7 @@ def test_a_restored_state_renders_as_where_it_was_saved() -> None:
     other.set_state(saved)
     np.testing.assert_array_equal(other.render(), frame)
     other.set_state(unframed)
-    assert other.get_state()["render_camera"] is None
+    assert other.get_state()["render_camera"] == [None]
     for made in (env, fresh, other):
         made.close()
 
@@ -532,3 +532,77 @@ def test_point_cloud_is_the_depth_image_back_projected() -> None:
             )
         start += h * w
     assert start == cloud["pointcloud"]["xyzw"].shape[1]
+
+
+def test_each_env_of_a_batch_renders_as_a_single_env_in_its_state() -> None:
+    """Env ``i``'s frame in a batch is that of a single env seeded ``s + i`` after the
+    same actions, bit for bit: each env's camera frames the robots in that env (all were
+    framed from env 0's robots: 1555 and 1836 of 9216 values differed in envs 1 and 2).
+    A reset of some envs frames those again and leaves the others' cameras as they were."""
+    kwargs: dict[str, Any] = {"robot_uids": "panda", "render_mode": "rgb_array", "render_size": (64, 48)}
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, (5, 3, 8))
+    batch = ra.make_env("PickCube-v1", num_envs=3, **kwargs).unwrapped
+    batch.reset(seed=4)
+    singles = [ra.make_env("PickCube-v1", **kwargs).unwrapped for _ in range(3)]
+    for i, single in enumerate(singles):
+        single.reset(seed=4 + i)
+    for action in actions:
+        batch.step(action)
+        for single, row in zip(singles, action, strict=True):
+            single.step(row)
+    frames = batch.render()
+    for i, single in enumerate(singles):
+        np.testing.assert_array_equal(frames[i], single.render())
+    cameras = batch.get_state()["render_camera"]
+    assert len(cameras) == 3 and not np.array_equal(cameras[0], cameras[1])
+    batch.reset(seed=9, options={"env_ids": [1]})  # env 1 is seeded 9 + 1
+    singles[1].reset(seed=10)
+    for action in actions[:2]:
+        batch.step(action)
+        for single, row in zip(singles, action, strict=True):
+            single.step(row)
+    frames = batch.render()
+    for i, single in enumerate(singles):
+        np.testing.assert_array_equal(frames[i], single.render())
+    for env in (batch, *singles):
+        env.close()
+
+
+def test_the_render_cameras_of_a_batch_are_saved_per_env() -> None:
+    """``state["render_camera"]`` holds one camera per env (``None``: framed at the next
+    render); the older forms (``None``, or one camera that framed every env) give every
+    env that entry; a list of another length is refused before anything is written."""
+    kwargs: dict[str, Any] = {"robot_uids": "panda", "num_envs": 2, "render_mode": "rgb_array", "render_size": (48, 36)}
+    env = ra.make_env("Empty-v1", **kwargs).unwrapped
+    env.reset(seed=0)
+    assert env.get_state()["render_camera"] == [None, None]
+    frames = env.render()
+    saved = env.get_state()
+    fresh = ra.make_env("Empty-v1", **kwargs).unwrapped
+    fresh.set_state(saved)
+    np.testing.assert_array_equal(fresh.render(), frames)
+    for bad in ([saved["render_camera"][0]], [None, None, None], [None, [0.0] * 5]):
+        with pytest.raises(ra.StateError, match="render_camera"):
+            fresh.set_state({**saved, "render_camera": bad})
+    np.testing.assert_array_equal(fresh.get_state()["render_camera"], saved["render_camera"])
+    fresh.set_state({**saved, "render_camera": saved["render_camera"][0]})  # one camera for every env
+    restored = fresh.get_state()["render_camera"]
+    np.testing.assert_array_equal(restored[1], saved["render_camera"][0])
+    np.testing.assert_array_equal(fresh.render()[0], frames[0])
+    fresh.set_state({**saved, "render_camera": None})
+    assert fresh.get_state()["render_camera"] == [None, None]
+    np.testing.assert_array_equal(fresh.render(), frames)  # framed again from the same poses
+    env.close()
+    fresh.close()
+
+
+def test_a_render_bounds_hook_without_the_env_is_refused() -> None:
+    """``_render_bounds`` frames one env's camera: a task written for the one camera of
+    env 0 (no parameter) is told the signature instead of failing at its first render."""
+
+    class OldEnv(ra.RobotEnv):
+        def _render_bounds(self) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[override]
+            return self._robots_extent()
+
+    with pytest.raises(ra.ConfigError, match=r"OldEnv._render_bounds: expected a method taking the env"):
+        OldEnv(robot_uids="panda")

@@ -51,7 +51,7 @@ BoolArray = npt.NDArray[np.bool_]
 #: The keys of :meth:`Agent.get_control_state` (``base``: a planar base's dynamics).
 CONTROL_STATE_KEYS = ("control_mode", "controller", "drives", "base")
 #: The joint keys :meth:`Agent.get_state` adds to them.
-JOINT_STATE_KEYS = ("qpos", "qvel", "base_pose")
+JOINT_STATE_KEYS = ("qpos", "qvel", "base_pose", "base_velocity", "warmstart")
 
 
 class Agent(MobileManipulatorAPI, AgentDefinition):
@@ -412,9 +412,20 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         return arrays
 
     def get_state(self) -> dict[str, Any]:
-        """The robot's own state: joint state, base pose, control mode, controller state
-        and drive targets."""
-        return {"qpos": self.qpos, "qvel": self.qvel, "base_pose": self.base_pose, **self.get_control_state()}
+        """The robot's own state: joint state, base pose, for a free base (a legged robot,
+        a floating hand) its velocity ``base_velocity`` ``(num_envs, 6)`` (linear m/s in the
+        world frame, angular rad/s in the base's frame: MuJoCo's free-joint ``qvel``), the
+        constraint solver's ``warmstart`` of the robot's dofs (``(num_envs, nv)``, ``nv + 6``
+        with a free base; rad/s^2, m/s^2), control mode, controller state and drive targets.
+
+        With the rest of the scene as it was, :meth:`set_state` continues bit for bit;
+        what else the scene holds (props, other robots, time, sensor readings) is the
+        scene's or env's state."""
+        state: dict[str, Any] = {"qpos": self.qpos, "qvel": self.qvel, "base_pose": self.base_pose}
+        if self.state.has_free_base:
+            state["base_velocity"] = self.state.base_velocity
+        state["warmstart"] = self.state.warmstart
+        return {**state, **self.get_control_state()}
 
     def get_control_state(self) -> dict[str, Any]:
         """The control part of :meth:`get_state`: ``control_mode``, ``controller`` state,
@@ -430,7 +441,10 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         return state
 
     def set_state(self, state: Mapping[str, Any]) -> None:
-        """Restore :meth:`get_state`; everything is checked before anything is written."""
+        """Restore :meth:`get_state`; everything is checked before anything is written.
+        The solver's warm start of the robot's dofs is restored and the other dofs' kept;
+        an older state without ``warmstart`` clears every dof's, as a reset does (and one
+        without ``base_velocity`` leaves a free base moving as it is)."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         if isinstance(state, Mapping):
@@ -438,7 +452,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         checked = self.state.check_state(state, where)
         targets = self.check_control_state(state, where)
         self.restore_control_state(state, targets)
-        self.state.write_state(*checked)
+        self.state.write_state(checked)
         self.drives.write(self.world.ctrl)
 
     def check_control_state(self, state: Mapping[str, Any], where: str) -> DriveTargetState | None:

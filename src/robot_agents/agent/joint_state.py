@@ -60,6 +60,19 @@ class JointWrite:
     qvel: FloatArray
 
 
+@dataclass(frozen=True)
+class StateWrite:
+    """:meth:`Agent.set_state`'s joint part, checked (every array ``(num_envs, k)``):
+    ``qpos`` / ``qvel`` of the joints, a free base's ``base`` pose and ``base_velocity``,
+    the solver's ``warmstart`` of the robot's dofs (``None``: not in the state)."""
+
+    qpos: FloatArray
+    qvel: FloatArray
+    base: FloatArray | None
+    base_velocity: FloatArray | None
+    warmstart: FloatArray | None
+
+
 class JointState:
     """Joint reads and writes of one robot (``index``) in ``world``.
 
@@ -75,6 +88,8 @@ class JointState:
         free = index.free_joint
         self._free_qpos = np.arange(free.qpos_adr, free.qpos_adr + 7) if free is not None else np.zeros(0, np.int64)
         self._free_dofs = np.arange(free.dof_adr, free.dof_adr + 6) if free is not None else np.zeros(0, np.int64)
+        #: The dofs of the robot's state: its joints', then a free base's.
+        self._state_dofs = np.concatenate([np.asarray(index.dof_adr, dtype=np.int64), self._free_dofs])
         self._balls = [(j.qpos_start, j.dof_start) for j in index.joints if j.kind is JointKind.BALL]
         self._limited_balls = [j for j in index.joints if j.kind is JointKind.BALL and j.limited]
 
@@ -151,6 +166,26 @@ class JointState:
         qvel: FloatArray = self.world.qvel[:, self.index.dof_sel].copy()
         return qvel
 
+    @property
+    def has_free_base(self) -> bool:
+        """Whether the robot's root moves on a free joint (a legged robot, a floating hand)."""
+        return len(self._free_dofs) > 0
+
+    @property
+    def base_velocity(self) -> FloatArray:
+        """A free base's velocity ``(num_envs, 6)``: linear (m/s, world frame), then
+        angular (rad/s, the base's own frame), MuJoCo's free-joint ``qvel`` (a copy)."""
+        velocity: FloatArray = self.world.qvel[:, self._free_dofs].copy()
+        return velocity
+
+    @property
+    def warmstart(self) -> FloatArray:
+        """The constraint solver's warm start of the robot's dofs ``(num_envs, nv + 6)``
+        for a free base, else ``(num_envs, nv)`` (rad/s^2, m/s^2: its joints', then the
+        free base's; a copy)."""
+        warm: FloatArray = self.world.qacc_warmstart[:, self._state_dofs].copy()
+        return warm
+
     def views(self) -> list[FloatArray]:
         """``qpos`` and ``qvel`` as read-only views where possible."""
         return [self.world.qpos[:, self.index.qpos_sel], self.world.qvel[:, self.index.dof_sel]]
@@ -226,7 +261,7 @@ class JointState:
         clipped: FloatArray = np.clip(qpos, self.index.qpos_limits[:, 0], self.index.qpos_limits[:, 1])
         return clipped
 
-    def check_state(self, state: Any, where: str) -> tuple[FloatArray, FloatArray, FloatArray | None]:
+    def check_state(self, state: Any, where: str) -> StateWrite:
         """Validate :meth:`Agent.get_state`'s joint part; returns what :meth:`write_state` takes."""
         if not isinstance(state, Mapping):
             raise StateError(f"{where}: expected a dict from get_state(), got {type(state).__name__}.")
@@ -251,12 +286,32 @@ class JointState:
             # a restored get_state() quaternion is unit to rounding and kept bit for bit
             off = np.abs(norms - 1.0) > 1e-9
             base[off, 3:] /= norms[off, None]
-        return qpos, qvel, base
+        velocity = None
+        if "base_velocity" in state:  # an older state without it leaves the base moving as it is
+            if not self.has_free_base:
+                raise StateError(
+                    f"{where}: got a base_velocity, but this robot has no free base (its root is fixed or moves "
+                    "on joints of its own, in qvel)."
+                )
+            velocity = self.batch(state["base_velocity"], self.num_envs, 6, "base_velocity", where)
+            check_speeds(velocity, where, "base_velocity")
+        warm = None
+        if "warmstart" in state:  # an older state without it: the warm start is cleared, as at a reset
+            warm = self.batch(state["warmstart"], self.num_envs, len(self._state_dofs), "warmstart", where)
+        return StateWrite(qpos, qvel, base, velocity, warm)
 
-    def write_state(self, qpos: FloatArray, qvel: FloatArray, base: FloatArray | None) -> None:
-        """Write joint state (and a free base pose) of every env, exactly as given."""
-        qpos_adr, dof_adr = self.index.qpos_adr, self.index.dof_adr
-        if base is not None and len(self._free_qpos):
-            qpos = np.concatenate([qpos, base], axis=1)
+    def write_state(self, write: StateWrite) -> None:
+        """Write joint state (a free base's pose and velocity, the solver's warm start of
+        the robot's dofs) of every env, exactly as given; without a warm start every dof's
+        is cleared, as at a reset."""
+        qpos, qvel, qpos_adr, dof_adr = write.qpos, write.qvel, self.index.qpos_adr, self.index.dof_adr
+        if write.base is not None and len(self._free_qpos):
+            qpos = np.concatenate([qpos, write.base], axis=1)
             qpos_adr = np.concatenate([qpos_adr, self._free_qpos])
-        self.world.write_joint_state(np.arange(self.num_envs), qpos_adr, qpos, dof_adr, qvel)
+        velocity = write.base_velocity
+        if velocity is None and write.warmstart is not None and self.has_free_base:
+            velocity = self.base_velocity  # the warm start covers the base's dofs: its velocity stays
+        if velocity is not None:
+            qvel = np.concatenate([qvel, velocity], axis=1)
+            dof_adr = self._state_dofs
+        self.world.write_joint_state(np.arange(self.num_envs), qpos_adr, qpos, dof_adr, qvel, warmstart=write.warmstart)

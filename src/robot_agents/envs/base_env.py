@@ -10,6 +10,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -25,6 +26,7 @@ from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
 from robot_agents.envs.state_obs import StateObservation
+from robot_agents.envs.state_source import check_source, state_source
 from robot_agents.errors import (
     ActionError,
     ConfigError,
@@ -175,6 +177,12 @@ class RobotEnv(gym.Env[Any, Any]):
         if unknown:  # a misspelt keyword (gymnasium.make passes every keyword here)
             given = sorted(unknown)[0]
             raise UnknownNameError(type(self).__name__, "keyword argument", given, task_keywords(type(self)))
+        if not inspect.signature(self._render_bounds).parameters:  # written for the one camera of env 0
+            raise ConfigError(
+                f"{type(self).__name__}._render_bounds: expected a method taking the env whose render camera it "
+                "frames (def _render_bounds(self, env: int = 0), e.g. returning self._robots_extent(env)), got one "
+                "without parameters."
+            )
         mode = parse_obs_mode(obs_mode, type(self).__name__)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise UnknownNameError(type(self).__name__, "render_mode", str(render_mode), self.metadata["render_modes"])
@@ -212,7 +220,8 @@ class RobotEnv(gym.Env[Any, Any]):
         self._env_rngs: list[np.random.Generator | None] = [None] * self.num_envs
         self._closed = False
         self._renderer: mujoco.Renderer | None = None
-        self._render_camera: mujoco.MjvCamera | None = None
+        #: Per env, :meth:`render`'s framing camera (``None``: framed at the next render).
+        self._render_cameras: list[mujoco.MjvCamera | None] = [None] * self.num_envs
         self._single = self.num_envs == 1
         self._plain_task = (
             type(self).evaluate is RobotEnv.evaluate and type(self).compute_reward is RobotEnv.compute_reward
@@ -257,14 +266,16 @@ class RobotEnv(gym.Env[Any, Any]):
         goal; :mod:`robot_agents.envs.markers`): never seen by the cameras."""
         return ()
 
-    def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
-        """World box ``(lower, upper)`` the render camera frames: the robots' extent."""
-        return self._robots_extent()
+    def _render_bounds(self, env: int = 0) -> tuple[FloatArray, FloatArray]:
+        """World box ``(lower, upper)`` (m) the render camera of env ``env`` frames: the
+        robots' extent in that env (read nothing of another env: each env's frame is
+        that of a single env in its state)."""
+        return self._robots_extent(env)
 
-    def _robots_extent(self, above: float = -np.inf) -> tuple[FloatArray, FloatArray]:
-        """World box ``(lower, upper)`` around the robots' geoms centred at least
-        ``above`` (m, world z) high (:func:`~robot_agents.sensors.framing.robot_bounds`)."""
-        return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids], above=above)
+    def _robots_extent(self, env: int = 0, above: float = -np.inf) -> tuple[FloatArray, FloatArray]:
+        """World box ``(lower, upper)`` around the robots' geoms in env ``env`` centred at
+        least ``above`` (m, world z) high (:func:`~robot_agents.sensors.framing.robot_bounds`)."""
+        return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids], env=env, above=above)
 
     def env_rng(self, env: int) -> np.random.Generator:
         """The random stream of env ``env`` (seeded by :meth:`reset`; unseeded: from
@@ -407,7 +418,8 @@ class RobotEnv(gym.Env[Any, Any]):
             self._perturb_robots(ids)
         self._initialize_episode(ids)
         self.elapsed_steps[ids] = 0
-        self._render_camera = None
+        for env in ids:  # framed again at the next render, from the new episode
+            self._render_cameras[env] = None
         return self._get_obs(), {"elapsed_steps": self.elapsed_steps.copy()}
 
     def _perturb_robots(self, ids: npt.NDArray[np.int64]) -> None:
@@ -553,30 +565,31 @@ class RobotEnv(gym.Env[Any, Any]):
         """Exact state for :meth:`set_state`: the scene's (physics, sensors, controllers,
         drive targets), the episode step counts, the task's per-episode arrays
         (:attr:`episode_state`: its goals), each env's random stream (the draws of
-        its next resets) and :meth:`render`'s framing camera."""
+        its next resets), :meth:`render`'s framing camera of each env, and ``"source"``:
+        what made the state (task, robots, scene; :mod:`robot_agents.envs.state_source`),
+        which :meth:`set_state` checks."""
         self._check_open(f"{type(self).__name__}.get_state")
         return {
             **self.scene.get_state(),
             "elapsed_steps": self.elapsed_steps.copy(),
             "episode": {name: np.array(getattr(self, name), dtype=np.float64) for name in self.episode_state},
             "rng": [None if rng is None else rng.bit_generator.state for rng in self._env_rngs],
-            "render_camera": self._render_camera_state(),
+            "render_camera": [_camera_state(camera) for camera in self._render_cameras],
+            "source": state_source(type(self), self.scene),
         }
-
-    def _render_camera_state(self) -> FloatArray | None:
-        """:meth:`render`'s framing camera as ``(lookat x, y, z, distance, azimuth,
-        elevation)``, ``None`` before it was framed (after a reset, until the next render)."""
-        camera = self._render_camera
-        if camera is None:
-            return None
-        return np.array([*camera.lookat, camera.distance, camera.azimuth, camera.elevation], dtype=np.float64)
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state`; continuing with the same actions is bit-identical,
         through later resets too (an older state without the task's arrays or the random
         streams restores the rest). A restored control mode brings its action and
         observation spaces back (as :meth:`set_control_mode` does). Everything is checked
-        before anything is written."""
+        before anything is written.
+
+        A state saved by another task, other robots or another scene (its ``"source"``,
+        :mod:`robot_agents.envs.state_source`) is refused with :class:`StateError` naming
+        the first field that differs, this env's value and the state's. A state without
+        ``"source"`` (saved before states recorded it) is restored unchecked, with a
+        ``UserWarning``."""
         where = f"{type(self).__name__}.set_state"
         self._check_open(where)
         given = state if isinstance(state, Mapping) else {}
@@ -590,6 +603,8 @@ class RobotEnv(gym.Env[Any, Any]):
             else "",
         )
         episode_checks.check_num_envs(given, self.num_envs, where)
+        if "source" in given:
+            check_source(given["source"], state_source(type(self), self.scene), where)
         steps = (
             episode_checks.check_elapsed_steps(given["elapsed_steps"], self.num_envs, where)
             if "elapsed_steps" in given
@@ -598,12 +613,23 @@ class RobotEnv(gym.Env[Any, Any]):
         shapes = {name: np.shape(getattr(self, name)) for name in self.episode_state}
         episode = episode_checks.check_arrays(given["episode"], shapes, where) if "episode" in given else None
         rngs = episode_checks.generators(given["rng"], self.num_envs, where) if "rng" in given else None
-        camera = episode_checks.render_camera(given["render_camera"], where) if "render_camera" in given else None
+        cameras = (
+            episode_checks.render_cameras(given["render_camera"], self.num_envs, where)
+            if "render_camera" in given
+            else None
+        )
         modes = [agent.control_mode for agent in self.agents]
         # the scene's part (a state that is no dict: the scene names what it takes)
         self.scene.set_state(
             {key: given[key] for key in SCENE_STATE_KEYS if key in given} if isinstance(state, Mapping) else state
         )
+        if "source" not in given:  # said once the state was taken, not for one refused anyway
+            warnings.warn(
+                f"{where}: the state has no 'source' (it was saved before states recorded what made them): "
+                "restored without checking that it comes from this task, these robots and this scene.",
+                UserWarning,
+                stacklevel=2,
+            )
         if [agent.control_mode for agent in self.agents] != modes:
             self._update_spaces()
         if steps is not None:
@@ -613,14 +639,15 @@ class RobotEnv(gym.Env[Any, Any]):
                 getattr(self, name)[...] = array
         if rngs is not None:
             self._env_rngs = rngs
-        if "render_camera" in given:  # the frames render() draws follow the state, not this env's past
-            self._render_camera = None if camera is None else framed_camera(camera)
+        if cameras is not None:  # the frames render() draws follow the state, not this env's past
+            self._render_cameras = [None if camera is None else framed_camera(camera) for camera in cameras]
 
     def render(self) -> Any:
-        """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), seen by a
-        camera that frames the robots from their extent in env 0 at the first render after
-        a reset; :meth:`get_state` saves that camera, so a restored state renders as it
-        did where it was saved."""
+        """An RGB frame (uint8 ``H x W x 3``) per env (one for ``num_envs == 1``), each seen
+        by a camera of its own that frames the robots from their extent in that env
+        (:meth:`_render_bounds`) at its first render after a reset: env ``i``'s frame is
+        that of a single env in env ``i``'s state. :meth:`get_state` saves the cameras,
+        so a restored state renders as it did where it was saved."""
         self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
             gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
@@ -628,19 +655,21 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._renderer is None:
             width, height = self.render_size
             self._renderer = make_renderer(self.scene.render_model, width, height)
-        if self._render_camera is None:  # framed once per reset, from the robots' extent (and the task's)
-            lower, upper = self._render_bounds()
-            width, height = self.render_size
-            self._render_camera = framing_camera(
-                lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy), aspect=width / height
-            )
+        cameras = self._render_cameras
+        for env, camera in enumerate(cameras):
+            if camera is None:  # framed once per reset, from the robots' extent (and the task's)
+                lower, upper = self._render_bounds(env)
+                width, height = self.render_size
+                cameras[env] = framing_camera(
+                    lower, upper, fovy=float(self.scene.render_model.vis.global_.fovy), aspect=width / height
+                )
         frames = []
         for env, data in enumerate(self.scene.world.render_sources()):
             # Twice, as the sensor cameras do: MuJoCo lays the floor out around the camera
             # of the *previous* update, so one update made a frame depend on what was
             # drawn before (a renderer's first frame, a re-framed camera after a reset).
-            self._renderer.update_scene(data, camera=self._render_camera)
-            self._renderer.update_scene(data, camera=self._render_camera)
+            self._renderer.update_scene(data, camera=cameras[env])
+            self._renderer.update_scene(data, camera=cameras[env])
             draw_markers(self._renderer.scene, self._render_markers(env))
             frames.append(self._renderer.render().copy())
         return frames[0] if self._single else np.stack(frames)
@@ -668,3 +697,11 @@ class RobotEnv(gym.Env[Any, Any]):
             self._renderer = None
         self.scene.close()
         self._closed = True
+
+
+def _camera_state(camera: mujoco.MjvCamera | None) -> FloatArray | None:
+    """A framing camera as ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m,
+    deg, deg), ``None`` before it was framed (after a reset, until the next render)."""
+    if camera is None:
+        return None
+    return np.array([*camera.lookat, camera.distance, camera.azimuth, camera.elevation], dtype=np.float64)

@@ -12,7 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError, close_names
-from robot_agents.validation import check_array, is_whole
+from robot_agents.validation import check_array, is_real, is_whole
 
 
 def check_seeds(seed: Any, num_envs: int, where: str) -> list[int | None]:
@@ -117,22 +117,44 @@ def generators(state: Any, num_envs: int, where: str) -> list[np.random.Generato
     return out
 
 
-def render_camera(value: Any, where: str) -> npt.NDArray[np.float64] | None:
-    """A state's ``render_camera``: ``None`` (framed at the next render) or the framing
-    camera ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m, deg, deg), finite
-    with a distance > 0."""
-    if value is None:
-        return None
+def _camera(value: Any, what: str, where: str) -> npt.NDArray[np.float64]:
+    """One framing camera ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m, deg,
+    deg), finite with a distance > 0 (``what`` names it)."""
     try:
         camera = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         camera = np.full(1, np.nan)
     if camera.shape != (6,) or not np.all(np.isfinite(camera)) or camera[3] <= 0:
         raise StateError(
-            f"{where}: expected render_camera to be None or 6 finite numbers (lookat x, y, z, distance > 0, "
+            f"{where}: expected {what} to be None or 6 finite numbers (lookat x, y, z, distance > 0, "
             f"azimuth, elevation), got {value!r:.80}."
         )
     return camera
+
+
+def render_cameras(value: Any, num_envs: int, where: str) -> list[npt.NDArray[np.float64] | None]:
+    """A state's ``render_camera``: per env, ``None`` (framed at the next render) or the
+    framing camera ``(lookat x, y, z, distance, azimuth, elevation)`` (m, m, deg, deg),
+    finite with a distance > 0. The older forms, one entry for every env (``None`` or one
+    camera: env 0's, which framed them all), give every env that entry."""
+    if value is None:
+        return [None] * num_envs
+    per_env = (isinstance(value, (list, tuple)) and not all(is_real(entry) for entry in value)) or (
+        isinstance(value, np.ndarray) and value.ndim == 2
+    )
+    expected = (
+        f"{where}: expected render_camera to be a list of {num_envs} entries (one per env), each None or 6 finite "
+        "numbers (lookat x, y, z, distance > 0, azimuth, elevation)"
+    )
+    if not per_env:  # one camera for every env
+        try:
+            camera = _camera(value, "render_camera", where)
+        except StateError:
+            raise StateError(f"{expected}, got {value!r:.80}.") from None
+        return [camera.copy() for _ in range(num_envs)]
+    if len(value) != num_envs:
+        raise StateError(f"{expected}, got {len(value)} entries.")
+    return [None if entry is None else _camera(entry, f"render_camera[{k}]", where) for k, entry in enumerate(value)]
 
 
 def check_num_envs(state: Mapping[str, Any], num_envs: int, where: str) -> None:

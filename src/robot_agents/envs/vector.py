@@ -26,7 +26,9 @@ on its own. A reset of some envs (``options={"reset_mask": mask}`` or ``{"env_id
 env ``i`` with ``s + i`` and a list gives one seed per env, as Gymnasium's sync and async
 vector envs do; each env draws from its own stream, so env ``i`` of a batch is bit for bit
 a single env seeded ``s + i`` (a reset env is stepped with the others and then reset:
-the reset restores its whole integration state, so the discarded step leaves no trace).
+the reset restores its whole integration state, so the discarded step leaves no trace),
+and :meth:`RobotVectorEnv.render` draws its frame as that single env would (each env's
+camera frames that env's robots, at its first render after its reset).
 
 ``info`` holds one entry per env for every key (arrays with a leading ``num_envs`` axis);
 for an env reset in the step, the task's metrics (``success``, ...) describe its new
@@ -308,7 +310,8 @@ class RobotVectorEnv(VectorEnv):
 
     # -- the rest --------------------------------------------------------------------------
     def render(self) -> Any:
-        """One RGB frame per env, ``(num_envs, H, W, 3)`` (``render_mode="rgb_array"``)."""
+        """One RGB frame per env, ``(num_envs, H, W, 3)`` (``render_mode="rgb_array"``),
+        each that of a single env in that env's state (:meth:`RobotEnv.render`)."""
         frames = self.env.render()
         return None if frames is None else np.asarray(frames).reshape(self.num_envs, *np.shape(frames)[-3:])
 

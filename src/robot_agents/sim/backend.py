@@ -43,6 +43,11 @@ class SimBackend(Protocol):
         """Joint velocities ``(num_envs, nv)``, read-only."""
 
     @property
+    def qacc_warmstart(self) -> FloatArray:
+        """The constraint solver's warm start ``(num_envs, nv)`` (rad/s^2, m/s^2): the
+        accelerations the next step's solver starts from, read-only."""
+
+    @property
     def time(self) -> FloatArray:
         """Simulated time (s), ``(num_envs,)``."""
 
@@ -81,11 +86,14 @@ class SimBackend(Protocol):
         dof_adr: npt.ArrayLike,
         qvel: FloatArray,
         forward: bool = True,
+        warmstart: FloatArray | None = None,
     ) -> None:
         """Set joint positions and velocities of some envs. ``forward``: recompute every
         derived quantity (contacts, sensors, ...); ``False``: body and camera poses only,
         for a write after a step that only moves bodies (the next step recomputes the
-        rest from the joint state)."""
+        rest from the joint state). ``warmstart`` ``(n, len(dof_adr))``: the solver's warm
+        start of those dofs (the others' kept, a saved state restored); ``None``: every
+        dof's cleared (a new configuration)."""
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
         """Reset envs to one integration state."""

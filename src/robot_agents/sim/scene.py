@@ -38,7 +38,7 @@ DEFAULT_CONTROL_FREQ = 20
 SCENE_STATE_KEYS = ("physics", "sleep", "sensors", "agents")
 #: The keys :meth:`RobotEnv.get_state` adds to the scene's (named when given to
 #: :meth:`Scene.set_state`).
-ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng", "render_camera")
+ENV_STATE_KEYS = ("elapsed_steps", "episode", "rng", "render_camera", "source")
 
 RobotSpecifier = str | type[Agent]
 
@@ -139,6 +139,11 @@ class Scene:
             modes = self._modes(control_modes, len(classes))
             self.sim_freq, self.control_freq = int(sim_freq), int(control_freq)
             self.props = tuple(props)
+            #: Each robot's world pose ``(x, y, z, qw, qx, qy, qz)`` (m, unit quaternion), in
+            #: the order of :attr:`robot_ids`.
+            self.robot_poses = tuple(tuple(float(v) for v in pose) for pose in poses)
+            #: Whether MuJoCo's island sleeping is on (the ``sleep`` argument).
+            self.sleep = sleep
             self.robot_ids = [f"{cls.uid or cls.__name__}-{i}" for i, cls in enumerate(classes)]
             planned = plan_cameras(
                 [(rid, composition(cls).cameras) for rid, cls in zip(self.robot_ids, classes, strict=True)],

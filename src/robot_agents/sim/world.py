@@ -277,6 +277,12 @@ class BatchedWorld:
         return self._gather("qvel")
 
     @property
+    def qacc_warmstart(self) -> FloatArray:
+        """The constraint solver's warm start, shape ``(num_envs, nv)`` (rad/s^2, m/s^2;
+        read-only): the accelerations the next step's solver starts from."""
+        return self._gather("qacc_warmstart")
+
+    @property
     def time(self) -> FloatArray:
         """Simulated time of each env in seconds, shape ``(num_envs,)``."""
         return np.array([d.time for d in self.datas])
@@ -386,13 +392,16 @@ class BatchedWorld:
         dof_adr: npt.ArrayLike,
         qvel: FloatArray,
         forward: bool = True,
+        warmstart: FloatArray | None = None,
     ) -> None:
         """Set ``qpos[qpos_adr]`` and ``qvel[dof_adr]`` of the ``n`` envs ``env_ids``
         (``(n,)`` ints): ``qpos`` ``(n, len(qpos_adr))`` (rad, m, unit quaternions) and
         ``qvel`` ``(n, len(dof_adr))`` (rad/s, m/s), one row per env in ``env_ids`` order;
         copy the ``ctrl`` buffer into those envs' controls, clear the solver's warm start
-        and recompute derived quantities (``forward=False``: body and camera poses only, as
-        after a step: ``mj_kinematics``, ``mj_camlight``)."""
+        (or, given ``warmstart`` ``(n, len(dof_adr))`` in rad/s^2 and m/s^2, set that of
+        ``dof_adr`` and keep the other dofs': a saved state restored) and recompute derived
+        quantities (``forward=False``: body and camera poses only, as after a step:
+        ``mj_kinematics``, ``mj_camlight``)."""
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
         if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
@@ -401,7 +410,10 @@ class BatchedWorld:
             data = self._data0
             self._qpos0[qa] = qpos[0]
             self._qvel0[da] = qvel[0]
-            self._warmstart0.fill(0.0)
+            if warmstart is None:
+                self._warmstart0.fill(0.0)
+            else:
+                self._warmstart0[da] = warmstart[0]
             self._data_ctrl0[:] = self._ctrl0
             _derive(model, data, forward)
             self._cache.clear()
@@ -413,7 +425,10 @@ class BatchedWorld:
         for row, env in enumerate(ids):
             data_qpos[env][qa] = qpos[row]
             data_qvel[env][da] = qvel[row]
-            warmstarts[env].fill(0.0)
+            if warmstart is None:
+                warmstarts[env].fill(0.0)
+            else:
+                warmstarts[env][da] = warmstart[row]
             data_ctrl[env][:] = ctrl[env]
             _derive(model, datas[env], forward)
         self._cache.clear()

@@ -162,10 +162,10 @@ class TableTopEnv(RobotEnv):
     def _scene_cameras(self) -> Sequence[CameraConfig]:
         return (base_camera(self.layout),)
 
-    def _render_bounds(self) -> tuple[FloatArray, FloatArray]:
+    def _render_bounds(self, env: int = 0) -> tuple[FloatArray, FloatArray]:
         layout = self.layout
         # a robot on a pedestal: the arm over its table, not the pedestal under them
-        lower, upper = self._robots_extent(above=layout.table_height if layout.pedestal else -np.inf)
+        lower, upper = self._robots_extent(env, above=layout.table_height if layout.pedestal else -np.inf)
         s = layout.spawn_half_size * 2.0
         box = np.array([[-s, -s, layout.table_height], [s, s, layout.table_height + s]])
         return np.minimum(lower, box[0]), np.maximum(upper, box[1])

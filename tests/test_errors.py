@@ -840,3 +840,79 @@ def test_a_base_dynamics_of_another_type_is_a_library_error() -> None:
     with pytest.raises(ra.ConfigError, match="dynamics must be"):
         ra.Base(name="base", joints=("x",), dynamics=np.array(["dynamic"]))  # type: ignore[arg-type]
     env.close()
+
+
+def test_the_model_file_options_are_one_list_checked_by_name_and_type(pendulum_file: Path) -> None:
+    """``robot_from_file`` and ``resolve_robot`` take :class:`FileOptions`' fields (one
+    list, no longer two kept in step by hand); a misspelt option is named with the close
+    ones (was Python's ``TypeError``), and an option of the wrong type is refused
+    (``floating="no"`` gave a free root: a non-empty string is true)."""
+    import dataclasses
+    import inspect
+
+    from robot_agents.cli import build_parser
+    from robot_agents.robot_source import UP_AXES, FileOptions, resolve_robot, robot_from_file
+
+    names = [option.name for option in dataclasses.fields(FileOptions)]
+    for function in (robot_from_file, resolve_robot):
+        assert list(inspect.signature(function).parameters)[1:] == names
+    # the command line's flags are the same options, with the same defaults
+    args = build_parser().parse_args(["info", "panda"])
+    assert {name: getattr(args, name) for name in names} == dataclasses.asdict(FileOptions())
+    # as documented: floating positional or by name, the others by name
+    assert robot_from_file(pendulum_file, True).fix_root_link is False
+    assert resolve_robot(str(pendulum_file), floating=True).fix_root_link is False
+    assert robot_from_file(pendulum_file, up="y").mount_pose == (0.0, 0.0, 0.0, *UP_AXES["y"])
+    file = str(pendulum_file)
+    refused: list[tuple[Callable[[], object], type[Exception], str]] = [
+        (
+            lambda: robot_from_file(pendulum_file, flaoting=True),
+            ra.UnknownNameError,
+            "robot_from_file: unknown option 'flaoting'. Did you mean 'floating'?",
+        ),
+        (
+            lambda: resolve_robot(file, at_axes="x"),
+            ra.UnknownNameError,
+            "resolve_robot: unknown option 'at_axes'. Did you mean 'at_axis'?",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, True, "z", None, None, None, "z", 1),
+            ra.ConfigError,
+            "too many positional arguments; the options after the path are floating, up, gripper",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, True, floating=True),
+            ra.ConfigError,
+            "multiple values for argument 'floating'",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, floating="no"),
+            ra.ConfigError,
+            "robot_from_file: expected floating to be a bool (True or False), got 'no'.",
+        ),
+        (
+            lambda: resolve_robot(file, root_body=3),
+            ra.ConfigError,
+            "resolve_robot: expected root_body to be a non-empty name (str) or None, got 3.",
+        ),
+        (
+            lambda: resolve_robot(file, up="Y"),
+            ra.UnknownNameError,
+            "resolve_robot: unknown up axis 'Y'. Did you mean 'y'?",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, gripper="robotiq", at="link"),
+            ra.UnknownNameError,
+            "unknown gripper (a built-in piece) 'robotiq'. Did you mean 'robotiq_2f85'?",
+        ),
+        (lambda: resolve_robot("panda", up="Y"), ra.UnknownNameError, "resolve_robot: unknown up axis 'Y'"),
+        (
+            lambda: resolve_robot("panda", gripper="franka_hand"),
+            ra.ConfigError,
+            "gripper='franka_hand' is mounted on a model file, and 'panda' is a registered uid or a class (declare its attachments instead)",
+        ),
+    ]
+    for call, error, fragment in refused:
+        with pytest.raises(error) as caught:
+            call()
+        assert fragment in str(caught.value)

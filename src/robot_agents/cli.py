@@ -10,6 +10,7 @@ import os
 import sys
 import warnings
 from collections.abc import Sequence
+from dataclasses import fields
 from pathlib import Path
 from typing import TextIO
 
@@ -20,7 +21,7 @@ from robot_agents.agent.derived import DERIVED_SOURCE
 from robot_agents.errors import RobotAgentsError
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
-from robot_agents.robot_source import OUT_AXES, UP_AXES, resolve_robot
+from robot_agents.robot_source import OUT_AXES, UP_AXES, FileOptions, resolve_robot
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
 from robot_agents.tuning import timestep
@@ -346,7 +347,9 @@ def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:
 
 
 def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None) -> None:
-    """The robot argument and the options that shape a model file's robot."""
+    """The robot argument and the options that shape a model file's robot (one flag per
+    field of :class:`~robot_agents.robot_source.FileOptions`, its ``dest`` the field's
+    name: ``_run`` passes them on by name)."""
     robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
     if default is None:
         parser.add_argument("uid", help=robot_help)
@@ -496,7 +499,7 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
             output = args.output if args.output is not None else default_demo_output(args.uid)
             parse_seconds(args.seconds)
             check_output_path(output)
-        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
+        cls = resolve_robot(args.uid, **{option.name: getattr(args, option.name) for option in fields(FileOptions)})
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":

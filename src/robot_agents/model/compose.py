@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
-from robot_agents.model.compiling import mujoco_messages
+from robot_agents.notes import mujoco_messages
 from robot_agents.validation import check_quat, check_vector
 
 

@@ -13,8 +13,9 @@ import mujoco
 
 from robot_agents.errors import ConfigError, ModelError
 from robot_agents.kinematics.rotations import look_at_xyaxes
-from robot_agents.model.compiling import compile_spec, mujoco_messages
+from robot_agents.model.compiling import compile_spec
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.notes import mujoco_messages
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_camera
 

@@ -916,3 +916,110 @@ def test_the_model_file_options_are_one_list_checked_by_name_and_type(pendulum_f
         with pytest.raises(error) as caught:
             call()
         assert fragment in str(caught.value)
+
+
+def test_env_rng_takes_an_env_index_only(env) -> None:  # type: ignore[no-untyped-def]
+    """``env_rng(-1)`` gave the last env's stream, ``env_rng(2)`` of two envs an
+    ``IndexError`` and ``env_rng("0")`` a ``TypeError``."""
+    u = env.unwrapped
+    for bad in (2, -1, "0", 1.0, True):
+        assert_unchanged(
+            env,
+            lambda bad=bad: u.env_rng(bad),
+            ra.StateError,
+            "EmptyEnv.env_rng: expected an env index in [0, 2)",
+            f"got {bad!r}",
+        )
+    assert u.env_rng(np.int64(1)) is u.env_rng(1)
+
+
+def test_a_choice_among_names_suggests_the_close_one() -> None:
+    """A value outside a small set of names (a reward mode, a shape, an angle unit, an
+    autoreset mode, a base's dynamics) is refused with the close name, as an unknown robot
+    or mode is (they listed the choices only), before anything is built."""
+    from robot_agents.envs.vector import _autoreset_mode
+
+    refused: list[tuple[Callable[[], object], str]] = [
+        (
+            lambda: ra.make_env("PickCube-v1", robot_uids="panda", reward_mode="dens"),
+            "got 'dens'. Did you mean 'dense'",
+        ),
+        (lambda: ra.Prop(name="ball", shape="spere", size=(0.02,)), "got 'spere'. Did you mean 'sphere'?"),
+        (
+            lambda: ra.TouchSensorConfig(uid="pad", link="tip", shape="cylindre"),
+            "got 'cylindre'. Did you mean 'cylinder'?",
+        ),
+        (lambda: ra.CompilerSettings(angle="degrees"), "got 'degrees'. Did you mean 'degree'?"),
+        (lambda: _autoreset_mode("next_stp"), "got 'next_stp'. Did you mean 'NEXT_STEP', "),
+        (
+            lambda: ra.make_env("Empty-v1", robot_uids="panda", disable_env_checker="yes"),
+            "expected disable_env_checker to be a bool (True or False), got 'yes'",
+        ),
+    ]
+    for call, fragment in refused:
+        with pytest.raises(ra.ConfigError) as caught:
+            call()
+        assert fragment in str(caught.value)
+    env = ra.make_env("Empty-v1", robot_uids="fetch")
+    env.reset(seed=0)
+    base = env.unwrapped.agent
+    before = env.unwrapped.get_state()
+    with pytest.raises(
+        ra.ConfigError, match=r"expected 'dynamic' or 'kinematic', got 'kinematik'. Did you mean 'kinematic'\?"
+    ):
+        base.set_base_dynamics("kinematik")
+    np.testing.assert_array_equal(env.unwrapped.get_state()["physics"], before["physics"])
+    env.close()
+
+
+def test_the_mode_tables_take_a_joint_group() -> None:
+    """``joint_control_modes(("a", "b"))``, names where a ``JointGroup`` goes, was
+    ``AttributeError: 'tuple' object has no attribute 'joint_names'``."""
+    with pytest.raises(ra.ConfigError, match=r"joint_control_modes: expected a JointGroup .*got \('a', 'b'\)"):
+        ra.joint_control_modes(("a", "b"))  # type: ignore[arg-type]
+    group = ra.JointGroup(joint_names=("a", "b"))
+    with pytest.raises(ra.ConfigError, match=r"ee_control_modes: expected task to be a TaskSpace, got 'tcp'"):
+        ra.ee_control_modes(group, "tcp")  # type: ignore[arg-type]
+
+
+def test_a_misspelt_declaration_is_refused_not_ignored(pendulum_file: Path) -> None:
+    """A robot's class attribute under a declaration's name misspelt, one holding what
+    only a declaration takes, or one hiding the Agent's own property was ignored without
+    a word (the robot built with its derived keyframe, no camera, ...); a user's own
+    attribute is still the user's."""
+
+    def robot(**extra: object) -> type[ra.Agent]:
+        return make_pendulum_class(pendulum_file, uid="misspelt", **extra)
+
+    keyframe = {"up": ra.Keyframe(qpos=(0.5, 0.0))}
+    camera = (ra.CameraConfig(uid="cam", mount="tip"),)
+    refused: list[tuple[type[ra.Agent], type[Exception], str]] = [
+        (
+            robot(keyframe=keyframe),
+            ra.UnknownNameError,
+            "Pendulum (a class attribute): unknown declaration 'keyframe'. Did you mean 'keyframes'?",
+        ),
+        (robot(actuator=()), ra.UnknownNameError, "unknown declaration 'actuator'. Did you mean 'actuators', "),
+        (
+            robot(sensors=camera),
+            ra.ConfigError,
+            "Pendulum.sensors: holds CameraConfig entries, and 'sensors' is no declaration, so nothing would read it; CameraConfig entries are declared as cameras.",
+        ),
+        (
+            robot(mode_table={"m": {"arm": ra.PDJointPosConfig(joint_names=("shoulder",))}}),
+            ra.ConfigError,
+            "Pendulum.mode_table: holds ControllerConfig entries, and 'mode_table' is no declaration",
+        ),
+        (robot(modes={}), ra.UnknownNameError, "(a class attribute hiding the Agent's method 'modes')"),
+        (
+            robot(control_mode={}),
+            ra.UnknownNameError,
+            "Pendulum (a class attribute hiding the Agent's property 'control_mode'): unknown declaration 'control_mode'. Did you mean 'control_modes'",
+        ),
+    ]
+    for cls, error, fragment in refused:
+        with pytest.raises(error) as caught:
+            cls.check()
+        assert fragment in str(caught.value)
+    own = robot(link_length=0.3, notes="mine", keyframes=keyframe)  # a user's own attributes beside the declarations
+    assert own.check().index.model.nq == 2

@@ -28,7 +28,7 @@ class UnknownNameError(RobotAgentsError, KeyError):
 
     @property
     def message(self) -> str:
-        hint = f" Did you mean {', '.join(repr(s) for s in self.suggestions)}?" if self.suggestions else ""
+        hint = did_you_mean(self.given, self.available)
         avail = ", ".join(repr(a) for a in self.available) if self.available else "(none)"
         return f"{self.where}: unknown {self.kind} {self.given!r}.{hint} Available: {avail}."
 
@@ -66,6 +66,14 @@ class PhysicsError(RobotAgentsError, RuntimeError):
 
 class RenderError(RobotAgentsError, RuntimeError):
     """Offscreen rendering is unavailable: no usable OpenGL backend (EGL / OSMesa)."""
+
+
+def did_you_mean(given: object, available: Iterable[str]) -> str:
+    """`` Did you mean 'a', 'b'?`` naming the names in ``available`` closest to ``given``
+    (:func:`close_names`; empty when none is close or ``given`` is not a string): the
+    hint every message about a name not among the choices ends with."""
+    names = close_names(given, available) if isinstance(given, str) else []
+    return f" Did you mean {', '.join(repr(s) for s in names)}?" if names else ""
 
 
 def close_names(given: str, available: Iterable[str], n: int = 3) -> list[str]:

@@ -267,8 +267,12 @@ class RobotEnv(gym.Env[Any, Any]):
         return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids], above=above)
 
     def env_rng(self, env: int) -> np.random.Generator:
-        """The random stream of env ``env`` (seeded by :meth:`reset`; unseeded: from
-        fresh entropy on first use)."""
+        """The random stream of env ``env``, a whole number in ``[0, num_envs)`` (seeded by
+        :meth:`reset`; unseeded: from fresh entropy on first use)."""
+        if not is_whole(env) or not 0 <= env < self.num_envs:  # (-1 gave the last env's stream)
+            raise StateError(
+                f"{type(self).__name__}.env_rng: expected an env index in [0, {self.num_envs}), got {env!r}."
+            )
         rng = self._env_rngs[env]
         if rng is None:
             rng, _ = seeding.np_random(None)

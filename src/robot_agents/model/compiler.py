@@ -18,7 +18,7 @@ from pathlib import Path
 
 import mujoco
 
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, did_you_mean
 from robot_agents.validation import is_real
 
 #: Folders searched for ``package://<pkg>/...`` meshes, besides the model's own (os.pathsep-separated).
@@ -56,7 +56,10 @@ class CompilerSettings:
 
     def __post_init__(self) -> None:
         if self.angle not in (None, "radian", "degree"):
-            raise ConfigError(f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}.")
+            raise ConfigError(
+                f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}."
+                + did_you_mean(self.angle, ("radian", "degree"))
+            )
         for name in ("boundmass", "boundinertia"):
             value = getattr(self, name)
             if not (is_real(value) and math.isfinite(value) and value >= 0):

@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError, ModelError
+from robot_agents.errors import ConfigError, ModelError, did_you_mean
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 
 if TYPE_CHECKING:
@@ -63,7 +63,10 @@ class TouchSensorConfig:
                 f"got link={self.link!r}, site={self.site!r}."
             )
         if self.shape not in SITE_SHAPES:
-            raise ConfigError(f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}.")
+            raise ConfigError(
+                f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}."
+                + did_you_mean(self.shape, SITE_SHAPES)
+            )
         size = float_tuple(self.size, SITE_SHAPES[self.shape], f"size of a {self.shape} (m)", where)
         if min(size) <= 0:
             raise ConfigError(f"{where}: expected positive sizes (m), got {self.size!r}.")

@@ -7,18 +7,19 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import sys
 import warnings
 from collections.abc import Sequence
 from dataclasses import fields
 from pathlib import Path
-from typing import TextIO
+from typing import NoReturn, TextIO
 
 import robot_agents
 from robot_agents.agent import Agent
 from robot_agents.agent.declaration import composition
 from robot_agents.agent.derived import DERIVED_SOURCE
-from robot_agents.errors import RobotAgentsError
+from robot_agents.errors import RobotAgentsError, did_you_mean
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
 from robot_agents.robot_source import OUT_AXES, UP_AXES, FileOptions, resolve_robot
@@ -38,6 +39,24 @@ control, a 0.05 ms physics step (the default sweep stops at 50, 1 kHz)."""
 
 class UsageError(Exception):
     """A command-line argument with a bad value (reported in one line, exit status 2)."""
+
+
+#: argparse's refusal of a value outside an argument's choices (a command, ``--up``,
+#: ``--gripper``, ``--at-axis``): the value given and the choices, quoted.
+_INVALID_CHOICE = re.compile(r"invalid choice: '([^']*)' \(choose from (.*)\)")
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse's parser whose refusal of a value outside the choices ends with the close
+    ones (``invalid choice: 'lst' (choose from ...). Did you mean 'list'?``), as the
+    library's errors do."""
+
+    def error(self, message: str) -> NoReturn:
+        refused = _INVALID_CHOICE.search(message)
+        hint = did_you_mean(refused.group(1), re.findall(r"'([^']*)'", refused.group(2))) if refused else ""
+        if hint:
+            message += "." + hint
+        super().error(message)
 
 
 def parse_substeps(text: str | None) -> tuple[int, ...] | None:
@@ -382,7 +401,7 @@ def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None
 
 def build_parser() -> argparse.ArgumentParser:
     substeps = timestep.DEFAULT_SUBSTEPS  # the sweep's steps, for --substeps' help
-    parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
+    parser = Parser(prog="robot-agents", description="Robot agents on MuJoCo.")
     parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")

@@ -1023,3 +1023,44 @@ def test_a_misspelt_declaration_is_refused_not_ignored(pendulum_file: Path) -> N
         assert fragment in str(caught.value)
     own = robot(link_length=0.3, notes="mine", keyframes=keyframe)  # a user's own attributes beside the declarations
     assert own.check().index.model.nq == 2
+
+
+def test_a_declaration_class_names_a_misspelt_field_with_the_close_one() -> None:
+    """Every public declaration class (a dataclass in ``robot_agents.__all__``) answers a
+    misspelt keyword with the fields there are and the one meant (Python's ``TypeError``
+    named neither), and too many positional arguments with its fields; a good call, and
+    ``dataclasses.replace``, are as before."""
+    import dataclasses
+    import inspect
+
+    declarations = [getattr(ra, n) for n in ra.__all__ if dataclasses.is_dataclass(getattr(ra, n))]
+    assert len(declarations) >= 39
+    for cls in declarations:
+        first = next(iter(inspect.signature(cls).parameters), "")  # (FileActuators has no field)
+        with pytest.raises(ra.UnknownNameError) as caught:
+            cls(**{first + "x": 1})
+        hint = f" Did you mean '{first}'" if first else " Available: (none)"
+        assert str(caught.value).startswith(f"{cls.__name__}: unknown field '{first}x'.{hint}")
+    refused: list[tuple[Callable[[], object], type[Exception], str]] = [
+        (
+            lambda: ra.PDActuator(joint=("j",), stiffness=1.0),
+            ra.UnknownNameError,
+            "PDActuator: unknown field 'joint'. Did you mean 'joints'?",
+        ),
+        (
+            lambda: ra.Arm("arm", ("j",), 0.1, 1.0, (), None, 7),
+            ra.ConfigError,
+            "Arm: too many positional arguments; its fields are name, joints, max_delta",
+        ),
+        (
+            lambda: dataclasses.replace(ra.Keyframe(qpos=(0.0,)), qpso=(1.0,)),
+            ra.UnknownNameError,
+            "Keyframe: unknown field 'qpso'. Did you mean 'qpos'?",
+        ),
+    ]
+    for call, error, fragment in refused:
+        with pytest.raises(error) as caught_one:
+            call()
+        assert fragment in str(caught_one.value)
+    assert dataclasses.replace(ra.Keyframe(qpos=(0.0,)), qpos=(1.0,)).qpos == (1.0,)
+    assert list(inspect.signature(ra.PDActuator).parameters)[:2] == ["joints", "effort_limit"]

@@ -28,12 +28,14 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keywords import checked_keywords
 from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part, is_jaw_gripper
 from robot_agents.validation import check_per_joint, check_real
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class JointGroup:
     """Joints commanded together, and how far one action may move them.

@@ -19,12 +19,14 @@ from pathlib import Path
 import mujoco
 
 from robot_agents.errors import ConfigError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.validation import is_real
 
 #: Folders searched for ``package://<pkg>/...`` meshes, besides the model's own (os.pathsep-separated).
 PACKAGE_PATH_VARIABLE = "ROBOT_AGENTS_PACKAGE_PATH"
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class CompilerSettings:
     """How MuJoCo compiles a robot's model file (``None`` keeps the file's own setting).

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import mujoco
 
 from robot_agents.errors import ConfigError, ModelError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.kinematics.rotations import look_at_xyaxes
 from robot_agents.model.compiling import compile_spec
 from robot_agents.model.materials import FrictionMaterial
@@ -28,6 +29,7 @@ PRIMITIVE_SHAPES = {
 }
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class Prop:
     """A primitive object in the scene.

@@ -19,6 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, ModelError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 
 if TYPE_CHECKING:
@@ -30,6 +31,7 @@ FloatArray = npt.NDArray[np.float64]
 SITE_SHAPES = {"box": 3, "sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3}
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class TouchSensorConfig:
     """A touch sensor on a robot.

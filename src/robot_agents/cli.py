@@ -25,7 +25,7 @@ from robot_agents.registry import get_agent, list_agents
 from robot_agents.robot_source import OUT_AXES, UP_AXES, FileOptions, resolve_robot
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
-from robot_agents.tuning import timestep
+from robot_agents.tuning import step_response, timestep
 
 MAX_SECONDS = 60.0
 """Upper bound of ``demo --seconds`` (simulated seconds per pose) and ``check --seconds``."""
@@ -371,9 +371,11 @@ def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None
     name: ``_run`` passes them on by name)."""
     robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
     if default is None:
-        parser.add_argument("uid", help=robot_help)
+        parser.add_argument("uid", metavar="ROBOT", help=robot_help)
     else:
-        parser.add_argument("uid", nargs="?", default=default, help=f"{robot_help} (default: {default})")
+        parser.add_argument(
+            "uid", metavar="ROBOT", nargs="?", default=default, help=f"{robot_help} (default: {default})"
+        )
     parser.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
     parser.add_argument(
         "--up",
@@ -434,7 +436,13 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--joints", nargs="+", default=None, help="joint name patterns (default: every driven joint)")
     tune.add_argument("--step", type=float, default=None, help="step of the target, rad or m (default 0.1 / 0.01)")
     tune.add_argument("--keyframe", default=None, help="the pose stepped from (default: the robot's first keyframe)")
-    tune.add_argument("--seconds", type=float, default=1.0, help="seconds recorded after each step (default: 1)")
+    tune.add_argument(
+        "--seconds",
+        type=float,
+        default=1.0,
+        help=f"seconds recorded after each step, {step_response.MIN_SECONDS:g} to {step_response.MAX_SECONDS:g} "
+        "(default: 1)",
+    )
     tune.add_argument("--stiffness", type=float, default=None, help="stiffness to try, N*m/rad or N/m")
     tune.add_argument("--damping", type=float, default=None, help="damping to try, N*m*s/rad or N*s/m")
     tune.add_argument("--effort-limit", type=float, default=None, help="effort limit to try, N*m or N")

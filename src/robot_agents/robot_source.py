@@ -155,7 +155,8 @@ def _file_robot(path: str | Path, options: FileOptions, where: str) -> type[Agen
     gripper, at, at_axis = options.gripper, options.at, options.at_axis
     if (gripper is None) != (at is None):
         raise ConfigError(
-            f"{where}: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r}."
+            f"{where}: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r} "
+            "(at: the file's body or site the gripper is mounted on, its flange; --at on the command line)."
         )
     if at_axis != "z" and gripper is None:
         raise ConfigError(

@@ -383,7 +383,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     def perturbed_qpos(self, env_ids: npt.NDArray[np.int64], std: float, rng: np.random.Generator) -> FloatArray:
         """The measured ``qpos`` of ``env_ids`` plus Gaussian noise of ``std`` (rad / m;
-        ball joints turn by a random rotation vector), clipped into the limits. Held legs
+        ball joints turn by a random rotation vector), clipped into the limits: shape
+        ``(len(env_ids), nq)``, drawn from ``rng``. Held legs
         (Habitat's leg base) keep the measured pose: they are pinned at the reset pose
         while a kinematic base moves the body, and a perturbed stance would pin their
         feet into the floor (0.02 rad put Spot's up to 9 mm deep)."""

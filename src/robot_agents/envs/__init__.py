@@ -61,6 +61,7 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     the task's own limit (truncation per env, ``(num_envs,)``, at any batch size), not
     Gymnasium's ``TimeLimit`` wrapper (which ``gymnasium.make(..., max_episode_steps=N)``
     adds: one ``truncated`` for the whole batch, the task's limit unchanged).
+    ``disable_env_checker`` (a bool) goes to ``gymnasium.make`` itself.
     """
     register_envs()
     if not isinstance(env_id, str):

@@ -1064,3 +1064,13 @@ def test_a_declaration_class_names_a_misspelt_field_with_the_close_one() -> None
         assert fragment in str(caught_one.value)
     assert dataclasses.replace(ra.Keyframe(qpos=(0.0,)), qpos=(1.0,)).qpos == (1.0,)
     assert list(inspect.signature(ra.PDActuator).parameters)[:2] == ["joints", "effort_limit"]
+
+
+def test_render_without_a_render_mode_is_a_note(env) -> None:  # type: ignore[no-untyped-def]
+    """``render()`` of an env made without ``render_mode`` returns no frame (Gymnasium's
+    convention) with a note, a ``RuntimeWarning`` as the library's others are (it went
+    through gymnasium's logger: a second way)."""
+    with pytest.warns(
+        RuntimeWarning, match=r"EmptyEnv.render: no frame, render_mode is None; pass render_mode='rgb_array'"
+    ):
+        assert env.render() is None

@@ -4,7 +4,8 @@ A note says what the library derived, changed or dropped where the user's input 
 open (a model file's missing limits, a free root fixed, a keyframe moved inside its
 limits, ...). Every note is a Python ``RuntimeWarning`` raised with :func:`warnings.warn`:
 a program filters or records them with :mod:`warnings`; the command line prints each as
-one line, ``robot-agents: note: ...`` (:func:`robot_agents.cli.show_note`).
+one line, ``robot-agents: note: ...`` (:func:`robot_agents.cli.show_note`). (No other
+way: no logger, no print, not gymnasium's logger.)
 
 MuJoCo's own warnings, from its compiler and at run time (``Nan, Inf or huge value in
 QACC ... The simulation is unstable``, a full contact buffer), would be printed to stdout

@@ -10,6 +10,7 @@ Env-level signals follow Gymnasium's single-env contract when ``num_envs == 1``
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -631,7 +632,12 @@ class RobotEnv(gym.Env[Any, Any]):
         did where it was saved."""
         self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
-            gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
+            # a note, as the library's others (gymnasium's convention: no frame, no error)
+            warnings.warn(
+                f"{type(self).__name__}.render: no frame, render_mode is None; pass render_mode='rgb_array' to make_env.",
+                RuntimeWarning,
+                stacklevel=2,
+            )
             return None
         if self._renderer is None:
             width, height = self.render_size

@@ -47,21 +47,22 @@ def install() -> None:
         mujoco.set_mju_user_warning(RUNTIME.append)
 
 
-def pass_on(messages: list[str], where: str, stacklevel: int = 2) -> None:
+def pass_on(messages: list[str], where: str, stacklevel: int = 2, handled: tuple[str, ...] = ()) -> None:
     """Raise each of MuJoCo's ``messages`` as a note, ``<where>: MuJoCo: <message>``, and
-    empty the list (the :data:`EXPECTED` ones are dropped). ``stacklevel``: as
-    :func:`warnings.warn`'s, counted from the caller of this function."""
+    empty the list (those starting with one of :data:`EXPECTED` or ``handled``, what the
+    caller says in its own words, are dropped). ``stacklevel``: as :func:`warnings.warn`'s,
+    counted from the caller of this function."""
     taken = messages[:]
     del messages[: len(taken)]  # (one appended meanwhile by another thread stays for the next)
     for message in taken:
-        if not message.startswith(EXPECTED):
+        if not message.startswith(EXPECTED + handled):
             warnings.warn(f"{where}: MuJoCo: {message}", RuntimeWarning, stacklevel=stacklevel + 1)
 
 
 @contextmanager
-def mujoco_messages(where: str) -> Iterator[None]:
-    """MuJoCo's warnings raised inside the block (a compile, an attach) passed on as notes
-    naming ``where`` when it ends."""
+def mujoco_messages(where: str, handled: tuple[str, ...] = ()) -> Iterator[None]:
+    """MuJoCo's warnings raised inside the block (a compile, an attach, a parse) passed on
+    as notes naming ``where`` when it ends (but those starting with one of ``handled``)."""
     messages: list[str] = []
     previous = mujoco.get_mju_user_warning() if ROUTABLE else None
     if ROUTABLE:
@@ -74,4 +75,4 @@ def mujoco_messages(where: str) -> Iterator[None]:
     finally:
         if ROUTABLE:
             mujoco.set_mju_user_warning(previous)
-        pass_on(messages, where, stacklevel=3)
+        pass_on(messages, where, stacklevel=3, handled=handled)

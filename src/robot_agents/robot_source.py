@@ -16,6 +16,7 @@ from typing import Concatenate, ParamSpec, TypeVar
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keywords import checked_keywords
 from robot_agents.model.compose import Attachment
 from robot_agents.registry import get_agent, get_piece, list_agents
 from robot_agents.robots.catalog import BUILTIN_PIECES
@@ -48,6 +49,7 @@ OUT_AXES: dict[str, tuple[float, float, float, float]] = {
 }
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class FileOptions:
     """How a model file becomes a robot: the options :func:`robot_from_file` and

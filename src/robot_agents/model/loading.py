@@ -537,7 +537,7 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     settings.set("strippath", "false")
     serialized = ET.tostring(root, encoding="unicode")
     try:
-        with mujoco_messages(f"load_model_spec: {str(file)!r}"):
+        with mujoco_messages(f"load_model_spec: {str(file)!r}", handled=MIMIC_HANDLED):
             spec = mujoco.MjSpec.from_string(serialized)
     except ValueError as err:
         message = _in_source_lines(str(err), serialized, root, source_lines, text)
@@ -642,6 +642,11 @@ def _in_source_lines(
             "(xacro model.urdf.xacro > model.urdf) and load the result"
         )
     return mapped
+
+
+#: MuJoCo's URDF reader's word on a ``<mimic>`` it left out: :func:`_add_mimic_equalities`
+#: couples the joint itself, or refuses a mimic of a joint the file does not have.
+MIMIC_HANDLED = ("<mimic> on joint",)
 
 
 def _add_mimic_equalities(

@@ -21,6 +21,7 @@ installed first is left alone, and gets them instead).
 
 from __future__ import annotations
 
+import threading
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -35,6 +36,9 @@ EXPECTED = ("Attaching a spec with an empty prefix", "Attach conflict")
 #: MuJoCo's run-time warnings collected since the last :func:`pass_on` of them (appended
 #: from any thread that steps; a list's append holds the GIL).
 RUNTIME: list[str] = []
+
+#: Held while messages are taken from a list to be passed on.
+_TAKING = threading.Lock()
 
 #: This MuJoCo lets a program take its warnings (older ones keep their own handler).
 ROUTABLE = hasattr(mujoco, "set_mju_user_warning")
@@ -52,8 +56,9 @@ def pass_on(messages: list[str], where: str, stacklevel: int = 2, handled: tuple
     empty the list (those starting with one of :data:`EXPECTED` or ``handled``, what the
     caller says in its own words, are dropped). ``stacklevel``: as :func:`warnings.warn`'s,
     counted from the caller of this function."""
-    taken = messages[:]
-    del messages[: len(taken)]  # (one appended meanwhile by another thread stays for the next)
+    with _TAKING:  # two threads' steps pass on each message once
+        taken = messages[:]
+        del messages[: len(taken)]  # (one appended meanwhile by another thread stays for the next)
     for message in taken:
         if not message.startswith(EXPECTED + handled):
             warnings.warn(f"{where}: MuJoCo: {message}", RuntimeWarning, stacklevel=stacklevel + 1)

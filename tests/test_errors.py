@@ -528,7 +528,8 @@ def test_arm_joint_pos_setter_checks_the_joint_limits(env) -> None:  # type: ign
         env,
         lambda: agent.manipulator.set_arm_joint_pos(np.full(7, math.nan)),
         ra.StateError,
-        "Panda.arm_joint_pos: arm joint positions contains NaN or inf.",
+        "Panda.arm_joint_pos: arm joint positions contains NaN or inf at (env, index) [[0, 0], [0, 1], [0, 2], [0, 3]] "
+        "and 10 more; expected finite values",
     )
     assert_unchanged(
         env,

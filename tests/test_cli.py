@@ -581,3 +581,33 @@ def test_show_note_names_a_warning_that_is_not_a_note() -> None:
     show_note(DeprecationWarning("old"), DeprecationWarning, "x.py", 1, file=err)
     show_note(RuntimeWarning("derived"), RuntimeWarning, "x.py", 1, file=err)
     assert err.getvalue() == "robot-agents: DeprecationWarning: old\nrobot-agents: note: derived\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (
+            ["lst"],
+            "argument command: invalid choice: 'lst' (choose from 'list', 'info', 'check', 'tune', 'demo'). Did you mean 'list'?",
+        ),
+        (
+            ["info", "panda", "--gripper", "robotiq"],
+            "argument --gripper: invalid choice: 'robotiq' (choose from 'franka_hand', 'panda_stick', 'robotiq_2f85'). Did you mean 'robotiq_2f85'?",
+        ),
+        (
+            ["check", "arm.urdf", "--up", "Y"],
+            "argument --up: invalid choice: 'Y' (choose from 'x', 'y', 'z'). Did you mean 'y'?",
+        ),
+        (["info", "panda", "--up", "q"], "argument --up: invalid choice: 'q' (choose from 'x', 'y', 'z')\n"),
+    ],
+)
+def test_a_choice_the_command_line_does_not_have_names_the_close_one(
+    argv: list[str], expected: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """argparse's refusal of a command or a flag's value outside its choices ends with the
+    close ones, as the library's errors do (it listed the choices only)."""
+    with pytest.raises(SystemExit) as caught:
+        main(argv)
+    assert caught.value.code == 2
+    err = capsys.readouterr().err
+    assert expected in err and "Traceback" not in err

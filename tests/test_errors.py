@@ -528,7 +528,8 @@ def test_arm_joint_pos_setter_checks_the_joint_limits(env) -> None:  # type: ign
         env,
         lambda: agent.manipulator.set_arm_joint_pos(np.full(7, math.nan)),
         ra.StateError,
-        "Panda.arm_joint_pos: arm joint positions contains NaN or inf.",
+        "Panda.arm_joint_pos: arm joint positions contains NaN or inf at (env, index) [[0, 0], [0, 1], [0, 2], [0, 3]] "
+        "and 10 more; expected finite values",
     )
     assert_unchanged(
         env,
@@ -840,3 +841,237 @@ def test_a_base_dynamics_of_another_type_is_a_library_error() -> None:
     with pytest.raises(ra.ConfigError, match="dynamics must be"):
         ra.Base(name="base", joints=("x",), dynamics=np.array(["dynamic"]))  # type: ignore[arg-type]
     env.close()
+
+
+def test_the_model_file_options_are_one_list_checked_by_name_and_type(pendulum_file: Path) -> None:
+    """``robot_from_file`` and ``resolve_robot`` take :class:`FileOptions`' fields (one
+    list, no longer two kept in step by hand); a misspelt option is named with the close
+    ones (was Python's ``TypeError``), and an option of the wrong type is refused
+    (``floating="no"`` gave a free root: a non-empty string is true)."""
+    import dataclasses
+    import inspect
+
+    from robot_agents.cli import build_parser
+    from robot_agents.robot_source import UP_AXES, FileOptions, resolve_robot, robot_from_file
+
+    names = [option.name for option in dataclasses.fields(FileOptions)]
+    for function in (robot_from_file, resolve_robot):
+        assert list(inspect.signature(function).parameters)[1:] == names
+    # the command line's flags are the same options, with the same defaults
+    args = build_parser().parse_args(["info", "panda"])
+    assert {name: getattr(args, name) for name in names} == dataclasses.asdict(FileOptions())
+    # as documented: floating positional or by name, the others by name
+    assert robot_from_file(pendulum_file, True).fix_root_link is False
+    assert resolve_robot(str(pendulum_file), floating=True).fix_root_link is False
+    assert robot_from_file(pendulum_file, up="y").mount_pose == (0.0, 0.0, 0.0, *UP_AXES["y"])
+    file = str(pendulum_file)
+    refused: list[tuple[Callable[[], object], type[Exception], str]] = [
+        (
+            lambda: robot_from_file(pendulum_file, flaoting=True),
+            ra.UnknownNameError,
+            "robot_from_file: unknown option 'flaoting'. Did you mean 'floating'?",
+        ),
+        (
+            lambda: resolve_robot(file, at_axes="x"),
+            ra.UnknownNameError,
+            "resolve_robot: unknown option 'at_axes'. Did you mean 'at_axis'?",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, True, "z", None, None, None, "z", 1),
+            ra.ConfigError,
+            "too many positional arguments; the options after the path are floating, up, gripper",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, True, floating=True),
+            ra.ConfigError,
+            "multiple values for argument 'floating'",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, floating="no"),
+            ra.ConfigError,
+            "robot_from_file: expected floating to be a bool (True or False), got 'no'.",
+        ),
+        (
+            lambda: resolve_robot(file, root_body=3),
+            ra.ConfigError,
+            "resolve_robot: expected root_body to be a non-empty name (str) or None, got 3.",
+        ),
+        (
+            lambda: resolve_robot(file, up="Y"),
+            ra.UnknownNameError,
+            "resolve_robot: unknown up axis 'Y'. Did you mean 'y'?",
+        ),
+        (
+            lambda: robot_from_file(pendulum_file, gripper="robotiq", at="link"),
+            ra.UnknownNameError,
+            "unknown gripper (a built-in piece) 'robotiq'. Did you mean 'robotiq_2f85'?",
+        ),
+        (lambda: resolve_robot("panda", up="Y"), ra.UnknownNameError, "resolve_robot: unknown up axis 'Y'"),
+        (
+            lambda: resolve_robot("panda", gripper="franka_hand"),
+            ra.ConfigError,
+            "gripper='franka_hand' is mounted on a model file, and 'panda' is a registered uid or a class (declare its attachments instead)",
+        ),
+    ]
+    for call, error, fragment in refused:
+        with pytest.raises(error) as caught:
+            call()
+        assert fragment in str(caught.value)
+
+
+def test_env_rng_takes_an_env_index_only(env) -> None:  # type: ignore[no-untyped-def]
+    """``env_rng(-1)`` gave the last env's stream, ``env_rng(2)`` of two envs an
+    ``IndexError`` and ``env_rng("0")`` a ``TypeError``."""
+    u = env.unwrapped
+    for bad in (2, -1, "0", 1.0, True):
+        assert_unchanged(
+            env,
+            lambda bad=bad: u.env_rng(bad),
+            ra.StateError,
+            "EmptyEnv.env_rng: expected an env index in [0, 2)",
+            f"got {bad!r}",
+        )
+    assert u.env_rng(np.int64(1)) is u.env_rng(1)
+
+
+def test_a_choice_among_names_suggests_the_close_one() -> None:
+    """A value outside a small set of names (a reward mode, a shape, an angle unit, an
+    autoreset mode, a base's dynamics) is refused with the close name, as an unknown robot
+    or mode is (they listed the choices only), before anything is built."""
+    from robot_agents.envs.vector import _autoreset_mode
+
+    refused: list[tuple[Callable[[], object], str]] = [
+        (
+            lambda: ra.make_env("PickCube-v1", robot_uids="panda", reward_mode="dens"),
+            "got 'dens'. Did you mean 'dense'",
+        ),
+        (lambda: ra.Prop(name="ball", shape="spere", size=(0.02,)), "got 'spere'. Did you mean 'sphere'?"),
+        (
+            lambda: ra.TouchSensorConfig(uid="pad", link="tip", shape="cylindre"),
+            "got 'cylindre'. Did you mean 'cylinder'?",
+        ),
+        (lambda: ra.CompilerSettings(angle="degrees"), "got 'degrees'. Did you mean 'degree'?"),
+        (lambda: _autoreset_mode("next_stp"), "got 'next_stp'. Did you mean 'NEXT_STEP', "),
+        (
+            lambda: ra.make_env("Empty-v1", robot_uids="panda", disable_env_checker="yes"),
+            "expected disable_env_checker to be a bool (True or False), got 'yes'",
+        ),
+    ]
+    for call, fragment in refused:
+        with pytest.raises(ra.ConfigError) as caught:
+            call()
+        assert fragment in str(caught.value)
+    env = ra.make_env("Empty-v1", robot_uids="fetch")
+    env.reset(seed=0)
+    base = env.unwrapped.agent
+    before = env.unwrapped.get_state()
+    with pytest.raises(
+        ra.ConfigError, match=r"expected 'dynamic' or 'kinematic', got 'kinematik'. Did you mean 'kinematic'\?"
+    ):
+        base.set_base_dynamics("kinematik")
+    np.testing.assert_array_equal(env.unwrapped.get_state()["physics"], before["physics"])
+    env.close()
+
+
+def test_the_mode_tables_take_a_joint_group() -> None:
+    """``joint_control_modes(("a", "b"))``, names where a ``JointGroup`` goes, was
+    ``AttributeError: 'tuple' object has no attribute 'joint_names'``."""
+    with pytest.raises(ra.ConfigError, match=r"joint_control_modes: expected a JointGroup .*got \('a', 'b'\)"):
+        ra.joint_control_modes(("a", "b"))  # type: ignore[arg-type]
+    group = ra.JointGroup(joint_names=("a", "b"))
+    with pytest.raises(ra.ConfigError, match=r"ee_control_modes: expected task to be a TaskSpace, got 'tcp'"):
+        ra.ee_control_modes(group, "tcp")  # type: ignore[arg-type]
+
+
+def test_a_misspelt_declaration_is_refused_not_ignored(pendulum_file: Path) -> None:
+    """A robot's class attribute under a declaration's name misspelt, one holding what
+    only a declaration takes, or one hiding the Agent's own property was ignored without
+    a word (the robot built with its derived keyframe, no camera, ...); a user's own
+    attribute is still the user's."""
+
+    def robot(**extra: object) -> type[ra.Agent]:
+        return make_pendulum_class(pendulum_file, uid="misspelt", **extra)
+
+    keyframe = {"up": ra.Keyframe(qpos=(0.5, 0.0))}
+    camera = (ra.CameraConfig(uid="cam", mount="tip"),)
+    refused: list[tuple[type[ra.Agent], type[Exception], str]] = [
+        (
+            robot(keyframe=keyframe),
+            ra.UnknownNameError,
+            "Pendulum (a class attribute): unknown declaration 'keyframe'. Did you mean 'keyframes'?",
+        ),
+        (robot(actuator=()), ra.UnknownNameError, "unknown declaration 'actuator'. Did you mean 'actuators', "),
+        (
+            robot(sensors=camera),
+            ra.ConfigError,
+            "Pendulum.sensors: holds CameraConfig entries, and 'sensors' is no declaration, so nothing would read it; CameraConfig entries are declared as cameras.",
+        ),
+        (
+            robot(mode_table={"m": {"arm": ra.PDJointPosConfig(joint_names=("shoulder",))}}),
+            ra.ConfigError,
+            "Pendulum.mode_table: holds ControllerConfig entries, and 'mode_table' is no declaration",
+        ),
+        (robot(modes={}), ra.UnknownNameError, "(a class attribute hiding the Agent's method 'modes')"),
+        (
+            robot(control_mode={}),
+            ra.UnknownNameError,
+            "Pendulum (a class attribute hiding the Agent's property 'control_mode'): unknown declaration 'control_mode'. Did you mean 'control_modes'",
+        ),
+    ]
+    for cls, error, fragment in refused:
+        with pytest.raises(error) as caught:
+            cls.check()
+        assert fragment in str(caught.value)
+    own = robot(link_length=0.3, notes="mine", keyframes=keyframe)  # a user's own attributes beside the declarations
+    assert own.check().index.model.nq == 2
+
+
+def test_a_declaration_class_names_a_misspelt_field_with_the_close_one() -> None:
+    """Every public declaration class (a dataclass in ``robot_agents.__all__``) answers a
+    misspelt keyword with the fields there are and the one meant (Python's ``TypeError``
+    named neither), and too many positional arguments with its fields; a good call, and
+    ``dataclasses.replace``, are as before."""
+    import dataclasses
+    import inspect
+
+    declarations = [getattr(ra, n) for n in ra.__all__ if dataclasses.is_dataclass(getattr(ra, n))]
+    assert len(declarations) >= 39
+    for cls in declarations:
+        first = next(iter(inspect.signature(cls).parameters), "")  # (FileActuators has no field)
+        with pytest.raises(ra.UnknownNameError) as caught:
+            cls(**{first + "x": 1})
+        hint = f" Did you mean '{first}'" if first else " Available: (none)"
+        assert str(caught.value).startswith(f"{cls.__name__}: unknown field '{first}x'.{hint}")
+    refused: list[tuple[Callable[[], object], type[Exception], str]] = [
+        (
+            lambda: ra.PDActuator(joint=("j",), stiffness=1.0),
+            ra.UnknownNameError,
+            "PDActuator: unknown field 'joint'. Did you mean 'joints'?",
+        ),
+        (
+            lambda: ra.Arm("arm", ("j",), 0.1, 1.0, (), None, 7),
+            ra.ConfigError,
+            "Arm: too many positional arguments; its fields are name, joints, max_delta",
+        ),
+        (
+            lambda: dataclasses.replace(ra.Keyframe(qpos=(0.0,)), qpso=(1.0,)),
+            ra.UnknownNameError,
+            "Keyframe: unknown field 'qpso'. Did you mean 'qpos'?",
+        ),
+    ]
+    for call, error, fragment in refused:
+        with pytest.raises(error) as caught_one:
+            call()
+        assert fragment in str(caught_one.value)
+    assert dataclasses.replace(ra.Keyframe(qpos=(0.0,)), qpos=(1.0,)).qpos == (1.0,)
+    assert list(inspect.signature(ra.PDActuator).parameters)[:2] == ["joints", "effort_limit"]
+
+
+def test_render_without_a_render_mode_is_a_note(env) -> None:  # type: ignore[no-untyped-def]
+    """``render()`` of an env made without ``render_mode`` returns no frame (Gymnasium's
+    convention) with a note, a ``RuntimeWarning`` as the library's others are (it went
+    through gymnasium's logger: a second way)."""
+    with pytest.warns(
+        RuntimeWarning, match=r"EmptyEnv.render: no frame, render_mode is None; pass render_mode='rgb_array'"
+    ):
+        assert env.render() is None

@@ -4,6 +4,7 @@ gravity compensation, a grasp that holds a cube, contact forces, free-floating r
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import mujoco
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents import notes
 from tests.conftest import make_pendulum_class
 
 # Franka's modified DH parameters (a, d, alpha) for joints 1..7, then the flange.
@@ -323,9 +325,20 @@ def test_instability_is_reported_and_cleared_by_reset(pendulum_file: Path) -> No
     )
     scene = ra.Scene(cls)
     scene.reset(keyframes="down")
-    for _ in range(5):
-        scene.agents[0].set_action([2.0, -2.0])
-        scene.step()
+    # MuJoCo's warning reaches a program as the library's notes do, a RuntimeWarning (it
+    # went to a logger: two ways), raised once MuJoCo's step has returned: a filter set to
+    # "error" raises it from step, after the step (inside MuJoCo's callback it would abort)
+    raised = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for _ in range(5):
+            scene.agents[0].set_action([2.0, -2.0])
+            try:
+                scene.step()
+            except RuntimeWarning as note:
+                raised.append(str(note))
+    assert raised and all(n.startswith("BatchedWorld.step: MuJoCo: ") and "unstable" in n for n in raised)
+    assert notes.RUNTIME == []  # every message passed on, none left for a later call
     assert scene.world.instability_counts()[0] > 0
     scene.reset()
     assert scene.world.instability_counts()[0] == 0
@@ -345,7 +358,7 @@ def test_free_robot_keyframe_base_is_relative_to_its_mount(pendulum_file: Path) 
 
 
 def test_instability_is_in_info_and_can_raise(
-    pendulum_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+    pendulum_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)  # MuJoCo would write MUJOCO_LOG.TXT here
     stiff = {
@@ -359,11 +372,12 @@ def test_instability_is_in_info_and_can_raise(
     _, _, _, _, info = env.step(np.zeros((2, 2)))
     np.testing.assert_array_equal(info["physics_unstable"], [False, False])
     flags = []
-    for _ in range(5):
-        _, _, _, _, info = env.step(np.array([[2.0, -2.0], [0.0, 0.0]]))  # env 0 blows up, env 1 holds
-        flags.append(info["physics_unstable"].copy())
+    # MuJoCo's warning, passed on as the library's notes are (robot_agents.notes)
+    with pytest.warns(RuntimeWarning, match=r"BatchedWorld.step: MuJoCo: .*simulation is unstable"):
+        for _ in range(5):
+            _, _, _, _, info = env.step(np.array([[2.0, -2.0], [0.0, 0.0]]))  # env 0 blows up, env 1 holds
+            flags.append(info["physics_unstable"].copy())
     assert any(f[0] for f in flags) and not any(f[1] for f in flags)
-    assert "simulation is unstable" in caplog.text  # MuJoCo's warning, through logging
     assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
     world = env.scene.world
     total = world.unstable_steps.copy()
@@ -373,7 +387,11 @@ def test_instability_is_in_info_and_can_raise(
     np.testing.assert_array_equal(world.unstable_steps, total)
     raising = ra.RobotEnv(robot_uids=cls, raise_on_instability=True)
     raising.reset(seed=0)
-    with pytest.raises(ra.PhysicsError, match=r"unstable in env\(s\) \[0\].*lower the gains"):
+    with (
+        pytest.raises(ra.PhysicsError, match=r"unstable in env\(s\) \[0\].*lower the gains"),
+        warnings.catch_warnings(),
+    ):
+        warnings.simplefilter("ignore", RuntimeWarning)  # (MuJoCo's note, seen above)
         for _ in range(5):
             raising.step(np.array([2.0, -2.0]))
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -260,7 +261,8 @@ def test_diverging_motion_is_reported_and_absurd_speeds_refused(tmp_path: Path) 
         agent.reset(qvel=np.full(agent.dof, 1e12))
     # A speed MuJoCo does not reset yet (its guard is 1e10) still marks the step.
     agent.reset(qvel=np.full(agent.dof, 9e3), env_ids=[1])
-    info = env.step(np.zeros((2, 8)))[4]
+    with pytest.warns(RuntimeWarning, match="BatchedWorld.step: MuJoCo: "):  # MuJoCo's own word, as a note
+        info = env.step(np.zeros((2, 8)))[4]
     np.testing.assert_array_equal(info["physics_unstable"], [False, True])
 
 
@@ -274,11 +276,16 @@ def test_a_step_that_ends_with_nan_speeds_is_reported(num_envs: int) -> None:
     env.reset(seed=0)
     env.model.dof_damping[:] = -100.0  # negative damping pumps energy in until it blows up
     ended_nan = 0
-    for _ in range(60):
-        info = env.step(np.zeros((num_envs, 8)))[4]
-        nan = ~np.all(np.isfinite(env.agent.qvel), axis=1)
-        ended_nan += int(nan.sum())
-        assert np.all(info["physics_unstable"][nan])
+    with warnings.catch_warnings(record=True) as caught:  # MuJoCo's own words, as notes
+        warnings.simplefilter("always")
+        for _ in range(60):
+            info = env.step(np.zeros((num_envs, 8)))[4]
+            nan = ~np.all(np.isfinite(env.agent.qvel), axis=1)
+            ended_nan += int(nan.sum())
+            assert np.all(info["physics_unstable"][nan])
+    notes = [str(w.message) for w in caught]
+    assert notes and all(n.startswith("BatchedWorld.step: MuJoCo: ") for n in notes)
+    assert any("The simulation is unstable" in n for n in notes)
     assert ended_nan > 0
     env.close()
 

@@ -7,11 +7,13 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import sys
 import warnings
 from collections.abc import Sequence
+from dataclasses import fields
 from pathlib import Path
-from typing import TextIO
+from typing import NoReturn, TextIO
 
 import numpy as np
 
@@ -19,13 +21,13 @@ import robot_agents
 from robot_agents.agent import Agent
 from robot_agents.agent.declaration import composition
 from robot_agents.agent.derived import DERIVED_SOURCE
-from robot_agents.errors import RobotAgentsError
+from robot_agents.errors import RobotAgentsError, did_you_mean
 from robot_agents.media.video import SUPPORTED_SUFFIXES, check_output_path
 from robot_agents.registry import get_agent, list_agents
-from robot_agents.robot_source import OUT_AXES, UP_AXES, resolve_robot
+from robot_agents.robot_source import OUT_AXES, UP_AXES, FileOptions, resolve_robot
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.sim.scene import DEFAULT_CONTROL_FREQ
-from robot_agents.tuning import timestep
+from robot_agents.tuning import step_response, timestep
 
 MAX_SECONDS = 60.0
 """Upper bound of ``demo --seconds`` (simulated seconds per pose) and ``check --seconds``."""
@@ -39,6 +41,24 @@ control, a 0.05 ms physics step (the default sweep stops at 50, 1 kHz)."""
 
 class UsageError(Exception):
     """A command-line argument with a bad value (reported in one line, exit status 2)."""
+
+
+#: argparse's refusal of a value outside an argument's choices (a command, ``--up``,
+#: ``--gripper``, ``--at-axis``): the value given and the choices, quoted.
+_INVALID_CHOICE = re.compile(r"invalid choice: '([^']*)' \(choose from (.*)\)")
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse's parser whose refusal of a value outside the choices ends with the close
+    ones (``invalid choice: 'lst' (choose from ...). Did you mean 'list'?``), as the
+    library's errors do."""
+
+    def error(self, message: str) -> NoReturn:
+        refused = _INVALID_CHOICE.search(message)
+        hint = did_you_mean(refused.group(1), re.findall(r"'([^']*)'", refused.group(2))) if refused else ""
+        if hint:
+            message += "." + hint
+        super().error(message)
 
 
 def parse_substeps(text: str | None) -> tuple[int, ...] | None:
@@ -356,12 +376,16 @@ def _write_cycle_bounds(cls: type[Agent], out: TextIO) -> None:
 
 
 def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None) -> None:
-    """The robot argument and the options that shape a model file's robot."""
+    """The robot argument and the options that shape a model file's robot (one flag per
+    field of :class:`~robot_agents.robot_source.FileOptions`, its ``dest`` the field's
+    name: ``_run`` passes them on by name)."""
     robot_help = "a registered uid, a model file (.urdf, .xml) or module:Class"
     if default is None:
-        parser.add_argument("uid", help=robot_help)
+        parser.add_argument("uid", metavar="ROBOT", help=robot_help)
     else:
-        parser.add_argument("uid", nargs="?", default=default, help=f"{robot_help} (default: {default})")
+        parser.add_argument(
+            "uid", metavar="ROBOT", nargs="?", default=default, help=f"{robot_help} (default: {default})"
+        )
     parser.add_argument("--floating", action="store_true", help="a model file's root gets a free joint")
     parser.add_argument(
         "--up",
@@ -389,7 +413,7 @@ def _robot_arguments(parser: argparse.ArgumentParser, default: str | None = None
 
 def build_parser() -> argparse.ArgumentParser:
     substeps = timestep.DEFAULT_SUBSTEPS  # the sweep's steps, for --substeps' help
-    parser = argparse.ArgumentParser(prog="robot-agents", description="Robot agents on MuJoCo.")
+    parser = Parser(prog="robot-agents", description="Robot agents on MuJoCo.")
     parser.add_argument("--version", action="version", version=f"robot-agents {robot_agents.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="registered robots with their DoF and control modes")
@@ -422,7 +446,13 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--joints", nargs="+", default=None, help="joint name patterns (default: every driven joint)")
     tune.add_argument("--step", type=float, default=None, help="step of the target, rad or m (default 0.1 / 0.01)")
     tune.add_argument("--keyframe", default=None, help="the pose stepped from (default: the robot's first keyframe)")
-    tune.add_argument("--seconds", type=float, default=1.0, help="seconds recorded after each step (default: 1)")
+    tune.add_argument(
+        "--seconds",
+        type=float,
+        default=1.0,
+        help=f"seconds recorded after each step, {step_response.MIN_SECONDS:g} to {step_response.MAX_SECONDS:g} "
+        "(default: 1)",
+    )
     tune.add_argument("--stiffness", type=float, default=None, help="stiffness to try, N*m/rad or N/m")
     tune.add_argument("--damping", type=float, default=None, help="damping to try, N*m*s/rad or N*s/m")
     tune.add_argument("--effort-limit", type=float, default=None, help="effort limit to try, N*m or N")
@@ -506,7 +536,7 @@ def _run(args: argparse.Namespace, stream: TextIO) -> int:
             output = args.output if args.output is not None else default_demo_output(args.uid)
             parse_seconds(args.seconds)
             check_output_path(output)
-        cls = resolve_robot(args.uid, args.floating, args.up, args.gripper, args.at, args.root_body, args.at_axis)
+        cls = resolve_robot(args.uid, **{option.name: getattr(args, option.name) for option in fields(FileOptions)})
         if args.command == "info":
             return cmd_info(args.uid, stream, args.floating, cls, args.up)
         if args.command == "check":

@@ -28,12 +28,12 @@ class UnknownNameError(RobotAgentsError, KeyError):
         self.given = given
         self.aliases = dict(aliases or {})
         self.available = sorted([*available, *self.aliases])
-        self.suggestions = close_names(given, self.available)
+        self.suggestions = close_names(given, self.available) if isinstance(given, str) else []
         super().__init__(self.message)
 
     @property
     def message(self) -> str:
-        hint = f" Did you mean {', '.join(repr(s) for s in self.suggestions)}?" if self.suggestions else ""
+        hint = did_you_mean(self.given, self.available)
         avail = (
             ", ".join(repr(a) + (f" (= {self.aliases[a]!r})" if a in self.aliases else "") for a in self.available)
             if self.available
@@ -75,6 +75,14 @@ class PhysicsError(RobotAgentsError, RuntimeError):
 
 class RenderError(RobotAgentsError, RuntimeError):
     """Offscreen rendering is unavailable: no usable OpenGL backend (EGL / OSMesa)."""
+
+
+def did_you_mean(given: object, available: Iterable[str]) -> str:
+    """`` Did you mean 'a', 'b'?`` naming the names in ``available`` closest to ``given``
+    (:func:`close_names`; empty when none is close or ``given`` is not a string): the
+    hint every message about a name not among the choices ends with."""
+    names = close_names(given, available) if isinstance(given, str) else []
+    return f" Did you mean {', '.join(repr(s) for s in names)}?" if names else ""
 
 
 def close_names(given: str, available: Iterable[str], n: int = 3) -> list[str]:

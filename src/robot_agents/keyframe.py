@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.limits import MAX_SPEED
 from robot_agents.patterns import as_patterns, match
 from robot_agents.validation import ball_angles, check_quat, check_quat_rows, outside_limits
@@ -65,6 +66,7 @@ def _as_values(name: str, values: Any) -> JointValues:
     return _as_floats(name, values)
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class Keyframe:
     """A named pose of one robot.

@@ -5,14 +5,22 @@ module). The command line's ``info``, ``demo`` and ``check``, ``make_env``'s
 
 from __future__ import annotations
 
+import functools
 import importlib
+import inspect
 import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Concatenate, ParamSpec, TypeVar
 
 from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keywords import checked_keywords
 from robot_agents.model.compose import Attachment
 from robot_agents.registry import get_agent, get_piece, list_agents
+from robot_agents.robots.catalog import BUILTIN_PIECES
+from robot_agents.validation import check_bool
 
 MODEL_SUFFIXES = (".urdf", ".xml", ".mjcf")
 
@@ -41,50 +49,134 @@ OUT_AXES: dict[str, tuple[float, float, float, float]] = {
 }
 
 
-def robot_from_file(
-    path: str | Path,
-    floating: bool = False,
-    up: str = "z",
-    gripper: str | None = None,
-    at: str | None = None,
-    root_body: str | None = None,
-    at_axis: str = "z",
-) -> type[Agent]:
-    """The two-line robot of a model file: everything else derived (see
-    :func:`robot_agents.agent.declaration.check`); ``floating`` gives its root a free joint;
-    ``up`` (a key of :data:`UP_AXES`) names the file's up axis when it is not z: the robot
-    then gets the ``mount_pose`` that turns that axis up (a floating robot's derived
-    keyframe and stance follow its mount; a fixed one reaching into the floor is raised to
-    rest on it, as with no mount: ``rest_on_floor``). ``gripper``: a built-in piece
-    (:func:`~robot_agents.registry.get_piece`) mounted on the file's body or site ``at``,
-    under the prefix ``"<gripper>/"`` (the three-line robot: the arm's end effector is
-    the piece's ``tcp``); ``at_axis`` (a key of :data:`OUT_AXES`) is the axis of ``at``
-    along which the piece points (the frame's z unless the file's flange has the tool
-    along another). ``root_body``: the file's top-level body that is the robot, where
-    there are several (gym_aloha's two ALOHA arms: ``"vx300s_left"``)."""
-    if up not in UP_AXES:
-        raise UnknownNameError("robot_from_file", "up axis", str(up), UP_AXES)
+@checked_keywords
+@dataclass(frozen=True)
+class FileOptions:
+    """How a model file becomes a robot: the options :func:`robot_from_file` and
+    :func:`resolve_robot` take after the file (the command line's ``--floating``, ``--up``,
+    ``--gripper``, ``--at``, ``--root-body`` and ``--at-axis``). This class is their one
+    list: both functions take its fields as keywords (``floating`` and the others in this
+    order also positionally), with its defaults.
+
+    Attributes:
+        floating: the file's root gets a free joint (else it is fixed, with a note when the
+            file gives it a free one).
+        up: the file's up axis, a key of :data:`UP_AXES`; not ``"z"``: the robot gets the
+            ``mount_pose`` that turns that axis up (a floating robot's derived keyframe and
+            stance follow its mount; a fixed one reaching into the floor is raised to rest
+            on it, as with no mount: ``rest_on_floor``).
+        gripper: a built-in piece (:func:`~robot_agents.registry.get_piece`) mounted on the
+            file's body or site ``at``, under the prefix ``"<gripper>/"`` (the three-line
+            robot: the arm's end effector is the piece's ``tcp``); given with ``at``.
+        at: the file's body or site the ``gripper`` is mounted on (a flange).
+        root_body: the file's top-level body that is the robot, where there are several
+            (gym_aloha's two ALOHA arms: ``"vx300s_left"``).
+        at_axis: the axis of ``at`` along which the piece points, a key of
+            :data:`OUT_AXES` (the frame's z unless the file's flange has the tool along
+            another); only with a ``gripper``.
+    """
+
+    floating: bool = field(
+        default=False,
+        metadata={"does": "gives a model file's root a free joint", "instead": "declare fix_root_link = False"},
+    )
+    up: str = field(default="z", metadata={"does": "turns a model file", "instead": "declare its mount_pose"})
+    gripper: str | None = field(
+        default=None, metadata={"does": "is mounted on a model file", "instead": "declare its attachments"}
+    )
+    at: str | None = field(
+        default=None, metadata={"does": "names a model file's mount frame", "instead": "declare its attachments"}
+    )
+    root_body: str | None = field(
+        default=None, metadata={"does": "picks a model file's robot", "instead": "declare its root_body"}
+    )
+    at_axis: str = field(
+        default="z", metadata={"does": "points a gripper mounted on a model file", "instead": "declare its attachments"}
+    )
+
+    def check(self, where: str) -> None:
+        """Each option of its type and, for the named ones, a name there is
+        (:class:`ConfigError` or :class:`UnknownNameError` naming ``where``)."""
+        check_bool(self.floating, "floating", where)
+        for name in ("gripper", "at", "root_body"):
+            value = getattr(self, name)
+            if value is not None and (not isinstance(value, str) or not value):
+                raise ConfigError(f"{where}: expected {name} to be a non-empty name (str) or None, got {value!r}.")
+        if not isinstance(self.up, str) or self.up not in UP_AXES:
+            raise UnknownNameError(where, "up axis", str(self.up), UP_AXES)
+        if not isinstance(self.at_axis, str) or self.at_axis not in OUT_AXES:
+            raise UnknownNameError(where, "axis of the mount frame (at_axis)", str(self.at_axis), OUT_AXES)
+        if self.gripper is not None and self.gripper not in BUILTIN_PIECES:  # named before the file loads
+            raise UnknownNameError(where, "gripper (a built-in piece)", self.gripper, BUILTIN_PIECES)
+
+
+_S = TypeVar("_S")
+_P = ParamSpec("_P")
+
+
+def _taking(
+    options: Callable[_P, FileOptions],
+) -> Callable[[Callable[[_S, FileOptions], type[Agent]]], Callable[Concatenate[_S, _P], type[Agent]]]:
+    """``func(source, options)`` called as ``func(source, <the fields of options as
+    arguments>)``: the options' one signature is :class:`FileOptions`'s (its
+    ``inspect.signature`` and ``help`` show them too)."""
+
+    accepted = inspect.signature(options)
+
+    def decorate(func: Callable[[_S, FileOptions], type[Agent]]) -> Callable[Concatenate[_S, _P], type[Agent]]:
+        where = func.__name__
+
+        @functools.wraps(func)
+        def call(source: _S, /, *args: _P.args, **kwargs: _P.kwargs) -> type[Agent]:
+            for name in kwargs:  # a misspelt option is named with the close ones, not a TypeError
+                if name not in accepted.parameters:
+                    raise UnknownNameError(where, "option", name, accepted.parameters)
+            try:
+                accepted.bind(*args, **kwargs)
+            except TypeError as err:  # too many positional options, or one given twice
+                raise ConfigError(
+                    f"{where}: {err}; the options after the {first.name} are {', '.join(accepted.parameters)}, got "
+                    f"{args!r} and {kwargs!r}."
+                ) from None
+            return func(source, options(*args, **kwargs))
+
+        first = next(iter(inspect.signature(func).parameters.values()))
+        call.__signature__ = inspect.Signature(  # type: ignore[attr-defined]
+            [first.replace(kind=inspect.Parameter.POSITIONAL_ONLY), *accepted.parameters.values()],
+            return_annotation=inspect.signature(func).return_annotation,
+        )
+        return call
+
+    return decorate
+
+
+def _file_robot(path: str | Path, options: FileOptions, where: str) -> type[Agent]:
+    """The robot class of the model file ``path`` with ``options`` (checked here; errors
+    name ``where``)."""
+    options.check(where)
+    gripper, at, at_axis = options.gripper, options.at, options.at_axis
     if (gripper is None) != (at is None):
         raise ConfigError(
-            f"robot_from_file: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r}."
+            f"{where}: a gripper and the body it is mounted at go together; got gripper={gripper!r}, at={at!r} "
+            "(at: the file's body or site the gripper is mounted on, its flange; --at on the command line)."
         )
-    if at_axis not in OUT_AXES:
-        raise UnknownNameError("robot_from_file", "axis of the mount frame (at_axis)", str(at_axis), OUT_AXES)
     if at_axis != "z" and gripper is None:
         raise ConfigError(
-            f"robot_from_file: at_axis={at_axis!r} points a mounted gripper, and no gripper is mounted (gripper=None)."
+            f"{where}: at_axis={at_axis!r} points a mounted gripper, and no gripper is mounted (gripper=None)."
         )
+    if not isinstance(path, (str, Path)) or not str(path):
+        raise ConfigError(f"{where}: expected a model file path (str or pathlib.Path), got {path!r}.")
     file = Path(path)
-    field = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
+    field_name = "urdf_path" if file.suffix.lower() == ".urdf" else "mjcf_path"
     name = "".join(part.capitalize() for part in file.stem.replace("-", "_").split("_")) or "Robot"
-    attributes: dict[str, object] = {"uid": file.stem, field: file}
-    if floating:  # (undeclared, a file's free root is fixed with a note)
+    attributes: dict[str, object] = {"uid": file.stem, field_name: file}
+    if options.floating:  # (undeclared, a file's free root is fixed with a note)
         attributes["fix_root_link"] = False
-    if up != "z":
-        attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[up])
+    if options.up != "z":
+        attributes["mount_pose"] = (0.0, 0.0, 0.0, *UP_AXES[options.up])
         attributes["rest_on_floor"] = True  # the mount names the up axis only: a fixed robot still rests on the floor
-    if root_body is not None:
-        attributes["root_body"] = root_body
+    if options.root_body is not None:
+        attributes["root_body"] = options.root_body
     if gripper is not None and at is not None:
         attributes["attachments"] = (
             Attachment(get_piece(gripper), at=at, prefix=f"{gripper}/", quat=OUT_AXES[at_axis]),
@@ -93,45 +185,48 @@ def robot_from_file(
     return type(name, (Agent,), attributes)
 
 
-def resolve_robot(
-    spec: str,
-    floating: bool = False,
-    up: str = "z",
-    gripper: str | None = None,
-    at: str | None = None,
-    root_body: str | None = None,
-    at_axis: str = "z",
-) -> type[Agent]:
+@_taking(FileOptions)
+def robot_from_file(path: str | Path, options: FileOptions) -> type[Agent]:
+    """The two-line robot of a model file: everything else derived (see
+    :func:`robot_agents.agent.declaration.check`). The options after ``path`` are
+    :class:`FileOptions`' fields: ``floating=False, up="z", gripper=None, at=None,
+    root_body=None, at_axis="z"`` (e.g. ``robot_from_file("ur5.urdf", gripper="robotiq_2f85",
+    at="tool0")``, ``robot_from_file("ant.xml", floating=True)``).
+
+    Raises:
+        ConfigError: an option of the wrong type, or a gripper without ``at`` (or the other
+            way round), or an ``at_axis`` without a gripper.
+        UnknownNameError: an ``up``, ``at_axis`` or ``gripper`` that does not exist.
+    """
+    return _file_robot(path, options, "robot_from_file")
+
+
+@_taking(FileOptions)
+def resolve_robot(spec: str, options: FileOptions) -> type[Agent]:
     """A robot class from ``spec``: a model file path, ``module:Class``, or a uid (a
     directory or file without a model suffix that happens to share a registered uid's
-    name does not hide the uid); ``floating``, ``up``, ``gripper``, ``at``, ``at_axis``
-    and ``root_body``: see :func:`robot_from_file` (model files only)."""
+    name does not hide the uid). The options after ``spec`` (model files only) are
+    :class:`FileOptions`' fields, as :func:`robot_from_file` takes them.
+
+    Raises:
+        ConfigError: ``spec`` is not a non-empty string, an option is given for a
+            registered uid or a class, or ``module:Class`` names no Agent subclass.
+        UnknownNameError: no registered robot has the uid ``spec`` (close names listed).
+    """
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
     registered = spec in list_agents()
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
-        return robot_from_file(path, floating, up, gripper, at, root_body, at_axis)
-    if floating:
-        raise ConfigError(
-            f"resolve_robot: floating=True gives a model file's root a free joint, and {spec!r} is a registered uid "
-            "or a class (declare fix_root_link = False instead)."
-        )
-    if up != "z":
-        raise ConfigError(
-            f"resolve_robot: up={up!r} turns a model file, and {spec!r} is a registered uid or a class "
-            "(declare its mount_pose instead)."
-        )
-    if root_body is not None:
-        raise ConfigError(
-            f"resolve_robot: root_body={root_body!r} picks a model file's robot, and {spec!r} is a registered uid or a "
-            "class (declare its root_body instead)."
-        )
-    if gripper is not None or at is not None or at_axis != "z":
-        raise ConfigError(
-            f"resolve_robot: a gripper (gripper={gripper!r}, at={at!r}, at_axis={at_axis!r}) is mounted on a model file, and {spec!r} "
-            "is a registered uid or a class (declare its attachments instead)."
-        )
+        return _file_robot(path, options, "resolve_robot")
+    options.check("resolve_robot")
+    for option in fields(options):
+        value = getattr(options, option.name)
+        if value != option.default:
+            raise ConfigError(
+                f"resolve_robot: {option.name}={value!r} {option.metadata['does']}, and {spec!r} is a registered uid "
+                f"or a class ({option.metadata['instead']} instead)."
+            )
     if ":" in spec and not registered:
         module_name, _, class_name = spec.partition(":")
         try:

@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.patterns import Patterns, as_patterns
 from robot_agents.validation import check_per_joint, is_real
 
@@ -102,6 +103,7 @@ class ActuatorConfig:
         return f"{type(self).__name__}({', '.join(repr(p) for p in self.joints)})"
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDActuator(ActuatorConfig):
     """A PD position servo inside MuJoCo: ``force = kp (q* - q) + kv (qd* - qd) + b qd* +
@@ -113,6 +115,7 @@ class PDActuator(ActuatorConfig):
     damping: PerJoint = 0.0
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class VelocityActuator(ActuatorConfig):
     """A velocity servo inside MuJoCo: ``force = kv (qd* - qd) + b qd* + tau*`` (``b``: the
@@ -121,6 +124,7 @@ class VelocityActuator(ActuatorConfig):
     damping: PerJoint
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class MotorActuator(ActuatorConfig):
     """A torque motor: MuJoCo applies the commanded effort. With ``stiffness`` or
@@ -133,6 +137,7 @@ class MotorActuator(ActuatorConfig):
     damping: PerJoint = 0.0
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PIDActuator(ActuatorConfig):
     """MuJoCo's ``pid`` actuator (MuJoCo >= 3.15): a PID servo with an integral state
@@ -153,6 +158,7 @@ class PIDActuator(ActuatorConfig):
             raise ConfigError(f"{type(self).__name__}.stiffness: expected > 0, got {self.stiffness!r}.")
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class DCMotorActuator(ActuatorConfig):
     """MuJoCo's ``dcmotor`` actuator (MuJoCo >= 3.15): a brushed DC motor (torque
@@ -175,6 +181,7 @@ class DCMotorActuator(ActuatorConfig):
             raise ConfigError(f"{type(self).__name__}: expected motor_constant > 0 and resistance > 0.")
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class FileActuators(ActuatorConfig):
     """Adopt the model file's own actuators on the matched joints as their drives.
@@ -186,6 +193,7 @@ class FileActuators(ActuatorConfig):
     joints: Patterns = ".*"
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class DerivedActuators(ActuatorConfig):
     """PD drives on the matched joints with gains derived from the model's inertia, as a

@@ -136,10 +136,14 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     @property
     def qpos_adr(self) -> npt.NDArray[np.int64]:
+        """Where the robot's joint positions lie in the scene's ``qpos``, shape ``(nq,)``
+        (a free root's 7 excluded): ``data.qpos[agent.qpos_adr]`` is the robot's ``qpos``."""
         return self.index.qpos_adr
 
     @property
     def dof_adr(self) -> npt.NDArray[np.int64]:
+        """Where the robot's joint velocities lie in the scene's ``qvel``, shape ``(dof,)``
+        (a free root's 6 excluded)."""
         return self.index.dof_adr
 
     @property
@@ -149,6 +153,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     @property
     def root_body_id(self) -> int:
+        """The scene model's id of the robot's root body (its free joint's body on a
+        floating robot; :attr:`root_frame`'s body)."""
         return self.index.root_body_id
 
     @property
@@ -189,6 +195,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     @property
     def has_end_effector(self) -> bool:
+        """The robot has at least one end effector (an ``Arm`` part's, declared or derived):
+        :attr:`tcp_pose` and the ``pd_ee_*`` modes need one."""
         return bool(self.frames.end_effectors)
 
     @property
@@ -225,6 +233,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
     # ------------------------------------------------------------------ control
     @property
     def control_mode(self) -> str:
+        """The active control mode's name (:meth:`set_control_mode` changes it)."""
         return self.control.mode
 
     @property
@@ -240,6 +249,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self.control.activate(mode, where)
 
     def controller_for(self, mode: Any, where: str = "") -> CombinedController:
+        """The controller of ``mode`` (built on first use, not activated; an unknown mode
+        is an :class:`~robot_agents.errors.UnknownNameError` naming ``where``)."""
         return self.control.controller_for(mode, where or type(self).__name__)
 
     @property
@@ -383,7 +394,8 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
 
     def perturbed_qpos(self, env_ids: npt.NDArray[np.int64], std: float, rng: np.random.Generator) -> FloatArray:
         """The measured ``qpos`` of ``env_ids`` plus Gaussian noise of ``std`` (rad / m;
-        ball joints turn by a random rotation vector), clipped into the limits. Held legs
+        ball joints turn by a random rotation vector), clipped into the limits: shape
+        ``(len(env_ids), nq)``, drawn from ``rng``. Held legs
         (Habitat's leg base) keep the measured pose: they are pinned at the reset pose
         while a kinematic base moves the body, and a perturbed stance would pin their
         feet into the floor (0.02 rad put Spot's up to 9 mm deep)."""

@@ -26,6 +26,7 @@ import numpy as np
 from robot_agents.actuators.config import ActuatorConfig
 from robot_agents.actuators.gains import friction_gains, gains_from_inertia, gains_over_configurations, grip_gains
 from robot_agents.actuators.spec import DerivedGains, DriveDeclaration, apply_actuators
+from robot_agents.agent.attribute_names import check_attribute_names
 from robot_agents.agent.derived import (
     DERIVED_SOURCE,
     infer_gripper,
@@ -191,6 +192,8 @@ def mode_parts(cls: type[AgentDefinition], modes: Mapping[str, ModeConfig], mode
 def validate_definition(cls: type[AgentDefinition]) -> None:
     """Check the declaration's types and internal consistency without loading a model."""
     name = cls.__name__
+    definition = next(k for k in cls.__mro__ if k.__module__ == "robot_agents.agent.definition")
+    check_attribute_names(cls, sorted(definition.__annotations__))  # first: a misspelt name explains the rest
     model_path(cls)
     freq = cls.sim_freq
     if freq is not None and (isinstance(freq, bool) or not isinstance(freq, int) or freq <= 0):

@@ -166,4 +166,5 @@ class AgentDefinition:
 
     @classmethod
     def default_keyframe(cls) -> str | None:
+        """The keyframe a reset uses unless told (the first of :meth:`keyframe_names`)."""
         return next(iter(cls.check().keyframes), None)

@@ -112,7 +112,11 @@ class JointState:
             raise StateError(f"{where}: expected {what} of shape ({size},) or ({n_envs}, {size}), got {array.shape}.")
         array = array.astype(np.float64)
         if not np.all(np.isfinite(array)):
-            raise StateError(f"{where}: {what} contains NaN or inf.")
+            bad = np.argwhere(~np.isfinite(array))
+            raise StateError(
+                f"{where}: {what} contains NaN or inf at (env, index) {bad[:4].tolist()}"
+                f"{f' and {len(bad) - 4} more' if len(bad) > 4 else ''}; expected finite values."
+            )
         return array
 
     def checked_qpos(self, value: Any, n_envs: int, where: str) -> FloatArray:

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.agent.index import RobotIndex
-from robot_agents.errors import ConfigError, StateError
+from robot_agents.errors import ConfigError, StateError, did_you_mean
 from robot_agents.kinematics.rotations import quat_to_yaw, z_rotation_angle
 from robot_agents.validation import check_bool, check_state_keys, outside_limits
 
@@ -235,7 +235,10 @@ class MobileBase:
         turn the collision check of kinematic moves on or off)."""
         where = f"{self.owner}.set_base_dynamics"
         if not isinstance(dynamics, str) or dynamics not in ("dynamic", "kinematic"):
-            raise ConfigError(f"{where}: expected 'dynamic' or 'kinematic', got {dynamics!r}.")
+            raise ConfigError(
+                f"{where}: expected 'dynamic' or 'kinematic', got {dynamics!r}."
+                + did_you_mean(dynamics, ("dynamic", "kinematic"))
+            )
         if dynamics == "kinematic" and self.planar is None:
             raise ConfigError(f"{where}: a kinematic base needs a Base part on planar joints.")
         refuse = None if refuse_collisions is None else check_bool(refuse_collisions, "refuse_collisions", where)

@@ -25,6 +25,7 @@ from robot_agents.agent.index import RobotIndex
 from robot_agents.agent.joint_state import mounted_pose
 from robot_agents.model.compiling import compile_spec
 from robot_agents.model.scene import FLOOR_SOLIMP, FLOOR_SOLMIX, FLOOR_SOLREF
+from robot_agents.notes import mujoco_messages
 
 #: Seconds the locked robot is given to come to rest on the floor.
 STANCE_SETTLE_SECONDS = 1.0
@@ -132,8 +133,9 @@ def find_stance(
     if mount_quat is not None:  # the world pose of the base the mount turns (the robot stands at the origin)
         base = mounted_pose(np.array([0.0, 0.0, 0.0, *np.asarray(mount_quat, dtype=np.float64)]), base)
     data.qpos[free.qpos_adr : free.qpos_adr + 7] = base
-    for _ in range(round(STANCE_SETTLE_SECONDS / timestep)):
-        mujoco.mj_step(locked, data)
+    with mujoco_messages(where):  # a diverging settle is reported below in its own words too
+        for _ in range(round(STANCE_SETTLE_SECONDS / timestep)):
+            mujoco.mj_step(locked, data)
     base_v = data.qvel[free.dof_adr : free.dof_adr + 6]  # the locked model adds a geom and equalities: same layout
     if not np.all(np.isfinite(data.qpos)):
         return f"the locked robot's simulation diverged within {STANCE_SETTLE_SECONDS:g} s"

@@ -30,8 +30,10 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.controllers.joint import PDJointVelController
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDBaseVelConfig(ControllerConfig):
     """Velocity control of a planar base.

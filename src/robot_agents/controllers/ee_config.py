@@ -19,6 +19,7 @@ from robot_agents.controllers.base import (
 )
 from robot_agents.controllers.task_space import WorkspaceBox
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.kinematics.ik_config import IKConfig
 
 BoolArray = npt.NDArray[np.bool_]
@@ -51,6 +52,7 @@ def per_axis(owner: str, name: str, value: PerAxis) -> FloatArray:
     return per_joint(owner, name, value, 3)
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDEEPosConfig(ControllerConfig):
     """End-effector position control; the orientation is held.
@@ -120,6 +122,7 @@ class PDEEPosConfig(ControllerConfig):
         return PDEEController(self, binding, context)
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDEEPoseConfig(PDEEPosConfig):
     """End-effector pose control: position and orientation.

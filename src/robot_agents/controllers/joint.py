@@ -36,6 +36,7 @@ from robot_agents.controllers.base import (
     one_pass_clip_exact,
 )
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 
 #: Absolute targets of an unlimited joint are bounded to +-2 pi rad (+-2 pi m for a slide);
 #: an unlimited hinge takes them modulo 2 pi (see the module docstring).
@@ -67,6 +68,7 @@ def within_bounds_by_turns(angles: FloatArray, low: FloatArray, high: FloatArray
     return held
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosConfig(ControllerConfig):
     """PD joint position control.
@@ -114,6 +116,7 @@ class PDJointPosConfig(ControllerConfig):
         return PDJointPosController(self, binding, context)
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosMimicConfig(PDJointPosConfig):
     """One action drives several coupled joints (e.g. both fingers of a parallel gripper).
@@ -321,6 +324,7 @@ class PDJointPosController(Controller):
         return f"PD joint {kind}{' (normalized)' if cfg.normalize_action else ''}"
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDJointVelConfig(ControllerConfig):
     """Joint velocity control: ``force = kv (qd* - qd)``. Position-servo drives need
@@ -378,6 +382,7 @@ class PDJointVelController(Controller):
         return f"PD joint velocity{' (normalized)' if self.config.normalize_action else ''}"
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosVelConfig(PDJointPosConfig):
     """Position and velocity targets: the action is ``[q_target (n), qd_target (n)]``.
@@ -462,6 +467,7 @@ class PDJointPosVelController(PDJointPosController):
         return f"PD joint {kind}{' (normalized)' if cfg.normalize_action else ''}"
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class JointEffortConfig(ControllerConfig):
     """Joint efforts: the action is the torque (N*m) or force (N) each joint's drive

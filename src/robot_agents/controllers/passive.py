@@ -18,8 +18,10 @@ from robot_agents.controllers.base import (
     JointBinding,
     SimView,
 )
+from robot_agents.keywords import checked_keywords
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PassiveConfig(ControllerConfig):
     """Joints that move freely. ``damping``: viscous damping per joint (N*m*s/rad or

@@ -28,12 +28,14 @@ from robot_agents.controllers.joint import (
 )
 from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
 from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keywords import checked_keywords
 from robot_agents.parts.declaration import Arm, Base, Gripper, Hand, Legs, Part, is_jaw_gripper
 from robot_agents.validation import check_per_joint, check_real
 
 ModeConfig = ControllerConfig | Mapping[str, ControllerConfig]
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class JointGroup:
     """Joints commanded together, and how far one action may move them.
@@ -67,6 +69,15 @@ class JointGroup:
             check_per_joint(self.velocity_damping, "JointGroup.velocity_damping")
 
 
+def _check_group(group: object, where: str) -> None:
+    """``group`` is a :class:`JointGroup` (a tuple of names is not: its bounds go with it)."""
+    if not isinstance(group, JointGroup):
+        raise ConfigError(
+            f"{where}: expected a JointGroup (joint_names=(...), max_delta, max_velocity), got {group!r}; "
+            "e.g. ra.JointGroup(joint_names=('joint1', 'joint2'))."
+        )
+
+
 def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
     """The six joint-space modes (ManiSkill names) for one joint group.
 
@@ -81,6 +92,7 @@ def joint_control_modes(group: JointGroup) -> dict[str, ControllerConfig]:
     ``pd_joint_delta_pos_vel``    deltas on measured qpos, then velocities yes
     ============================  ======================================  ==========
     """
+    _check_group(group, "joint_control_modes")
     names, step = tuple(group.joint_names), group.max_delta
     vmax = group.max_velocity
     vmin = _negated(vmax)
@@ -143,6 +155,9 @@ def ee_control_modes(
     ``root_translation:root_aligned_body_rotation``, this library's ``pd_ee_delta_pose``).
     A turn about the tool's own axes is ``PDEEPoseConfig(rotation_frame=CommandFrame.EE)``.
     """
+    _check_group(group, "ee_control_modes")
+    if not isinstance(task, TaskSpace):
+        raise ConfigError(f"ee_control_modes: expected task to be a TaskSpace, got {task!r}.")
     step, turn = task.max_translation, task.max_rotation
     position = PDEEPosConfig(
         joint_names=tuple(group.joint_names),

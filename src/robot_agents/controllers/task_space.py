@@ -8,10 +8,12 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.kinematics.ik_config import IKConfig
 from robot_agents.kinematics.rotations import quat_conjugate, quat_multiply, quat_to_rotvec
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class WorkspaceBox:
     """An axis-aligned box in the robot's root frame; targets are clipped into it (m)."""
@@ -29,6 +31,7 @@ class WorkspaceBox:
             raise ConfigError(f"WorkspaceBox: expected lower <= upper on every axis, got {self.lower}, {self.upper}.")
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class TaskSpace:
     """How an arm's end effector is commanded (end-effector control modes).
@@ -92,6 +95,7 @@ class TaskSpace:
             )
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class MeasuredTaskSpace:
     """``Arm(task_space=MeasuredTaskSpace())``: the arm's task space measured on its model,

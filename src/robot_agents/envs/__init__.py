@@ -14,6 +14,7 @@ from robot_agents.envs.base_env import RobotEnv, check_max_episode_steps, task_k
 from robot_agents.envs.empty import EmptyEnv
 from robot_agents.envs.vector import RobotVectorEnv, vector_entry_point
 from robot_agents.errors import UnknownNameError
+from robot_agents.validation import check_bool
 
 NAMESPACE = "robot_agents"
 #: Task name -> entry point, registered with Gymnasium as ``robot_agents/<name>``.
@@ -60,6 +61,7 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     the task's own limit (truncation per env, ``(num_envs,)``, at any batch size), not
     Gymnasium's ``TimeLimit`` wrapper (which ``gymnasium.make(..., max_episode_steps=N)``
     adds: one ``truncated`` for the whole batch, the task's limit unchanged).
+    ``disable_env_checker`` (a bool) goes to ``gymnasium.make`` itself.
     """
     register_envs()
     if not isinstance(env_id, str):
@@ -77,6 +79,8 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     modes = task.metadata["render_modes"]
     if render_mode is not None and render_mode not in modes:  # gymnasium would wrap "human" around "rgb_array"
         raise UnknownNameError(where, "render_mode", str(render_mode), modes)
+    if "disable_env_checker" in kwargs:  # (gymnasium takes any value, as its truth)
+        check_bool(kwargs["disable_env_checker"], "disable_env_checker", where)
     steps = kwargs.pop("max_episode_steps", -1)
     check_max_episode_steps(steps, task.__name__)  # before the build
     env = gym.make(f"{NAMESPACE}/{name}", **kwargs)

@@ -112,15 +112,16 @@ class RobotEnv(gym.Env[Any, Any]):
         render_mode: ``None`` or ``"rgb_array"`` (offscreen scene camera).
         render_size: ``(width, height)`` of rendered frames in pixels, each in ``[1,
             8192]`` (the offscreen framebuffer is enlarged to hold them).
-        max_episode_steps: episodes are truncated after this many steps (``None``: never).
+        max_episode_steps: episodes are truncated after this many steps (``None``: never;
+            ``-1``: the task's default, :attr:`default_max_episode_steps`).
         robot_init_qpos_noise: std-dev (rad / m) of Gaussian noise added to the reset
             keyframe, drawn from the env's seeded RNG; drawn again (up to
             :data:`RESET_NOISE_DRAWS` times, then the keyframe) while it puts a robot
             geom more than 1 mm deeper into the fixed scene (floor, table) or a robot
             than the keyframe does.
         num_threads: stepping threads for ``num_envs > 1``.
-        robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's mount (one
-            per robot); default: each robot's ``mount_pose``.
+        robot_poses: world pose ``(x, y, z, qw, qx, qy, qz)`` of each robot's mount (m;
+            a quaternion, normalized), one per robot; default: each robot's ``mount_pose``.
         raise_on_instability: raise :class:`PhysicsError` when MuJoCo resets an env
             during a step; otherwise ``info["physics_unstable"]`` reports it per env.
         sensor_configs: camera overrides by camera key, e.g.
@@ -278,8 +279,12 @@ class RobotEnv(gym.Env[Any, Any]):
         return robot_bounds(self.scene.world, [f"{rid}/" for rid in self.scene.robot_ids], env=env, above=above)
 
     def env_rng(self, env: int) -> np.random.Generator:
-        """The random stream of env ``env`` (seeded by :meth:`reset`; unseeded: from
-        fresh entropy on first use)."""
+        """The random stream of env ``env``, a whole number in ``[0, num_envs)`` (seeded by
+        :meth:`reset`; unseeded: from fresh entropy on first use)."""
+        if not is_whole(env) or not 0 <= env < self.num_envs:  # (-1 gave the last env's stream)
+            raise StateError(
+                f"{type(self).__name__}.env_rng: expected an env index in [0, {self.num_envs}), got {env!r}."
+            )
         rng = self._env_rngs[env]
         if rng is None:
             rng, _ = seeding.np_random(None)
@@ -289,6 +294,7 @@ class RobotEnv(gym.Env[Any, Any]):
     # ------------------------------------------------------------------ access
     @property
     def agents(self) -> list[Agent]:
+        """The robots, in the order of ``robot_uids`` (see :attr:`agent`)."""
         return self.scene.agents
 
     @property
@@ -321,6 +327,9 @@ class RobotEnv(gym.Env[Any, Any]):
 
     @property
     def single_action_space(self) -> gym.Space[Any]:
+        """One env's action space: the robot's (a ``Box`` of the active mode's action
+        size), or a ``Dict`` of them by robot id for several robots; ``action_space`` is
+        it batched over ``num_envs``."""
         if len(self.agents) == 1:
             return self.agent.single_action_space
         return gym.spaces.Dict(
@@ -650,7 +659,12 @@ class RobotEnv(gym.Env[Any, Any]):
         so a restored state renders as it did where it was saved."""
         self._check_open(f"{type(self).__name__}.render")
         if self.render_mode is None:
-            gym.logger.warn("render() called with render_mode=None; pass render_mode='rgb_array' to make_env.")
+            # a note, as the library's others (gymnasium's convention: no frame, no error)
+            warnings.warn(
+                f"{type(self).__name__}.render: no frame, render_mode is None; pass render_mode='rgb_array' to make_env.",
+                RuntimeWarning,
+                stacklevel=2,
+            )
             return None
         if self._renderer is None:
             width, height = self.render_size
@@ -692,6 +706,8 @@ class RobotEnv(gym.Env[Any, Any]):
         )
 
     def close(self) -> None:
+        """Free the renderers and the simulation; a later call other than ``close`` is a
+        :class:`~robot_agents.errors.StateError`."""
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None

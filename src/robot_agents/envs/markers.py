@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import RenderError
+from robot_agents.errors import RenderError, did_you_mean
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.model.scene import PRIMITIVE_SHAPES
 
@@ -49,7 +49,10 @@ class Marker:
 
     def __post_init__(self) -> None:
         if self.shape not in PRIMITIVE_SHAPES:
-            raise RenderError(f"Marker: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}.")
+            raise RenderError(
+                f"Marker: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}."
+                + did_you_mean(self.shape, PRIMITIVE_SHAPES)
+            )
         values = [*self.size, *self.pos, *self.quat, *self.rgba]
         if not 1 <= len(self.size) <= 3 or not np.all(np.isfinite(values)) or min(self.size) <= 0:
             raise RenderError(

@@ -48,7 +48,7 @@ from gymnasium.vector.utils import batch_space
 
 from robot_agents.envs.base_env import RESET_OPTIONS, RobotEnv
 from robot_agents.envs.episode_checks import check_num_envs, check_reset_options
-from robot_agents.errors import ConfigError, StateError
+from robot_agents.errors import ConfigError, StateError, did_you_mean
 from robot_agents.sim.scene import ENV_STATE_KEYS, SCENE_STATE_KEYS
 from robot_agents.validation import check_state_keys
 
@@ -90,8 +90,11 @@ def _autoreset_mode(value: Any) -> AutoresetMode:
         for mode in AutoresetMode:
             if value.upper() == mode.name or value == mode.value:
                 return mode
+    names = [m.name for m in AutoresetMode]
+    given = value.upper() if isinstance(value, str) else value
     raise ConfigError(
-        f"RobotVectorEnv: expected autoreset_mode to be one of {[m.name for m in AutoresetMode]}, got {value!r}."
+        f"RobotVectorEnv: expected autoreset_mode to be one of {names} (any case) or an AutoresetMode, got {value!r}."
+        + did_you_mean(given, names)
     )
 
 

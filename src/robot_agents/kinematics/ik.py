@@ -159,6 +159,7 @@ class IKSolver:
 
     @property
     def size(self) -> int:
+        """How many joints the solver moves (the length of its ``qpos_adr``)."""
         return len(self.qpos_adr)
 
     @property

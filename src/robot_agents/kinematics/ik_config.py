@@ -10,6 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.validation import check_real, check_whole
 
 FloatArray = npt.NDArray[np.float64]
@@ -17,6 +18,7 @@ IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class IKConfig:
     """Settings of the damped-least-squares solver.

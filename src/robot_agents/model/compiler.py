@@ -18,13 +18,15 @@ from pathlib import Path
 
 import mujoco
 
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.validation import is_real
 
 #: Folders searched for ``package://<pkg>/...`` meshes, besides the model's own (os.pathsep-separated).
 PACKAGE_PATH_VARIABLE = "ROBOT_AGENTS_PACKAGE_PATH"
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class CompilerSettings:
     """How MuJoCo compiles a robot's model file (``None`` keeps the file's own setting).
@@ -56,7 +58,10 @@ class CompilerSettings:
 
     def __post_init__(self) -> None:
         if self.angle not in (None, "radian", "degree"):
-            raise ConfigError(f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}.")
+            raise ConfigError(
+                f"CompilerSettings.angle: expected 'radian', 'degree' or None, got {self.angle!r}."
+                + did_you_mean(self.angle, ("radian", "degree"))
+            )
         for name in ("boundmass", "boundinertia"):
             value = getattr(self, name)
             if not (is_real(value) and math.isfinite(value) and value >= 0):

@@ -13,10 +13,12 @@ import mujoco
 import numpy as np
 
 from robot_agents.errors import ConfigError, ModelError, UnknownNameError
-from robot_agents.model.compiling import mujoco_messages
+from robot_agents.keywords import checked_keywords
+from robot_agents.notes import mujoco_messages
 from robot_agents.validation import check_quat, check_vector
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class Attachment:
     """A piece (another :class:`~robot_agents.agent.Agent` class, usually unregistered)

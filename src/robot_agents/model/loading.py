@@ -31,6 +31,7 @@ from robot_agents.errors import ModelError, close_names
 from robot_agents.model.compiler import CompilerSettings
 from robot_agents.model.inertia import combine_inertias
 from robot_agents.model.meshes import SUPPORTED_MESH_SUFFIXES, MeshConversionUnavailable, mujoco_reads, readable_mesh
+from robot_agents.notes import mujoco_messages
 
 _URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _DEFAULT_SETTINGS = CompilerSettings()
@@ -282,14 +283,15 @@ def _line_of(text: str, pattern: str) -> int:
 def _load_mjcf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     _parse_xml(file, "mujoco", "an MJCF")
     try:
-        if file.suffix == ".xml":
-            spec = mujoco.MjSpec.from_file(str(file))
-        else:
-            # MuJoCo picks its reader by the name's ending and reads only ".xml" (".mjcf",
-            # ".XML": "could not find decoder"): the file's text under that name, in its own
-            # folder, where its includes and meshes are found
-            named = file.with_name(f"{file.stem}.xml")
-            spec = mujoco.MjSpec.from_file(str(named), include={str(named): file.read_bytes()})
+        with mujoco_messages(f"load_model_spec: {str(file)!r}"):
+            if file.suffix == ".xml":
+                spec = mujoco.MjSpec.from_file(str(file))
+            else:
+                # MuJoCo picks its reader by the name's ending and reads only ".xml" (".mjcf",
+                # ".XML": "could not find decoder"): the file's text under that name, in its own
+                # folder, where its includes and meshes are found
+                named = file.with_name(f"{file.stem}.xml")
+                spec = mujoco.MjSpec.from_file(str(named), include={str(named): file.read_bytes()})
     except ValueError as err:
         raise ModelError(f"load_model_spec: MuJoCo rejected {str(file)!r}: {err}") from None
     if compiler.meshdir is not None:
@@ -535,7 +537,8 @@ def _load_urdf(file: Path, compiler: CompilerSettings) -> mujoco.MjSpec:
     settings.set("strippath", "false")
     serialized = ET.tostring(root, encoding="unicode")
     try:
-        spec = mujoco.MjSpec.from_string(serialized)
+        with mujoco_messages(f"load_model_spec: {str(file)!r}", handled=MIMIC_HANDLED):
+            spec = mujoco.MjSpec.from_string(serialized)
     except ValueError as err:
         message = _in_source_lines(str(err), serialized, root, source_lines, text)
         raise ModelError(f"load_model_spec: MuJoCo rejected the URDF {str(file)!r}: {message}") from None
@@ -639,6 +642,11 @@ def _in_source_lines(
             "(xacro model.urdf.xacro > model.urdf) and load the result"
         )
     return mapped
+
+
+#: MuJoCo's URDF reader's word on a ``<mimic>`` it left out: :func:`_add_mimic_equalities`
+#: couples the joint itself, or refuses a mimic of a joint the file does not have.
+MIMIC_HANDLED = ("<mimic> on joint",)
 
 
 def _add_mimic_equalities(

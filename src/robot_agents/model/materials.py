@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import mujoco
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.validation import check_vector, is_real
 
 #: MuJoCo's ``priority`` a geom gets when its material sets ``solref`` or ``solimp``, so
@@ -19,6 +20,7 @@ PAD_SOLREF = (0.002, 1.0)
 PAD_SOLIMP = (0.95, 0.99, 0.001)
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class FrictionMaterial:
     """MuJoCo contact material of a geom: its friction and, optionally, how soft its

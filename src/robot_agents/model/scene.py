@@ -11,10 +11,12 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from robot_agents.errors import ConfigError, ModelError
+from robot_agents.errors import ConfigError, ModelError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.kinematics.rotations import look_at_xyaxes
-from robot_agents.model.compiling import compile_spec, mujoco_messages
+from robot_agents.model.compiling import compile_spec
 from robot_agents.model.materials import FrictionMaterial
+from robot_agents.notes import mujoco_messages
 from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.spec import add_camera
 
@@ -27,6 +29,7 @@ PRIMITIVE_SHAPES = {
 }
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class Prop:
     """A primitive object in the scene.
@@ -53,7 +56,10 @@ class Prop:
 
     def __post_init__(self) -> None:
         if self.shape not in PRIMITIVE_SHAPES:
-            raise ConfigError(f"Prop {self.name!r}: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}.")
+            raise ConfigError(
+                f"Prop {self.name!r}: expected shape in {sorted(PRIMITIVE_SHAPES)}, got {self.shape!r}."
+                + did_you_mean(self.shape, PRIMITIVE_SHAPES)
+            )
         if self.mass is not None and not self.mass > 0:
             raise ConfigError(f"Prop {self.name!r}: expected mass > 0 kg or None (static), got {self.mass!r}.")
 

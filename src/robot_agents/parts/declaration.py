@@ -18,6 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError
+from robot_agents.keywords import checked_keywords
 from robot_agents.patterns import Patterns, as_patterns
 from robot_agents.validation import check_quat, check_real, is_real
 
@@ -43,6 +44,7 @@ def _vector(where: str, value: tuple[float, ...], size: int) -> tuple[float, ...
     return floats
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class EndEffector:
     """A tool frame.
@@ -104,6 +106,7 @@ class Part:
             raise ConfigError(f"{where}.max_delta: expected a positive number (rad or m), got {self.max_delta!r}.")
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Arm(Part):
     """A manipulator arm. ``end_effectors``: its tool frames (the first is the default);
@@ -121,6 +124,7 @@ class Arm(Part):
                 raise ConfigError(f"Arm {self.name!r}.end_effectors: expected EndEffector entries, got {ee!r}.")
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Gripper(Part):
     """A gripper driven by one action: the first matched driven joint leads, the others
@@ -178,6 +182,7 @@ class Gripper(Part):
         return opened, closed
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class PowerGrasp:
     """Where a hand's power grasp (its ``closed`` pose) holds a cube: the time-step
@@ -214,6 +219,7 @@ class PowerGrasp:
         object.__setattr__(self, "outward", tuple(v / norm for v in outward))
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Hand(Gripper):
     """A multi-finger hand: every joint takes its own action; ``open`` / ``closed`` are
@@ -242,16 +248,19 @@ def is_jaw_gripper(part: object) -> TypeGuard[Gripper]:
     return isinstance(part, Gripper) and not isinstance(part, Hand)
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Head(Part):
     kind: ClassVar[PartKind] = PartKind.HEAD
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Torso(Part):
     kind: ClassVar[PartKind] = PartKind.TORSO
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Legs(Part):
     """Legs: by default they take delta joint-position actions in every mode, like any
@@ -267,6 +276,7 @@ class Legs(Part):
     held: bool = False
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Base(Part):
     """A mobile base on planar joints: ``joints`` match the x slide, the y slide and the
@@ -303,6 +313,7 @@ class Base(Part):
             )
 
 
+@checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class Body(Part):
     """Joints with no more specific role (what a robot that declares no parts gets

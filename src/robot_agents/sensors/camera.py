@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, UnknownNameError
+from robot_agents.keywords import checked_keywords
 from robot_agents.kinematics.rotations import look_at_quat
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 from robot_agents.validation import is_real, is_whole
@@ -46,6 +47,7 @@ def is_pixel_count(value: object) -> bool:
 WORLD = "world"
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class CameraConfig:
     """A camera fixed to a robot link, a scene body or the world.

@@ -21,6 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.errors import ModelError
+from robot_agents.keywords import checked_keywords
 
 #: Segmentation id of pixels that show nothing.
 BACKGROUND_ID = -1
@@ -33,6 +34,7 @@ FLEX = "flex"
 SKIN = "skin"
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class SegmentationEntry:
     """What a segmentation id stands for.

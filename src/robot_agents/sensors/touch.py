@@ -18,7 +18,8 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.errors import ConfigError, ModelError
+from robot_agents.errors import ConfigError, ModelError, did_you_mean
+from robot_agents.keywords import checked_keywords
 from robot_agents.sensors.validation import float_tuple, unit_quat_tuple
 
 if TYPE_CHECKING:
@@ -30,6 +31,7 @@ FloatArray = npt.NDArray[np.float64]
 SITE_SHAPES = {"box": 3, "sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3}
 
 
+@checked_keywords
 @dataclass(frozen=True)
 class TouchSensorConfig:
     """A touch sensor on a robot.
@@ -79,7 +81,10 @@ class TouchSensorConfig:
                     f"shape, size, pos or quat (they shape a new site on a link), got {', '.join(given)}."
                 )
         if not isinstance(self.shape, str) or self.shape not in SITE_SHAPES:
-            raise ConfigError(f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}.")
+            raise ConfigError(
+                f"{where}: expected shape in {sorted(SITE_SHAPES)}, got {self.shape!r}."
+                + did_you_mean(self.shape, SITE_SHAPES)
+            )
         size = float_tuple(self.size, SITE_SHAPES[self.shape], f"size of a {self.shape} (m)", where)
         if min(size) <= 0:
             raise ConfigError(f"{where}: expected positive sizes (m), got {self.size!r}.")

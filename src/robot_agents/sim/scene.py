@@ -211,10 +211,13 @@ class Scene:
     # ------------------------------------------------------------------ properties
     @property
     def num_envs(self) -> int:
+        """How many copies of the scene are simulated side by side (the leading axis of
+        every per-env array)."""
         return self.world.num_envs
 
     @property
     def substeps(self) -> int:
+        """Physics steps per control step: ``sim_freq / control_freq``."""
         return self.world.substeps
 
     @property

@@ -13,7 +13,6 @@ the exact integration state for save / restore.
 
 from __future__ import annotations
 
-import logging
 import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -24,6 +23,7 @@ import numpy.typing as npt
 
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.limits import MAX_SPEED, check_speeds
+from robot_agents.notes import RUNTIME, install, pass_on
 from robot_agents.sim.allocation import allocate_datas
 from robot_agents.sim.render_mirror import RenderMirror
 from robot_agents.validation import check_array, is_whole
@@ -43,16 +43,6 @@ _SLEEP_FLAG = int(mujoco.mjtEnableBit.mjENBL_SLEEP)
 #: The lowest ``tree_asleep`` of an awake tree: a woken tree counts up from
 #: ``-(1 + mjMINAWAKE)`` to ``-1`` (then it may fall asleep).
 _AWAKE_COUNTDOWN = -(1 + int(mujoco.mjMINAWAKE))
-
-_LOG = logging.getLogger("robot_agents.mujoco")
-
-
-def route_mujoco_warnings() -> None:
-    """Send MuJoCo's runtime warnings (e.g. "the simulation is unstable") to the
-    ``robot_agents.mujoco`` logger instead of stdout and ``MUJOCO_LOG.TXT`` in the
-    working directory; a handler someone else installed is left alone."""
-    if hasattr(mujoco, "get_mju_user_warning") and mujoco.get_mju_user_warning() is None:
-        mujoco.set_mju_user_warning(_LOG.warning)
 
 
 def _sync_poses(model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -112,7 +102,7 @@ class BatchedWorld:
             raise ConfigError(
                 f"BatchedWorld: expected num_threads to be a whole number >= 1 or None, got {num_threads!r}."
             )
-        route_mujoco_warnings()
+        install()  # MuJoCo's run-time warnings: collected, passed on as notes after each step
         self.model = model
         #: The model renderers draw (``model`` itself unless a fuller one was given).
         self.render_model = model if render_model is None else render_model
@@ -229,6 +219,8 @@ class BatchedWorld:
             flags[env] = data.time < started[env] + advance or not qvel @ qvel <= _MAX_SPEED_SQUARED
         if flags.any():
             self.unstable_steps += flags
+        if RUNTIME:
+            pass_on(RUNTIME, "BatchedWorld.step")
 
     def _step_single(self) -> None:
         """:meth:`step` of one env without substep hooks: the same MuJoCo calls and the
@@ -247,12 +239,16 @@ class BatchedWorld:
         self.last_step_unstable[0] = unstable
         if unstable:
             self.unstable_steps[0] += 1
+        if RUNTIME:
+            pass_on(RUNTIME, "BatchedWorld.step", stacklevel=3)
 
     def forward(self) -> None:
         """Recompute derived quantities (poses, contacts, sensors) of every env."""
         for data in self.datas:
             mujoco.mj_forward(self.model, data)
         self._cache.clear()
+        if RUNTIME:
+            pass_on(RUNTIME, "BatchedWorld.forward")
 
     # -- batched reads (read-only caches, invalidated by step / writes) ---------------
     def _gather(self, field: str) -> FloatArray:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from robot_agents.notes import mujoco_messages
 from robot_agents.tuning.collisions import can_collide
 
 
@@ -77,11 +78,12 @@ def collision_profile(model: mujoco.MjModel, qpos: np.ndarray, ctrl: np.ndarray,
     mujoco.set_mjcb_time(_clock())
     contacts = 0
     try:
-        for row in ctrl:
-            data.ctrl[:] = row
-            for _ in range(substeps):
-                mujoco.mj_step(model, data)
-                contacts += data.ncon
+        with mujoco_messages("collision_profile"):
+            for row in ctrl:
+                data.ctrl[:] = row
+                for _ in range(substeps):
+                    mujoco.mj_step(model, data)
+                    contacts += data.ncon
     finally:
         mujoco.set_mjcb_time(None)
     timers = mujoco.mjtTimer
@@ -111,9 +113,10 @@ def collision_profile(model: mujoco.MjModel, qpos: np.ndarray, ctrl: np.ndarray,
     data.qpos[:] = qpos
     mujoco.set_mjcb_contactfilter(record)
     try:
-        for row in ctrl:
-            data.ctrl[:] = row
-            mujoco.mj_step(model, data, nstep=substeps)
+        with mujoco_messages("collision_profile"):
+            for row in ctrl:
+                data.ctrl[:] = row
+                mujoco.mj_step(model, data, nstep=substeps)
     finally:
         mujoco.set_mjcb_contactfilter(None)
     narrow = {pair: count / steps for pair, count in seen.most_common()}

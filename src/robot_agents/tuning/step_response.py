@@ -54,6 +54,10 @@ STEP_MODE = "pd_joint_pos"
 #: Default steps: rad for a hinge, m for a slide.
 HINGE_STEP = 0.1
 SLIDE_STEP = 0.01
+#: The range of ``seconds`` recorded after each step (s): at least one physics step of
+#: any rate up to 1 kHz, at most a minute.
+MIN_SECONDS = 1e-3
+MAX_SECONDS = 60.0
 #: The band a settled joint stays in, as a share of the step.
 SETTLE_BAND = 0.02
 
@@ -262,8 +266,8 @@ def step_responses(
         check_real(step, "step", where, unit=" (rad or m)")
         if step == 0:
             raise ConfigError(f"{where}: expected a non-zero step, got {step!r}.")
-    seconds = check_real(seconds, "seconds", where, minimum=1e-3, maximum=60.0, unit=" (s)")
-    settle_seconds = check_real(settle_seconds, "settle_seconds", where, minimum=0.0, maximum=60.0, unit=" (s)")
+    seconds = check_real(seconds, "seconds", where, minimum=MIN_SECONDS, maximum=MAX_SECONDS, unit=" (s)")
+    settle_seconds = check_real(settle_seconds, "settle_seconds", where, minimum=0.0, maximum=MAX_SECONDS, unit=" (s)")
     modes = cls.modes()
     if STEP_MODE not in modes:
         raise ConfigError(

@@ -21,7 +21,7 @@ from robot_agents.envs.tasks.layout import (
     table_top_layout,
     tool_arm,
 )
-from robot_agents.errors import ConfigError
+from robot_agents.errors import ConfigError, did_you_mean
 from robot_agents.kinematics.rotations import yaw_to_quat
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.model.scene import Prop
@@ -111,7 +111,10 @@ class TableTopEnv(RobotEnv):
     ) -> None:
         name = type(self).__name__
         if reward_mode not in self.reward_modes:
-            raise ConfigError(f"{name}: expected reward_mode in {list(self.reward_modes)}, got {reward_mode!r}.")
+            raise ConfigError(
+                f"{name}: expected reward_mode in {list(self.reward_modes)}, got {reward_mode!r}."
+                + did_you_mean(reward_mode, self.reward_modes)
+            )
         self.reward_mode = reward_mode
         cls = robot_class(robot_uids, name)
         self._check_robot(cls)

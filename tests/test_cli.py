@@ -592,7 +592,7 @@ def test_show_note_names_a_warning_that_is_not_a_note() -> None:
         ),
         (
             ["info", "panda", "--gripper", "robotiq"],
-            "argument --gripper: invalid choice: 'robotiq' (choose from 'franka_hand', 'panda_stick', 'robotiq_2f85'). Did you mean 'robotiq_2f85'?",
+            "argument --gripper: invalid choice: 'robotiq' (choose from 'franka_hand', 'panda_stick', 'robotiq_2f85', 'widowx250s_gripper'). Did you mean 'robotiq_2f85'?",
         ),
         (
             ["check", "arm.urdf", "--up", "Y"],

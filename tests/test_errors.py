@@ -998,7 +998,7 @@ def test_a_misspelt_declaration_is_refused_not_ignored(pendulum_file: Path) -> N
         (
             robot(keyframe=keyframe),
             ra.UnknownNameError,
-            "Pendulum (a class attribute): unknown declaration 'keyframe'. Did you mean 'keyframes'?",
+            "Pendulum (a class attribute hiding the Agent's method 'keyframe'): unknown declaration 'keyframe'. Did you mean 'keyframes'?",
         ),
         (robot(actuator=()), ra.UnknownNameError, "unknown declaration 'actuator'. Did you mean 'actuators', "),
         (

@@ -107,7 +107,7 @@ class RenamedBus(SimulatedBus):
 
 
 class RecordingBus(SimulatedBus):
-    def __init__(self, robot: str, read_nan: bool = False) -> None:
+    def __init__(self, robot: str | type[ra.Agent], read_nan: bool = False) -> None:
         self.writes: list[tuple[FloatArray, ...]] = []
         self.gains: list[tuple[FloatArray, ...]] = []
         self.read_nan = read_nan
@@ -202,6 +202,69 @@ def test_a_velocity_mode_is_not_slowed_by_max_target_step() -> None:
     speed = real.agent.controller.parts[next(iter(real.agent.controller.parts))].to_raw(action[None])[0, 0]
     assert abs(bus.read()[0][0] - start[0]) > 10 * 0.05
     assert bus.read()[1][0] == pytest.approx(speed, rel=0.02)
+    real.close()
+
+
+UR_JOINTS = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+)
+
+
+def effort_ur() -> type[ra.Agent]:
+    """The UR10e with an effort mode on top of its declared PD drives (stiffness kept)."""
+
+    class EffortUR(ra.get_agent("ur_10e")):  # type: ignore[misc]
+        default_control_mode = "pd_joint_pos"
+        control_modes = {
+            "pd_joint_pos": ra.PDJointPosConfig(joint_names=UR_JOINTS),
+            "joint_effort": ra.JointEffortConfig(joint_names=UR_JOINTS, normalize_action=False),
+        }
+
+    return EffortUR
+
+
+def test_an_effort_sent_with_a_held_back_position_target_is_scaled_with_it() -> None:
+    """An effort of 40 N*m on the UR10e's wrist 3 against its hold spring (3200 N*m/rad)
+    rests 12.5 mrad from the held pose in simulation. With max_target_step=0.005 rad the
+    spring's pull is cut to the bound; the effort, sent as it was, ran the joint away
+    (0.46 rad in 60 steps, without end). Scaled by the fraction of the position step
+    that is sent, the joint rests where the simulation's does: the whole command is
+    shrunk, kp f (p - q) + f tau, which is zero where kp (p - q) + tau is."""
+    cls = effort_ur()
+    tau = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 40.0])
+    scene = Scene(cls, control_modes="joint_effort")
+    scene.reset()
+    agent = scene.agents[0]
+    start = scene.world.qpos[0, agent.drives.qpos_adr].copy()
+    for _ in range(60):
+        agent.set_action(tau)
+        scene.step()
+    simulated = scene.world.qpos[0, agent.drives.qpos_adr] - start
+    scene.close()
+    assert simulated[5] == pytest.approx(40.0 / 3200.0, rel=1e-6)
+    bus = RecordingBus(cls)
+    real = RealRobot(cls, bus, control_mode="joint_effort", max_target_step=0.005)
+    start = bus.read()[0]
+    held_back = 0
+    for _ in range(60):
+        measured = bus.read()[0]
+        sent = real.step(tau)
+        wanted = real.agent.drives.targets.position[0]
+        effort = bus.writes[-1][2]
+        if sent[5] != wanted[5]:
+            held_back += 1
+            fraction = (sent[5] - measured[5]) / (wanted[5] - measured[5])
+            assert 0.0 < fraction < 1.0 and effort[5] == pytest.approx(40.0 * fraction, rel=1e-12)
+        else:
+            assert effort[5] == 40.0
+        np.testing.assert_array_equal(effort[:5], 0.0)
+    assert held_back > 0
+    np.testing.assert_allclose(bus.read()[0] - start, simulated, atol=1e-9)
     real.close()
 
 

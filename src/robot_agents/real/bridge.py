@@ -73,10 +73,11 @@ class RealRobot:
         max_target_step: the farthest (rad or m, one number or one per bus joint) a
             position target may lie from the measured position; targets beyond are
             clipped towards it (a safety limit for hardware; ``None``: no limit). The
-            velocity target sent with a clipped position target (the feed-forward of
-            end-effector modes, ``pd_joint_pos_vel``'s velocities) is scaled by the same
-            fraction, ``(clipped - measured) / (target - measured)``, on joints whose
-            drive has position stiffness in the mode (see :meth:`step`).
+            velocity and effort targets sent with a clipped position target (the
+            feed-forward of end-effector modes, ``pd_joint_pos_vel``'s velocities, an
+            effort mode's efforts on drives that keep their stiffness) are scaled by the
+            same fraction, ``(clipped - measured) / (target - measured)``, on joints
+            whose drive has position stiffness in the mode (see :meth:`step`).
 
     Raises:
         ConfigError: the robot has a free root or a mobile base, the bus's joints are
@@ -214,8 +215,14 @@ class RealRobot:
 
         With ``max_target_step``, a position target ``p`` farther than the bound from the
         measured position ``q`` is sent as ``p'`` on the bound, and the velocity target
-        ``v`` sent with it as ``v (p' - q) / (p - q)``: the command shrunk as a whole, on
-        joints whose drive has position stiffness in the mode. End-effector modes send the
+        ``v`` and effort ``tau`` sent with it as ``f v`` and ``f tau``, ``f = (p' - q) /
+        (p - q)``: the command shrunk as a whole, on joints whose drive has position
+        stiffness in the mode. (The bridge sends efforts only from a mode's effort
+        targets, ``JointEffortConfig``; no gravity compensation: simulation cancels
+        gravity on a fixed-root robot's bodies, the hardware does its own.) An effort
+        sent in full against a spring cut to the bound ran a joint away where the
+        simulation's rests at ``p + tau / kp``; shrunk, ``f (kp (p - q) + tau)`` is
+        zero where it rests. End-effector modes send the
         midpoint of the step's joint path with the speed that covers it, ``(q + s) / 2``
         and ``(s - q) / dt``; the scaled pair is the same path cut to the bound, and the
         unscaled speed (up to 13 rad/s on the Panda with a bound of 0.01 rad) drove a
@@ -232,21 +239,24 @@ class RealRobot:
         wanted = targets.position[0, self._columns].copy()
         position = self._limited(wanted.copy())
         velocity = targets.velocity[0, self._columns].copy()
+        effort = targets.effort[0, self._columns].copy()
         if self._max_step is not None:
-            self._scale_held_back(velocity, wanted, position)
-        self.bus.write(position, velocity, targets.effort[0, self._columns].copy())
+            self._scale_held_back((velocity, effort), wanted, position)
+        self.bus.write(position, velocity, effort)
         return position
 
-    def _scale_held_back(self, velocity: FloatArray, wanted: FloatArray, sent: FloatArray) -> None:
-        """Scale in place the velocity targets ``(n,)`` (bus order) of the joints whose
-        position target ``wanted`` was held back to ``sent`` by ``max_target_step``, by
-        the fraction of the step that is sent, ``(sent - measured) / (wanted - measured)``
-        (in ``(0, 1)``), where the mode's drive has position stiffness; other entries
-        keep their bits."""
+    def _scale_held_back(self, feed_forward: tuple[FloatArray, ...], wanted: FloatArray, sent: FloatArray) -> None:
+        """Scale in place the feed-forward targets (velocity and effort, ``(n,)`` each,
+        bus order) of the joints whose position target ``wanted`` was held back to
+        ``sent`` by ``max_target_step``, by the fraction of the step that is sent,
+        ``(sent - measured) / (wanted - measured)`` (in ``(0, 1)``), where the mode's
+        drive has position stiffness; other entries keep their bits."""
         held = (sent != wanted) & (self.agent.drives.stiffness[self._columns] > 0.0)
         if np.any(held):
             measured = self._measured[held]
-            velocity[held] *= (sent[held] - measured) / (wanted[held] - measured)
+            fraction = (sent[held] - measured) / (wanted[held] - measured)
+            for target in feed_forward:
+                target[held] *= fraction
 
     def move_to(self, keyframe: str, steps: int = 40) -> float:
         """Bring the robot to ``keyframe`` (its driven joints) along a smooth ramp of

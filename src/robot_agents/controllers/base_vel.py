@@ -68,6 +68,22 @@ class PDBaseVelController(PDJointVelController):
     def __init__(self, config: PDBaseVelConfig, binding: JointBinding, context: ControllerContext) -> None:
         super().__init__(config, binding, context)  # type: ignore[arg-type]
         self._yaw_adr = int(binding.qpos_adr[2])
+        self._half_step = 0.5 * context.control_timestep  # s
+
+    def _heading(self, yaw: FloatArray, turn: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """``cos`` and ``sin`` of the heading at mid-step, ``yaw + wz dt / 2``, and the
+        chord's share of the arc, ``sin(h) / h`` with ``h = wz dt / 2`` (1 without a
+        turn), each ``(num_envs,)``: the mean of the robot-frame command turned by the
+        heading over a step turning at ``wz`` is the command turned by the mid-step
+        heading and shortened by that share, which puts the base at the end of the arc
+        the command describes. (Turned by the heading at the step's start, as ManiSkill
+        does, the base slid outward, up to 0.17 m/s sideways on Fetch at 1 m/s and
+        3.14 rad/s.) Without a turn, ``yaw`` and a share of exactly 1."""
+        half = turn * self._half_step
+        turning = half != 0.0
+        heading = np.where(turning, yaw + half, yaw)  # (yaw + 0.0 would turn a yaw of -0.0 to 0.0)
+        share = np.where(turning, np.sin(half) / np.where(turning, half, 1.0), 1.0)
+        return np.cos(heading), np.sin(heading), share
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
         name = type(self.config).__name__
@@ -75,14 +91,13 @@ class PDBaseVelController(PDJointVelController):
         return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
-        yaw = sim.qpos[:, self._yaw_adr]
-        cos, sin = np.cos(yaw), np.sin(yaw)
-        if raw.shape[0] == 1:  # one env: the same products and sums on Python floats
-            self._apply_single(raw[0].tolist(), cos.item(), sin.item())
-            return
-        forward = raw[:, 0]
-        lateral = raw[:, 1] if self.config.holonomic else 0.0
         turn = raw[:, -1]
+        cos, sin, share = self._heading(sim.qpos[:, self._yaw_adr], turn)
+        if raw.shape[0] == 1:  # one env: the same products and sums on Python floats
+            self._apply_single(raw[0].tolist(), cos.item(), sin.item(), share.item())
+            return
+        forward = raw[:, 0] * share
+        lateral = raw[:, 1] * share if self.config.holonomic else 0.0
         target = np.empty((raw.shape[0], 3))
         target[:, 0] = cos * forward - sin * lateral
         target[:, 1] = sin * forward + cos * lateral
@@ -90,12 +105,13 @@ class PDBaseVelController(PDJointVelController):
         self.target_qvel = target
         self.targets.velocity[:, self.binding.column_sel] = target
 
-    def _apply_single(self, action: list[float], cos: float, sin: float) -> None:
+    def _apply_single(self, action: list[float], cos: float, sin: float, share: float) -> None:
         """:meth:`apply` of one env (``action``: its raw action, ``cos`` / ``sin`` of the
-        base's yaw as NumPy computed them): IEEE products and sums as NumPy's, in the
-        same order, without a dozen operations on one-element arrays."""
-        forward, turn = action[0], action[-1]
-        lateral = action[1] if self.config.holonomic else 0.0
+        base's mid-step heading and the chord's ``share`` as NumPy computed them): IEEE
+        products and sums as NumPy's, in the same order, without a dozen operations on
+        one-element arrays."""
+        forward, turn = action[0] * share, action[-1]
+        lateral = action[1] * share if self.config.holonomic else 0.0
         target = np.array([[cos * forward - sin * lateral, sin * forward + cos * lateral, turn]])
         self.target_qvel = target
         self.targets.velocity[:, self.binding.column_sel] = target

@@ -337,3 +337,23 @@ def test_built_in_bases_drive_the_commanded_arc(uid: str, dynamics: str) -> None
     exact = dynamics == "kinematic"
     assert np.linalg.norm(xy - ideal) < (1e-12 if exact else 0.015 * speed)
     assert abs(yaw - 1.0) < (1e-12 if exact else 5e-3)
+
+
+def test_base_targets_of_one_env_are_those_of_a_batch() -> None:
+    """The base controller's one-env path (Python floats) sends the batch path's targets
+    bit for bit: turning, still, and a turn so small that half a step of it is 0."""
+    from types import SimpleNamespace
+
+    scene = ra.Scene("fetch", num_envs=5)
+    scene.reset()
+    base = scene.agents[0].controller.parts["base"]
+    rng = np.random.default_rng(0)
+    qpos = np.array(scene.world.qpos)
+    qpos[:, base.binding.qpos_adr[2]] = [0.3, -0.0, -2.5, 7.0, 1e-9]
+    raw = np.c_[rng.uniform(-1.0, 1.0, 5), [0.7, 0.0, -3.0, 1e-300, 5e-324]]
+    base.apply(raw, SimpleNamespace(qpos=qpos, qvel=None))
+    batch = base.target_qvel.copy()
+    for env in range(5):
+        base.apply(raw[env : env + 1], SimpleNamespace(qpos=qpos[env : env + 1], qvel=None))
+        assert base.target_qvel[0].tobytes() == batch[env].tobytes()
+    scene.close()

@@ -72,17 +72,21 @@ class PDBaseVelController(PDJointVelController):
 
     def _heading(self, yaw: FloatArray, turn: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``cos`` and ``sin`` of the heading at mid-step, ``yaw + wz dt / 2``, and the
-        chord's share of the arc, ``sin(h) / h`` with ``h = wz dt / 2`` (1 without a
-        turn), each ``(num_envs,)``: the mean of the robot-frame command turned by the
-        heading over a step turning at ``wz`` is the command turned by the mid-step
-        heading and shortened by that share, which puts the base at the end of the arc
-        the command describes. (Turned by the heading at the step's start, as ManiSkill
-        does, the base slid outward, up to 0.17 m/s sideways on Fetch at 1 m/s and
-        3.14 rad/s.) Without a turn, ``yaw`` and a share of exactly 1."""
+        chord's share of the arc, ``sin(h) / h`` with ``h = wz dt / 2``, each
+        ``(num_envs,)``: the mean of the robot-frame command turned by the heading over a
+        step turning at ``wz`` is the command turned by the mid-step heading and
+        shortened by that share, which puts the base at the end of the arc the command
+        describes. (Turned by the heading at the step's start, as ManiSkill does, the
+        base slid outward, up to 0.17 m/s sideways on Fetch at 1 m/s and 3.14 rad/s.)
+        Without a turn, exactly ``yaw`` and a share of 1 (``yaw + 0.0`` would make a yaw
+        of ``-0.0`` ``0.0``)."""
         half = turn * self._half_step
-        turning = half != 0.0
-        heading = np.where(turning, yaw + half, yaw)  # (yaw + 0.0 would turn a yaw of -0.0 to 0.0)
-        share = np.where(turning, np.sin(half) / np.where(turning, half, 1.0), 1.0)
+        still = half == 0.0
+        heading = yaw + half
+        share = np.ones_like(half)
+        if np.any(still):
+            np.copyto(heading, yaw, where=still)
+        np.divide(np.sin(half), half, out=share, where=~still)
         return np.cos(heading), np.sin(heading), share
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
@@ -92,10 +96,18 @@ class PDBaseVelController(PDJointVelController):
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         turn = raw[:, -1]
-        cos, sin, share = self._heading(sim.qpos[:, self._yaw_adr], turn)
+        yaw = sim.qpos[:, self._yaw_adr]
         if raw.shape[0] == 1:  # one env: the same products and sums on Python floats
-            self._apply_single(raw[0].tolist(), cos.item(), sin.item(), share.item())
+            action = raw[0].tolist()
+            half = action[-1] * self._half_step
+            if half == 0.0:  # no turn: the heading is the yaw (the same ufuncs as below)
+                self._apply_single(action, np.cos(yaw).item(), np.sin(yaw).item(), 1.0)
+            else:  # the heading and the half turn through NumPy's sine, as below
+                angles = np.array([yaw.item() + half, half])
+                sines = np.sin(angles).tolist()
+                self._apply_single(action, np.cos(angles[:1]).item(), sines[0], sines[1] / half)
             return
+        cos, sin, share = self._heading(yaw, turn)
         forward = raw[:, 0] * share
         lateral = raw[:, 1] * share if self.config.holonomic else 0.0
         target = np.empty((raw.shape[0], 3))

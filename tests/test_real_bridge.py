@@ -142,6 +142,26 @@ def test_targets_far_from_the_measured_pose_are_limited() -> None:
     unlimited.close()
 
 
+def test_max_target_step_may_leave_a_joint_unbounded() -> None:
+    """An entry of inf leaves that joint's targets as they are (a gripper with no rated
+    speed), the others bounded: the bound of rated speed x control period."""
+    bus = RecordingBus("panda")
+    rated = bus.agent.drives.velocity_limit
+    assert np.isinf(rated[7:]).all() and np.isfinite(rated[:7]).all()
+    real = RealRobot("panda", bus, control_mode="pd_joint_pos", max_target_step=rated * 0.05)
+    measured = bus.read()[0]
+    far = measured + np.array([1.0] * 7 + [0.0] * 2)
+    arm = real.agent.controller.slices["arm"]
+    action = np.zeros(real.action_space.shape)
+    action[arm] = real.agent.controller.parts["arm"].from_raw(far[None, :7])[0]
+    action[-1] = -1.0  # the gripper closes: its 0.04 m go out in one target
+    sent = real.step(action)
+    np.testing.assert_allclose(sent[:7], measured[:7] + rated[:7] * 0.05)
+    np.testing.assert_array_equal(sent[7:], real.agent.drives.targets.position[0, 7:])
+    assert np.abs(sent[7:] - measured[7:]).max() > 0.03
+    real.close()
+
+
 def test_a_velocity_target_sent_with_a_held_back_position_target_is_scaled_with_it() -> None:
     """The Panda's end-effector feed-forward with max_target_step=0.01 rad and a
     full-scale command: each joint's velocity target goes out scaled by the fraction of
@@ -351,7 +371,7 @@ def test_bad_setups_are_clean_errors() -> None:
         RealRobot("panda", renamed)
     with pytest.raises(ConfigError, match="max_target_step > 0"):
         RealRobot("panda", SimulatedBus("panda"), max_target_step=-1.0)
-    for not_a_distance in (True, "0.1", [0.1, None]):
+    for not_a_distance in (True, "0.1", [0.1, None], np.inf, [np.nan] * 9):
         with pytest.raises(ConfigError, match="max_target_step > 0"):
             RealRobot("panda", SimulatedBus("panda"), max_target_step=not_a_distance)  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="expected a JointBus"):

@@ -72,7 +72,9 @@ class RealRobot:
         control_mode: the mode to start in (default: the robot's default mode).
         max_target_step: the farthest (rad or m, one number or one per bus joint) a
             position target may lie from the measured position; targets beyond are
-            clipped towards it (a safety limit for hardware; ``None``: no limit). The
+            clipped towards it (a safety limit for hardware; ``None``: no limit; ``inf``
+            for a joint: none on it). Rated speed times the control period keeps the
+            joints under their rated speeds, which position modes do not respect. The
             velocity and effort targets sent with a clipped position target (the
             feed-forward of end-effector modes, ``pd_joint_pos_vel``'s velocities, an
             effort mode's efforts on drives that keep their stiffness) are scaled by the
@@ -81,7 +83,8 @@ class RealRobot:
 
     Raises:
         ConfigError: the robot has a free root or a mobile base, the bus's joints are
-            not the robot's driven joints, or ``max_target_step`` is not positive.
+            not the robot's driven joints, or ``max_target_step`` is not positive (or
+            ``inf`` for every joint).
     """
 
     def __init__(
@@ -141,8 +144,11 @@ class RealRobot:
             step = np.broadcast_to(raw.astype(np.float64), (n,)).copy()
         except Exception:  # also whatever the input's own __array__ raises
             step = np.full(n, np.nan)
-        if not np.all(np.isfinite(step)) or np.any(step <= 0):
-            raise ConfigError(f"{where}: expected max_target_step > 0 (one number or {n}), got {value!r}.")
+        if np.any(np.isnan(step)) or np.any(step <= 0) or np.all(np.isinf(step)):
+            raise ConfigError(
+                f"{where}: expected max_target_step > 0 (one number or {n}; inf for a joint without a bound, "
+                f"not for all), got {value!r}."
+            )
         return step
 
     # -- state -----------------------------------------------------------------------------

@@ -596,3 +596,30 @@ def test_a_sign_friction_feedforward_overdrives_slow_targets() -> None:
         spread[feedforward] = float(np.ptp(angles))
     assert spread[False] == pytest.approx(4.7e-5, rel=0.05)
     assert spread[True] == pytest.approx(4.4e-4, rel=0.05)
+
+
+NAN = float("nan")
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        # an effort mode's bounds were not checked: NaN went on to NaN effort targets
+        (lambda: ra.JointEffortConfig(joint_names=("a", "b"), lower=NAN, normalize_action=False), r"lower: expected"),
+        (lambda: ra.JointEffortConfig(joint_names=("a", "b"), lower=(1.0, 2.0, 3.0)), r"lower: expected .* 2"),
+        (lambda: ra.JointEffortConfig(joint_names=("a",), lower=5.0, upper=-5.0), r"lower <= upper"),
+        # a bound after a None one was not looked at
+        (lambda: ra.PDJointPosConfig(joint_names=("a",), upper=NAN), r"upper: expected"),
+        (lambda: ra.JointEffortConfig(joint_names=("a",), upper=NAN), r"upper: expected"),
+        # a base's bounds were not checked (NaN bounds of raw actions: NaN velocity targets)
+        (lambda: ra.PDBaseVelConfig(joint_names=("x", "y", "yaw"), lower=NAN, normalize_action=False), r"lower"),
+        (lambda: ra.PDBaseVelConfig(joint_names=("x", "y", "yaw"), holonomic=False, upper=(1.0, 1.0, 1.0)), r"2"),
+        # end-effector bounds (NaN: pd_ee_pose's targets silently stayed where they were)
+        (lambda: ra.PDEEPosConfig(joint_names=("a",), pos_lower=NAN), r"pos_lower: expected .* axis"),
+        (lambda: ra.PDEEPoseConfig(joint_names=("a",), rot_upper=(0.1, NAN, 0.1)), r"rot_upper"),
+        (lambda: ra.PDEEPoseConfig(joint_names=("a",), pos_lower=0.2, pos_upper=0.1), r"pos_lower <= pos_upper"),
+    ],
+)
+def test_bad_action_bounds_are_refused_when_the_config_is_made(make: object, match: str) -> None:
+    with pytest.raises(ra.ConfigError, match=match):
+        make()  # type: ignore[operator]

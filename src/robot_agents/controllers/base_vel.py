@@ -27,6 +27,7 @@ from robot_agents.controllers.base import (
     FloatArray,
     JointBinding,
     SimView,
+    check_bounds,
 )
 from robot_agents.controllers.joint import PDJointVelController
 from robot_agents.errors import ConfigError
@@ -54,6 +55,7 @@ class PDBaseVelConfig(ControllerConfig):
             raise ConfigError(
                 f"{type(self).__name__}: expected the x slide, y slide and yaw hinge joints, got {self.joint_names}."
             )
+        check_bounds(self, "lower", "upper", 3 if self.holonomic else 2, "action entry")
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return PDBaseVelController(self, binding, context)

@@ -518,6 +518,10 @@ class JointEffortConfig(ControllerConfig):
     lower: PerJoint | None = None
     upper: PerJoint | None = None
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        check_bounds(self, "lower", "upper")
+
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return JointEffortController(self, binding, context)
 

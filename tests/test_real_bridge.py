@@ -317,6 +317,21 @@ def test_a_rejected_action_sends_nothing_and_changes_nothing() -> None:
         real.step(np.zeros(real.action_space.shape))
 
 
+def test_an_unknown_mode_changes_nothing() -> None:
+    """A misspelt mode is refused before the bus is read: the observation and the mode
+    stay as they were (the bus was read first, and the controllers' model moved to the
+    robot's new pose on a call that failed)."""
+    bus = SimulatedBus("panda")
+    robot = RealRobot("panda", bus, control_mode="pd_joint_delta_pos")
+    before = robot.get_obs().copy()
+    bus.write(bus.read()[0] + 0.2, np.zeros(9), np.zeros(9))  # the robot moves meanwhile
+    with pytest.raises(UnknownNameError, match=r"RealRobot.set_control_mode.*Did you mean 'pd_joint_pos'"):
+        robot.set_control_mode("pd_joint_poz")
+    np.testing.assert_array_equal(robot.get_obs(), before)
+    assert robot.control_mode == "pd_joint_delta_pos"
+    robot.close()
+
+
 def test_a_closed_robot_and_bus_refuse_every_call() -> None:
     bus = SimulatedBus("so100")
     real = RealRobot("so100", bus)
@@ -380,6 +395,12 @@ def test_bad_setups_are_clean_errors() -> None:
         SimulatedBus("panda", keyframe="rset")
     with pytest.raises(StateError, match="expected finite"):
         RealRobot("panda", RecordingBus("panda", read_nan=True))
+    for reading in ((np.zeros(9),) * 3, None, ("a", "b")):  # ValueError / TypeError from the unpacking before
+        bad = RecordingBus("panda")
+        bad.read = lambda reading=reading: reading  # type: ignore[method-assign]
+        with pytest.raises(StateError, match=r"RealRobot.sync: expected .*\(9,\)"):
+            RealRobot("panda", bad)
+        bad.close()
     bus = SimulatedBus("panda")
     with pytest.raises(ActionError, match="finite targets"):
         bus.write(np.zeros(2), np.zeros(2), np.zeros(2))

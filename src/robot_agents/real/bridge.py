@@ -155,9 +155,15 @@ class RealRobot:
     def sync(self) -> None:
         """Read the measured state from the bus into the controllers' model."""
         self._check_open("RealRobot.sync")
-        qpos, qvel = self.bus.read()
+        reading = self.bus.read()
         n = len(self._columns)
-        qpos, qvel = np.asarray(qpos, dtype=np.float64), np.asarray(qvel, dtype=np.float64)
+        try:
+            qpos, qvel = (np.asarray(a, dtype=np.float64) for a in reading)
+        except (TypeError, ValueError):  # not a pair, or not numbers
+            raise StateError(
+                f"RealRobot.sync: expected the bus to read (positions, velocities), finite ({n},) each; "
+                f"got {reading!r}."
+            ) from None
         if qpos.shape != (n,) or qvel.shape != (n,) or not (np.all(np.isfinite(qpos)) and np.all(np.isfinite(qvel))):
             raise StateError(
                 f"RealRobot.sync: the bus read positions {qpos.shape} and velocities {qvel.shape}; "
@@ -176,8 +182,11 @@ class RealRobot:
 
     def set_control_mode(self, mode: str) -> None:
         """Switch modes: the new mode holds the measured pose (read from the bus) and
-        its drive settings go to the bus (:meth:`JointBus.set_gains`)."""
-        self._check_open("RealRobot.set_control_mode")
+        its drive settings go to the bus (:meth:`JointBus.set_gains`). An unknown mode
+        raises :class:`UnknownNameError` before the bus is read (nothing changes)."""
+        where = "RealRobot.set_control_mode"
+        self._check_open(where)
+        self.agent.controller_for(mode, where)  # the name checked (and the mode built) first
         self.sync()
         self.agent.set_control_mode(mode)
         drives, columns = self.agent.drives, self._columns

@@ -12,7 +12,10 @@ delta modes), and an *absolute* target ``a`` is taken modulo ``2 pi`` to the ang
 the measured one, ``q* = a + 2 pi round((q - a) / 2 pi)``, so that the joint turns the
 short way (at most ``pi``) and never unwinds the turns it has made. Delta modes add to the
 measured angle or to the current target, with no bound. Limited joints (and unlimited
-slides) take absolute targets as they are, clipped to their limits.
+slides) take absolute targets as they are, clipped to their limits. An unlimited joint
+tied to a limited one (a joint equality, :mod:`robot_agents.agent.coupling`; a mimic
+mode's follower, :func:`mimic_leader_range`) is limited by it; a mimic's followers take
+their targets from the leader's after it is taken to its turn.
 """
 
 from __future__ import annotations

@@ -332,6 +332,44 @@ def test_an_unknown_mode_changes_nothing() -> None:
     robot.close()
 
 
+class FlakyBus(RecordingBus):
+    """A bus whose ``write`` fails the first ``failures`` times (a lost connection)."""
+
+    def __init__(self, robot: str, failures: int) -> None:
+        super().__init__(robot)
+        self.failures = failures
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        if self.failures:
+            self.failures -= 1
+            raise OSError("the motors did not answer")
+        super().write(position, velocity, effort)
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_target_delta_pos", "pd_ee_target_delta_pose"])
+def test_a_failed_write_leaves_the_controllers_as_they_were(mode: str) -> None:
+    """A bus write that raises leaves the controllers and targets as before the call:
+    retried, the command is the one a bus that took it first time was sent (a target
+    delta added once; it was added again on each retry)."""
+    flaky, steady = FlakyBus("widowx250s", failures=2), RecordingBus("widowx250s")
+    robots = [RealRobot("widowx250s", bus, control_mode=mode) for bus in (flaky, steady)]
+    action = np.full(robots[0].action_space.shape, 0.5)
+    before = robots[0].agent.controller.get_state()
+    for _ in range(2):
+        with pytest.raises(OSError, match="did not answer"):
+            robots[0].step(action)
+    after = robots[0].agent.controller.get_state()
+    for part, arrays in before.items():
+        for key, value in arrays.items():
+            np.testing.assert_array_equal(after[part][key], value)
+    for _ in range(3):
+        sent = [robot.step(action) for robot in robots]
+        np.testing.assert_array_equal(sent[0], sent[1])
+    np.testing.assert_array_equal(flaky.writes[-1][1], steady.writes[-1][1])
+    for robot in robots:
+        robot.close()
+
+
 def test_a_closed_robot_and_bus_refuse_every_call() -> None:
     bus = SimulatedBus("so100")
     real = RealRobot("so100", bus)

@@ -226,7 +226,10 @@ class RealRobot:
     def step(self, action: npt.ArrayLike) -> FloatArray:
         """Read the state, turn ``action`` into joint targets with the mode's controllers
         and send them; returns the position targets sent ``(n,)``, bus order. A rejected
-        action (:class:`ActionError`) sends nothing and changes no controller state.
+        action (:class:`ActionError`) sends nothing and changes no controller state; a
+        ``bus.write`` that raises leaves the controllers and targets as they were before
+        the call (the exception propagates; the bus's reading stays in the model), so a
+        retry sends the same command: a target-delta mode does not add its step twice.
 
         With ``max_target_step``, a position target ``p`` farther than the bound from the
         measured position ``q`` is sent as ``p'`` on the bound, and the velocity target
@@ -249,15 +252,27 @@ class RealRobot:
         agent = self.agent
         checked = agent.validate_action(action)  # before anything moves (raises ActionError)
         self.sync()
+        targets, ctrl = agent.drives.targets, self.scene.world.ctrl
+        before = (
+            agent.controller.get_state(),
+            [a.copy() for a in (targets.position, targets.velocity, targets.effort)],
+        )
+        before_ctrl = np.array(ctrl)
         agent.set_action(checked)
-        targets = agent.drives.targets
         wanted = targets.position[0, self._columns].copy()
         position = self._limited(wanted.copy())
         velocity = targets.velocity[0, self._columns].copy()
         effort = targets.effort[0, self._columns].copy()
         if self._max_step is not None:
             self._scale_held_back((velocity, effort), wanted, position)
-        self.bus.write(position, velocity, effort)
+        try:
+            self.bus.write(position, velocity, effort)
+        except BaseException:  # the command did not go (or not for sure): as before the call
+            agent.controller.set_state(before[0])
+            for target, saved in zip((targets.position, targets.velocity, targets.effort), before[1], strict=True):
+                target[...] = saved
+            ctrl[...] = before_ctrl
+            raise
         return position
 
     def _scale_held_back(self, feed_forward: tuple[FloatArray, ...], wanted: FloatArray, sent: FloatArray) -> None:

@@ -7,8 +7,11 @@ about +z, in the frame the robot is mounted in).
 - ``pd_base_forward_vel`` (differential drive): action ``(v, wz)``: forward speed and
   yaw rate; the base cannot move sideways.
 
-The base joints' drives track the velocity targets (a velocity servo, or a PD servo
-with its stiffness relaxed by the mode), so the base pushes and is pushed by the world.
+The robot-frame command goes to the mount frame turned by the heading at mid-step and
+shortened to the chord of the arc it describes over the control step, so a base that
+drives and turns at once ends the step on that arc. The base joints' drives track the
+velocity targets (a velocity servo, or a PD servo with its stiffness relaxed by the
+mode), so the base pushes and is pushed by the world.
 """
 
 from __future__ import annotations

@@ -399,6 +399,123 @@ def test_delta_from_target_turns_an_unlimited_hinge_past_a_turn(tmp_path: object
     scene.close()
 
 
+# A continuous (unlimited) hinge leading a limited flap through a URDF-style mimic
+# equality, flap = 0.5 spin: the flap's limits (+-1 rad) bound the spin to +-2 rad.
+MIMIC_MJCF = """<mujoco>
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+      <body name="rotor" pos="0 0 0.1">
+        <joint name="spin" axis="0 0 1" damping="0.01"/>
+        <geom type="box" size="0.1 0.02 0.02" mass="0.2"/>
+      </body>
+      <body name="flap" pos="0 0.1 0">
+        <joint name="flap" axis="1 0 0" range="-1 1" damping="0.01"/>
+        <geom type="capsule" fromto="0 0 0 0 0.1 0" size="0.01" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <joint joint1="flap" joint2="spin" polycoef="0 0.5 0 0 0"/>
+  </equality>
+  <actuator>
+    <position name="spin_drive" joint="spin" kp="5" kv="0.5"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def mimic_robot(tmp_path: object, equality: bool = True, follower: str = 'range="-1 1"') -> type[ra.Agent]:
+    """The two-line mimic robot of :data:`MIMIC_MJCF`; without the ``equality`` both
+    joints are driven and only a mimic mode couples them; ``follower``: the flap's
+    range attribute (empty: an unlimited hinge too)."""
+    import re
+    from pathlib import Path
+
+    from robot_agents.robot_source import robot_from_file
+
+    text = MIMIC_MJCF.replace('range="-1 1"', follower)
+    if not equality:
+        text = re.sub(r"<equality>.*?</equality>\n", "", text, flags=re.S)
+        text = text.replace(
+            "</actuator>", '  <position name="flap_drive" joint="flap" kp="5" kv="0.2"/>\n  </actuator>'
+        )
+    path = Path(str(tmp_path)) / f"mimic{equality}{len(follower)}.xml"
+    path.write_text(text)
+    return robot_from_file(path)
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_pos", "pd_joint_pos_vel"])
+def test_an_unlimited_hinge_tied_to_a_limited_mimic_is_limited_by_it(tmp_path: object, mode: str) -> None:
+    """A continuous hinge whose mimic follower (flap = 0.5 spin, an equality) is limited
+    to +-1 rad can turn +-2 rad only: it is no longer periodic. From 1.9 rad a target of
+    -1.5 rad goes there; taken modulo a turn to the angle nearest the measured one, it was
+    4.78 rad, which the flap's limit blocked: the hinge stalled at 4.32 and the soft
+    equality dragged the flap 0.51 rad past its limit. Its action is bounded to +-2 rad."""
+    scene = ra.Scene(mimic_robot(tmp_path), control_modes=mode)
+    scene.reset()
+    agent = scene.agents[0]
+    controller = agent.controller.parts["main"]
+    assert not controller.binding.periodic[0]
+    np.testing.assert_array_equal(controller.raw_low[:1], [-2.0])
+    np.testing.assert_array_equal(controller.raw_high[:1], [2.0])
+    speeds = [0.0] * (mode == "pd_joint_pos_vel")
+    run(scene, agent, controller.from_raw(np.array([1.9, *speeds])), 60)
+    np.testing.assert_allclose(agent.qpos[0], [1.9, 0.95], atol=1e-3)
+    run(scene, agent, controller.from_raw(np.array([-1.5, *speeds])), 60)
+    assert controller.get_state()["target_qpos"][0, 0] == -1.5
+    np.testing.assert_allclose(agent.qpos[0], [-1.5, -0.75], atol=1e-3)
+    scene.close()
+
+
+def test_a_mimic_mode_with_an_unlimited_leader_moves_its_followers_with_it(tmp_path: object) -> None:
+    """Both joints driven, coupled only by a mimic mode (flap = 0.5 spin). A limited
+    follower bounds the leader (to +-2 rad): the leader's target is no longer taken
+    modulo a turn (from 1.9 rad, -1.5 rad went to 4.78 rad while the flap went to -0.75),
+    and target deltas stop at the pair's limits together (the leader ran on to 11 rad
+    with the flap at its limit). An unlimited follower turning twice as fast keeps the
+    leader periodic, and the leader's turns reach the follower: from (7.5, 15) rad a
+    target of pi - 0.1 sends (3 pi - 0.1, 6 pi - 0.2); each taken to its own nearest
+    turn, the follower's was 4 pi - 0.2, a turn away from its leader's."""
+    mimic = ra.PDJointPosMimicConfig
+    joints, ratio = ("spin", "flap"), (1.0, 0.5)
+
+    def modes(base: type[ra.Agent], ratio: tuple[float, float]) -> type[ra.Agent]:
+        configs = {
+            "abs": mimic(joint_names=joints, normalize_action=False, multipliers=ratio),
+            "tdelta": mimic(
+                joint_names=joints, lower=-0.1, upper=0.1, use_delta=True, use_target=True, multipliers=ratio
+            ),
+        }
+        return type("Mimic", (base,), {"default_control_mode": "abs", "control_modes": configs})
+
+    scene = ra.Scene(modes(mimic_robot(tmp_path, equality=False), ratio))
+    scene.reset()
+    agent = scene.agents[0]
+    controller = agent.controller.parts["main"]
+    np.testing.assert_array_equal([controller.raw_low[0], controller.raw_high[0]], [-2.0, 2.0])
+    run(scene, agent, np.array([1.9]), 60)
+    run(scene, agent, np.array([-1.5]), 60)
+    np.testing.assert_array_equal(controller.get_state()["target_qpos"][0], [-1.5, -0.75])
+    np.testing.assert_allclose(agent.qpos[0], [-1.5, -0.75], atol=1e-3)
+    agent.set_control_mode("tdelta")
+    run(scene, agent, np.array([1.0]), 60)
+    np.testing.assert_array_equal(agent.controller.parts["main"].get_state()["target_qpos"][0], [2.0, 1.0])
+    scene.close()
+
+    scene = ra.Scene(modes(mimic_robot(tmp_path, equality=False, follower=""), (1.0, 2.0)))
+    scene.reset()
+    agent = scene.agents[0]
+    controller = agent.controller.parts["main"]
+    assert controller.raw_low[0] == -2 * np.pi
+    agent.reset(qpos=np.array([7.5, 15.0]))
+    agent.set_control_mode("abs")  # holds the measured pose
+    run(scene, agent, controller.from_raw(np.array([np.pi - 0.1])), 1)
+    np.testing.assert_allclose(controller.get_state()["target_qpos"][0], [3 * np.pi - 0.1, 6 * np.pi - 0.2], rtol=1e-15)
+    scene.close()
+
+
 def test_a_velocity_target_on_a_joint_with_dry_friction_settles_short_by_friction_over_damping(
     tmp_path: object,
 ) -> None:
@@ -479,3 +596,30 @@ def test_a_sign_friction_feedforward_overdrives_slow_targets() -> None:
         spread[feedforward] = float(np.ptp(angles))
     assert spread[False] == pytest.approx(4.7e-5, rel=0.05)
     assert spread[True] == pytest.approx(4.4e-4, rel=0.05)
+
+
+NAN = float("nan")
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        # an effort mode's bounds were not checked: NaN went on to NaN effort targets
+        (lambda: ra.JointEffortConfig(joint_names=("a", "b"), lower=NAN, normalize_action=False), r"lower: expected"),
+        (lambda: ra.JointEffortConfig(joint_names=("a", "b"), lower=(1.0, 2.0, 3.0)), r"lower: expected .* 2"),
+        (lambda: ra.JointEffortConfig(joint_names=("a",), lower=5.0, upper=-5.0), r"lower <= upper"),
+        # a bound after a None one was not looked at
+        (lambda: ra.PDJointPosConfig(joint_names=("a",), upper=NAN), r"upper: expected"),
+        (lambda: ra.JointEffortConfig(joint_names=("a",), upper=NAN), r"upper: expected"),
+        # a base's bounds were not checked (NaN bounds of raw actions: NaN velocity targets)
+        (lambda: ra.PDBaseVelConfig(joint_names=("x", "y", "yaw"), lower=NAN, normalize_action=False), r"lower"),
+        (lambda: ra.PDBaseVelConfig(joint_names=("x", "y", "yaw"), holonomic=False, upper=(1.0, 1.0, 1.0)), r"2"),
+        # end-effector bounds (NaN: pd_ee_pose's targets silently stayed where they were)
+        (lambda: ra.PDEEPosConfig(joint_names=("a",), pos_lower=NAN), r"pos_lower: expected .* axis"),
+        (lambda: ra.PDEEPoseConfig(joint_names=("a",), rot_upper=(0.1, NAN, 0.1)), r"rot_upper"),
+        (lambda: ra.PDEEPoseConfig(joint_names=("a",), pos_lower=0.2, pos_upper=0.1), r"pos_lower <= pos_upper"),
+    ],
+)
+def test_bad_action_bounds_are_refused_when_the_config_is_made(make: object, match: str) -> None:
+    with pytest.raises(ra.ConfigError, match=match):
+        make()  # type: ignore[operator]

@@ -107,7 +107,7 @@ class RenamedBus(SimulatedBus):
 
 
 class RecordingBus(SimulatedBus):
-    def __init__(self, robot: str, read_nan: bool = False) -> None:
+    def __init__(self, robot: str | type[ra.Agent], read_nan: bool = False) -> None:
         self.writes: list[tuple[FloatArray, ...]] = []
         self.gains: list[tuple[FloatArray, ...]] = []
         self.read_nan = read_nan
@@ -140,6 +140,26 @@ def test_targets_far_from_the_measured_pose_are_limited() -> None:
     np.testing.assert_allclose(unlimited.step(far), far)
     real.close()
     unlimited.close()
+
+
+def test_max_target_step_may_leave_a_joint_unbounded() -> None:
+    """An entry of inf leaves that joint's targets as they are (a gripper with no rated
+    speed), the others bounded: the bound of rated speed x control period."""
+    bus = RecordingBus("panda")
+    rated = bus.agent.drives.velocity_limit
+    assert np.isinf(rated[7:]).all() and np.isfinite(rated[:7]).all()
+    real = RealRobot("panda", bus, control_mode="pd_joint_pos", max_target_step=rated * 0.05)
+    measured = bus.read()[0]
+    far = measured + np.array([1.0] * 7 + [0.0] * 2)
+    arm = real.agent.controller.slices["arm"]
+    action = np.zeros(real.action_space.shape)
+    action[arm] = real.agent.controller.parts["arm"].from_raw(far[None, :7])[0]
+    action[-1] = -1.0  # the gripper closes: its 0.04 m go out in one target
+    sent = real.step(action)
+    np.testing.assert_allclose(sent[:7], measured[:7] + rated[:7] * 0.05)
+    np.testing.assert_array_equal(sent[7:], real.agent.drives.targets.position[0, 7:])
+    assert np.abs(sent[7:] - measured[7:]).max() > 0.03
+    real.close()
 
 
 def test_a_velocity_target_sent_with_a_held_back_position_target_is_scaled_with_it() -> None:
@@ -205,6 +225,69 @@ def test_a_velocity_mode_is_not_slowed_by_max_target_step() -> None:
     real.close()
 
 
+UR_JOINTS = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+)
+
+
+def effort_ur() -> type[ra.Agent]:
+    """The UR10e with an effort mode on top of its declared PD drives (stiffness kept)."""
+
+    class EffortUR(ra.get_agent("ur_10e")):  # type: ignore[misc]
+        default_control_mode = "pd_joint_pos"
+        control_modes = {
+            "pd_joint_pos": ra.PDJointPosConfig(joint_names=UR_JOINTS),
+            "joint_effort": ra.JointEffortConfig(joint_names=UR_JOINTS, normalize_action=False),
+        }
+
+    return EffortUR
+
+
+def test_an_effort_sent_with_a_held_back_position_target_is_scaled_with_it() -> None:
+    """An effort of 40 N*m on the UR10e's wrist 3 against its hold spring (3200 N*m/rad)
+    rests 12.5 mrad from the held pose in simulation. With max_target_step=0.005 rad the
+    spring's pull is cut to the bound; the effort, sent as it was, ran the joint away
+    (0.46 rad in 60 steps, without end). Scaled by the fraction of the position step
+    that is sent, the joint rests where the simulation's does: the whole command is
+    shrunk, kp f (p - q) + f tau, which is zero where kp (p - q) + tau is."""
+    cls = effort_ur()
+    tau = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 40.0])
+    scene = Scene(cls, control_modes="joint_effort")
+    scene.reset()
+    agent = scene.agents[0]
+    start = scene.world.qpos[0, agent.drives.qpos_adr].copy()
+    for _ in range(60):
+        agent.set_action(tau)
+        scene.step()
+    simulated = scene.world.qpos[0, agent.drives.qpos_adr] - start
+    scene.close()
+    assert simulated[5] == pytest.approx(40.0 / 3200.0, rel=1e-6)
+    bus = RecordingBus(cls)
+    real = RealRobot(cls, bus, control_mode="joint_effort", max_target_step=0.005)
+    start = bus.read()[0]
+    held_back = 0
+    for _ in range(60):
+        measured = bus.read()[0]
+        sent = real.step(tau)
+        wanted = real.agent.drives.targets.position[0]
+        effort = bus.writes[-1][2]
+        if sent[5] != wanted[5]:
+            held_back += 1
+            fraction = (sent[5] - measured[5]) / (wanted[5] - measured[5])
+            assert 0.0 < fraction < 1.0 and effort[5] == pytest.approx(40.0 * fraction, rel=1e-12)
+        else:
+            assert effort[5] == 40.0
+        np.testing.assert_array_equal(effort[:5], 0.0)
+    assert held_back > 0
+    np.testing.assert_allclose(bus.read()[0] - start, simulated, atol=1e-9)
+    real.close()
+
+
 def test_a_mode_switch_sends_the_modes_drive_settings() -> None:
     bus = RecordingBus("ur_10e")
     real = RealRobot("ur_10e", bus, control_mode="pd_joint_pos")
@@ -232,6 +315,59 @@ def test_a_rejected_action_sends_nothing_and_changes_nothing() -> None:
     real.close()
     with pytest.raises(StateError, match="closed"):
         real.step(np.zeros(real.action_space.shape))
+
+
+def test_an_unknown_mode_changes_nothing() -> None:
+    """A misspelt mode is refused before the bus is read: the observation and the mode
+    stay as they were (the bus was read first, and the controllers' model moved to the
+    robot's new pose on a call that failed)."""
+    bus = SimulatedBus("panda")
+    robot = RealRobot("panda", bus, control_mode="pd_joint_delta_pos")
+    before = robot.get_obs().copy()
+    bus.write(bus.read()[0] + 0.2, np.zeros(9), np.zeros(9))  # the robot moves meanwhile
+    with pytest.raises(UnknownNameError, match=r"RealRobot.set_control_mode.*Did you mean 'pd_joint_pos'"):
+        robot.set_control_mode("pd_joint_poz")
+    np.testing.assert_array_equal(robot.get_obs(), before)
+    assert robot.control_mode == "pd_joint_delta_pos"
+    robot.close()
+
+
+class FlakyBus(RecordingBus):
+    """A bus whose ``write`` fails the first ``failures`` times (a lost connection)."""
+
+    def __init__(self, robot: str, failures: int) -> None:
+        super().__init__(robot)
+        self.failures = failures
+
+    def write(self, position: FloatArray, velocity: FloatArray, effort: FloatArray) -> None:
+        if self.failures:
+            self.failures -= 1
+            raise OSError("the motors did not answer")
+        super().write(position, velocity, effort)
+
+
+@pytest.mark.parametrize("mode", ["pd_joint_target_delta_pos", "pd_ee_target_delta_pose"])
+def test_a_failed_write_leaves_the_controllers_as_they_were(mode: str) -> None:
+    """A bus write that raises leaves the controllers and targets as before the call:
+    retried, the command is the one a bus that took it first time was sent (a target
+    delta added once; it was added again on each retry)."""
+    flaky, steady = FlakyBus("widowx250s", failures=2), RecordingBus("widowx250s")
+    robots = [RealRobot("widowx250s", bus, control_mode=mode) for bus in (flaky, steady)]
+    action = np.full(robots[0].action_space.shape, 0.5)
+    before = robots[0].agent.controller.get_state()
+    for _ in range(2):
+        with pytest.raises(OSError, match="did not answer"):
+            robots[0].step(action)
+    after = robots[0].agent.controller.get_state()
+    for part, arrays in before.items():
+        for key, value in arrays.items():
+            np.testing.assert_array_equal(after[part][key], value)
+    for _ in range(3):
+        sent = [robot.step(action) for robot in robots]
+        np.testing.assert_array_equal(sent[0], sent[1])
+    np.testing.assert_array_equal(flaky.writes[-1][1], steady.writes[-1][1])
+    for robot in robots:
+        robot.close()
 
 
 def test_a_closed_robot_and_bus_refuse_every_call() -> None:
@@ -288,7 +424,7 @@ def test_bad_setups_are_clean_errors() -> None:
         RealRobot("panda", renamed)
     with pytest.raises(ConfigError, match="max_target_step > 0"):
         RealRobot("panda", SimulatedBus("panda"), max_target_step=-1.0)
-    for not_a_distance in (True, "0.1", [0.1, None]):
+    for not_a_distance in (True, "0.1", [0.1, None], np.inf, [np.nan] * 9):
         with pytest.raises(ConfigError, match="max_target_step > 0"):
             RealRobot("panda", SimulatedBus("panda"), max_target_step=not_a_distance)  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="expected a JointBus"):
@@ -297,6 +433,12 @@ def test_bad_setups_are_clean_errors() -> None:
         SimulatedBus("panda", keyframe="rset")
     with pytest.raises(StateError, match="expected finite"):
         RealRobot("panda", RecordingBus("panda", read_nan=True))
+    for reading in ((np.zeros(9),) * 3, None, ("a", "b")):  # ValueError / TypeError from the unpacking before
+        bad = RecordingBus("panda")
+        bad.read = lambda reading=reading: reading  # type: ignore[method-assign]
+        with pytest.raises(StateError, match=r"RealRobot.sync: expected .*\(9,\)"):
+            RealRobot("panda", bad)
+        bad.close()
     bus = SimulatedBus("panda")
     with pytest.raises(ActionError, match="finite targets"):
         bus.write(np.zeros(2), np.zeros(2), np.zeros(2))

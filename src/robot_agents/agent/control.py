@@ -13,6 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from robot_agents.actuators.drives import DriveOverride, Drives, override_for
+from robot_agents.agent.coupling import coupled_range
 from robot_agents.agent.declaration import SINGLE_PART, ModeConfig
 from robot_agents.agent.index import JointKind, RobotIndex
 from robot_agents.controllers.base import ControllerConfig, ControllerContext, JointBinding
@@ -108,16 +109,23 @@ class ControlModes:
     def _binding(self, config: ControllerConfig, where: str) -> JointBinding:
         index = self.index
         joints = [index.joint(name, f"{where} {type(config).__name__}") for name in config.joint_names]
-        ranges = np.array([j.range if j.limited else (-math.inf, math.inf) for j in joints], dtype=np.float64).reshape(
-            -1, 2
-        )
+        # an unlimited hinge or slide tied by a joint equality to a limited joint (a mimic)
+        # takes the range the other's limits give it, and stays periodic (a hinge) only
+        # while a whole turn of it is a whole turn of what it is tied to
+        coupled = [
+            coupled_range(self.context.model, j.id)
+            if j.kind in (JointKind.HINGE, JointKind.SLIDE) and not j.limited
+            else (j.range if j.limited else (-math.inf, math.inf), False)
+            for j in joints
+        ]
+        ranges = np.array([c[0] for c in coupled], dtype=np.float64).reshape(-1, 2)
         return JointBinding(
             joint_names=config.joint_names,
             qpos_adr=np.array([j.qpos_adr for j in joints], dtype=np.int64),
             dof_adr=np.array([j.dof_adr for j in joints], dtype=np.int64),
             columns=self.drives.columns(config.joint_names, where),
             qpos_range=ranges,
-            periodic=np.array([j.kind is JointKind.HINGE and not j.limited for j in joints], dtype=bool),
+            periodic=np.array([c[1] for c in coupled], dtype=bool),
         )
 
     def activate(self, mode: Any, where: str) -> None:

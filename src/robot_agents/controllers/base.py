@@ -143,29 +143,33 @@ class ControllerContext:
         return resolve_frame(self.model, name, self.prefix, where)
 
 
-def check_bounds(config: object, low_name: str, high_name: str) -> None:
+def check_bounds(config: object, low_name: str, high_name: str, count: int | None = None, unit: str = "joint") -> None:
     """A config's action bounds ``low_name`` / ``high_name`` (each ``None``, one number,
-    or one per joint of ``config.joint_names``): finite (infinite where unbounded), of
-    the right size, and ``low <= high`` for every joint; :class:`ConfigError` naming the
-    config otherwise. Checked when the config is made, not when its mode is first used."""
+    or one per joint of ``config.joint_names``; ``count``: one per ``unit`` of that many
+    instead, e.g. 3 per axis): not NaN (infinite where unbounded), of the right size,
+    and, both given, ``low <= high`` for every entry; :class:`ConfigError` naming the
+    config otherwise. Checked when the config is made, not when its mode is first used.
+    (Before 2026-11-29 a bound was not looked at when the one before it was ``None``.)"""
     where = f"{type(config).__name__}({', '.join(config.joint_names)})"  # type: ignore[attr-defined]
-    n = len(config.joint_names)  # type: ignore[attr-defined]
+    n = len(config.joint_names) if count is None else count  # type: ignore[attr-defined]
     arrays = []
     for name in (low_name, high_name):
         value = getattr(config, name)
         if value is None:
-            return
+            continue
         try:
             array = np.asarray(value, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
-            raise ConfigError(f"{where}.{name}: expected a number or one per joint, got {value!r}.") from None
+            raise ConfigError(f"{where}.{name}: expected a number or one per {unit}, got {value!r}.") from None
         if array.size not in (1, n) or np.any(np.isnan(array)):
-            raise ConfigError(f"{where}.{name}: expected a number or {n} (one per joint), got {value!r}.")
+            raise ConfigError(f"{where}.{name}: expected a number or {n} (one per {unit}), got {value!r}.")
         arrays.append(array)
+    if len(arrays) < 2:
+        return
     low, high = np.broadcast_arrays(*arrays)
     if np.any(low > high):
         raise ConfigError(
-            f"{where}: expected {low_name} <= {high_name} for every joint, got {low_name}="
+            f"{where}: expected {low_name} <= {high_name} for every {unit}, got {low_name}="
             f"{getattr(config, low_name)!r}, {high_name}={getattr(config, high_name)!r}."
         )
 

@@ -16,6 +16,7 @@ from robot_agents.controllers.base import (
     ControllerContext,
     FloatArray,
     JointBinding,
+    check_bounds,
 )
 from robot_agents.controllers.task_space import WorkspaceBox
 from robot_agents.errors import ConfigError
@@ -104,6 +105,7 @@ class PDEEPosConfig(ControllerConfig):
             raise ConfigError(f"{name}: expected stiffness > 0 on every joint, got {self.stiffness}.")
         if not isinstance(self.ik, IKConfig):
             raise ConfigError(f"{name}.ik: expected an IKConfig, got {self.ik!r}.")
+        check_bounds(self, "pos_lower", "pos_upper", 3, "axis")
 
     @property
     def controls_rotation(self) -> bool:
@@ -148,6 +150,7 @@ class PDEEPoseConfig(PDEEPosConfig):
             raise ConfigError(f"{name}.rotation_frame: expected a CommandFrame, got {self.rotation_frame!r}.")
         if not isinstance(self.rotation_format, RotationFormat):
             raise ConfigError(f"{name}.rotation_format: expected a RotationFormat, got {self.rotation_format!r}.")
+        check_bounds(self, "rot_lower", "rot_upper", 3, "axis")
         if self.use_delta and self.rotation_format is not RotationFormat.ROTVEC:
             raise ConfigError(
                 f"{name}: rotation deltas are rotation vectors; rotation_format={self.rotation_format.name} "

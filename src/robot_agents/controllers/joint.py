@@ -12,7 +12,10 @@ delta modes), and an *absolute* target ``a`` is taken modulo ``2 pi`` to the ang
 the measured one, ``q* = a + 2 pi round((q - a) / 2 pi)``, so that the joint turns the
 short way (at most ``pi``) and never unwinds the turns it has made. Delta modes add to the
 measured angle or to the current target, with no bound. Limited joints (and unlimited
-slides) take absolute targets as they are, clipped to their limits.
+slides) take absolute targets as they are, clipped to their limits. An unlimited joint
+tied to a limited one (a joint equality, :mod:`robot_agents.agent.coupling`; a mimic
+mode's follower, :func:`mimic_leader_range`) is limited by it; a mimic's followers take
+their targets from the leader's after it is taken to its turn.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+import numpy.typing as npt
 
 from robot_agents.actuators.config import PerJoint, per_joint
 from robot_agents.controllers.base import (
@@ -66,6 +70,36 @@ def within_bounds_by_turns(angles: FloatArray, low: FloatArray, high: FloatArray
     wrapped = np.where((wrapped < low) | (wrapped > high), angles - TURN * np.round(angles / TURN), wrapped)
     held: FloatArray = np.where((angles < low) | (angles > high), wrapped, angles)
     return held
+
+
+def mimic_leader_range(
+    limits: FloatArray, periodic: npt.NDArray[np.bool_], multipliers: FloatArray, offsets: FloatArray
+) -> tuple[FloatArray, bool]:
+    """A mimic leader's range ``(2,)`` (rad or m) and whether it is periodic, from the
+    joints' ``limits`` ``(n, 2)`` and ``periodic`` flags ``(n,)`` (leader first) and the
+    followers' ``target_i = multipliers[i] * leader + offsets[i]``. A limited leader keeps
+    its own limits (and is not periodic). An unlimited one takes the intersection of the
+    ranges its limited followers' limits give it (a follower stops at its limit, and a
+    leader past the matching point would leave it behind); it is periodic (its absolute
+    targets taken to the turn nearest the measured angle) only when it is an unlimited
+    hinge and every follower is one that a whole turn of the leader turns by whole turns
+    (an integer multiplier). Ranges that do not overlap leave it unlimited."""
+    low, high = float(limits[0, 0]), float(limits[0, 1])
+    if np.isfinite(low) or np.isfinite(high):
+        return limits[0].copy(), False
+    turns = bool(periodic[0])
+    for (lo, hi), follows, m, o in zip(limits[1:], periodic[1:], multipliers[1:], offsets[1:], strict=True):
+        if m == 0.0:
+            continue
+        if np.isfinite(lo) or np.isfinite(hi):
+            ends = ((lo - o) / m, (hi - o) / m)
+            low, high = max(low, min(ends)), min(high, max(ends))
+            turns = False
+        elif not (follows and m == round(m)):
+            turns = False
+    if low > high:
+        return np.array([-np.inf, np.inf]), False
+    return np.array([low, high]), turns
 
 
 @checked_keywords
@@ -174,12 +208,22 @@ class PDJointPosController(Controller):
         self._action_joints = n if self._plain else 1
         self.binding = binding
         self.config = config
+        # each joint's limits; a mimic's unlimited leader takes those its limited
+        # followers give it (target_i = m_i a + o_i within the follower's limits)
+        self._limits = binding.qpos_range.copy()
+        periodic = binding.periodic
+        if not self._plain:
+            self._limits[0], leader_periodic = mimic_leader_range(
+                self._limits, binding.periodic, self.multipliers, self.offsets
+            )
+            periodic = np.zeros(n, dtype=bool)  # followers follow: never wrapped on their own
+            periodic[0] = leader_periodic
         super().__init__(config, binding, context)
         self.target_qpos: FloatArray = np.zeros((num_envs, n))
         self._previous_target: FloatArray = np.zeros((num_envs, n))
         # Hot-path constants, resolved once.
-        self._lower_limit = binding.qpos_range[:, 0].copy()
-        self._upper_limit = binding.qpos_range[:, 1].copy()
+        self._lower_limit = self._limits[:, 0].copy()
+        self._upper_limit = self._limits[:, 1].copy()
         self._clip = config.clip_target
         self._has_offsets = bool(np.any(self.offsets))
         self._write_now = not config.interpolate
@@ -212,11 +256,12 @@ class PDJointPosController(Controller):
             self._base = self._FROM_TARGET if config.use_target else self._FROM_MEASURED
         # Unlimited hinges among the joints (absolute targets are taken modulo a turn):
         # their positions in the joint list and in qpos; None when there is none (limited
-        # joints take the path they always took, bit for bit).
-        periodic = np.flatnonzero(binding.periodic)
-        self._periodic: IntArray | None = periodic.astype(np.int64) if periodic.size else None
-        self._periodic_qpos: IntArray = binding.qpos_adr[periodic].astype(np.int64)
-        leaders = periodic[periodic < self._action_joints]
+        # joints take the path they always took, bit for bit). A mimic's leader alone:
+        # its action is taken to the turn, and the followers follow it.
+        turning = np.flatnonzero(periodic)
+        self._periodic: IntArray | None = turning.astype(np.int64) if turning.size else None
+        self._periodic_qpos: IntArray = binding.qpos_adr[turning].astype(np.int64)
+        leaders = turning[turning < self._action_joints]
         self._periodic_leaders: IntArray | None = leaders.astype(np.int64) if leaders.size else None
 
     def action_bounds(self) -> tuple[FloatArray, FloatArray]:
@@ -224,7 +269,7 @@ class PDJointPosController(Controller):
         dim = self._action_joints
         # Unlimited (continuous) joints get one turn either way: an absolute target must
         # be finite, and a policy's output range must be too.
-        leader_range = np.clip(self.binding.qpos_range[:dim], -UNBOUNDED_TARGET, UNBOUNDED_TARGET)
+        leader_range = np.clip(self._limits[:dim], -UNBOUNDED_TARGET, UNBOUNDED_TARGET)
         low = leader_range[:, 0] if cfg.lower is None else per_joint(name, "lower", cfg.lower, dim)
         high = leader_range[:, 1] if cfg.upper is None else per_joint(name, "upper", cfg.upper, dim)
         return low.copy(), high.copy()
@@ -272,11 +317,11 @@ class PDJointPosController(Controller):
         return targets
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
+        if self._base == self._ABSOLUTE and self._periodic is not None:
+            raw = self._nearest_to_measured(raw, sim)  # (a mimic: the leader's, the followers follow)
         change = raw if self._plain else raw * self._multipliers_row  # (N, 1) * (1, n) -> (N, n)
         if self._base == self._ABSOLUTE:
             targets = change + self._offsets_row if self._has_offsets else change
-            if self._periodic is not None:
-                targets = self._nearest_to_measured(targets, sim)
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change
         elif self._qpos_take is None:
@@ -481,6 +526,10 @@ class JointEffortConfig(ControllerConfig):
     writes: ClassVar[tuple[str, ...]] = ("effort",)
     lower: PerJoint | None = None
     upper: PerJoint | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        check_bounds(self, "lower", "upper")
 
     def build(self, binding: JointBinding, context: ControllerContext) -> Controller:
         return JointEffortController(self, binding, context)

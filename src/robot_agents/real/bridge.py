@@ -72,15 +72,19 @@ class RealRobot:
         control_mode: the mode to start in (default: the robot's default mode).
         max_target_step: the farthest (rad or m, one number or one per bus joint) a
             position target may lie from the measured position; targets beyond are
-            clipped towards it (a safety limit for hardware; ``None``: no limit). The
-            velocity target sent with a clipped position target (the feed-forward of
-            end-effector modes, ``pd_joint_pos_vel``'s velocities) is scaled by the same
-            fraction, ``(clipped - measured) / (target - measured)``, on joints whose
-            drive has position stiffness in the mode (see :meth:`step`).
+            clipped towards it (a safety limit for hardware; ``None``: no limit; ``inf``
+            for a joint: none on it). Rated speed times the control period keeps the
+            joints under their rated speeds, which position modes do not respect. The
+            velocity and effort targets sent with a clipped position target (the
+            feed-forward of end-effector modes, ``pd_joint_pos_vel``'s velocities, an
+            effort mode's efforts on drives that keep their stiffness) are scaled by the
+            same fraction, ``(clipped - measured) / (target - measured)``, on joints
+            whose drive has position stiffness in the mode (see :meth:`step`).
 
     Raises:
         ConfigError: the robot has a free root or a mobile base, the bus's joints are
-            not the robot's driven joints, or ``max_target_step`` is not positive.
+            not the robot's driven joints, or ``max_target_step`` is not positive (or
+            ``inf`` for every joint).
     """
 
     def __init__(
@@ -140,17 +144,26 @@ class RealRobot:
             step = np.broadcast_to(raw.astype(np.float64), (n,)).copy()
         except Exception:  # also whatever the input's own __array__ raises
             step = np.full(n, np.nan)
-        if not np.all(np.isfinite(step)) or np.any(step <= 0):
-            raise ConfigError(f"{where}: expected max_target_step > 0 (one number or {n}), got {value!r}.")
+        if np.any(np.isnan(step)) or np.any(step <= 0) or np.all(np.isinf(step)):
+            raise ConfigError(
+                f"{where}: expected max_target_step > 0 (one number or {n}; inf for a joint without a bound, "
+                f"not for all), got {value!r}."
+            )
         return step
 
     # -- state -----------------------------------------------------------------------------
     def sync(self) -> None:
         """Read the measured state from the bus into the controllers' model."""
         self._check_open("RealRobot.sync")
-        qpos, qvel = self.bus.read()
+        reading = self.bus.read()
         n = len(self._columns)
-        qpos, qvel = np.asarray(qpos, dtype=np.float64), np.asarray(qvel, dtype=np.float64)
+        try:
+            qpos, qvel = (np.asarray(a, dtype=np.float64) for a in reading)
+        except (TypeError, ValueError):  # not a pair, or not numbers
+            raise StateError(
+                f"RealRobot.sync: expected the bus to read (positions, velocities), finite ({n},) each; "
+                f"got {reading!r}."
+            ) from None
         if qpos.shape != (n,) or qvel.shape != (n,) or not (np.all(np.isfinite(qpos)) and np.all(np.isfinite(qvel))):
             raise StateError(
                 f"RealRobot.sync: the bus read positions {qpos.shape} and velocities {qvel.shape}; "
@@ -169,8 +182,11 @@ class RealRobot:
 
     def set_control_mode(self, mode: str) -> None:
         """Switch modes: the new mode holds the measured pose (read from the bus) and
-        its drive settings go to the bus (:meth:`JointBus.set_gains`)."""
-        self._check_open("RealRobot.set_control_mode")
+        its drive settings go to the bus (:meth:`JointBus.set_gains`). An unknown mode
+        raises :class:`UnknownNameError` before the bus is read (nothing changes)."""
+        where = "RealRobot.set_control_mode"
+        self._check_open(where)
+        self.agent.controller_for(mode, where)  # the name checked (and the mode built) first
         self.sync()
         self.agent.set_control_mode(mode)
         drives, columns = self.agent.drives, self._columns
@@ -210,12 +226,21 @@ class RealRobot:
     def step(self, action: npt.ArrayLike) -> FloatArray:
         """Read the state, turn ``action`` into joint targets with the mode's controllers
         and send them; returns the position targets sent ``(n,)``, bus order. A rejected
-        action (:class:`ActionError`) sends nothing and changes no controller state.
+        action (:class:`ActionError`) sends nothing and changes no controller state; a
+        ``bus.write`` that raises leaves the controllers and targets as they were before
+        the call (the exception propagates; the bus's reading stays in the model), so a
+        retry sends the same command: a target-delta mode does not add its step twice.
 
         With ``max_target_step``, a position target ``p`` farther than the bound from the
         measured position ``q`` is sent as ``p'`` on the bound, and the velocity target
-        ``v`` sent with it as ``v (p' - q) / (p - q)``: the command shrunk as a whole, on
-        joints whose drive has position stiffness in the mode. End-effector modes send the
+        ``v`` and effort ``tau`` sent with it as ``f v`` and ``f tau``, ``f = (p' - q) /
+        (p - q)``: the command shrunk as a whole, on joints whose drive has position
+        stiffness in the mode. (The bridge sends efforts only from a mode's effort
+        targets, ``JointEffortConfig``; no gravity compensation: simulation cancels
+        gravity on a fixed-root robot's bodies, the hardware does its own.) An effort
+        sent in full against a spring cut to the bound ran a joint away where the
+        simulation's rests at ``p + tau / kp``; shrunk, ``f (kp (p - q) + tau)`` is
+        zero where it rests. End-effector modes send the
         midpoint of the step's joint path with the speed that covers it, ``(q + s) / 2``
         and ``(s - q) / dt``; the scaled pair is the same path cut to the bound, and the
         unscaled speed (up to 13 rad/s on the Panda with a bound of 0.01 rad) drove a
@@ -227,26 +252,41 @@ class RealRobot:
         agent = self.agent
         checked = agent.validate_action(action)  # before anything moves (raises ActionError)
         self.sync()
+        targets, ctrl = agent.drives.targets, self.scene.world.ctrl
+        before = (
+            agent.controller.get_state(),
+            [a.copy() for a in (targets.position, targets.velocity, targets.effort)],
+        )
+        before_ctrl = np.array(ctrl)
         agent.set_action(checked)
-        targets = agent.drives.targets
         wanted = targets.position[0, self._columns].copy()
         position = self._limited(wanted.copy())
         velocity = targets.velocity[0, self._columns].copy()
+        effort = targets.effort[0, self._columns].copy()
         if self._max_step is not None:
-            self._scale_held_back(velocity, wanted, position)
-        self.bus.write(position, velocity, targets.effort[0, self._columns].copy())
+            self._scale_held_back((velocity, effort), wanted, position)
+        try:
+            self.bus.write(position, velocity, effort)
+        except BaseException:  # the command did not go (or not for sure): as before the call
+            agent.controller.set_state(before[0])
+            for target, saved in zip((targets.position, targets.velocity, targets.effort), before[1], strict=True):
+                target[...] = saved
+            ctrl[...] = before_ctrl
+            raise
         return position
 
-    def _scale_held_back(self, velocity: FloatArray, wanted: FloatArray, sent: FloatArray) -> None:
-        """Scale in place the velocity targets ``(n,)`` (bus order) of the joints whose
-        position target ``wanted`` was held back to ``sent`` by ``max_target_step``, by
-        the fraction of the step that is sent, ``(sent - measured) / (wanted - measured)``
-        (in ``(0, 1)``), where the mode's drive has position stiffness; other entries
-        keep their bits."""
+    def _scale_held_back(self, feed_forward: tuple[FloatArray, ...], wanted: FloatArray, sent: FloatArray) -> None:
+        """Scale in place the feed-forward targets (velocity and effort, ``(n,)`` each,
+        bus order) of the joints whose position target ``wanted`` was held back to
+        ``sent`` by ``max_target_step``, by the fraction of the step that is sent,
+        ``(sent - measured) / (wanted - measured)`` (in ``(0, 1)``), where the mode's
+        drive has position stiffness; other entries keep their bits."""
         held = (sent != wanted) & (self.agent.drives.stiffness[self._columns] > 0.0)
         if np.any(held):
             measured = self._measured[held]
-            velocity[held] *= (sent[held] - measured) / (wanted[held] - measured)
+            fraction = (sent[held] - measured) / (wanted[held] - measured)
+            for target in feed_forward:
+                target[held] *= fraction
 
     def move_to(self, keyframe: str, steps: int = 40) -> float:
         """Bring the robot to ``keyframe`` (its driven joints) along a smooth ramp of

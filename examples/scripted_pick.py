@@ -11,8 +11,10 @@ PickCube, per env (all envs of a batch at once):
    through a linear equality, such as Stretch's telescope segments, move with it:
    ``arm_followers``; where it stays more than 1 cm off, it restarts from random
    configurations); the joints are driven there
-   along a smooth 1.5 s ramp with the gripper open. (A 5-joint arm's default keyframe
-   need not point its jaw down, and its end-effector modes cannot turn the tool.)
+   along a smooth 1.5 s ramp with the gripper open, and held there while the arm is
+   still arriving (drives slower than the ramp: :data:`SETTLE_STEPS`). (A 5-joint
+   arm's default keyframe need not point its jaw down, and its end-effector modes
+   cannot turn the tool.)
 2. End-effector delta mode, position only (``pd_ee_target_delta_pos``, else
    ``pd_ee_delta_pos``, else the pose modes with the turned orientation held):
    *approach* above the cube, *descend* until the grasp point is a fifth of an edge
@@ -453,8 +455,10 @@ class Arm:
         tool_goal: np.ndarray | None = None,
     ) -> None:
         """Drive the arm joints to ``goal_q`` along a smooth ramp (joint-position mode),
-        the last 5 steps holding the goal. With ``tool_goal`` (world, ``(num_envs, 3)``),
-        envs the base assists (:meth:`plan_base_assist`) also drive the base along its
+        the last 5 steps holding the goal, then holding it on until every env's arm has
+        arrived, or will not arrive in time (:data:`ARRIVED`, at most
+        :data:`SETTLE_STEPS` steps; none where the drives kept up). With ``tool_goal``
+        (world, ``(num_envs, 3)``), envs the base assists (:meth:`plan_base_assist`) also drive the base along its
         heading by what the arm's solution leaves short of it that way, spread over the ramp."""
         self.set_mode("pd_joint_pos")
         start = self.agent.qpos[:, self.q_index]
@@ -473,6 +477,19 @@ class Arm:
                 left = np.sum((base_goal - self.agent.base_pos) * self.heading(), axis=1)
                 speed = left / (self.control_dt * max(1, steps - 5 - k))
             step(self.action(start + blend * (goal_q - start), gripper_open, speed))
+        # Drives slower than the ramp (a file's position servos, their force limit
+        # over their damping below the ramp's speed) are waited for: the end-effector
+        # stages start from the pose the arm is in, and hold its orientation.
+        for left in range(SETTLE_STEPS, 0, -1):
+            lag = goal_q - self.agent.qpos[:, self.q_index]
+            speed_now = self.agent.qvel[:, self.v_index]
+            # a joint still short of the goal, moving towards it fast enough to arrive
+            # in the steps left (not one held back by a contact or creeping)
+            arriving = (np.abs(lag) >= ARRIVED) & (lag * speed_now > 0.0)
+            arriving &= np.abs(speed_now) * left * self.control_dt >= np.abs(lag) - ARRIVED
+            if not arriving.any():
+                break
+            step(self.action(goal_q, gripper_open, None if base_goal is None else np.zeros(len(goal_q))))
 
 
 def grasp_orientation(
@@ -497,6 +514,16 @@ def grasp_orientation(
     return out
 
 
+#: After the ramp, the arm holds its goal while in any env an arm joint is more than
+#: ``ARRIVED`` (rad or m) short of it and moving towards it fast enough to get within
+#: that in the steps left, at most ``SETTLE_STEPS`` control steps: the end-effector
+#: stages hold the orientation the arm has when they start, and the push leans 0.3 rad.
+#: (gymnasium-robotics' Franka kitchen, whose file's servos move its joints at most
+#: 0.87 and 1.2 rad/s (force limit over joint damping), ended the ramp up to 0.37 rad
+#: short in seed 1 of PushCube. Joints held back by a contact, or creeping, are not
+#: waited for: the bare xArm6's pushes ended the ramp 0.15-0.81 rad short at under
+#: 0.14 rad/s.)
+ARRIVED, SETTLE_STEPS = 0.05, 20
 #: How far along its heading the base must be able to spare the arm (in reaches): where
 #: the arm alone cannot move the turned tool this far ahead and behind, the base carries
 #: the tool's moves that way (:meth:`Arm.plan_base_assist`). A tenth of the reach: the

@@ -1151,3 +1151,56 @@ def test_a_fixed_arm_mixing_position_servos_and_motors_gets_joint_modes(tmp_path
     velocity = actuated_arm(tmp_path, '<velocity joint="shoulder" kv="4"/>', '<motor joint="elbow" ctrlrange="-4 4"/>')
     with pytest.warns(RuntimeWarning, match=r"\['elbow'\] with torque motors and \['shoulder'\] with velocity servos"):
         assert list(velocity.check().modes) == ["joint_effort"]
+
+
+def _steps_to_close(uid: str) -> int:
+    """Control steps the gripper of robot ``uid`` takes in ``PickCube-v1`` (20 Hz) from
+    open to an opening under 0.05 (empty, arm held), after opening it, in its default mode; 100 where it
+    does not close by then."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        env = ra.make_env("PickCube-v1", robot_uids=uid).unwrapped
+    try:
+        env.reset(seed=0)
+        controller = env.agent.controller
+        gripper = next(name for name in controller.parts if "gripper" in name)
+        action = np.zeros((1, controller.action_dim))
+        action[:, controller.slices[gripper]] = 1.0
+        for _ in range(200):  # open (its servo's range ends where its travel does: slowly)
+            env.step(action)
+            if env.agent.gripper_opening()[0] > 0.8:
+                break
+        assert env.agent.gripper_opening()[0] > 0.8
+        action[:, controller.slices[gripper]] = -1.0
+        for step in range(1, 101):
+            env.step(action)
+            if env.agent.gripper_opening()[0] < 0.05:
+                return step
+        return 100
+    finally:
+        env.close()
+
+
+def test_a_files_finger_servos_commanded_past_their_travel_close_as_the_file_commands(tmp_path: Path) -> None:
+    # Meta-World's Sawyer: fingers of heavy armature and damping, position servos whose
+    # control range (+-1 m) reaches far past their travel (0-3 cm, closed at 0): the close commands
+    # the end of that range, as the file's users do, and the fingers close quickly.
+    heavy = MOCAP_ARM.replace('range="0 0.03"/>', 'range="0 0.03" armature="100" damping="1000"/>')
+    as_written = heavy.replace('kp="200" kv="5" ctrlrange="0 0.03"', 'kp="400" ctrlrange="0 0.03"')
+    past = heavy.replace('kp="200" kv="5" ctrlrange="0 0.03"', 'kp="400" ctrlrange="-1 1"')
+    steps = {}
+    for name, text in (("within", as_written), ("past", past)):
+        path = tmp_path / f"{name}.xml"
+        path.write_text(text)
+        cls = two_line(path, uid=f"wild_{name}")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            gripper = next(p for p in cls.check().parts if isinstance(p, ra.Gripper))
+            ra.register_agent(cls)
+        try:
+            steps[name] = _steps_to_close(cls.uid)
+        finally:
+            ra.unregister_agent(cls.uid)  # the registry as found: other tests list every robot
+        # the derived squeeze, a tenth of the stroke, where the range ends at the travel
+        assert gripper.squeeze == pytest.approx(1.0 if name == "past" else 0.003)  # closed: 0 m
+    assert steps["past"] <= 6 and steps["within"] >= 40, steps  # measured: 4 and over 100

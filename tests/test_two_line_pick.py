@@ -249,3 +249,55 @@ def test_an_arm_hanging_from_above_gets_a_table_under_its_rest_pose(tmp_path: Pa
     with registered(cls):
         successes = scripted_successes("ReachPose-v1", cls.uid, 10)
     assert successes >= 9, successes
+
+
+def _turn(uid: str, settle: int) -> tuple[int, np.ndarray]:
+    """The scripted solvers' turn to a ReachPose goal (4 envs, seed 0) with at most
+    ``settle`` steps of waiting: the steps it took and each env's largest joint lag (rad)."""
+    solver = load_solver()
+    solver.SETTLE_STEPS = settle
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        env = ra.make_env("ReachPose-v1", robot_uids=uid, num_envs=4).unwrapped
+    try:
+        env.reset(seed=0)
+        arm = solver.Arm(env)
+        goal = arm.solve(env.goal_pose[:, :3], None)
+        steps = 0
+
+        def step(action: np.ndarray) -> None:
+            nonlocal steps
+            steps += 1
+            env.step(action)
+
+        arm.ramp(step, goal, 30, np.ones(4, dtype=bool))
+        lag = np.abs(arm.agent.qpos[:, arm.q_index] - arm.nearest_turns(goal, arm.agent.qpos[:, arm.q_index]))
+        return steps, lag.max(axis=1)
+    finally:
+        env.close()
+
+
+def test_the_turn_waits_for_drives_slower_than_its_ramp(tmp_path: Path, two_line_arm: type[ra.Agent]) -> None:
+    """An arm whose file's position servos turn its joints at most 1.25 rad/s (a 5 N*m
+    force limit over 4 N*m*s/rad of joint damping, as gymnasium-robotics' Franka kitchen
+    writes its Panda's: 0.87 and 1.2 rad/s) ends the 1.5 s ramp short of the turn's goal;
+    the solver holds the goal until it has arrived. Drives that keep up take no extra step."""
+    from tests.test_model_files_wild import MOCAP_ARM
+
+    text = MOCAP_ARM.replace('<equality><weld body1="mocap" body2="hand"/></equality>', "")
+    text = text.replace('range="-2 2"/>', 'range="-2 2" damping="4"/>')
+    servos = "".join(
+        f'<position joint="{joint}" kp="50" forcerange="-5 5" ctrlrange="-2 2"/>'
+        for joint in ("shoulder", "elbow", "wrist")
+    )
+    path = tmp_path / "slow_arm.xml"
+    path.write_text(text.replace("<actuator>", "<actuator>" + servos))
+    slow = type("SlowArm", (ra.Agent,), {"uid": "slow_servo_arm", "mjcf_path": path})
+    with warnings.catch_warnings(), registered(slow):
+        warnings.simplefilter("ignore", RuntimeWarning)  # (its fingers touch its forearm at rest: a note)
+        steps, lag = _turn("slow_servo_arm", 0)
+        assert steps == 30 and lag.max() > 0.15, lag  # measured: 0.21 rad short
+        steps, lag = _turn("slow_servo_arm", 20)
+        assert steps > 30 and lag.max() < load_solver().ARRIVED, (steps, lag)
+    steps, lag = _turn(two_line_arm.uid, 20)
+    assert steps == 30 and lag.max() < 0.05, (steps, lag)

@@ -36,8 +36,9 @@ ARM = (
 )
 X, Y, Z = np.eye(3)
 # ManiSkill2_real2sim google_robot_meta_sim_fix_fingertip.urdf: joint origins (in the
-# parent link) and axes, from link_base (0.06205 m above the floor) to link_gripper, then
-# link_gripper_tcp; the head chain to link_camera.
+# parent link) and axes, from link_base (0.06205 m above the floor) to link_gripper; then
+# our link_gripper_tcp (0.15 m out: not the URDF's, see google_robot.py); the head chain
+# to link_camera.
 ARM_ORIGINS = [
     ((0.0, 0.0, 0.5945), Z),
     ((0.0, -0.16728852885, 0.113), Y),

@@ -7,10 +7,15 @@ Sources of the numbers:
   x = -0.338 m, 0.0293 m below the drive axle), the head (``joint_head_pan`` 1.169 m
   above the base link, range -3.79 .. 2.22 rad; ``joint_head_tilt`` 0.0718 m forward and
   0.1185 m above it, +-1.17 rad) and the head camera's mount (``link_camera``, 0.10488 m
-  forward of the tilt link, OpenCV axes) and the grasp frame ``link_gripper_tcp``
-  (0.15 m along the gripper's axis): ManiSkill2_real2sim's
+  forward of the tilt link, OpenCV axes): ManiSkill2_real2sim's
   ``googlerobot_description/google_robot_meta_sim_fix_fingertip.urdf``
   (github simpler-env/ManiSkill2_real2sim), the model of SimplerEnv's Google Robot.
+- Two values are ours, not that URDF's (tuned together for our primitive fingers): the
+  grasp frame ``link_gripper_tcp`` 0.15 m along the gripper's axis (the URDF's sits at
+  (0.0043, 0.0019, 0.1635) m, slightly turned; 0.15 m is a commented-out alternative in
+  its ``..._fix_wheel_fix_fingertip`` variants) and the finger tips turned 0.6 rad on the
+  fingers (the URDF's 0.45 rad). With either of the URDF's values the time-step sweep's
+  grasp claim fails at every step (docs/notes/robot-facts-audit.md, 2026-11-29).
   The arm's joint names, origins and ranges agree with MuJoCo Menagerie's
   ``google_robot/robot.xml`` (which fixes the head and wheels to the base).
 - Masses, centres of mass and inertias: Menagerie's ``robot.xml`` (torso, shoulder,

@@ -11,7 +11,8 @@ Sources of the numbers:
   as underscores, as Menagerie does; see ``assets/spot_arm.xml`` for the joint origins.
   ``arm_f1x`` turns about +y (-1.57..0 rad, open negative) as in the public models.
 - Joint limits agree with Boston Dynamics' SDK documentation ("About Spot": HX +-45 deg,
-  HY +-91 deg about a 50 deg bias, knee 14..160 deg of flexion).
+  HY -0.899..2.295 rad, +-91.5 deg about a 40 deg bias (``fr_hy`` to 2.244 rad as in
+  the public models), knee 14..160 deg of flexion).
 - Masses: Boston Dynamics' specification (dev.bostondynamics.com, "About Spot"): net
   weight 32.5 kg. The legs keep Menagerie's link masses (4 x 4.37 kg); the body carries
   the rest plus 2.0 kg of the arm's mount, so that with Menagerie's arm links (6.0 kg)

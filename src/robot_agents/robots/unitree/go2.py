@@ -11,16 +11,19 @@ Sources of the numbers:
   sphere (r 0.022 m) 2 mm behind the calf's end. See ``assets/go2.xml``.
 - Masses: Menagerie's link inertials: base 6.921 kg, hip 0.678, thigh 1.152, calf (with
   the foot) 0.241352 kg per leg; 15.206 kg in all. Unitree's own URDF sums to 15.02 kg
-  (its calf 0.154 + foot 0.04 kg); about 15 kg is the Go2's commonly listed weight
+  (its calf 0.154 + foot 0.04 kg; 16.09 kg since it added three 0.089 kg rotor links
+  per leg, commit a615577, 2024-09-11); about 15 kg is the Go2's commonly listed weight
   (e.g. the ros-claw unitree-sdk2-mcp robot table; Unitree's own spec page was not
   among the sources we could read).
 - Drives: position PD per joint with Unitree's standing gains (unitree_sdk2's
   ``example/go2/go2_stand_example.cpp``: Kp 60 N*m/rad, Kd 5 N*m*s/rad on every joint;
   ManiSkill's ``unitree_go2.py`` has kp 1000, kv 100, which in MuJoCo need a 4 kHz step:
   see :data:`UNITREE_KP`); effort limits Menagerie's actuator ranges
-  (hip and thigh +-23.7 N*m, as Unitree's URDF; knee +-45.43 N*m, where Unitree's URDF
-  lists 35.55); velocity limits Unitree's URDF (30.1 rad/s hip and thigh, 20.07 rad/s
-  knee); armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints'
+  (hip and thigh +-23.7 N*m; knee +-45.43 N*m), the same as Unitree's URDF
+  (``unitree_ros`` ``go2_description.urdf``; its knee has been 45.43 N*m and 15.70 rad/s
+  since commit 79f054e, 2023-10-11, "modify knee joint info", before it 35.55 N*m and
+  20.07 rad/s); velocity limits Unitree's URDF (30.1 rad/s hip and thigh, 15.70 rad/s
+  knee; until 2026-11-29 we had the old knee's 20.07, docs/notes/robot-facts-audit.md); armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints'
   passive damping 2 N*m*s/rad (in the MJCF), Menagerie's. No gravity compensation:
   the legs carry the robot's weight (ManiSkill switches gravity off on the leg links).
 - Action order: ManiSkill's ``active_joints`` of Unitree's URDF, a breadth-first walk
@@ -112,7 +115,7 @@ GO2_KNEE_DRIVES = PDActuator(
     stiffness=UNITREE_KP,
     damping=UNITREE_KD,
     effort_limit=45.43,
-    velocity_limit=20.07,
+    velocity_limit=15.70,
     armature=0.01,
     friction=0.2,
     damping_feedforward=UNITREE_DAMPING_FEEDFORWARD,
@@ -141,7 +144,10 @@ class UnitreeGo2(Agent):
     #: 20 Hz control, 2026-11-23 with the standing claim; docs/timestep.md): every claim
     #: holds from 320 Hz to 1 kHz; at 200 Hz random actions push a calf 0.27 rad past its
     #: limit (bound 0.25). Default 400 Hz, one tried step finer. The drives cannot bang
-    #: between their torque limits above 37 Hz (``tuning.cycles``, the calves).
+    #: between their torque limits above 37 Hz (``tuning.cycles``, the calves). With the
+    #: knee's velocity limit at Unitree's 15.70 rad/s (2026-11-29 07:58 UTC rerun,
+    #: docs/timestep-sweep.md) every claim holds from 200 Hz (random 0.227 rad there);
+    #: the default stays 400 Hz.
     sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "go2.xml"
     fix_root_link = False

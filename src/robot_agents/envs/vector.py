@@ -30,9 +30,11 @@ the reset restores its whole integration state, so the discarded step leaves no 
 and :meth:`RobotVectorEnv.render` draws its frame as that single env would (each env's
 camera frames that env's robots, at its first render after its reset).
 
-``info`` holds one entry per env for every key (arrays with a leading ``num_envs`` axis);
-for an env reset in the step, the task's metrics (``success``, ...) describe its new
-first state and ``elapsed_steps`` is 0.
+``info`` holds one entry per env for every key (arrays with a leading ``num_envs`` axis)
+and, as Gymnasium's sync and async vector envs give, a bool mask ``info["_<key>"]``
+(``(num_envs,)``, all ``True``: every env reports every key); for an env reset in the
+step, the task's metrics (``success``, ...) describe its new first state and
+``elapsed_steps`` is 0.
 """
 
 from __future__ import annotations
@@ -248,7 +250,7 @@ class RobotVectorEnv(VectorEnv):
         obs, info = self.env.reset(seed=seed, options=options or None)
         ids = self.env.agent.state.env_ids(options.get("env_ids"), "RobotVectorEnv.reset")
         self._autoreset[ids] = False
-        return obs, info
+        return obs, _with_masks(info, self.num_envs)
 
     # -- step ------------------------------------------------------------------------------
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
@@ -284,7 +286,7 @@ class RobotVectorEnv(VectorEnv):
                 info.update(
                     final_obs=final_obs, _final_obs=ended.copy(), final_info=final_info, _final_info=ended.copy()
                 )
-        return obs, reward, terminated, truncated, info
+        return obs, reward, terminated, truncated, _with_masks(info, n)
 
     def _step_unobserved(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """``env.step(actions)`` with ``None`` for its observation (the bound observer
@@ -323,6 +325,15 @@ class RobotVectorEnv(VectorEnv):
 
     def __repr__(self) -> str:
         return f"RobotVectorEnv({type(self.env).__name__}, num_envs={self.num_envs}, autoreset_mode={self.autoreset_mode.name})"
+
+
+def _with_masks(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
+    """``info`` with Gymnasium's vector-info mask ``"_<key>"`` (bool ``(num_envs,)``, all
+    ``True``) beside every key that has none, as ``SyncVectorEnv`` gives them (a wrapper
+    or user code reading ``info["_success"]`` works on either)."""
+    for key in [key for key in info if not key.startswith("_") and f"_{key}" not in info]:
+        info[f"_{key}"] = np.ones(num_envs, dtype=bool)
+    return info
 
 
 def _no_observation() -> None:

@@ -204,6 +204,23 @@ def test_an_unknown_reset_option_names_the_vector_env_and_its_options() -> None:
     assert after["rng"] == before["rng"]
 
 
+def test_an_int_seed_is_the_vector_envs_np_random_seed() -> None:
+    """As ``gymnasium.vector.VectorEnv.reset``: ``reset(seed=s)`` seeds the vector env's
+    own ``np_random`` (it drew an unseeded one before); a rejected seed leaves it."""
+    env = make_vec(num_envs=2)
+    env.reset(seed=4)
+    assert env.np_random_seed == 4
+    first = env.np_random.random()
+    env.reset(seed=4)
+    assert env.np_random.random() == first
+    with pytest.raises(ra.ConfigError):
+        env.reset(seed=-3)
+    assert env.np_random_seed == 4
+    env.reset(seed=[1, 2])  # one per env: the vector env's own generator is left as it was
+    assert env.np_random_seed == 4
+    env.close()
+
+
 def test_same_step_autoreset_returns_the_final_observation_in_info() -> None:
     env = make_vec(num_envs=2, autoreset_mode="same_step", max_episode_steps=2)
     assert env.metadata["autoreset_mode"] is AutoresetMode.SAME_STEP

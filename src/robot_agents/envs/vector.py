@@ -229,7 +229,8 @@ class RobotVectorEnv(VectorEnv):
     ) -> tuple[Any, dict[str, Any]]:
         """Reset every env, or those of ``options["reset_mask"]`` (bool ``(num_envs,)``) /
         ``options["env_ids"]``; ``seed``: an int (env ``i`` gets ``seed + i``), one per env,
-        or ``None``."""
+        or ``None``. An int also seeds the vector env's own ``np_random`` (its
+        ``np_random_seed`` is that int, as ``gymnasium.vector.VectorEnv.reset`` does)."""
         if options is not None and not isinstance(options, Mapping):
             raise ConfigError(
                 "RobotVectorEnv.reset: expected options to be a dict (keys 'reset_mask', 'env_ids', 'keyframe'), "
@@ -248,6 +249,8 @@ class RobotVectorEnv(VectorEnv):
                 raise StateError("RobotVectorEnv.reset: give reset_mask or env_ids, not both.")
             options["env_ids"] = np.flatnonzero(mask)
         obs, info = self.env.reset(seed=seed, options=options or None)
+        if isinstance(seed, (int, np.integer)):  # checked by the env: np_random_seed is it, as Gymnasium's
+            super().reset(seed=int(seed))
         ids = self.env.agent.state.env_ids(options.get("env_ids"), "RobotVectorEnv.reset")
         self._autoreset[ids] = False
         return obs, _with_masks(info, self.num_envs)

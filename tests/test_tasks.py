@@ -605,3 +605,16 @@ def test_every_registered_task_is_bit_identical_for_the_same_seed_and_actions(ta
     assert not np.array_equal(first[0], first[-5])  # the observations change: something to compare
     for a, b in zip(first, second, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("obs_mode", ["state", "state_dict", "rgbd", "pointcloud"])
+@pytest.mark.parametrize("task", list(ra.envs.TASKS))
+def test_gymnasium_check_env_passes_on_every_registered_task(task: str, obs_mode: str) -> None:
+    """Gymnasium's own checker, warnings as errors, on every ``robot_agents/...`` id
+    (made with ``gymnasium.make``) in state and camera observation modes."""
+    uid = "fetch" if task == "MobilePickCube-v1" else "panda"
+    env = gym.make(f"robot_agents/{task}", robot_uids=uid, obs_mode=obs_mode)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=True)
+    env.close()

@@ -204,6 +204,23 @@ def test_an_unknown_reset_option_names_the_vector_env_and_its_options() -> None:
     assert after["rng"] == before["rng"]
 
 
+def test_an_int_seed_is_the_vector_envs_np_random_seed() -> None:
+    """As ``gymnasium.vector.VectorEnv.reset``: ``reset(seed=s)`` seeds the vector env's
+    own ``np_random`` (it drew an unseeded one before); a rejected seed leaves it."""
+    env = make_vec(num_envs=2)
+    env.reset(seed=4)
+    assert env.np_random_seed == 4
+    first = env.np_random.random()
+    env.reset(seed=4)
+    assert env.np_random.random() == first
+    with pytest.raises(ra.ConfigError):
+        env.reset(seed=-3)
+    assert env.np_random_seed == 4
+    env.reset(seed=[1, 2])  # one per env: the vector env's own generator is left as it was
+    assert env.np_random_seed == 4
+    env.close()
+
+
 def test_same_step_autoreset_returns_the_final_observation_in_info() -> None:
     env = make_vec(num_envs=2, autoreset_mode="same_step", max_episode_steps=2)
     assert env.metadata["autoreset_mode"] is AutoresetMode.SAME_STEP
@@ -249,13 +266,17 @@ def test_batch_equals_single_envs_and_gymnasium_sync_vector_env(mode: AutoresetM
     reference = _sync_reference(task, n, mode, **kw)
     rng = np.random.default_rng(5)
     actions = [rng.uniform(-1, 1, batch.action_space.shape).astype(np.float32) for _ in range(steps)]
-    results_batch = [batch.reset(seed=seed)[0]]
+    b_obs, b_info = batch.reset(seed=seed)
+    results_batch = [b_obs]
     results_single = [np.concatenate([s.reset(seed=seed + i)[0] for i, s in enumerate(singles)])]
-    results_reference = [reference.reset(seed=seed)[0][:, 0]]
+    r_obs, r_info = reference.reset(seed=seed)
+    results_reference = [r_obs[:, 0]]
+    _same_info(b_info, r_info, n)
     for action in actions:
         b = batch.step(action)
         s = [env.step(action[i : i + 1]) for i, env in enumerate(singles)]
         r = reference.step(action[:, None, :])
+        _same_info(b[4], r[4], n)
         results_batch.append(b[0])
         results_single.append(np.concatenate([x[0] for x in s]))
         results_reference.append(r[0][:, 0])
@@ -271,6 +292,19 @@ def test_batch_equals_single_envs_and_gymnasium_sync_vector_env(mode: AutoresetM
     np.testing.assert_array_equal(np.stack(results_batch), np.stack(results_reference))
     for env in (batch, reference, *singles):
         env.close()
+
+
+def _same_info(ours: dict[str, Any], sync: dict[str, Any], n: int) -> None:
+    """Every info key of ``SyncVectorEnv``'s, Gymnasium's ``"_<key>"`` masks included
+    (ours all ``True``: an env reset in the step reports its first state's metrics where
+    the sync env reports only the reset's keys, so ours may hold more), and the same
+    values where both report."""
+    assert set(sync) <= set(ours)
+    assert all(f"_{key}" in ours for key in ours if not key.startswith("_"))
+    for key in (k for k in sync if not k.startswith("_") and k not in ("final_obs", "final_info")):
+        np.testing.assert_array_equal(ours[f"_{key}"], np.ones(n, dtype=bool))
+        mask = sync[f"_{key}"]
+        np.testing.assert_array_equal(ours[key][mask], np.reshape(sync[key], ours[key].shape)[mask])
 
 
 def test_docs_vector_block_runs() -> None:

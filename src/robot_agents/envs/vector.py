@@ -30,9 +30,11 @@ the reset restores its whole integration state, so the discarded step leaves no 
 and :meth:`RobotVectorEnv.render` draws its frame as that single env would (each env's
 camera frames that env's robots, at its first render after its reset).
 
-``info`` holds one entry per env for every key (arrays with a leading ``num_envs`` axis);
-for an env reset in the step, the task's metrics (``success``, ...) describe its new
-first state and ``elapsed_steps`` is 0.
+``info`` holds one entry per env for every key (arrays with a leading ``num_envs`` axis)
+and, as Gymnasium's sync and async vector envs give, a bool mask ``info["_<key>"]``
+(``(num_envs,)``, all ``True``: every env reports every key); for an env reset in the
+step, the task's metrics (``success``, ...) describe its new first state and
+``elapsed_steps`` is 0.
 """
 
 from __future__ import annotations
@@ -227,7 +229,8 @@ class RobotVectorEnv(VectorEnv):
     ) -> tuple[Any, dict[str, Any]]:
         """Reset every env, or those of ``options["reset_mask"]`` (bool ``(num_envs,)``) /
         ``options["env_ids"]``; ``seed``: an int (env ``i`` gets ``seed + i``), one per env,
-        or ``None``."""
+        or ``None``. An int also seeds the vector env's own ``np_random`` (its
+        ``np_random_seed`` is that int, as ``gymnasium.vector.VectorEnv.reset`` does)."""
         if options is not None and not isinstance(options, Mapping):
             raise ConfigError(
                 "RobotVectorEnv.reset: expected options to be a dict (keys 'reset_mask', 'env_ids', 'keyframe'), "
@@ -246,9 +249,11 @@ class RobotVectorEnv(VectorEnv):
                 raise StateError("RobotVectorEnv.reset: give reset_mask or env_ids, not both.")
             options["env_ids"] = np.flatnonzero(mask)
         obs, info = self.env.reset(seed=seed, options=options or None)
+        if isinstance(seed, (int, np.integer)):  # checked by the env: np_random_seed is it, as Gymnasium's
+            super().reset(seed=int(seed))
         ids = self.env.agent.state.env_ids(options.get("env_ids"), "RobotVectorEnv.reset")
         self._autoreset[ids] = False
-        return obs, info
+        return obs, _with_masks(info, self.num_envs)
 
     # -- step ------------------------------------------------------------------------------
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
@@ -284,7 +289,7 @@ class RobotVectorEnv(VectorEnv):
                 info.update(
                     final_obs=final_obs, _final_obs=ended.copy(), final_info=final_info, _final_info=ended.copy()
                 )
-        return obs, reward, terminated, truncated, info
+        return obs, reward, terminated, truncated, _with_masks(info, n)
 
     def _step_unobserved(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """``env.step(actions)`` with ``None`` for its observation (the bound observer
@@ -323,6 +328,15 @@ class RobotVectorEnv(VectorEnv):
 
     def __repr__(self) -> str:
         return f"RobotVectorEnv({type(self.env).__name__}, num_envs={self.num_envs}, autoreset_mode={self.autoreset_mode.name})"
+
+
+def _with_masks(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
+    """``info`` with Gymnasium's vector-info mask ``"_<key>"`` (bool ``(num_envs,)``, all
+    ``True``) beside every key that has none, as ``SyncVectorEnv`` gives them (a wrapper
+    or user code reading ``info["_success"]`` works on either)."""
+    for key in [key for key in info if not key.startswith("_") and f"_{key}" not in info]:
+        info[f"_{key}"] = np.ones(num_envs, dtype=bool)
+    return info
 
 
 def _no_observation() -> None:

@@ -216,7 +216,9 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
         return self.frames.pose(frame, reference, self.state.configurations(qpos, where))
 
-    def frame_jacobian(self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world") -> FloatArray:
+    def frame_jacobian(
+        self, name: str, qpos: npt.ArrayLike | None = None, relative_to: str = "world", include_base: bool = False
+    ) -> FloatArray:
         """Jacobian ``(num_envs, 6, dof)`` of the origin of ``name``: rows 0-2 linear
         velocity (m/s), rows 3-5 angular velocity (rad/s) per unit joint velocity, one
         column per joint of the robot (a joint's own column: a leader's does not include
@@ -225,10 +227,27 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         one of the robot's joints, has none: the base is held where it is). ``qpos`` as
         in :meth:`frame_pose`;
         ``relative_to``: world axes, or the derivative of the pose relative to ``"root"``
-        or a frame (in its axes; a frame the joints move too: its own motion taken out)."""
+        or a frame (in its axes; a frame the joints move too: its own motion taken out).
+
+        ``include_base=True`` (a free-floating robot only): ``(num_envs, 6, 6 + dof)``,
+        the free base's six velocity dofs first, in MuJoCo's free-joint convention (the
+        base's ``qvel``: linear velocity of its origin in world axes (m/s), then angular
+        velocity in the base body's own axes (rad/s)), then the joints' columns as above;
+        ``J @ concatenate([base_vel, qvel])`` is the frame's velocity. Relative to
+        ``"root"`` (the base itself) the base's columns are zero."""
         where = f"{type(self).__name__}.frame_jacobian"
         frame, reference = self.frames.frame(name, where), self.frames.reference(relative_to, where)
-        return self.frames.jacobian(frame, reference, self.state.configurations(qpos, where))
+        dofs = None
+        if include_base:
+            free = self.index.free_joint
+            if free is None:
+                raise ConfigError(
+                    f"{where}: include_base=True needs a free-floating base (a root with a free joint), got "
+                    f"{self.uid!r}, whose base is fixed or mounted; its Jacobian has only its joints' columns "
+                    "(include_base=False)."
+                )
+            dofs = np.concatenate([free.dof_adr + np.arange(6), self.index.dof_adr])
+        return self.frames.jacobian(frame, reference, self.state.configurations(qpos, where), dofs)
 
     # ------------------------------------------------------------------ control
     @property

@@ -129,8 +129,15 @@ class RobotFrames:
         poses = self.kinematics.poses(configurations, (frame, reference))
         return relative_pose(poses[:, 0], poses[:, 1])
 
-    def jacobian(self, frame: FrameRef, reference: FrameRef | None, configurations: FloatArray) -> FloatArray:
-        """Jacobian ``(num_envs, 6, nv)`` over the robot's joints of ``frame``'s pose in
+    def jacobian(
+        self,
+        frame: FrameRef,
+        reference: FrameRef | None,
+        configurations: FloatArray,
+        dofs: npt.ArrayLike | None = None,
+    ) -> FloatArray:
+        """Jacobian ``(num_envs, 6, k)`` over the ``dofs`` (model velocity addresses;
+        default the robot's joints', ``k = nv``) of ``frame``'s pose in
         world axes, or relative to ``reference`` (in its axes; the derivative of
         :meth:`pose` relative to it, a reference the joints move included):
 
@@ -138,12 +145,13 @@ class RobotFrames:
 
         with ``R``, ``p_ref`` the reference's world orientation and origin, ``p`` the
         frame's origin."""
-        jacobian = self.kinematics.jacobian(configurations, frame, self.index.dof_adr)
+        columns = self.index.dof_adr if dofs is None else dofs
+        jacobian = self.kinematics.jacobian(configurations, frame, columns)
         if reference is None:
             return jacobian
         reference_pose = self.kinematics.pose(configurations, reference)
         rotation = np.swapaxes(quat_to_matrix(reference_pose[:, 3:]), 1, 2)
-        moving = self.kinematics.jacobian(configurations, reference, self.index.dof_adr)
+        moving = self.kinematics.jacobian(configurations, reference, columns)
         linear, angular = jacobian[:, :3] - moving[:, :3], jacobian[:, 3:] - moving[:, 3:]
         if np.any(moving[:, 3:]):  # the reference turns with the joints: the frame's origin swings with it
             offset = self.kinematics.pose(configurations, frame)[:, :3] - reference_pose[:, :3]

@@ -30,7 +30,8 @@ PickCube, per env (all envs of a batch at once):
 
 PushCube: the gripper closed (a bare flange as it is), the same kind of turn, fingers
 down and leaning into the push (back from it where leaning in would put the arm into
-itself: :meth:`Arm.self_contact`), to above the push start behind the cube (on the far
+itself: :meth:`Arm.self_contact`; straight down where the arm's IK cannot hold the lean
+along the push: :func:`path_error`), to above the push start behind the cube (on the far
 side from the goal, clear of it); then end-effector deltas: down until the fingertips touch the table, lift them
 off it, push the cube along its line to the goal (:func:`solve_push`).
 
@@ -695,8 +696,14 @@ CLEARANCE, EDGE_MARGIN = 0.08, 0.02
 #: How far the fingers lean from straight down into the push (rad; 17 deg): a wrist
 #: that need not point straight down reaches lower near the arm's base (seeds 0-19:
 #: 0.3 took google_robot 14 -> 18, koch-v1.1 15 -> 20, so100 6 -> 11, spot 18 -> 20 of 20);
-#: back from it by as much where leaning in has the arm touch itself (:func:`solve_push`).
+#: back from it by as much where leaning in has the arm touch itself, straight down (else
+#: back) where the arm's IK cannot hold it along the push (:func:`path_error`, :func:`solve_push`).
 TILT = 0.3
+#: The push's path as the lean is chosen (:func:`solve_push`): this many points from
+#: the push start to the goal, each solved from the last by ``PATH_ITERATIONS``
+#: damped-least-squares steps; a lean whose tool point the arm's IK leaves farther than
+#: ``PATH_TOLERANCE`` m from any of them is not held.
+PATH_POINTS, PATH_ITERATIONS, PATH_TOLERANCE = 8, 30, 0.01
 #: How high the fingertips push, over the table, in cube edges (after touching it).
 TIP_HEIGHT = 0.15
 #: Where the tool point aims while pushing: behind the cube's centre on its line to the
@@ -729,6 +736,21 @@ def push_orientation(
         mujoco.mju_mat2Quat(quat, (world_basis @ tool_basis.T).reshape(-1))
         out[env] = quat
     return out
+
+
+def path_error(arm: Arm, path: np.ndarray, quat: np.ndarray, point_in_tool: np.ndarray) -> np.ndarray:
+    """How far ``(num_envs,)`` (m, the worst point) the arm's IK leaves the tool point
+    from the push's ``path`` ``(m, num_envs, 3)`` (world) with the tool held at ``quat``
+    ``(num_envs, 4)``: the first point solved as the turn solves (:meth:`Arm.solve`, its
+    restarts), each next one by :data:`PATH_ITERATIONS` steps from the last solution
+    (a local solve, as the end-effector stages' IK follows the tool)."""
+    offset = in_tool(quat, point_in_tool)
+    q = arm.robot_qpos(arm.solve(path[0] - offset, quat))
+    worst = np.zeros(len(quat))
+    for point in path:
+        q, _ = arm.descend(q, point - offset, quat, PATH_ITERATIONS)
+        worst = np.maximum(worst, np.linalg.norm(arm.tool_at(q[:, arm.q_index]) - (point - offset), axis=1))
+    return worst
 
 
 def to_goal(cube: np.ndarray, goal: np.ndarray) -> np.ndarray:
@@ -785,6 +807,25 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         back = push_orientation(now, approach, closing, push, np.full(n, -TILT))
         clear = ~arm.self_contact(arm.solve(low - in_tool(back, point_in_tool), back))
         quat = np.where((blocked & clear)[:, None], back, quat)
+    # Where the arm's IK cannot hold that lean along the push (the tool point off the path
+    # by more than PATH_TOLERANCE: an arm whose shoulder stands high over the table), the
+    # lean of the others (straight down, then the opposite lean) its IK holds best, if
+    # any holds it better.
+    end = env.goal_pos - push * AIM_BEHIND * 2.0 * half
+    end[:, 2] = low[:, 2]
+    path = low[None] + np.linspace(0.0, 1.0, PATH_POINTS)[:, None, None] * (end - low)[None]
+    error = path_error(arm, path, quat, point_in_tool)
+    leaned = np.sign(np.einsum("ij,ij->i", in_tool(quat, approach), push))  # +1: leaning in
+    for tilt in (0.0, -1.0):
+        short = error > PATH_TOLERANCE
+        if not short.any():
+            break
+        other = push_orientation(now, approach, closing, push, tilt * TILT * leaned)
+        other_error = path_error(arm, path, other, point_in_tool)
+        better = short & (other_error < error - PATH_TOLERANCE)
+        better &= ~arm.self_contact(arm.solve(low - in_tool(other, point_in_tool), other))
+        quat = np.where(better[:, None], other, quat)
+        error = np.where(better, other_error, error)
     arm.ramp(episode.step, arm.solve(above - in_tool(quat, point_in_tool), quat), turn_steps, closed)
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, ABOVE_BEHIND)

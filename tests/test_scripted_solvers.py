@@ -24,7 +24,10 @@ SEEDS, REQUIRED = 20, 18
 #: that one strategy, not of the robots, so they are not the robots' ``task_limits``.
 #: Strict: a solver that starts to succeed fails the test until its entry goes.
 SOLVER_SHORTFALLS = {
-    ("PushCube-v1", "stretch"): "10/20: 8 of 10 misses stall 4-6 cm into the push, the tip pressing the cube down",
+    (
+        "PushCube-v1",
+        "stretch",
+    ): "9/20 (2026-11-29): most misses stall 4-6 cm into the push, the tip pressing the cube down",
     ("PushCube-v1", "xarm6_nogripper_wristcam"): "15/20: the flange stops 4 cm over the cube (4 of 5 misses)",
 }
 

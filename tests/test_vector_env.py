@@ -45,6 +45,13 @@ def test_make_vec_gives_a_vector_env_over_one_batched_env() -> None:
     assert terminated.dtype == truncated.dtype == bool
     env.close()
     assert env.closed
+    for call, where in (
+        (lambda: env.step(env.action_space.sample()), "step"),
+        (env.reset, "reset"),
+        (env.render, "render"),
+    ):
+        with pytest.raises(ra.StateError, match=rf"^RobotVectorEnv\.{where}: this env is closed"):
+            call()  # named as the vector env's call (it named the task's PickCubeEnv.step)
     # dict observations: the single space is the batched one without its leading axis
     dict_env = make_vec(num_envs=2, obs_mode="state_dict")
     obs, _ = dict_env.reset(seed=0)

@@ -231,6 +231,7 @@ class RobotVectorEnv(VectorEnv):
         ``options["env_ids"]``; ``seed``: an int (env ``i`` gets ``seed + i``), one per env,
         or ``None``. An int also seeds the vector env's own ``np_random`` (its
         ``np_random_seed`` is that int, as ``gymnasium.vector.VectorEnv.reset`` does)."""
+        self.env._check_open("RobotVectorEnv.reset")
         if options is not None and not isinstance(options, Mapping):
             raise ConfigError(
                 "RobotVectorEnv.reset: expected options to be a dict (keys 'reset_mask', 'env_ids', 'keyframe'), "
@@ -257,6 +258,7 @@ class RobotVectorEnv(VectorEnv):
 
     # -- step ------------------------------------------------------------------------------
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        self.env._check_open("RobotVectorEnv.step")
         n = self.num_envs
         if self.autoreset_mode is AutoresetMode.NEXT_STEP and self._autoreset.any():
             # The envs that ended last step are reset after this step, and that reset
@@ -320,6 +322,7 @@ class RobotVectorEnv(VectorEnv):
     def render(self) -> Any:
         """One RGB frame per env, ``(num_envs, H, W, 3)`` (``render_mode="rgb_array"``),
         each that of a single env in that env's state (:meth:`RobotEnv.render`)."""
+        self.env._check_open("RobotVectorEnv.render")
         frames = self.env.render()
         return None if frames is None else np.asarray(frames).reshape(self.num_envs, *np.shape(frames)[-3:])
 

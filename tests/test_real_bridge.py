@@ -12,6 +12,7 @@ import robot_agents as ra
 from robot_agents.errors import ActionError, ConfigError, StateError, UnknownNameError
 from robot_agents.real import JointBus, RealRobot, SimulatedBus
 from robot_agents.real.bridge import MOVE_TOLERANCE
+from robot_agents.robots.universal_robots.ur10e import ARM_JOINTS
 from robot_agents.sim.scene import Scene
 
 FloatArray = np.ndarray
@@ -225,24 +226,14 @@ def test_a_velocity_mode_is_not_slowed_by_max_target_step() -> None:
     real.close()
 
 
-UR_JOINTS = (
-    "shoulder_pan_joint",
-    "shoulder_lift_joint",
-    "elbow_joint",
-    "wrist_1_joint",
-    "wrist_2_joint",
-    "wrist_3_joint",
-)
-
-
 def effort_ur() -> type[ra.Agent]:
     """The UR10e with an effort mode on top of its declared PD drives (stiffness kept)."""
 
     class EffortUR(ra.get_agent("ur_10e")):  # type: ignore[misc]
         default_control_mode = "pd_joint_pos"
         control_modes = {
-            "pd_joint_pos": ra.PDJointPosConfig(joint_names=UR_JOINTS),
-            "joint_effort": ra.JointEffortConfig(joint_names=UR_JOINTS, normalize_action=False),
+            "pd_joint_pos": ra.PDJointPosConfig(joint_names=ARM_JOINTS),
+            "joint_effort": ra.JointEffortConfig(joint_names=ARM_JOINTS, normalize_action=False),
         }
 
     return EffortUR

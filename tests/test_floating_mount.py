@@ -153,6 +153,7 @@ def test_a_command_frame_moving_with_the_mount_is_refused(tmp_path: Path) -> Non
 
 
 def test_the_declaration_is_checked() -> None:
+    assert ra.FloatingMountTaskSpace is FloatingMountTaskSpace
     assert FloatingMountTaskSpace().modes == ("pd_ee_delta_pose", "pd_ee_pose")
     with pytest.raises(ra.ConfigError, match=r"FloatingMountTaskSpace.modes: expected .* got 'pd_ee_pose'"):
         FloatingMountTaskSpace(modes="pd_ee_pose")  # type: ignore[arg-type]

@@ -45,7 +45,10 @@ Sources of the numbers:
   source) fixed on a mount frame whose z axis points out of the flange, turned -90 deg
   about y from the WidowX's frames (x out of the wrist), and the bar and fingers on its
   ``ee_arm_link`` as on the arm (``wx250s_gripper_mount.xml``). The built-in robots do
-  not use it: their files and models are as they were.
+  not use it: their files and models are as they were. The Bridge setups' gripper is
+  the same gripper (ManiSkill's Bridge robot is its plain WidowX 250 S, same model file)
+  with the tuned finger drive: the piece with ``actuators = (BRIDGE_FINGER_DRIVES,)``
+  on a subclass, not a piece of its own (tests/test_widowx_bridge_gripper.py).
 - Keyframes: ``home`` is Menagerie's keyframe of the wx250s; ``zero`` is Interbotix's
   home pose (every joint at 0, the arm stretched out); ``sleep`` is Interbotix's sleep
   pose (``sleep_positions`` of the same config file).
@@ -69,7 +72,7 @@ from typing import ClassVar
 import mujoco
 import numpy as np
 
-from robot_agents.actuators.config import PDActuator
+from robot_agents.actuators.config import ActuatorConfig, PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.agent.declaration import ModeConfig
 from robot_agents.controllers.ee_config import CommandFrame, PDEEPoseConfig
@@ -189,12 +192,19 @@ class WidowX250SGripper(Agent):
 
     mjcf_path = ASSETS / "wx250s_gripper.xml"
     tcp = "ee_gripper_link"
-    actuators = (WX250S_FINGER_DRIVES,)
+    actuators: ClassVar[tuple[ActuatorConfig, ...]] = (WX250S_FINGER_DRIVES,)
     parts = (WX250S_GRIPPER,)
     link_materials = {"left_finger_link": FINGER_PAD, "right_finger_link": FINGER_PAD}
     # The fingers slide along the bar they ride on; the pair never needs a contact.
     self_collision_exclusions = (("gripper_bar_link", "left_finger_link"), ("gripper_bar_link", "right_finger_link"))
     keyframes = {"open": Keyframe(qpos={"left_finger": 0.037})}
+
+
+class _UndrivenWidowX250SGripper(WidowX250SGripper):
+    """:class:`WidowX250SGripper` without the fingers' drive, which the piece below
+    declares itself (so that a subclass of the piece can declare another)."""
+
+    actuators = ()
 
 
 class WidowX250SGripperPiece(Agent):
@@ -203,17 +213,26 @@ class WidowX250SGripperPiece(Agent):
     face, its z axis out of the flange (every built-in piece's convention), carrying the
     gripper's servo link ``gripper_link`` turned -90 deg about y (the WidowX's own frames
     point x out of the wrist: ``wx250s_gripper_mount.xml``) and, on its ``ee_arm_link``,
-    :class:`WidowX250SGripper` (bar and fingers, as on the arm). The fingers slide along
-    the mount's y; TCP ``ee_gripper_link``, 0.093575 m out of the flange; part
-    ``gripper`` with the fingers' drive; keyframes ``open`` (default, 74 mm between
-    the pads) and ``closed`` (30 mm, the fingers' stop).
+    the bar and fingers of :class:`WidowX250SGripper` (as on the arm). The fingers slide
+    along the mount's y; TCP ``ee_gripper_link``, 0.093575 m out of the flange; part
+    ``gripper``; keyframes ``open`` (default, 74 mm between the pads) and ``closed``
+    (30 mm, the fingers' stop).
+
+    The fingers' drive is the piece's own ``actuators``, the servo's through its horn
+    (:data:`WX250S_FINGER_DRIVES`, as on the arm). The Bridge setups' gripper is this
+    gripper with ManiSkill's tuned drive (same model file and bodies there, other gains),
+    so it is this piece with that drive declared on a subclass::
+
+        class BridgeTunedWidowXGripper(WidowX250SGripperPiece):
+            actuators = (BRIDGE_FINGER_DRIVES,)
 
     qpos order: ``left_finger``, ``right_finger`` (the right finger mirrors the left).
     """
 
     mjcf_path = ASSETS / "wx250s_gripper_mount.xml"
     tcp = "ee_gripper_link"
-    attachments: ClassVar[Sequence[Attachment]] = (Attachment(WidowX250SGripper, at="ee_arm_link"),)
+    actuators = (WX250S_FINGER_DRIVES,)
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(_UndrivenWidowX250SGripper, at="ee_arm_link"),)
     keyframes = {
         "open": Keyframe(qpos={"left_finger": 0.037}),
         "closed": Keyframe(qpos={"left_finger": 0.015}),

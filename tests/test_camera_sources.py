@@ -309,7 +309,8 @@ def test_fetch_head_camera_is_the_urdf_head_camera_link_not_its_rgb_optical_fram
     """ManiSkill mounts fetch_head on head_camera_link; fetch.urdf's colour camera,
     head_camera_rgb_optical_frame, is head_camera_link + (0, 0.02, 0) turned by rpy
     (-pi/2, 0, -pi/2): the same orientation (1e-9), 0.02 m to the image's left (the
-    robot's +y). Kept at ManiSkill's mount: a 0.4-pixel shift at 2 m in a 128-pixel image."""
+    robot's +y); its depth optical frame 0.045 m. Kept at ManiSkill's mount: a 0.4-pixel
+    shift at 2 m in the 128-pixel, 2 rad image."""
     scene = ra.Scene("fetch")
     scene.reset()
     pose = scene.cameras.params(scene.world)["fetch_head"]["cam2world_gl"][0]
@@ -318,6 +319,11 @@ def test_fetch_head_camera_is_the_urdf_head_camera_link_not_its_rgb_optical_fram
     np.testing.assert_allclose(pose[:3, :3], optical[:3, :3] @ CV_TO_GL, atol=1e-9)
     image_left = -pose[:3, 0]
     np.testing.assert_allclose(optical[:3, 3] - pose[:3, 3], 0.02 * image_left, atol=1e-9)
+    # head_camera_depth_frame: (0, 0.045, 0) on head_camera_link, the same optical turn.
+    depth_frame = transform(np.eye(3), np.array([0.055, 0.045, 0.0225])) @ transform(ROS_TO_CV, np.zeros(3))
+    depth_optical = link_pose(scene, "head_tilt_link") @ depth_frame
+    np.testing.assert_allclose(depth_optical[:3, :3], optical[:3, :3], atol=1e-9)
+    np.testing.assert_allclose(depth_optical[:3, 3] - pose[:3, 3], 0.045 * image_left, atol=1e-9)
     scene.close()
 
 

@@ -14,8 +14,9 @@ For each camera the renderer:
   makes of the cleared depth buffer (:meth:`CameraRenderer.nothing_seen`). That value is
   not ``far`` itself: ``mujoco.Renderer`` converts the buffer with float32 projection
   coefficients, whose rounding puts the converted far plane up to ~1e-4 of ``far``
-  short of it (99.9934 m for near 0.01 m, far 100 m; exactly 10 m for far 10 m), and
-  every depth seen is at most that value.
+  off it (99.9934 m for near 0.01 m, far 100 m; 10.000006 m for far 10 m), and every
+  depth seen is at most that value; depths beyond ``far`` (a surface past ``far`` inside
+  MuJoCo's plane) read ``far``, so depth stays within ``[0, far]``.
 
 Sensor cameras render without multisampling (MuJoCo ``offsamples = 0``): about twice
 as fast in software rendering, and no pixel blends two surfaces. Their shadow map has
@@ -165,6 +166,7 @@ class CameraRenderer:
                 empty = self.nothing_seen(renderer, config.near, config.far)
                 renderer.disable_depth_rendering()
                 depth[depth >= empty] = config.far
+                np.minimum(depth, config.far, out=depth)  # a surface beyond far that MuJoCo still shows
             if segmentation is not None:
                 renderer.enable_segmentation_rendering()
                 raw = renderer.render()  # (H, W, 2): object id, type; MuJoCo 3.3 takes no (H, W, 2) `out`

@@ -38,7 +38,14 @@ Sources of the numbers:
   0.037 m each (30 .. 74 mm between the pads, Trossen's specification). Per finger, at
   the horn's mid stroke: force limit 1.5 / (2 * 0.014) = 54 N, speed 6.39 * 0.014 =
   0.089 m/s, stiffness 5.5 / (2 * 0.014^2) = 14100 N/m, damping 600 N*s/m, armature
-  0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
+  0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers). The
+  damping (back-EMF) is the finger joints' own (``joint_damping``), outside the force
+  limit, as the motor's is outside its PWM limit: at full force a finger runs at most
+  at the no-load speed, 54 / 600 = 0.089 m/s. Since 2026-11-29; as the drive's damping
+  it was clamped with the P force and lost while the drive saturated, and a full stroke
+  peaked at 0.30 m/s closing and 0.28 m/s opening (tests/test_widowx.py). The arm's
+  drives keep their damping inside the limit (their velocity modes use it as the
+  servo's velocity gain): a saturated arm joint can pass its no-load speed.
 - The gripper as a piece for another arm (:class:`WidowX250SGripperPiece`,
   ``get_piece("widowx250s_gripper")``): the gripper's servo link ``gripper_link`` (its
   inertial, servo box, ``ee_arm_link`` and horn as in ``wx250s_arm.xml``, the same
@@ -147,11 +154,15 @@ WX250S_ARM_DRIVES = PDActuator(
     velocity_limit=ARM_VELOCITY,
     armature=ARM_ARMATURE,
 )
-#: The fingers' drive (the gripper servo through its horn), both fingers.
+#: The fingers' drive (the gripper servo through its horn), both fingers: the P loop's
+#: force clamped to the stall force, and the motor's back-EMF as the joints' damping,
+#: outside the clamp, so that at full effort a finger runs at most at the no-load speed,
+#: FINGER_EFFORT / FINGER_DAMPING = FINGER_VELOCITY (see the module docstring).
 WX250S_FINGER_DRIVES = PDActuator(
     joints=FINGER_PATTERN,
     stiffness=FINGER_STIFFNESS,
-    damping=FINGER_DAMPING,
+    damping=0.0,
+    joint_damping=FINGER_DAMPING,
     effort_limit=FINGER_EFFORT,
     velocity_limit=FINGER_VELOCITY,
     armature=FINGER_ARMATURE,

@@ -64,14 +64,15 @@ def finger_actuators(model: object, prefix: str) -> list[int]:
 def test_it_is_the_piece_with_the_bridge_robots_finger_drive() -> None:
     """Compiled alone, the subclass differs from the piece only in the finger actuators'
     gains and force range, which are the Bridge robots' (ManiSkill's kp 1000 N/m, kd
-    200 N*s/m, 60 N); its bodies sit and weigh as the Bridge robot's gripper assembly
+    200 N*s/m, 60 N), and in the fingers' own damping (the servo's back-EMF, which the
+    piece's drive declares as ``joint_damping`` and the Bridge drive does not); its bodies sit and weigh as the Bridge robot's gripper assembly
     does; the rated speed and the rotor's inertia are the servo's in both."""
     assert BRIDGE_FINGER_DRIVES.velocity_limit == WX250S_FINGER_DRIVES.velocity_limit
     assert BRIDGE_FINGER_DRIVES.armature == WX250S_FINGER_DRIVES.armature
     plain, tuned = ra.Scene(WidowX250SGripperPiece), ra.Scene(BridgeTunedWidowXGripper)
     plain.reset()
     tuned.reset()
-    differ = {"actuator_gainprm", "actuator_biasprm", "actuator_forcerange"}
+    differ = {"actuator_gainprm", "actuator_biasprm", "actuator_forcerange", "dof_damping"}
     compared = 0
     for name in dir(plain.model):
         a, b = getattr(plain.model, name, None), getattr(tuned.model, name, None)
@@ -86,8 +87,14 @@ def test_it_is_the_piece_with_the_bridge_robots_finger_drive() -> None:
     agent = bridge.agents[0]
     ours = finger_actuators(tuned.model, tuned.agents[0].prefix)
     theirs = finger_actuators(bridge.model, agent.prefix)
-    for field in differ:
+    for field in differ - {"dof_damping"}:
         np.testing.assert_array_equal(getattr(tuned.model, field)[ours], getattr(bridge.model, field)[theirs])
+    fingers = [
+        model.joint(f"{prefix}{side}_finger").dofadr[0]
+        for side in ("left", "right")
+        for model, prefix in ((tuned.model, tuned.agents[0].prefix), (bridge.model, agent.prefix))
+    ]
+    np.testing.assert_array_equal(tuned.model.dof_damping[fingers[0::2]], bridge.model.dof_damping[fingers[1::2]])
     np.testing.assert_allclose(tuned.model.actuator_gainprm[ours, 0], BRIDGE_KP)
     np.testing.assert_allclose(tuned.model.actuator_biasprm[ours, 1:3], [[-BRIDGE_KP, -BRIDGE_KV]] * 2)
     np.testing.assert_allclose(tuned.model.actuator_forcerange[ours], [[-BRIDGE_FORCE, BRIDGE_FORCE]] * 2)

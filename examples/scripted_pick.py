@@ -33,7 +33,8 @@ down and leaning into the push (back from it where leaning in would put the arm 
 itself: :meth:`Arm.self_contact`; straight down where the arm's IK cannot hold the lean
 along the push: :func:`path_error`), to above the push start behind the cube (on the far
 side from the goal, clear of it); then end-effector deltas: down until the fingertips touch the table, lift them
-off it, push the cube along its line to the goal (:func:`solve_push`).
+off it, push the cube along its line to the goal with the closed fingers (a one-jaw
+gripper's beside its grasp point: :func:`push_point`; :func:`solve_push`).
 
 ReachPose: the same turn straight to the goal pose (position only on arms of fewer
 than 6 joints), then end-effector deltas towards it (``pd_ee_target_delta_pose`` on arms
@@ -786,7 +787,8 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     the push start (behind the cube, on the far side from the goal), fingers down; then
     end-effector deltas: *down* until the fingertips touch the table (the tool stops
     coming down; the model's finger shapes are not needed), *lift* them ``TIP_HEIGHT``
-    edges off it, then *push* at that height: the tool point aims at the cube's
+    edges off it, then *push* at that height: the tool point (the closed fingers'
+    point where the grasp point lies clear of them: :func:`push_point`) aims at the cube's
     centre from behind along the line from the cube to the goal (redrawn every step,
     which steers the cube back onto it; off the line by more than ``OFF_LINE`` edges,
     the tool first backs off behind the cube on the line), at most ``PUSH_SPEED``

@@ -254,8 +254,8 @@ def test_layout_measures_the_gripper_at_its_grasp_frame() -> None:
     there: 77.9 mm), and the sweep's grasp claim holds at the default step. Measured at
     the TCP (the same robot without ``grasp_frame``), the cube is 95.8 mm: wider than
     the fingertips, 75.2 mm apart where they stand parallel, so the fingers close on it
-    at their knuckles, and the claim fails (2.5 mm at 500 Hz, 5-9 mm at 160-400 Hz: the
-    cube swings on the knuckles' edges; 0.3-0.7 mm at the grasp frame)."""
+    at their knuckles, and the claim fails (12.9 mm at 500 Hz: the cube swings on the
+    knuckles' edges; 0.33 mm at the grasp frame)."""
     layout = table_top_layout(GoogleRobot)
     assert layout.gripper is not None
     scene = ra.Scene("google_robot")

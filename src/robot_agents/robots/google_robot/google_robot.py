@@ -24,9 +24,10 @@ Sources of the numbers:
   the cube's centre there. Measured at the URDF's TCP the open fingers are 19.2 cm
   apart, and the cube (95.8 mm) is wider than the parallel tips: the fingers close on it
   at 0.53 rad with the tips flared 0.17 rad, touching it only along their knuckles' edges,
-  and the cube swings on those edges under its weight (with friction 1.0: 17 mm at
-  500 Hz; with SimplerEnv's 2.0, below: 2.5 mm at 500 Hz and 5-9 mm at 160-400 Hz; at
-  the grasp frame 0.3-0.7 mm at 160 Hz-1 kHz; tests/test_google_robot.py, 2026-11-29).
+  and the cube swings on those edges under its weight: the sweep's grasp claim moves it
+  12.9 mm at 500 Hz, 6.2-44.6 mm at 160-800 Hz, 1.9 mm at 1 kHz (17.0 mm at 500 Hz with
+  friction 1.0); at the grasp frame 0.25-0.45 mm at 200 Hz-1 kHz, 1.26 mm at 160 Hz
+  (tests/test_google_robot.py; 2026-11-29 09:45 UTC).
   Until 2026-11-29 the TCP was ours, 0.15 m out on the axis, with 0.6 rad tips
   (docs/notes/robot-facts-audit.md).
   The arm's joint names, origins and ranges agree with MuJoCo Menagerie's
@@ -63,10 +64,8 @@ Sources of the numbers:
   Google Robot sets none. With MuJoCo's default contact the sweep's 83 mm cube, squeezed
   at 130 N per finger (|f_t| / f_n < 0.04 against 1.0), crept 3 mm/s along the tips:
   MuJoCo's soft friction (creep about (1 - d) / d * a / b, d the impedance,
-  b = 2 / (d * time constant)), not sliding. Friction on the fingers and tips:
-  SimplerEnv's 2.0 (``FINGER_PAD``; 1.0 until 2026-11-29, SimplerEnv's
-  "HalfFingerFriction" variant). The sweep's 77.9 mm cube now moves 0.28-0.67 mm in the
-  2 s hold at 160 Hz-1 kHz.
+  b = 2 / (d * time constant)), not sliding. Friction on the tips: SimplerEnv's 2.0
+  (``FINGER_PAD``; 1.0 until 2026-11-29, SimplerEnv's "HalfFingerFriction" variant).
 - Gripper action: -1 closed (1.3 rad), +1 open (0 rad), as every built-in gripper;
   ManiSkill's mimic gripper has the opposite sign (negate that action to port a policy).
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
@@ -175,11 +174,13 @@ GOOGLE_ROBOT_BASE = Base(
     wheel_separation=WHEEL_SEPARATION,
 )
 
-#: Fingers and finger tips: SimplerEnv's static and dynamic friction 2.0 on both
+#: Finger tips: SimplerEnv's static and dynamic friction 2.0
 #: (``GoogleRobotDefaultConfig(finger_friction=2.0)``, the config of
-#: ``google_robot_static``; the URDF's tips say ``lateral_friction`` 2.0 too).
+#: ``google_robot_static``; the URDF's tips say ``lateral_friction`` 2.0 too). SimplerEnv
+#: gives the finger links 2.0 as well; ours keep MuJoCo's 1.0: with 2.0 on them the soft
+#: edge of a finger base sank 7.0 mm into the sweep's cube during the hold (the
+#: penetration claim failed at every step, 2026-11-29).
 FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
-FINGER_LINKS = ("link_finger_right", "link_finger_left", "link_finger_tip_right", "link_finger_tip_left")
 
 #: ManiSkill's ``overhead_camera`` on ``link_camera`` (OpenCV axes: the MuJoCo camera is
 #: turned 180 degrees about x), at a quarter of its 640 x 512 resolution.
@@ -225,7 +226,7 @@ class GoogleRobot(Agent):
     #: damping at 90; the forearm turns at 4.4 rad/s at 200 Hz); grasp, with the
     #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (2026-11-29,
     #: with the URDF's TCP and tips and the grasp frame: the 77.9 mm cube moves
-    #: 0.28-0.67 mm in the 2 s hold at 160 Hz-1 kHz). Every claim held from 320 Hz with one
+    #: 0.25-0.45 mm in the 2 s hold at 200 Hz-1 kHz). Every claim held from 320 Hz with one
     #: random-action seed; with three (2026-11-23 14:00 UTC rerun) the forearm cycles
     #: between its torque limits at 320 Hz (2.9 rad/s, seed 2), every claim holds from
     #: 400 Hz, and the analysis of ``robot_agents.tuning.cycles`` puts the forearm's
@@ -235,7 +236,7 @@ class GoogleRobot(Agent):
     actuators = GOOGLE_ROBOT_DRIVES
     parts = (GOOGLE_ROBOT_ARM, GOOGLE_ROBOT_GRIPPER, GOOGLE_ROBOT_HEAD, GOOGLE_ROBOT_BASE)
     disable_self_collisions = True
-    link_materials = dict.fromkeys(FINGER_LINKS, FINGER_PAD)
+    link_materials = {"link_finger_tip_right": FINGER_PAD, "link_finger_tip_left": FINGER_PAD}
     cameras = (OVERHEAD_CAMERA,)
     keyframes: ClassVar[Mapping[str, Keyframe]] = {
         "rest": Keyframe(qpos={ARM_PATTERN: REST_ARM, FINGER_PATTERN: 0.0, HEAD_PATTERN: REST_HEAD}),

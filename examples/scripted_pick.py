@@ -33,7 +33,8 @@ down and leaning into the push (back from it where leaning in would put the arm 
 itself: :meth:`Arm.self_contact`; straight down where the arm's IK cannot hold the lean
 along the push: :func:`path_error`), to above the push start behind the cube (on the far
 side from the goal, clear of it); then end-effector deltas: down until the fingertips touch the table, lift them
-off it, push the cube along its line to the goal (:func:`solve_push`).
+off it, push the cube along its line to the goal with the closed fingers (a one-jaw
+gripper's beside its grasp point: :func:`push_point`; :func:`solve_push`).
 
 ReachPose: the same turn straight to the goal pose (position only on arms of fewer
 than 6 joints), then end-effector deltas towards it (``pd_ee_target_delta_pose`` on arms
@@ -738,6 +739,23 @@ def push_orientation(
     return out
 
 
+def push_point(geometry: Any, half: float) -> np.ndarray:
+    """The point of the closed gripper that pushes, in the tool frame ``(3,)`` (m): the
+    grasp point, or, where it lies farther than ``half`` (half the cube's edge, m) from
+    every closed finger (``geometry.closed_clearance``), the grasp point moved across
+    the approach axis to where the closed fingers are (``geometry.closed_point``): a
+    one-jaw gripper's moving jaw closes on its fixed jaw, to the side (the SO-100 file's
+    2.2 cm, the grasp point 2.6 cm from either jaw), and the closed jaws, aimed by the
+    grasp point, passed beside the cube while the grasp point stood in it untouched."""
+    grasp = np.array(geometry.grasp_point)
+    if geometry.closed_point is None or not geometry.closed_clearance > half:
+        return grasp
+    approach = np.array(geometry.approach_axis)
+    aside = np.array(geometry.closed_point) - grasp
+    aside -= approach * float(aside @ approach)  # the descent finds the table's height itself
+    return grasp + aside
+
+
 def path_error(arm: Arm, path: np.ndarray, quat: np.ndarray, point_in_tool: np.ndarray) -> np.ndarray:
     """How far ``(num_envs,)`` (m, the worst point) the arm's IK leaves the tool point
     from the push's ``path`` ``(m, num_envs, 3)`` (world) with the tool held at ``quat``
@@ -769,7 +787,8 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     the push start (behind the cube, on the far side from the goal), fingers down; then
     end-effector deltas: *down* until the fingertips touch the table (the tool stops
     coming down; the model's finger shapes are not needed), *lift* them ``TIP_HEIGHT``
-    edges off it, then *push* at that height: the tool point aims at the cube's
+    edges off it, then *push* at that height: the tool point (the closed fingers'
+    point where the grasp point lies clear of them: :func:`push_point`) aims at the cube's
     centre from behind along the line from the cube to the goal (redrawn every step,
     which steers the cube back onto it; off the line by more than ``OFF_LINE`` edges,
     the tool first backs off behind the cube on the line), at most ``PUSH_SPEED``
@@ -782,7 +801,7 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     geometry = layout.gripper
     if geometry is not None:
         approach, closing = np.array(geometry.approach_axis), np.array(geometry.closing_axis)
-        point_in_tool = np.array(geometry.grasp_point)
+        point_in_tool = push_point(geometry, half)
         closed: np.ndarray | None = np.zeros(n, dtype=bool)
     else:  # a bare flange: its tool frame's z points out of it
         approach, closing = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])

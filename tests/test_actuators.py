@@ -219,3 +219,40 @@ def test_armature_and_friction_reach_the_joints(plain_file: Path) -> None:
     scene = ra.Scene(robot(plain_file, actuators=(drive,)))
     np.testing.assert_allclose(scene.model.dof_armature, [0.2, 0.1])
     np.testing.assert_allclose(scene.model.dof_frictionloss, [0.5, 0.5])
+
+
+def test_joint_damping_acts_beyond_the_effort_limit(tmp_path: Path) -> None:
+    """A drive's back-EMF as joint damping (``joint_damping``, the joint's
+    ``dof_damping``) bounds a saturated joint's speed to effort limit / damping: a
+    2 rad jump of a turntable under kp 100 N*m/rad and a 2 N*m limit with
+    2 N*m*s/rad peaks at 1.0 rad/s. The same damping as the PD drive's ``damping`` is
+    clamped with its force, and the joint ran at 10.6 rad/s (the drive gives full effort
+    until kp (q* - q) - kv qd falls below it)."""
+    path = tmp_path / "turntable.xml"
+    path.write_text(
+        '<mujoco><compiler angle="radian"/><worldbody><body name="base"><geom type="box" size="0.05 0.05 0.05" mass="1"/>'
+        '<body name="table"><joint name="turn" axis="0 0 1" range="-3 3"/>'
+        '<geom type="box" size="0.2 0.02 0.02" pos="0 0 0.1" mass="1"/></body></body></worldbody></mujoco>'
+    )
+
+    def peak(**gains: float) -> float:
+        drive = ra.PDActuator(joints="turn", stiffness=100.0, effort_limit=2.0, armature=0.05, **gains)
+        attributes = {"uid": "", "mjcf_path": path, "actuators": (drive,)}
+        scene = ra.Scene(
+            type("Turntable", (ra.Agent,), attributes), control_modes="pd_joint_pos", sim_freq=500, control_freq=500
+        )
+        scene.reset()
+        agent, fastest = scene.agents[0], 0.0
+        for _ in range(1500):  # 3 s
+            agent.set_action(agent.controller.parts["main"].from_raw(np.array([2.0])))
+            scene.step()
+            fastest = max(fastest, abs(float(agent.qvel[0, 0])))
+        assert agent.qpos[0, 0] == pytest.approx(2.0, abs=1e-3)  # it got there
+        np.testing.assert_array_equal(scene.model.dof_damping, [gains.get("joint_damping", 0.0)])
+        scene.close()
+        return fastest
+
+    assert peak(damping=0.0, joint_damping=2.0) == pytest.approx(1.0, abs=0.01)
+    assert peak(damping=2.0) > 10.0
+    with pytest.raises(ra.ConfigError, match=r"joint_damping: expected finite values >= 0"):
+        ra.PDActuator(joints=".*", stiffness=1.0, joint_damping=-1.0)

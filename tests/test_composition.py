@@ -3,6 +3,7 @@ and default keyframe; the Panda family is built that way."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import mujoco
@@ -231,4 +232,23 @@ def test_every_builtin_piece_points_its_tcp_out_of_the_flange(tmp_path: Path, na
     assert 0.05 < tcp[2] < 0.2, tcp
     if name in TCP_OUT:  # (docs/robots.md, "Pieces")
         assert tcp[2] == pytest.approx(TCP_OUT[name], abs=1e-9)
+    scene.close()
+
+
+@pytest.mark.parametrize("name", sorted(BUILTIN_PIECES))
+def test_every_builtin_piece_declares_its_own_drives(name: str) -> None:
+    """A built-in piece's drives are its own ``actuators`` (none come from a piece mounted
+    on it), so a subclass that declares others mounts the same gripper with other drives
+    (the Bridge setups' WidowX gripper: tests/test_widowx_bridge_gripper.py)."""
+    piece = ra.get_piece(name)
+    assert composition(piece).actuators == tuple(piece.actuators)
+    if not piece.actuators:  # a rigid tool
+        return
+
+    class Other(piece):  # type: ignore[valid-type,misc]
+        actuators = tuple(dataclasses.replace(a, effort_limit=1.0) for a in piece.actuators)
+
+    scene = ra.Scene(Other)
+    scene.reset()
+    np.testing.assert_array_equal(scene.model.actuator_forcerange, [[-1.0, 1.0]] * scene.model.nu)
     scene.close()

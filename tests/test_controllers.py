@@ -516,6 +516,43 @@ def test_a_mimic_mode_with_an_unlimited_leader_moves_its_followers_with_it(tmp_p
     scene.close()
 
 
+def test_a_mimic_delta_from_the_measured_pose_keeps_the_followers_on_the_leaders_relation(tmp_path: object) -> None:
+    """Both joints driven, coupled only by a mimic mode (flap = 0.5 spin + 0.1), the
+    delta added to the measured pose. Each joint added its share to its own measured
+    position, so the followers drifted from the relation by what each drive lagged:
+    after 15 steps of +0.05 rad the flap was 0.12 rad off it and stayed there when held
+    (0.1188 measured with the offset 0). The followers' targets come from the leader's
+    measured position through the relation, as in the absolute mode: exact in every
+    target, and the pose settles on it."""
+    cls = mimic_robot(tmp_path, equality=False)
+    delta = ra.PDJointPosMimicConfig(
+        joint_names=("spin", "flap"),
+        lower=-0.1,
+        upper=0.1,
+        use_delta=True,
+        normalize_action=False,
+        multipliers=(1.0, 0.5),
+        offsets=(0.0, 0.1),
+    )
+    modes = {"delta": delta}
+    scene = ra.Scene(type("MimicDelta", (cls,), {"default_control_mode": "delta", "control_modes": modes}))
+    scene.reset()
+    agent = scene.agents[0]
+    controller = agent.controller.parts["main"]
+    for _ in range(15):
+        spin = agent.qpos[0, 0]
+        run(scene, agent, np.array([0.05]), 1)
+        target = controller.get_state()["target_qpos"][0]
+        np.testing.assert_array_equal(target, [spin + 0.05, 0.5 * (spin + 0.05) + 0.1])
+    assert 0.25 < agent.qpos[0, 0] < 0.35  # it moved (0.293)
+    run(scene, agent, np.array([0.0]), 40)
+    assert agent.qpos[0, 1] == pytest.approx(0.5 * agent.qpos[0, 0] + 0.1, abs=1e-9)
+    scene.close()
+    # the leader's position in action units needs its multiplier
+    with pytest.raises(ra.ConfigError, match=r"nonzero multipliers\[0\].*\(0\.0, 1\.0\)"):
+        ra.PDJointPosMimicConfig(joint_names=("a", "b"), lower=-0.1, upper=0.1, use_delta=True, multipliers=(0.0, 1.0))
+
+
 def test_a_velocity_target_on_a_joint_with_dry_friction_settles_short_by_friction_over_damping(
     tmp_path: object,
 ) -> None:

@@ -1053,7 +1053,7 @@ def test_a_declaration_class_names_a_misspelt_field_with_the_close_one() -> None
         (
             lambda: ra.PDActuator(joint=("j",), stiffness=1.0),
             ra.UnknownNameError,
-            "PDActuator: unknown field 'joint'. Did you mean 'joints'?",
+            "PDActuator: unknown field 'joint'. Did you mean 'joints', 'joint_damping'?",
         ),
         (
             lambda: ra.Arm("arm", ("j",), 0.1, 1.0, (), None, 7),

@@ -361,6 +361,29 @@ def test_a_failed_write_leaves_the_controllers_as_they_were(mode: str) -> None:
         robot.close()
 
 
+def test_a_failed_write_leaves_the_step_info_as_it_was() -> None:
+    """An end-effector mode's step info (``ik_success`` and the residual errors) is the
+    controller state's: after a bus write that raises it is the last command's that
+    went, whether the failed call's IK failed (a pose out of reach) or succeeded."""
+    bus = FlakyBus("widowx250s", failures=0)
+    robot = RealRobot("widowx250s", bus, control_mode="pd_ee_pose")
+    controller = robot.agent.controller.parts["arm"]
+    out_of_reach = np.r_[0.7, 0.7, 0.8, 0.0, 0.0, 0.0, 1.0]  # 1.2 m from the shoulder: IK fails
+    reachable = np.r_[controller.hold_raw(robot.agent.world)[0], 1.0]
+    for went, failed_call in ((reachable, out_of_reach), (out_of_reach, reachable)):
+        robot.step(went)
+        info = robot.agent.step_info()
+        assert bool(info["ik_success"][0]) == (went is reachable)
+        bus.failures = 1
+        with pytest.raises(OSError, match="did not answer"):
+            robot.step(failed_call)
+        after = robot.agent.step_info()
+        assert set(after) == set(info)
+        for key, value in info.items():
+            np.testing.assert_array_equal(after[key], value)
+    robot.close()
+
+
 def test_a_closed_robot_and_bus_refuse_every_call() -> None:
     bus = SimulatedBus("so100")
     real = RealRobot("so100", bus)

@@ -78,6 +78,49 @@ def test_depth_of_a_plane_is_its_distance() -> None:
         scene.cameras.capture(scene.world, "dpeth")
 
 
+@pytest.mark.parametrize(
+    ("far", "short_of_far"),
+    [(5.0, 5e-5), (5.0, 2e-6), (10.0, 5e-5), (10.0, 1e-6), (10.0, -3e-7), (100.0, 8e-5), (100.0, 2e-5)],
+)
+def test_depth_reads_far_exactly_where_nothing_is_seen(far: float, short_of_far: float) -> None:
+    """A wall facing the camera ``far * short_of_far`` short of the far plane: a pixel
+    either sees it (segmentation names the wall, depth its distance within 1e-6 relative)
+    or sees nothing (id -1, depth exactly ``far``). Before, depth within 1e-4 of ``far``
+    was snapped to ``far`` (MuJoCo's converted far plane falls short of ``far``: 99.9934 m
+    of 100 m), so the wall read ``far`` while segmentation named it; now the pixels that
+    read what an empty scene reads are snapped. The walls 2e-6 short of 5 m and 2e-5
+    short of 100 m lie beyond MuJoCo's far plane (9.6e-6 and 6.6e-5 short, Mesa): nothing
+    is seen there, and depth and segmentation agree; the others are in view. The wall
+    3e-7 beyond 10 m lies inside MuJoCo's plane (10.000006 m): seen, it reads ``far``
+    (depth stays within the observation space's ``[0, far]``)."""
+    distance = far * (1.0 - short_of_far)
+    camera = ra.CameraConfig.look_at("c", eye=(0, 0, 50), target=(1, 0, 50), width=8, height=8, fovy=10.0, far=far)
+    wall = ra.Prop("wall", "box", size=(0.01, 20.0, 20.0), pos=(distance + 0.01, 0.0, 50.0), mass=None)
+    scene = ra.Scene("panda", cameras=[camera], props=[wall])
+    images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["c"]
+    depth, seg = images["depth"][0, :, :, 0].astype(np.float64), images["segmentation"][0, :, :, 0]
+    seen = seg == scene.model.body("wall").id
+    assert np.all(seen | (seg == -1))
+    np.testing.assert_allclose(depth[seen], distance, rtol=1e-6)
+    assert np.all(depth[~seen] == far) and depth.max() <= far
+    assert seen.all() or not seen.any()
+    beyond_mujocos_far_plane = (far, short_of_far) in ((5.0, 2e-6), (10.0, -3e-7), (100.0, 2e-5))
+    assert seen.all() or beyond_mujocos_far_plane  # inside the 1e-4 band: seen
+    # What an empty render reads is MuJoCo's conversion of the cleared (reversed-Z) buffer,
+    # 0: d / c with glFrustum's coefficients in float32 (mujoco.Renderer.render).
+    renderer = scene.cameras._renderer
+    assert renderer is not None
+    extent = scene.cameras.model.stat.extent
+    z_near = np.float32(float(np.float32(0.01 / extent)) * extent)  # vis.map.znear holds near / extent, float32
+    z_far = np.float32(far)
+    c = np.float32(-0.5) * (-(z_far + z_near) / (z_far - z_near)) - np.float32(0.5)
+    d = np.float32(-0.5) * (-(np.float32(2) * z_far * z_near) / (z_far - z_near))
+    empty = renderer._nothing_seen[(0.01, far)]
+    assert empty == np.float32(np.float64(d) / np.float64(c))
+    assert empty == pytest.approx({5.0: 4.99995, 10.0: 10.000006, 100.0: 99.9934}[far], abs=5e-5)
+    scene.close()
+
+
 def test_full_intrinsic_matrix_is_rendered_exactly() -> None:
     """Off-centre principal point and fx != fy: back-projected floor pixels lie on z = 0."""
     k = [[70.0, 0.0, 40.0], [0.0, 55.0, 20.0], [0.0, 0.0, 1.0]]

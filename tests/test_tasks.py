@@ -618,3 +618,84 @@ def test_gymnasium_check_env_passes_on_every_registered_task(task: str, obs_mode
         warnings.simplefilter("error")
         check_env(env.unwrapped, skip_render_check=True)
     env.close()
+
+
+@pytest.mark.parametrize("uid", ["so100", "panda"])
+def test_the_closed_point_lies_on_both_closed_fingers(uid: str) -> None:
+    """Driven closed, each finger's colliding geoms come within 1 cm of ``closed_point``
+    (MuJoCo's geom distances from a probe sphere there), and the nearest of them lies
+    ``closed_clearance`` from the grasp point (within 2 mm). The Panda's fingers close
+    on the grasp point (within 1 mm); the SO-100's moving jaw closes on its fixed jaw,
+    beside it across the approach axis (1.4 cm from it: less than the cube's half edge,
+    so the push solver keeps the grasp point for both)."""
+    from robot_agents.agent.derived import colliding_geoms
+    from robot_agents.envs.tasks.layout import tool_arm
+    from robot_agents.kinematics.rotations import quat_to_matrix
+    from robot_agents.model.scene import Prop
+    from tests.test_scripted_solvers import load_solver
+
+    layout = table_top_layout(ra.get_agent(uid))
+    geometry = layout.gripper
+    assert geometry is not None and geometry.closed_point is not None
+    scene = ra.Scene(
+        uid, control_modes="pd_joint_pos", floor=False, props=[Prop("probe", "sphere", (1e-4,), mass=1e-3)]
+    )
+    agent = scene.agents[0]
+    model = scene.model
+    scene.reset()
+    action = np.zeros((1, agent.action_space.shape[-1]))
+    action[0, agent.controller.slices["gripper"]] = -1.0  # close
+    for _ in range(40):
+        agent.set_action(action)
+        scene.step()
+    data = mujoco.MjData(model)
+    data.qpos[:] = scene.world.qpos[0]
+    tool = agent.frame_pose(tool_arm(agent, "test").end_effectors[0].name)[0]
+    rotation = quat_to_matrix(tool[None, 3:])[0]
+    probe = model.body("probe")
+    adr = int(model.jnt_qposadr[probe.jntadr[0]])
+    probe_geom = model.geom("probe").id
+    fingers = [
+        colliding_geoms(
+            model, {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, "t"))}
+        )
+        for finger in agent.gripper().finger_links[:2]
+    ]
+
+    def gaps(point_in_tool: Any) -> list[float]:
+        data.qpos[adr : adr + 3] = tool[:3] + rotation @ np.asarray(point_in_tool)
+        mujoco.mj_kinematics(model, data)
+        fromto = np.zeros(6)
+        return [min(mujoco.mj_geomDistance(model, data, probe_geom, g, 1.0, fromto) for g in f) for f in fingers]
+
+    assert max(gaps(geometry.closed_point)) < 0.01, gaps(geometry.closed_point)
+    assert min(gaps(geometry.grasp_point)) == pytest.approx(geometry.closed_clearance, abs=0.002)
+    approach = np.array(geometry.approach_axis)
+    aside = np.array(geometry.closed_point) - np.array(geometry.grasp_point)
+    aside -= approach * float(aside @ approach)
+    if uid == "panda":
+        assert np.linalg.norm(aside) < 0.001 and geometry.closed_clearance < 0.001, (aside, geometry.closed_clearance)
+    else:
+        assert np.linalg.norm(aside) > 0.5 * layout.cube_half_size and geometry.closed_clearance > 0.01
+    assert geometry.closed_clearance < layout.cube_half_size  # the built-in robots push as before
+    np.testing.assert_array_equal(load_solver().push_point(geometry, layout.cube_half_size), geometry.grasp_point)
+
+
+def test_the_push_aims_the_closed_jaws_where_the_grasp_point_is_clear_of_them() -> None:
+    """Where the grasp point lies farther than half the cube's edge from every closed
+    finger, the push point moves to where the closed fingers are, across the approach
+    axis only (the descent finds the table's height itself); nearer, it stays."""
+    from robot_agents.envs.tasks.layout import GripperGeometry
+    from tests.test_scripted_solvers import load_solver
+
+    push_point = load_solver().push_point
+    geometry = GripperGeometry(
+        opening=0.07,
+        grasp_point=(0.0, 0.0, 0.1),
+        closing_axis=(1.0, 0.0, 0.0),
+        approach_axis=(0.0, 0.0, 1.0),
+        closed_point=(0.02, 0.001, 0.09),
+        closed_clearance=0.025,
+    )
+    np.testing.assert_allclose(push_point(geometry, 0.0175), [0.02, 0.001, 0.1], atol=1e-15)
+    np.testing.assert_array_equal(push_point(geometry, 0.03), [0.0, 0.0, 0.1])

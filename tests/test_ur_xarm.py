@@ -77,13 +77,53 @@ def test_flange_matches_the_published_dh_table(uid: str) -> None:
     scene.close()
 
 
+# UR's published dynamics of the UR10e, per link 1-6: mass (kg), centre of mass in DH
+# frame i (m) ("DH Parameters for calculations of kinematics and dynamics"), inertia
+# about it in DH frame i's axes (ixx, ixy, ixz, iyy, iyz, izz; kg*m^2; UR's
+# Universal_Robots_ROS2_Description config/ur10e/physical_parameters.yaml, 60e6974).
+UR10E_LINKS = [
+    ("shoulder_link", 7.369, (0.021, 0.0, 0.027), (0.03408, 0.00002, -0.00425, 0.03529, 0.00008, 0.02156)),
+    ("upper_arm_link", 13.051, (0.38, 0.0, 0.158), (0.02814, 0.00005, -0.01561, 0.77068, 0.00002, 0.76943)),
+    ("forearm_link", 3.989, (0.24, 0.0, 0.068), (0.01014, 0.00008, 0.00916, 0.30928, 0.0, 0.30646)),
+    ("wrist_1_link", 2.1, (0.0, 0.007, 0.018), (0.00296, -0.00001, 0.0, 0.00222, -0.00024, 0.00258)),
+    ("wrist_2_link", 1.98, (0.0, 0.007, 0.018), (0.00296, -0.00001, 0.0, 0.00222, -0.00024, 0.00258)),
+    ("wrist_3_link", 0.615, (0.0, 0.0, -0.026), (0.00040, 0.0, 0.0, 0.00041, 0.0, 0.00034)),
+]
+
+
+def test_ur10e_link_inertials_are_urs_in_the_dh_frames() -> None:
+    """At 5 random configurations each link's mass, centre of mass and inertia tensor
+    (in the world) are UR's published ones carried along the DH chain (link i moves
+    with DH frame i). Pins the inertials of 2026-11-29 (before: spread over the
+    primitives, the forearm's centre of mass 0.12 m from UR's)."""
+    scene = ra.Scene("ur_10e")
+    agent = scene.agents[0]
+    model, data = scene.model, scene.world.datas[0]
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q = rng.uniform(agent.qpos_limits[:, 0], agent.qpos_limits[:, 1])
+        agent.reset(qpos=q)
+        pose = np.eye(4)
+        for (name, mass, com, tensor), (a, d, alpha, offset), theta in zip(UR10E_LINKS, UR10E_DH, q, strict=True):
+            pose = pose @ standard_dh(a, d, alpha, theta + offset)
+            body = resolve_frame(model, name, agent.prefix).id
+            assert model.body_mass[body] == pytest.approx(mass, abs=1e-12)
+            np.testing.assert_allclose(data.xipos[body], pose[:3, :3] @ com + pose[:3, 3], atol=1e-9)
+            ixx, ixy, ixz, iyy, iyz, izz = tensor
+            world = pose[:3, :3] @ np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]) @ pose[:3, :3].T
+            principal = data.ximat[body].reshape(3, 3)
+            ours = principal @ np.diag(model.body_inertia[body]) @ principal.T
+            np.testing.assert_allclose(ours, world, atol=1e-9)
+    scene.close()
+
+
 def test_limits_torques_speeds_and_masses_from_the_datasheets() -> None:
     turn = 2 * math.pi
     expected = {
         # joint ranges (rad), torque limits (N*m), speed limits (rad/s), moving mass (kg)
         "ur_10e": (
             [[-turn, turn], [-turn, turn], [-math.pi, math.pi], [-turn, turn], [-turn, turn], [-turn, turn]],
-            [330, 330, 150, 56, 56, 56],
+            [330, 330, 150, 54, 54, 54],
             np.radians([120, 120, 180, 180, 180, 180]),
             7.369 + 13.051 + 3.989 + 2.1 + 1.98 + 0.615,
         ),
@@ -170,9 +210,10 @@ def test_absolute_end_effector_mode_reaches_a_pose(uid: str) -> None:
 @pytest.mark.parametrize("uid", list(ARMS))
 def test_servos_track_a_step_without_overshoot(uid: str) -> None:
     """Each joint alone, 0.1 rad step from rest: within 0.01 rad after 0.3 s, < 2 mrad
-    overshoot, < 7 mrad disturbance of the other joints, and at the target after 1 s.
-    (With Menagerie's UR10e gains a shoulder-lift step pushes the elbow 5.9 mrad for a
-    moment; the xArm6's largest is below 5 mrad.)"""
+    overshoot, < 8 mrad disturbance of the other joints, and at the target after 1 s.
+    (With Menagerie's UR10e gains a shoulder-lift step pushes the elbow 7.1 mrad for a
+    moment with UR's link inertials, 5.9 mrad with the volume-spread ones before
+    2026-11-29, when the bound was 7 mrad; the xArm6's largest is below 5 mrad.)"""
     scene = ra.Scene(uid, control_modes="pd_joint_pos")
     agent = scene.agents[0]
     for joint in range(6):
@@ -188,7 +229,7 @@ def test_servos_track_a_step_without_overshoot(uid: str) -> None:
         moved = np.array(path) - start
         assert np.all(np.abs(moved[6:, joint] - 0.1) < 0.01), (joint, moved[:, joint])  # 0.3 s = 6 steps
         assert moved[:, joint].max() < 0.1 + 2e-3
-        assert np.abs(np.delete(moved, joint, axis=1)).max() < 7e-3
+        assert np.abs(np.delete(moved, joint, axis=1)).max() < 8e-3
         assert abs(moved[-1, joint] - 0.1) < 1e-4
     scene.close()
 

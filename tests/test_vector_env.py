@@ -152,6 +152,27 @@ def test_empty_env_has_the_vector_api_too() -> None:
     env.close()
 
 
+def test_info_masks_are_new_writable_arrays_each_step() -> None:
+    """The ``_<key>`` masks are all True, one new array per key and step, as
+    SyncVectorEnv's are (its ``_add_info`` writes masks in place): a caller that keeps
+    a step's info or changes a mask touches no other key's, no later step's and not
+    the array they are copied from."""
+    env = gym.make_vec("robot_agents/Empty-v1", num_envs=2, robot_uids="so100", max_episode_steps=5)
+    _, first = env.reset(seed=0)
+    kept = env.step(np.zeros(env.action_space.shape))[4]
+    masks = [kept[key] for key in kept if key.startswith("_")] + [first[key] for key in first if key.startswith("_")]
+    assert len(masks) > 2 and len({id(m) for m in masks}) == len(masks)
+    for mask in masks:
+        assert mask.dtype == np.bool_ and mask.flags.writeable and mask.flags.owndata
+        np.testing.assert_array_equal(mask, [True, True])
+        mask[0] = False  # a caller's write
+    later = env.step(np.zeros(env.action_space.shape))[4]
+    for key in (key for key in later if key.startswith("_")):
+        np.testing.assert_array_equal(later[key], [True, True])
+    np.testing.assert_array_equal(kept["_elapsed_steps"], [False, True])
+    env.close()
+
+
 def test_terminated_env_resets_alone() -> None:
     env = make_vec("ReachPose-v1", num_envs=3, max_episode_steps=50)
     env.reset(seed=2)

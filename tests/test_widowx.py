@@ -162,6 +162,38 @@ def test_widowx250s_limits_masses_and_drives_from_the_data() -> None:
     assert mass == pytest.approx(2.134879, abs=1e-6)  # the URDF's link masses (dummy frames excluded)
 
 
+def test_widowx250s_fingers_move_at_most_at_the_gripper_servos_no_load_speed() -> None:
+    """The XL430-W250 through the 14 mm horn: 54 N stall force, 0.0894 m/s no-load speed
+    per finger. Its back-EMF (600 N*s/m, stall force / no-load speed) is the finger
+    joints' damping, outside the force limit, so a full stroke (-1 from open, then +1)
+    saturates at the no-load speed. As the P drive's damping, clamped with its force, it
+    was lost while the drive saturated: the fingers peaked at 0.298 m/s closing and
+    0.279 m/s opening (3.3 and 3.1 times it; sampled every physics step)."""
+    from robot_agents.checks import hold_action
+    from robot_agents.robots.widowx.widowx250s import FINGER_DAMPING, FINGER_EFFORT, FINGER_VELOCITY
+
+    velocity = FINGER_EFFORT / FINGER_DAMPING
+    assert velocity == pytest.approx(FINGER_VELOCITY, rel=1e-12)
+    scene = ra.Scene("widowx250s", control_modes="pd_joint_pos", sim_freq=160, control_freq=160)
+    scene.reset()
+    agent = scene.agents[0]
+    fingers = agent.drives.columns(("left_finger", "right_finger"), "test")
+    np.testing.assert_array_equal(scene.model.dof_damping[agent.drives.dof_adr[fingers]], FINGER_DAMPING)
+    np.testing.assert_array_equal(agent.drives.damping[fingers], 0.0)  # none inside the clamp
+    assert agent.qpos[0, 6] == pytest.approx(0.037)  # open
+    action = hold_action(agent)
+    for command, end in ((-1.0, 0.015), (1.0, 0.037)):
+        action[agent.controller.slices["gripper"]] = command
+        peak = 0.0
+        for _ in range(160):  # 1 s
+            agent.set_action(action)
+            scene.step()
+            peak = max(peak, float(np.abs(agent.qvel[0, 6:8]).max()))
+        assert FINGER_VELOCITY * 0.99 < peak < FINGER_VELOCITY * 1.001, (command, peak)
+        assert agent.qpos[0, 6] == pytest.approx(end, abs=2e-4)  # at the stop (0.1 mm into it closed)
+    scene.close()
+
+
 def test_widowxai_limits_and_drives_from_the_data() -> None:
     scene = ra.Scene("widowxai")
     agent = scene.agents[0]

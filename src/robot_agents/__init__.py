@@ -28,6 +28,7 @@ from robot_agents.actuators import (
 from robot_agents.agent import Agent
 from robot_agents.controllers import (
     CommandFrame,
+    FloatingMountTaskSpace,
     JointEffortConfig,
     JointGroup,
     MeasuredTaskSpace,
@@ -89,6 +90,7 @@ __all__ = [
     "DerivedActuators",
     "EndEffector",
     "FileActuators",
+    "FloatingMountTaskSpace",
     "FrictionMaterial",
     "Gripper",
     "Hand",

@@ -9,8 +9,8 @@ declared actuators. A mode that needs other settings (zero stiffness for velocit
 control, stiffer gains for tracking) overrides them explicitly; leaving the mode
 restores the declared ones.
 
-Units: stiffness N*m/rad (N/m for slides), damping N*m*s/rad (N*s/m), effort limit
-N*m (N), velocity limit rad/s (m/s), armature kg*m^2 (kg), friction N*m (N).
+Units: stiffness N*m/rad (N/m for slides), damping and joint damping N*m*s/rad (N*s/m),
+effort limit N*m (N), velocity limit rad/s (m/s), armature kg*m^2 (kg), friction N*m (N).
 """
 
 from __future__ import annotations
@@ -65,6 +65,14 @@ class ActuatorConfig:
         velocity_limit: the motor's rated speed (rad/s or m/s); bounds velocity modes.
         armature: reflected rotor inertia added to each joint (kg*m^2 or kg).
         friction: dry friction of each joint (``frictionloss``, N*m or N).
+        joint_damping: passive damping of each joint (the model's ``dof_damping``,
+            N*m*s/rad or N*s/m), which acts outside the drive's effort limit: a
+            voltage-driven motor's back-EMF (stall torque / no-load speed) slows the
+            joint at full effort too, to at most ``effort_limit / joint_damping`` (the
+            no-load speed). A PD drive's ``damping`` is part of the clamped drive force,
+            and a saturated drive loses it: with it alone the joint accelerates at full
+            effort until the position error shrinks. Fed forward with velocity targets
+            like any joint damping (``damping_feedforward``). ``None``: the file's.
         damping_feedforward: feed each joint's own damping (the model's
             ``dof_damping``) forward with velocity targets, so that a joint meets them
             (``True``: a drive whose servo loop tracks speed, as Dynamixel-style servos
@@ -80,12 +88,13 @@ class ActuatorConfig:
     velocity_limit: PerJoint | None = None
     armature: PerJoint | None = None
     friction: PerJoint | None = None
+    joint_damping: PerJoint | None = None
     damping_feedforward: bool = True
 
     def __post_init__(self) -> None:
         owner = type(self).__name__
         object.__setattr__(self, "joints", as_patterns(self.joints, f"{owner}.joints"))
-        for name in ("effort_limit", "velocity_limit", "armature", "friction", "stiffness", "damping"):
+        for name in ("effort_limit", "velocity_limit", "armature", "friction", "joint_damping", "stiffness", "damping"):
             _check_per_joint(owner, name, getattr(self, name, None))
         if not isinstance(self.damping_feedforward, bool):
             raise ConfigError(f"{owner}.damping_feedforward: expected True or False, got {self.damping_feedforward!r}.")
@@ -217,7 +226,7 @@ class DerivedActuators(ActuatorConfig):
 
     def __post_init__(self) -> None:
         if self.joints is None:  # the rest: resolved against the model (apply_actuators)
-            for name in ("effort_limit", "velocity_limit", "armature", "friction"):
+            for name in ("effort_limit", "velocity_limit", "armature", "friction", "joint_damping"):
                 _check_per_joint(type(self).__name__, name, getattr(self, name))
             return
         super().__post_init__()

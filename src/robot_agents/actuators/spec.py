@@ -352,6 +352,22 @@ def _set_joint_properties(spec: mujoco.MjSpec, decl: ActuatorConfig, matched: li
     if decl.friction is not None:
         for joint, value in zip(matched, per_joint(owner, "friction", decl.friction, n, 0.0), strict=True):
             spec.joint(joint).frictionloss = float(value)
+    if decl.joint_damping is not None:
+        for joint, value in zip(matched, per_joint(owner, "joint_damping", decl.joint_damping, n, 0.0), strict=True):
+            _set_linear_damping(spec.joint(joint), float(value))
+
+
+def _set_linear_damping(joint: mujoco.MjsJoint, value: float) -> None:
+    """Make ``joint``'s damping ``value`` (N*m*s/rad or N*s/m), linear in its speed:
+    MuJoCo 3.4 and later take a polynomial (linear, then higher terms, set to 0), earlier
+    versions one number."""
+    current = np.asarray(joint.damping, dtype=np.float64)
+    if current.ndim == 0:
+        joint.damping = value
+        return
+    polynomial = np.zeros_like(current)
+    polynomial[0] = value
+    joint.damping = polynomial
 
 
 def _actuator_name(joint: str, taken: set[str]) -> str:

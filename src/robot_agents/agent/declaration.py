@@ -40,8 +40,9 @@ from robot_agents.agent.derived import (
 from robot_agents.agent.derived_drives import drive_configurations, note_friction_cap, stand
 from robot_agents.agent.derived_task_space import derive_task_space, note_unlimited_slides, unlimited_slides
 from robot_agents.agent.index import JointKind, RobotIndex
+from robot_agents.agent.mount_task_space import mount_task_space
 from robot_agents.controllers.base import ControllerConfig
-from robot_agents.controllers.task_space import MeasuredTaskSpace
+from robot_agents.controllers.task_space import FloatingMountTaskSpace, MeasuredTaskSpace
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keyframe import (
     Keyframe,
@@ -309,9 +310,14 @@ def _with_task_space(
     """``part`` with the task space measured on it (end-effector modes,
     :func:`~robot_agents.agent.derived_task_space.derive_task_space`): a derived arm
     (``derived``: the parts were inferred) without one when it gets one, and an arm
-    declared with ``MeasuredTaskSpace()``, which must."""
+    declared with ``MeasuredTaskSpace()``, which must; a floating mount declared with
+    ``FloatingMountTaskSpace()`` gets its box computed
+    (:func:`~robot_agents.agent.mount_task_space.mount_task_space`)."""
     if not isinstance(part, Arm):
         return part
+    if isinstance(part.task_space, FloatingMountTaskSpace):
+        mount = mount_task_space(model, index, part, part.task_space, part_joints[part.name], keyframe, name)
+        return dataclasses.replace(part, task_space=mount)
     asked = isinstance(part.task_space, MeasuredTaskSpace)
     if not asked and (part.task_space is not None or not derived):
         return part
@@ -661,7 +667,9 @@ def _check(cls: type[AgentDefinition]) -> CheckedRobot:
             else d
             for d in drives
         ]
-    measured = any(isinstance(p, Arm) and isinstance(p.task_space, MeasuredTaskSpace) for p in parts)
+    measured = any(
+        isinstance(p, Arm) and isinstance(p.task_space, (MeasuredTaskSpace, FloatingMountTaskSpace)) for p in parts
+    )
     if (inferred and not torque_only(model, drives)) or measured:
         # an arm the file implies (or one declared so) gets a task space measured on it
         keyframe = next(iter(keyframes.values())).qpos

@@ -27,7 +27,7 @@ from robot_agents.controllers.rules import (
     joint_control_modes,
     modes_from_parts,
 )
-from robot_agents.controllers.task_space import MeasuredTaskSpace, TaskSpace, WorkspaceBox
+from robot_agents.controllers.task_space import FloatingMountTaskSpace, MeasuredTaskSpace, TaskSpace, WorkspaceBox
 
 __all__ = [
     "EE_MODES",
@@ -36,6 +36,7 @@ __all__ = [
     "Controller",
     "ControllerConfig",
     "ControllerContext",
+    "FloatingMountTaskSpace",
     "JointBinding",
     "JointEffortConfig",
     "JointGroup",

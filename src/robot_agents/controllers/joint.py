@@ -157,7 +157,13 @@ class PDJointPosMimicConfig(PDJointPosConfig):
 
     The first joint in ``joint_names`` leads; joint ``i`` follows with target
     ``multipliers[i] * leader_target + offsets[i]`` (defaults 1 and 0). Bounds are in
-    the leader's units.
+    the leader's units. With ``use_delta`` (from the measured position), the action is
+    added to the leader's measured position, ``a = (q_0 - offsets[0]) / multipliers[0]``,
+    and every joint takes ``multipliers[i] * (a + delta) + offsets[i]``: the followers
+    keep the relation to the leader wherever their own drives left them (before
+    2026-11-29 each joint added ``multipliers[i] * delta`` to its own measured position,
+    and independently driven followers drifted from the relation); with ``use_target``
+    each joint adds ``multipliers[i] * delta`` to its previous target.
     """
 
     multipliers: tuple[float, ...] | None = None
@@ -175,6 +181,12 @@ class PDJointPosMimicConfig(PDJointPosConfig):
                 raise ConfigError(
                     f"PDJointPosMimicConfig.{field}: expected {len(self.joint_names)} values (one per joint), got {len(values)}."
                 )
+        if self.use_delta and not self.use_target and self.multipliers is not None and self.multipliers[0] == 0.0:
+            raise ConfigError(
+                f"PDJointPosMimicConfig({', '.join(self.joint_names)}).multipliers: a delta from the measured position "
+                "adds to the leader's, which needs a nonzero multipliers[0] (the leader's position in action units "
+                f"is (q - offsets[0]) / multipliers[0]), got {self.multipliers}."
+            )
 
     @property
     def keeps_targets(self) -> bool:
@@ -254,6 +266,17 @@ class PDJointPosController(Controller):
             self._base = self._ABSOLUTE
         else:
             self._base = self._FROM_TARGET if config.use_target else self._FROM_MEASURED
+        # A mimic's delta from the measured position adds to the leader's: every joint's
+        # target is m_i (a + delta) + o_i with a the leader's measured position in action
+        # units, (q_0 - o_0) / m_0, so the followers keep the relation (each adding
+        # m_i delta to its own measured position let them drift from it). The leader's
+        # qpos column, (1,), and (m_0, o_0) where they are not (1, 0).
+        self._leader_measured: IntArray | None = None
+        self._leader_map: tuple[float, float] | None = None
+        if not self._plain and self._base == self._FROM_MEASURED:
+            self._leader_measured = binding.qpos_adr[:1].astype(np.int64)
+            m0, o0 = float(self.multipliers[0]), float(self.offsets[0])
+            self._leader_map = None if (m0, o0) == (1.0, 0.0) else (m0, o0)
         # Unlimited hinges among the joints (absolute targets are taken modulo a turn):
         # their positions in the joint list and in qpos; None when there is none (limited
         # joints take the path they always took, bit for bit). A mimic's leader alone:
@@ -319,8 +342,13 @@ class PDJointPosController(Controller):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         if self._base == self._ABSOLUTE and self._periodic is not None:
             raw = self._nearest_to_measured(raw, sim)  # (a mimic: the leader's, the followers follow)
+        if self._leader_measured is not None:  # a mimic's delta from the leader's measured position
+            leader = sim.qpos[:, self._leader_measured]  # (N, 1): the leader's action coordinate, m_0 = 1, o_0 = 0
+            if self._leader_map is not None:
+                leader = (leader - self._leader_map[1]) / self._leader_map[0]
+            raw = leader + raw  # then as an absolute action: m_i (a + delta) + o_i
         change = raw if self._plain else raw * self._multipliers_row  # (N, 1) * (1, n) -> (N, n)
-        if self._base == self._ABSOLUTE:
+        if self._base == self._ABSOLUTE or self._leader_measured is not None:
             targets = change + self._offsets_row if self._has_offsets else change
         elif self._base == self._FROM_TARGET:
             targets = self.target_qpos + change

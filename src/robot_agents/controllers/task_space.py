@@ -107,6 +107,29 @@ class MeasuredTaskSpace:
     with a gripper piece mounted) whose workspace nobody has measured."""
 
 
+@checked_keywords
+@dataclass(frozen=True)
+class FloatingMountTaskSpace:
+    """``Arm(task_space=FloatingMountTaskSpace())``: the task space of a floating mount
+    (slides, then hinges whose axes meet at one point, carrying a tool: the floating
+    grippers), its ``pd_ee_pose`` box computed on the compiled model when the robot is
+    built (:func:`robot_agents.agent.mount_task_space.mount_task_space`: the slides'
+    travel grown on every side by the tool point's distance from the hinges' common
+    point, so it fits whatever tool is mounted); deltas of up to 0.1 m and 0.1 rad.
+
+    Attributes:
+        modes: the end-effector modes the arm offers (as :attr:`TaskSpace.modes`).
+    """
+
+    modes: tuple[str, ...] = ("pd_ee_delta_pose", "pd_ee_pose")
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.modes, tuple) or not self.modes or not all(isinstance(m, str) for m in self.modes):
+            raise ConfigError(
+                f"FloatingMountTaskSpace.modes: expected a non-empty tuple of end-effector mode names, got {self.modes!r}."
+            )
+
+
 def delta_action(
     space: TaskSpace, before: npt.ArrayLike, after: npt.ArrayLike, rotation: bool = True
 ) -> npt.NDArray[np.float64] | None:

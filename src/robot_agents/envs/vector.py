@@ -143,6 +143,8 @@ class RobotVectorEnv(VectorEnv):
         self.autoreset_mode = mode
         self._update_spaces()
         self._autoreset: BoolArray = np.zeros(self.num_envs, dtype=bool)
+        #: All ``True`` ``(num_envs,)``: the info masks are copies of it (never handed out).
+        self._every: BoolArray = np.ones(self.num_envs, dtype=bool)
 
     def _update_spaces(self) -> None:
         self._space_modes = [agent.control_mode for agent in self.env.agents]
@@ -254,7 +256,7 @@ class RobotVectorEnv(VectorEnv):
             super().reset(seed=int(seed))
         ids = self.env.agent.state.env_ids(options.get("env_ids"), "RobotVectorEnv.reset")
         self._autoreset[ids] = False
-        return obs, _with_masks(info, self.num_envs)
+        return obs, _with_masks(info, self._every)
 
     # -- step ------------------------------------------------------------------------------
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
@@ -291,7 +293,7 @@ class RobotVectorEnv(VectorEnv):
                 info.update(
                     final_obs=final_obs, _final_obs=ended.copy(), final_info=final_info, _final_info=ended.copy()
                 )
-        return obs, reward, terminated, truncated, _with_masks(info, n)
+        return obs, reward, terminated, truncated, _with_masks(info, self._every)
 
     def _step_unobserved(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """``env.step(actions)`` with ``None`` for its observation (the bound observer
@@ -333,12 +335,18 @@ class RobotVectorEnv(VectorEnv):
         return f"RobotVectorEnv({type(self.env).__name__}, num_envs={self.num_envs}, autoreset_mode={self.autoreset_mode.name})"
 
 
-def _with_masks(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
+def _with_masks(info: dict[str, Any], every: BoolArray) -> dict[str, Any]:
     """``info`` with Gymnasium's vector-info mask ``"_<key>"`` (bool ``(num_envs,)``, all
     ``True``) beside every key that has none, as ``SyncVectorEnv`` gives them (a wrapper
-    or user code reading ``info["_success"]`` works on either)."""
+    or user code reading ``info["_success"]`` works on either).
+
+    Each mask is a new array, a copy of ``every`` (all ``True``, ``(num_envs,)``): as in
+    Gymnasium's vector envs, whose ``_add_info`` writes masks in place and makes new ones
+    every step, a caller may keep or change one without touching another key's, another
+    step's or ``every``. Copying is what is saved (``np.ones`` per key cost ~1 us, a
+    copy ~0.2 us); shared read-only masks would refuse such writes."""
     for key in [key for key in info if not key.startswith("_") and f"_{key}" not in info]:
-        info[f"_{key}"] = np.ones(num_envs, dtype=bool)
+        info[f"_{key}"] = every.copy()
     return info
 
 

@@ -8,43 +8,29 @@ the gripper it carries (see each robot's module).
 
 from __future__ import annotations
 
-from robot_agents.controllers.task_space import TaskSpace, WorkspaceBox
+from robot_agents.controllers.task_space import FloatingMountTaskSpace
 from robot_agents.parts.declaration import Arm, EndEffector
 
 #: The mount's six joints (a pattern over the joint names).
 MOUNT_JOINTS = "root_.*_joint"
-#: The slides' travel either side of the mount's home (m; ``range="-1 1"`` in
-#: floating_mount.xml).
+#: The slides' travel either side of the mount's home in the built-in mounts' files (m;
+#: ``range="-1 1"`` in floating_mount.xml); the task space reads it from the model.
 SLIDE_TRAVEL = 1.0
 
 
-def reachable_box(tool_offset: float) -> WorkspaceBox:
-    """The box of every tool position the mount reaches, in its command frame (the root
-    body at home, m): the slides move the hinges' common point anywhere in the cube of
-    +-:data:`SLIDE_TRAVEL`, and the three hinges (each -pi..pi, together every
-    orientation) turn the tool point on a sphere of radius ``tool_offset`` (m, the tool
-    point's distance from that point) about it; so the reachable set is the cube grown
-    by that sphere, and its box is +-(travel + offset) on every axis, each face reached
-    (the cube's corner with the tool turned along the axis)."""
-    half = SLIDE_TRAVEL + tool_offset
-    return WorkspaceBox(lower=(-half, -half, -half), upper=(half, half, half))
-
-
-def mount_arm(tcp: str, tool_offset: float) -> Arm:
+def mount_arm(tcp: str) -> Arm:
     """The mount as the robot's ``arm`` part, with its end effector ``tcp`` (a site or
     body of the gripper) and both end-effector pose modes; absolute positions bounded
-    by :func:`reachable_box` of ``tool_offset``, the tcp's distance (m) from the root
-    body's origin, where the hinges' axes meet (tests/test_floating_mount.py checks it
-    against the compiled model)."""
+    by the box of every tool position the mount reaches, computed on the compiled model
+    when the robot is built (:class:`~robot_agents.controllers.task_space.FloatingMountTaskSpace`:
+    the slides' travel grown by the tcp's distance from the point where the hinges'
+    axes meet; +-1.1034 m with the Franka Hand, +-1.1553 m with the 2F-85)."""
     return Arm(
         name="arm",
         joints=MOUNT_JOINTS,
         end_effectors=(EndEffector(tcp, name="tcp"),),
-        task_space=TaskSpace(
-            position_bounds=reachable_box(tool_offset),
-            modes=("pd_ee_delta_pose", "pd_ee_pose"),
-        ),
+        task_space=FloatingMountTaskSpace(modes=("pd_ee_delta_pose", "pd_ee_pose")),
     )
 
 
-__all__ = ["MOUNT_JOINTS", "SLIDE_TRAVEL", "mount_arm", "reachable_box"]
+__all__ = ["MOUNT_JOINTS", "SLIDE_TRAVEL", "mount_arm"]

@@ -9,7 +9,14 @@ For each camera the renderer:
   frustum (MuJoCo's own principal-point convention differs between versions),
 - switches shadows and reflections as the camera asks,
 - renders RGB, depth and segmentation from the *current* ``MjData`` (nothing is
-  integrated or recomputed, so rendering never changes the simulation).
+  integrated or recomputed, so rendering never changes the simulation),
+- writes ``far`` into the depth pixels that see nothing: those that read what MuJoCo
+  makes of the cleared depth buffer (:meth:`CameraRenderer.nothing_seen`). That value is
+  not ``far`` itself: ``mujoco.Renderer`` converts the buffer with float32 projection
+  coefficients, whose rounding puts the converted far plane up to ~1e-4 of ``far``
+  off it (99.9934 m for near 0.01 m, far 100 m; 10.000006 m for far 10 m), and every
+  depth seen is at most that value; depths beyond ``far`` (a surface past ``far`` inside
+  MuJoCo's plane) read ``far``, so depth stays within ``[0, far]``.
 
 Sensor cameras render without multisampling (MuJoCo ``offsamples = 0``): about twice
 as fast in software rendering, and no pixel blends two surfaces. Their shadow map has
@@ -31,8 +38,6 @@ from robot_agents.sensors.camera import CameraConfig
 from robot_agents.sensors.segmentation import SegmentationLookup
 
 FloatArray = npt.NDArray[np.float64]
-#: Depth within this fraction of ``far`` reads exactly ``far`` (nothing seen).
-FAR_SNAP = 1e-4
 #: Shadow-map texels per image pixel of sensor cameras, and the bounds of its side.
 SHADOW_TEXELS_PER_PIXEL = 8
 SHADOW_SIZE_RANGE = (512, 4096)
@@ -118,6 +123,8 @@ class CameraRenderer:
         self.option = sensor_scene_option()
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
         self._lookup = SegmentationLookup(model)
+        #: What the depth render reads where nothing is seen, per (near, far) (m).
+        self._nothing_seen: dict[tuple[float, float], float] = {}
 
     def prepare(self, width: int, height: int) -> None:
         """Create the renderer for ``width`` x ``height`` images now."""
@@ -156,13 +163,33 @@ class CameraRenderer:
             if depth is not None:
                 renderer.enable_depth_rendering()
                 renderer.render(out=depth)
+                empty = self.nothing_seen(renderer, config.near, config.far)
                 renderer.disable_depth_rendering()
-                depth[depth > config.far * (1.0 - FAR_SNAP)] = config.far
+                depth[depth >= empty] = config.far
+                np.minimum(depth, config.far, out=depth)  # a surface beyond far that MuJoCo still shows
             if segmentation is not None:
                 renderer.enable_segmentation_rendering()
                 raw = renderer.render()  # (H, W, 2): object id, type; MuJoCo 3.3 takes no (H, W, 2) `out`
                 renderer.disable_segmentation_rendering()
                 self._lookup.body_ids(raw, segmentation)
+
+    def nothing_seen(self, renderer: mujoco.Renderer, near: float, far: float) -> float:
+        """The depth (m) ``renderer`` reads from a cleared depth buffer with the clipping
+        planes ``near`` / ``far`` (set by the caller, the scene loaded, depth rendering on):
+        measured once per pair by rendering the scene with nothing in it (its geoms,
+        flexes and skins hidden for that render, then restored). Seen surfaces read less."""
+        key = (near, far)
+        value = self._nothing_seen.get(key)
+        if value is None:
+            scene = renderer.scene
+            counts = (scene.ngeom, scene.nflex, scene.nskin)
+            scene.ngeom = scene.nflex = scene.nskin = 0
+            try:
+                value = float(np.min(renderer.render()))
+            finally:
+                scene.ngeom, scene.nflex, scene.nskin = counts
+            self._nothing_seen[key] = value
+        return value
 
     def _update(
         self,

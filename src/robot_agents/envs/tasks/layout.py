@@ -143,6 +143,13 @@ class GripperGeometry:
         tip_reach: how far the fingers' colliding geometry reaches past the grasp point
             along the approach axis at any point of their stroke, open to closed (m): a
             grasp from above keeps the grasp point at least this high over the table.
+        closed_point: where the closed fingers are (m): the middle of each finger's
+            nearest point to the grasp point, the gripper closed. A parallel gripper's
+            fingers close on the grasp point; a one-jaw gripper's moving jaw closes on
+            its fixed jaw, off it along the closing axis (the SO-100 file's: 2.2 cm
+            across the approach axis), where a push with the closed jaws must aim.
+        closed_clearance: how far the grasp point lies from the nearest closed finger
+            (m; 0 inside one): the SO-100 file's 2.6 cm, the Panda's 0.
     """
 
     opening: float
@@ -150,6 +157,8 @@ class GripperGeometry:
     closing_axis: tuple[float, float, float]
     approach_axis: tuple[float, float, float]
     tip_reach: float = 0.0
+    closed_point: tuple[float, float, float] | None = None
+    closed_clearance: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -571,7 +580,23 @@ def _gripper_geometry(
             centre, axes, half = geom_box(model, data, g)
             farthest = (centre - grasp_world) @ approach_world + half @ np.abs(axes.T @ approach_world)
             reach_past = max(reach_past, float(farthest))
+    # the closed fingers: each one's nearest point to the grasp point (the probe there)
+    data.qpos[adrs] = shut
+    data.qpos[adr : adr + 3] = grasp_world
+    mujoco.mj_kinematics(model, data)
+    closed_points, clearance = [], np.inf
+    for finger in gripper.finger_links[:2]:
+        bodies = {b for link in finger for b in agent.index.subtree_bodies(agent.index.body_id(link, where))}
+        best, best_point = np.inf, np.zeros(3)
+        for g in colliding_geoms(model, bodies):
+            distance = mujoco.mj_geomDistance(model, data, probe_geom, g, 1.0, fromto)
+            if distance < best:
+                best, best_point = float(distance), fromto[3:].copy()
+        closed_points.append(best_point)
+        clearance = min(clearance, best - radius)
+    closed_point = to_tool @ (0.5 * (closed_points[0] + closed_points[1]) - point[:3])
     data.qpos[adrs] = opened  # the gripper open again, as the caller's later measurements expect
+    data.qpos[adr : adr + 3] = point[:3]
     mujoco.mj_kinematics(model, data)
     return GripperGeometry(
         opening=opening,
@@ -579,4 +604,6 @@ def _gripper_geometry(
         closing_axis=tuple(closing.tolist()),
         approach_axis=tuple(approach.tolist()),
         tip_reach=reach_past,
+        closed_point=tuple(closed_point.tolist()),
+        closed_clearance=max(0.0, clearance),
     )

@@ -27,14 +27,19 @@ Sources of the numbers:
   gains, 0.5 mm with the elliptic cone; 0.22 m in 5 s at ManiSkill's gains, the belly
   coming down to 0.31 m; ``tests/test_anymal_c.py``). Self-collisions stay on, except base / thighs
   (Menagerie's exclusions: the HFE drives sit against the base); ManiSkill turns them off.
-- Drives: position PD on every joint, effort limit 80 N*m (Menagerie's ``forcerange``,
-  after the ANYdrive's specification in Hutter et al. 2017, doi 10.1080/01691864.2017.1378591;
-  Isaac Lab's ``ANYDRIVE_3_SIMPLE_ACTUATOR_CFG``: 80 N*m, 7.5 rad/s, the velocity limit
-  here); joint friction 0.1 N*m (Menagerie's ``frictionloss``: the drives' torque
-  resolution); no armature (Menagerie has none; no rotor inertia is published), so the
-  light shanks whip at up to about 230 rad/s under random absolute targets. Joint limits
-  are stiff (``solreflimit`` 0.005 s; at MuJoCo's 0.02 s random absolute targets pushed
-  HAA 0.6-0.8 rad past its stop).
+- Drives: position PD on every joint, effort limit 80 N*m and velocity limit 7.5 rad/s:
+  ANYbotics' own ``anymal_c_simple_description`` URDF (``urdf/anymal.urdf``, commit
+  87b68511: ``effort="80.0"``, ``velocity="7.5"`` on all 12 joints; Menagerie's
+  ``forcerange`` 80, after the ANYdrive's specification in Hutter et al. 2017, doi
+  10.1080/01691864.2017.1378591; Isaac Lab's ``ANYDRIVE_3_SIMPLE_ACTUATOR_CFG`` has the
+  same 80 N*m and 7.5 rad/s, where 7.5 is its DC-motor model's zero-torque speed, with
+  120 N*m at stall); joint friction 0.1 N*m (Menagerie's ``frictionloss``: the drives'
+  torque resolution); no armature: the URDF has no rotor inertia (its drives are 2.04 kg
+  housings fixed to the parent links, ``<dynamics damping="0" friction="0"/>``),
+  Menagerie adds none, Isaac Lab's ``anymal.py`` sets none, and no rotor inertia or gear
+  ratio is published, so the light shanks whip at up to about 230 rad/s under random
+  absolute targets. Joint limits are stiff (``solreflimit`` 0.005 s; at MuJoCo's 0.02 s
+  random absolute targets pushed HAA 0.6-0.8 rad past its stop).
 - Gains: kp 400 N*m/rad, kv 10 N*m*s/rad (ours). ManiSkill's kp 80 / kv 2 (force limit
   100) carry only the base there (ManiSkill switches gravity off on the leg links); here,
   where the 25.8 kg of legs weigh too, they let the knees give 0.17 rad (base 0.512 m) with

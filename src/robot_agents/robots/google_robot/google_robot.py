@@ -71,8 +71,13 @@ Sources of the numbers:
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
   fingers, head pan -0.00286 and tilt 0.785 looking down at the table); ManiSkill 3.0.1
   has no keyframe for this robot. ``stow`` folds the arm (all arm joints at 0: upright).
-- Camera: ManiSkill's ``overhead_camera`` on ``link_camera`` (640 x 512, fx 425,
-  fy 413.1, cx 305, cy 233 px) at a quarter of the resolution, same field of view.
+- Camera: ManiSkill's ``overhead_camera`` on ``link_camera`` with SimplerEnv's tuned
+  intrinsics (``GoogleRobotManualTunedIntrinsicConfig``: 640 x 512, fx 425, fy 413.1,
+  cx 305, cy 233 px, which SAPIEN counts from the image's edge: 304.5 and 232.5 px in our
+  pixel-centre convention) at a quarter of the resolution, same field of view; near
+  0.01 m and far 100 m (ManiSkill 3.0.1's defaults; SimplerEnv's own are 0.1 and 10 m).
+  Until 2026-11-29 the matrix was divided by 4 as is (cx 76.25, cy 58.25 at 160 x 128):
+  half a pixel right of and below SimplerEnv's view, and far was 10 m.
 
 Geometry is primitive shapes of about the real robot's size (white chassis and column,
 head with a dark face, white arm, two-finger gripper). The chassis rides 3 cm above the
@@ -93,6 +98,7 @@ from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Head
 from robot_agents.registry import register_agent
 from robot_agents.sensors import CameraConfig
+from robot_agents.sensors.camera import Matrix3
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -182,19 +188,37 @@ GOOGLE_ROBOT_BASE = Base(
 #: penetration claim failed at every step, 2026-11-29).
 FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
 
-#: ManiSkill's ``overhead_camera`` on ``link_camera`` (OpenCV axes: the MuJoCo camera is
-#: turned 180 degrees about x), at a quarter of its 640 x 512 resolution.
+#: SimplerEnv's tuned overhead camera intrinsics (ManiSkill2_real2sim
+#: ``GoogleRobotManualTunedIntrinsicConfig``; ManiSkill 3.0.1's ``googlerobot.py`` has the
+#: same) for 640 x 512 images, pixels, as SAPIEN takes them: its principal point counts
+#: from the image's edge (SAPIEN's centred camera has ``cx = W / 2``), ours from the first
+#: pixel's centre, so in our (OpenCV) convention it is half a pixel less.
+SIMPLER_ENV_INTRINSIC: Matrix3 = ((425.0, 0.0, 305.0), (0.0, 413.1, 233.0), (0.0, 0.0, 1.0))
+SIMPLER_ENV_SIZE = (640, 512)
+
+
+def opencv_intrinsic(sapien: Matrix3) -> Matrix3:
+    """SAPIEN's intrinsic matrix (pixels, principal point from the image's edge) in the
+    OpenCV convention of :class:`CameraConfig` (from the first pixel's centre)."""
+    (fx, _, cx), (_, fy, cy), _ = sapien
+    return ((fx, 0.0, cx - 0.5), (0.0, fy, cy - 0.5), (0.0, 0.0, 1.0))
+
+
+#: ManiSkill's ``overhead_camera`` on ``link_camera`` (an optical frame, OpenCV axes: the
+#: MuJoCo camera is turned 180 degrees about x), SimplerEnv's intrinsics at a quarter of
+#: its 640 x 512 resolution (160 x 128: fx 106.25, fy 103.275, cx 75.75, cy 57.75 px),
+#: ManiSkill 3.0.1's clipping planes (CameraConfig defaults 0.01 and 100 m).
 OVERHEAD_CAMERA = CameraConfig(
     uid="overhead_camera",
     mount="link_camera",
     pos=(0.0, 0.0, 0.0),
     quat=(0.0, 1.0, 0.0, 0.0),
-    width=160,
-    height=128,
-    intrinsic=((425.0 / 4, 0.0, 305.0 / 4), (0.0, 413.1 / 4, 233.0 / 4), (0.0, 0.0, 1.0)),
+    width=SIMPLER_ENV_SIZE[0],
+    height=SIMPLER_ENV_SIZE[1],
+    intrinsic=opencv_intrinsic(SIMPLER_ENV_INTRINSIC),
     near=0.01,
-    far=10.0,
-)
+    far=100.0,
+).resized(160, 128)
 
 #: SimplerEnv's google_robot_static start pose: arm (7), head pan and tilt.
 REST_ARM = (

@@ -268,9 +268,9 @@ class FloatingPandaGripper(Agent):
     #: the hand's small inertia about the hinges ManiSkill's 100 N*m limit left the mount
     #: cycling between its limits at coarse steps (docs/timestep.md).
     actuators = (PDActuator(joints=MOUNT_JOINTS, stiffness=1e3, damping=1e2),)
-    #: The TCP 0.1034 m from the hinges' common point (frame_pose("tcp", relative_to="root")
-    #: with the mount at zero): pd_ee_pose's box is +-1.1034 m.
-    parts = (mount_arm("panda_hand_tcp", tool_offset=0.1034),)
+    #: pd_ee_pose's box is computed on the model at build: the TCP is 0.1034 m from the
+    #: hinges' common point, so +-1.1034 m.
+    parts = (mount_arm("panda_hand_tcp"),)
     keyframes = {
         "rest": Keyframe(qpos={"root_.*": 0.0}),
         "closed": Keyframe(qpos={"root_.*": 0.0, "panda_finger_joint1": 0.0}),

@@ -191,9 +191,9 @@ class FloatingRobotiq2F85Gripper(Agent):
     mjcf_path = ASSETS / "floating_mount.xml"
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(Robotiq2F85, at="root", quat=GRIPPER_ON_MOUNT),)
     actuators = (PDActuator(joints=MOUNT_JOINTS, stiffness=1e3, damping=1e2, effort_limit=100.0),)
-    #: The TCP 0.1553 m from the hinges' common point (frame_pose("tcp", relative_to="root")
-    #: with the mount at zero): pd_ee_pose's box is +-1.1553 m.
-    parts = (mount_arm(TCP, tool_offset=0.1553),)
+    #: pd_ee_pose's box is computed on the model at build: the TCP is 0.1553 m from the
+    #: hinges' common point, so +-1.1553 m.
+    parts = (mount_arm(TCP),)
     keyframes = {
         "open_facing_down": facing(-HALF_PI, 0.0),
         "open_facing_up": facing(HALF_PI, 0.0),

@@ -14,11 +14,15 @@ Sources of the numbers:
 - Dynamixel XM430-W350-T (ROBOTIS e-manual): gear ratio 353.5 : 1; stall torque
   4.1 N*m and no-load speed 46 rev/min (4.82 rad/s) at 12 V (the WidowX 250 S's supply,
   :mod:`robot_agents.robots.widowx.widowx250s`).
-- Dynamixel XL330-M288-T (ROBOTIS e-manual): gear ratio 288.35 : 1; stall torque
-  0.52 N*m and no-load speed 103 rev/min at 5 V (the follower's step-down converter).
+- Dynamixel XL330-M288-T (ROBOTIS e-manual): gear ratio 288.35 : 1 (the e-manual's
+  table prints it rounded, 288.4 : 1; 288.35 = 70070 / 243); stall torque 0.52 N*m and
+  no-load speed 103 rev/min at 5 V (the follower's step-down converter).
 - Feetech STS3215, 7.4 V version (the SO-100 follower's servo; Feetech / DFRobot
   ST3215 datasheet): gear ratio 1 : 345; stall torque 19.5 kg*cm = 1.91 N*m and
-  no-load speed 0.192 s / 60 deg (52 rev/min) at 7.4 V.
+  no-load speed 0.192 s / 60 deg (52 rev/min) at 7.4 V. (Checked 2026-11-29 against
+  what we could read: 19.5 kg*cm at 7.4 V in Seeed Studio's SO-ARM100 specification;
+  0.192 s / 60 deg and 19.5 kg*cm in a transcription of Feetech's product page; the
+  datasheet itself was not readable here. The 12 V version: 30 kg*cm, 45 rev/min.)
 - Reflected inertia (armature) and Coulomb friction, identified on pendulum test
   benches by Rhoban's BAM ("Better Actuator Models", github.com/Rhoban/bam, Apache-2.0),
   Coulomb-viscous model ``m1``: STS3215 7.4 V armature 0.0261 kg*m^2, friction

@@ -6,7 +6,15 @@ Sources of the numbers:
   SO-ARM100), read as data into our primitive model ``assets/so100.xml`` (its header
   lists every joint origin); MuJoCo Menagerie's ``trs_so_arm100`` carries the same
   inertials. Link and joint names are the URDF's (``shoulder_pan`` ... ``gripper``,
-  ``Base`` ... ``Moving_Jaw``), so the upstream model can be swapped in.
+  ``Base`` ... ``Moving_Jaw``), so the upstream model can be swapped in. (Checked
+  2026-11-29, docs/notes/robot-facts-audit.md: our compiled model equals ManiSkill's URDF
+  compiled by MuJoCo in every body pose, mass, centre of mass, inertia, axis and range.
+  TheRobotStudio's first URDF, ``URDF/SO_5DOF_ARM100_8j_URDF.SLDASM``, commit 71b8863,
+  2024-09-25, has the same joint origins and inertials with continuous joints and other
+  joint frame rotations; its current ``Simulation/SO100/so100.urdf``, commits bbb9734 and
+  0c8e289, 2025, keeps the joint positions and centres of mass but turns the zero pose,
+  with other ranges, e.g. ``shoulder_lift`` 0..3.5 rad: ManiSkill's keyframes need the
+  ManiSkill frames kept here.)
 - Servos: the Feetech STS3215, 7.4 V, 1 : 345 (:data:`~.servos.STS3215`): stall torque
   1.91 N*m is every joint's effort limit, no-load speed 5.45 rad/s its velocity limit,
   BAM's identified reflected inertia 0.0261 kg*m^2 its armature, 0.0515 N*m its

@@ -21,22 +21,25 @@ Sources of the numbers:
 - Drives: Menagerie's position actuators, kp 500 N*m/rad, kv 40 N*m*s/rad, force range
   +-1000 N*m, for legs and arm; reflected rotor inertias (armature) are our estimate
   (0.1 / 0.05 kg*m^2 on the big / wrist joints; none published) to keep the wrist
-  drives stable at 500 Hz. The jaw's drive (kp 20, kv 1, 8 N*m: about 110 N at 7 cm
-  from the hinge) is our choice.
-- Keyframes: Habitat-lab's ``SpotRobot`` parameters: ``leg_init_params`` (hx 0, hy 0.7,
-  kn -1.5 rad on every leg: its standing pose) and ``arm_init_params`` (sh0 0, sh1
-  -3.14, el0 3.0, the rest 0: the stowed arm); gripper open -1.56 rad / closed
-  0.0 rad within 0.01 rad (``gripper_open_state``, ``gripper_closed_state``,
-  ``gripper_state_eps``). ``standing``: legs standing, arm stowed, jaw closed;
-  ``rest`` (the default, first): legs standing, the arm ready (forward and down in
-  front of the body, jaw open), where tasks start.
+  drives stable at 500 Hz. The jaw's drive (kp 10 N*m/rad, kv 0.5 N*m*s/rad, 3 N*m:
+  about 43 N at 7 cm from the hinge; armature 0.01 kg*m^2) is our choice (this text gave
+  kp 20, kv 1, 8 N*m, the first drive's, until 2026-11-29).
+- Keyframes: Habitat-lab's ``SpotRobot`` parameters (``habitat/articulated_agents/
+  robots/spot_robot.py``, read at commits 0f245d8d and 10dac3b6: the same values):
+  ``leg_init_params`` (hx 0, hy 0.7, kn -1.5 rad on every leg: its standing pose) and
+  ``arm_init_params`` (sh0 0, sh1 -3.14, hr0 0, el0 3.0, the rest 0: the stowed arm);
+  gripper open -1.56 rad / closed 0.0 rad within 0.01 rad (``gripper_open_state``,
+  ``gripper_closed_state``, ``gripper_state_eps``). Habitat starts the jaw at 0.0
+  (0f245d8d) or open, -1.56 (10dac3b6): our ``standing`` closes it. ``standing``:
+  legs standing, arm stowed, jaw closed; ``rest`` (the default, first): legs standing,
+  the arm ready (forward and down in front of the body, jaw open), where tasks start.
 - Base: Habitat's "leg" base: the body rides on three planar joints (ManiSkill's mobile
   robots' names ``root_x_axis_joint``, ``root_y_axis_joint``, ``root_z_rotation_joint``)
   driven by the base velocity action, at the height the standing legs give it (0.5333 m:
-  the feet 2 mm above the floor; Habitat's ``base_offset`` is 0.48 m for its model). The
-  legs are a held ``Legs`` part: they take no action (the action is arm, jaw, base, as
-  Habitat's Spot) and their PD drives keep the pose of the last reset; their feet do
-  not carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
+  the feet 2 mm above the floor; Habitat's ``base_offset`` is 0.48 m for its model, 0.5 m
+  at 0f245d8d). The legs are a held ``Legs`` part: they take no action (the action is
+  arm, jaw, base, as Habitat's Spot) and their PD drives keep the pose of the last
+  reset; their feet do not carry the body. Maximum speed 1.6 m/s (the specification); yaw rate 1 rad/s (ours).
 - Hand camera: in the gripper's palm, in front of the housing below the jaw line,
   looking out along the gripper (``arm_link_wr1`` +x) with the image's up along its
   +z (the finger side). Habitat places its arm cameras on the same link 0.166 m out,

@@ -16,15 +16,21 @@ Sources of the numbers:
   (e.g. the ros-claw unitree-sdk2-mcp robot table; Unitree's own spec page was not
   among the sources we could read).
 - Drives: position PD per joint with Unitree's standing gains (unitree_sdk2's
-  ``example/go2/go2_stand_example.cpp``: Kp 60 N*m/rad, Kd 5 N*m*s/rad on every joint;
+  ``example/go2/go2_stand_example.cpp``, read at commit 21d0a3b: Kp 60 N*m/rad, Kd 5
+  N*m*s/rad on every joint, which it uses to stand at hip 0, thigh 0.67, calf -1.3 rad;
+  unitree_mujoco's ``example/python/stand_go2.py`` stands its simulated Go2 with Kp 50,
+  Kd 3.5;
   ManiSkill's ``unitree_go2.py`` has kp 1000, kv 100, which in MuJoCo need a 4 kHz step:
   see :data:`UNITREE_KP`); effort limits Menagerie's actuator ranges
   (hip and thigh +-23.7 N*m; knee +-45.43 N*m), the same as Unitree's URDF
   (``unitree_ros`` ``go2_description.urdf``; its knee has been 45.43 N*m and 15.70 rad/s
   since commit 79f054e, 2023-10-11, "modify knee joint info", before it 35.55 N*m and
   20.07 rad/s); velocity limits Unitree's URDF (30.1 rad/s hip and thigh, 15.70 rad/s
-  knee; until 2026-11-29 we had the old knee's 20.07, docs/notes/robot-facts-audit.md); armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints'
-  passive damping 2 N*m*s/rad (in the MJCF), Menagerie's. No gravity compensation:
+  knee; until 2026-11-29 we had the old knee's 20.07, docs/notes/robot-facts-audit.md);
+  armature 0.01 kg*m^2 and frictionloss 0.2 N*m per joint, and the joints' passive
+  damping 2 N*m*s/rad (in the MJCF), Menagerie's (Unitree's own ``unitree_mujoco``
+  ``unitree_robots/go2/go2.xml``, commit c598f10: the same armature, frictionloss and
+  actuator ranges, joint damping 0.1). No gravity compensation:
   the legs carry the robot's weight (ManiSkill switches gravity off on the leg links).
 - Action order: ManiSkill's ``active_joints`` of Unitree's URDF, a breadth-first walk
   of the tree: the four hips, then the four thighs, then the four calves, each in the

@@ -34,8 +34,12 @@ Sources of the numbers:
   for the torso, ankles' damping and the arms. The legs need more: with 1000 on every
   joint (ManiSkill's), the standing load (knees 42.5 N*m, hip roll 23 N*m, ankles 5 N*m)
   bends the knees 0.056 rad, the pelvis leans back 6.5 deg and sinks 1.9 cm, on its heels.
-  Menagerie's H1 has torque motors (no position gains) to take instead, so the leg gains
-  are ours, set by one rule: each joint gives at most about 5 mrad under the standing load:
+  Menagerie's H1 has torque motors (no position gains) to take instead, and Unitree's
+  own low-level stand (unitree_sdk2 ``example/h1/low_level/humanoid.hpp``, commit
+  21d0a3b: kp 200 / kd 5 on hips, knees and torso, kp 60 / kd 1.5 on ankles and arms,
+  towards hip pitch -0.5, knee 1.0, ankle -0.5, shoulder pitch 0.4 rad) would let the
+  knees' 42.5 N*m standing load bend them 0.21 rad, so the leg gains are ours, set by
+  one rule: each joint gives at most about 5 mrad under the standing load:
   hips and knees kp 10000 N*m/rad (knee 4.2 mrad), ankles kp 2000 N*m/rad (2.3 mrad),
   damping 100 N*m*s/rad as ManiSkill's. The pelvis then leans 0.76 deg and settles 4.2 mm
   below the keyframe (1.9 mm of it the drop to the floor). No gravity is compensated.

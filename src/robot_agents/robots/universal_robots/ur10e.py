@@ -9,9 +9,23 @@ Sources of the numbers:
   frame; ``tool0`` is DH frame 6, the flange (z out of it), as in ``ur_description``.
 - Joint ranges: UR10e user manual (+-360 deg; elbow +-180 deg as in ``ur_description``).
   Maximum joint speeds: 120 deg/s (base, shoulder), 180 deg/s (elbow, wrists).
-  Maximum joint torques (UR article "Max. joint torques"): 330, 330, 150, 56, 56, 56 N*m.
-- Link masses: UR's published dynamics parameters (7.369, 13.051, 3.989, 2.1, 1.98,
-  0.615 kg; base 4.0 kg), 33.1 kg in all (datasheet: 33.5 kg).
+  Maximum joint torques: 330, 330, 150, 54, 54, 54 N*m, Universal Robots' own
+  ``Universal_Robots_ROS2_Description`` ``config/ur10e/joint_limits.yaml`` (commit
+  60e6974, 2024-09-20, "Update dynamic properties", co-authored by UR: the wrists went
+  from 56 to 54 N*m; 56 N*m, the older figure, is still Menagerie's and was ours until
+  2026-11-29, docs/notes/robot-facts-audit.md).
+- Link inertials: UR's published dynamics parameters ("DH Parameters for calculations
+  of kinematics and dynamics", universal-robots.com): masses 7.369, 13.051, 3.989, 2.1,
+  1.98, 0.615 kg and centres of mass in DH frames 1-6 (0.021, 0, 0.027), (0.38, 0, 0.158),
+  (0.24, 0, 0.068), (0, 0.007, 0.018), (0, 0.007, 0.018), (0, 0, -0.026) m; full inertia
+  tensors about the centres of mass in the DH frames' axes from the same UR commit of
+  ``config/ur10e/physical_parameters.yaml``. ``ur10e.xml`` writes them in our body
+  frames (``tests/test_ur_xarm.py`` checks them against the DH chain). Until 2026-11-29
+  the masses were spread over the collision primitives by volume, which put the centres
+  of mass up to 0.12 m (forearm) from UR's and the elbow's gravity load at 34.9 N*m
+  instead of 39.3 with the arm stretched level. Base 4.0 kg (``ur_description``, "might
+  be incorrect"; UR publishes none), spread over its primitives: 33.1 kg in all
+  (datasheet: 33.5 kg).
 - Armature: 0.1 kg*m^2 per joint, as in Menagerie's UR10e (UR publishes no gear ratios
   or rotor inertias).
 - Gains: MuJoCo Menagerie's ``universal_robots_ur10e/ur10e.xml`` per joint size (read
@@ -21,7 +35,7 @@ Sources of the numbers:
   exact gravity compensation and settle a 0.1 rad step within 0.3 s without overshoot
   (tests/test_ur_xarm.py). ManiSkill's ur_10e uses kp 1000, kv 100 (absolute targets) and
   kp 1e4, kv 1e3 (delta targets). (Before 2026-11-23 every joint had kp 5000, kv 500:
-  with the wrists' 56 N*m limit and 0.1 kg*m^2 armature, kv * dt / I was 10 at 2 ms, so
+  with the wrists' 56 N*m limit (then) and 0.1 kg*m^2 armature, kv * dt / I was 10 at 2 ms, so
   a wrist drive clamped at its limit overshot its damping band every step and was left
   in a bang-bang cycle after random actions, at every step down to 1 ms; at kv 30 it is
   0.6 at 2 ms. See docs/timestep.md.)
@@ -65,7 +79,7 @@ UR10E_DRIVES = PDActuator(
     joints=ARM_PATTERN,
     stiffness=(4000.0, 4000.0, 3500.0, 3200.0, 3200.0, 3200.0),
     damping=(350.0, 350.0, 200.0, 30.0, 30.0, 30.0),
-    effort_limit=(330.0, 330.0, 150.0, 56.0, 56.0, 56.0),
+    effort_limit=(330.0, 330.0, 150.0, 54.0, 54.0, 54.0),
     velocity_limit=tuple(math.radians(v) for v in (120.0, 120.0, 180.0, 180.0, 180.0, 180.0)),
     armature=0.1,
 )
@@ -115,7 +129,10 @@ class UR10e(Agent):
     #: 0.40 kg*m^2 at its lightest) can cycle between its torque limits below 441 Hz
     #: (``robot_agents.tuning.cycles``): default one tried step finer, 500 Hz (was 400).
     #: (With MuJoCo's soft default limits the random-action claim failed at every
-    #: step: 0.42-0.69 rad past +-2 pi.)
+    #: step: 0.42-0.69 rad past +-2 pi.) With UR's link inertials and 54 N*m wrists
+    #: (2026-11-29 09:22 UTC rerun, docs/timestep-sweep.md) every claim holds from
+    #: 200 Hz (random 0.199 rad there, 0.316 at 160 Hz) and the shoulder pan's cycle
+    #: bound is 412 Hz: the default stays 500 Hz.
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "ur10e.xml"
     actuators = (UR10E_DRIVES,)

@@ -38,14 +38,24 @@ Sources of the numbers:
   0.037 m each (30 .. 74 mm between the pads, Trossen's specification). Per finger, at
   the horn's mid stroke: force limit 1.5 / (2 * 0.014) = 54 N, speed 6.39 * 0.014 =
   0.089 m/s, stiffness 5.5 / (2 * 0.014^2) = 14100 N/m, damping 600 N*s/m, armature
-  0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers).
+  0.00458 / (2 * 0.014^2) = 11.7 kg (the servo's rotor moves with the fingers). The
+  damping (back-EMF) is the finger joints' own (``joint_damping``), outside the force
+  limit, as the motor's is outside its PWM limit: at full force a finger runs at most
+  at the no-load speed, 54 / 600 = 0.089 m/s. Since 2026-11-29; as the drive's damping
+  it was clamped with the P force and lost while the drive saturated, and a full stroke
+  peaked at 0.30 m/s closing and 0.28 m/s opening (tests/test_widowx.py). The arm's
+  drives keep their damping inside the limit (their velocity modes use it as the
+  servo's velocity gain): a saturated arm joint can pass its no-load speed.
 - The gripper as a piece for another arm (:class:`WidowX250SGripperPiece`,
   ``get_piece("widowx250s_gripper")``): the gripper's servo link ``gripper_link`` (its
   inertial, servo box, ``ee_arm_link`` and horn as in ``wx250s_arm.xml``, the same
   source) fixed on a mount frame whose z axis points out of the flange, turned -90 deg
   about y from the WidowX's frames (x out of the wrist), and the bar and fingers on its
   ``ee_arm_link`` as on the arm (``wx250s_gripper_mount.xml``). The built-in robots do
-  not use it: their files and models are as they were.
+  not use it: their files and models are as they were. The Bridge setups' gripper is
+  the same gripper (ManiSkill's Bridge robot is its plain WidowX 250 S, same model file)
+  with the tuned finger drive: the piece with ``actuators = (BRIDGE_FINGER_DRIVES,)``
+  on a subclass, not a piece of its own (tests/test_widowx_bridge_gripper.py).
 - Keyframes: ``home`` is Menagerie's keyframe of the wx250s; ``zero`` is Interbotix's
   home pose (every joint at 0, the arm stretched out); ``sleep`` is Interbotix's sleep
   pose (``sleep_positions`` of the same config file).
@@ -69,7 +79,7 @@ from typing import ClassVar
 import mujoco
 import numpy as np
 
-from robot_agents.actuators.config import PDActuator
+from robot_agents.actuators.config import ActuatorConfig, PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.agent.declaration import ModeConfig
 from robot_agents.controllers.ee_config import CommandFrame, PDEEPoseConfig
@@ -144,11 +154,15 @@ WX250S_ARM_DRIVES = PDActuator(
     velocity_limit=ARM_VELOCITY,
     armature=ARM_ARMATURE,
 )
-#: The fingers' drive (the gripper servo through its horn), both fingers.
+#: The fingers' drive (the gripper servo through its horn), both fingers: the P loop's
+#: force clamped to the stall force, and the motor's back-EMF as the joints' damping,
+#: outside the clamp, so that at full effort a finger runs at most at the no-load speed,
+#: FINGER_EFFORT / FINGER_DAMPING = FINGER_VELOCITY (see the module docstring).
 WX250S_FINGER_DRIVES = PDActuator(
     joints=FINGER_PATTERN,
     stiffness=FINGER_STIFFNESS,
-    damping=FINGER_DAMPING,
+    damping=0.0,
+    joint_damping=FINGER_DAMPING,
     effort_limit=FINGER_EFFORT,
     velocity_limit=FINGER_VELOCITY,
     armature=FINGER_ARMATURE,
@@ -189,12 +203,19 @@ class WidowX250SGripper(Agent):
 
     mjcf_path = ASSETS / "wx250s_gripper.xml"
     tcp = "ee_gripper_link"
-    actuators = (WX250S_FINGER_DRIVES,)
+    actuators: ClassVar[tuple[ActuatorConfig, ...]] = (WX250S_FINGER_DRIVES,)
     parts = (WX250S_GRIPPER,)
     link_materials = {"left_finger_link": FINGER_PAD, "right_finger_link": FINGER_PAD}
     # The fingers slide along the bar they ride on; the pair never needs a contact.
     self_collision_exclusions = (("gripper_bar_link", "left_finger_link"), ("gripper_bar_link", "right_finger_link"))
     keyframes = {"open": Keyframe(qpos={"left_finger": 0.037})}
+
+
+class _UndrivenWidowX250SGripper(WidowX250SGripper):
+    """:class:`WidowX250SGripper` without the fingers' drive, which the piece below
+    declares itself (so that a subclass of the piece can declare another)."""
+
+    actuators = ()
 
 
 class WidowX250SGripperPiece(Agent):
@@ -203,17 +224,26 @@ class WidowX250SGripperPiece(Agent):
     face, its z axis out of the flange (every built-in piece's convention), carrying the
     gripper's servo link ``gripper_link`` turned -90 deg about y (the WidowX's own frames
     point x out of the wrist: ``wx250s_gripper_mount.xml``) and, on its ``ee_arm_link``,
-    :class:`WidowX250SGripper` (bar and fingers, as on the arm). The fingers slide along
-    the mount's y; TCP ``ee_gripper_link``, 0.093575 m out of the flange; part
-    ``gripper`` with the fingers' drive; keyframes ``open`` (default, 74 mm between
-    the pads) and ``closed`` (30 mm, the fingers' stop).
+    the bar and fingers of :class:`WidowX250SGripper` (as on the arm). The fingers slide
+    along the mount's y; TCP ``ee_gripper_link``, 0.093575 m out of the flange; part
+    ``gripper``; keyframes ``open`` (default, 74 mm between the pads) and ``closed``
+    (30 mm, the fingers' stop).
+
+    The fingers' drive is the piece's own ``actuators``, the servo's through its horn
+    (:data:`WX250S_FINGER_DRIVES`, as on the arm). The Bridge setups' gripper is this
+    gripper with ManiSkill's tuned drive (same model file and bodies there, other gains),
+    so it is this piece with that drive declared on a subclass::
+
+        class BridgeTunedWidowXGripper(WidowX250SGripperPiece):
+            actuators = (BRIDGE_FINGER_DRIVES,)
 
     qpos order: ``left_finger``, ``right_finger`` (the right finger mirrors the left).
     """
 
     mjcf_path = ASSETS / "wx250s_gripper_mount.xml"
     tcp = "ee_gripper_link"
-    attachments: ClassVar[Sequence[Attachment]] = (Attachment(WidowX250SGripper, at="ee_arm_link"),)
+    actuators = (WX250S_FINGER_DRIVES,)
+    attachments: ClassVar[Sequence[Attachment]] = (Attachment(_UndrivenWidowX250SGripper, at="ee_arm_link"),)
     keyframes = {
         "open": Keyframe(qpos={"left_finger": 0.037}),
         "closed": Keyframe(qpos={"left_finger": 0.015}),

@@ -52,6 +52,10 @@ TOOL_STEP, SLOW_STEP = 0.015, 0.005
 STANDOFF_EDGES, STANDOFF = 1.0, 0.06
 DEPTH_EDGES = 0.2
 LIFT = 0.1
+#: How far above the table the fingertips stay, coming from above (m; as
+#: ``scripted_pick.py``'s PickCube solver): the grasp point goes no lower than the table
+#: plus the fingers' reach past it (``layout.gripper.tip_reach``) plus this.
+TIP_CLEARANCE = 0.002
 
 
 @dataclass(frozen=True)
@@ -205,7 +209,10 @@ def pick(robot_uid: str, seed: int, video: str | None = None) -> PickResult:
         standoff = STANDOFF_EDGES * edge + STANDOFF
         # from above the fingers reach past the middle; from the side they close on the
         # centre, so that the cube does not turn about the line between the fingers
-        grasp_at = cube + approach * DEPTH_EDGES * edge * max(0.0, -float(approach[2]))
+        down = max(0.0, -float(approach[2]))
+        grasp_at = cube + approach * DEPTH_EDGES * edge * down
+        if down > 0.0:  # the fingertips above the table (the Google Robot's reach 26 mm past its grasp point)
+            grasp_at[2] = max(grasp_at[2], layout.table_height + layout.gripper.tip_reach * down + TIP_CLEARANCE)
         lifted_to = grasp_at + np.array([0.0, 0.0, LIFT])
         stages = (  # (grasp point goal, gripper open, tolerance (m), at most steps, tool speed)
             (cube - approach * standoff, True, 0.01, 80, TOOL_STEP),

@@ -26,12 +26,14 @@ def assert_grasps_lifts_and_holds(
     cube_mass: float,
     min_force: float,
     after_close: Callable[[], None] | None = None,
+    held_at: str | None = None,
 ) -> None:
     """``grasp`` / ``lift``: the arm's action at the cube and 10 cm above it; ``fingers``:
     the bodies of each of the two fingers (names with the robot's prefix); the cube
     and the pedestal are the scene's props ``cube`` and ``pedestal``. ``min_force``
     (N): each finger's smallest squeeze; ``after_close`` runs robot-specific checks
-    once the fingers are closed."""
+    once the fingers are closed; ``held_at``: the robot's frame the cube stays at
+    (within 1 cm; default: the tool frame)."""
     agent = scene.agents[0]
     for _ in range(10):
         act(grasp, 1.0)
@@ -56,7 +58,8 @@ def assert_grasps_lifts_and_holds(
         act(grasp + blend * (lift - grasp), -1.0)
     cube_pose = scene.body_pose("cube")[0]
     assert cube_pose[2] - start[2] == pytest.approx(0.1, abs=0.01)
-    assert np.linalg.norm(cube_pose[:3] - agent.tcp_pose[0, :3]) < 0.01  # still between the fingers
+    held = agent.tcp_pose[0, :3] if held_at is None else agent.frame_pose(held_at)[0, :3]
+    assert np.linalg.norm(cube_pose[:3] - held) < 0.01  # still between the fingers
     assert agent.is_grasping("cube")[0]
     first, second, under = scene.world.contact_forces([*body_ids, [pedestal]], cube)[0]
     assert not np.any(under)

@@ -3,6 +3,7 @@ and what is available, and leaves the simulation exactly as it was."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -361,6 +362,12 @@ def test_unknown_gripper_and_finger_names(pendulum_file: Path) -> None:
     cls = make_pendulum_class(pendulum_file, parts=gripper("elbow", ("link1", "lnk2")))
     with pytest.raises(ra.UnknownNameError, match=r"fingers.*Did you mean 'link2'"):
         ra.Scene(cls)
+    arm, jaw = gripper("elbow", ("link1", "link2"))
+    cls = make_pendulum_class(pendulum_file, parts=(arm, dataclasses.replace(jaw, grasp_frame="lnk2")))
+    with pytest.raises(ra.UnknownNameError, match=r"'gripper'\.grasp_frame.*'lnk2'.*Did you mean 'link2'"):
+        ra.Scene(cls)
+    with pytest.raises(ra.ConfigError, match=r"grasp_frame: expected a body or site name or None, got ''"):
+        dataclasses.replace(jaw, grasp_frame="")
 
 
 def test_scene_reset_checks_every_robot_before_rewinding_any_env() -> None:

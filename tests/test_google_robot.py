@@ -4,6 +4,7 @@ IK accuracy, the head camera on its link, and base odometry."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import mujoco
@@ -12,7 +13,11 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.checks import hold_action
+from robot_agents.envs.tasks.layout import table_top_layout
 from robot_agents.kinematics import IKSolver, resolve_frame
+from robot_agents.robots.google_robot.google_robot import GoogleRobot
+from robot_agents.tuning.claims import Penetration
+from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import (
     ChainJoint,
     assert_camera_on_frame,
@@ -37,8 +42,8 @@ ARM = (
 X, Y, Z = np.eye(3)
 # ManiSkill2_real2sim google_robot_meta_sim_fix_fingertip.urdf: joint origins (in the
 # parent link) and axes, from link_base (0.06205 m above the floor) to link_gripper; then
-# our link_gripper_tcp (0.15 m out: not the URDF's, see google_robot.py); the head chain
-# to link_camera.
+# its gripper_tcp_joint to link_gripper_tcp (xyz, and rpy as URDF's fixed-axis roll,
+# pitch, yaw); the head chain to link_camera.
 ARM_ORIGINS = [
     ((0.0, 0.0, 0.5945), Z),
     ((0.0, -0.16728852885, 0.113), Y),
@@ -48,7 +53,9 @@ ARM_ORIGINS = [
     ((0.0, -0.00604, 0.2735), Y),
     ((0.0, 0.0060384, 0.10911), Z),
 ]
-TCP = (0.0, 0.0, 0.15)
+TCP = (4.3374896e-03, 1.8852949e-03, 1.6353297e-01)
+TCP_RPY = (-0.001328879239766479, -0.00443973089771006, -0.0008686511567993004)
+TCP_ROTATION = axis_rotation(Z, TCP_RPY[2]) @ axis_rotation(Y, TCP_RPY[1]) @ axis_rotation(X, TCP_RPY[0])
 HEAD_ORIGINS = [((0.0, 0.0, 1.16902), Z), ((0.07181, 0.0, 0.11848), Y)]
 CAMERA_MOUNT = (0.10488, 0.0, 0.0)
 BASE_HEIGHT = 0.06205
@@ -76,7 +83,7 @@ def test_forward_kinematics_match_the_urdf_joint_origins() -> None:
     configurations[:, agent.qpos_adr] = q
     poses = agent.kinematics.pose(configurations, frame)
     for i in range(20):
-        expected = base_chain(q[i, base], ARM_ORIGINS, q[i, arm]) @ transform(np.eye(3), np.array(TCP))
+        expected = base_chain(q[i, base], ARM_ORIGINS, q[i, arm]) @ transform(TCP_ROTATION, np.array(TCP))
         np.testing.assert_allclose(poses[i, :3], expected[:3, 3], atol=1e-6)
         rotation = np.zeros(9)
         mujoco.mju_quat2Mat(rotation, poses[i, 3:])
@@ -103,10 +110,10 @@ def test_limits_masses_and_drives_from_the_data() -> None:
 
 
 # ---------------------------------------------------------------- IK
-def arm_solver(scene: ra.Scene) -> IKSolver:
+def arm_solver(scene: ra.Scene, frame_name: str = "link_gripper_tcp") -> IKSolver:
     agent = scene.agents[0]
     arm = np.array(index(agent, ARM))
-    frame = resolve_frame(scene.model, "link_gripper_tcp", agent.prefix)
+    frame = resolve_frame(scene.model, frame_name, agent.prefix)
     return IKSolver(agent.kinematics, frame, agent.qpos_adr[arm], agent.dof_adr[arm], agent.qpos_limits[arm])
 
 
@@ -136,38 +143,43 @@ def test_gripper_open_closed_and_half() -> None:
     scene.close()
 
 
-#: A 4 cm, 100 g cube on a pedestal in front of the robot, grasped from above.
+#: A 4 cm, 100 g cube on a pedestal in front of the robot, grasped from above with the
+#: gripper's grasp frame (``link_gripper_grasp``, 19.6 mm short of the URDF's TCP, which
+#: lies near the fingertips' ends) at its centre.
 DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # tool z along world -z
 CUBE_MASS, CUBE_HALF = 0.1, 0.02
-TOOL = (0.6, -0.2, 0.45)
-PAD_OFFSET = 0.0
+GRASP = (0.6, -0.2, 0.45)
+GRASP_FRAME = "link_gripper_grasp"
 
 
 def solve_down(scene: ra.Scene, position: tuple[float, float, float], seed: np.ndarray) -> np.ndarray:
     target = np.concatenate([position, DOWN])[None]
-    result = arm_solver(scene).solve(scene.world.qpos, target, seed[None], max_iterations=200, restarts=10)
+    solver = arm_solver(scene, GRASP_FRAME)
+    result = solver.solve(scene.world.qpos, target, seed[None], max_iterations=200, restarts=10)
     assert result.success[0], (result.position_error, result.rotation_error)
     return result.qpos[0]
 
 
 def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
-    cube_z = TOOL[2] + PAD_OFFSET
+    cube_z = GRASP[2]
     props = [
         ra.Prop(
             name="pedestal",
             shape="box",
             size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
-            pos=(TOOL[0], TOOL[1], (cube_z - CUBE_HALF) / 2),
+            pos=(GRASP[0], GRASP[1], (cube_z - CUBE_HALF) / 2),
             mass=None,
         ),
-        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(TOOL[0], TOOL[1], cube_z + 1e-4), mass=CUBE_MASS),
+        ra.Prop(
+            name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(GRASP[0], GRASP[1], cube_z + 1e-4), mass=CUBE_MASS
+        ),
     ]
     scene = ra.Scene("google_robot", props=props, control_modes="pd_joint_pos")
     scene.reset(keyframes="rest")
     agent = scene.agents[0]
     arm = index(agent, ARM)
-    grasp = solve_down(scene, TOOL, agent.qpos[0, arm])
-    lift = solve_down(scene, (TOOL[0], TOOL[1], TOOL[2] + 0.1), grasp)
+    grasp = solve_down(scene, GRASP, agent.qpos[0, arm])
+    lift = solve_down(scene, (GRASP[0], GRASP[1], GRASP[2] + 0.1), grasp)
     qpos = agent.qpos[0].copy()
     qpos[arm] = grasp
     agent.reset(qpos=qpos)  # fingers open around the cube
@@ -183,7 +195,7 @@ def test_gripper_grasps_lifts_and_holds_a_cube() -> None:
         [agent.prefix + "link_finger_right", agent.prefix + "link_finger_tip_right"],
         [agent.prefix + "link_finger_left", agent.prefix + "link_finger_tip_left"],
     ]
-    assert_grasps_lifts_and_holds(scene, act, grasp, lift, fingers, CUBE_MASS, min_force=1.0)
+    assert_grasps_lifts_and_holds(scene, act, grasp, lift, fingers, CUBE_MASS, min_force=1.0, held_at=GRASP_FRAME)
     scene.close()
 
 
@@ -232,3 +244,35 @@ def test_differential_base_odometry() -> None:
         scene.step()
     assert agent.base_rot[0] - math.pi / 2 == pytest.approx(1.0, rel=0.05)
     scene.close()
+
+
+# ---------------------------------------------------------------- grasp frame
+def test_layout_measures_the_gripper_at_its_grasp_frame() -> None:
+    """The URDF's TCP lies near the fingertips' ends, where the open fingers are 19 cm
+    apart: the layout measures the gripper at ``link_gripper_grasp`` instead (its grasp
+    point is that frame's position in the TCP's frame, its cube half the opening
+    there: 77.9 mm), and the sweep's grasp claim holds at the default step. Measured at
+    the TCP (the same robot without ``grasp_frame``), the cube is 95.8 mm: wider than
+    the fingertips, 75.2 mm apart where they stand parallel, so the fingers close on it
+    at their knuckles, and the claim fails (12.9 mm at 500 Hz: the cube swings on the
+    knuckles' edges; 0.33 mm at the grasp frame)."""
+    layout = table_top_layout(GoogleRobot)
+    assert layout.gripper is not None
+    scene = ra.Scene("google_robot")
+    scene.reset(keyframes="rest")
+    grasp_in_tcp = scene.agents[0].frame_pose(GRASP_FRAME, relative_to="tcp")[0, :3]
+    scene.close()
+    np.testing.assert_allclose(layout.gripper.grasp_point, grasp_in_tcp, atol=2e-4)  # the gap's middle: 0.1 mm off
+    assert 2 * layout.cube_half_size == pytest.approx(0.0779, abs=5e-4)
+    held = grasp_claim(GoogleRobot, 500, 20, Penetration())
+    assert held is not None and held.passed, held
+
+    gripper = dataclasses.replace(GoogleRobot.parts[1], grasp_frame=None)
+    at_tcp = type(
+        "GoogleRobotGraspAtTcp",
+        (GoogleRobot,),
+        {"uid": "", "parts": (*GoogleRobot.parts[:1], gripper, *GoogleRobot.parts[2:])},
+    )
+    assert 2 * table_top_layout(at_tcp).cube_half_size == pytest.approx(0.0958, abs=5e-4)
+    lost = grasp_claim(at_tcp, 500, 20, Penetration())
+    assert lost is not None and not lost.passed, lost

@@ -119,6 +119,8 @@ def _prefix_part(part: Part, prefix: str) -> Part:
         )
     if isinstance(part, Gripper):
         changes["fingers"] = tuple(tuple(prefix + link for link in finger) for finger in part.finger_links)
+        if part.grasp_frame is not None:
+            changes["grasp_frame"] = prefix + part.grasp_frame
     if isinstance(part, Hand) and part.power_grasp is not None:
         changes["power_grasp"] = dataclasses.replace(part.power_grasp, link=prefix + part.power_grasp.link)
     return dataclasses.replace(part, **changes)
@@ -917,6 +919,8 @@ def _resolve_parts(
             for finger in part.finger_links:
                 for link in finger:
                     index.body_id(link, f"{where} {part.name!r}.fingers")
+            if part.grasp_frame is not None:
+                resolve_frame(model, part.grasp_frame, "", f"{where} {part.name!r}.grasp_frame")
             n = len(resolved[part.name])
             for attr in ("open", "closed"):
                 value = np.asarray(getattr(part, attr), dtype=np.float64).reshape(-1)

@@ -141,6 +141,12 @@ class Gripper(Part):
             link (a fixed jaw on the hand does not take the moving jaw's contacts); a
             grasp needs opposing contact forces from at least two fingers.
         tolerance: how close to ``open`` / ``closed`` counts as open / closed (rad or m).
+        grasp_frame: a body or site between the fingers where a grasped object's centre
+            goes, where that is not the arm's tool frame (a tool frame at the fingertips'
+            ends, as the Google Robot's URDF puts its ``link_gripper_tcp``): the table-top
+            layout measures the gripper's opening, and so its cube, there, and the
+            scripted solvers and the time-step sweep's grasp claim put the object's
+            centre there. ``None``: the tool frame.
     """
 
     kind: ClassVar[PartKind] = PartKind.GRIPPER
@@ -149,6 +155,7 @@ class Gripper(Part):
     fingers: tuple[str | tuple[str, ...], ...] = ()
     squeeze: float = 0.0
     tolerance: float = 0.005
+    grasp_frame: str | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -161,6 +168,8 @@ class Gripper(Part):
         where = f"{type(self).__name__} {self.name!r}"
         check_real(self.squeeze, "squeeze", where, minimum=0.0, unit=" (rad or m past closed)")
         check_real(self.tolerance, "tolerance", where, minimum=0.0, unit=" (rad or m)")
+        if self.grasp_frame is not None and not (isinstance(self.grasp_frame, str) and self.grasp_frame):
+            raise ConfigError(f"{where}.grasp_frame: expected a body or site name or None, got {self.grasp_frame!r}.")
         for attr in ("open", "closed"):
             value = getattr(self, attr)
             try:

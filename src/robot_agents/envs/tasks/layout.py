@@ -42,7 +42,8 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   ahead when a cube drawn near the centre's robot side could overhang that edge.
   ``robot_pose`` is this stance (where a mobile task docks the base).
 - **Cube**: its edge is half the opening of the gripper (the distances from the tool
-  point to each finger's colliding geoms, gripper open, summed), 4 cm for the Panda;
+  point, or the gripper's ``grasp_frame``, to each finger's colliding geoms, gripper
+  open, summed), 4 cm for the Panda;
   for a robot without a gripper, ``0.04 R``. Density 1000 kg/m^3 (water).
 - **Randomization scale**: cubes and goals are drawn within ``0.1 R`` of the
   workspace centre (the Panda's: 0.095 m; ManiSkill's PickCube uses 0.1 m).
@@ -131,13 +132,14 @@ class GripperGeometry:
     """The open gripper as seen from its tool point (vectors in the tool frame).
 
     Attributes:
-        opening: gap between the open fingers at the tool point (m).
-        grasp_point: the middle of the gap on the closing axis through the tool point
-            (m): where an object's centre goes for a grasp.
+        opening: gap between the open fingers at the grasp point (m): the tool point, or
+            the gripper's ``grasp_frame`` where it declares one.
+        grasp_point: the middle of the gap on the closing axis through that point (m):
+            where an object's centre goes for a grasp.
         closing_axis: unit vector from the first finger towards the second, square to
             the approach axis.
-        approach_axis: unit vector from the arm's last joint to the tool point: the way
-            the fingers point.
+        approach_axis: unit vector from the arm's last joint to the point the opening is
+            measured at: the way the fingers point.
         tip_reach: how far the fingers' colliding geometry reaches past the grasp point
             along the approach axis at any point of their stroke, open to closed (m): a
             grasp from above keeps the grasp point at least this high over the table.
@@ -496,8 +498,10 @@ def _jaw_closing(
 def _gripper_geometry(
     agent: Agent, probe: Scene, data: mujoco.MjData, keyframe: FloatArray, tool: Any, wrist: int, where: str
 ) -> GripperGeometry | None:
-    """The open gripper measured at the tool point: the nearest point of each finger's
-    colliding geoms to it (MuJoCo's signed geom distances from a probe sphere there)."""
+    """The open gripper measured at its grasp point: the nearest point of each finger's
+    colliding geoms to it (MuJoCo's signed geom distances from a probe sphere there). The
+    grasp point is the gripper's ``grasp_frame`` where it declares one, else the tool
+    point; the results are in the tool frame."""
     parts = agent.grippers.parts
     if not parts:
         return None
@@ -515,9 +519,12 @@ def _gripper_geometry(
     point = np.empty(7)
     agent.kinematics.load(data.qpos.copy())
     agent.kinematics.loaded_pose(tool, point)
+    measured_at = point.copy()  # the grasp frame's pose, where the gripper declares one
+    if gripper.grasp_frame is not None:
+        agent.kinematics.loaded_pose(agent.frames.frame(gripper.grasp_frame, where + " grasp_frame"), measured_at)
     probe_body = model.body("layout_probe")
     adr = int(model.jnt_qposadr[probe_body.jntadr[0]])
-    data.qpos[adr : adr + 3] = point[:3]
+    data.qpos[adr : adr + 3] = measured_at[:3]
     mujoco.mj_kinematics(model, data)
     probe_geom = model.geom("layout_probe").id
     radius = float(model.geom_size[probe_geom, 0])
@@ -540,12 +547,12 @@ def _gripper_geometry(
     if not opening > 0.0:
         return None
     # Into the tool frame: the closing axis (first finger's nearest point to the
-    # second's), the approach axis (wrist joint to tool point), the grasp point.
+    # second's), the approach axis (wrist joint to the point measured at), the grasp point.
     rotation = np.empty(9)
     mujoco.mju_quat2Mat(rotation, point[3:])
     to_tool = rotation.reshape(3, 3).T
     closing = to_tool @ (nearest_points[1] - nearest_points[0])
-    approach = to_tool @ (point[:3] - data.xanchor[wrist])
+    approach = to_tool @ (measured_at[:3] - data.xanchor[wrist])
     approach /= max(float(np.linalg.norm(approach)), 1e-9)
     closing -= approach * float(closing @ approach)
     closing /= max(float(np.linalg.norm(closing)), 1e-9)
@@ -556,7 +563,8 @@ def _gripper_geometry(
         length = float(np.linalg.norm(swept))
         if length > 1e-9 and abs(float(closing @ swept)) < JAW_AXIS_AGREEMENT * length:
             closing = swept / length
-    grasp = closing * 0.5 * (gaps[1] - gaps[0])  # the middle of the gap, on the closing axis
+    # the middle of the gap, on the closing axis through the point measured at
+    grasp = to_tool @ (measured_at[:3] - point[:3]) + closing * 0.5 * (gaps[1] - gaps[0])
     # the fingers' farthest reach along the approach axis (their geoms' boxes), over
     # their stroke from open to closed (a linkage's pads swing out past the tool point
     # halfway: the Robotiq 2F-85's pressed on the table while closing on a cube)

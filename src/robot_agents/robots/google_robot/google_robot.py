@@ -10,12 +10,26 @@ Sources of the numbers:
   forward of the tilt link, OpenCV axes): ManiSkill2_real2sim's
   ``googlerobot_description/google_robot_meta_sim_fix_fingertip.urdf``
   (github simpler-env/ManiSkill2_real2sim), the model of SimplerEnv's Google Robot.
-- Two values are ours, not that URDF's (tuned together for our primitive fingers): the
-  grasp frame ``link_gripper_tcp`` 0.15 m along the gripper's axis (the URDF's sits at
-  (0.0043, 0.0019, 0.1635) m, slightly turned; 0.15 m is a commented-out alternative in
-  its ``..._fix_wheel_fix_fingertip`` variants) and the finger tips turned 0.6 rad on the
-  fingers (the URDF's 0.45 rad). With either of the URDF's values the time-step sweep's
-  grasp claim fails at every step (docs/notes/robot-facts-audit.md, 2026-11-29).
+- The tool frame ``link_gripper_tcp``, which the end-effector modes command, is the
+  URDF's (``gripper_tcp_joint``: xyz (0.0043374896, 0.0018852949, 0.16353297) m, rpy
+  (-0.0013289, -0.0044397, -0.00086865) rad on ``link_gripper``), the frame SimplerEnv's
+  end-effector controllers command (``ee_link_name``), so RT-1 / SimplerEnv policies'
+  end-effector actions mean the same here; the finger tips are turned 0.45 rad on the
+  fingers, as the URDF's ``joint_finger_tip_*``.
+- Ours: the gripper's ``grasp_frame`` ``link_gripper_grasp``, 0.1439 m along the
+  gripper's axis (19.6 mm short of the TCP, which lies near the fingertips' ends): the
+  middle of our fingertip boxes where they stand parallel (fingers at 1.15 - 0.45 =
+  0.70 rad, the tips' faces 75.2 mm apart). The table-top layout measures the open
+  gripper there (cube 77.9 mm) and the scripted solvers and the sweep's grasp claim put
+  the cube's centre there. Measured at the URDF's TCP the open fingers are 19.2 cm
+  apart, and the cube (95.8 mm) is wider than the parallel tips: the fingers close on it
+  at 0.53 rad with the tips flared 0.17 rad, touching it only along their knuckles' edges,
+  and the cube swings on those edges under its weight: the sweep's grasp claim moves it
+  12.9 mm at 500 Hz, 6.2-44.6 mm at 160-800 Hz, 1.9 mm at 1 kHz (17.0 mm at 500 Hz with
+  friction 1.0); at the grasp frame 0.25-0.45 mm at 200 Hz-1 kHz, 1.26 mm at 160 Hz
+  (tests/test_google_robot.py; 2026-11-29 09:45 UTC).
+  Until 2026-11-29 the TCP was ours, 0.15 m out on the axis, with 0.6 rad tips
+  (docs/notes/robot-facts-audit.md).
   The arm's joint names, origins and ranges agree with MuJoCo Menagerie's
   ``google_robot/robot.xml`` (which fixes the head and wheels to the base).
 - Masses, centres of mass and inertias: Menagerie's ``robot.xml`` (torso, shoulder,
@@ -50,7 +64,8 @@ Sources of the numbers:
   Google Robot sets none. With MuJoCo's default contact the sweep's 83 mm cube, squeezed
   at 130 N per finger (|f_t| / f_n < 0.04 against 1.0), crept 3 mm/s along the tips:
   MuJoCo's soft friction (creep about (1 - d) / d * a / b, d the impedance,
-  b = 2 / (d * time constant)), not sliding; now 0.5-1.1 mm in 2 s at 320 Hz-1 kHz.
+  b = 2 / (d * time constant)), not sliding. Friction on the tips: SimplerEnv's 2.0
+  (``FINGER_PAD``; 1.0 until 2026-11-29, SimplerEnv's "HalfFingerFriction" variant).
 - Gripper action: -1 closed (1.3 rad), +1 open (0 rad), as every built-in gripper;
   ManiSkill's mimic gripper has the opposite sign (negate that action to port a policy).
 - Keyframes: ``rest`` is SimplerEnv's start pose of ``google_robot_static`` (arm, open
@@ -139,8 +154,8 @@ GOOGLE_ROBOT_ARM = Arm(
     end_effectors=(EndEffector("link_gripper_tcp", name="tcp", command_frame="link_base"),),
     task_space=GOOGLE_ROBOT_TASK_SPACE,
 )
-#: Open at the URDF's lower stop (tips 18 cm apart); the tips meet at about 1.15 rad and
-#: the closed state is the URDF's upper stop (1.3 rad).
+#: Open at the URDF's lower stop; the closed state is the URDF's upper stop (1.3 rad).
+#: ``grasp_frame``: ours, see the module doc.
 GOOGLE_ROBOT_GRIPPER = Gripper(
     name="gripper",
     joints=FINGER_PATTERN,
@@ -151,6 +166,7 @@ GOOGLE_ROBOT_GRIPPER = Gripper(
         ("link_finger_left", "link_finger_tip_left"),
     ),
     tolerance=0.02,
+    grasp_frame="link_gripper_grasp",
 )
 GOOGLE_ROBOT_HEAD = Head(name="head", joints=HEAD_PATTERN)
 GOOGLE_ROBOT_BASE = Base(
@@ -164,8 +180,13 @@ GOOGLE_ROBOT_BASE = Base(
     wheel_separation=WHEEL_SEPARATION,
 )
 
-#: Finger tips (SimplerEnv: static and dynamic friction 1.0 on the fingers and tips).
-FINGER_PAD = FrictionMaterial(sliding=1.0, torsional=0.01, rolling=0.0001)
+#: Finger tips: SimplerEnv's static and dynamic friction 2.0
+#: (``GoogleRobotDefaultConfig(finger_friction=2.0)``, the config of
+#: ``google_robot_static``; the URDF's tips say ``lateral_friction`` 2.0 too). SimplerEnv
+#: gives the finger links 2.0 as well; ours keep MuJoCo's 1.0: with 2.0 on them the soft
+#: edge of a finger base sank 7.0 mm into the sweep's cube during the hold (the
+#: penetration claim failed at every step, 2026-11-29).
+FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
 
 #: SimplerEnv's tuned overhead camera intrinsics (ManiSkill2_real2sim
 #: ``GoogleRobotManualTunedIntrinsicConfig``; ManiSkill 3.0.1's ``googlerobot.py`` has the
@@ -227,9 +248,9 @@ class GoogleRobot(Agent):
     #: step; docs/timestep.md): hold, random actions, end-effector tracking and
     #: penetration hold from 160 Hz down to 1 kHz; settle from 320 Hz (with the head's
     #: damping at 90; the forearm turns at 4.4 rad/s at 200 Hz); grasp, with the
-    #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (the 83 mm cube
-    #: moves 1.06 mm in the 2 s hold at 320 Hz, 0.54-0.94 mm at 400 Hz-1 kHz; 4.9-6.4 mm
-    #: with MuJoCo's default contact). Every claim held from 320 Hz with one
+    #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (2026-11-29,
+    #: with the URDF's TCP and tips and the grasp frame: the 77.9 mm cube moves
+    #: 0.25-0.45 mm in the 2 s hold at 200 Hz-1 kHz). Every claim held from 320 Hz with one
     #: random-action seed; with three (2026-11-23 14:00 UTC rerun) the forearm cycles
     #: between its torque limits at 320 Hz (2.9 rad/s, seed 2), every claim holds from
     #: 400 Hz, and the analysis of ``robot_agents.tuning.cycles`` puts the forearm's

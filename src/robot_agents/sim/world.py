@@ -400,9 +400,10 @@ class BatchedWorld:
         ``mj_kinematics``, ``mj_camlight``)."""
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
-        if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
+        if self.num_envs == 1 and env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and env_ids[0] == 0:
             # the one env (the per-step writes of wheels, kinematic bases and held legs):
-            # the same writes and calls, without the id conversion and the loop
+            # the same writes and calls, without the id conversion, the loop and the
+            # helper calls (_derive written out)
             data = self._data0
             self._qpos0[qa] = qpos[0]
             self._qvel0[da] = qvel[0]
@@ -411,7 +412,11 @@ class BatchedWorld:
             else:
                 self._warmstart0[da] = warmstart[0]
             self._data_ctrl0[:] = self._ctrl0
-            _derive(model, data, forward)
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
             self._cache.clear()
             return
         ids = self._ids(env_ids, "BatchedWorld.write_joint_state")

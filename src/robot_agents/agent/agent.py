@@ -304,6 +304,13 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """Per-substep hook: interpolated targets, explicit PD loops."""
         self.control.active.before_substep(substep, substeps, self.world)
 
+    @property
+    def writes_after_step(self) -> bool:
+        """True when :meth:`after_step` writes joint state in every env (recomputing their
+        poses) before it reads anything but joint positions: a base whose wheels turn or
+        that moves kinematically."""
+        return self.mobile.moves_each_step
+
     def before_step(self) -> None:
         """Before a control step's physics: the base remembers its pose (kinematic
         bases and wheels)."""

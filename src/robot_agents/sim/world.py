@@ -282,7 +282,8 @@ class BatchedWorld:
     @property
     def qpos(self) -> FloatArray:
         """All joint positions, shape ``(num_envs, nq)`` (read-only)."""
-        return self._gather("qpos")
+        cached = self._cache.get("qpos")  # (the cache looked up here: read several times a step)
+        return cached if cached is not None else self._gather("qpos")
 
     @property
     def qvel(self) -> FloatArray:

@@ -76,6 +76,8 @@ class PDBaseVelController(PDJointVelController):
         super().__init__(config, binding, context)  # type: ignore[arg-type]
         self._yaw_adr = int(binding.qpos_adr[2])
         self._half_step = 0.5 * context.control_timestep  # s
+        self._holonomic = config.holonomic
+        self._velocity = self.targets.velocity  # the drives' buffer (never replaced)
 
     def _heading(self, yaw: FloatArray, turn: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``cos`` and ``sin`` of the heading at mid-step, ``yaw + wz dt / 2``, and the
@@ -132,10 +134,10 @@ class PDBaseVelController(PDJointVelController):
             heading, share = yaw + half, float(np.sin(half)) / half
         cos, sin = float(np.cos(heading)), float(np.sin(heading))
         forward = action[0] * share
-        lateral = action[1] * share if self.config.holonomic else 0.0
+        lateral = action[1] * share if self._holonomic else 0.0
         target = np.array([[cos * forward - sin * lateral, sin * forward + cos * lateral, turn]])
         self.target_qvel = target
-        self.targets.velocity[:, self.binding.column_sel] = target
+        self._velocity[:, self.binding.column_sel] = target
 
     def describe(self) -> str:
         kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"

@@ -85,7 +85,7 @@ class MobileBase:
         self._wheel_speeds = np.zeros((1, len(self.wheels)))
         # one env: the planar joints' positions (m, m, rad) of a kinematic move, ``(1, 3)``
         self._planar_end = np.zeros((1, len(self._planar_list)))
-        #: One env, wheels only: its ``qpos`` at the step's start (Python floats), else None.
+        #: One env without the collision check: its ``qpos`` at the step's start (Python floats), else None.
         self._start_row: list[float] | None = None
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).

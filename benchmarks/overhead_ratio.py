@@ -16,7 +16,8 @@ default ``sim_freq``, control 20 Hz):
    plain ``MjData`` of the same model redoes exactly those calls: ``data.ctrl[:] = u``,
    ``mj_step(model, data, n)``, the recorded joint-state writes with the same MuJoCo calls,
    then the minimum that reading the same observation needs: ``mj_kinematics`` (body
-   poses at the stepped ``qpos``; ``mj_step`` leaves them one substep behind) and one
+   poses at the stepped ``qpos``; ``mj_step`` leaves them one substep behind; not after a
+   step that ends with a joint-state write, which recomputed them) and one
    ``np.concatenate`` of ``qpos``, ``qvel``, ``ctrl`` and the tool body's position and
    quaternion into a float32 vector. The script checks that the replay ends in the
    env's exact integration state (bit for bit), so both loops simulate the same thing.
@@ -215,7 +216,8 @@ def measure(
                 else:
                     mujoco.mj_kinematics(model, data)
                     mujoco.mj_camlight(model, data)
-        mujoco.mj_kinematics(model, data)
+        if per_step[step][-1][0] == "step":  # (a write last recomputed the poses)
+            mujoco.mj_kinematics(model, data)
         np.concatenate((data.qpos, data.qvel, data.ctrl, data.xpos[body], data.xquat[body]), dtype=np.float32)
 
     def replay_loop(count: int) -> None:

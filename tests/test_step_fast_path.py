@@ -13,9 +13,11 @@ import numpy as np
 import pytest
 
 import robot_agents as ra
+from robot_agents.actuators.drives import DriveOverride
 
 CASES = [
     ("panda", "pd_joint_delta_pos", "Empty-v1"),
+    ("fetch", "pd_joint_vel", "Empty-v1", {"base_dynamics": "kinematic"}),  # a kinematic move and wheels
     ("panda", "pd_ee_delta_pose", "Empty-v1"),
     ("panda", "pd_joint_pos", "PickCube-v1"),  # task observations (the cube) after the robot's
     ("panda_touch", "pd_joint_delta_pos", "Empty-v1"),  # touch sensors
@@ -38,10 +40,12 @@ def _general_obs(env: Any) -> np.ndarray:
     return np.concatenate(env._observation.state_arrays(), axis=1, dtype=np.float32)
 
 
-@pytest.mark.parametrize(("uid", "mode", "task"), CASES)
-def test_one_env_steps_bit_for_bit_as_env_zero_of_a_batch(uid: str, mode: str, task: str) -> None:
-    single = ra.make_env(task, robot_uids=uid, control_mode=mode, max_episode_steps=None)
-    batch = ra.make_env(task, robot_uids=uid, control_mode=mode, num_envs=2, max_episode_steps=None)
+@pytest.mark.parametrize("case", CASES, ids=lambda case: "-".join(map(str, case)))
+def test_one_env_steps_bit_for_bit_as_env_zero_of_a_batch(case: tuple[Any, ...]) -> None:
+    uid, mode, task = case[:3]
+    options = case[3] if len(case) > 3 else {}
+    single = ra.make_env(task, robot_uids=uid, control_mode=mode, max_episode_steps=None, **options)
+    batch = ra.make_env(task, robot_uids=uid, control_mode=mode, num_envs=2, max_episode_steps=None, **options)
     obs1, _ = single.reset(seed=4)
     obs2, _ = batch.reset(seed=[4, 4])
     one, two = single.unwrapped, batch.unwrapped
@@ -144,3 +148,84 @@ def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> 
         env.close()
     for fast, full in zip(*results, strict=True):
         assert np.array_equal(fast, full)
+
+
+#: Every pose-derived array of MjData (what mj_kinematics and mj_camlight compute), and
+#: what the physics derives besides.
+DERIVED = (
+    "xpos", "xquat", "xmat", "xipos", "ximat", "xanchor", "xaxis", "geom_xpos", "geom_xmat",
+    "site_xpos", "site_xmat", "cam_xpos", "cam_xmat", "light_xpos", "light_xdir", "subtree_com",
+    "sensordata", "qacc", "qfrc_actuator", "qacc_warmstart",
+)  # fmt: skip
+
+
+def always_synced_step(world: Any, before_substep: Any = None, sync_poses: bool = True) -> None:
+    """``BatchedWorld.step`` with the poses always updated after the physics."""
+    type(world).step(world, before_substep, sync_poses=True)
+
+
+@pytest.mark.parametrize(
+    ("uid", "num_envs", "options"),
+    [
+        ("stretch", 1, {}),  # wheels
+        ("spot", 1, {}),  # a kinematic base, held legs
+        ("fetch", 2, {}),  # wheels, batched
+        ("google_robot", 1, {"base_dynamics": "kinematic"}),  # a kinematic move, then the wheels
+        ("fetch", 1, {"base_dynamics": "kinematic", "base_refuse_collisions": True}),  # the collision check
+    ],
+)
+def test_a_step_whose_robot_writes_next_skips_no_pose(uid: str, num_envs: int, options: dict[str, Any]) -> None:
+    """A robot that writes joint state after the physics (wheels, a kinematic base) lets
+    the world leave out its own pose update (``sync_poses=False``): the poses, sensors,
+    observations and states are bit for bit those of a world that always updates them."""
+    refuse = options.pop("base_refuse_collisions", None)
+    results = []
+    for synced in (False, True):
+        env = ra.make_env("Empty-v1", robot_uids=uid, num_envs=num_envs, max_episode_steps=None, **options).unwrapped
+        world = env.scene.world
+        if refuse is not None:
+            env.agent.set_base_dynamics("kinematic", refuse_collisions=refuse)
+        assert env.agent.writes_after_step
+        if synced:
+            world.step = functools.partial(always_synced_step, world)
+        env.reset(seed=1)
+        rng = np.random.default_rng(0)
+        space = env.action_space
+        kept = []
+        for _ in range(15):
+            kept.append(env.step(rng.uniform(space.low, space.high).astype(np.float32))[0])
+            kept.extend(np.stack([getattr(data, name) for data in world.datas]) for name in DERIVED)
+        kept.append(env.get_state()["physics"])
+        results.append(kept)
+        env.close()
+    for skipped, synced in zip(*results, strict=True):
+        assert np.array_equal(_bits(skipped), _bits(synced))
+
+
+@pytest.mark.parametrize("uid", ["fetch", "google_robot", "panda", "stretch"])
+def test_drive_controls_written_in_place_equal_the_general_sums(uid: str) -> None:
+    """``Drives.write`` sums the affine controls in place (into ``ctrl``'s columns, or a
+    scratch row put into Google Robot's permuted ones): bit for bit the general path's
+    ``P a + V b + E c + d``, with every target kind in use, into a new ``ctrl`` array
+    and into a non-contiguous one."""
+    env = ra.make_env("Empty-v1", robot_uids=uid, num_envs=2, max_episode_steps=None).unwrapped
+    drives = env.agent.drives
+    assert drives._affine_views is not None
+    rng = np.random.default_rng(0)
+    nu = env.scene.world.ctrl.shape[1]
+    for uses in ((True, True), (False, False), (True, False)):
+        drives.activate(DriveOverride.none(drives.size), *uses)
+        targets = drives.targets
+        for array in (targets.position, targets.velocity, targets.effort):
+            array[...] = rng.normal(size=array.shape)
+        targets.velocity[0, 0] = -0.0
+        for ctrl_of in (lambda: np.zeros((2, nu)), lambda: np.zeros((2, 2 * nu))[:, ::2]):
+            fast, general = ctrl_of(), ctrl_of()
+            drives.write(fast)
+            views, drives._affine_views = drives._affine_views, None
+            try:
+                drives.write(general)
+            finally:
+                drives._affine_views = views
+            assert np.array_equal(_bits(np.ascontiguousarray(fast)), _bits(np.ascontiguousarray(general)))
+    env.close()

@@ -145,6 +145,25 @@ class Drives:
         self._dcmotor = np.flatnonzero([k is DriveKind.DCMOTOR for k in self.kinds])
         self._affine_sel = index_selector(self._affine)
         self._affine_ctrl = index_selector(self.ctrl_adr[self._affine])
+        # Hot-path handles for write(), resolved once: Python lists of the MuJoCo-driven
+        # columns (iterating an empty ndarray costs more than the loop body's absence),
+        # and, when the affine drives are consecutive in the targets, views of the targets
+        # (never replaced) and scratch rows, so that the affine controls are summed in
+        # place (the same products and sums, in the same order).
+        self._pid_columns = [(int(self.ctrl_adr[c]), int(c)) for c in self._pid]
+        self._dcmotor_columns = [(int(self.ctrl_adr[c]), int(c)) for c in self._dcmotor]
+        self._affine_views: tuple[FloatArray, FloatArray, FloatArray] | None = None
+        if len(self._affine) and isinstance(self._affine_sel, slice):
+            sel = self._affine_sel
+            targets = self.targets
+            self._affine_views = (targets.position[:, sel], targets.velocity[:, sel], targets.effort[:, sel])
+        self._affine_sum = np.zeros((num_envs, len(self._affine)))
+        self._affine_term = np.zeros((num_envs, len(self._affine)))
+        #: The ``ctrl`` array of the last :meth:`write`, where its affine controls go (a
+        #: view of it or the scratch row) and, for the scratch row, their flat indices.
+        self._ctrl_seen: FloatArray | None = None
+        self._ctrl_dest = self._affine_sum
+        self._ctrl_flat: npt.NDArray[np.intp] | None = None
         self.stiffness = self.declared_stiffness.copy()
         self.damping = self.declared_damping.copy()
         self.effort_limit = self.declared_effort_limit.copy()
@@ -330,7 +349,10 @@ class Drives:
         """Controls ``ctrl`` ``(num_envs, nu)`` from the targets (explicit drives also need
         the measured ``qpos`` / ``qvel``; they are written in :meth:`write_explicit`)."""
         targets = self.targets
-        if len(self._affine):
+        views = self._affine_views
+        if views is not None:
+            self._write_affine_in_place(ctrl, views)
+        elif len(self._affine):
             sel = self._affine_sel
             out = targets.position[:, sel] if self._unit_position else targets.position[:, sel] * self._a_row
             if self._uses_velocity:
@@ -340,17 +362,56 @@ class Drives:
             if self._has_bias:
                 out = out + self._d_row
             ctrl[:, self._affine_ctrl] = out
-        for column in self._pid:
-            adr = self.ctrl_adr[column]
+        for adr, column in self._pid_columns:
             ctrl[:, adr] = targets.position[:, column]
             ctrl[:, adr + 1] = targets.velocity[:, column]
-        for column in self._dcmotor:
-            adr = self.ctrl_adr[column]
+        for adr, column in self._dcmotor_columns:
             ctrl[:, adr] = targets.position[:, column]
             ctrl[:, adr + 1] = targets.velocity[:, column]
             ctrl[:, adr + 2] = targets.effort[:, column]
         if qpos is not None and qvel is not None:
             self.write_explicit(ctrl, qpos, qvel)
+
+    def _write_affine_in_place(self, ctrl: FloatArray, views: tuple[FloatArray, FloatArray, FloatArray]) -> None:
+        """The affine drives' controls ``((P a + V b) + E c) + d`` (``P``, ``V``, ``E`` the
+        position, velocity and effort targets; each term only where the mode uses it, in
+        that order, as the general path sums them), summed into preallocated rows: straight
+        into ``ctrl``'s affine columns where they are consecutive, else into a scratch row
+        put into them."""
+        if ctrl is not self._ctrl_seen:
+            self._bind_ctrl(ctrl)
+        dest, flat = self._ctrl_dest, self._ctrl_flat
+        position, velocity, effort = views
+        term = self._affine_term
+        # the running sum: the position targets themselves (unit factors) or their product
+        out = position if self._unit_position else np.multiply(position, self._a_row, out=dest)
+        if self._uses_velocity:
+            out = np.add(out, np.multiply(velocity, self._b_row, out=term), out=dest)
+        if self._uses_effort:
+            out = np.add(out, np.multiply(effort, self._c_row, out=term), out=dest)
+        if self._has_bias:
+            out = np.add(out, self._d_row, out=dest)
+        if flat is not None:
+            ctrl.put(flat, out)
+        elif dest is self._affine_sum:  # the scratch row, ctrl not contiguous
+            ctrl[:, self._affine_ctrl] = out
+        elif out is not dest:
+            dest[...] = out
+
+    def _bind_ctrl(self, ctrl: FloatArray) -> None:
+        """Where :meth:`_write_affine_in_place` puts the affine controls of ``ctrl``
+        ``(num_envs, nu)``: a view of its consecutive affine columns, or the scratch row
+        and the flat indices of the columns in each row (``ndarray.put`` writes the same
+        entries as fancy indexing, faster on small arrays) when ``ctrl`` is contiguous."""
+        self._ctrl_seen = ctrl
+        self._ctrl_flat = None
+        if isinstance(self._affine_ctrl, slice):
+            self._ctrl_dest = ctrl[:, self._affine_ctrl]
+            return
+        self._ctrl_dest = self._affine_sum
+        if ctrl.flags.c_contiguous:
+            rows = np.arange(ctrl.shape[0], dtype=np.intp)[:, None] * ctrl.shape[1]
+            self._ctrl_flat = (rows + np.asarray(self._affine_ctrl, dtype=np.intp)).reshape(-1)
 
     def write_explicit(self, ctrl: FloatArray, qpos: FloatArray, qvel: FloatArray) -> None:
         """Close the explicit PD loops: ``ctrl`` of motor drives from the measured state."""

@@ -116,6 +116,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
         # (active mode, its last base velocity part or None), for after_step
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
+        self._opt = self.index.model.opt  # reads the live time step (the attribute makes a new wrapper)
         self.set_control_mode(control_mode if control_mode is not None else self.default_mode())
 
     # ------------------------------------------------------------------ names and sizes
@@ -303,6 +304,13 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """Per-substep hook: interpolated targets, explicit PD loops."""
         self.control.active.before_substep(substep, substeps, self.world)
 
+    @property
+    def writes_after_step(self) -> bool:
+        """True when :meth:`after_step` writes joint state in every env (recomputing their
+        poses) before it reads anything but joint positions: a base whose wheels turn or
+        that moves kinematically."""
+        return self.mobile.moves_each_step
+
     def before_step(self) -> None:
         """Before a control step's physics: the base remembers its pose (kinematic
         bases and wheels)."""
@@ -323,7 +331,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
             self._base_controller = (active, found)
         base = self._base_controller[1]
         commanded = None if base is None else base.target_qvel
-        self.mobile.after_step(commanded, float(self.index.model.opt.timestep) * self.world.substeps)
+        self.mobile.after_step(commanded, float(self._opt.timestep) * self.world.substeps)
         if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
             pose = self.drives.targets.position.take(self._held_columns, axis=1)  # [:, columns], faster
             self.world.write_joint_state(

@@ -80,7 +80,12 @@ class MobileBase:
         self._all_envs = np.arange(world.num_envs)
         self._planar_list = [int(a) for a in self._planar_adr]
         self._wheel_qlist = [int(a) for a in self._wheel_qadr]
-        #: One env, wheels only: its ``qpos`` at the step's start (Python floats), else None.
+        # one env: the wheel angles (rad) and speeds (rad/s) of a step's write, ``(1, wheels)``
+        self._wheel_angles = np.zeros((1, len(self.wheels)))
+        self._wheel_speeds = np.zeros((1, len(self.wheels)))
+        # one env: the planar joints' positions (m, m, rad) of a kinematic move, ``(1, 3)``
+        self._planar_end = np.zeros((1, len(self._planar_list)))
+        #: One env without the collision check: its ``qpos`` at the step's start (Python floats), else None.
         self._start_row: list[float] | None = None
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).
@@ -322,9 +327,9 @@ class MobileBase:
         if not self.moves_each_step:
             return
         qpos = self.world.qpos
-        if qpos.shape[0] == 1 and self.dynamics != "kinematic":
-            # one env whose wheels only turn: its joint positions as Python floats (what
-            # the scalar wheel roll reads; no fancy indexing of one-row arrays)
+        if qpos.shape[0] == 1 and not (self.dynamics == "kinematic" and self.refuse_collisions):
+            # one env, no collision check: its joint positions as Python floats (what the
+            # scalar move and wheel roll read; no fancy indexing of one-row arrays)
             self._start_row = qpos[0].tolist()
             return
         self._start_row = None
@@ -342,9 +347,12 @@ class MobileBase:
         base's actual motion."""
         if not self.moves_each_step or self.planar is None:
             return
-        if self._start_row is not None:
-            if self.dynamics != "kinematic":
-                self._turn_wheels_single(self._start_row, control_dt)
+        start_row = self._start_row
+        if start_row is not None:
+            if self.dynamics == "kinematic":
+                self._move_single(start_row, commanded, control_dt)
+            if self.wheels:
+                self._turn_wheels_single(start_row, control_dt)
             return
         if self._start is None:
             return
@@ -368,6 +376,19 @@ class MobileBase:
                     self.refused_moves[back] += 1
         if self.wheels and self._wheel_start is not None:
             self._turn_wheels(start, self._planar_qpos(), self._wheel_start, control_dt)
+
+    def _move_single(self, start_row: list[float], commanded: FloatArray | None, control_dt: float) -> None:
+        """The kinematic move of :meth:`after_step` for one env without the collision
+        check: the base joints at their positions at the step's start (``start_row``,
+        Python floats ``(nq,)``) plus ``commanded`` ``(1, 3)`` times ``control_dt`` (the
+        same IEEE products and sums as the batched ``start + velocity * control_dt``),
+        written through a row kept for it (the world copies it)."""
+        velocity = np.zeros((1, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
+        end = self._planar_end
+        for k, (q, v) in enumerate(zip(self._planar_list, velocity[0].tolist(), strict=True)):
+            end[0, k] = start_row[q] + v * control_dt
+        self.world.write_joint_state(self._all_envs, self._planar_adr, end, self._planar_dofs, velocity)
+        self.last_refused[0] = False
 
     def _penetration(self) -> FloatArray:
         """Per env: how deep (m) a base geom is in a geom outside the robot (not the
@@ -400,14 +421,18 @@ class MobileBase:
         """:meth:`_turn_wheels` of one env from its joint positions at the step's start
         (``start_row``, Python floats ``(nq,)``): the same values, from
         :meth:`_wheel_rolls_single`'s Python floats (IEEE additions and divisions, as
-        NumPy's), one new array each for the write."""
+        NumPy's), written through two rows kept for it (the world copies them)."""
         # the stepped positions straight from the env's MjData (the same numbers as
         # world.qpos, without copying them into the read cache the write then clears)
         end_row = self.world.physics_sources()[0].qpos.tolist()
-        planar = self._planar_list
-        rolls = self._wheel_rolls_single([start_row[i] for i in planar], [end_row[i] for i in planar])
-        angles = np.array([[start_row[q] + r for q, r in zip(self._wheel_qlist, rolls, strict=True)]])
-        speeds = np.array([[r / control_dt for r in rolls]])
+        x, y, yaw = self._planar_list
+        rolls = self._wheel_rolls_single(
+            (start_row[x], start_row[y], start_row[yaw]), (end_row[x], end_row[y], end_row[yaw])
+        )
+        angles, speeds = self._wheel_angles, self._wheel_speeds
+        for k, q in enumerate(self._wheel_qlist):
+            angles[0, k] = start_row[q] + rolls[k]
+            speeds[0, k] = rolls[k] / control_dt
         self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
 
     def _wheel_roll(self, start: FloatArray, end: FloatArray) -> FloatArray:

@@ -76,6 +76,8 @@ class PDBaseVelController(PDJointVelController):
         super().__init__(config, binding, context)  # type: ignore[arg-type]
         self._yaw_adr = int(binding.qpos_adr[2])
         self._half_step = 0.5 * context.control_timestep  # s
+        self._holonomic = config.holonomic
+        self._velocity = self.targets.velocity  # the drives' buffer (never replaced)
 
     def _heading(self, yaw: FloatArray, turn: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``cos`` and ``sin`` of the heading at mid-step, ``yaw + wz dt / 2``, and the
@@ -102,18 +104,11 @@ class PDBaseVelController(PDJointVelController):
         return per_joint(name, "lower", self.config.lower, n), per_joint(name, "upper", self.config.upper, n)
 
     def apply(self, raw: FloatArray, sim: SimView) -> None:
+        if raw.shape[0] == 1:
+            self._apply_single(raw, sim)
+            return
         turn = raw[:, -1]
         yaw = sim.qpos[:, self._yaw_adr]
-        if raw.shape[0] == 1:  # one env: the same products and sums on Python floats
-            action = raw[0].tolist()
-            half = action[-1] * self._half_step
-            if half == 0.0:  # no turn: the heading is the yaw (the same ufuncs as below)
-                self._apply_single(action, np.cos(yaw).item(), np.sin(yaw).item(), 1.0)
-            else:  # the heading and the half turn through NumPy's sine, as below
-                angles = np.array([yaw.item() + half, half])
-                sines = np.sin(angles).tolist()
-                self._apply_single(action, np.cos(angles[:1]).item(), sines[0], sines[1] / half)
-            return
         cos, sin, share = self._heading(yaw, turn)
         forward = raw[:, 0] * share
         lateral = raw[:, 1] * share if self.config.holonomic else 0.0
@@ -124,16 +119,25 @@ class PDBaseVelController(PDJointVelController):
         self.target_qvel = target
         self.targets.velocity[:, self.binding.column_sel] = target
 
-    def _apply_single(self, action: list[float], cos: float, sin: float, share: float) -> None:
-        """:meth:`apply` of one env (``action``: its raw action, ``cos`` / ``sin`` of the
-        base's mid-step heading and the chord's ``share`` as NumPy computed them): IEEE
-        products and sums as NumPy's, in the same order, without a dozen operations on
-        one-element arrays."""
-        forward, turn = action[0] * share, action[-1]
-        lateral = action[1] * share if self.config.holonomic else 0.0
+    def _apply_single(self, raw: FloatArray, sim: SimView) -> None:
+        """:meth:`apply` of one env (``raw`` ``(1, k)``): :meth:`_heading`'s and
+        :meth:`apply`'s products and sums on Python floats (IEEE operations, as NumPy's,
+        in the same order; the sines and cosines through NumPy's own ``sin`` / ``cos``),
+        without a dozen operations on one-element arrays."""
+        action = raw[0].tolist()
+        turn = action[-1]
+        yaw = float(sim.qpos[0, self._yaw_adr])
+        half = turn * self._half_step
+        if half == 0.0:  # no turn: the heading is the yaw, the share 1
+            heading, share = yaw, 1.0
+        else:
+            heading, share = yaw + half, float(np.sin(half)) / half
+        cos, sin = float(np.cos(heading)), float(np.sin(heading))
+        forward = action[0] * share
+        lateral = action[1] * share if self._holonomic else 0.0
         target = np.array([[cos * forward - sin * lateral, sin * forward + cos * lateral, turn]])
         self.target_qvel = target
-        self.targets.velocity[:, self.binding.column_sel] = target
+        self._velocity[:, self.binding.column_sel] = target
 
     def describe(self) -> str:
         kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"

@@ -51,8 +51,9 @@ class SimBackend(Protocol):
     def time(self) -> FloatArray:
         """Simulated time (s), ``(num_envs,)``."""
 
-    def step(self, before_substep: Callable[[int, int], None] | None = None) -> None:
-        """Advance every env by ``substeps`` physics steps."""
+    def step(self, before_substep: Callable[[int, int], None] | None = None, sync_poses: bool = True) -> None:
+        """Advance every env by ``substeps`` physics steps (``sync_poses=False``: the
+        caller writes joint state in every env next, which recomputes the poses)."""
 
     def forward(self) -> None:
         """Recompute derived quantities of every env."""

@@ -245,24 +245,28 @@ class Scene:
         if self.world.closed:
             self._check_open("Scene.step")
         agents = self.agents
+        # The poses after the physics are left to the first robot that writes joint state
+        # in every env after it (wheels, a kinematic base): nothing reads them before, and
+        # its write recomputes them from the same qpos.
         if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
             agent = agents[0]
             agent.before_step()
-            self.world.step()
+            self.world.step(sync_poses=not agent.writes_after_step)
             agent.after_step()
             return
         for agent in agents:
             agent.before_step()
+        sync = not any(a.writes_after_step for a in agents)
         hooked = [a for a in agents if a.needs_substep]
         if not hooked:
-            self.world.step()
+            self.world.step(sync_poses=sync)
         else:
 
             def before_substep(i: int, n: int) -> None:
                 for agent in hooked:
                     agent.before_substep(i, n)
 
-            self.world.step(before_substep)
+            self.world.step(before_substep, sync_poses=sync)
         for agent in self.agents:
             agent.after_step()
 

@@ -140,7 +140,8 @@ class BatchedWorld:
         self._warmstart0 = self._env_arrays("qacc_warmstart")[0]
         self._data_ctrl0 = self._env_arrays("ctrl")[0]
         self._opt = model.opt
-        #: Whether :meth:`_step_all` updates poses after stepping (off between substeps).
+        #: Whether :meth:`_step_all` and :meth:`_step_single` update poses after stepping
+        #: (off between substeps, and for :meth:`step`'s ``sync_poses=False``).
         self._sync_after_step = True
         self.forward()
 
@@ -183,25 +184,39 @@ class BatchedWorld:
         for future in futures:
             future.result()
 
-    def step(self, before_substep: Callable[[int, int], None] | None = None) -> None:
+    def step(self, before_substep: Callable[[int, int], None] | None = None, sync_poses: bool = True) -> None:
         """Advance every env by ``substeps`` physics steps with the current ``ctrl``.
 
         ``before_substep(i, substeps)``, when given, runs before substep ``i`` and may
         change ``self.ctrl`` (e.g. interpolated targets); without it all substeps run in
-        one ``mj_step`` call per env.
+        one ``mj_step`` call per env. ``sync_poses=False`` leaves the poses where
+        ``mj_step`` leaves them (one substep behind), for a caller whose next act is a
+        joint-state write in every env, which recomputes them from the same ``qpos``
+        (a moving base's wheels): the poses it ends with are the same either way.
         """
         if self.num_envs == 1 and before_substep is None:
-            self._step_single()
+            if sync_poses:
+                self._step_single()
+                return
+            self._sync_after_step = False
+            try:
+                self._step_single()
+            finally:
+                self._sync_after_step = True
             return
         started = [data.time for data in self.datas]
         if before_substep is None:
-            self._step_all(self.substeps)
+            self._sync_after_step = sync_poses
+            try:
+                self._step_all(self.substeps)
+            finally:
+                self._sync_after_step = True
         else:
             last = self.substeps - 1
             try:
                 for i in range(self.substeps):
                     before_substep(i, self.substeps)
-                    self._sync_after_step = i == last
+                    self._sync_after_step = sync_poses and i == last
                     self._step_all(1)
                     self._cache.clear()  # the hook reads the state of every substep
             finally:
@@ -223,14 +238,16 @@ class BatchedWorld:
             pass_on(RUNTIME, "BatchedWorld.step")
 
     def _step_single(self) -> None:
-        """:meth:`step` of one env without substep hooks: the same MuJoCo calls and the
-        same instability test, without the per-env lists and loops."""
+        """:meth:`step` of one env without substep hooks: the same MuJoCo calls (poses
+        updated unless :attr:`_sync_after_step` is off) and the same instability test,
+        without the per-env lists and loops."""
         data, model = self._data0, self.model
         started = data.time
         self._data_ctrl0[:] = self._ctrl0
         mujoco.mj_step(model, data, self.substeps)
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_camlight(model, data)
+        if self._sync_after_step:
+            mujoco.mj_kinematics(model, data)
+            mujoco.mj_camlight(model, data)
         self._cache.clear()
         qvel = self._qvel0
         unstable = (
@@ -265,7 +282,8 @@ class BatchedWorld:
     @property
     def qpos(self) -> FloatArray:
         """All joint positions, shape ``(num_envs, nq)`` (read-only)."""
-        return self._gather("qpos")
+        cached = self._cache.get("qpos")  # (the cache looked up here: read several times a step)
+        return cached if cached is not None else self._gather("qpos")
 
     @property
     def qvel(self) -> FloatArray:
@@ -400,9 +418,10 @@ class BatchedWorld:
         ``mj_kinematics``, ``mj_camlight``)."""
         qa, da = np.asarray(qpos_adr, dtype=np.int64), np.asarray(dof_adr, dtype=np.int64)
         model = self.model
-        if env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and self.num_envs == 1 and env_ids[0] == 0:
+        if self.num_envs == 1 and env_ids.__class__ is np.ndarray and env_ids.shape == (1,) and env_ids[0] == 0:
             # the one env (the per-step writes of wheels, kinematic bases and held legs):
-            # the same writes and calls, without the id conversion and the loop
+            # the same writes and calls, without the id conversion, the loop and the
+            # helper calls (_derive written out)
             data = self._data0
             self._qpos0[qa] = qpos[0]
             self._qvel0[da] = qvel[0]
@@ -411,7 +430,11 @@ class BatchedWorld:
             else:
                 self._warmstart0[da] = warmstart[0]
             self._data_ctrl0[:] = self._ctrl0
-            _derive(model, data, forward)
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
             self._cache.clear()
             return
         ids = self._ids(env_ids, "BatchedWorld.write_joint_state")

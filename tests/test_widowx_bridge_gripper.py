@@ -26,7 +26,7 @@ from robot_agents.robots.widowx.widowx250s import (
     WidowX250SGripperPiece,
 )
 from tests.grasp_check import assert_grasps_lifts_and_holds
-from tests.test_widowx_piece import ASSEMBLY, CUBE_HALF, CUBE_MASS, PAD_BEYOND_TCP, TCP_OUT, rotation
+from tests.test_widowx_piece import ASSEMBLY, CUBE_HALF, CUBE_MASS, TCP_OUT, pedestal_and_cube, rotation
 
 MY_ARM = Path(__file__).parents[1] / "examples" / "my_arm.urdf"
 #: ManiSkill 3.0.1, bridge_dataset_eval/base_env.py: gripper_stiffness, _damping, _force_limit.
@@ -111,18 +111,7 @@ def test_it_is_the_piece_with_the_bridge_robots_finger_drive() -> None:
 def grasp_scene(cls: type[ra.Agent], tool: tuple[float, float, float]) -> ra.Scene:
     """``cls`` in ``pd_joint_pos`` with a 4 cm, 100 g cube on a pedestal where the pads
     close on it with the TCP at ``tool`` (m)."""
-    cube_z = tool[2] - PAD_BEYOND_TCP
-    props = [
-        ra.Prop(
-            name="pedestal",
-            shape="box",
-            size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
-            pos=(tool[0], tool[1], (cube_z - CUBE_HALF) / 2),
-            mass=None,
-        ),
-        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(tool[0], tool[1], cube_z + 1e-4), mass=CUBE_MASS),
-    ]
-    return ra.Scene(cls, props=props, control_modes="pd_joint_pos")
+    return ra.Scene(cls, props=pedestal_and_cube(tool), control_modes="pd_joint_pos")
 
 
 def squeezes_with_the_tuned_spring(scene: ra.Scene) -> Callable[[], None]:

@@ -142,6 +142,22 @@ def test_on_a_ur10e_flange_the_action_spans_the_30_to_74_mm_opening() -> None:
     scene.close()
 
 
+def pedestal_and_cube(tool: tuple[float, float, float]) -> list[ra.Prop]:
+    """A 4 cm, 100 g cube on a 24 mm square pedestal, placed where the pads close on its
+    centre with the TCP at ``tool`` (m, pointing down)."""
+    cube_z = tool[2] - PAD_BEYOND_TCP
+    return [
+        ra.Prop(
+            name="pedestal",
+            shape="box",
+            size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
+            pos=(tool[0], tool[1], (cube_z - CUBE_HALF) / 2),
+            mass=None,
+        ),
+        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(tool[0], tool[1], cube_z + 1e-4), mass=CUBE_MASS),
+    ]
+
+
 def solver(scene: ra.Scene) -> IKSolver:
     agent = scene.agents[0]
     arm = np.arange(6)
@@ -159,18 +175,8 @@ def test_on_a_ur10e_flange_it_grasps_lifts_and_holds_a_cube() -> None:
     scene.reset(keyframes="rest")
     rest = agent.tcp_pose[0].copy()
     tool = (rest[0], rest[1], 0.06)
-    cube_z = tool[2] - PAD_BEYOND_TCP
     scene.close()
-    props = [
-        ra.Prop(
-            name="pedestal",
-            shape="box",
-            size=(0.012, 0.012, (cube_z - CUBE_HALF) / 2),
-            pos=(tool[0], tool[1], (cube_z - CUBE_HALF) / 2),
-            mass=None,
-        ),
-        ra.Prop(name="cube", shape="box", size=(CUBE_HALF,) * 3, pos=(tool[0], tool[1], cube_z + 1e-4), mass=CUBE_MASS),
-    ]
+    props = pedestal_and_cube(tool)
     scene = ra.Scene(UR10eWidowXGripper, props=props, control_modes="pd_joint_pos")
     agent = scene.agents[0]
     scene.reset(keyframes="rest")

@@ -25,9 +25,10 @@ Sources of the numbers:
   apart, and the cube (95.8 mm) is wider than the parallel tips: the fingers close on it
   at 0.53 rad with the tips flared 0.17 rad, touching it only along their knuckles' edges,
   and the cube swings on those edges under its weight: the sweep's grasp claim moves it
-  12.9 mm at 500 Hz, 6.2-44.6 mm at 160-800 Hz, 1.9 mm at 1 kHz (17.0 mm at 500 Hz with
-  friction 1.0); at the grasp frame 0.25-0.45 mm at 200 Hz-1 kHz, 1.26 mm at 160 Hz
-  (tests/test_google_robot.py; 2026-11-29 09:45 UTC).
+  7.4 mm at 500 Hz, 6.7-42.6 mm at 200-800 Hz (it falls out at 160 Hz), 3.4 mm at
+  1 kHz (15.0 mm at 500 Hz with friction 1.0); at the grasp frame 0.16-0.64 mm at
+  200 Hz-1 kHz, 1.74 mm at 160 Hz (tests/test_google_robot.py; 2026-11-29 10:16 UTC,
+  with SimplerEnv's current arm gains; 12.9 mm and 0.33 mm at 500 Hz before them).
   Until 2026-11-29 the TCP was ours, 0.15 m out on the axis, with 0.6 rad tips
   (docs/notes/robot-facts-audit.md).
   The arm's joint names, origins and ranges agree with MuJoCo Menagerie's

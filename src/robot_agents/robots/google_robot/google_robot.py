@@ -25,7 +25,7 @@ Sources of the numbers:
   apart, and the cube (95.8 mm) is wider than the parallel tips: the fingers close on it
   at 0.53 rad with the tips flared 0.17 rad, touching it only along their knuckles' edges,
   and the cube swings on those edges under its weight: the sweep's grasp claim moves it
-  7.4 mm at 500 Hz, 6.7-42.6 mm at 200-800 Hz (it falls out at 160 Hz), 3.4 mm at
+  7.4 mm at 500 Hz, 6.7-42.6 mm at 200-800 Hz, 95.8 mm at 160 Hz, 3.4 mm at
   1 kHz (15.0 mm at 500 Hz with friction 1.0); at the grasp frame 0.16-0.64 mm at
   200 Hz-1 kHz, 1.74 mm at 160 Hz (tests/test_google_robot.py; 2026-11-29 10:16 UTC,
   with SimplerEnv's current arm gains; 12.9 mm and 0.33 mm at 500 Hz before them).
@@ -75,7 +75,8 @@ Sources of the numbers:
   default 500 Hz (forearm 465, bicep 449, torso 427 Hz); after the same motion the tool
   comes to rest 4.5 mm on (it lagged the command), and every arm joint stays
   overdamped (kv / (2 sqrt(kp I)) 1.3-5.1 over 256 sampled configurations).
-  The fingers take Menagerie's drive (kp 20, joint damping 2, armature 0.1, +-30 N*m),
+  The fingers take Menagerie's drive (kp 20, damping 2 (Menagerie's joint damping; ours
+  on the drive), armature 0.1, +-30 N*m),
   not SimplerEnv's (200 N*m/rad, damping 8 since 2024-01-06 (80 in the 2023-12-19 tune),
   60 N*m, no armature: PhysX's implicit drives): without armature on the fingers' small
   inertia either damping cycles between the limits at our 2 ms step (closing from open,

@@ -17,6 +17,7 @@ from robot_agents.envs.tasks.layout import table_top_layout
 from robot_agents.kinematics import IKSolver, resolve_frame
 from robot_agents.robots.google_robot.google_robot import GoogleRobot
 from robot_agents.tuning.claims import Penetration
+from robot_agents.tuning.cycles import drive_cycle_bounds
 from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import (
     ChainJoint,
@@ -107,6 +108,85 @@ def test_limits_masses_and_drives_from_the_data() -> None:
     np.testing.assert_allclose(masses, [2.46883, 2.08054, 1.3989, 0.788999, 0.819369, 0.543658, 0.41474], rtol=1e-5)
     assert model.body_mass[model.body(agent.prefix + "link_base").id] == pytest.approx(52.9101, rel=1e-5)
     scene.close()
+
+
+# ManiSkill2_real2sim ``GoogleRobotDefaultConfig`` at ef7a4d4f ("force" drive mode, the
+# config of google_robot_static): arm stiffness (N*m/rad), damping (N*m*s/rad) and force
+# limits (N*m), torso .. gripper joint.
+SIMPLER_ENV_STIFFNESS = (
+    1700.0,
+    1737.0471680861954,
+    979.975871856535,
+    930.0,
+    1212.154500274304,
+    432.96500923932535,
+    468.0013365498738,
+)
+SIMPLER_ENV_DAMPING = (
+    1059.9791902443303,
+    1010.4720585373592,
+    767.2803161582076,
+    680.0,
+    674.9946964336588,
+    274.613381336198,
+    340.532560578637,
+)
+SIMPLER_ENV_FORCE_LIMIT = (300.0, 300.0, 100.0, 100.0, 100.0, 100.0, 100.0)
+
+
+def test_arm_drives_are_simplerenvs_with_a_seventh_of_its_damping() -> None:
+    """The built arm drives carry SimplerEnv's stiffness and force limits and a seventh
+    of its damping; a seventh is the largest 1/n at which no drive of the robot can
+    cycle between its torque limits at the default step (a sixth lets the forearm and
+    the bicep, ``robot_agents.tuning.cycles``)."""
+    bounds = {b.joint: b for b in drive_cycle_bounds("google_robot")}
+    for joint, kp, kv, limit in zip(
+        ARM, SIMPLER_ENV_STIFFNESS, SIMPLER_ENV_DAMPING, SIMPLER_ENV_FORCE_LIMIT, strict=True
+    ):
+        assert bounds[joint].stiffness == pytest.approx(kp, rel=1e-12)
+        assert bounds[joint].damping == pytest.approx(kv / 7.0, rel=1e-12)
+        assert bounds[joint].effort_limit == limit
+    rate = GoogleRobot.sim_freq
+    assert rate == 500
+    assert max(b.cycle_free_above for b in bounds.values()) < rate  # the forearm's: 465 Hz
+    sixth = [dataclasses.replace(bounds[j], damping=bounds[j].damping * 7.0 / 6.0) for j in ARM]
+    assert sorted(b.joint for b in sixth if b.cycle_free_above >= rate) == ["joint_bicep", "joint_forearm"]
+
+
+def run_on_after_a_stop(cls: type[ra.Agent]) -> tuple[float, float]:
+    """``pd_ee_delta_pose`` from ``rest``: 10 steps of +x at half the 5 cm bound, then
+    zero commands for 2 s. Returns how far the tool travels in those 2 s (m) and the
+    fastest arm joint at their end (rad/s)."""
+    scene = ra.Scene(cls, control_modes="pd_ee_delta_pose")
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    arm = index(agent, ARM)
+    for step in range(10 + 2 * scene.control_freq):
+        action = hold_action(agent)
+        action[0] = 0.5 if step < 10 else 0.0
+        agent.set_action(action)
+        scene.step()
+        if step == 9:
+            stopped = agent.tcp_pose[0, :3].copy()
+    travel = float(np.linalg.norm(agent.tcp_pose[0, :3] - stopped))
+    speed = float(np.abs(agent.qvel[0, arm]).max())
+    scene.close()
+    return travel, speed
+
+
+def test_simplerenvs_full_damping_leaves_the_arm_running_after_a_stop() -> None:
+    """With a seventh of SimplerEnv's damping the tool, which lags the command, comes to
+    rest 4.5 mm on; with the full damping (every arm drive able to cycle at 2 ms) it runs
+    on 200 mm in 2 s with joints at 1.4 rad/s (measured 2026-11-29)."""
+    travel, speed = run_on_after_a_stop(GoogleRobot)
+    assert travel < 0.01 and speed < 1e-6, (travel, speed)
+    drives = tuple(
+        dataclasses.replace(d, damping=SIMPLER_ENV_DAMPING) if d.joints == GoogleRobot.actuators[1].joints else d
+        for d in GoogleRobot.actuators
+    )
+    full = type("GoogleRobotFullDamping", (GoogleRobot,), {"uid": "", "actuators": drives})
+    travel, speed = run_on_after_a_stop(full)
+    assert travel > 0.1 and speed > 0.5, (travel, speed)
 
 
 # ---------------------------------------------------------------- IK
@@ -254,8 +334,9 @@ def test_layout_measures_the_gripper_at_its_grasp_frame() -> None:
     there: 77.9 mm), and the sweep's grasp claim holds at the default step. Measured at
     the TCP (the same robot without ``grasp_frame``), the cube is 95.8 mm: wider than
     the fingertips, 75.2 mm apart where they stand parallel, so the fingers close on it
-    at their knuckles, and the claim fails (12.9 mm at 500 Hz: the cube swings on the
-    knuckles' edges; 0.33 mm at the grasp frame)."""
+    at their knuckles, and the claim fails (7.4 mm at 500 Hz: the cube swings on the
+    knuckles' edges; 0.21 mm at the grasp frame; 2026-11-29, SimplerEnv's current arm
+    gains)."""
     layout = table_top_layout(GoogleRobot)
     assert layout.gripper is not None
     scene = ra.Scene("google_robot")

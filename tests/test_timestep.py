@@ -399,8 +399,8 @@ def former_contact_variant(uid: str, tmp_path: Path) -> type[ra.Agent]:
 @pytest.mark.parametrize("uid", sorted(FIXED_GRASPS))
 def test_fingertips_hold_the_cube_at_the_default_step(uid: str) -> None:
     """The sweep's grasp at the robot's declared step: the cube moves less than its
-    bound (measured: google_robot 0.33 mm at 500 Hz (its 77.9 mm cube at its grasp frame,
-    2026-11-29), stretch 0.52 mm at 160 Hz, so100 0.25 mm at 200 Hz, koch-v1.1 0.01 mm at
+    bound (measured: google_robot 0.21 mm at 500 Hz (its 77.9 mm cube at its grasp frame,
+    2026-11-29, SimplerEnv's current arm gains), stretch 0.52 mm at 160 Hz, so100 0.25 mm at 200 Hz, koch-v1.1 0.01 mm at
     320 Hz; 4.8, 10.4 and 2.4 mm for the first three with the former contacts)."""
     cls = ra.get_agent(uid)
     assert cls.sim_freq is not None

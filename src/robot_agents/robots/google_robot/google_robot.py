@@ -25,9 +25,10 @@ Sources of the numbers:
   apart, and the cube (95.8 mm) is wider than the parallel tips: the fingers close on it
   at 0.53 rad with the tips flared 0.17 rad, touching it only along their knuckles' edges,
   and the cube swings on those edges under its weight: the sweep's grasp claim moves it
-  12.9 mm at 500 Hz, 6.2-44.6 mm at 160-800 Hz, 1.9 mm at 1 kHz (17.0 mm at 500 Hz with
-  friction 1.0); at the grasp frame 0.25-0.45 mm at 200 Hz-1 kHz, 1.26 mm at 160 Hz
-  (tests/test_google_robot.py; 2026-11-29 09:45 UTC).
+  7.4 mm at 500 Hz, 6.7-42.6 mm at 200-800 Hz, 95.8 mm at 160 Hz, 3.4 mm at
+  1 kHz (15.0 mm at 500 Hz with friction 1.0); at the grasp frame 0.16-0.64 mm at
+  200 Hz-1 kHz, 1.74 mm at 160 Hz (tests/test_google_robot.py; 2026-11-29 10:16 UTC,
+  with SimplerEnv's current arm gains; 12.9 mm and 0.33 mm at 500 Hz before them).
   Until 2026-11-29 the TCP was ours, 0.15 m out on the axis, with 0.6 rad tips
   (docs/notes/robot-facts-audit.md).
   The arm's joint names, origins and ranges agree with MuJoCo Menagerie's
@@ -44,21 +45,43 @@ Sources of the numbers:
   ``pd_base_forward_vel`` (forward speed, yaw rate), at most 0.5 m/s as in that config.
   Wheel radius 0.06205 m (the base link's height above the floor, on which SimplerEnv
   places the robot), separation 2 x 0.18333 m.
-- Drives: SimplerEnv's real-to-sim tuned gains for the arm in "force" drive mode
-  (``GoogleRobotDefaultConfig``: stiffness 2000, 1800, 1200, 1000, 650, 500, 500;
-  force limits 400, 400, 300, 300, 200, 200, 100) and the head (stiffness 2000,
-  100 N*m; damping a tenth of SimplerEnv's 900: with 900 on the head's 0.106 kg*m^2
-  (armature 0.1 included) kv * dt / I is 17 at 2 ms and, once the drive's force is
-  clamped, MuJoCo's explicit damping cycles the tilt between its torque limits (0.94
-  rad/s after random actions); 90 is still overdamped (critical: 29) and settles).
-  The arm's damping is a fifth of SimplerEnv's (850, 810, 500, 480, 460, 190, 250):
-  with the full values our end-effector delta modes (whose joint targets carry a
-  velocity feed-forward through the damping) let the tool drift 19 cm in 2 s after a
-  zero command (measured at ``rest``); with a fifth it holds within 0.1 mm. The fingers take Menagerie's drive (kp 20,
-  joint damping 2, armature 0.1, +-30 N*m): SimplerEnv's finger gains (200 / 80, tuned
-  for PhysX's implicit drives) oscillate on the fingers' small inertia at our 2 ms step
-  (measured: stuck near 0.12 rad, alternating every step). The URDF's joint speed limits
-  (2.0 .. 3.0 rad/s arm, 1.3 rad/s fingers, 2.0 rad/s head).
+- Drives: the arm's stiffness and force limits are SimplerEnv's real-to-sim tuned
+  values ("force" drive mode; ManiSkill2_real2sim ``GoogleRobotDefaultConfig``, the
+  config of ``google_robot_static``, at ef7a4d4f, the commit SimplerEnv's main (4ab7178)
+  pins; unchanged since b1b757c, 2024-01-07; tuned for
+  ``arm_pd_ee_delta_pose_align_interpolate_by_planner``, the arm controller SimplerEnv's
+  RT-1 evaluations use): stiffness 1700, 1737.05, 979.98, 930, 1212.15, 432.97, 468.00
+  N*m/rad, force limits 300, 300, 100, 100, 100, 100, 100 N*m (torso .. gripper joint).
+  Until 2026-11-29 they were that config's rough first tune (commit 54efc89,
+  2023-12-19, "roughly tune control pd parameters": stiffness 2000, 1800, 1200, 1000,
+  650, 500, 500, damping 850, 810, 500, 480, 460, 190, 250, limits 400, 400, 300, 300,
+  200, 200, 100; replaced in SimplerEnv on 2024-01-01). The head: SimplerEnv's 2000
+  N*m/rad and 100 N*m (the config's last two "arm" joints) with damping a tenth of its
+  900: with 900 on the head's 0.106 kg*m^2 (armature 0.1 included) kv * dt / I is 17 at
+  2 ms and, once the drive's force is clamped, MuJoCo's explicit damping cycles the tilt
+  between its torque limits (0.94 rad/s after random actions); 90 is still overdamped
+  (critical: 29) and settles.
+  The arm's damping is a seventh of SimplerEnv's (1059.98, 1010.47, 767.28, 680.00,
+  674.99, 274.61, 340.53 N*m*s/rad: ours 151.4, 144.4, 109.6, 97.1, 96.4, 39.2, 48.6), for
+  the same reason: MuJoCo integrates a drive's damping implicitly only while its force is
+  inside its limits, and a clamped drive with kv * dt / I >= 2 can flip between its
+  limits every step (``robot_agents.tuning.cycles``). With SimplerEnv's full damping
+  every arm drive can at our 2 ms step (cycle-free only above 2146-3311 Hz), and after
+  10 steps of +2.5 cm in ``pd_ee_delta_pose`` (whose joint targets carry a velocity
+  feed-forward) and then zero commands the tool runs on 200 mm in 2 s, joints still at
+  1.4 rad/s. A fifth (the factor until 2026-11-29) leaves the forearm, bicep and torso
+  able to cycle at 500 Hz (cycle-free above 654, 632, 599 Hz; the sweep's settle claim
+  fails at 400 Hz). A seventh is the largest 1/n at which no drive can cycle at the
+  default 500 Hz (forearm 465, bicep 449, torso 427 Hz); after the same motion the tool
+  comes to rest 4.5 mm on (it lagged the command), and every arm joint stays
+  overdamped (kv / (2 sqrt(kp I)) 1.3-5.1 over 256 sampled configurations).
+  The fingers take Menagerie's drive (kp 20, damping 2 (Menagerie's joint damping; ours
+  on the drive), armature 0.1, +-30 N*m),
+  not SimplerEnv's (200 N*m/rad, damping 8 since 2024-01-06 (80 in the 2023-12-19 tune),
+  60 N*m, no armature: PhysX's implicit drives): without armature on the fingers' small
+  inertia either damping cycles between the limits at our 2 ms step (closing from open,
+  0.07 rad after 1 s, 88 rad/s). The URDF's joint speed limits (2.0 .. 3.0 rad/s arm,
+  1.3 rad/s fingers, 2.0 rad/s head).
 - Fingertip contact: MuJoCo Menagerie's ``trs_so_arm100`` pad values (solref 0.01 s,
   solimp "2 1 0.01", an impedance MuJoCo clamps to 0.9999), with priority; Menagerie's
   Google Robot sets none. With MuJoCo's default contact the sweep's 83 mm cube, squeezed
@@ -121,10 +144,34 @@ WHEELS = ("joint_wheel_left", "joint_wheel_right")
 WHEEL_RADIUS = 0.06205
 WHEEL_SEPARATION = 2 * 0.18333
 
-#: SimplerEnv's real-to-sim arm gains ("force" drive mode) and the URDF's speed limits.
-ARM_STIFFNESS = (2000.0, 1800.0, 1200.0, 1000.0, 650.0, 500.0, 500.0)
-ARM_DAMPING = (170.0, 162.0, 100.0, 96.0, 92.0, 38.0, 50.0)
-ARM_EFFORT = (400.0, 400.0, 300.0, 300.0, 200.0, 200.0, 100.0)
+#: SimplerEnv's real-to-sim arm gains ("force" drive mode; ManiSkill2_real2sim
+#: ``GoogleRobotDefaultConfig`` at ef7a4d4f, the ``google_robot_static`` config), N*m/rad,
+#: N*m*s/rad, N*m; torso .. gripper joint.
+SIMPLER_ENV_ARM_STIFFNESS = (
+    1700.0,
+    1737.0471680861954,
+    979.975871856535,
+    930.0,
+    1212.154500274304,
+    432.96500923932535,
+    468.0013365498738,
+)
+SIMPLER_ENV_ARM_DAMPING = (
+    1059.9791902443303,
+    1010.4720585373592,
+    767.2803161582076,
+    680.0,
+    674.9946964336588,
+    274.613381336198,
+    340.532560578637,
+)
+SIMPLER_ENV_ARM_FORCE_LIMIT = (300.0, 300.0, 100.0, 100.0, 100.0, 100.0, 100.0)
+#: Ours: the fraction of SimplerEnv's arm damping we use (see the module doc).
+ARM_DAMPING_SCALE = 1.0 / 7.0
+ARM_STIFFNESS = SIMPLER_ENV_ARM_STIFFNESS
+ARM_DAMPING = tuple(ARM_DAMPING_SCALE * d for d in SIMPLER_ENV_ARM_DAMPING)
+ARM_EFFORT = SIMPLER_ENV_ARM_FORCE_LIMIT
+#: The URDF's joint speed limits (rad/s).
 ARM_VELOCITY = (2.0, 2.0, 2.0, 2.5, 3.0, 3.0, 3.0)
 
 GOOGLE_ROBOT_DRIVES = (
@@ -244,17 +291,17 @@ class GoogleRobot(Agent):
     """
 
     uid = "google_robot"
-    #: Time-step sweep (benchmarks/timestep_sweep.py, 2026-11-23, 20 Hz control, every
-    #: step; docs/timestep.md): hold, random actions, end-effector tracking and
-    #: penetration hold from 160 Hz down to 1 kHz; settle from 320 Hz (with the head's
-    #: damping at 90; the forearm turns at 4.4 rad/s at 200 Hz); grasp, with the
-    #: fingertips' near-rigid contacts (``google_robot.xml``), from 160 Hz (2026-11-29,
-    #: with the URDF's TCP and tips and the grasp frame: the 77.9 mm cube moves
-    #: 0.25-0.45 mm in the 2 s hold at 200 Hz-1 kHz). Every claim held from 320 Hz with one
-    #: random-action seed; with three (2026-11-23 14:00 UTC rerun) the forearm cycles
-    #: between its torque limits at 320 Hz (2.9 rad/s, seed 2), every claim holds from
-    #: 400 Hz, and the analysis of ``robot_agents.tuning.cycles`` puts the forearm's
-    #: cycle below 443 Hz: default one tried step finer, 500 Hz (was 400).
+    #: Time-step sweep (benchmarks/timestep_sweep.py, 20 Hz control, every step;
+    #: docs/timestep.md), rerun 2026-11-29 with SimplerEnv's current arm gains and a
+    #: seventh of its damping: hold, end-effector tracking and penetration hold at every
+    #: step from 40 Hz to 1 kHz, random actions (three seeds) from 80 Hz; grasp, with the
+    #: fingertips' near-rigid contacts (``google_robot.xml``) and the grasp frame, from
+    #: 160 Hz (the 77.9 mm cube moves 0.16-0.39 mm in the 2 s hold at 400 Hz-1 kHz);
+    #: settle from 400 Hz (at 320 Hz the forearm cycles between its torque limits, 1.38
+    #: rad/s, ``pd_joint_vel`` seed 0). The analysis of ``robot_agents.tuning.cycles``
+    #: puts every drive's cycle below 465 Hz (the forearm's): default one tried step
+    #: finer than the largest passing one, 500 Hz. (With the gains before, 2026-11-23:
+    #: every claim from 400 Hz with three seeds, forearm cycle below 443 Hz; 500 Hz.)
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "google_robot.xml"
     actuators = GOOGLE_ROBOT_DRIVES

@@ -251,6 +251,41 @@ def test_an_arm_hanging_from_above_gets_a_table_under_its_rest_pose(tmp_path: Pa
     assert successes >= 9, successes
 
 
+#: A column the arm stands on in its file (m): short enough that its tool gets down to
+#: the floor under it, tall enough that pointing down it reaches the floor only over a
+#: narrow band of distances (gymnasium-robotics' Fetch: its shoulder 0.80 m over its base).
+COLUMN_HEIGHT, COLUMN_WIDTH = 0.3, 0.12
+
+
+def test_a_tall_arm_stands_on_the_floor_next_to_a_risen_table(tmp_path: Path) -> None:
+    """The arm with a gripper on a 0.3 m column (the file's root link): its fingers
+    point down at the floor it stands on only over a band of distances narrower than
+    ``NARROW_BAND`` reach, so it stands on the floor and the table top rises to where
+    the heights of cubes and goals centre on the median height at which it points down
+    (0.19 m), the table starting clear of the column with every cube drawn on it. Before,
+    the arm stood on the table and picked 0 of 20 (and pushed 0 of 20); now 20 of 20
+    (and 13 of 20: ``/tmp`` scratch runs of the scripted solvers, 2026-11-29 10:16 UTC)."""
+    column = (
+        _link("column", 20.0, f"0 0 {COLUMN_HEIGHT / 2}", f"{COLUMN_WIDTH} {COLUMN_WIDTH} {COLUMN_HEIGHT}", 1.0)
+        + '<joint name="on_column" type="fixed"><parent link="column"/><child link="base"/>'
+        f'<origin xyz="0 0 {COLUMN_HEIGHT}"/></joint>'
+    )
+    path = tmp_path / "on_column.urdf"
+    path.write_text(arm_with_gripper_urdf().replace("<link ", column + "<link ", 1))
+    cls = type("ColumnArm", (ra.Agent,), {"uid": "column_arm", "urdf_path": path})
+    layout = table_top_layout(cls)
+    root_x, reach, edge = layout.robot_pose[0], layout.reach, 2.0 * layout.cube_half_size
+    assert layout.lowered and not layout.pedestal
+    assert layout.robot_pose[2] == pytest.approx(0.0, abs=1e-9)  # on the floor
+    assert 0.1 < layout.table_height < COLUMN_HEIGHT + BASE_HEIGHT  # risen, below the shoulder
+    back = layout.table_center[0] - layout.table_half_size[0]
+    assert back >= root_x + 0.5 * COLUMN_WIDTH + TABLE_CLEARANCE * reach - 1e-9  # clear of the column
+    assert -layout.spawn_half_size - np.sqrt(2.0) * 0.5 * edge > back  # every cube on the table
+    with registered(cls):
+        successes = scripted_successes("PickCube-v1", cls.uid, 10)
+    assert successes >= 9, successes
+
+
 def _turn(uid: str, settle: int) -> tuple[int, np.ndarray]:
     """The scripted solvers' turn to a ReachPose goal (4 envs, seed 0) with at most
     ``settle`` steps of waiting: the steps it took and each env's largest joint lag (rad)."""

@@ -33,6 +33,16 @@ The layout (:func:`table_top_layout`, computed once per robot class on a probe s
   above), and the table starts :data:`TABLE_CLEARANCE` ``R`` clear of the robot's fixed
   geoms lower than its top (the pedestal), the centre moved ahead where a cube drawn
   nearest the robot would lie off it.
+- **A tall arm** (gymnasium-robotics' Fetch: its shoulder 0.80 m over the base it
+  stands on), with a gripper and its centre where its tool points down (above), whose
+  tool points down at the heights of cubes and goals over its mount floor only over a
+  band of distances from its shoulder narrower than :data:`NARROW_BAND` ``R``, stands
+  on the floor too, where a table top risen as for a pedestal (the median height at
+  which it points down; not capped under its moving parts, but below its shoulder's
+  first joint, so that the arm stands over its table) widens that band; the
+  centre goes to the middle of the risen band, and the table starts
+  :data:`TABLE_CLEARANCE` ``R`` clear of every part of the robot lower than its top as
+  it rests (``lowered``).
 - **Mobile robots** (a ``Base`` part) stand on the floor at their ``mount_pose``
   instead, next to the table, facing it as above. The table top is ``0.15 R`` below
   the default keyframe's tool (0.18 R for the Panda on its table). The table's near
@@ -102,6 +112,11 @@ STRETCHED_SHARE = 0.7
 #: or, with a gripper, in the middle of where its tool reaches pointing down at the cube
 #: and goal heights (see :func:`_middle_distance`), where that is nearer.
 UPRIGHT_AHEAD = 0.5
+#: An arm with a gripper whose tool reaches pointing down at the heights of cubes and
+#: goals over a band of distances from its shoulder narrower than this share of the
+#: reach (the cubes' spread, 0.2, and PushCube's goals up to 0.25 ahead of them) stands
+#: on the floor next to a table risen to where it points down (see the module doc).
+NARROW_BAND = 0.45
 #: Configurations drawn (fixed seed) to find where an arm's tool reaches pointing down,
 #: the largest tilt from straight down that counts (rad), and the fewest such tool
 #: points that give a measure.
@@ -180,6 +195,8 @@ class TableTopLayout:
             to the table, its tool out of reach of that floor (see the module doc).
         turning_radius: (mobile robots) the radius of the circle swept by the robot's
             geoms below the table top when the base turns in place (m); 0 otherwise.
+        lowered: a tall arm stands on the floor next to a table risen to where it
+            points down (see the module doc).
     """
 
     reach: float
@@ -195,6 +212,7 @@ class TableTopLayout:
     mobile: bool = False
     pedestal: bool = False
     turning_radius: float = 0.0
+    lowered: bool = False
 
     @property
     def center(self) -> FloatArray:
@@ -278,6 +296,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         rise = 0.0
         lowest = float(min(np.min(tips[:, 2]), rest_tcp[2]))
         pedestal = base is None and lowest > 0.5 * cube_edge + spread
+        lowered = False  # a tall arm standing on the floor next to a risen table (below)
         if pedestal:
             down = _pointing_down_points(agent, tool, joints, data.qpos, approach, model)
             rise = lowest - 0.5 * cube_edge
@@ -298,6 +317,21 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
                 down = _pointing_down_points(agent, tool, joints, data.qpos, approach, model)
             band = (rise + 0.5 * cube_edge, rise + 0.5 * cube_edge + spread)  # over the table top
             middle = _middle_distance(down, shoulder, band)
+            # a tool pointing down at the table top over too narrow a band of distances
+            # for a push (a tall arm: the shoulder high over its mount floor), where a
+            # table top risen to the median height at which it points down widens it:
+            # the robot stands on the floor next to that table, as on a pedestal
+            width = _band_width(down, shoulder, band)
+            if not pedestal and gripper is not None and width is not None and width < NARROW_BAND * reach:
+                risen = _centred_band(down[:, 2], spread) - 0.5 * cube_edge
+                risen_band = (risen + 0.5 * cube_edge, risen + 0.5 * cube_edge + spread)
+                risen_width = _band_width(down, shoulder, risen_band)
+                # below the shoulder: the arm still stands over its table (a robosuite
+                # iiwa, its first joint 0.15 m up, would have stood 5 cm into it)
+                if 0.0 < risen < shoulder[2] and risen_width is not None and risen_width > width:
+                    lowered, rise = True, risen
+                    middle = _middle_distance(down, shoulder, risen_band)
+                    boxes = _robot_geom_boxes(agent, model, data)
             if middle is not None:
                 ahead_distance = middle if file_rest else min(ahead_distance, middle)
                 centre_ahead = True
@@ -317,9 +351,10 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         mujoco.mju_rotVecQuat(centre, shoulder, turn)
         centre[0] += ahead_distance
     fronts: list[float] = []  # of a pedestal robot's fixed geoms lower than the table top
-    if pedestal:
+    if pedestal or lowered:
         # the robot stands at its mount pose over the floor; the table starts clear of
-        # what of it stands fixed lower than the table top (its pedestal), if anything
+        # what of it stands fixed lower than the table top (its pedestal; a lowered
+        # arm's: every part of it lower than the table top as it rests), if anything
         table_height = rise
         turned = np.empty(3)
         for lo, hi in boxes:
@@ -374,6 +409,7 @@ def _measure_layout(cls: type[Agent]) -> TableTopLayout:
         mobile=base is not None,
         pedestal=pedestal,
         turning_radius=turning_radius,
+        lowered=lowered,
     )
 
 
@@ -424,6 +460,17 @@ def _middle_distance(points: FloatArray, shoulder: FloatArray, band: tuple[float
         return None
     distance = np.linalg.norm(within[:, :2] - shoulder[:2], axis=1)
     return float(0.5 * (distance.min() + distance.max()))
+
+
+def _band_width(points: FloatArray, shoulder: FloatArray, band: tuple[float, float]) -> float | None:
+    """The spread (m) of the horizontal distances from ``shoulder`` of the tool
+    ``points`` (pointing down) at heights within ``band`` (as :func:`_middle_distance`);
+    ``None`` when fewer than :data:`DOWN_MIN_POINTS` qualify."""
+    within = points[(points[:, 2] >= band[0]) & (points[:, 2] <= band[1])]
+    if len(within) < DOWN_MIN_POINTS:
+        return None
+    distance = np.linalg.norm(within[:, :2] - shoulder[:2], axis=1)
+    return float(distance.max() - distance.min())
 
 
 def _centred_band(heights: FloatArray, spread: float) -> float:

@@ -427,8 +427,8 @@ def test_armature_keeps_the_jaw_at_its_stop_and_the_servo_loop_stable(uid: str) 
        force over inertia); with armature it rests within 6 mrad of it (1.5 and 5 mrad).
     2. Closed as a servo's firmware closes it (an explicit PD loop per 2 ms substep),
        the wrist roll's 0.3 rad step settles within 1 mrad with armature (kv dt / I =
-       0.16, stable below 2); without it the roll swings in a limit cycle of over 2 rad
-       peak to peak at 10-12 times the servo's no-load speed (kv dt / I = 18-126 on the
+       0.11-0.13 for the drive's share, stable below 2); without it the roll swings in a limit cycle of over 2 rad
+       peak to peak at 16-46 times the servo's no-load speed (kv dt / I = 18-126 on the
        wrist roll and the jaw, kv the drive's share; the servo's back-EMF, the joint's
        own damping, is integrated implicitly; 25-151 with the whole kv in the drive,
        before 2026-11-29)."""

@@ -140,7 +140,9 @@ class SO100(Agent):
     #: damped 0.2 rad joint step (tests/test_servo_arms.py) overshoots 1.007 mrad (bound
     #: 1 mrad); at 160 Hz 0.22 mrad, but the scripted PickCube-v1 solver succeeds in 19
     #: of 20 seeds (20 at 200 Hz, the test asks 18). Was 320 Hz while the grasp failed
-    #: at 200 Hz.
+    #: at 200 Hz. Rerun 2026-11-29 10:14 UTC after the back-EMF became the joints' damping:
+    #: every claim still holds from 80 Hz (joint-limit overshoot 0.027 rad at 200 Hz, was
+    #: 0.069; grasp slip 0.26 mm as before).
     sim_freq = 200
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)

@@ -281,7 +281,10 @@ class WidowX250S(Agent):
     #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.005-0.18 rad
     #: with the stiff limits of wx250s_arm.xml, 0.29 rad at 80 Hz; grasp slip 1.2 mm at
     #: 100 Hz, 0.8 mm at 160 Hz); default one tried step finer, 160 Hz (margin: 6.25 ms
-    #: against 10 ms).
+    #: against 10 ms). Rerun 2026-11-29 10:11 UTC after the arm's back-EMF damping moved
+    #: outside the torque limit: every claim holds from 80 Hz (joint-limit overshoot 0.056
+    #: rad there, 0.020 at 160 Hz, was 0.080; grasp slip 0.8 mm at 160 Hz as before);
+    #: 160 Hz kept.
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)

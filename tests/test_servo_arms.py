@@ -20,7 +20,7 @@ from robot_agents.checks import hold_action
 from robot_agents.kinematics import IKConfig, IKSolver
 from robot_agents.kinematics.rotations import quat_rotate
 from robot_agents.robots.servo_arms import koch, so100
-from robot_agents.robots.servo_arms.servos import BANDWIDTH, STS3215, XL330_M288, XL430_W250, Servo
+from robot_agents.robots.servo_arms.servos import BANDWIDTH, STS3215, XL330_M288, XL430_W250, Servo, split_damping
 
 UIDS = ("so100", "koch-v1.1")
 XYZ = tuple[float, float, float]
@@ -485,3 +485,18 @@ def test_armature_keeps_the_jaw_at_its_stop_and_the_servo_loop_stable(uid: str) 
     bare_inertia = np.asarray(MODULES[uid].REST_LINK_INERTIA)
     assert np.all(kv * 0.002 / (bare_inertia + np.asarray(drives.armature)) < 0.2)
     assert np.all(kv[4:] * 0.002 / bare_inertia[4:] > 15)
+
+
+def test_split_damping_takes_the_back_emf_out_of_the_total() -> None:
+    """The servo's back-EMF (stall torque / no-load speed: 1.91 N*m / 5.454 rad/s =
+    0.350 N*m*s/rad for the STS3215) is the joint's share; the drive keeps the rest, and a
+    total below the back-EMF is refused, naming the servo."""
+    drive, joint = split_damping((2.0, 0.5), (STS3215, XL430_W250))
+    assert joint == pytest.approx((0.3502, 0.2348), abs=1e-4)
+    np.testing.assert_allclose(np.add(drive, joint), (2.0, 0.5), rtol=1e-15)
+    with pytest.raises(
+        ra.ConfigError, match=r"damping\[1\] = 0.1 N\*m\*s/rad is below the back-EMF of Dynamixel XL430"
+    ):
+        split_damping((2.0, 0.1), (STS3215, XL430_W250))
+    with pytest.raises(ra.ConfigError, match="expected one servo per damping"):
+        split_damping((2.0,), (STS3215, XL430_W250))

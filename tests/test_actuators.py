@@ -256,3 +256,40 @@ def test_joint_damping_acts_beyond_the_effort_limit(tmp_path: Path) -> None:
     assert peak(damping=2.0) > 10.0
     with pytest.raises(ra.ConfigError, match=r"joint_damping: expected finite values >= 0"):
         ra.PDActuator(joints=".*", stiffness=1.0, joint_damping=-1.0)
+
+
+def test_joint_damping_fed_forward_follows_velocity_targets(tmp_path: Path) -> None:
+    """A PD drive without damping of its own, on a joint whose damping is fed forward
+    (a voltage-driven motor's back-EMF as ``joint_damping``), keeps ``pd_joint_vel``:
+    it commands ``b qd*``, and the turntable settles at its 1.5 rad/s target. Without the
+    feedforward nothing would follow the target, and the mode is left out."""
+    path = tmp_path / "turntable.xml"
+    path.write_text(
+        '<mujoco><compiler angle="radian"/><worldbody><body name="base"><geom type="box" size="0.05 0.05 0.05" mass="1"/>'
+        '<body name="table"><joint name="turn" axis="0 0 1"/>'
+        '<geom type="box" size="0.2 0.02 0.02" pos="0 0 0.1" mass="1"/></body></body></worldbody></mujoco>'
+    )
+
+    def turntable(feedforward: bool) -> type[ra.Agent]:
+        drive = ra.PDActuator(
+            joints="turn",
+            stiffness=100.0,
+            damping=0.0,
+            joint_damping=2.0,
+            effort_limit=4.0,
+            velocity_limit=2.0,
+            armature=0.05,
+            damping_feedforward=feedforward,
+        )
+        return type("Turntable", (ra.Agent,), {"uid": "", "mjcf_path": path, "actuators": (drive,)})
+
+    assert "pd_joint_vel" not in turntable(False).modes()
+    scene = ra.Scene(turntable(True), control_modes="pd_joint_vel", sim_freq=500, control_freq=50)
+    scene.reset()
+    agent = scene.agents[0]
+    for _ in range(50):  # 1 s; the time constant is (I + armature) / b, about 0.04 s
+        agent.set_action(agent.controller.parts["main"].from_raw(np.array([1.5])))
+        scene.step()
+    assert agent.qvel[0, 0] == pytest.approx(1.5, rel=1e-6)
+    np.testing.assert_array_equal(agent.drives.damping, [0.0])
+    scene.close()

@@ -20,7 +20,7 @@ from robot_agents.checks import hold_action
 from robot_agents.kinematics import IKConfig, IKSolver
 from robot_agents.kinematics.rotations import quat_rotate
 from robot_agents.robots.servo_arms import koch, so100
-from robot_agents.robots.servo_arms.servos import BANDWIDTH, STS3215, XL330_M288, XL430_W250, Servo
+from robot_agents.robots.servo_arms.servos import BANDWIDTH, STS3215, XL330_M288, XL430_W250, Servo, split_damping
 
 UIDS = ("so100", "koch-v1.1")
 XYZ = tuple[float, float, float]
@@ -158,7 +158,11 @@ def test_drives_are_the_servos_with_critically_damped_gains(uid: str) -> None:
     np.testing.assert_allclose(model.dof_armature[agent.dof_adr], [s.armature for s in servos])
     np.testing.assert_allclose(model.dof_frictionloss[agent.dof_adr], [s.friction for s in servos])
     assert (XL430_W250.gear_ratio, XL330_M288.gear_ratio, STS3215.gear_ratio) == (258.5, 288.35, 345.0)
-    kp, kv = model.actuator_gainprm[ids, 0], -model.actuator_biasprm[ids, 2]
+    # kv: the drive's damping plus the joint's own, the servo's back-EMF (stall torque /
+    # no-load speed), which acts outside the effort limit
+    back_emf = model.dof_damping[agent.dof_adr]
+    np.testing.assert_allclose(back_emf, [s.stall_torque / s.no_load_speed for s in servos], rtol=1e-12)
+    kp, kv = model.actuator_gainprm[ids, 0], -model.actuator_biasprm[ids, 2] + back_emf
     scene.reset(keyframes="rest")
     inertia = mass_matrix_diagonal(scene)  # includes the armature
     np.testing.assert_allclose(inertia, MODULES[uid].EFFECTIVE_INERTIA, rtol=1e-3)
@@ -423,9 +427,11 @@ def test_armature_keeps_the_jaw_at_its_stop_and_the_servo_loop_stable(uid: str) 
        force over inertia); with armature it rests within 6 mrad of it (1.5 and 5 mrad).
     2. Closed as a servo's firmware closes it (an explicit PD loop per 2 ms substep),
        the wrist roll's 0.3 rad step settles within 1 mrad with armature (kv dt / I =
-       0.16, stable below 2); without it the roll swings in a limit cycle of over 2 rad
-       peak to peak at 10-12 times the servo's no-load speed (kv dt / I = 25-151 on the
-       wrist roll and the jaw)."""
+       0.11-0.13 for the drive's share, stable below 2); without it the roll swings in a limit cycle of over 2 rad
+       peak to peak at 16-46 times the servo's no-load speed (kv dt / I = 18-126 on the
+       wrist roll and the jaw, kv the drive's share; the servo's back-EMF, the joint's
+       own damping, is integrated implicitly; 25-151 with the whole kv in the drive,
+       before 2026-11-29)."""
     cls = ra.get_agent(uid)
     drives = cls.actuators[0]
     assert isinstance(drives, ra.PDActuator)
@@ -478,4 +484,19 @@ def test_armature_keeps_the_jaw_at_its_stop_and_the_servo_loop_stable(uid: str) 
     kv = np.asarray(drives.damping)
     bare_inertia = np.asarray(MODULES[uid].REST_LINK_INERTIA)
     assert np.all(kv * 0.002 / (bare_inertia + np.asarray(drives.armature)) < 0.2)
-    assert np.all(kv[4:] * 0.002 / bare_inertia[4:] > 20)
+    assert np.all(kv[4:] * 0.002 / bare_inertia[4:] > 15)
+
+
+def test_split_damping_takes_the_back_emf_out_of_the_total() -> None:
+    """The servo's back-EMF (stall torque / no-load speed: 1.91 N*m / 5.454 rad/s =
+    0.350 N*m*s/rad for the STS3215) is the joint's share; the drive keeps the rest, and a
+    total below the back-EMF is refused, naming the servo."""
+    drive, joint = split_damping((2.0, 0.5), (STS3215, XL430_W250))
+    assert joint == pytest.approx((0.3502, 0.2348), abs=1e-4)
+    np.testing.assert_allclose(np.add(drive, joint), (2.0, 0.5), rtol=1e-15)
+    with pytest.raises(
+        ra.ConfigError, match=r"damping\[1\] = 0.1 N\*m\*s/rad is below the back-EMF of Dynamixel XL430"
+    ):
+        split_damping((2.0, 0.1), (STS3215, XL430_W250))
+    with pytest.raises(ra.ConfigError, match="expected one servo per damping"):
+        split_damping((2.0,), (STS3215, XL430_W250))

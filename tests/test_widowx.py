@@ -194,6 +194,48 @@ def test_widowx250s_fingers_move_at_most_at_the_gripper_servos_no_load_speed() -
     scene.close()
 
 
+def test_widowx250s_arm_joints_move_at_most_at_their_servos_no_load_speed() -> None:
+    """The arm's DYNAMIXELs' back-EMF (stall torque / no-load speed: 0.85 N*m*s/rad per
+    XM430-W350, 0.23 per XL430-W250, paired servos add) is the joints' damping, outside
+    the torque limit, and the P-only drives have none: a 2 rad waist jump (a vertical
+    axis, no gravity) saturates at the XM430's 4.817 rad/s. As the drives' damping,
+    clamped with their torque, it was lost while a drive saturated and the waist peaked
+    at 16.0 rad/s (3.3 times it; per physics step, 2026-11-29). The velocity modes stay:
+    the drive feeds the joint's damping forward, b qd*."""
+    from robot_agents.checks import hold_action
+    from robot_agents.robots.widowx.widowx250s import ARM_DAMPING, ARM_EFFORT, ARM_JOINTS, ARM_VELOCITY
+
+    np.testing.assert_allclose(np.divide(ARM_EFFORT, ARM_DAMPING), ARM_VELOCITY, rtol=1e-12)
+    scene = ra.Scene("widowx250s", control_modes="pd_joint_pos", sim_freq=160, control_freq=160)
+    scene.reset()
+    agent = scene.agents[0]
+    arm = agent.drives.columns(ARM_JOINTS, "test")
+    np.testing.assert_array_equal(scene.model.dof_damping[agent.drives.dof_adr[arm]], ARM_DAMPING)
+    np.testing.assert_array_equal(agent.drives.damping[arm], 0.0)  # none inside the clamp
+    assert {"pd_joint_vel", "pd_joint_pos_vel", "pd_joint_delta_pos_vel"} <= set(type(agent).modes())
+    main = agent.controller.parts["arm"]
+    target = agent.qpos[0, :6] + np.array([2.0, 0, 0, 0, 0, 0])
+    action = hold_action(agent)
+    action[agent.controller.slices["arm"]] = main.from_raw(target[None])[0]
+    peak = 0.0
+    for _ in range(160):  # 1 s
+        agent.set_action(action)
+        scene.step()
+        peak = max(peak, abs(float(agent.qvel[0, 0])))
+    assert ARM_VELOCITY[0] * 0.99 < peak < ARM_VELOCITY[0] * 1.001, peak
+    assert agent.qpos[0, 0] == pytest.approx(target[0], abs=1e-3)
+    # a velocity target on the waist alone is met: b qd* against the joint's b qd
+    agent.set_control_mode("pd_joint_vel")
+    main = agent.controller.parts["arm"]
+    action = hold_action(agent)
+    action[agent.controller.slices["arm"]] = main.from_raw(np.array([[-2.0, 0, 0, 0, 0, 0]]))[0]
+    for _ in range(80):  # 0.5 s
+        agent.set_action(action)
+        scene.step()
+    assert agent.qvel[0, 0] == pytest.approx(-2.0, rel=1e-3)
+    scene.close()
+
+
 def test_widowxai_limits_and_drives_from_the_data() -> None:
     scene = ra.Scene("widowxai")
     agent = scene.agents[0]

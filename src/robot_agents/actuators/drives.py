@@ -222,10 +222,13 @@ class Drives:
                     f"({self.declarations[column].source}) has no stiffness; declare a PDActuator or override "
                     "stiffness in the mode."
                 )
-            if "velocity" in writes and "position" not in writes and kv[column] <= 0 and kp[column] <= 0:
+            # a joint's own damping fed forward (a motor's back-EMF) follows velocity targets too
+            velocity_gain = kv[column] + self.passive_damping[column]
+            if "velocity" in writes and "position" not in writes and velocity_gain <= 0 and kp[column] <= 0:
                 raise ConfigError(
                     f"{where}: sets velocity targets for joint {joint!r}, but its drive "
-                    f"({self.declarations[column].source}) has no damping; override damping in the mode."
+                    f"({self.declarations[column].source}) has no damping and its joint none fed forward; "
+                    "override damping in the mode."
                 )
 
     def activate(self, override: DriveOverride, uses_velocity: bool, uses_effort: bool) -> None:

@@ -66,8 +66,12 @@ def velocity_servos(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -
 def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[str]:
     """Driven joints whose drive has neither stiffness nor damping once a velocity mode
     relaxes its stiffness: an affine actuator (a file's ``<position>`` without ``kv``, a
-    motor) or an explicit PD without damping. Such a drive cannot follow velocity
-    targets; MuJoCo's ``pid`` and ``dcmotor`` drives take velocity inputs and can."""
+    motor) or an explicit PD without damping, on a joint without damping of its own fed
+    forward. Such a drive cannot follow velocity targets; MuJoCo's ``pid`` and
+    ``dcmotor`` drives take velocity inputs and can, and so can a drive that feeds its
+    joint's damping forward (``damping_feedforward``, e.g. a motor's back-EMF declared as
+    ``joint_damping``): it commands ``b qd*``, which meets the target where the joint's
+    own damping ``b qd`` balances it (a voltage-driven motor's open-loop speed)."""
     out = []
     for drive in drives:
         if drive.kind in (DriveKind.PID, DriveKind.DCMOTOR):
@@ -76,6 +80,9 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
         if drive.kind is DriveKind.AFFINE and not drive.source.startswith(DERIVED_SOURCE):
             actuator = joint_actuator(model, drive.joint)
             damping = -float(model.actuator_biasprm[actuator, 2]) if actuator is not None else 0.0
+        if drive.damping_feedforward:
+            joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
+            damping += float(model.dof_damping[model.jnt_dofadr[joint_id]]) if joint_id >= 0 else 0.0
         if not damping > 0.0:
             out.append(drive.joint)
     return out

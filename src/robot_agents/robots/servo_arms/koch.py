@@ -17,7 +17,15 @@ Sources of the numbers:
   (armature + the joint-space mass matrix diagonal :data:`REST_LINK_INERTIA`), see
   :func:`~.servos.critically_damped_gains`: kp = 8.1, 8.8 N*m/rad on the XL430s and
   6.0 .. 3.2 N*m/rad on the XL330s, kv = 0.16 .. 0.44 N*m*s/rad. ManiSkill's Koch uses
-  kp = 1000, kv = 100 on the arm in ``pd_joint_pos``.
+  kp = 1000, kv = 100 on the arm in ``pd_joint_pos``. Of kv, the servos' back-EMF
+  (stall torque / no-load speed: 0.235 N*m*s/rad per XL430, 0.048 per XL330) is each
+  joint's own damping (``joint_damping``), outside the stall-torque limit, and the
+  drive's damping the rest, 0.11 .. 0.25 (:func:`~.servos.split_damping`): at full
+  torque a joint runs at most at its no-load speed (plus what gravity adds). Since
+  2026-11-29; before, a saturated drive lost its damping and a full-range
+  ``pd_joint_pos`` jump (benchmarks/rated_speed.py) peaked at 13.0 rad/s on
+  ``joint_1``, 2.03 times the XL430's 6.39 rad/s; now 0.94 times at most (``joint_2``,
+  6.0 rad/s; 10:12 UTC).
 - Keyframes: ManiSkill's ``rest``, ``elevated_turn`` and ``zero``; joint delta actions of
   0.05 rad per step, as ManiSkill's.
 - Self-collision exclusions: the pairs of the URDF's SRDF (the fixed finger, a body of
@@ -45,7 +53,13 @@ from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
-from robot_agents.robots.servo_arms.servos import XL330_M288, XL430_W250, critically_damped_gains, servo_values
+from robot_agents.robots.servo_arms.servos import (
+    XL330_M288,
+    XL430_W250,
+    critically_damped_gains,
+    servo_values,
+    split_damping,
+)
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -61,13 +75,17 @@ REST_LINK_INERTIA = (4.7128e-4, 8.8044e-4, 1.743e-3, 2.2210e-4, 1.2739e-5, 9.334
 #: Effective inertia of each joint at ``rest``: link inertia plus armature (kg*m^2).
 EFFECTIVE_INERTIA = tuple(i + a for i, a in zip(REST_LINK_INERTIA, servo_values(SERVOS, "armature"), strict=True))
 STIFFNESS, DAMPING = critically_damped_gains(EFFECTIVE_INERTIA)
+#: ``DAMPING`` split into the drive's share and the servos' back-EMF, each joint's own
+#: (N*m*s/rad): the back-EMF acts outside the stall-torque limit.
+DRIVE_DAMPING, JOINT_DAMPING = split_damping(DAMPING, SERVOS)
 
 #: XL430-W250 on the base and shoulder, XL330-M288 from the elbow on, each under a
 #: critically damped PD drive.
 KOCH_DRIVES = PDActuator(
     joints="joint_[1-6]",
     stiffness=STIFFNESS,
-    damping=DAMPING,
+    damping=DRIVE_DAMPING,
+    joint_damping=JOINT_DAMPING,
     effort_limit=servo_values(SERVOS, "stall_torque"),
     velocity_limit=servo_values(SERVOS, "no_load_speed"),
     armature=servo_values(SERVOS, "armature"),
@@ -116,6 +134,8 @@ class Koch(Agent):
     #: overshoot 0.09-0.2 rad). The critically damped 0.2 rad joint step
     #: (tests/test_servo_arms.py) overshoots past 1 mrad at 100-200 Hz and holds at
     #: 320 Hz: default 320 Hz (was 400), set by that test, not by the claims' margin.
+    #: Rerun 2026-11-29 10:15 UTC after the back-EMF became the joints' damping: every
+    #: claim still holds from 80 Hz (joint-limit overshoot 0.062 rad at 320 Hz, was 0.12).
     sim_freq = 320
     mjcf_path = ASSETS / "koch.xml"
     actuators = (KOCH_DRIVES,)

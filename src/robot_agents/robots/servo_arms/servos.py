@@ -63,13 +63,18 @@ about 5.5 N*m/rad, against our 8 N*m/rad). Because the armature dominates, the d
 ratio stays near 1 across poses (it varies as ``sqrt(I_rest / I_pose)``: 0.68 .. 1.004
 over the keyframes).
 
-Not modelled: the servos' torque-speed curve. A real servo's torque falls linearly from
-stall to zero at its no-load speed (back-EMF); the drive here saturates at the stall
-torque at any speed, so a large position step can drive a joint past its no-load
-speed (the SO-100's wrist roll reaches ~20 rad/s on a 5 rad step, the STS3215 tops out
-at 5.45 rad/s). A passive joint damping of stall torque / no-load speed would add the
-curve but slow the velocity and velocity-feed-forward modes by the same damping;
-MuJoCo's ``dcmotor`` (``DCMotorActuator``, MuJoCo >= 3.15) models it fully.
+The torque-speed curve (:func:`back_emf_damping`): a servo's torque falls linearly from
+stall to zero at its no-load speed (back-EMF). Its slope, stall torque / no-load speed,
+is each joint's own damping (``joint_damping``), outside the drive's effort limit, as
+the motor's back-EMF is outside its PWM limit, and the PD drive's damping is the rest
+of the critically damped ``kv`` (:func:`split_damping`): below saturation the torque is
+``kp (q* - q) - kv qd`` as before, and the velocity modes, which feed the joint's
+damping forward, are unchanged; a saturated drive now keeps the back-EMF, so a joint
+runs at most at its no-load speed (plus what gravity adds). Since 2026-11-29; before,
+the drive saturated at the stall torque at any speed and a full-range ``pd_joint_pos``
+jump (benchmarks/rated_speed.py) reached 1.99 times the STS3215's 5.45 rad/s on the
+SO-100's elbow and 2.03 times the XL430's 6.39 rad/s on the Koch's base. MuJoCo's
+``dcmotor`` (``DCMotorActuator``, MuJoCo >= 3.15) models the motor fully.
 """
 
 from __future__ import annotations
@@ -77,6 +82,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+
+from robot_agents.errors import ConfigError
 
 
 def rpm(value: float) -> float:
@@ -173,6 +180,29 @@ def critically_damped_gains(
     return kp, kv
 
 
+def back_emf_damping(servo: Servo) -> float:
+    """The slope of ``servo``'s torque-speed curve, stall torque / no-load speed
+    (N*m*s/rad): the motor's back-EMF under voltage (PWM) control."""
+    return servo.stall_torque / servo.no_load_speed
+
+
+def split_damping(damping: Sequence[float], servos: Sequence[Servo]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """A joint's total damping ``damping`` (N*m*s/rad, one per servo) split into the
+    drive's share and the joint's own (the servo's back-EMF, :func:`back_emf_damping`):
+    ``(drive, joint)``, their sums ``damping``. Raises :class:`ConfigError` where the
+    back-EMF alone exceeds the total."""
+    joint = tuple(back_emf_damping(servo) for servo in servos)
+    if len(joint) != len(damping):
+        raise ConfigError(f"split_damping: expected one servo per damping ({len(damping)}), got {len(joint)}.")
+    for index, (total, own) in enumerate(zip(damping, joint, strict=True)):
+        if own > total:
+            raise ConfigError(
+                f"split_damping: damping[{index}] = {total} N*m*s/rad is below the back-EMF of "
+                f"{servos[index].model}, {own:.4g} N*m*s/rad; expected a total at least that."
+            )
+    return tuple(total - own for total, own in zip(damping, joint, strict=True)), joint
+
+
 def servo_values(servos: Sequence[Servo], field: str) -> tuple[float, ...]:
     """One attribute (``"armature"``, ``"stall_torque"``, ...) of each servo."""
     return tuple(float(getattr(servo, field)) for servo in servos)
@@ -187,8 +217,10 @@ __all__ = [
     "XL430_W250",
     "XM430_W350",
     "Servo",
+    "back_emf_damping",
     "critically_damped_gains",
     "rotor_armature",
     "rpm",
     "servo_values",
+    "split_damping",
 ]

@@ -23,6 +23,13 @@ Sources of the numbers:
   (armature + the joint-space mass matrix diagonal :data:`REST_LINK_INERTIA`), see
   :func:`~.servos.critically_damped_gains`: kp = 41.8 .. 54.6 N*m/rad, kv = 2.09 .. 2.73
   N*m*s/rad. ManiSkill's SO-100 uses kp = 1000, kv = 100 (an industrial arm's gains).
+  Of kv, the STS3215's back-EMF, 1.91 / 5.45 = 0.350 N*m*s/rad, is each joint's own
+  damping (``joint_damping``), outside the stall-torque limit, and the drive's damping
+  the rest, 1.74 .. 2.38 (:func:`~.servos.split_damping`): at full torque a joint runs
+  at most at the no-load speed (plus what gravity adds). Since 2026-11-29; before, a
+  saturated drive lost its damping and a full-range ``pd_joint_pos`` jump
+  (benchmarks/rated_speed.py) peaked at 10.8 rad/s on ``elbow_flex``, 1.99 times the
+  5.45 rad/s; now 5.5 rad/s, 1.00 times (10:12 UTC).
 - Keyframes: ManiSkill's ``rest`` (the folded pose, jaw closed) and ``zero``; joint
   delta actions of 0.05 rad per step, as ManiSkill's (the arm is not precise).
 - Self-collision exclusions: the pairs of the URDF's SRDF that the kinematics keep apart.
@@ -56,7 +63,7 @@ from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.parts.declaration import Arm, EndEffector, Gripper
 from robot_agents.registry import register_agent
-from robot_agents.robots.servo_arms.servos import STS3215, critically_damped_gains
+from robot_agents.robots.servo_arms.servos import STS3215, critically_damped_gains, split_damping
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -70,12 +77,16 @@ REST_LINK_INERTIA = (3.0432e-3, 2.7393e-3, 8.0064e-3, 1.1516e-3, 4.008e-5, 2.769
 #: Effective inertia of each joint at ``rest``: link inertia plus armature (kg*m^2).
 EFFECTIVE_INERTIA = tuple(i + STS3215.armature for i in REST_LINK_INERTIA)
 STIFFNESS, DAMPING = critically_damped_gains(EFFECTIVE_INERTIA)
+#: ``DAMPING`` split into the drive's share and the STS3215's back-EMF, each joint's own
+#: (N*m*s/rad): the back-EMF acts outside the stall-torque limit.
+DRIVE_DAMPING, JOINT_DAMPING = split_damping(DAMPING, (STS3215,) * len(JOINTS))
 
 #: Every joint is an STS3215 under a critically damped PD drive.
 SO100_DRIVES = PDActuator(
     joints="|".join(JOINTS),
     stiffness=STIFFNESS,
-    damping=DAMPING,
+    damping=DRIVE_DAMPING,
+    joint_damping=JOINT_DAMPING,
     effort_limit=STS3215.stall_torque,
     velocity_limit=STS3215.no_load_speed,
     armature=STS3215.armature,
@@ -129,7 +140,9 @@ class SO100(Agent):
     #: damped 0.2 rad joint step (tests/test_servo_arms.py) overshoots 1.007 mrad (bound
     #: 1 mrad); at 160 Hz 0.22 mrad, but the scripted PickCube-v1 solver succeeds in 19
     #: of 20 seeds (20 at 200 Hz, the test asks 18). Was 320 Hz while the grasp failed
-    #: at 200 Hz.
+    #: at 200 Hz. Rerun 2026-11-29 10:14 UTC after the back-EMF became the joints' damping:
+    #: every claim still holds from 80 Hz (joint-limit overshoot 0.027 rad at 200 Hz, was
+    #: 0.069; grasp slip 0.26 mm as before).
     sim_freq = 200
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)

@@ -22,11 +22,23 @@ Sources of the numbers:
   firmware's P-only position loop commands PWM = (P / 128) * error [pulses] out of a
   885 PWM limit (4096 pulses per turn), so the full stall torque is reached at
   885 / (P / 128) pulses: kp = stall torque / that error (XM430 18.9 N*m/rad, XL430
-  5.5 N*m/rad). The damping is the motor's back-EMF under voltage (PWM) control,
-  stall torque / no-load speed (XM430 0.85, XL430 0.23 N*m*s/rad); the XL430's factory
-  position D gain (4000) is left out, so its damping is a lower bound. Paired servos add.
-  An estimate of the real loop (which also limits acceleration through its profile
-  settings), not an identification.
+  5.5 N*m/rad). The drives have no damping of their own: the XM430's factory position
+  D and I gains are 0 (a P-only loop); the XL430's factory D gain (4000) is left out,
+  since ROBOTIS's conversion (``KPD = KPD(TBL) / 16``, "the constant ... includes
+  sampling time") does not give it in physical units without the loop's unpublished
+  sampling time. The damping is the motor's back-EMF under voltage (PWM) control,
+  stall torque / no-load speed (XM430 0.85, XL430 0.23 N*m*s/rad), declared as the
+  joints' own damping (``joint_damping``), outside the torque limit, as the motor's is
+  outside its PWM limit: at full torque a joint runs at most at its no-load speed.
+  Paired servos add. An estimate of the real loop (which also limits acceleration
+  through its profile settings), not an identification. Since 2026-11-29; before, the
+  back-EMF was the drives' damping, clamped with the P torque and lost while a drive
+  saturated, and a full-range ``pd_joint_pos`` jump (benchmarks/rated_speed.py) peaked at
+  15.3 rad/s on the elbow, 3.2 times its 4.82 rad/s. Below saturation nothing changed:
+  the torque is ``kp (q* - q) - b qd`` either way, and in the velocity modes the drive
+  feeds ``b qd*`` forward (``damping_feedforward``), so ``pd_joint_vel`` is the
+  voltage-driven motor's ``b (qd* - qd)`` as before and ``pd_joint_pos_vel`` keeps
+  ``kp (q* - q) + b (qd* - qd)``.
 - Armature (reflected rotor inertia; ROBOTIS does not publish rotor inertias): estimated
   from each servo's motor-side stall torque by
   :func:`~robot_agents.robots.servo_arms.servos.rotor_armature` (the mean rotor inertia
@@ -44,8 +56,7 @@ Sources of the numbers:
   at the no-load speed, 54 / 600 = 0.089 m/s. Since 2026-11-29; as the drive's damping
   it was clamped with the P force and lost while the drive saturated, and a full stroke
   peaked at 0.30 m/s closing and 0.28 m/s opening (tests/test_widowx.py). The arm's
-  drives keep their damping inside the limit (their velocity modes use it as the
-  servo's velocity gain): a saturated arm joint can pass its no-load speed.
+  joints likewise (above).
 - The gripper as a piece for another arm (:class:`WidowX250SGripperPiece`,
   ``get_piece("widowx250s_gripper")``): the gripper's servo link ``gripper_link`` (its
   inertial, servo box, ``ee_arm_link`` and horn as in ``wx250s_arm.xml``, the same
@@ -133,6 +144,8 @@ _ARM_SERVOS = (
 ARM_EFFORT = tuple(n * s.stall_torque for s, _, n in _ARM_SERVOS)
 ARM_VELOCITY = tuple(s.no_load_speed for s, _, _ in _ARM_SERVOS)
 ARM_STIFFNESS = tuple(n * servo_stiffness(s.stall_torque, p) for s, p, n in _ARM_SERVOS)
+#: Back-EMF damping per arm joint (N*m*s/rad): stall torque / no-load speed, the joints'
+#: own damping (``joint_damping``).
 ARM_DAMPING = tuple(n * s.stall_torque / s.no_load_speed for s, _, n in _ARM_SERVOS)
 ARM_ARMATURE = tuple(n * servo_armature(s) for s, _, n in _ARM_SERVOS)
 
@@ -145,11 +158,15 @@ FINGER_STIFFNESS = servo_stiffness(XL430_W250.stall_torque, XL430_P_GAIN) / _LEV
 FINGER_DAMPING = XL430_W250.stall_torque / XL430_W250.no_load_speed / _LEVER
 FINGER_ARMATURE = servo_armature(XL430_W250) / _LEVER
 
-#: The arm's drives: DYNAMIXEL position loops (see the module docstring).
+#: The arm's drives: DYNAMIXEL P-only position loops, their torque clamped to the stall
+#: torque, and the motors' back-EMF as the joints' damping, outside the clamp (see the
+#: module docstring): at full torque a joint runs at most at ARM_EFFORT / ARM_DAMPING =
+#: ARM_VELOCITY.
 WX250S_ARM_DRIVES = PDActuator(
     joints=ARM_PATTERN,
     stiffness=ARM_STIFFNESS,
-    damping=ARM_DAMPING,
+    damping=0.0,
+    joint_damping=ARM_DAMPING,
     effort_limit=ARM_EFFORT,
     velocity_limit=ARM_VELOCITY,
     armature=ARM_ARMATURE,
@@ -264,7 +281,10 @@ class WidowX250S(Agent):
     #: claim holds from 10 ms (100 Hz) down to 1 ms (joint-limit overshoot 0.005-0.18 rad
     #: with the stiff limits of wx250s_arm.xml, 0.29 rad at 80 Hz; grasp slip 1.2 mm at
     #: 100 Hz, 0.8 mm at 160 Hz); default one tried step finer, 160 Hz (margin: 6.25 ms
-    #: against 10 ms).
+    #: against 10 ms). Rerun 2026-11-29 10:11 UTC after the arm's back-EMF damping moved
+    #: outside the torque limit: every claim holds from 80 Hz (joint-limit overshoot 0.056
+    #: rad there, 0.020 at 160 Hz, was 0.080; grasp slip 0.8 mm at 160 Hz as before);
+    #: 160 Hz kept.
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)

@@ -59,7 +59,7 @@ RUNS = {
     ("integrator_claims.py", "floating_panda_gripper", "160"): "| `floating_panda_gripper` | 160 |",
     ("mobile_pick_seeds.py", "spot", "--seeds", "1"): "| `spot` | 1/1 |",
     ("base_odometry.py", "stretch", "--dynamics", "kinematic"): "| `stretch` | kinematic | ",
-    ("rated_speed.py", "so100", "--bridge"): "| `so100` | 0.63 | 11 |",
+    ("rated_speed.py", "so100", "--bridge"): "| `so100` | 0.57 | 12 |",
     ("sleep_option.py", "--rounds", "1"): "round trip",
     ("load_time.py", "--rounds", "1"): "| xarm6_robotiq (a fresh subclass) |",
     ("ik_reach.py", "--robots", "so100", "--count", "2", "--jacobians"): "| `so100` (position) | 5 |",

@@ -72,6 +72,11 @@ class DriveDeclaration:
     #: The joint's own damping is fed forward with velocity targets
     #: (:attr:`ActuatorConfig.damping_feedforward`).
     damping_feedforward: bool = True
+    #: The joint damping the declaration gives the joint (N*m*s/rad or N*s/m; a motor's
+    #: back-EMF, :attr:`ActuatorConfig.joint_damping`), 0 where it sets none: with
+    #: ``damping_feedforward`` it follows velocity targets as the drive's damping does
+    #: (a model file's own joint damping, a passive loss, is not counted as a drive's).
+    joint_damping: float = 0.0
 
 
 def _file_actuators(spec: mujoco.MjSpec) -> list[mujoco.MjsActuator]:
@@ -408,30 +413,37 @@ def _add_declared(
     speeds = per_joint(owner, "velocity_limit", decl.velocity_limit, n, np.inf)
     result = []
     feedforward = decl.damping_feedforward
+    own_damping = per_joint(owner, "joint_damping", decl.joint_damping, n, 0.0)
+
+    def declared(k: int, kind: DriveKind, kp: float, kv: float) -> DriveDeclaration:
+        return DriveDeclaration(
+            matched[k],
+            kind,
+            owner,
+            kp,
+            kv,
+            float(limits[k]),
+            float(speeds[k]),
+            damping_feedforward=feedforward,
+            joint_damping=float(own_damping[k]),
+        )
+
     for k, joint in enumerate(matched):
-        limit, speed = float(limits[k]), float(speeds[k])
+        limit = float(limits[k])
         if isinstance(decl, PDActuator):
             kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, kp, kv, limit)
-            result.append(
-                DriveDeclaration(joint, DriveKind.AFFINE, owner, kp, kv, limit, speed, damping_feedforward=feedforward)
-            )
+            result.append(declared(k, DriveKind.AFFINE, kp, kv))
         elif isinstance(decl, VelocityActuator):
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, 0.0, kv, limit)
-            result.append(
-                DriveDeclaration(joint, DriveKind.AFFINE, owner, 0.0, kv, limit, speed, damping_feedforward=feedforward)
-            )
+            result.append(declared(k, DriveKind.AFFINE, 0.0, kv))
         elif isinstance(decl, MotorActuator):
             kp = float(per_joint(owner, "stiffness", decl.stiffness, n, 0.0)[k])
             kv = float(per_joint(owner, "damping", decl.damping, n, 0.0)[k])
             _add_affine(spec, joint, taken, 0.0, 0.0, limit)
-            result.append(
-                DriveDeclaration(
-                    joint, DriveKind.EXPLICIT, owner, kp, kv, limit, speed, damping_feedforward=feedforward
-                )
-            )
+            result.append(declared(k, DriveKind.EXPLICIT, kp, kv))
         elif isinstance(decl, (PIDActuator, DCMotorActuator)):
             actuator = spec.add_actuator(
                 name=_actuator_name(joint, taken), target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT
@@ -440,11 +452,7 @@ def _add_declared(
             if np.isfinite(limit):
                 actuator.forcelimited = 1
                 actuator.forcerange = [-limit, limit]
-            result.append(
-                DriveDeclaration(
-                    joint, kind, owner, decl.stiffness, decl.damping, limit, speed, damping_feedforward=feedforward
-                )
-            )
+            result.append(declared(k, kind, decl.stiffness, decl.damping))
         else:
             raise ConfigError(f"{owner}: unknown actuator declaration type {type(decl).__name__}.")
     return result

@@ -69,9 +69,11 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
     motor) or an explicit PD without damping, on a joint without damping of its own fed
     forward. Such a drive cannot follow velocity targets; MuJoCo's ``pid`` and
     ``dcmotor`` drives take velocity inputs and can, and so can a drive that feeds its
-    joint's damping forward (``damping_feedforward``, e.g. a motor's back-EMF declared as
-    ``joint_damping``): it commands ``b qd*``, which meets the target where the joint's
-    own damping ``b qd`` balances it (a voltage-driven motor's open-loop speed)."""
+    joint's damping forward (``damping_feedforward``) where the declaration gives that
+    damping (a motor's back-EMF declared as ``joint_damping``): it commands ``b qd*``,
+    which meets the target where the joint's own damping ``b qd`` balances it (a
+    voltage-driven motor's open-loop speed). A model file's own joint damping (a passive
+    loss beside a ``<position>`` servo) does not count."""
     out = []
     for drive in drives:
         if drive.kind in (DriveKind.PID, DriveKind.DCMOTOR):
@@ -81,8 +83,7 @@ def undamped(model: mujoco.MjModel, drives: Sequence[DriveDeclaration]) -> list[
             actuator = joint_actuator(model, drive.joint)
             damping = -float(model.actuator_biasprm[actuator, 2]) if actuator is not None else 0.0
         if drive.damping_feedforward:
-            joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, drive.joint)
-            damping += float(model.dof_damping[model.jnt_dofadr[joint_id]]) if joint_id >= 0 else 0.0
+            damping += drive.joint_damping
         if not damping > 0.0:
             out.append(drive.joint)
     return out

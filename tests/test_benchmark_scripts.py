@@ -6,6 +6,7 @@ own tests in test_timestep.py)."""
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -163,3 +164,18 @@ def test_two_line_tasks_states_servos_for_a_known_file(tmp_path: Path) -> None:
     stdout = run_script("two_line_tasks.py", str(path), "--seeds", "1", "--servos")
     row = next(line for line in stdout.splitlines() if line.startswith("| so100.urdf + servos |"))
     assert row.rstrip().endswith("/1 |"), row  # ReachPose ran
+
+
+def test_fingerprint_is_the_same_twice_and_compare_names_a_changed_robot(tmp_path: Path) -> None:
+    """Two fingerprints of the same robot are identical (determinism: the model and 8
+    random-action steps in each mode); ``--compare`` lists exactly the entry that differs."""
+    first, second = tmp_path / "a.json", tmp_path / "b.json"
+    for path in (first, second):
+        assert "hashes of 1 robots" in run_script("fingerprint.py", str(path), "--robots", "so100")
+    hashes = json.loads(first.read_text())
+    assert "so100/model" in hashes and "so100/pd_joint_delta_pos" in hashes
+    assert "identical" in run_script("fingerprint.py", "--compare", str(first), str(second))
+    hashes["so100/pd_joint_pos"] = "0" * 16
+    second.write_text(json.dumps(hashes))
+    stdout = run_script("fingerprint.py", "--compare", str(first), str(second))
+    assert "1 differ" in stdout and "so100/pd_joint_pos" in stdout, stdout

@@ -191,6 +191,23 @@ def scripted_successes(task: str, uid: str, seeds: int) -> int:
 PEDESTAL_HEIGHT, PEDESTAL_WIDTH = 1.5, 0.2
 
 
+def arm_on_a_block(
+    tmp_path: Path, name: str, height: float, width: float, mass: float, inertia: float
+) -> type[ra.Agent]:
+    """A two-line robot of ``arm_with_gripper_urdf`` standing on a fixed box link ``name``
+    ``width`` x ``width`` x ``height`` (m) of ``mass`` (kg) and diagonal ``inertia``
+    (kg*m^2), its base on the box's top."""
+    block = (
+        _link(name, mass, f"0 0 {height / 2}", f"{width} {width} {height}", inertia)
+        + f'<joint name="on_{name}" type="fixed"><parent link="{name}"/><child link="base"/>'
+        f'<origin xyz="0 0 {height}"/></joint>'
+    )
+    path = tmp_path / f"on_{name}.urdf"
+    path.write_text(arm_with_gripper_urdf().replace("<link ", block + "<link ", 1))
+    title = name.capitalize()
+    return type(f"{title}Arm", (ra.Agent,), {"uid": f"{name}_arm", "urdf_path": path})
+
+
 def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path) -> None:
     """The arm with a gripper on a 1.5 m pedestal (the file's root link): its tool gets
     no lower than 1.32 m over the floor, so the robot stands on the floor and the table
@@ -199,16 +216,7 @@ def test_an_arm_on_a_pedestal_of_its_own_gets_a_table_it_reaches(tmp_path: Path)
     axis, 1.6 m), the table starting clear of the pedestal with every cube drawn on it;
     the scripted solver picks. (Before, the pedestal stood on the table and every cube
     lay out of reach: the kitchen's Franka picked 0 of 20.)"""
-    pedestal = (
-        _link(
-            "pedestal", 50.0, f"0 0 {PEDESTAL_HEIGHT / 2}", f"{PEDESTAL_WIDTH} {PEDESTAL_WIDTH} {PEDESTAL_HEIGHT}", 10.0
-        )
-        + '<joint name="on_pedestal" type="fixed"><parent link="pedestal"/><child link="base"/>'
-        f'<origin xyz="0 0 {PEDESTAL_HEIGHT}"/></joint>'
-    )
-    path = tmp_path / "on_pedestal.urdf"
-    path.write_text(arm_with_gripper_urdf().replace("<link ", pedestal + "<link ", 1))
-    cls = type("PedestalArm", (ra.Agent,), {"uid": "pedestal_arm", "urdf_path": path})
+    cls = arm_on_a_block(tmp_path, "pedestal", PEDESTAL_HEIGHT, PEDESTAL_WIDTH, 50.0, 10.0)
     layout = table_top_layout(cls)
     root_x, reach, edge = layout.robot_pose[0], layout.reach, 2.0 * layout.cube_half_size
     assert layout.robot_pose[2] == pytest.approx(0.0, abs=1e-9)  # on the floor
@@ -265,14 +273,7 @@ def test_a_tall_arm_stands_on_the_floor_next_to_a_risen_table(tmp_path: Path) ->
     (0.19 m), the table starting clear of the column with every cube drawn on it. Before,
     the arm stood on the table and picked 0 of 20 (and pushed 0 of 20); now 20 of 20
     (and 13 of 20: ``/tmp`` scratch runs of the scripted solvers, 2026-11-29 10:16 UTC)."""
-    column = (
-        _link("column", 20.0, f"0 0 {COLUMN_HEIGHT / 2}", f"{COLUMN_WIDTH} {COLUMN_WIDTH} {COLUMN_HEIGHT}", 1.0)
-        + '<joint name="on_column" type="fixed"><parent link="column"/><child link="base"/>'
-        f'<origin xyz="0 0 {COLUMN_HEIGHT}"/></joint>'
-    )
-    path = tmp_path / "on_column.urdf"
-    path.write_text(arm_with_gripper_urdf().replace("<link ", column + "<link ", 1))
-    cls = type("ColumnArm", (ra.Agent,), {"uid": "column_arm", "urdf_path": path})
+    cls = arm_on_a_block(tmp_path, "column", COLUMN_HEIGHT, COLUMN_WIDTH, 20.0, 1.0)
     layout = table_top_layout(cls)
     root_x, reach, edge = layout.robot_pose[0], layout.reach, 2.0 * layout.cube_half_size
     assert layout.lowered and not layout.pedestal

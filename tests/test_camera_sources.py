@@ -60,6 +60,13 @@ def centred(fovy: float, width: int, height: int) -> np.ndarray:
     return np.array([[focal, 0.0, (width - 1) / 2], [0.0, focal, (height - 1) / 2], [0.0, 0.0, 1.0]])
 
 
+def habitat_k(hfov: float, width: int, height: int) -> np.ndarray:
+    """OpenCV ``K`` of a Habitat-sim pinhole camera: ``hfov`` (rad) spans the image's
+    width, pixels square, centred (Habitat-sim ``CameraSensor.cpp``)."""
+    focal = width / 2 / math.tan(hfov / 2)
+    return np.array([[focal, 0.0, (width - 1) / 2], [0.0, focal, (height - 1) / 2], [0.0, 0.0, 1.0]])
+
+
 @dataclass(frozen=True)
 class Source:
     """A robot camera as its source gives it.
@@ -200,17 +207,18 @@ SOURCES = [
     # (arm0.link_wr1), orientation rotation_y(-1.571) rotation_z(-90 deg) in Habitat's
     # camera axes (MuJoCo's: -z ahead, +y up), here with -pi/2 for its -1.571; its offset
     # (0.166, 0.023, 0.03) m lies inside our primitive jaw's sweep, so the position
-    # (0.101, 0, -0.03) m, at the housing's face, is ours, as are fovy 60 deg, 128 x 128
-    # and the planes 0.01 / 10 m (Habitat's sensor sizes come from its task configs).
+    # (0.101, 0, -0.03) m, at the housing's face, is ours. Image: Habitat-lab
+    # sensor_setups/spot_agent.yaml arm_rgb_sensor, 640 x 480, hfov 47 (Habitat-sim's
+    # horizontal angle); planes Habitat-sim's defaults (VisualSensor.h), 0.01 / 1000 m.
     Source(
         "spot",
         "hand_camera",
         "arm_link_wr1",
         transform(rpy(0.0, -math.pi / 2, 0.0) @ rpy(0.0, 0.0, -math.pi / 2) @ CV_TO_GL, np.array([0.101, 0.0, -0.03])),
-        centred(math.radians(60.0), 128, 128),
-        (128, 128),
+        habitat_k(math.radians(47.0), 640, 480),
+        (640, 480),
         0.01,
-        10.0,
+        1000.0,
         (0.03, 0.04, 0.25),
     ),
     # SimplerEnv google_robot_meta_sim_fix_fingertip.urdf: joint_camera_mount (0.10488, 0, 0),

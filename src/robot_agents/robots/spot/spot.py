@@ -44,10 +44,18 @@ Sources of the numbers:
   looking out along the gripper (``arm_link_wr1`` +x) with the image's up along its
   +z (the finger side). Habitat places its arm cameras on the same link 0.166 m out,
   inside the jaw's sweep of our primitive model, so ours sits at the housing's face.
+  Image: Habitat-lab's ``arm_rgb_sensor`` (``habitat/config/habitat/simulator/
+  sensor_setups/spot_agent.yaml``, unchanged since 45ff10c2, 2024-03-14): 640 x 480,
+  ``hfov`` 47 deg, which is horizontal in Habitat-sim (``CameraSensor.cpp``: the near
+  plane is 1 x height/width, square pixels), so a vertical 36.12 deg here. Habitat-lab
+  sets no clipping planes for it; Habitat-sim's defaults are near 0.01 m, far 1000 m
+  (``VisualSensor.h``). (Habitat's arm *depth* sensor is another camera, 228 x 240,
+  ``hfov`` 60 deg, depth clipped to 1.7 m.)
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import ClassVar
@@ -132,16 +140,23 @@ SPOT_BASE = Base(
 #: The jaws' rubber-like grip.
 JAW_PAD = FrictionMaterial(sliding=1.5, torsional=0.01, rolling=0.0001)
 
+#: Habitat-lab spot_agent.yaml ``arm_rgb_sensor``: (width, height) pixels and the
+#: horizontal field of view (deg).
+HAND_CAMERA_SIZE = (640, 480)
+HAND_CAMERA_HFOV = 47.0
 HAND_CAMERA = CameraConfig(
     uid="hand_camera",
     mount="arm_link_wr1",
     pos=(0.101, 0.0, -0.03),
     quat=FORWARD_X_UP_Z_CAMERA_QUAT,
-    width=128,
-    height=128,
-    fovy=60.0,
-    near=0.01,
-    far=10.0,
+    width=HAND_CAMERA_SIZE[0],
+    height=HAND_CAMERA_SIZE[1],
+    # Habitat-sim's hfov spans the width; square pixels give the height's angle.
+    fovy=math.degrees(
+        2 * math.atan(math.tan(math.radians(HAND_CAMERA_HFOV / 2)) * HAND_CAMERA_SIZE[1] / HAND_CAMERA_SIZE[0])
+    ),
+    near=0.01,  # Habitat-sim's default planes (VisualSensor.h)
+    far=1000.0,
 )
 
 

@@ -432,6 +432,8 @@ def test_bridge_camera_is_the_datasets_camera(
     np.testing.assert_allclose(pose[:3, 1], sapien[:, 2], atol=1e-6)  # image up = SAPIEN's z
     config = next(c for c in type(agent).cameras if c.uid == "3rd_view_camera")
     assert (config.width, config.height) == (640, 480)
+    # SimplerEnv's C920 matrix as given: an OpenCV calibration (cx is OpenCV's centre
+    # (640 - 1) / 2 to 1e-3 px), not a SAPIEN-tuned one, so not shifted by half a pixel.
     np.testing.assert_allclose(
         np.array(config.intrinsic)[[0, 1, 0, 1], [0, 1, 2, 2]], [623.588, 623.588, 319.501, 239.545]
     )

@@ -74,7 +74,8 @@ Sources of the numbers:
   ManiSkill 3.0.1's ``bridge_dataset_eval/base_env.py``): the real-to-sim tuned drive
   gains (their force limits are recorded but not applied: MuJoCo cannot integrate a
   clamped damper implicitly, see :data:`BRIDGE_FORCE_LIMITS`), the 3rd-view camera on ``base_link`` (a Logitech C920,
-  640 x 480, fx = fy = 623.588 px), the measured start poses of the arm and the
+  640 x 480, fx = fy = 623.588 px; an OpenCV calibration of the real camera, kept as
+  is: :data:`BRIDGE_CAMERA_INTRINSIC`), the measured start poses of the arm and the
   robot's pose on the table (:data:`BRIDGE_FLAT_TABLE_ROBOT_POSE`,
   :data:`BRIDGE_SINK_ROBOT_POSE`), and the control mode
   ``arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos``.
@@ -313,7 +314,19 @@ def sapien_camera_quat(quat: Sequence[float]) -> tuple[float, float, float, floa
     return (float(result[0]), float(result[1]), float(result[2]), float(result[3]))
 
 
-#: The BridgeData V2 3rd-view camera (Logitech C920), pixels.
+#: The BridgeData V2 3rd-view camera (Logitech C920), pixels, OpenCV convention (pixel
+#: centres at integers), used as given. Provenance (SimplerEnv's ManiSkill2_real2sim
+#: history, ``mani_skill2/agents/configs/widowx/defaults.py``): the matrix is there from
+#: the first WidowX commit (3fccbe9, 2024-01-01), labelled "logitech C920", and never
+#: changed; the values SimplerEnv did tune by eye in SAPIEN for the sink camera
+#: (7454f8d .. 7bb88be, 2024-02: 652.1 / 316.45 / 230.87, 646.1 / 321 / 234, 640.6 /
+#: 320 / 240) are round numbers with a centred guess at SAPIEN's 320 / 240, and were
+#: dropped for this matrix (18da4f8, 2024-03-22). Its cx = 319.501 is OpenCV's centre
+#: (640 - 1) / 2 to 1e-3 px and its three decimals are a calibration's, so it is taken
+#: as the real camera's OpenCV intrinsics and not shifted by half a pixel as the Google
+#: Robot's SAPIEN-tuned matrix is (``opencv_intrinsic``). SimplerEnv feeds it to SAPIEN
+#: as is (SAPIEN counts cx from the image's edge), so its renders image each point half
+#: a pixel left of and above where ours (and the real camera) do.
 BRIDGE_CAMERA_INTRINSIC = ((623.588, 0.0, 319.501), (0.0, 623.588, 239.545), (0.0, 0.0, 1.0))
 BRIDGE_FLAT_TABLE_CAMERA = CameraConfig(
     uid="3rd_view_camera",

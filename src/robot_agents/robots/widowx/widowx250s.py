@@ -318,9 +318,9 @@ def sapien_camera_quat(quat: Sequence[float]) -> tuple[float, float, float, floa
 #: centres at integers), used as given. Provenance (SimplerEnv's ManiSkill2_real2sim
 #: history, ``mani_skill2/agents/configs/widowx/defaults.py``): the matrix is there from
 #: the first WidowX commit (3fccbe9, 2024-01-01), labelled "logitech C920", and never
-#: changed; the values SimplerEnv did tune by eye in SAPIEN for the sink camera
-#: (7454f8d .. 7bb88be, 2024-02: 652.1 / 316.45 / 230.87, 646.1 / 321 / 234, 640.6 /
-#: 320 / 240) are round numbers with a centred guess at SAPIEN's 320 / 240, and were
+#: changed for the flat table. The sink camera's matrices SimplerEnv set by hand in
+#: SAPIEN (7454f8d .. 7bb88be, 2024-02: 652.1 / 316.45 / 230.87, 646.1 / 321 / 234, and
+#: 640.6 / 320 / 240, centred at SAPIEN's 320 / 240) have one or two decimals and were
 #: dropped for this matrix (18da4f8, 2024-03-22). Its cx = 319.501 is OpenCV's centre
 #: (640 - 1) / 2 to 1e-3 px and its three decimals are a calibration's, so it is taken
 #: as the real camera's OpenCV intrinsics and not shifted by half a pixel as the Google

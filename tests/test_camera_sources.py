@@ -215,8 +215,8 @@ SOURCES = [
         "hand_camera",
         "arm_link_wr1",
         transform(rpy(0.0, -math.pi / 2, 0.0) @ rpy(0.0, 0.0, -math.pi / 2) @ CV_TO_GL, np.array([0.101, 0.0, -0.03])),
-        habitat_k(math.radians(47.0), 640, 480),
-        (640, 480),
+        habitat_k(math.radians(47.0), 160, 120),  # Habitat's view rendered at 160 x 120
+        (160, 120),
         0.01,
         1000.0,
         (0.03, 0.04, 0.25),

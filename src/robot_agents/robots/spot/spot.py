@@ -144,6 +144,10 @@ JAW_PAD = FrictionMaterial(sliding=1.5, torsional=0.01, rolling=0.0001)
 #: horizontal field of view (deg).
 HAND_CAMERA_SIZE = (640, 480)
 HAND_CAMERA_HFOV = 47.0
+#: The image we render (pixels): Habitat's view (its field of view and 4:3 aspect) at a
+#: quarter of its width, the size of the other robots' 128 x 128 sensor cameras (19 times
+#: fewer pixels to render each step than 640 x 480); `sensor_configs` sets another.
+HAND_CAMERA_IMAGE = (160, 120)
 HAND_CAMERA = CameraConfig(
     uid="hand_camera",
     mount="arm_link_wr1",
@@ -157,7 +161,7 @@ HAND_CAMERA = CameraConfig(
     ),
     near=0.01,  # Habitat-sim's default planes (VisualSensor.h)
     far=1000.0,
-)
+).resized(*HAND_CAMERA_IMAGE)
 
 
 def _keyframe(arm: tuple[float, ...], gripper: float) -> Keyframe:

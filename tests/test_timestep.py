@@ -183,7 +183,7 @@ def test_drives_that_cycled_between_their_torque_limits_settle_at_their_default_
 
 
 def test_ur10e_wrists_cycle_with_the_former_gains() -> None:
-    """kp 5000, kv 500 on the wrists (56 N*m, 0.1 kg*m^2 armature: kv * dt / I = 10 at
+    """kp 5000, kv 500 on the wrists (54 N*m (56 when the gains were), 0.1 kg*m^2 armature: kv * dt / I = 10 at
     2 ms) leaves a wrist in a torque-limit cycle: the test above can fail."""
     ur = ra.get_agent("ur_10e")
 

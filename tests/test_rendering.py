@@ -16,6 +16,7 @@ import robot_agents as ra
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.sensors.pointcloud import pixel_rays, world_points
 from robot_agents.sensors.segmentation import deformable_ids, flex_bodies
+from tests.test_touch import lift_class
 
 BOX_POS = np.array([0.6, 0.4, 0.1])
 BOX_HALF = np.array([0.05, 0.08, 0.1])
@@ -216,17 +217,7 @@ def test_sensor_cameras_see_geoms_only_not_sites_or_tendons(tmp_path: Path) -> N
     every pixel that sees something names a body (no -1 within the far plane)."""
     path = tmp_path / "pad.xml"
     path.write_text(SITE_AND_TENDON_MJCF)
-    robot = type(
-        "SitePad",
-        (ra.Agent,),
-        {
-            "uid": "site_pad",
-            "mjcf_path": path,
-            "keyframes": {"home": ra.Keyframe(qpos=(0.0,))},
-            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
-            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
-        },
-    )
+    robot = lift_class("SitePad", "site_pad", path)
     camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.2), target=(0, 0, 0), up=(1, 0, 0), width=64, height=64)
     scene = ra.Scene(robot, cameras=[camera])
     images = scene.cameras.capture(scene.world, ("depth", "segmentation"))["top"]
@@ -460,17 +451,7 @@ def test_flexes_and_skins_have_segmentation_ids(tmp_path: Path) -> None:
     nodes' bodies."""
     path = tmp_path / "deformable.xml"
     path.write_text(DEFORMABLE_MJCF)
-    robot = type(
-        "Deformable",
-        (ra.Agent,),
-        {
-            "uid": "deformable",
-            "mjcf_path": path,
-            "keyframes": {"home": ra.Keyframe(qpos={"lift": 0.0})},
-            "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
-            "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
-        },
-    )
+    robot = lift_class("Deformable", "deformable", path)
     camera = ra.CameraConfig.look_at("top", eye=(0.0, 0.0, 1.5), target=(0, 0, 0), up=(1, 0, 0), width=96, height=96)
     scene = ra.Scene(robot, cameras=[camera])
     model = scene.render_model

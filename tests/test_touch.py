@@ -28,22 +28,29 @@ PAD_MJCF = """
 """
 
 
+def lift_class(name: str, uid: str, path: Path, **extra: Any) -> type[ra.Agent]:
+    """Robot ``name`` (uid ``uid``) of model file ``path``, whose one joint, the slide
+    ``lift``, is held by a stiff PD drive at 0 (keyframe ``home``); ``extra``: further
+    class attributes."""
+    attrs: dict[str, Any] = {
+        "uid": uid,
+        "mjcf_path": path,
+        "keyframes": {"home": ra.Keyframe(qpos={"lift": 0.0})},  # (other joints: the file's)
+        "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
+        "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
+    }
+    attrs.update(extra)
+    return type(name, (ra.Agent,), attrs)
+
+
 def touch_pad_class(path: Path, **extra: Any) -> type[ra.Agent]:
     """A fixed base carrying a 16 x 16 cm pad on a position-controlled slide; touch
     sensors on a new site over the pad (``pad_touch``) and on the file's site."""
-    attrs: dict[str, Any] = {
-        "uid": "touch_pad",
-        "mjcf_path": path,
-        "keyframes": {"home": ra.Keyframe(qpos=(0.0,))},
-        "actuators": (ra.PDActuator(joints="lift", stiffness=5000.0, damping=200.0, effort_limit=200.0),),
-        "control_modes": ra.joint_control_modes(ra.JointGroup(joint_names=("lift",))),
-        "touch_sensors": (
-            ra.TouchSensorConfig("pad_touch", link="pad", pos=(0.0, 0.0, 0.02), size=(0.085, 0.085, 0.003)),
-            ra.TouchSensorConfig("site_touch", site="pad_top"),
-        ),
-    }
-    attrs.update(extra)
-    return type("TouchPad", (ra.Agent,), attrs)
+    touch = (
+        ra.TouchSensorConfig("pad_touch", link="pad", pos=(0.0, 0.0, 0.02), size=(0.085, 0.085, 0.003)),
+        ra.TouchSensorConfig("site_touch", site="pad_top"),
+    )
+    return lift_class("TouchPad", "touch_pad", path, **{"touch_sensors": touch, **extra})
 
 
 @pytest.fixture

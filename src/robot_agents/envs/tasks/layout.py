@@ -455,22 +455,27 @@ def _middle_distance(points: FloatArray, shoulder: FloatArray, band: tuple[float
     ``UPRIGHT_AHEAD`` reach to grasp pointing down: a written six-joint arm (1.14 m
     reach, a short wrist) reached at most 0.62 m ahead that way, and its centre at
     0.57 m left a third of its cubes beyond."""
-    within = points[(points[:, 2] >= band[0]) & (points[:, 2] <= band[1])]
-    if len(within) < DOWN_MIN_POINTS:
-        return None
-    distance = np.linalg.norm(within[:, :2] - shoulder[:2], axis=1)
-    return float(0.5 * (distance.min() + distance.max()))
+    reach = _band_reach(points, shoulder, band)
+    return None if reach is None else float(0.5 * (reach[0] + reach[1]))
 
 
 def _band_width(points: FloatArray, shoulder: FloatArray, band: tuple[float, float]) -> float | None:
     """The spread (m) of the horizontal distances from ``shoulder`` of the tool
     ``points`` (pointing down) at heights within ``band`` (as :func:`_middle_distance`);
     ``None`` when fewer than :data:`DOWN_MIN_POINTS` qualify."""
+    reach = _band_reach(points, shoulder, band)
+    return None if reach is None else reach[1] - reach[0]
+
+
+def _band_reach(points: FloatArray, shoulder: FloatArray, band: tuple[float, float]) -> tuple[float, float] | None:
+    """The nearest and farthest horizontal distances (m) from ``shoulder`` of the tool
+    ``points`` (pointing down) at heights within ``band`` (m); ``None`` when fewer than
+    :data:`DOWN_MIN_POINTS` qualify."""
     within = points[(points[:, 2] >= band[0]) & (points[:, 2] <= band[1])]
     if len(within) < DOWN_MIN_POINTS:
         return None
     distance = np.linalg.norm(within[:, :2] - shoulder[:2], axis=1)
-    return float(distance.max() - distance.min())
+    return float(distance.min()), float(distance.max())
 
 
 def _centred_band(heights: FloatArray, spread: float) -> float:

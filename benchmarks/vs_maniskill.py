@@ -33,9 +33,10 @@ switches gravity off on them). The row names both modes.
     MS_ASSET_DIR=/tmp/ms_assets python benchmarks/vs_maniskill.py --output docs/vs-maniskill.md
 
 The peer downloads some robots' assets at first use (``xarm6_*``, ``widowxai*``,
-``widowx250s*``, ``ur_10e``, ``googlerobot``, ``floating_robotiq_2f_85_gripper``); a
-machine without network needs them under ``$MS_ASSET_DIR/data/robots/`` in ManiSkill's
-layout (the repositories named in ``mani_skill/utils/assets/data.py``). A robot the peer
+``widowx250s*``, ``ur_10e``, ``googlerobot``, ``floating_robotiq_2f_85_gripper``,
+``anymal_c``, ``unitree_h1``, ``unitree_go2``); a machine without network needs them
+under ``$MS_ASSET_DIR/data/robots/`` in ManiSkill's layout (the repositories and tags
+named in ``mani_skill/utils/assets/data.py``, each tag's files in its target folder). A robot the peer
 cannot load is reported with its error. Needs the peer's interpreter
 (``--maniskill-python``; default ``~/.venvs/maniskill/bin/python``, made by
 ``/work/shared/peers/setup_maniskill.sh``); without one the script says so and exits 0.

@@ -7,7 +7,9 @@ Sources of the numbers:
   public ``xarm_description`` (joint1..joint6, link_base, link1..link6, link_eef).
 - Joint ranges: the xArm6 datasheet (J1, J4, J6 +-360 deg; J2 -118..120 deg; J3
   -225..11 deg; J5 -97..180 deg); maximum joint speed 180 deg/s (3.14 rad/s, also the
-  URDF's velocity limit).
+  URDF's velocity limit). ManiSkill's xArm6 URDFs (haosulab/ManiSkill-XArm6 v0.1.1,
+  commit 438e7e4) have the same ranges but J3's lower end, -3.8 rad (-217.7 deg; ours
+  -3.927 rad as the datasheet and UFactory's ``xarm6.urdf.xacro``).
 - Torques: the effort limits of ``xarm_description`` (50, 50, 32, 32, 32, 20 N*m).
 - Inertials: ``xarm_description``'s default link parameters of the xArm6
   (``xarm6_type6_HT_BR2.yaml``: 2.3814, 2.2675, 1.875, 1.3192, 1.33854, 0.17 kg, with
@@ -24,9 +26,11 @@ Sources of the numbers:
   ``stretch_j2``, ``stretch_j4`` and ``stretch_j5`` put the arm into itself (the folded
   forearm or the flange against the base column); they are left out.
 - Wrist camera (``xarm6_nogripper_wristcam``): placed as ManiSkill's public
-  ``xarm6_nogripper.urdf`` does: ``camera_link`` 0.05 m along the flange's x axis, turned
-  (roll pi, yaw pi/2), the camera 0.05 m in front of it, looking out of the flange (link6
-  +z) with the image's up along link6 +y. The housing is an Intel RealSense D435 (90 x 25
+  ``xarm6_nogripper.urdf`` does (haosulab/ManiSkill-XArm6 v0.1.1, commit 438e7e4,
+  ``camera_link_joint``: xyz (0.05, 0, 0), rpy (pi, 0, pi/2) on link6; re-read
+  2026-11-29, tests/test_peer_assets.py): ``camera_link`` 0.05 m along the flange's x
+  axis, turned (roll pi, yaw pi/2), the camera 0.05 m in front of it, looking out of the
+  flange (link6 +z) with the image's up along link6 +y. The housing is an Intel RealSense D435 (90 x 25
   x 25 mm, 72 g; Intel D400 datasheet) around that camera as its colour camera
   (realsense2_description: 32.5 mm from the housing's centre, 4.3 mm behind its front),
   on a bracket of our own (30 g, an estimate) on the flange face.
@@ -45,7 +49,9 @@ Sources of the numbers:
   stand (``xarm_description/urdf/camera/realsense_d435i.urdf.xacro``, read as data):
   ``camera_link`` at (0.06746, -0.0175, 0.0237) m on ``link_eef``, rpy (pi, -pi/2, 0), the
   colour frame on it; the camera itself as ManiSkill's xarm6_robotiq_wristcam
-  (``hand_camera``, 128 x 128, 90 deg field of view, near 0.01, far 100). Housing layout
+  (``hand_camera``, 128 x 128, 90 deg field of view, near 0.01, far 100). (ManiSkill's
+  ``xarm6_robotiq.urdf``, same commit, keeps the bare arm's ``camera_link``: the camera
+  at (0.05, 0, 0.05) m on link6, looking along the gripper beside its housing.) Housing layout
   from realsense2_description; the stand's shape and 40 g are our estimate.
 - Composition: :class:`XArm6` is the arm up to its flange body ``link_eef`` (= link6: the
   flange face, z out of it). A tool is attached there and the arm part re-pointed to the

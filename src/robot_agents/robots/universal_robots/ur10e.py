@@ -7,6 +7,10 @@ Sources of the numbers:
   ``universal_robots_ur10e`` model (read as data; its lengths are rounded to the mm and
   its flange sits at 0.1 instead of 0.11655 m). ``base`` is the UR controller's base
   frame; ``tool0`` is DH frame 6, the flange (z out of it), as in ``ur_description``.
+  ManiSkill's ``ur_10e`` (haosulab/ManiSkill-UR10e v0.1.0, commit 734bc91, Menagerie's
+  model) has the same joint and link names but Menagerie's base frame, turned 90 deg
+  about z from UR's: the same joint angles put its links where ours are after a -90 deg
+  turn about z (tests/test_peer_assets.py).
 - Joint ranges: UR10e user manual (+-360 deg; elbow +-180 deg as in ``ur_description``).
   Maximum joint speeds: 120 deg/s (base, shoulder), 180 deg/s (elbow, wrists).
   Maximum joint torques: 330, 330, 150, 54, 54, 54 N*m, Universal Robots' own

@@ -168,8 +168,8 @@ SOURCES = [
         (0.03, -0.03, 0.12),
         pose_atol=1e-6,
     ),
-    # ManiSkill's xarm6_nogripper.urdf: camera_link at (0.05, 0, 0), rpy (pi, 0, pi/2) on
-    # link6; ManiSkill 3.0.1 xarm6_nogripper.py: hand_camera at Pose([0, 0, -0.05],
+    # ManiSkill's xarm6_nogripper.urdf (ManiSkill-XArm6 v0.1.1, 438e7e4; tests/test_peer_assets.py):
+    # camera_link at (0.05, 0, 0), rpy (pi, 0, pi/2) on link6; ManiSkill 3.0.1 xarm6_nogripper.py: hand_camera at Pose([0, 0, -0.05],
     # [0.70710678, 0, 0.70710678, 0]) on camera_link, 128 x 128, fov pi / 2, near 0.01, far 100.
     Source(
         "xarm6_nogripper_wristcam",

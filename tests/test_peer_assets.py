@@ -5,6 +5,8 @@ written out here as read from those files:
 - ``haosulab/ManiSkill-XArm6`` v0.1.1 (commit 438e7e4), ``xarm6_nogripper.urdf`` (the
   arm and ``camera_link`` of ``xarm6_robotiq.urdf`` are the same);
 - ``haosulab/ManiSkill-WidowX250S`` v0.2.0 (commit 6a12bb7), ``wx250s.urdf``;
+- ``TrossenRobotics/ManiSkill-WidowX_AI`` v0.1.0 (commit 0d55894), ``wxai_follower.urdf``
+  (its arm is ``wxai_base.urdf``'s);
 - ``haosulab/ManiSkill-UR10e`` v0.1.0 (commit 734bc91), ``ur10e.xml`` (MuJoCo Menagerie's
   model with a smaller shoulder capsule);
 - ``haosulab/ManiSkill-Robotiq_2F`` v0.1.0 (commit fc8d5e0), ``floating_robotiq_2f_85.urdf``.
@@ -199,6 +201,61 @@ def test_widowx250s_links_chain_and_ranges_against_the_peers_urdf() -> None:
     np.testing.assert_allclose(-limits[7, ::-1], [0.015, 0.037])
     axes = [ours.model.jnt_axis[ours.model.joint(ours.agent.prefix + n).id] for n in ("left_finger", "right_finger")]
     np.testing.assert_array_equal(axes, [Y, Y])
+    ours.close()
+
+
+# ManiSkill-WidowX_AI wxai_follower.urdf: joint_0 .. joint_5 (origins, no rotations),
+# ee_gripper to ee_gripper_link, the carriages, and the D405's chain to camera_link:
+# camera_mount_joint, camera_joint (pitched 0.3490658503988659 rad), camera_link_joint.
+WXAI_JOINTS: list[Joint] = [
+    ((0.0, 0.0, 0.05725), np.eye(3), Z),
+    ((0.02, 0.0, 0.04625), np.eye(3), Y),
+    ((-0.264, 0.0, 0.0), np.eye(3), -Y),
+    ((0.245, 0.0, 0.06), np.eye(3), -Y),
+    ((0.06775, 0.0, 0.0455), np.eye(3), -Z),
+    ((0.02895, 0.0, -0.0455), np.eye(3), X),
+]
+WXAI_TOOL = transform(np.eye(3), np.array([0.156062, 0.0, 0.0]))
+WXAI_CAMERA_LINK = (
+    transform(np.eye(3), np.array([0.012, 0.0, 0.0]))
+    @ transform(rpy(0.0, 0.3490658503988659, 0.0), np.array([0.02927207801, 0.0, 0.03824951197]))
+    @ transform(np.eye(3), np.array([0.01085, 0.009, 0.021]))
+)
+WXAI_RANGES = [
+    (-3.0543261909900767, 3.0543261909900767),
+    (0.0, 3.141592653589793),
+    (0.0, 2.356194490192345),
+    (-1.5707963267948966, 1.5707963267948966),
+    (-1.5707963267948966, 1.5707963267948966),
+    (-3.141592653589793, 3.141592653589793),
+    (0.0, 0.044),
+    (0.0, 0.044),
+]
+WXAI_CARRIAGES = [("right_carriage_joint", (0.0865, -0.023, 0.0), -Y), ("left_carriage_joint", (0.0865, 0.023, 0.0), Y)]
+
+
+def test_widowxai_chain_ranges_and_camera_link_against_the_peers_urdf() -> None:
+    """Joint names and axes as the file's; ``ee_gripper_link`` through its joint
+    origins (1e-9); ranges within 5e-6 (ours are Menagerie's, written to five or six
+    digits); the carriages' origins and axes; ``camera_link`` on ``link_6`` through the
+    D405 mount's three fixed joints (1e-6: ours holds Menagerie's 6-digit numbers)."""
+    ours = Model("widowxai_wristcam")
+    names = [f"joint_{i}" for i in range(6)] + [name for name, _, _ in WXAI_CARRIAGES]
+    assert list(ours.agent.joint_names) == names
+    limits = ours.agent.qpos_limits
+    np.testing.assert_allclose(limits, WXAI_RANGES, atol=5e-6)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        q = rng.uniform(limits[:, 0], limits[:, 1])
+        expected = source_chain(WXAI_JOINTS, q[:6]) @ WXAI_TOOL
+        np.testing.assert_allclose(ours.pose(q, "ee_gripper_link", "base_link"), expected, atol=1e-9)
+        np.testing.assert_allclose(ours.pose(q, "camera_link", "link_6"), WXAI_CAMERA_LINK, atol=1e-6)
+    for name, origin, axis in WXAI_CARRIAGES:
+        j = ours.model.joint(ours.agent.prefix + name).id
+        np.testing.assert_array_equal(ours.model.jnt_axis[j], axis)
+        carriage = "carriage_right" if name.startswith("right") else "carriage_left"
+        q = np.zeros(8)
+        np.testing.assert_allclose(ours.pose(q, carriage, "link_6")[:3, 3], origin, atol=1e-9)
     ours.close()
 
 

@@ -233,22 +233,20 @@ class BatchedWorld:
         # guard resets the env only at the next step). ``not x <= y`` is true for NaN.
         #
         # Per env, the same comparisons as ``time < start + advance or not qvel @ qvel <=
-        # MAX_SPEED**2``, batched: the times in one array; the squared norm (NumPy's dot of
-        # the env's own qvel, as before) only where the fastest joint could bring it near
-        # the limit: ``qvel @ qvel <= nv max|qvel|^2``, so below half the limit no
-        # rounding can flag it, and NaN / inf fail that screen. The gathered speeds stay
-        # in the read cache (the observation reads them next).
+        # MAX_SPEED**2``, batched: the times in one array; the squared norms (NumPy's dot
+        # of each env's own qvel, as before) only when the fastest joint of any env could
+        # bring one near the limit: ``qvel @ qvel <= nv max|qvel|^2``, so below half the
+        # limit no rounding can flag it, and NaN / inf fail that screen. The gathered
+        # speeds stay in the read cache (the observation reads them next).
         advance = (self.substeps - 0.5) * float(self.model.opt.timestep)
         flags = self.last_step_unstable
         np.less(np.array([data.time for data in self.datas]), started + advance, out=flags)
         speeds = self._gather("qvel")
-        peak = np.abs(speeds).max(axis=1, initial=0.0)
-        near = ~(peak * peak * speeds.shape[1] <= 0.5 * _MAX_SPEED_SQUARED)
-        if near.any():
-            qvels = self._env_arrays("qvel")
-            for env in np.flatnonzero(near).tolist():
-                qvel = qvels[env]
-                flags[env] |= not qvel @ qvel <= _MAX_SPEED_SQUARED
+        peak = float(np.abs(speeds).max(initial=0.0))
+        if not peak * peak * speeds.shape[1] <= 0.5 * _MAX_SPEED_SQUARED:
+            for env, qvel in enumerate(self._env_arrays("qvel")):
+                if not qvel @ qvel <= _MAX_SPEED_SQUARED:
+                    flags[env] = True
         if flags.any():
             self.unstable_steps += flags
         if RUNTIME:

@@ -341,7 +341,10 @@ class BatchedWorld:
             data = self.datas[0]
             single: FloatArray = np.concatenate((data.xpos[body_ids], data.xquat[body_ids])).reshape(1, 1, 7)
             return single
-        ids = [int(b) for b in np.asarray(body_ids, dtype=np.int64).reshape(-1)]
+        if type(body_ids) is int:  # (a tool body's pose, read every step)
+            ids = [body_ids]
+        else:
+            ids = [int(b) for b in np.asarray(body_ids, dtype=np.int64).reshape(-1)]
         out = np.empty((self.num_envs, len(ids), 7))
         xposes, xquats = self._env_arrays("xpos"), self._env_arrays("xquat")
         for k, body in enumerate(ids):

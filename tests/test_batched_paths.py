@@ -12,6 +12,7 @@ import mujoco
 import numpy as np
 import pytest
 
+import robot_agents as ra
 from robot_agents.limits import MAX_SPEED
 from robot_agents.sim.world import BatchedWorld
 
@@ -104,3 +105,23 @@ def test_batched_reads_equal_the_per_env_arrays() -> None:
     assert np.array_equal(_bits(kept), _bits(body_poses))  # a read is not changed by later steps
     assert not np.array_equal(world.body_poses(bodies), body_poses)
     world.close()
+
+
+def test_batched_base_velocity_targets_equal_the_one_env_arithmetic() -> None:
+    """The base velocity controller's batched ``apply`` (NumPy on ``(num_envs,)``
+    arrays) gives each env the targets of its one-env arithmetic on Python floats, bit
+    for bit: turning, not turning (``0.0`` and ``-0.0``: the heading is the yaw), and
+    driving without a turn."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", num_envs=4, max_episode_steps=None).unwrapped
+    env.reset(seed=[3, 3, 3, 3])  # one yaw in every env: the one-env path reads env 0's
+    env.step(np.tile(env.single_action_space.high * 0.5, (4, 1)))  # a yaw that is not 0
+    controller = next(c for c in env.agent.controller.parts.values() if type(c).__name__ == "PDBaseVelController")
+    world = env.scene.world
+    raw = np.array([[0.4, 1.3], [0.4, 0.0], [-0.7, -0.0], [0.0, -2.1]])
+    controller.apply(raw, world)
+    batched = controller.target_qvel.copy()
+    assert np.all(world.qpos[:, controller._yaw_adr] == world.qpos[0, controller._yaw_adr])
+    for env_id, row in enumerate(raw):
+        controller._apply_single(row[None], world)
+        assert np.array_equal(_bits(controller.target_qvel[0]), _bits(batched[env_id])), env_id
+    env.close()

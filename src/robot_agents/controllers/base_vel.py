@@ -92,8 +92,8 @@ class PDBaseVelController(PDJointVelController):
         half = turn * self._half_step
         still = half == 0.0
         heading = yaw + half
-        share = np.ones_like(half)
-        if np.any(still):
+        share = np.ones(half.shape, half.dtype)  # (np.ones_like's result, without its Python wrapper)
+        if still.any():
             np.copyto(heading, yaw, where=still)
         np.divide(np.sin(half), half, out=share, where=~still)
         return np.cos(heading), np.sin(heading), share
@@ -111,13 +111,13 @@ class PDBaseVelController(PDJointVelController):
         yaw = sim.qpos[:, self._yaw_adr]
         cos, sin, share = self._heading(yaw, turn)
         forward = raw[:, 0] * share
-        lateral = raw[:, 1] * share if self.config.holonomic else 0.0
+        lateral = raw[:, 1] * share if self._holonomic else 0.0
         target = np.empty((raw.shape[0], 3))
         target[:, 0] = cos * forward - sin * lateral
         target[:, 1] = sin * forward + cos * lateral
         target[:, 2] = turn
         self.target_qvel = target
-        self.targets.velocity[:, self.binding.column_sel] = target
+        self._velocity[:, self.binding.column_sel] = target
 
     def _apply_single(self, raw: FloatArray, sim: SimView) -> None:
         """:meth:`apply` of one env (``raw`` ``(1, k)``): :meth:`_heading`'s and

@@ -267,6 +267,17 @@ class BatchedWorld:
         if RUNTIME:
             pass_on(RUNTIME, "BatchedWorld.forward")
 
+    def live_view(self, field: str) -> FloatArray | None:
+        """One env only: its MjData array ``field`` (``"qpos"``, ``"qvel"``, ...) as a
+        read-only ``(1, k)`` view that follows the simulation (it is never copied and
+        stays valid for the world's life; read it, never keep it), for the one-env hot
+        paths (no cached copy per step, unlike :attr:`qpos`); ``None`` with several envs."""
+        if self.num_envs != 1:
+            return None
+        view: FloatArray = self._env_arrays(field)[0][None]
+        view.setflags(write=False)
+        return view
+
     # -- batched reads (read-only caches, invalidated by step / writes) ---------------
     def _gather(self, field: str) -> FloatArray:
         cached = self._cache.get(field)

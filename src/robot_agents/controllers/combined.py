@@ -61,6 +61,8 @@ class CombinedController:
         self.action_low = np.concatenate([c.action_low for c in controllers]) if controllers else np.zeros(0)
         self.action_high = np.concatenate([c.action_high for c in controllers]) if controllers else np.zeros(0)
         self._substep_parts = [c for c in controllers if c.needs_substep]
+        # (fixed: the parts' configs and the drives' kinds are)
+        self._needs_substep = bool(self._substep_parts) or drives.needs_substep
         # One clip and one multiply-add for the whole action: normalized entries are
         # clipped to [-1, 1] and mapped onto [low, high], raw entries clipped to it.
         normalized = (
@@ -104,7 +106,7 @@ class CombinedController:
     @property
     def needs_substep(self) -> bool:
         """True when targets or controls change between physics substeps."""
-        return bool(self._substep_parts) or self.drives.needs_substep
+        return self._needs_substep
 
     def activate(self, sim: ControlledSim) -> None:
         """Apply this mode's drive settings and start holding the measured pose in every env."""

@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.controllers.joint import PDJointPosController
 from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.sim.world import BatchedWorld
 
@@ -169,8 +170,11 @@ class StateObservation:
         views planned once (no per-piece copies, name lookups or dicts)."""
         arrays: list[Any] = []
         for entry in self._single_state_plan():
-            if entry.__class__ is np.ndarray:
+            kind = entry.__class__
+            if kind is np.ndarray:
                 arrays.append(entry)
+            elif kind is tuple:  # (controller, attribute): the one array it observes
+                arrays.append(getattr(entry[0], entry[1]))
             else:
                 arrays.extend(entry())
         obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
@@ -179,8 +183,10 @@ class StateObservation:
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
         views of the simulation's arrays that stay valid across steps (joint state, a
-        tool body's pose), and callables for what changes identity every step
-        (controller targets, touch, a site's or offset frame's pose, the task's extras).
+        tool body's pose), ``(controller, attribute)`` pairs for a joint-position
+        controller's targets (a new array every step), and callables for what else
+        changes identity every step (other controllers' observations, touch, a site's or
+        offset frame's pose, the task's extras).
         Rebuilt only when a robot's active controller changes."""
         plan = self._plan
         if plan is not None:
@@ -205,7 +211,10 @@ class StateObservation:
                 else:
                     entries.append(lambda source=source, sel=sel: [source[sel][None]])
             for part in controller.parts.values():
-                entries.append(lambda observe=part.observe: observe().values())
+                if type(part).observe is PDJointPosController.observe:  # {"target_qpos": its attribute}
+                    entries.append((part, "target_qpos"))
+                else:
+                    entries.append(lambda observe=part.observe: observe().values())
             if agent.touch_reader.names:
                 entries.append(lambda agent=agent: [agent.touch])
             if agent.has_end_effector:

@@ -258,10 +258,10 @@ class Scene:
         # The poses after the physics are left to the first robot that writes joint state
         # in every env after it (wheels, a kinematic base): nothing reads them before, and
         # its write recomputes them from the same qpos.
+        if self._hookless_single and not agents[0].needs_substep:  # one fixed-base robot
+            self.world.step()
+            return
         if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
-            if self._hookless_single:
-                self.world.step()
-                return
             agent = agents[0]
             agent.before_step()
             self.world.step(sync_poses=not agent.writes_after_step)

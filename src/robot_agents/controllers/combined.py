@@ -169,11 +169,12 @@ class CombinedController:
 
     def _to_raw_single(self, action: npt.NDArray[Any]) -> None:
         """:meth:`_to_raw` of one env's action ``(1, action_dim)`` into :attr:`_raw_single`
-        (the same operations; an action of another dtype converted to float64 first,
-        exactly, as the clip would: cheaper than the clip's own conversion)."""
+        (the same operations; an action of another dtype first converted into it,
+        exactly, as the clip would convert it: cheaper than the clip's own conversion)."""
         raw = self._raw_single
         if action.dtype is not _FLOAT64:
-            action = action.astype(np.float64)
+            raw[...] = action
+            action = raw
         if self._one_pass_clip:
             clip_ufunc(action, self._clip_low_row, self._clip_high_row, out=raw)
         else:

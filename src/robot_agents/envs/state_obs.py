@@ -114,6 +114,10 @@ class StateObservation:
         self._one_robot = len(scene.agents) == 1
         #: The single-env state observation's sources, rebuilt when a control mode changes.
         self._plan: tuple[tuple[Any, ...], list[Any]] | None = None
+        #: The plan's float32 row and each entry's columns in it (:meth:`_plan_columns`);
+        #: ``None``: the pieces are concatenated.
+        self._out: npt.NDArray[np.float32] | None = None
+        self._writes: list[tuple[Any, Any]] = []
         #: The observation of every env (float32 arrays; see the class doc).
         self.observe: Callable[[], Any]
         if flat:
@@ -168,17 +172,55 @@ class StateObservation:
         """The ``state`` observation ``(1, D)`` of one env: the concatenation of
         :meth:`state_arrays` (same values, order and float32 rounding), from ``(1, k)``
         views planned once (no per-piece copies, name lookups or dicts)."""
+        entries = self._single_state_plan()
+        writes, out = self._writes, self._out
+        if out is not None:  # each piece rounded into its columns of one float32 row
+            for dest, entry in writes:
+                kind = entry.__class__
+                if kind is np.ndarray:
+                    dest[...] = entry
+                elif kind is tuple:  # (controller, attribute): the one array it observes
+                    dest[...] = getattr(entry[0], entry[1])
+                else:
+                    for view, array in zip(dest, entry(), strict=True):
+                        view[...] = array
+            return out.copy()  # a new array: the caller may keep it
         arrays: list[Any] = []
-        for entry in self._single_state_plan():
+        for entry in entries:
             kind = entry.__class__
             if kind is np.ndarray:
                 arrays.append(entry)
-            elif kind is tuple:  # (controller, attribute): the one array it observes
+            elif kind is tuple:
                 arrays.append(getattr(entry[0], entry[1]))
             else:
                 arrays.extend(entry())
         obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
         return obs
+
+    def _plan_columns(self, entries: list[Any]) -> None:
+        """The float32 row :meth:`_single_state` fills and, per entry, the view of its
+        columns (a list of views for an entry that gives several arrays): the same
+        values and rounding as the concatenation (each float64 value rounded to float32
+        once), with one copy per piece and no joined list."""
+        pieces = []
+        for entry in entries:
+            kind = entry.__class__
+            if kind is np.ndarray:
+                pieces.append([entry])
+            elif kind is tuple:
+                pieces.append([getattr(entry[0], entry[1])])
+            else:
+                pieces.append(list(entry()))
+        out = np.empty((1, sum(a.shape[1] for arrays in pieces for a in arrays)), dtype=np.float32)
+        writes: list[tuple[Any, Any]] = []
+        start = 0
+        for entry, arrays in zip(entries, pieces, strict=True):
+            views = []
+            for array in arrays:
+                views.append(out[:, start : start + array.shape[1]])
+                start += array.shape[1]
+            writes.append((views if callable(entry) else views[0], entry))
+        self._out, self._writes = out, writes
 
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
@@ -198,6 +240,7 @@ class StateObservation:
         key = tuple(a.control.active for a in self.agents)
         world = self.scene.world
         entries: list[Any] = []
+        self._out, self._writes = None, []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)
@@ -222,5 +265,7 @@ class StateObservation:
         extra_obs = self._extra_obs
         if extra_obs is not None:
             entries.append(lambda: [v.reshape(1, -1) for v in extra_obs().values()])
+        else:  # pieces of fixed widths: written into one row (a task's extras may vary)
+            self._plan_columns(entries)
         self._plan = (key, entries)
         return entries

@@ -184,7 +184,8 @@ class StateObservation:
                 else:
                     for view, array in zip(dest, entry(), strict=True):
                         view[...] = array
-            return out.copy()  # a new array: the caller may keep it
+            row: npt.NDArray[np.float32] = out.copy()  # a new array: the caller may keep it
+            return row
         arrays: list[Any] = []
         for entry in entries:
             kind = entry.__class__

@@ -114,3 +114,14 @@ def test_live_view_follows_one_env_and_is_read_only() -> None:
     batched = ra.make_env("Empty-v1", robot_uids="panda", num_envs=2).unwrapped
     assert batched.scene.world.live_view("qpos") is None  # type: ignore[attr-defined]
     batched.close()
+
+
+def test_the_instability_tests_dot_is_the_sum_matmul_computes() -> None:
+    """``BatchedWorld._step_single`` reads ``qvel.dot(qvel)`` where the batched step reads
+    ``qvel @ qvel``: the same bits (huge values overflow alike)."""
+    rng = np.random.default_rng(11)
+    for n in range(1, 80):
+        for _ in range(40):
+            qvel = rng.standard_normal(n) * 10.0 ** rng.uniform(-10, 160)
+            with np.errstate(over="ignore"):
+                assert (qvel @ qvel).tobytes() == qvel.dot(qvel).tobytes()

@@ -190,8 +190,14 @@ class ControlModes:
             array = array[None] if self.num_envs == 1 else np.broadcast_to(array, (self.num_envs, dim))
         # Fast path: a finite sum means every entry is finite (an overflowing sum of huge
         # finite values falls through to the exact check; the sum runs without NumPy's
-        # overflow / invalid-value warnings).
-        if not math.isfinite(self._quiet(_sum, array, None)) and not np.isfinite(array).all():
+        # overflow / invalid-value warnings). One env: Python's sum of the entries as
+        # Python floats (exact conversions; it overflows to inf without a warning), which
+        # is cheaper on one row than NumPy's reduction; integers are always finite.
+        if self.num_envs == 1:
+            finite = array.dtype.kind != "f" or math.isfinite(sum(array.ravel().tolist()))
+        else:
+            finite = math.isfinite(self._quiet(_sum, array, None))
+        if not finite and not np.isfinite(array).all():
             bad = np.argwhere(~np.isfinite(array))[:3].tolist()
             raise ActionError(f"{self._where()}: expected finite values, got NaN or inf at (env, index) {bad}.")
         problem = active.check_action(array)

@@ -3,7 +3,7 @@ gripper, base, ...), their drive overrides, and the drive stage they feed."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
 import numpy as np
@@ -19,6 +19,8 @@ from robot_agents.controllers.base import (
     scale_directions,
 )
 from robot_agents.errors import StateError
+
+_FLOAT64 = np.dtype(np.float64)
 
 
 class ControlledSim(Protocol):
@@ -59,6 +61,8 @@ class CombinedController:
         self.action_low = np.concatenate([c.action_low for c in controllers]) if controllers else np.zeros(0)
         self.action_high = np.concatenate([c.action_high for c in controllers]) if controllers else np.zeros(0)
         self._substep_parts = [c for c in controllers if c.needs_substep]
+        # (fixed: the parts' configs and the drives' kinds are)
+        self._needs_substep = bool(self._substep_parts) or drives.needs_substep
         # One clip and one multiply-add for the whole action: normalized entries are
         # clipped to [-1, 1] and mapped onto [low, high], raw entries clipped to it.
         normalized = (
@@ -93,11 +97,16 @@ class CombinedController:
             if (entries := c.direction_entries) is not None
         ]
         self._reporting = [c for c in controllers if type(c).step_info is not Controller.step_info]
+        # One env: the parts' calls of their own (:meth:`_plan_single`), for the simulation
+        # they were made for, reading the action clipped and scaled into one buffer.
+        self._single_sim: object = None
+        self._single_plan: list[Callable[[], None]] | None = None
+        self._raw_single: FloatArray = np.empty((1, self.action_dim))
 
     @property
     def needs_substep(self) -> bool:
         """True when targets or controls change between physics substeps."""
-        return bool(self._substep_parts) or self.drives.needs_substep
+        return self._needs_substep
 
     def activate(self, sim: ControlledSim) -> None:
         """Apply this mode's drive settings and start holding the measured pose in every env."""
@@ -136,8 +145,55 @@ class CombinedController:
                 return f"part {name!r}: {problem}"
         return None
 
+    def _plan_single(self, sim: ControlledSim) -> None:
+        """For one env of a simulation with live views (:meth:`BatchedWorld.live_view
+        <robot_agents.sim.world.BatchedWorld.live_view>`): each part's call of no arguments
+        (:meth:`PDJointPosController.single_apply
+        <robot_agents.controllers.joint.PDJointPosController.single_apply>`) reading its
+        entries of :attr:`_raw_single` and the live ``qpos``, when every part has one and
+        no entry is a direction; otherwise none (:meth:`set_action` takes the general
+        path)."""
+        self._single_sim, self._single_plan = sim, None
+        live_view = getattr(sim, "live_view", None)
+        qpos = None if live_view is None or self._directions else live_view("qpos")
+        if qpos is None:
+            return
+        plan = []
+        for name, controller in self.parts.items():
+            single_apply = getattr(controller, "single_apply", None)
+            call = None if single_apply is None else single_apply(self._raw_single[:, self.slices[name]], qpos)
+            if call is None:
+                return
+            plan.append(call)
+        self._single_plan = plan
+
+    def _to_raw_single(self, action: npt.NDArray[Any]) -> None:
+        """:meth:`_to_raw` of one env's action ``(1, action_dim)`` into :attr:`_raw_single`
+        (the same operations; an action of another dtype first converted into it,
+        exactly, as the clip would convert it: cheaper than the clip's own conversion)."""
+        raw = self._raw_single
+        if action.dtype is not _FLOAT64:
+            raw[...] = action
+            action = raw
+        if self._one_pass_clip:
+            clip_ufunc(action, self._clip_low_row, self._clip_high_row, out=raw)
+        else:
+            np.maximum(action, self._clip_low, out=raw)
+            np.minimum(raw, self._clip_high, out=raw)
+        np.multiply(raw, self._scale_row, out=raw)
+        np.add(raw, self._offset_row, out=raw)
+
     def set_action(self, action: FloatArray, sim: ControlledSim) -> None:
         """``action``: validated, shape ``(num_envs, action_dim)``; targets, then controls."""
+        if sim is not self._single_sim:
+            self._plan_single(sim)
+        plan = self._single_plan
+        if plan is not None:  # one env, joint positions: the parts' own calls
+            self._to_raw_single(action)
+            for call in plan:
+                call()
+            self.drives.write(sim.ctrl)
+            return
         raw = self._to_raw(action)
         for apply, part_slice in self._apply:
             apply(raw[:, part_slice], sim)

@@ -20,6 +20,7 @@ their targets from the leader's after it is taken to its turn.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -368,6 +369,60 @@ class PDJointPosController(Controller):
                 self._position[:, self._columns] = targets
             else:
                 self._position.put(self._column_put, targets)
+
+    def single_apply(self, raw: FloatArray, qpos: FloatArray) -> Callable[[], None] | None:
+        """One env: :meth:`apply` of the action entries ``raw`` (a ``(1, action_dim)``
+        view of a buffer the caller rewrites before each call) as a call of no arguments,
+        reading the measured positions from ``qpos``, a ``(1, nq)`` view that follows the
+        simulation: the same operations on the same values, so the same targets, bit for
+        bit, without the per-call branches, slicing and cached copies of the state. Each
+        call leaves a new :attr:`target_qpos` array (never a view of ``raw``). ``None``
+        where :meth:`apply` has more to do (interpolated targets, unlimited hinges with
+        absolute targets, a mimic's delta from the leader's measured position) or its
+        joints' drive targets are not consecutive."""
+        base = self._base
+        if (
+            type(self) is not PDJointPosController
+            or not self._write_now
+            or self._leader_measured is not None
+            or (base == self._ABSOLUTE and self._periodic is not None)
+            or not isinstance(self._columns, slice)
+            or self._position.shape[0] != 1
+        ):
+            return None
+        plain, multipliers = self._plain, self._multipliers_row
+        offsets = self._offsets_row if self._has_offsets else None
+        one_pass, two_pass = self._one_pass_clip, self._clip and not self._one_pass_clip
+        lower, upper, max_bound, min_bound = self._lower_row, self._upper_row, self._max_bound, self._min_bound
+        # the measured positions: a view of the live qpos, or the indices to take
+        take = self._qpos_take
+        measured = qpos[:, self._qpos_sel] if take is None else None
+        take_indices = np.zeros(0, dtype=np.intp) if take is None else take
+        from_target, from_measured = base == self._FROM_TARGET, base == self._FROM_MEASURED
+        # an absolute plain target without offsets or a clip is the action itself: copied
+        copy_raw = plain and offsets is None and not self._clip and not (from_target or from_measured)
+        position = self._position[:, self._columns]  # the drives' buffer (never replaced)
+
+        def apply_single() -> None:
+            change = raw if plain else raw * multipliers
+            if from_measured:
+                targets = (qpos.take(take_indices, axis=1) if measured is None else measured) + change
+            elif from_target:
+                targets = self.target_qpos + change
+            elif offsets is not None:
+                targets = change + offsets
+            else:
+                targets = change.copy() if copy_raw else change
+            self._previous_target = self.target_qpos
+            if one_pass:
+                targets = clip_ufunc(targets, lower, upper)
+            elif two_pass:
+                targets = np.maximum(targets, max_bound)  # a new array: clipped in place
+                np.minimum(targets, min_bound, out=targets)
+            self.target_qpos = targets
+            position[...] = targets
+
+        return apply_single
 
     @property
     def needs_substep(self) -> bool:

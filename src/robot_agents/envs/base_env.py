@@ -494,7 +494,7 @@ class RobotEnv(gym.Env[Any, Any]):
         else:
             self.elapsed_steps += 1
         unstable = self.scene.world.last_step_unstable
-        if self.raise_on_instability and unstable.any():
+        if self.raise_on_instability and (unstable[0] if self._single else unstable.any()):
             raise PhysicsError(
                 f"{type(self).__name__}.step: the simulation became unstable in env(s) {np.flatnonzero(unstable).tolist()} "
                 "and MuJoCo reset them; lower the gains, add armature to light joints, or use a smaller time step "

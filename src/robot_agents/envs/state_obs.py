@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.controllers.joint import PDJointPosController
 from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.sim.world import BatchedWorld
 
@@ -113,6 +114,10 @@ class StateObservation:
         self._one_robot = len(scene.agents) == 1
         #: The single-env state observation's sources, rebuilt when a control mode changes.
         self._plan: tuple[tuple[Any, ...], list[Any]] | None = None
+        #: The plan's float32 row and each entry's columns in it (:meth:`_plan_columns`);
+        #: ``None``: the pieces are concatenated.
+        self._out: npt.NDArray[np.float32] | None = None
+        self._writes: list[tuple[Any, Any]] = []
         #: The observation of every env (float32 arrays; see the class doc).
         self.observe: Callable[[], Any]
         if flat:
@@ -167,20 +172,64 @@ class StateObservation:
         """The ``state`` observation ``(1, D)`` of one env: the concatenation of
         :meth:`state_arrays` (same values, order and float32 rounding), from ``(1, k)``
         views planned once (no per-piece copies, name lookups or dicts)."""
+        entries = self._single_state_plan()
+        writes, out = self._writes, self._out
+        if out is not None:  # each piece rounded into its columns of one float32 row
+            for dest, entry in writes:
+                kind = entry.__class__
+                if kind is np.ndarray:
+                    dest[...] = entry
+                elif kind is tuple:  # (controller, attribute): the one array it observes
+                    dest[...] = getattr(entry[0], entry[1])
+                else:
+                    for view, array in zip(dest, entry(), strict=True):
+                        view[...] = array
+            row: npt.NDArray[np.float32] = out.copy()  # a new array: the caller may keep it
+            return row
         arrays: list[Any] = []
-        for entry in self._single_state_plan():
-            if entry.__class__ is np.ndarray:
+        for entry in entries:
+            kind = entry.__class__
+            if kind is np.ndarray:
                 arrays.append(entry)
+            elif kind is tuple:
+                arrays.append(getattr(entry[0], entry[1]))
             else:
                 arrays.extend(entry())
         obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
         return obs
 
+    def _plan_columns(self, entries: list[Any]) -> None:
+        """The float32 row :meth:`_single_state` fills and, per entry, the view of its
+        columns (a list of views for an entry that gives several arrays): the same
+        values and rounding as the concatenation (each float64 value rounded to float32
+        once), with one copy per piece and no joined list."""
+        pieces = []
+        for entry in entries:
+            kind = entry.__class__
+            if kind is np.ndarray:
+                pieces.append([entry])
+            elif kind is tuple:
+                pieces.append([getattr(entry[0], entry[1])])
+            else:
+                pieces.append(list(entry()))
+        out = np.empty((1, sum(a.shape[1] for arrays in pieces for a in arrays)), dtype=np.float32)
+        writes: list[tuple[Any, Any]] = []
+        start = 0
+        for entry, arrays in zip(entries, pieces, strict=True):
+            views = []
+            for array in arrays:
+                views.append(out[:, start : start + array.shape[1]])
+                start += array.shape[1]
+            writes.append((views if callable(entry) else views[0], entry))
+        self._out, self._writes = out, writes
+
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
         views of the simulation's arrays that stay valid across steps (joint state, a
-        tool body's pose), and callables for what changes identity every step
-        (controller targets, touch, a site's or offset frame's pose, the task's extras).
+        tool body's pose), ``(controller, attribute)`` pairs for a joint-position
+        controller's targets (a new array every step), and callables for what else
+        changes identity every step (other controllers' observations, touch, a site's or
+        offset frame's pose, the task's extras).
         Rebuilt only when a robot's active controller changes."""
         plan = self._plan
         if plan is not None:
@@ -192,6 +241,7 @@ class StateObservation:
         key = tuple(a.control.active for a in self.agents)
         world = self.scene.world
         entries: list[Any] = []
+        self._out, self._writes = None, []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)
@@ -205,7 +255,10 @@ class StateObservation:
                 else:
                     entries.append(lambda source=source, sel=sel: [source[sel][None]])
             for part in controller.parts.values():
-                entries.append(lambda observe=part.observe: observe().values())
+                if type(part).observe is PDJointPosController.observe:  # {"target_qpos": its attribute}
+                    entries.append((part, "target_qpos"))
+                else:
+                    entries.append(lambda observe=part.observe: observe().values())
             if agent.touch_reader.names:
                 entries.append(lambda agent=agent: [agent.touch])
             if agent.has_end_effector:
@@ -213,5 +266,7 @@ class StateObservation:
         extra_obs = self._extra_obs
         if extra_obs is not None:
             entries.append(lambda: [v.reshape(1, -1) for v in extra_obs().values()])
+        else:  # pieces of fixed widths: written into one row (a task's extras may vary)
+            self._plan_columns(entries)
         self._plan = (key, entries)
         return entries

@@ -179,6 +179,16 @@ class Scene:
             for rid, cls, mode, pose in zip(self.robot_ids, classes, modes, poses, strict=True)
         ]
         self._initial_state = self.world.get_state()[0].copy()
+        # One robot whose before / after-step hooks never have work (Agent's own hooks, no
+        # planar base: nothing moves it kinematically or turns wheels between steps).
+        first = self.agents[0]
+        self._hookless_single = (
+            len(self.agents) == 1
+            and first.mobile.planar is None
+            and type(first).before_step is Agent.before_step
+            and type(first).after_step is Agent.after_step
+            and type(first).writes_after_step is Agent.writes_after_step
+        )
         prefixes = {rid: f"{rid}/" for rid in self.robot_ids}
         self.cameras = CameraRig(self.render_model, planned, segmentation_id_map(self.render_model, prefixes))
 
@@ -248,6 +258,9 @@ class Scene:
         # The poses after the physics are left to the first robot that writes joint state
         # in every env after it (wheels, a kinematic base): nothing reads them before, and
         # its write recomputes them from the same qpos.
+        if self._hookless_single and not agents[0].needs_substep:  # one fixed-base robot
+            self.world.step()
+            return
         if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
             agent = agents[0]
             agent.before_step()

@@ -258,15 +258,17 @@ class BatchedWorld:
         without the per-env lists and loops."""
         data, model = self._data0, self.model
         started = data.time
-        self._data_ctrl0[:] = self._ctrl0
+        self._data_ctrl0[...] = self._ctrl0  # (``[...]``: the same copy as ``[:]``, without a slice)
         mujoco.mj_step(model, data, self.substeps)
         if self._sync_after_step:
             mujoco.mj_kinematics(model, data)
             mujoco.mj_camlight(model, data)
         self._cache.clear()
         qvel = self._qvel0
+        # ``qvel.dot(qvel)``: the sum ``qvel @ qvel`` computes (both call NumPy's dot of
+        # two vectors), without matmul's dispatch
         unstable = (
-            data.time < started + (self.substeps - 0.5) * self._opt.timestep or not qvel @ qvel <= _MAX_SPEED_SQUARED
+            data.time < started + (self.substeps - 0.5) * self._opt.timestep or not qvel.dot(qvel) <= _MAX_SPEED_SQUARED
         )
         self.last_step_unstable[0] = unstable
         if unstable:
@@ -281,6 +283,17 @@ class BatchedWorld:
         self._cache.clear()
         if RUNTIME:
             pass_on(RUNTIME, "BatchedWorld.forward")
+
+    def live_view(self, field: str) -> FloatArray | None:
+        """One env only: its MjData array ``field`` (``"qpos"``, ``"qvel"``, ...) as a
+        read-only ``(1, k)`` view that follows the simulation (it is never copied and
+        stays valid for the world's life; read it, never keep it), for the one-env hot
+        paths (no cached copy per step, unlike :attr:`qpos`); ``None`` with several envs."""
+        if self.num_envs != 1:
+            return None
+        view: FloatArray = self._env_arrays(field)[0][None]
+        view.setflags(write=False)
+        return view
 
     # -- batched reads (read-only caches, invalidated by step / writes) ---------------
     def _gather(self, field: str) -> FloatArray:

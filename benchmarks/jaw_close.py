@@ -156,8 +156,8 @@ def main() -> None:
     attrs: dict[str, object] = {"uid": "jaw_close"}
     if args.decompose:
         attrs["convex_decomposition"] = True
-    path = Path(args.robot)
-    base = robot_from_file(path.resolve()) if path.suffix else ra.get_agent(args.robot)
+    registered = args.robot in ra.list_agents()
+    base = ra.get_agent(args.robot) if registered else robot_from_file(Path(args.robot).resolve())
     cls = type("JawClose", (base,), attrs)
     ra.register_agent(cls, override=True)
     set_layout(cls, args.cube_share, args.against)

@@ -64,6 +64,8 @@ RUNS = {
     ("sleep_option.py", "--rounds", "1"): "round trip",
     ("load_time.py", "--rounds", "1"): "| xarm6_robotiq (a fresh subclass) |",
     ("ik_reach.py", "--robots", "so100", "--count", "2", "--jacobians"): "| `so100` (position) | 5 |",
+    ("jaw_close.py", "so100", "--seeds", "1", "--rate", "0.05", "--cube-share", "0.5", "--against", "1.5"): "/1: seeds",
+    ("jaw_close.py", "so100", "--trace", "0", "--rate", "0.05"): "Moving_Jaw",
     ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
     ("task_throughput.py", "--rounds", "1", "--block", "2", "--batch-block", "1", "--maniskill-python", "/absent"): (
         "ours x1"
@@ -179,3 +181,41 @@ def test_fingerprint_is_the_same_twice_and_compare_names_a_changed_robot(tmp_pat
     second.write_text(json.dumps(hashes))
     stdout = run_script("fingerprint.py", "--compare", str(first), str(second))
     assert "1 differ" in stdout and "so100/pd_joint_pos" in stdout, stdout
+
+
+def test_jaw_close_ramps_the_command_and_holds_it_where_the_jaw_stalls() -> None:
+    """jaw_close.py's gentle close on the SO-100's jaw, which stays where the reset left
+    it (nothing is stepped, as a jaw blocked there): opening commands ``open``; each
+    closing step moves the command ``rate`` strokes on until it is more than ``lag``
+    strokes ahead of the jaw (the lag set to 0.25 strokes past the open command's), then
+    holds it at the jaw's position plus ``squeeze`` strokes; opening again starts over."""
+    import importlib.util
+
+    import numpy as np
+
+    import robot_agents as ra
+
+    spec = importlib.util.spec_from_file_location("jaw_close", BENCHMARKS / "jaw_close.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    env = ra.make_env("PickCube-v1", robot_uids="so100").unwrapped
+    try:
+        env.reset(seed=0)
+        close = module.GentleClose(env.agent, 1, rate=0.1, lag=0.25, squeeze=0.05)
+        jaw = float(env.agent.qpos[0, close.index])
+        close.lag = (close.open - jaw) / close.stroke + 0.25
+        opening, closing = np.array([True]), np.array([False])
+        assert close.next(opening)[0] == close.open
+        expected, held = close.open, False
+        for _ in range(15):
+            if not held and (expected - jaw) / close.stroke > close.lag:
+                expected, held = jaw + 0.05 * close.stroke, True
+            elif not held:
+                low, high = sorted((close.open, close.end))
+                expected = min(max(expected + 0.1 * close.stroke, low), high)
+            assert close.next(closing)[0] == pytest.approx(expected, abs=1e-12)
+        assert held and close.held[0]
+        assert close.next(opening)[0] == close.open and not close.held[0]
+    finally:
+        env.close()

@@ -87,6 +87,10 @@ class MobileBase:
         self._planar_end = np.zeros((1, len(self._planar_list)))
         #: One env without the collision check: its ``qpos`` at the step's start (Python floats), else None.
         self._start_row: list[float] | None = None
+        # one env: a read-only view of its live qpos, ``(1, nq)``, looked up on first use
+        # (``None`` where the backend has none: :attr:`world.qpos` is read instead)
+        self._live_qpos: FloatArray | None = None
+        self._live_looked_up = False
         n = world.num_envs
         #: Kinematic moves refused because they would collide, per env (a running count).
         self.refused_moves = np.zeros(n, dtype=np.int64)
@@ -326,19 +330,33 @@ class MobileBase:
         """Remember the planar pose at the start of a control step."""
         if not self.moves_each_step:
             return
-        qpos = self.world.qpos
-        if qpos.shape[0] == 1 and not (self.dynamics == "kinematic" and self.refuse_collisions):
+        if self.world.num_envs == 1 and not (self.dynamics == "kinematic" and self.refuse_collisions):
             # one env, no collision check: its joint positions as Python floats (what the
             # scalar move and wheel roll read; no fancy indexing of one-row arrays)
-            self._start_row = qpos[0].tolist()
+            self._start_row = self._row_single()
             return
         self._start_row = None
+        qpos = self.world.qpos
         self._start = qpos.take(self._planar_adr, axis=1)  # new arrays (as fancy indexing gives)
         self._wheel_start = qpos.take(self._wheel_qadr, axis=1)
         if self.dynamics == "kinematic" and self.refuse_collisions:
             # how deep the base already is in the world (something came to touch it, or it
             # was put there): a move is refused only if it goes deeper
             self._start_depth = self._penetration()
+
+    def _row_single(self) -> list[float]:
+        """The one env's joint positions now (rad, m; Python floats ``(nq,)``): from a
+        view of its live ``qpos`` (:meth:`BatchedWorld.live_view
+        <robot_agents.sim.world.BatchedWorld.live_view>`, the same numbers as
+        :attr:`world.qpos <robot_agents.sim.world.BatchedWorld.qpos>`, without filling the
+        read cache that the step's next write clears), made once."""
+        if not self._live_looked_up:
+            live_view = getattr(self.world, "live_view", None)
+            self._live_qpos = None if live_view is None else live_view("qpos")
+            self._live_looked_up = True
+        live = self._live_qpos
+        row: list[float] = (self.world.qpos if live is None else live)[0].tolist()
+        return row
 
     def after_step(self, commanded: FloatArray | None, control_dt: float) -> None:
         """After the physics substeps: a kinematic base is put at the start pose plus
@@ -385,8 +403,8 @@ class MobileBase:
         written through a row kept for it (the world copies it)."""
         velocity = np.zeros((1, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
         end = self._planar_end
-        for k, (q, v) in enumerate(zip(self._planar_list, velocity[0].tolist(), strict=True)):
-            end[0, k] = start_row[q] + v * control_dt
+        (x, y, yaw), (vx, vy, wz) = self._planar_list, velocity[0].tolist()
+        end[0] = [start_row[x] + vx * control_dt, start_row[y] + vy * control_dt, start_row[yaw] + wz * control_dt]
         self.world.write_joint_state(self._all_envs, self._planar_adr, end, self._planar_dofs, velocity)
         self.last_refused[0] = False
 
@@ -422,9 +440,7 @@ class MobileBase:
         (``start_row``, Python floats ``(nq,)``): the same values, from
         :meth:`_wheel_rolls_single`'s Python floats (IEEE additions and divisions, as
         NumPy's), written through two rows kept for it (the world copies them)."""
-        # the stepped positions straight from the env's MjData (the same numbers as
-        # world.qpos, without copying them into the read cache the write then clears)
-        end_row = self.world.physics_sources()[0].qpos.tolist()
+        end_row = self._row_single()  # the stepped positions
         x, y, yaw = self._planar_list
         rolls = self._wheel_rolls_single(
             (start_row[x], start_row[y], start_row[yaw]), (end_row[x], end_row[y], end_row[yaw])

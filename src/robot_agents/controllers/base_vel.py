@@ -17,6 +17,7 @@ mode), so the base pushes and is pushed by the world.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -120,13 +121,18 @@ class PDBaseVelController(PDJointVelController):
         self._velocity[:, self.binding.column_sel] = target
 
     def _apply_single(self, raw: FloatArray, sim: SimView) -> None:
-        """:meth:`apply` of one env (``raw`` ``(1, k)``): :meth:`_heading`'s and
-        :meth:`apply`'s products and sums on Python floats (IEEE operations, as NumPy's,
-        in the same order; the sines and cosines through NumPy's own ``sin`` / ``cos``),
-        without a dozen operations on one-element arrays."""
-        action = raw[0].tolist()
+        """:meth:`apply` of one env (``raw`` ``(1, k)``) through :meth:`_single_target`."""
+        target = np.array([self._single_target(raw[0].tolist(), float(sim.qpos[0, self._yaw_adr]))])
+        self.target_qvel = target
+        self._velocity[:, self.binding.column_sel] = target
+
+    def _single_target(self, action: list[float], yaw: float) -> list[float]:
+        """One env's mount-frame velocity targets ``[x, y, yaw]`` (m/s, m/s, rad/s) for its
+        raw ``action`` (``k`` Python floats) at base yaw ``yaw`` (rad): :meth:`_heading`'s
+        and :meth:`apply`'s products and sums on Python floats (IEEE operations, as
+        NumPy's, in the same order; the sines and cosines through NumPy's own ``sin`` /
+        ``cos``), without a dozen operations on one-element arrays."""
         turn = action[-1]
-        yaw = float(sim.qpos[0, self._yaw_adr])
         half = turn * self._half_step
         if half == 0.0:  # no turn: the heading is the yaw, the share 1
             heading, share = yaw, 1.0
@@ -135,9 +141,30 @@ class PDBaseVelController(PDJointVelController):
         cos, sin = float(np.cos(heading)), float(np.sin(heading))
         forward = action[0] * share
         lateral = action[1] * share if self._holonomic else 0.0
-        target = np.array([[cos * forward - sin * lateral, sin * forward + cos * lateral, turn]])
-        self.target_qvel = target
-        self._velocity[:, self.binding.column_sel] = target
+        return [cos * forward - sin * lateral, sin * forward + cos * lateral, turn]
+
+    def single_apply(self, raw: FloatArray, qpos: FloatArray) -> Callable[[], None] | None:
+        """One env: :meth:`apply` of the action entries ``raw`` (a ``(1, k)`` view of a
+        buffer the caller rewrites before each call) as a call of no arguments, reading
+        the yaw from ``qpos``, a ``(1, nq)`` view that follows the simulation (see
+        :meth:`PDJointPosController.single_apply
+        <robot_agents.controllers.joint.PDJointPosController.single_apply>`): the same
+        targets, bit for bit (:meth:`_single_target`), a new :attr:`target_qvel` array
+        per call. ``None`` for a subclass or base joints whose drive columns are not
+        consecutive."""
+        columns = self.binding.column_sel
+        if type(self) is not PDBaseVelController or not isinstance(columns, slice) or self._velocity.shape[0] != 1:
+            return None
+        row, qpos_row, yaw_adr = raw[0], qpos[0], self._yaw_adr
+        velocity = self._velocity[:, columns]  # the drives' buffer (never replaced)
+        single_target = self._single_target
+
+        def apply_single() -> None:
+            target = np.array([single_target(row.tolist(), qpos_row.item(yaw_adr))])
+            self.target_qvel = target
+            velocity[...] = target
+
+        return apply_single
 
     def describe(self) -> str:
         kind = "holonomic (vx, vy, wz)" if self.config.holonomic else "differential (v, wz)"

@@ -378,15 +378,14 @@ class PDJointPosController(Controller):
         bit, without the per-call branches, slicing and cached copies of the state. Each
         call leaves a new :attr:`target_qpos` array (never a view of ``raw``). ``None``
         where :meth:`apply` has more to do (interpolated targets, unlimited hinges with
-        absolute targets, a mimic's delta from the leader's measured position) or its
-        joints' drive targets are not consecutive."""
+        absolute targets, a mimic's delta from the leader's measured position)."""
         base = self._base
         if (
             type(self) is not PDJointPosController
             or not self._write_now
             or self._leader_measured is not None
             or (base == self._ABSOLUTE and self._periodic is not None)
-            or not isinstance(self._columns, slice)
+            or (not isinstance(self._columns, slice) and self._column_put is None)
             or self._position.shape[0] != 1
         ):
             return None
@@ -401,7 +400,10 @@ class PDJointPosController(Controller):
         from_target, from_measured = base == self._FROM_TARGET, base == self._FROM_MEASURED
         # an absolute plain target without offsets or a clip is the action itself: copied
         copy_raw = plain and offsets is None and not self._clip and not (from_target or from_measured)
-        position = self._position[:, self._columns]  # the drives' buffer (never replaced)
+        # the drives' buffer (never replaced): a view of the joints' columns, or the
+        # buffer and the flat indices :meth:`apply` puts into (columns not consecutive)
+        put = self._column_put if not isinstance(self._columns, slice) else None
+        position = self._position if put is not None else self._position[:, self._columns]
 
         def apply_single() -> None:
             change = raw if plain else raw * multipliers
@@ -420,7 +422,10 @@ class PDJointPosController(Controller):
                 targets = np.maximum(targets, max_bound)  # a new array: clipped in place
                 np.minimum(targets, min_bound, out=targets)
             self.target_qpos = targets
-            position[...] = targets
+            if put is None:
+                position[...] = targets
+            else:
+                position.put(put, targets)
 
         return apply_single
 
@@ -496,6 +501,24 @@ class PDJointVelController(Controller):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         self.target_qvel = raw
         self.targets.velocity[:, self.binding.column_sel] = raw
+
+    def single_apply(self, raw: FloatArray, qpos: FloatArray) -> Callable[[], None] | None:
+        """One env: :meth:`apply` of the action entries ``raw`` (a ``(1, k)`` view of a
+        buffer the caller rewrites before each call) as a call of no arguments (see
+        :meth:`PDJointPosController.single_apply`): the same targets, copied into a new
+        :attr:`target_qvel` array per call (never a view of ``raw``). ``None`` for a
+        subclass or joints whose drive columns are not consecutive."""
+        columns, buffer = self.binding.column_sel, self.targets.velocity
+        if type(self) is not PDJointVelController or not isinstance(columns, slice) or buffer.shape[0] != 1:
+            return None
+        velocity = buffer[:, columns]  # the drives' buffer (never replaced)
+
+        def apply_single() -> None:
+            target = raw.copy()
+            self.target_qvel = target
+            velocity[...] = target
+
+        return apply_single
 
     def observe(self) -> dict[str, FloatArray]:
         return {"target_qvel": self.target_qvel}

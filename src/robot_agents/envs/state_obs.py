@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from robot_agents.controllers.joint import PDJointPosController
+from robot_agents.controllers.joint import PDJointPosController, PDJointVelController
 from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.sim.world import BatchedWorld
 
@@ -226,8 +226,8 @@ class StateObservation:
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
         views of the simulation's arrays that stay valid across steps (joint state, a
-        tool body's pose), ``(controller, attribute)`` pairs for a joint-position
-        controller's targets (a new array every step), and callables for what else
+        tool body's pose), ``(controller, attribute)`` pairs for a joint-position or
+        joint- or base-velocity controller's targets (a new array every step), and callables for what else
         changes identity every step (other controllers' observations, touch, a site's or
         offset frame's pose, the task's extras).
         Rebuilt only when a robot's active controller changes."""
@@ -257,6 +257,8 @@ class StateObservation:
             for part in controller.parts.values():
                 if type(part).observe is PDJointPosController.observe:  # {"target_qpos": its attribute}
                     entries.append((part, "target_qpos"))
+                elif type(part).observe is PDJointVelController.observe:  # {"target_qvel": ...} (bases too)
+                    entries.append((part, "target_qvel"))
                 else:
                     entries.append(lambda observe=part.observe: observe().values())
             if agent.touch_reader.names:

@@ -404,7 +404,9 @@ class MobileBase:
         velocity = np.zeros((1, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
         end = self._planar_end
         (x, y, yaw), (vx, vy, wz) = self._planar_list, velocity[0].tolist()
-        end[0] = [start_row[x] + vx * control_dt, start_row[y] + vy * control_dt, start_row[yaw] + wz * control_dt]
+        end[0, 0] = start_row[x] + vx * control_dt
+        end[0, 1] = start_row[y] + vy * control_dt
+        end[0, 2] = start_row[yaw] + wz * control_dt
         self.world.write_joint_state(self._all_envs, self._planar_adr, end, self._planar_dofs, velocity)
         self.last_refused[0] = False
 

@@ -168,3 +168,47 @@ def test_the_one_env_empty_step_returns_new_values_and_truncates_at_its_limit() 
     assert {"ik_success", "ik_position_error", "ik_rotation_error"} <= set(info)
     assert info["ik_success"].shape == (1,)
     ee.close()
+
+
+@pytest.mark.parametrize("kind", ["body", "site"])
+def test_a_shift_only_tool_offset_writes_the_quaternion_the_product_gives(kind: str) -> None:
+    """``pose_entries`` with an offset whose rotation is the identity (the SO-100's jaw)
+    writes the frame's own quaternion where no component is zero or not finite: the same
+    bits as ``mju_mulQuat`` by the identity, which it still calls otherwise (a zero's sign,
+    NaN from inf * 0)."""
+    import mujoco
+
+    from robot_agents.envs.state_obs import pose_entries
+    from robot_agents.kinematics.forward import FrameKind, FrameRef
+
+    model = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body name="b"><freejoint/><geom size="0.1"/><site name="s"/></body></worldbody></mujoco>'
+    )
+    data = mujoco.MjData(model)
+    offset = (0.00705, -0.09548, 0.0, 1.0, 0.0, 0.0, 0.0)
+    frame = FrameRef(FrameKind.BODY if kind == "body" else FrameKind.SITE, 1 if kind == "body" else 0, "x", offset)
+    (call,) = pose_entries(frame, data)
+    rng = np.random.default_rng(13)
+    specials = [0.0, -0.0, np.inf, -np.inf, np.nan, 1e308, -1e308, 5e-324]
+    for trial in range(600):
+        quat = rng.standard_normal(4)
+        for k in rng.choice(4, size=trial % 3, replace=False):
+            quat[k] = rng.choice(specials)
+        if kind == "body":
+            data.xquat[1], data.xpos[1] = quat, rng.standard_normal(3)
+            measured, position = data.xquat[1].copy(), data.xpos[1].copy()
+        else:
+            if not np.isfinite(quat).all() or not quat.any() or np.abs(quat).max() > 1e100:
+                continue
+            quat /= np.linalg.norm(quat)
+            mujoco.mju_quat2Mat(data.site_xmat[0], quat)
+            data.site_xpos[0] = rng.standard_normal(3)
+            measured, position = np.empty(4), data.site_xpos[0].copy()
+            mujoco.mju_mat2Quat(measured, data.site_xmat[0])
+        expected_position, expected_quat, shifted = np.empty(3), np.empty(4), np.empty(3)
+        mujoco.mju_rotVecQuat(shifted, np.array(offset[:3]), measured)
+        np.add(position, shifted, out=expected_position)
+        mujoco.mju_mulQuat(expected_quat, measured, np.array(offset[3:]))
+        got_position, got_quat = call()
+        assert got_position.tobytes() == expected_position[None].tobytes()
+        assert got_quat.tobytes() == expected_quat[None].tobytes(), (quat, got_quat, expected_quat)

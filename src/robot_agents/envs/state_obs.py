@@ -5,6 +5,7 @@ fast path concatenates."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -76,13 +77,33 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         multiply(out_quat, quat, offset_quat)
         return rows
 
+    pose: Callable[[], list[FloatArray]] = offset_pose
+    if offset_quat.tolist() == [1.0, 0.0, 0.0, 0.0]:  # an offset that only shifts (the SO-100's jaw)
+        # The product by the identity has in each component one term q_k * 1 = q_k and
+        # three products by zero (+-0): it is q_k itself, bit for bit, unless q_k is a
+        # zero (the sign may change) or a component is not finite (inf * 0 is NaN).
+        # Where neither occurs the frame's own quaternion is written (the call saved).
+        rows_as_is = [out_position[None], quat[None]]
+        components, isfinite = quat.tolist, math.isfinite
+
+        def shifted_pose() -> list[FloatArray]:
+            rotate(shifted, offset_position, quat)
+            add(position, shifted, out=out_position)
+            q = components()
+            if 0.0 in q or not isfinite(q[0] + q[1] + q[2] + q[3]):  # (an overflowing sum falls back too)
+                multiply(out_quat, quat, offset_quat)
+                return rows
+            return rows_as_is
+
+        pose = shifted_pose
+
     if frame.kind is FrameKind.BODY:
-        return [offset_pose]
+        return [pose]
     to_quat = mujoco.mju_mat2Quat
 
     def site_offset_pose() -> list[FloatArray]:
         to_quat(quat, matrix)
-        return offset_pose()
+        return pose()
 
     return [site_offset_pose]
 

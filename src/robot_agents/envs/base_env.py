@@ -12,7 +12,7 @@ from __future__ import annotations
 import inspect
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NoReturn
 
 import gymnasium as gym
 import mujoco
@@ -531,7 +531,7 @@ class RobotEnv(gym.Env[Any, Any]):
             return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
         return obs, reward, terminated, truncated, info
 
-    def _raise_unstable(self, unstable: npt.NDArray[np.bool_]) -> None:
+    def _raise_unstable(self, unstable: npt.NDArray[np.bool_]) -> NoReturn:
         """:class:`PhysicsError` naming the envs that ``unstable`` ``(num_envs,)`` flags."""
         raise PhysicsError(
             f"{type(self).__name__}.step: the simulation became unstable in env(s) {np.flatnonzero(unstable).tolist()} "

@@ -39,7 +39,7 @@ def actions(env: ra.RobotEnv, count: int) -> list[np.ndarray]:
     return out
 
 
-@pytest.mark.parametrize("uid", ["panda", "widowx250s", "so100"])
+@pytest.mark.parametrize("uid", ["panda", "widowx250s", "so100", "floating_robotiq_2f_85_gripper"])
 @pytest.mark.parametrize("mode", JOINT_MODES)
 def test_the_one_env_joint_path_matches_the_general_path_bit_for_bit(uid: str, mode: str) -> None:
     fast, general = make(uid, mode), make(uid, mode)
@@ -125,3 +125,90 @@ def test_the_instability_tests_dot_is_the_sum_matmul_computes() -> None:
             qvel = rng.standard_normal(n) * 10.0 ** rng.uniform(-10, 160)
             with np.errstate(over="ignore"):
                 assert (qvel @ qvel).tobytes() == qvel.dot(qvel).tobytes()
+
+
+def test_a_mimic_entry_times_its_multipliers_as_a_float_is_the_broadcast_product() -> None:
+    """:meth:`PDJointPosController.single_apply` multiplies a mimic's one action entry,
+    read as a Python float, into its ``(1, n)`` multiplier row where the general path
+    broadcasts ``(1, 1) * (1, n)``: the same bits (signed zeros, subnormals, huge values)."""
+    rng = np.random.default_rng(5)
+    specials = [0.0, -0.0, 5e-324, -5e-324, 1e308, -1e308, 1.0, -1.0]
+    for n in range(1, 6):
+        for _ in range(200):
+            multipliers = (rng.standard_normal(n) * 10.0 ** rng.uniform(-3, 3, n))[None]
+            multipliers[0, rng.integers(n)] = rng.choice([1.0, -1.0, 0.0, -0.0])
+            row = np.empty((1, 3))
+            for value in [*specials, *(rng.standard_normal(4) * 10.0 ** rng.uniform(-300, 300, 4))]:
+                row[0, 1] = value
+                entry = row[:, 1:2]
+                with np.errstate(over="ignore"):
+                    assert (multipliers * entry.item(0)).tobytes() == (entry * multipliers).tobytes()
+
+
+def test_the_one_env_empty_step_returns_new_values_and_truncates_at_its_limit() -> None:
+    env = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_joint_delta_pos", max_episode_steps=3).unwrapped
+    env.reset(seed=0)
+    kept = []
+    for step in range(1, 5):
+        obs, reward, terminated, truncated, info = env.step(np.zeros(8))
+        assert type(reward) is float and reward == 0.0 and terminated is False
+        assert type(truncated) is bool and truncated is (step >= 3)
+        assert sorted(info) == ["elapsed_steps", "physics_unstable"]
+        assert info["elapsed_steps"].dtype == np.int64 and info["elapsed_steps"].tolist() == [step]
+        assert info["physics_unstable"].tolist() == [False]
+        assert info["elapsed_steps"] is not env.elapsed_steps
+        assert info["physics_unstable"] is not env.scene.world.last_step_unstable
+        kept.append((obs, info))
+    assert [i["elapsed_steps"].tolist() for _, i in kept] == [[1], [2], [3], [4]]  # not overwritten later
+    assert len({id(o) for o, _ in kept}) == 4
+    env.close()
+    ee = ra.make_env("Empty-v1", robot_uids="panda", control_mode="pd_ee_delta_pose", max_episode_steps=None).unwrapped
+    ee.reset(seed=0)
+    info = ee.step(np.zeros(ee.action_space.shape[-1]))[4]
+    assert {"ik_success", "ik_position_error", "ik_rotation_error"} <= set(info)
+    assert info["ik_success"].shape == (1,)
+    ee.close()
+
+
+@pytest.mark.parametrize("kind", ["body", "site"])
+def test_a_shift_only_tool_offset_writes_the_quaternion_the_product_gives(kind: str) -> None:
+    """``pose_entries`` with an offset whose rotation is the identity (the SO-100's jaw)
+    writes the frame's own quaternion where no component is zero or not finite: the same
+    bits as ``mju_mulQuat`` by the identity, which it still calls otherwise (a zero's sign,
+    NaN from inf * 0)."""
+    import mujoco
+
+    from robot_agents.envs.state_obs import pose_entries
+    from robot_agents.kinematics.forward import FrameKind, FrameRef
+
+    model = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body name="b"><freejoint/><geom size="0.1"/><site name="s"/></body></worldbody></mujoco>'
+    )
+    data = mujoco.MjData(model)
+    offset = (0.00705, -0.09548, 0.0, 1.0, 0.0, 0.0, 0.0)
+    frame = FrameRef(FrameKind.BODY if kind == "body" else FrameKind.SITE, 1 if kind == "body" else 0, "x", offset)
+    (call,) = pose_entries(frame, data)
+    rng = np.random.default_rng(13)
+    specials = [0.0, -0.0, np.inf, -np.inf, np.nan, 1e308, -1e308, 5e-324]
+    for trial in range(600):
+        quat = rng.standard_normal(4)
+        for k in rng.choice(4, size=trial % 3, replace=False):
+            quat[k] = rng.choice(specials)
+        if kind == "body":
+            data.xquat[1], data.xpos[1] = quat, rng.standard_normal(3)
+            measured, position = data.xquat[1].copy(), data.xpos[1].copy()
+        else:
+            if not np.isfinite(quat).all() or not quat.any() or np.abs(quat).max() > 1e100:
+                continue
+            quat /= np.linalg.norm(quat)
+            mujoco.mju_quat2Mat(data.site_xmat[0], quat)
+            data.site_xpos[0] = rng.standard_normal(3)
+            measured, position = np.empty(4), data.site_xpos[0].copy()
+            mujoco.mju_mat2Quat(measured, data.site_xmat[0])
+        expected_position, expected_quat, shifted = np.empty(3), np.empty(4), np.empty(3)
+        mujoco.mju_rotVecQuat(shifted, np.array(offset[:3]), measured)
+        np.add(position, shifted, out=expected_position)
+        mujoco.mju_mulQuat(expected_quat, measured, np.array(offset[3:]))
+        got_position, got_quat = call()
+        assert got_position.tobytes() == expected_position[None].tobytes()
+        assert got_quat.tobytes() == expected_quat[None].tobytes(), (quat, got_quat, expected_quat)

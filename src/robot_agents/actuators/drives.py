@@ -152,6 +152,7 @@ class Drives:
         # place (the same products and sums, in the same order).
         self._pid_columns = [(int(self.ctrl_adr[c]), int(c)) for c in self._pid]
         self._dcmotor_columns = [(int(self.ctrl_adr[c]), int(c)) for c in self._dcmotor]
+        self._affine_only = not self._pid_columns and not self._dcmotor_columns  # write() ends after them
         self._affine_views: tuple[FloatArray, FloatArray, FloatArray] | None = None
         if len(self._affine) and isinstance(self._affine_sel, slice):
             sel = self._affine_sel
@@ -355,6 +356,8 @@ class Drives:
         views = self._affine_views
         if views is not None:
             self._write_affine_in_place(ctrl, views)
+            if self._affine_only and qpos is None:  # nothing else to write (the common case)
+                return
         elif len(self._affine):
             sel = self._affine_sel
             out = targets.position[:, sel] if self._unit_position else targets.position[:, sel] * self._a_row

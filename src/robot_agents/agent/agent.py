@@ -343,7 +343,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         controllers' (``ik_success`` ... in end-effector modes) and, for a robot with a
         planar base, ``base_move_refused`` (a kinematic move refused because it would
         collide; always ``False`` for a dynamic base or without the check)."""
-        info = self.controller.step_info()
+        info = self.control.active.step_info()
         if self.mobile.planar is not None:
             info["base_move_refused"] = self.mobile.last_refused.copy()
         return info

@@ -404,9 +404,18 @@ class PDJointPosController(Controller):
         # buffer and the flat indices :meth:`apply` puts into (columns not consecutive)
         put = self._column_put if not isinstance(self._columns, slice) else None
         position = self._position if put is not None else self._position[:, self._columns]
+        # a mimic's one action entry times each joint's multiplier: the entry read as a
+        # Python float (exact) and multiplied into the (1, n) row, the same products as
+        # the broadcast (1, 1) * (1, n), which costs twice as much
+        entry = raw.item if not plain and raw.shape[1] == 1 else None
 
         def apply_single() -> None:
-            change = raw if plain else raw * multipliers
+            if plain:
+                change = raw
+            elif entry is not None:
+                change = multipliers * entry(0)
+            else:
+                change = raw * multipliers
             if from_measured:
                 targets = (qpos.take(take_indices, axis=1) if measured is None else measured) + change
             elif from_target:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import inspect
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NoReturn
 
 import gymnasium as gym
 import mujoco
@@ -489,25 +489,29 @@ class RobotEnv(gym.Env[Any, Any]):
         else:
             self._set_multi_action(action)
         self.scene.step()
+        elapsed, unstable = self.elapsed_steps, self.scene.world.last_step_unstable
         if self._single:
-            self.elapsed_steps[0] += 1  # an element update: cheaper than the in-place array add
+            count = elapsed.item(0) + 1  # a Python int, written back by element: cheaper than the array add
+            elapsed[0] = count
+            if self.raise_on_instability and unstable[0]:
+                self._raise_unstable(unstable)
+            if self._plain_task:  # the one-env Empty-style step: no task hooks, zero reward
+                info: dict[str, Any] = {"elapsed_steps": elapsed.copy(), "physics_unstable": unstable.copy()}
+                if self._one_robot:
+                    reported = self._agent0.step_info()
+                    if reported:
+                        info.update(reported)
+                else:
+                    self._add_controller_info(info)
+                limit = self.max_episode_steps
+                return self._get_obs(), 0.0, False, limit is not None and bool(count >= limit), info
         else:
-            self.elapsed_steps += 1
-        unstable = self.scene.world.last_step_unstable
-        if self.raise_on_instability and (unstable[0] if self._single else unstable.any()):
-            raise PhysicsError(
-                f"{type(self).__name__}.step: the simulation became unstable in env(s) {np.flatnonzero(unstable).tolist()} "
-                "and MuJoCo reset them; lower the gains, add armature to light joints, or use a smaller time step "
-                "(sim_freq)."
-            )
+            elapsed += 1
+            if self.raise_on_instability and unstable.any():
+                self._raise_unstable(unstable)
         if self._plain_task:  # no task hooks: no metrics, zero reward, never terminates
-            info: dict[str, Any] = {"elapsed_steps": self.elapsed_steps.copy(), "physics_unstable": unstable.copy()}
+            info = {"elapsed_steps": elapsed.copy(), "physics_unstable": unstable.copy()}
             self._add_controller_info(info)
-            if self._single:
-                truncated_single = (
-                    self.max_episode_steps is not None and self.elapsed_steps[0] >= self.max_episode_steps
-                )
-                return self._get_obs(), 0.0, False, bool(truncated_single), info
             reward: FloatArray = np.zeros(self.num_envs)
             terminated: npt.NDArray[np.bool_] = np.zeros(self.num_envs, dtype=bool)
         else:
@@ -526,6 +530,14 @@ class RobotEnv(gym.Env[Any, Any]):
         if self._single:
             return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
         return obs, reward, terminated, truncated, info
+
+    def _raise_unstable(self, unstable: npt.NDArray[np.bool_]) -> NoReturn:
+        """:class:`PhysicsError` naming the envs that ``unstable`` ``(num_envs,)`` flags."""
+        raise PhysicsError(
+            f"{type(self).__name__}.step: the simulation became unstable in env(s) {np.flatnonzero(unstable).tolist()} "
+            "and MuJoCo reset them; lower the gains, add armature to light joints, or use a smaller time step "
+            "(sim_freq)."
+        )
 
     def _add_controller_info(self, info: dict[str, Any]) -> None:
         """What the robots report about the last action, per env (``(num_envs,)``

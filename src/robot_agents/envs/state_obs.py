@@ -5,6 +5,7 @@ fast path concatenates."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -65,17 +66,46 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
     shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
     rows = [out_position[None], out_quat[None]]
 
+    # the arithmetic of RobotFrames.measured_pose (which batches the additions over
+    # envs), written out: a helper call would add to every one-env step; the functions
+    # bound once (no module lookups per step)
+    rotate, multiply, add = mujoco.mju_rotVecQuat, mujoco.mju_mulQuat, np.add
+
     def offset_pose() -> list[FloatArray]:
-        if frame.kind is not FrameKind.BODY:
-            mujoco.mju_mat2Quat(quat, matrix)
-        # the arithmetic of RobotFrames.measured_pose (which batches the additions over
-        # envs), written out: a helper call would add to every one-env step
-        mujoco.mju_rotVecQuat(shifted, offset_position, quat)
-        np.add(position, shifted, out=out_position)
-        mujoco.mju_mulQuat(out_quat, quat, offset_quat)
+        rotate(shifted, offset_position, quat)
+        add(position, shifted, out=out_position)
+        multiply(out_quat, quat, offset_quat)
         return rows
 
-    return [offset_pose]
+    pose: Callable[[], list[FloatArray]] = offset_pose
+    if offset_quat.tolist() == [1.0, 0.0, 0.0, 0.0]:  # an offset that only shifts (the SO-100's jaw)
+        # The product by the identity has in each component one term q_k * 1 = q_k and
+        # three products by zero (+-0): it is q_k itself, bit for bit, unless q_k is a
+        # zero (the sign may change) or a component is not finite (inf * 0 is NaN).
+        # Where neither occurs the frame's own quaternion is written (the call saved).
+        rows_as_is = [out_position[None], quat[None]]
+        components, isfinite = quat.tolist, math.isfinite
+
+        def shifted_pose() -> list[FloatArray]:
+            rotate(shifted, offset_position, quat)
+            add(position, shifted, out=out_position)
+            q = components()
+            if 0.0 in q or not isfinite(q[0] + q[1] + q[2] + q[3]):  # (an overflowing sum falls back too)
+                multiply(out_quat, quat, offset_quat)
+                return rows
+            return rows_as_is
+
+        pose = shifted_pose
+
+    if frame.kind is FrameKind.BODY:
+        return [pose]
+    to_quat = mujoco.mju_mat2Quat
+
+    def site_offset_pose() -> list[FloatArray]:
+        to_quat(quat, matrix)
+        return pose()
+
+    return [site_offset_pose]
 
 
 class StateObservation:
@@ -118,6 +148,13 @@ class StateObservation:
         #: ``None``: the pieces are concatenated.
         self._out: npt.NDArray[np.float32] | None = None
         self._writes: list[tuple[Any, Any]] = []
+        #: :attr:`_writes` by kind of entry (the order of the writes does not matter: the
+        #: columns are disjoint and nothing is written but the row): views of the
+        #: simulation as ``(columns, array)``, ``(columns, owner, attribute)`` and
+        #: ``(columns list, callable)``.
+        self._copies: list[tuple[Any, FloatArray]] = []
+        self._attributes: list[tuple[Any, Any, str]] = []
+        self._calls: list[tuple[list[Any], Callable[[], Any]]] = []
         #: The observation of every env (float32 arrays; see the class doc).
         self.observe: Callable[[], Any]
         if flat:
@@ -172,18 +209,20 @@ class StateObservation:
         """The ``state`` observation ``(1, D)`` of one env: the concatenation of
         :meth:`state_arrays` (same values, order and float32 rounding), from ``(1, k)``
         views planned once (no per-piece copies, name lookups or dicts)."""
-        entries = self._single_state_plan()
-        writes, out = self._writes, self._out
+        plan = self._plan  # (the check of _single_state_plan inlined for one robot)
+        if plan is not None and self._one_robot and plan[0][0] is self._agent0.control.active:
+            entries = plan[1]
+        else:
+            entries = self._single_state_plan()
+        out = self._out
         if out is not None:  # each piece rounded into its columns of one float32 row
-            for dest, entry in writes:
-                kind = entry.__class__
-                if kind is np.ndarray:
-                    dest[...] = entry
-                elif kind is tuple:  # (controller, attribute): the one array it observes
-                    dest[...] = getattr(entry[0], entry[1])
-                else:
-                    for view, array in zip(dest, entry(), strict=True):
-                        view[...] = array
+            for dest, array in self._copies:
+                dest[...] = array
+            for dest, owner, name in self._attributes:  # the one array a controller observes
+                dest[...] = getattr(owner, name)
+            for views, call in self._calls:
+                for view, array in zip(views, call(), strict=True):
+                    view[...] = array
             row: npt.NDArray[np.float32] = out.copy()  # a new array: the caller may keep it
             return row
         arrays: list[Any] = []
@@ -222,6 +261,9 @@ class StateObservation:
                 start += array.shape[1]
             writes.append((views if callable(entry) else views[0], entry))
         self._out, self._writes = out, writes
+        self._copies = [(dest, entry) for dest, entry in writes if entry.__class__ is np.ndarray]
+        self._attributes = [(dest, entry[0], entry[1]) for dest, entry in writes if entry.__class__ is tuple]
+        self._calls = [(dest, entry) for dest, entry in writes if callable(entry)]
 
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
@@ -242,6 +284,7 @@ class StateObservation:
         world = self.scene.world
         entries: list[Any] = []
         self._out, self._writes = None, []
+        self._copies, self._attributes, self._calls = [], [], []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)

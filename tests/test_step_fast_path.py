@@ -229,3 +229,64 @@ def test_drive_controls_written_in_place_equal_the_general_sums(uid: str) -> Non
                 drives._affine_views = views
             assert np.array_equal(_bits(np.ascontiguousarray(fast)), _bits(np.ascontiguousarray(general)))
     env.close()
+
+
+def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
+    """The wheel angles and speeds the one-env after-step writes
+    (``MobileBase._turn_wheels_single``, its roll written out on Python floats) are bit
+    for bit those of the general path's ``_turn_wheels`` (one env) and of a batch's row,
+    over random moves, turns across +-pi, mount yaws and control periods."""
+    env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    base, world = env.agent.mobile, env.scene.world
+    written: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def record(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
+        written.append((np.array(qpos, dtype=np.float64), np.array(qvel, dtype=np.float64)))
+
+    rng = np.random.default_rng(1)
+    nq = world.model.nq
+    for k in range(200):
+        base._mount_yaw = float(rng.uniform(-np.pi, np.pi))
+        base._mount_cos, base._mount_sin = np.cos(base._mount_yaw), np.sin(base._mount_yaw)
+        start_row = rng.uniform(-4.0, 4.0, nq)
+        start = start_row[base._planar_adr]
+        end = start + rng.normal(0.0, (0.05, 0.05, 0.3))
+        if k % 3 == 0:  # a turn across the +-pi seam
+            end[2] = start[2] + rng.choice((-1.0, 1.0)) * (np.pi - 1e-9)
+        dt = float(rng.choice((0.05, 0.01, 1 / 30)))
+        world.write_joint_state(np.array([0]), base._planar_adr, end[None], base._planar_dofs, np.zeros((1, 3)))
+        world.write_joint_state = record  # type: ignore[method-assign]
+        try:
+            base._turn_wheels_single(start_row.tolist(), dt)
+            base._turn_wheels(start[None], end[None], start_row[base._wheel_qadr][None], dt)
+        finally:
+            del world.write_joint_state
+        (fast_q, fast_v), (general_q, general_v) = written[-2:]
+        rolled = base._wheel_roll(np.stack([start, start]), np.stack([end, end]))[:1]
+        batch_q, batch_v = start_row[base._wheel_qadr][None] + rolled, rolled / dt
+        for fast, general, batch in ((fast_q, general_q, batch_q), (fast_v, general_v, batch_v)):
+            assert _bits(fast).tobytes() == _bits(general).tobytes() == _bits(batch).tobytes(), k
+    env.close()
+
+
+def test_moves_each_step_follows_the_base_dynamics() -> None:
+    """The per-step flag :attr:`MobileBase.moves_each_step` (kept with the dynamics)
+    follows ``set_base_dynamics`` and ``set_state``: a base without wheels moves each
+    step only while kinematic; one with wheels always (they turn)."""
+    env = ra.make_env("Empty-v1", robot_uids="spot", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    agent = env.agent
+    assert agent.mobile.dynamics == "kinematic" and agent.writes_after_step
+    saved = env.get_state()
+    agent.set_base_dynamics("dynamic")
+    assert agent.mobile.dynamics == "dynamic" and not agent.writes_after_step
+    env.set_state(saved)
+    assert agent.mobile.dynamics == "kinematic" and agent.writes_after_step
+    env.close()
+    env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    for dynamics in ("kinematic", "dynamic"):
+        env.agent.set_base_dynamics(dynamics)
+        assert env.agent.writes_after_step
+    env.close()

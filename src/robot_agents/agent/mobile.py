@@ -65,9 +65,9 @@ class MobileBase:
         self.state = state
         self.owner = owner
         self.planar = tuple(index.joint(j, owner) for j in planar) if planar else None
-        self.dynamics = part.dynamics if part is not None else "dynamic"
-        self.refuse_collisions = part.refuse_collisions if part is not None else False
         self.wheels = tuple(index.joint(j, owner) for j in part.wheels) if part is not None else ()
+        self.dynamics = part.dynamics if part is not None else "dynamic"  # (sets _moves: planar and wheels first)
+        self.refuse_collisions = part.refuse_collisions if part is not None else False
         self.wheel_radius = part.wheel_radius if part is not None else 0.0
         self.wheel_separation = part.wheel_separation if part is not None else 0.0
         #: Joints pinned while the base moves kinematically (held legs): rigid with it.
@@ -80,6 +80,7 @@ class MobileBase:
         self._all_envs = np.arange(world.num_envs)
         self._planar_list = [int(a) for a in self._planar_adr]
         self._wheel_qlist = [int(a) for a in self._wheel_qadr]
+        self._half_wheels = len(self.wheels) // 2  # the first half roll on the left
         # one env: the wheel angles (rad) and speeds (rad/s) of a step's write, ``(1, wheels)``
         self._wheel_angles = np.zeros((1, len(self.wheels)))
         self._wheel_speeds = np.zeros((1, len(self.wheels)))
@@ -296,9 +297,21 @@ class MobileBase:
         self.refused_moves[:], self.last_refused[:] = checked[2], checked[3]
 
     @property
+    def dynamics(self) -> str:
+        """``"dynamic"`` (physics moves the base) or ``"kinematic"`` (each step puts it at
+        the commanded velocity's pose)."""
+        return self._dynamics
+
+    @dynamics.setter
+    def dynamics(self, dynamics: str) -> None:
+        self._dynamics = dynamics
+        # what moves_each_step reads on every step (planar and wheels are fixed)
+        self._moves = self.planar is not None and (dynamics == "kinematic" or bool(self.wheels))
+
+    @property
     def moves_each_step(self) -> bool:
         """True when :meth:`before_step` / :meth:`after_step` have work to do."""
-        return self.planar is not None and (self.dynamics == "kinematic" or bool(self.wheels))
+        return self._moves
 
     def _rigid_geoms(self) -> npt.NDArray[np.int64]:
         """Geoms of the base body and of the bodies attached to it with no joint, or with
@@ -328,9 +341,9 @@ class MobileBase:
 
     def before_step(self) -> None:
         """Remember the planar pose at the start of a control step."""
-        if not self.moves_each_step:
+        if not self._moves:
             return
-        if self.world.num_envs == 1 and not (self.dynamics == "kinematic" and self.refuse_collisions):
+        if self.world.num_envs == 1 and not (self._dynamics == "kinematic" and self.refuse_collisions):
             # one env, no collision check: its joint positions as Python floats (what the
             # scalar move and wheel roll read; no fancy indexing of one-row arrays)
             self._start_row = self._row_single()
@@ -363,11 +376,11 @@ class MobileBase:
         ``commanded`` (mount-frame joint velocities ``(num_envs, 3)``) times
         ``control_dt`` (a refused move leaves it at the start pose); wheels turn by the
         base's actual motion."""
-        if not self.moves_each_step or self.planar is None:
+        if not self._moves:  # (False without planar joints)
             return
         start_row = self._start_row
         if start_row is not None:
-            if self.dynamics == "kinematic":
+            if self._dynamics == "kinematic":
                 self._move_single(start_row, commanded, control_dt)
             if self.wheels:
                 self._turn_wheels_single(start_row, control_dt)
@@ -444,13 +457,25 @@ class MobileBase:
         NumPy's), written through two rows kept for it (the world copies them)."""
         end_row = self._row_single()  # the stepped positions
         x, y, yaw = self._planar_list
-        rolls = self._wheel_rolls_single(
-            (start_row[x], start_row[y], start_row[yaw]), (end_row[x], end_row[y], end_row[yaw])
-        )
+        # _wheel_rolls_single written out on the rows' Python floats: the same operations
+        # in the same order (its float() conversions are no-ops on them)
+        yaw0 = start_row[yaw]
+        turn = wrap_angle_float(end_row[yaw] - yaw0)
+        heading = yaw0 + self._mount_yaw + 0.5 * turn
+        c, s = self._mount_cos, self._mount_sin
+        moved_x, moved_y = end_row[x] - start_row[x], end_row[y] - start_row[y]
+        dx = c * moved_x - s * moved_y
+        dy = s * moved_x + c * moved_y
+        forward = float(np.cos(heading)) * dx + float(np.sin(heading)) * dy
+        differential = 0.5 * self.wheel_separation * turn
+        radius = self.wheel_radius
+        left, right = (forward - differential) / radius, (forward + differential) / radius
+        half = self._half_wheels
         angles, speeds = self._wheel_angles, self._wheel_speeds
         for k, q in enumerate(self._wheel_qlist):
-            angles[0, k] = start_row[q] + rolls[k]
-            speeds[0, k] = rolls[k] / control_dt
+            roll = left if k < half else right
+            angles[0, k] = start_row[q] + roll
+            speeds[0, k] = roll / control_dt
         self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
 
     def _wheel_roll(self, start: FloatArray, end: FloatArray) -> FloatArray:

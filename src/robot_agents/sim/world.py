@@ -463,7 +463,7 @@ class BatchedWorld:
                 self._warmstart0.fill(0.0)
             else:
                 self._warmstart0[da] = warmstart[0]
-            self._data_ctrl0[:] = self._ctrl0
+            self._data_ctrl0[...] = self._ctrl0  # (the same copy as ``[:]``, without a slice)
             if forward:
                 mujoco.mj_forward(model, data)
             else:

@@ -113,6 +113,7 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._held_start = np.array([j.qpos_start for j in held_info], dtype=np.int64)
         self._held_columns = self.drives.columns(held, name) if held else np.zeros(0, dtype=np.int64)
         self._every_env = np.arange(self.num_envs)
+        self._holds_legs = len(self._held_qpos) > 0  # (read after every step)
         self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
         # (active mode, its last base velocity part or None), for after_step
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
@@ -320,19 +321,19 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         """After a control step's physics: a kinematic base moves by the commanded
         velocity (or refuses a colliding move) and held legs are put back at their
         reset pose (Habitat's leg base); wheels turn with the base."""
-        if not self.mobile.moves_each_step:
+        mobile = self.mobile
+        if not mobile.moves_each_step:
             return
         active = self.control.active
-        if active is not self._base_controller[0]:  # found once per active mode
-            found = None
+        seen, base = self._base_controller
+        if active is not seen:  # found once per active mode
+            base = None
             for controller in active.parts.values():
                 if isinstance(controller, PDBaseVelController):
-                    found = controller
-            self._base_controller = (active, found)
-        base = self._base_controller[1]
-        commanded = None if base is None else base.target_qvel
-        self.mobile.after_step(commanded, float(self._opt.timestep) * self.world.substeps)
-        if len(self._held_qpos) and self.mobile.dynamics == "kinematic":
+                    base = controller
+            self._base_controller = (active, base)
+        mobile.after_step(None if base is None else base.target_qvel, float(self._opt.timestep) * self.world.substeps)
+        if self._holds_legs and mobile.dynamics == "kinematic":
             pose = self.drives.targets.position.take(self._held_columns, axis=1)  # [:, columns], faster
             self.world.write_joint_state(
                 self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel, forward=False

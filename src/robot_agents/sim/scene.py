@@ -189,6 +189,8 @@ class Scene:
             and type(first).after_step is Agent.after_step
             and type(first).writes_after_step is Agent.writes_after_step
         )
+        #: The scene's one robot (None with several): the common case of :meth:`step`.
+        self._one_agent = first if len(self.agents) == 1 else None
         prefixes = {rid: f"{rid}/" for rid in self.robot_ids}
         self.cameras = CameraRig(self.render_model, planned, segmentation_id_map(self.render_model, prefixes))
 
@@ -254,19 +256,19 @@ class Scene:
         """One control step: every robot's substep hooks, then the physics substeps."""
         if self.world.closed:
             self._check_open("Scene.step")
-        agents = self.agents
         # The poses after the physics are left to the first robot that writes joint state
         # in every env after it (wheels, a kinematic base): nothing reads them before, and
         # its write recomputes them from the same qpos.
-        if self._hookless_single and not agents[0].needs_substep:  # one fixed-base robot
-            self.world.step()
-            return
-        if len(agents) == 1 and not agents[0].needs_substep:  # the common case, without lists
-            agent = agents[0]
+        agent = self._one_agent
+        if agent is not None and not agent.needs_substep:  # the common case, without lists
+            if self._hookless_single:  # one fixed-base robot
+                self.world.step()
+                return
             agent.before_step()
             self.world.step(sync_poses=not agent.writes_after_step)
             agent.after_step()
             return
+        agents = self.agents
         for agent in agents:
             agent.before_step()
         sync = not any(a.writes_after_step for a in agents)

@@ -453,23 +453,11 @@ class MobileBase:
     def _turn_wheels_single(self, start_row: list[float], control_dt: float) -> None:
         """:meth:`_turn_wheels` of one env from its joint positions at the step's start
         (``start_row``, Python floats ``(nq,)``): the same values, from
-        :meth:`_wheel_rolls_single`'s Python floats (IEEE additions and divisions, as
-        NumPy's), written through two rows kept for it (the world copies them)."""
+        :meth:`_side_rolls`' Python floats (IEEE additions and divisions, as NumPy's),
+        written through two rows kept for it (the world copies them)."""
         end_row = self._row_single()  # the stepped positions
         x, y, yaw = self._planar_list
-        # _wheel_rolls_single written out on the rows' Python floats: the same operations
-        # in the same order (its float() conversions are no-ops on them)
-        yaw0 = start_row[yaw]
-        turn = wrap_angle_float(end_row[yaw] - yaw0)
-        heading = yaw0 + self._mount_yaw + 0.5 * turn
-        c, s = self._mount_cos, self._mount_sin
-        moved_x, moved_y = end_row[x] - start_row[x], end_row[y] - start_row[y]
-        dx = c * moved_x - s * moved_y
-        dy = s * moved_x + c * moved_y
-        forward = float(np.cos(heading)) * dx + float(np.sin(heading)) * dy
-        differential = 0.5 * self.wheel_separation * turn
-        radius = self.wheel_radius
-        left, right = (forward - differential) / radius, (forward + differential) / radius
+        left, right = self._side_rolls(start_row[x], start_row[y], start_row[yaw], end_row[x], end_row[y], end_row[yaw])
         half = self._half_wheels
         angles, speeds = self._wheel_angles, self._wheel_speeds
         for k, q in enumerate(self._wheel_qlist):
@@ -511,15 +499,24 @@ class MobileBase:
     ) -> list[float]:
         """:meth:`_wheel_roll_single` as a list of Python floats, one per wheel (the turn
         wrapped by :func:`wrap_angle_float`)."""
-        x0, y0, yaw0 = float(start[0]), float(start[1]), float(start[2])
-        turn = wrap_angle_float(float(end[2]) - yaw0)
+        left, right = self._side_rolls(
+            float(start[0]), float(start[1]), float(start[2]), float(end[0]), float(end[1]), float(end[2])
+        )
+        half = self._half_wheels
+        return [left] * half + [right] * half
+
+    def _side_rolls(self, x0: float, y0: float, yaw0: float, x1: float, y1: float, yaw1: float) -> tuple[float, float]:
+        """The left and right wheels' roll (rad) for one env's planar move from ``(x0, y0,
+        yaw0)`` to ``(x1, y1, yaw1)`` (m, m, rad; Python floats): :meth:`_wheel_roll`'s
+        operations in the same order on Python floats (NumPy's own ``cos`` / ``sin``), so
+        the same bits."""
+        turn = wrap_angle_float(yaw1 - yaw0)
         heading = yaw0 + self._mount_yaw + 0.5 * turn
         c, s = self._mount_cos, self._mount_sin
-        moved_x, moved_y = float(end[0]) - x0, float(end[1]) - y0
+        moved_x, moved_y = x1 - x0, y1 - y0
         dx = c * moved_x - s * moved_y
         dy = s * moved_x + c * moved_y
         forward = float(np.cos(heading)) * dx + float(np.sin(heading)) * dy
-        half = len(self.wheels) // 2
         differential = 0.5 * self.wheel_separation * turn
         radius = self.wheel_radius
-        return [(forward - differential) / radius] * half + [(forward + differential) / radius] * half
+        return (forward - differential) / radius, (forward + differential) / radius

@@ -230,7 +230,10 @@ class PDEEController(Controller):
                 turn, rotvec = self._turn, raw[3:6]
                 if self._turn_limit is not None:
                     lx, ly, lz = self._turn_limit
-                    length = math.sqrt((rotvec[0] / lx) ** 2 + (rotvec[1] / ly) ** 2 + (rotvec[2] / lz) ** 2)
+                    # in Python floats: the same divisions, libm pow and sums as on NumPy's
+                    # scalars (the clip keeps |r / l| <= 1: no overflow), without their unboxing
+                    rx, ry, rz = rotvec.tolist()
+                    length = math.sqrt((rx / lx) ** 2 + (ry / ly) ** 2 + (rz / lz) ** 2)
                     if length > 1.0:
                         rotvec = rotvec / length
                 rotvec_to_quat_into(turn, rotvec, self._axis)

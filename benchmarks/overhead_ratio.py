@@ -44,7 +44,8 @@ minus replay per step in microseconds.
 End-effector modes solve inverse kinematics every step. That is control (the work a
 user asks for by choosing the mode, which a raw replay of the resulting ``ctrl`` does
 not do), not per-step overhead: the script times each end-effector controller's
-``apply`` (forward kinematics at the seed, target pose, IK solve, target write) inside
+``apply`` (forward kinematics at the seed, target pose, IK solve, target write; in a
+one-env step, the same work in the call its ``single_apply`` made) inside
 the env loop and reports ``env/replay`` both with it (``ratio``) and without it
 (``ratio excl. IK``: replay time / (env time - IK time)).
 
@@ -160,6 +161,27 @@ def recorded_steps(
     return per_step
 
 
+def timed_single_apply(
+    single_apply: Callable[..., Callable[[], None] | None], seconds: list[float], clock: Callable[[], float]
+) -> Callable[..., Callable[[], None] | None]:
+    """An end-effector controller's ``single_apply`` whose one-env call adds its time to
+    ``seconds[0]`` (the one-env step's share of ``ratio excl. IK``, as ``apply``'s)."""
+
+    def planned(raw: np.ndarray, qpos: np.ndarray) -> Callable[[], None] | None:
+        call = single_apply(raw, qpos)
+        if call is None:
+            return None
+
+        def timed() -> None:
+            begin = clock()
+            call()
+            seconds[0] += clock() - begin
+
+        return timed
+
+    return planned
+
+
 def measure(
     uid: str, mode: str, rounds: int, block: int, rng: np.random.Generator, clock: Callable[[], float]
 ) -> Result:
@@ -191,9 +213,11 @@ def measure(
                 ik_seconds[0] += clock() - begin
 
             wrapped.append((timed, part_slice))
+            setattr(controller, "single_apply", timed_single_apply(controller.single_apply, ik_seconds, clock))  # noqa: B010
         else:
             wrapped.append((apply, part_slice))
     combined._apply = wrapped
+    combined._single_sim = None  # the one-env plan made again, with the timed calls
 
     cursor = {"env": 0, "replay": 0}
 

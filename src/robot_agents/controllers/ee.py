@@ -24,6 +24,7 @@ One control step of an end-effector controller, per env:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
@@ -229,7 +230,10 @@ class PDEEController(Controller):
                 turn, rotvec = self._turn, raw[3:6]
                 if self._turn_limit is not None:
                     lx, ly, lz = self._turn_limit
-                    length = math.sqrt((rotvec[0] / lx) ** 2 + (rotvec[1] / ly) ** 2 + (rotvec[2] / lz) ** 2)
+                    # in Python floats: the same divisions, libm pow and sums as on NumPy's
+                    # scalars (the clip keeps |r / l| <= 1: no overflow), without their unboxing
+                    rx, ry, rz = rotvec.tolist()
+                    length = math.sqrt((rx / lx) ** 2 + (ry / ly) ** 2 + (rz / lz) ** 2)
                     if length > 1.0:
                         rotvec = rotvec / length
                 rotvec_to_quat_into(turn, rotvec, self._axis)
@@ -305,6 +309,84 @@ class PDEEController(Controller):
         else:
             targets.position[:, self._columns] = solution
         self.target_qpos[:] = solution
+
+    def single_apply(self, raw: FloatArray, qpos: FloatArray) -> Callable[[], None] | None:
+        """One env: :meth:`apply` of the action entries ``raw`` (a ``(1, action_dim)``
+        view of a buffer the caller rewrites before each call) as a call of no arguments,
+        reading the measured positions from ``qpos``, a ``(1, nq)`` view that follows the
+        simulation (see :meth:`PDJointPosController.single_apply
+        <robot_agents.controllers.joint.PDJointPosController.single_apply>`): the same
+        operations on the same values in the same order (forward kinematics at the seed,
+        target pose, the same IK solve, feed-forward targets), so the same targets, IK
+        results and ``target_ee_pose``, bit for bit, without the per-env loop, its
+        lookups and the batch's indexing. ``None`` for a subclass, a batch, or a
+        quaternion action (whose direction entries the general path scales)."""
+        if type(self) is not PDEEController or self.num_envs != 1 or self.quaternion_input:
+            return None
+        qpos_row, qpos_sel = qpos[0], self.binding.qpos_sel
+        measured_q = qpos_row[qpos_sel] if isinstance(qpos_sel, slice) else None  # a live view
+        take = None if measured_q is not None else np.asarray(qpos_sel, dtype=np.intp)
+        from_target, use_target, rotation = self._from_target, self.config.use_target, self.rotation
+        start_rows, start = self._start, self._start[0]
+        target_qpos, target_qpos_row = self.target_qpos, self.target_qpos[0]  # (rewritten in place, never replaced)
+        target_row = self.target_pose[0]
+        held_position, held_quat = target_row[:3], target_row[3:]
+        configuration, load, root = self._configuration, self._kinematics_load, self._root_bound
+        target, result, row = self._target, self._result, raw[0]
+        (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
+        world_target, root_position, root_quat = self._world_target, root.position, root.quat
+        solve_one, position_only = self.solver.solve_one, self._position_only
+        followers, move_followers = self.solver.followers, self.solver.move_followers
+        measured_position, measured_quat = self._measured_parts
+        measure, set_target = self._measure, self._set_target
+        solution, success = result.qpos, result.success
+        feedforward, dt = self.config.feedforward, self.control_timestep
+        position, velocity = self._position, self._velocity
+        columns = self._columns
+        drive_position, drive_velocity = self.targets.position, self.targets.velocity
+        if isinstance(columns, slice):  # views of the drives' buffers (never replaced)
+            drive_position, drive_velocity = drive_position[:, columns], drive_velocity[:, columns]
+            columns = slice(None)
+
+        def apply_single() -> None:
+            if from_target:
+                start[...] = target_qpos_row
+                # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
+                configuration[:] = qpos_row
+                configuration[qpos_sel] = start
+                if followers:
+                    move_followers(configuration, start)
+                load(configuration)
+                root.update()
+                context = configuration
+            else:
+                start[...] = qpos_row.take(take) if measured_q is None else measured_q
+                measure(qpos_row)
+                context = qpos_row
+            if not rotation:
+                target_quat[...] = held_quat  # position modes hold the orientation
+            if use_target:
+                set_target(row, held_position, held_quat)
+            else:
+                set_target(row, measured_position, measured_quat)
+            mujoco.mju_mulPose(world_position, world_quat, root_position, root_quat, target_position, target_quat)
+            solve_one(context, world_target, start, result, 0, position_only, None, True)
+            target_row[...] = target
+            if feedforward:
+                np.add(start_rows, solution, out=position)
+                np.multiply(0.5, position, out=position)
+                np.subtract(solution, start_rows, out=velocity)
+                np.divide(velocity, dt, out=velocity)
+                if not success.item(0):
+                    position[...] = solution
+                    velocity[...] = 0.0
+                drive_position[:, columns] = position
+                drive_velocity[:, columns] = velocity
+            else:
+                drive_position[:, columns] = solution
+            target_qpos[...] = solution
+
+        return apply_single
 
     def hold_raw(self, sim: SimView) -> FloatArray:
         """Absolute modes: the current target pose (the measured tool pose, in the command

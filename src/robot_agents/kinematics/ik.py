@@ -49,7 +49,7 @@ from robot_agents.errors import ConfigError, StateError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
 from robot_agents.kinematics.ik_config import IKConfig, IKResult
-from robot_agents.kinematics.rotations import quat_angle, rotation_error_into
+from robot_agents.kinematics.rotations import quat_angle
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -130,6 +130,8 @@ class IKSolver:
         # Scratch buffers of the per-env descent, and views of them made once (per rows:
         # 3 for position-only solves, 6 with orientation).
         self._pose = np.empty(7)
+        #: The pose at the seed and the best iterate's (a failed solve's check reads them).
+        self._start_pose, self._best_pose = np.empty(7), np.empty(7)
         self._error = np.empty(6)
         self._error_position, self._error_rotation = self._error[:3], self._error[3:]
         self._difference = np.empty(4)
@@ -156,6 +158,27 @@ class IKSolver:
         # The chain's Jacobian columns as views when the dofs are consecutive (else taken).
         self._chain_jacp = self._bound.jacp[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
         self._chain_jacr = self._bound.jacr[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
+        #: What :meth:`solve_one` reads each call, in one tuple (unpacked at once: cheaper
+        #: than the attribute lookups; every entry is made once and never replaced).
+        self._hot = (
+            self._scratch_qpos,
+            kinematics.model,
+            kinematics.data,
+            self._bound,
+            self._bound.pose,
+            self._bound.position,
+            self._bound.quat,
+            self._error,
+            self._error_position,
+            self._error_rotation,
+            self._difference,
+            self._jacobian_position,
+            self._jacobian_rotation,
+            self._chain_jacp,
+            self._chain_jacr,
+            self._qpos_sel,
+            self._followers,
+        )
 
     @property
     def size(self) -> int:
@@ -303,8 +326,26 @@ class IKSolver:
         """
         cfg = self.config
         iterations = cfg.max_iterations if max_iterations is None else int(max_iterations)
-        lower, upper, scratch_qpos = self.lower, self.upper, self._scratch_qpos
-        model, data = self.kinematics.model, self.kinematics.data
+        lower, upper = self.lower, self.upper
+        (
+            scratch_qpos,
+            model,
+            data,
+            bound,
+            pose,
+            pose_position,
+            pose_quat,
+            error,
+            error_position,
+            error_rotation,
+            difference,
+            jacobian_position,
+            jacobian_rotation,
+            chain_jacp,
+            chain_jacr,
+            qpos_sel,
+            followers,
+        ) = self._hot
         if not loaded:
             scratch_qpos[:] = context
         rows = 3 if position_only else 6
@@ -313,45 +354,49 @@ class IKSolver:
             loaded = False
             scratch_qpos[:] = context
         best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf
-        bound = self._bound
-        pose, pose_position, pose_quat = bound.pose, bound.position, bound.quat
-        error, error_position, error_rotation = self._error, self._error_position, self._error_rotation
-        difference = self._difference
+        start_pose = best_pose = self._start_pose
         system, solution, damping, jacobian, transpose = self._buffers[rows]
-        jacobian_position, jacobian_rotation = self._jacobian_position, self._jacobian_rotation
-        chain_jacp, chain_jacr = self._chain_jacp, self._chain_jacr
         task = error_position if position_only else error
         target_position, target_quat = target[:3], target[3:]
         weight, max_task = cfg.rotation_weight, cfg.max_task_step
         tol_position, tol_rotation = cfg.position_tolerance, cfg.rotation_tolerance
-        qpos_sel, followers = self._qpos_sel, self._followers
         # ``a.dot(b)`` is ``a @ b`` (the same BLAS call, ddot / dgemv, so the same bits)
         # without matmul's per-call dispatch.
         done = 0
         for iteration in range(iterations + 1):
-            if iteration or not loaded:
+            # Positions and orientations (mj_kinematics) for the errors; mj_comPos, which
+            # only the Jacobian needs, just before it (not on the iteration that stops).
+            centred = loaded and not iteration
+            if not centred:
                 scratch_qpos[qpos_sel] = q
                 if followers:
                     self.move_followers(scratch_qpos, q)
                 mujoco.mj_kinematics(model, data)
-                mujoco.mj_comPos(model, data)
             bound.update()
             np.subtract(target_position, pose_position, out=error_position)
             position_norm = math.sqrt(error_position.dot(error_position))
             if position_only:
                 rotation_norm = 0.0
             else:
-                # The rotation vector turning the pose's orientation into the target's.
-                rotation_error_into(error_rotation, target_quat, pose_quat, difference)
+                # The rotation vector turning the pose's orientation into the target's
+                # (rotation_error_into inlined).
+                mujoco.mju_negQuat(difference, pose_quat)
+                mujoco.mju_mulQuat(difference, target_quat, difference)
+                mujoco.mju_quat2Vel(error_rotation, difference, 1.0)
                 rotation_norm = math.sqrt(error_rotation.dot(error_rotation))
             cost = max(position_norm / tol_position, rotation_norm / tol_rotation)
             if iteration == 0:
-                start_q, start_pose = q, pose.copy()
+                start_q = q
+                start_pose[...] = pose
             if cost < best_cost:
                 best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
-                best_pose = start_pose if iteration == 0 else pose.copy()  # neither is written later
+                if iteration:  # the pose of iteration 0 is start_pose (neither is written later)
+                    best_pose = self._best_pose
+                    best_pose[...] = pose
             if cost <= 1.0 or iteration == iterations:
                 break
+            if not centred:
+                mujoco.mj_comPos(model, data)
             jacp, jacr = bound.jacobian(updated=True)
             if chain_jacp is not None and chain_jacr is not None:
                 jacobian_position[...] = chain_jacp

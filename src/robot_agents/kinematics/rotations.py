@@ -285,7 +285,7 @@ def matrix_to_quat(matrix: npt.ArrayLike) -> FloatArray:
 def rotvec_to_quat_into(out: FloatArray, rotvec: FloatArray, axis: FloatArray | None = None) -> None:
     """Unit quaternion ``(4,)`` of one rotation vector ``(3,)`` (rad), written into ``out``
     (``axis``: a scratch ``(3,)`` for the unit axis, so hot loops allocate nothing)."""
-    angle = math.sqrt(float(rotvec @ rotvec))
+    angle = math.sqrt(float(rotvec.dot(rotvec)))  # (dot: the same BLAS ddot as @, without its dispatch)
     if angle < 1e-12:
         out[:] = (1.0, 0.0, 0.0, 0.0)
         return

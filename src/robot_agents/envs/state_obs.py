@@ -147,8 +147,7 @@ class StateObservation:
         #: The plan's float32 row and each entry's columns in it (:meth:`_plan_columns`);
         #: ``None``: the pieces are concatenated.
         self._out: npt.NDArray[np.float32] | None = None
-        self._writes: list[tuple[Any, Any]] = []
-        #: :attr:`_writes` by kind of entry (the order of the writes does not matter: the
+        #: The row's writes by kind of entry (the order of the writes does not matter: the
         #: columns are disjoint and nothing is written but the row): views of the
         #: simulation as ``(columns, array)``, ``(columns, owner, attribute)`` and
         #: ``(columns list, callable)``.
@@ -260,7 +259,7 @@ class StateObservation:
                 views.append(out[:, start : start + array.shape[1]])
                 start += array.shape[1]
             writes.append((views if callable(entry) else views[0], entry))
-        self._out, self._writes = out, writes
+        self._out = out
         self._copies = [(dest, entry) for dest, entry in writes if entry.__class__ is np.ndarray]
         self._attributes = [(dest, entry[0], entry[1]) for dest, entry in writes if entry.__class__ is tuple]
         self._calls = [(dest, entry) for dest, entry in writes if callable(entry)]
@@ -283,7 +282,7 @@ class StateObservation:
         key = tuple(a.control.active for a in self.agents)
         world = self.scene.world
         entries: list[Any] = []
-        self._out, self._writes = None, []
+        self._out = None
         self._copies, self._attributes, self._calls = [], [], []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)

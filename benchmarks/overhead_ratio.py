@@ -54,8 +54,9 @@ world of N envs stepped on one thread against N plain ``MjData`` replayed in a P
 loop, figures per env-step (the overhead a policy pays per sample when it steps many
 envs at once); no Python floor there.
 
-``--python-only`` reports instead the step's own cost with the physics calls made
-no-ops (``python_cost``): the part of the overhead this library's Python owns.
+``--python-only`` reports instead the step's own cost with the physics calls replaced
+by stand-ins that only advance simulated time (``python_cost``, ``no_physics``): the
+part of the overhead this library's Python owns.
 
 Usage: ``python benchmarks/overhead_ratio.py [--robots UID ...] [--modes joint ee] [--rounds 40]
 [--block 10] [--clock cpu|wall] [--num-envs 1] [--python-only]``.
@@ -69,7 +70,8 @@ import os
 import platform
 import statistics
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -447,6 +449,33 @@ def measure_batched(
     )
 
 
+def stand_in_step(model: mujoco.MjModel, data: mujoco.MjData, nstep: int = 1) -> None:
+    """:func:`python_cost`'s ``mj_step``: no physics, but simulated time advances by
+    ``nstep`` time steps (s) as a real step's does; ``qpos``, ``qvel`` and everything
+    else stay as they are. The world's instability test reads the time (a step that did
+    not advance it counts as MuJoCo's reset of a blown-up env): with time standing still
+    every step was flagged unstable, which skipped the one-env step's speed test
+    (``or`` short-circuits) and added the flag's bookkeeping (``unstable_steps``) to
+    both paths, so the no-physics step took another path than a real one."""
+    data.time += nstep * model.opt.timestep
+
+
+def stand_in_forward(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """:func:`python_cost`'s ``mj_forward``: nothing (a forward pass moves no time)."""
+
+
+@contextmanager
+def no_physics() -> Iterator[None]:
+    """``mujoco.mj_step`` and ``mujoco.mj_forward`` replaced by :func:`stand_in_step` and
+    :func:`stand_in_forward` inside the block (the library looks them up at each call)."""
+    step, forward = mujoco.mj_step, mujoco.mj_forward
+    mujoco.mj_step, mujoco.mj_forward = stand_in_step, stand_in_forward
+    try:
+        yield
+    finally:
+        mujoco.mj_step, mujoco.mj_forward = step, forward
+
+
 def python_cost(
     uid: str,
     mode: str,
@@ -457,27 +486,37 @@ def python_cost(
     num_envs: int = 1,
 ) -> float:
     """Microseconds of one ``env.step`` with MuJoCo's ``mj_step`` and ``mj_forward``
-    made no-ops (the physics does not move): what the step costs in Python and in the
-    small MuJoCo calls around it (pose sync), best of ``repeats`` loops of ``steps``
-    steps (the minimum is the least disturbed by other jobs on the machine); with
-    ``num_envs > 1``, per env-step of one batched world on one thread."""
+    replaced by :func:`no_physics`'s stand-ins (the physics does not move, simulated time
+    advances as in a real step, so the step takes a real step's path): what the step
+    costs in Python and in the small MuJoCo calls around it (pose sync), best of
+    ``repeats`` loops of ``steps`` steps (the minimum is the least disturbed by other
+    jobs on the machine); with ``num_envs > 1``, per env-step of one batched world on
+    one thread. Raises ``RuntimeError`` if the env flagged a step unstable or its time
+    did not advance by the control steps' (then the figure would not be a real step's)."""
     env = ra.make_env(
         "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, num_threads=1, max_episode_steps=None
     ).unwrapped
     env.reset(seed=0)
     actions = small_actions(env, 64, rng)
-    step, forward = mujoco.mj_step, mujoco.mj_forward
-    mujoco.mj_step = mujoco.mj_forward = lambda *args: None
-    try:
+    world = env.scene.world
+    started, flagged = world.time, world.unstable_steps.copy()
+    with no_physics():
         best = math.inf
         for _ in range(repeats):
             begin = clock()
             for i in range(steps):
                 env.step(actions[i % len(actions)])
             best = min(best, clock() - begin)
-    finally:
-        mujoco.mj_step, mujoco.mj_forward = step, forward
+    advanced = world.time - started
+    expected = repeats * steps * env.scene.substeps * float(env.model.opt.timestep)
+    unstable = world.unstable_steps - flagged
     env.close()
+    if unstable.any() or not np.allclose(advanced, expected, rtol=1e-9, atol=0.0):
+        raise RuntimeError(
+            f"python_cost({uid!r}, {mode!r}): the no-physics step is not a real step's path: "
+            f"{unstable.tolist()} steps flagged unstable per env, time advanced {advanced.tolist()} s "
+            f"(expected {expected} s)"
+        )
     return 1e6 * best / (steps * num_envs)
 
 
@@ -497,7 +536,8 @@ def main() -> None:
     parser.add_argument(
         "--python-only",
         action="store_true",
-        help="instead of the ratio: the step's own cost with mj_step and mj_forward made no-ops (python_cost)",
+        help="instead of the ratio: the step's own cost with mj_step and mj_forward replaced by stand-ins that only "
+        "advance simulated time (python_cost)",
     )
     parser.add_argument(
         "--clock",

@@ -11,6 +11,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -219,3 +220,74 @@ def test_jaw_close_ramps_the_command_and_holds_it_where_the_jaw_stalls() -> None
         assert close.next(opening)[0] == close.open and not close.held[0]
     finally:
         env.close()
+
+
+def _overhead_ratio() -> Any:
+    """benchmarks/overhead_ratio.py as a module (benchmarks/ importable for its own imports)."""
+    import importlib
+
+    if str(BENCHMARKS) not in sys.path:
+        sys.path.insert(0, str(BENCHMARKS))
+    return importlib.import_module("overhead_ratio")
+
+
+@pytest.mark.parametrize(
+    ("uid", "mode", "num_envs"),
+    [
+        ("so100", "pd_joint_delta_pos", 1),  # the one-env fast path (_step_single)
+        ("so100", "pd_joint_delta_pos", 3),  # the batched path
+        ("so100", "pd_joint_target_delta_pos", 1),  # interpolated targets: one mj_step per substep
+        ("stretch", "pd_joint_delta_pos", 1),  # wheels written after the physics (mj_forward's stand-in)
+    ],
+)
+def test_python_cost_stand_in_steps_as_a_real_step(uid: str, mode: str, num_envs: int) -> None:
+    """overhead_ratio.py's no-physics step (``python_cost``) takes a real step's path:
+    simulated time advances by the control step's substeps, no step is flagged unstable
+    (an env asked to raise on instability steps on), the joints stay where they were,
+    and the real functions are back after the block."""
+    import mujoco
+    import numpy as np
+
+    import robot_agents as ra
+
+    module = _overhead_ratio()
+    step, forward = mujoco.mj_step, mujoco.mj_forward
+    env = ra.make_env(
+        "Empty-v1",
+        robot_uids=uid,
+        control_mode=mode,
+        num_envs=num_envs,
+        num_threads=1,
+        max_episode_steps=None,
+        raise_on_instability=True,
+    ).unwrapped
+    try:
+        env.reset(seed=0)
+        world = env.scene.world
+        actions = module.small_actions(env, 4, np.random.default_rng(0))
+        control_dt = env.scene.substeps * float(env.model.opt.timestep)
+        qpos = world.qpos.copy()
+        with module.no_physics():
+            for i in range(6):
+                before = world.time
+                info = env.step(actions[i % 4])[-1]
+                assert np.allclose(world.time - before, control_dt, rtol=1e-12, atol=0.0), (world.time, before)
+                assert not np.any(info["physics_unstable"]) and not world.last_step_unstable.any()
+        assert not world.unstable_steps.any()
+        if uid != "stretch":  # (stretch's wheels are turned by the base's motion: none here)
+            assert np.array_equal(world.qpos, qpos)
+    finally:
+        env.close()
+    assert mujoco.mj_step is step and mujoco.mj_forward is forward
+    assert module.python_cost(uid, mode, np.random.default_rng(0), steps=5, repeats=2, num_envs=num_envs) > 0.0
+
+
+def test_python_cost_refuses_a_stand_in_that_leaves_time_standing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With an ``mj_step`` that does nothing (the stand-in before 2026-11-29) every step
+    is flagged unstable and time stands: python_cost raises instead of reporting."""
+    import numpy as np
+
+    module = _overhead_ratio()
+    monkeypatch.setattr(module, "stand_in_step", lambda *args: None)
+    with pytest.raises(RuntimeError, match="not a real step's path"):
+        module.python_cost("so100", "pd_joint_delta_pos", np.random.default_rng(0), steps=3, repeats=1)

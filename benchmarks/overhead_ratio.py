@@ -517,7 +517,9 @@ def python_cost(
     jobs on the machine), less the time advance's own cost (:func:`stand_in_surplus`);
     with ``num_envs > 1``, per env-step of one batched world on one thread. Raises
     ``RuntimeError`` if the env flagged a step unstable or its time did not advance by
-    the control steps' (then the figure would not be a real step's)."""
+    the control steps' (then the figure would not be a real step's). End-effector modes:
+    the arm does not move, so the IK may take another number of iterations than in a real
+    step (6 of the 22 built-in robots with such a mode at one env, docs/benchmarks.md)."""
     env = ra.make_env(
         "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, num_threads=1, max_episode_steps=None
     ).unwrapped

@@ -28,7 +28,6 @@ SOLVER_SHORTFALLS = {
         "PushCube-v1",
         "stretch",
     ): "9/20 (2026-11-29): most misses stall 4-6 cm into the push, the tip pressing the cube down",
-    ("PushCube-v1", "xarm6_nogripper_wristcam"): "15/20: the flange stops 4 cm over the cube (4 of 5 misses)",
 }
 
 

@@ -831,8 +831,8 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         if attempt == 1 or not cramped.any():
             break
         # Neither (a push start near the arm's base, the arm folded over it): the push
-        # start as near the cube as the table edge lets it, where the arm has more room.
-        distance = np.where(cramped, half + EDGE_MARGIN * reach, distance)
+        # start halfway to the nearest the edge margin allows, where the arm has more room.
+        distance = np.where(cramped, 0.5 * (half + EDGE_MARGIN * reach + distance), distance)
     quat = np.where((blocked & clear)[:, None], back, lean_in)
     above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
     # Where the arm's IK cannot hold that lean along the push (the tool point off the path

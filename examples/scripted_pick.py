@@ -813,19 +813,28 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     near_edge = layout.table_center[0] - layout.table_half_size[0] + EDGE_MARGIN * reach
     room = np.where(push[:, 0] > 1e-6, (cube[:, 0] - near_edge) / np.maximum(push[:, 0], 1e-6), np.inf)
     distance = np.maximum(np.minimum(half + CLEARANCE * reach, room), half + EDGE_MARGIN * reach)
-    behind = cube - push * distance[:, None]
-    behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
-    above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
-    # Leaning into the push; where that puts the arm into itself at the push start (its
-    # wrist between the fingertips and the arm's own links), leaning back when that does not.
-    low = behind + np.array([0.0, 0.0, 2.0 * half])  # the tool point as it pushes, about
     now = arm.tool()[:, 3:]
-    quat = push_orientation(now, approach, closing, push, np.full(n, TILT))
-    blocked = arm.self_contact(arm.solve(low - in_tool(quat, point_in_tool), quat))
-    if blocked.any():
-        back = push_orientation(now, approach, closing, push, np.full(n, -TILT))
-        clear = ~arm.self_contact(arm.solve(low - in_tool(back, point_in_tool), back))
-        quat = np.where((blocked & clear)[:, None], back, quat)
+    lean_in = push_orientation(now, approach, closing, push, np.full(n, TILT))
+    back = push_orientation(now, approach, closing, push, np.full(n, -TILT))
+    for attempt in range(2):
+        behind = cube - push * distance[:, None]
+        behind[:, 2] = layout.table_height  # the tool point's lowest aim: the fingertips stop it first
+        low = behind + np.array([0.0, 0.0, 2.0 * half])  # the tool point as it pushes, about
+        # Leaning into the push; where the arm's IK finds no pose for that at the push
+        # start without the robot touching itself (its wrist between the fingertips and
+        # the arm's own links), leaning back where it finds one for that.
+        blocked = arm.self_contact(arm.solve(low - in_tool(lean_in, point_in_tool), lean_in, refuse=arm.self_contact))
+        clear = ~blocked
+        if blocked.any():
+            clear = ~arm.self_contact(arm.solve(low - in_tool(back, point_in_tool), back, refuse=arm.self_contact))
+        cramped = blocked & ~clear
+        if attempt == 1 or not cramped.any():
+            break
+        # Neither (a push start near the arm's base, the arm folded over it): the push
+        # start halfway to the nearest the edge margin allows, where the arm has more room.
+        distance = np.where(cramped, 0.5 * (half + EDGE_MARGIN * reach + distance), distance)
+    quat = np.where((blocked & clear)[:, None], back, lean_in)
+    above = behind + np.array([0.0, 0.0, 0.1 * reach + 2.0 * half + layout.cube_half_size])
     # Where the arm's IK cannot hold that lean along the push (the tool point off the path
     # by more than PATH_TOLERANCE: an arm whose shoulder stands high over the table), the
     # lean of the others (straight down, then the opposite lean) its IK holds best, if
@@ -842,10 +851,11 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         other = push_orientation(now, approach, closing, push, tilt * TILT * leaned)
         other_error = path_error(arm, path, other, point_in_tool)
         better = short & (other_error < error - PATH_TOLERANCE)
-        better &= ~arm.self_contact(arm.solve(low - in_tool(other, point_in_tool), other))
+        better &= ~arm.self_contact(arm.solve(low - in_tool(other, point_in_tool), other, refuse=arm.self_contact))
         quat = np.where(better[:, None], other, quat)
         error = np.where(better, other_error, error)
-    arm.ramp(episode.step, arm.solve(above - in_tool(quat, point_in_tool), quat), turn_steps, closed)
+    turn_goal = arm.solve(above - in_tool(quat, point_in_tool), quat, refuse=arm.self_contact)
+    arm.ramp(episode.step, turn_goal, turn_steps, closed)
     arm.set_mode(end_effector_mode(arm.agent, rotation=False))
     stage = np.full(n, ABOVE_BEHIND)
     in_stage = np.zeros(n, dtype=int)

@@ -28,7 +28,6 @@ SOLVER_SHORTFALLS = {
         "PushCube-v1",
         "stretch",
     ): "9/20 (2026-11-29): most misses stall 4-6 cm into the push, the tip pressing the cube down",
-    ("PushCube-v1", "xarm6_nogripper_wristcam"): "15/20: the flange stops 4 cm over the cube (4 of 5 misses)",
 }
 
 
@@ -70,10 +69,11 @@ def test_scripted_solver_succeeds(task: str, uid: str, request: pytest.FixtureRe
     assert successes >= REQUIRED, f"{uid}: {successes}/{SEEDS} {task} episodes succeeded (need {REQUIRED})"
 
 
-@pytest.mark.parametrize(("task", "uid", "seed"), [("PickCube-v1", "so100", 4), ("PushCube-v1", "so100", 5)])
+@pytest.mark.parametrize(("task", "uid", "seed"), [("PickCube-v1", "so100", 4), ("PushCube-v1", "so100", 34)])
 def test_batched_solver_runs_match_single_runs(task: str, uid: str, seed: int) -> None:
     """Env i of a batch seeded s behaves as a single env seeded s + i, so success over a
-    batch is success over seeds (PushCube from seed 5: a miss among successes)."""
+    batch is success over seeds (PushCube from seed 34: a miss among successes; seeds
+    5-7, the miss before, all succeed since the push start's self-contact rule)."""
     solve = solver.SOLVERS[task]
     batch = ra.make_env(task, robot_uids=uid, num_envs=3).unwrapped
     together = solve(batch, seed)

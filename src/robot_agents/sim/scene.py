@@ -179,18 +179,18 @@ class Scene:
             for rid, cls, mode, pose in zip(self.robot_ids, classes, modes, poses, strict=True)
         ]
         self._initial_state = self.world.get_state()[0].copy()
+        #: The scene's one robot (None with several): the common case of :meth:`step`.
+        self._one_agent = self.agents[0] if len(self.agents) == 1 else None
         # One robot whose before / after-step hooks never have work (Agent's own hooks, no
         # planar base: nothing moves it kinematically or turns wheels between steps).
-        first = self.agents[0]
+        one = self._one_agent
         self._hookless_single = (
-            len(self.agents) == 1
-            and first.mobile.planar is None
-            and type(first).before_step is Agent.before_step
-            and type(first).after_step is Agent.after_step
-            and type(first).writes_after_step is Agent.writes_after_step
+            one is not None
+            and one.mobile.planar is None
+            and type(one).before_step is Agent.before_step
+            and type(one).after_step is Agent.after_step
+            and type(one).writes_after_step is Agent.writes_after_step
         )
-        #: The scene's one robot (None with several): the common case of :meth:`step`.
-        self._one_agent = first if len(self.agents) == 1 else None
         prefixes = {rid: f"{rid}/" for rid in self.robot_ids}
         self.cameras = CameraRig(self.render_model, planned, segmentation_id_map(self.render_model, prefixes))
 

@@ -553,6 +553,48 @@ def test_a_mimic_delta_from_the_measured_pose_keeps_the_followers_on_the_leaders
         ra.PDJointPosMimicConfig(joint_names=("a", "b"), lower=-0.1, upper=0.1, use_delta=True, multipliers=(0.0, 1.0))
 
 
+def test_a_mimic_target_delta_starts_the_followers_on_the_leaders_relation(tmp_path: object) -> None:
+    """Both joints driven, coupled only by a mimic mode adding its deltas to the targets
+    (flap = 0.5 spin + 0.1). Reset off the relation (spin 0.2, flap 0.5: 0.3 rad off),
+    each joint's target was its own measured position, so every later target kept the
+    flap 0.3 rad off and the pose stayed there. Now a reset and the mode's activation put
+    the flap's target on the relation to the spin's measured position, the spin's target
+    is its measured position exactly, and the pose settles on the relation."""
+    cls = mimic_robot(tmp_path, equality=False)
+    tdelta = ra.PDJointPosMimicConfig(
+        joint_names=("spin", "flap"),
+        lower=-0.1,
+        upper=0.1,
+        use_delta=True,
+        use_target=True,
+        normalize_action=False,
+        multipliers=(1.0, 0.5),
+        offsets=(0.0, 0.1),
+    )
+    absolute = ra.PDJointPosMimicConfig(joint_names=("spin", "flap"), normalize_action=False, multipliers=(1.0, 0.5))
+    modes = {"tdelta": tdelta, "abs": absolute}
+    scene = ra.Scene(type("MimicTarget", (cls,), {"default_control_mode": "tdelta", "control_modes": modes}))
+    scene.reset()
+    agent = scene.agents[0]
+    agent.reset(qpos=np.array([0.2, 0.5]))
+    controller = agent.controller.parts["main"]
+    np.testing.assert_array_equal(controller.get_state()["target_qpos"][0], [0.2, 0.5 * 0.2 + 0.1])
+    run(scene, agent, np.array([0.05]), 1)
+    np.testing.assert_array_equal(controller.get_state()["target_qpos"][0], [0.25, 0.5 * 0.2 + 0.1 + 0.5 * 0.05])
+    run(scene, agent, np.array([0.0]), 60)
+    np.testing.assert_allclose(agent.qpos[0], [0.25, 0.225], atol=1e-3)
+    # activation holds the measured pose: off the relation again (by the absolute mode's
+    # offset 0), the target-delta mode starts its followers back on it
+    agent.set_control_mode("abs")
+    run(scene, agent, np.array([0.4]), 60)
+    np.testing.assert_allclose(agent.qpos[0], [0.4, 0.2], atol=1e-3)
+    agent.set_control_mode("tdelta")
+    spin = agent.qpos[0, 0]
+    target = agent.controller.parts["main"].get_state()["target_qpos"][0]
+    assert target[0] == spin and target[1] == 0.5 * spin + 0.1
+    scene.close()
+
+
 def test_a_velocity_target_on_a_joint_with_dry_friction_settles_short_by_friction_over_damping(
     tmp_path: object,
 ) -> None:

@@ -164,7 +164,10 @@ class PDJointPosMimicConfig(PDJointPosConfig):
     keep the relation to the leader wherever their own drives left them (before
     2026-11-29 each joint added ``multipliers[i] * delta`` to its own measured position,
     and independently driven followers drifted from the relation); with ``use_target``
-    each joint adds ``multipliers[i] * delta`` to its previous target.
+    each joint adds ``multipliers[i] * delta`` to its previous target, and a reset (or
+    the mode's activation) puts the followers' targets on the relation to the leader's
+    measured position (since 2026-11-29; before, each took its own measured position and
+    kept its offset from the relation in every later target).
     """
 
     multipliers: tuple[float, ...] | None = None
@@ -278,6 +281,15 @@ class PDJointPosController(Controller):
             self._leader_measured = binding.qpos_adr[:1].astype(np.int64)
             m0, o0 = float(self.multipliers[0]), float(self.offsets[0])
             self._leader_map = None if (m0, o0) == (1.0, 0.0) else (m0, o0)
+        # A mimic adding its deltas to its targets starts them on the relation: a reset
+        # (and a mode's activation) sets the followers' targets from the leader's measured
+        # position, m_i (q_0 - o_0) / m_0 + o_i, not from their own (followers whose own
+        # drives left them off the relation kept that offset in every later target). With
+        # m_0 = 0 the action does not move the leader and the relation does not say
+        # where it stands: the measured positions, as for other modes. (m_0, o_0), or None.
+        self._relation_map: tuple[float, float] | None = None
+        if not self._plain and self._base == self._FROM_TARGET and float(self.multipliers[0]) != 0.0:
+            self._relation_map = (float(self.multipliers[0]), float(self.offsets[0]))
         # Unlimited hinges among the joints (absolute targets are taken modulo a turn):
         # their positions in the joint list and in qpos; None when there is none (limited
         # joints take the path they always took, bit for bit). A mimic's leader alone:
@@ -306,8 +318,22 @@ class PDJointPosController(Controller):
 
     def reset(self, env_ids: IntArray, sim: SimView) -> None:
         measured = sim.qpos[env_ids][:, self.binding.qpos_adr]
-        self.target_qpos[env_ids] = measured
+        relation = self._relation_map
+        self.target_qpos[env_ids] = measured if relation is None else self._on_relation(measured, relation)
         self._previous_target[env_ids] = measured
+
+    def _on_relation(self, measured: FloatArray, relation: tuple[float, float]) -> FloatArray:
+        """A mimic's targets ``(k, n)`` on its relation to the leader's ``measured``
+        position (``(k, n)``, every joint's; ``relation``: the leader's ``(m_0, o_0)``):
+        the leader's own, exactly, and each follower's ``m_i (q_0 - o_0) / m_0 + o_i``,
+        clipped as the mode clips."""
+        m0, o0 = relation
+        leader = (measured[:, :1] - o0) / m0
+        targets: FloatArray = leader * self._multipliers_row + self._offsets_row
+        if self._clip:
+            targets = np.minimum(np.maximum(targets, self._lower_limit), self._upper_limit)
+        targets[:, 0] = measured[:, 0]
+        return targets
 
     def hold_raw(self, sim: SimView) -> FloatArray:
         """Absolute modes: the measured positions of the action's joints (the leader alone

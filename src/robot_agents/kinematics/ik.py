@@ -216,7 +216,9 @@ class IKSolver:
             max_iterations: overrides ``config.max_iterations`` (per attempt).
             restarts: envs that fail try again this many times from random
                 configurations within the joint limits (drawn from a fixed-seed
-                generator, so results are deterministic). Use it for global targets;
+                generator, the same sequence for every env, so results are
+                deterministic and each env's does not depend on the rest of the
+                batch). Use it for global targets;
                 controllers use 0, since another IK branch means a large motion.
 
         Raises:
@@ -233,13 +235,16 @@ class IKSolver:
             rotation_error=np.empty(num_envs),
             iterations=np.zeros(num_envs, dtype=np.int64),
         )
-        rng: np.random.Generator | None = None
         low = np.where(np.isfinite(self.lower), self.lower, -np.pi)
         high = np.where(np.isfinite(self.upper), self.upper, np.pi)
         periodic = self.periodic
         for env in range(num_envs):
             self.solve_one(context_qpos[env], target[env], seed[env], result, env, position_only, max_iterations)
             best = (result.qpos[env].copy(), result.position_error[env], result.rotation_error[env])
+            # Each env's restarts draw the same fixed-seed sequence, so an env's answer
+            # does not depend on the other envs of the batch (which of them needed
+            # restarts, and how many): a batch solves each env as a batch of one would.
+            rng: np.random.Generator | None = None
             for _ in range(restarts if not result.success[env] else 0):
                 rng = rng or np.random.default_rng(0)
                 used = result.iterations[env]

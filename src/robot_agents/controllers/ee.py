@@ -113,6 +113,9 @@ class PDEEController(Controller):
             else None
         )
         n, num_envs = binding.size, context.num_envs
+        #: The IK solutions (joint targets), ``(num_envs, n)``. This array and
+        #: :attr:`target_pose` are written in place, never replaced (the one-env
+        #: observation copies from them directly: ``state_obs``).
         self.target_qpos: FloatArray = np.zeros((num_envs, n))
         #: Target tool pose in the root frame, ``(num_envs, 7)``.
         self.target_pose: FloatArray = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
@@ -444,10 +447,11 @@ class PDEEController(Controller):
         return {"target_qpos": self.target_qpos, "target_ee_pose": self.target_pose}
 
     def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        result = self._result  # (the properties' arrays, read once)
         return {
-            "ik_success": self.ik_success.copy(),
-            "ik_position_error": self.ik_position_error.copy(),
-            "ik_rotation_error": self.ik_rotation_error.copy(),
+            "ik_success": result.success.copy(),
+            "ik_position_error": result.position_error.copy(),
+            "ik_rotation_error": result.rotation_error.copy(),
         }
 
     def get_state(self) -> dict[str, FloatArray]:

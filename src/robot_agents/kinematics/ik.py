@@ -97,6 +97,10 @@ class IKSolver:
         n = len(self.qpos_adr)
         self.lower = np.asarray(qpos_limits, dtype=np.float64)[:, 0].copy()
         self.upper = np.asarray(qpos_limits, dtype=np.float64)[:, 1].copy()
+        # The limits never change (read-only), so their Python floats are taken once
+        # (:func:`_strictly_within`'s tests).
+        self.lower.flags.writeable = self.upper.flags.writeable = False
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist())
         model = kinematics.model
         for adr in self.dof_adr:
             joint = int(model.dof_jntid[adr])
@@ -155,9 +159,10 @@ class IKSolver:
         }
         self._bound = BoundFrame(kinematics, frame)
         self._scratch_qpos = kinematics.data.qpos
-        # The chain's Jacobian columns as views when the dofs are consecutive (else taken).
+        # The chain's Jacobian columns as views when the dofs are consecutive (else taken):
+        # both halves' (one copy of the 6 rows) and the translational half's.
+        self._chain_jac = self._bound.jacobians[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
         self._chain_jacp = self._bound.jacp[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
-        self._chain_jacr = self._bound.jacr[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
         #: What :meth:`solve_one` reads each call, in one tuple (unpacked at once: cheaper
         #: than the attribute lookups; every entry is made once and never replaced).
         self._hot = (
@@ -174,10 +179,11 @@ class IKSolver:
             self._difference,
             self._jacobian_position,
             self._jacobian_rotation,
+            self._chain_jac,
             self._chain_jacp,
-            self._chain_jacr,
             self._qpos_sel,
             self._followers,
+            self._limit_lists,
         )
 
     @property
@@ -341,18 +347,25 @@ class IKSolver:
             difference,
             jacobian_position,
             jacobian_rotation,
+            chain_jac,
             chain_jacp,
-            chain_jacr,
             qpos_sel,
             followers,
+            (lower_list, upper_list),
         ) = self._hot
         if not loaded:
             scratch_qpos[:] = context
         rows = 3 if position_only else 6
-        q = np.minimum(np.maximum(seed, lower), upper)
-        if loaded and np.count_nonzero(q != seed):  # a seed past a (soft) limit was clipped
-            loaded = False
-            scratch_qpos[:] = context
+        # A seed strictly inside the limits is its own clip (np.minimum(np.maximum(seed,
+        # lower), upper) gives back its values, bit for bit): the seed itself (never
+        # written here: every later q is a new array); at or past a limit, the clip.
+        if _strictly_within(seed.tolist(), lower_list, upper_list):
+            q = seed
+        else:
+            q = np.minimum(np.maximum(seed, lower), upper)
+            if loaded and np.count_nonzero(q != seed):  # a seed past a (soft) limit was clipped
+                loaded = False
+                scratch_qpos[:] = context
         best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf
         start_pose = best_pose = self._start_pose
         system, solution, damping, jacobian, transpose = self._buffers[rows]
@@ -398,10 +411,12 @@ class IKSolver:
             if not centred:
                 mujoco.mj_comPos(model, data)
             jacp, jacr = bound.jacobian(updated=True)
-            if chain_jacp is not None and chain_jacr is not None:
-                jacobian_position[...] = chain_jacp
-                if not position_only:
-                    np.multiply(chain_jacr, weight, out=jacobian_rotation)
+            if chain_jac is not None and chain_jacp is not None:
+                if position_only:
+                    jacobian_position[...] = chain_jacp
+                else:  # both halves in one copy, then the rotational rows weighted in place (the same products)
+                    jacobian[...] = chain_jac
+                    np.multiply(jacobian_rotation, weight, out=jacobian_rotation)
             else:
                 jacobian_position[...] = jacp[:, self._dof_sel]
                 if not position_only:
@@ -424,9 +439,9 @@ class IKSolver:
             # problem (their columns zeroed) and the rest solved again: the clip would
             # undo their share, and the others would never make it up (an arm resting
             # on its limits stalls otherwise). No joint at a limit: nothing to take out.
-            at_lower, at_upper = q <= lower, q >= upper
             held = None
-            if np.count_nonzero(at_lower) or np.count_nonzero(at_upper):
+            if not _strictly_within(q.tolist(), lower_list, upper_list):  # a joint at (or past) a limit
+                at_lower, at_upper = q <= lower, q >= upper
                 for _ in range(len(q)):
                     blocked = (at_lower & (step < 0.0)) | (at_upper & (step > 0.0))
                     if not blocked.any():
@@ -585,6 +600,16 @@ class LinearFollowers:
         ``qd`` ``(..., n)``."""
         values: FloatArray = self.slope * qd[..., self.leader]
         return values
+
+
+def _strictly_within(values: list[float], lower: list[float], upper: list[float]) -> bool:
+    """Whether every ``lower[i] < values[i] < upper[i]`` (Python floats: the comparisons
+    NumPy's ``<`` makes; a NaN value is not within): ``not np.any((q <= lower) | (q >= upper))``
+    for a ``q`` without NaN, without NumPy's per-call cost on a few joints."""
+    for value, low, high in zip(values, lower, upper, strict=True):  # noqa: SIM110 (a loop: half all()'s generator cost)
+        if not low < value < high:
+            return False
+    return True
 
 
 def _largest_magnitude(values: FloatArray) -> float:

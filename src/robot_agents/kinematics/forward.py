@@ -108,11 +108,21 @@ class BoundFrame:
 
     def update(self) -> FloatArray:
         """The frame's world pose at the loaded configuration, into :attr:`pose` (returned)."""
-        if self._is_body and self._offset_parts is None:  # the common case, inlined
+        offset = self._offset_parts
+        if offset is None:  # the body's or site's own pose (_origin_into inlined)
             self.position[...] = self._source_position
-            self.quat[...] = self._source_orientation
-        else:
-            self._pose_into(self.position, self.quat)
+            if self._is_body:
+                self.quat[...] = self._source_orientation
+            else:
+                mujoco.mju_mat2Quat(self.quat, self._source_orientation)
+        else:  # _pose_into inlined (the same calls)
+            origin_position, origin_quat = self._origin_parts
+            origin_position[...] = self._source_position
+            if self._is_body:
+                origin_quat[...] = self._source_orientation
+            else:
+                mujoco.mju_mat2Quat(origin_quat, self._source_orientation)
+            mujoco.mju_mulPose(self.position, self.quat, origin_position, origin_quat, offset[0], offset[1])
         return self.pose
 
     def _pose_into(self, position: FloatArray, quat: FloatArray) -> None:

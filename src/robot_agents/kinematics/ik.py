@@ -439,13 +439,17 @@ class IKSolver:
             # problem (their columns zeroed) and the rest solved again: the clip would
             # undo their share, and the others would never make it up (an arm resting
             # on its limits stalls otherwise). No joint at a limit: nothing to take out.
+            # (The tests on Python floats: the comparisons NumPy makes, without its per-call cost.)
             held = None
-            if not _strictly_within(q.tolist(), lower_list, upper_list):  # a joint at (or past) a limit
-                at_lower, at_upper = q <= lower, q >= upper
+            values = q.tolist()
+            if not _strictly_within(values, lower_list, upper_list):  # a joint at (or past) a limit
+                at_lower = [value <= low for value, low in zip(values, lower_list, strict=True)]
+                at_upper = [value >= high for value, high in zip(values, upper_list, strict=True)]
                 for _ in range(len(q)):
-                    blocked = (at_lower & (step < 0.0)) | (at_upper & (step > 0.0))
-                    if not blocked.any():
+                    pushed = _pushed_further(at_lower, at_upper, step.tolist())
+                    if not any(pushed):
                         break
+                    blocked = np.array(pushed)
                     held = blocked if held is None else held | blocked
                     jacobian[:, blocked] = 0.0
                     np.matmul(jacobian, transpose, out=system)
@@ -610,6 +614,16 @@ def _strictly_within(values: list[float], lower: list[float], upper: list[float]
         if not low < value < high:
             return False
     return True
+
+
+def _pushed_further(at_lower: list[bool], at_upper: list[bool], step: list[float]) -> list[bool]:
+    """Per joint, whether a step ``step`` (Python floats) pushes it further past the limit
+    it is at: ``(at_lower & (step < 0.0)) | (at_upper & (step > 0.0))`` as a list (a NaN
+    step pushes nowhere, as in NumPy)."""
+    return [
+        (low and value < 0.0) or (high and value > 0.0)
+        for low, high, value in zip(at_lower, at_upper, step, strict=True)
+    ]
 
 
 def _largest_magnitude(values: FloatArray) -> float:

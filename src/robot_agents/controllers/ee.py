@@ -334,7 +334,7 @@ class PDEEController(Controller):
         target_qpos, target_qpos_row = self.target_qpos, self.target_qpos[0]  # (rewritten in place, never replaced)
         target_row = self.target_pose[0]
         held_quat = target_row[3:]
-        configuration, load, root_update = self._configuration, self._kinematics_load, self._root_bound.update
+        configuration, root_update = self._configuration, self._root_bound.update
         target, result = self._target, self._result
         (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
         world_target, root_position, root_quat = self._world_target, self._root_bound.position, self._root_bound.quat
@@ -376,7 +376,9 @@ class PDEEController(Controller):
                 configuration[qpos_sel] = start
                 if followers:
                     move_followers(configuration, start)
-                load(configuration)
+                scratch_qpos[:] = configuration  # Kinematics.load(configuration) inlined
+                kinematics(model, data)
+                com_pos(model, data)
                 root_update()
                 context = configuration
             else:

@@ -276,3 +276,25 @@ def test_the_one_env_ee_call_with_drive_columns_by_index_matches_the_general_pat
     assert fast.agent.controller._single_plan is not None
     fast.close()
     general.close()
+
+
+def test_the_one_env_ee_call_sees_a_root_moved_between_steps() -> None:
+    """The root's inverse pose is kept while the root's pose bits stay the same: a root
+    body moved in the model between steps (a user placing the robot) is taken up, as on
+    the general path."""
+    fast, general = make("panda", "pd_ee_delta_pose"), make("panda", "pd_ee_delta_pose")
+    slow_controller = general.agent.controller
+    slow_controller._single_sim, slow_controller._single_plan = general.scene.world, None
+    root = fast.agent.root_body_id
+    assert fast.model is not general.model and fast.agent.kinematics.model is fast.model
+    for step, action in enumerate(actions(fast, 16)):
+        if step in (5, 11):
+            for env in (fast, general):
+                env.model.body_pos[root] += (0.05, -0.02, 0.01)
+        obs_fast, *_ = fast.step(action)
+        obs_slow, *_ = general.step(action)
+        assert obs_fast.tobytes() == obs_slow.tobytes()
+        assert fast.scene.world.ctrl.tobytes() == general.scene.world.ctrl.tobytes()
+        assert_same_controllers(fast.agent, general.agent)
+    fast.close()
+    general.close()

@@ -347,7 +347,10 @@ class PDEEController(Controller):
             self._tool_bound.position,
             self._tool_bound.quat,
         )
-        inverse_position, inverse_quat = self._inverse_parts
+        # The root's inverse pose, made again only when the root's pose changes (bit for
+        # bit: the same input gives the same inverse): a buffer of this call's own.
+        inverse, root_pose, root_bits = np.empty(7), self._root_bound.pose, [b""]
+        inverse_position, inverse_quat = inverse[:3], inverse[3:]
         measured_position, measured_quat = self._measured_parts
         set_target = self._single_target(raw[0], target_row if self.config.use_target else self._measured)
         solution, success = result.qpos, result.success
@@ -389,7 +392,10 @@ class PDEEController(Controller):
                 com_pos(model, data)
                 tool_update()
                 root_update()
-                neg_pose(inverse_position, inverse_quat, root_position, root_quat)
+                bits = root_pose.tobytes()
+                if bits != root_bits[0]:  # (a fixed base: once)
+                    neg_pose(inverse_position, inverse_quat, root_position, root_quat)
+                    root_bits[0] = bits
                 mul_pose(measured_position, measured_quat, inverse_position, inverse_quat, tool_position, tool_quat)
                 context = qpos_row
             if not rotation:

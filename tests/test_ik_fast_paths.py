@@ -173,13 +173,15 @@ def test_solve_one_matches_the_plain_numpy_descent_bit_for_bit(uid: str, mode: s
         target = solver.kinematics.pose(configuration, solver.frame)[0]
         if trial % 5 == 4:  # out of reach: a failed solve pulled back toward its start
             target[:3] += rng.normal(0.0, 1.0, 3)
-        for loaded in (False, True):
+        for loaded, posed in ((False, False), (True, False), (True, True)):
             start = context.copy()
             if loaded:  # the controllers' call: the scratch data holds the context at the seed
                 start[solver.qpos_adr] = seed
                 solver.move_followers(start, seed)
                 solver.kinematics.load(start)
-            solver.solve_one(start, target, seed, out, 0, position_only, None, loaded)
+                if posed:  # and the frame's pose there (a clipped seed: computed again)
+                    solver.frame_bound.update()
+            solver.solve_one(start, target, seed, out, 0, position_only, None, loaded, posed)
             q, position, rotation, success, done = reference_solve_one(solver, start, target, seed, position_only)
             assert out.qpos[0].tobytes() == q.tobytes(), (trial, loaded)
             assert (out.position_error[0], out.rotation_error[0]) == (position, rotation)

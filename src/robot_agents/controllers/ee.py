@@ -142,7 +142,7 @@ class PDEEController(Controller):
         self._from_target = config.use_target or not config.use_delta
         self._translate_in_tool = config.translation_frame is CommandFrame.EE
         self._kinematics_load = context.kinematics.load
-        self._tool_bound = BoundFrame(context.kinematics, frame)
+        self._tool_bound = self.solver.frame_bound  # (the tool's pose measured is the IK's at its seed)
         self._root_bound = BoundFrame(context.kinematics, command)
         self._tool, self._root = self._tool_bound.pose, self._root_bound.pose
         self._measured, self._inverse = np.empty(7), np.empty(7)
@@ -261,6 +261,7 @@ class PDEEController(Controller):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         qpos, qpos_sel = sim.qpos, self.binding.qpos_sel
         from_target, use_target, target_pose = self._from_target, self.config.use_target, self.target_pose
+        posed = not from_target  # the tool's pose at the seed, measured (self._tool_bound is the IK's)
         start = self._start
         start[...] = self.target_qpos if from_target else qpos[:, qpos_sel]
         target, world_target, result, root = self._target, self._world_target, self._result, self._root_bound
@@ -288,7 +289,7 @@ class PDEEController(Controller):
             # compose_into(world_target, root, target) inlined: +1.0 us a call (both: Panda ee step 46 -> 50 us).
             mujoco.mju_mulPose(world_position, world_quat, root.position, root.quat, target_position, target_quat)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.
-            solve_one(configuration, world_target, start[env], result, env, position_only, None, True)
+            solve_one(configuration, world_target, start[env], result, env, position_only, None, True, posed)
             target_pose[env] = target
         solution = result.qpos
         # With feed-forward: the mean position and the velocity of the straight joint
@@ -330,6 +331,7 @@ class PDEEController(Controller):
         measured_q = qpos_row[qpos_sel] if isinstance(qpos_sel, slice) else None  # a live view
         take = None if measured_q is not None else np.asarray(qpos_sel, dtype=np.intp)
         from_target, rotation = self._from_target, self.rotation
+        posed = not from_target  # the tool's pose at the seed, measured (self._tool_bound is the IK's)
         start_rows, start = self._start, self._start[0]
         target_qpos, target_qpos_row = self.target_qpos, self.target_qpos[0]  # (rewritten in place, never replaced)
         target_row = self.target_pose[0]
@@ -402,7 +404,7 @@ class PDEEController(Controller):
                 target_quat[...] = held_quat  # position modes hold the orientation
             set_target()
             mul_pose(world_position, world_quat, root_position, root_quat, target_position, target_quat)
-            solve_one(context, world_target, start, result, 0, position_only, None, True)
+            solve_one(context, world_target, start, result, 0, position_only, None, True, posed)
             target_row[...] = target
             if feedforward:
                 np.add(start_rows, solution, out=position)

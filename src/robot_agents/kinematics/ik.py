@@ -192,6 +192,13 @@ class IKSolver:
         return len(self.qpos_adr)
 
     @property
+    def frame_bound(self) -> BoundFrame:
+        """The solved frame bound to the scratch kinematics, whose pose :meth:`solve_one`
+        reads (a caller that computes the frame's pose at the seed through it passes
+        ``posed``)."""
+        return self._bound
+
+    @property
     def followers(self) -> bool:
         """Whether joints outside the chain follow it (:func:`linear_followers`)."""
         return bool(self._followers)
@@ -320,13 +327,15 @@ class IKSolver:
         position_only: bool = False,
         max_iterations: int | None = None,
         loaded: bool = False,
+        posed: bool = False,
     ) -> None:
         """One DLS descent for one env, written into row ``row`` of ``out``.
 
         ``context`` ``(nq,)``, ``target`` ``(7,)`` world pose, ``seed`` ``(n,)``. With
         ``loaded``, the kinematics' scratch data already holds ``context`` (whose chain
         joints equal ``seed``) with positions computed, and the first forward pass is
-        skipped. Runs per env with MuJoCo's C helpers: on problems this small numpy's
+        skipped; with ``posed`` too, :attr:`frame_bound`'s pose was updated there (read
+        as it is). Runs per env with MuJoCo's C helpers: on problems this small numpy's
         per-call overhead, not arithmetic, dominates, and per-env results do not depend
         on the batch size.
         """
@@ -385,7 +394,8 @@ class IKSolver:
                 if followers:
                     self.move_followers(scratch_qpos, q)
                 mujoco.mj_kinematics(model, data)
-            bound.update()
+            if not (centred and posed):
+                bound.update()
             np.subtract(target_position, pose_position, out=error_position)
             position_norm = math.sqrt(error_position.dot(error_position))
             if position_only:

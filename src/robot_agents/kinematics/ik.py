@@ -368,11 +368,13 @@ class IKSolver:
         # A seed strictly inside the limits is its own clip (np.minimum(np.maximum(seed,
         # lower), upper) gives back its values, bit for bit): the seed itself (never
         # written here: every later q is a new array); at or past a limit, the clip.
-        if _strictly_within(seed.tolist(), lower_list, upper_list):
+        seed_values = seed.tolist()
+        if _strictly_within(seed_values, lower_list, upper_list):
             q = seed
         else:
             q = np.minimum(np.maximum(seed, lower), upper)
-            if loaded and np.count_nonzero(q != seed):  # a seed past a (soft) limit was clipped
+            # (np.any(q != seed) on Python floats: the same != )
+            if loaded and q.tolist() != seed_values:  # a seed past a (soft) limit was clipped
                 loaded = False
                 scratch_qpos[:] = context
         best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf

@@ -452,7 +452,7 @@ class IKSolver:
             # undo their share, and the others would never make it up (an arm resting
             # on its limits stalls otherwise). No joint at a limit: nothing to take out.
             # (The tests on Python floats: the comparisons NumPy makes, without its per-call cost.)
-            held = None
+            held: list[bool] | None = None
             values = q.tolist()
             if not _strictly_within(values, lower_list, upper_list):  # a joint at (or past) a limit
                 at_lower = [value <= low for value, low in zip(values, lower_list, strict=True)]
@@ -461,9 +461,10 @@ class IKSolver:
                     pushed = _pushed_further(at_lower, at_upper, step.tolist())
                     if not any(pushed):
                         break
-                    blocked = np.array(pushed)
-                    held = blocked if held is None else held | blocked
-                    jacobian[:, blocked] = 0.0
+                    held = pushed if held is None else [a or b for a, b in zip(held, pushed, strict=True)]
+                    for column, push in enumerate(pushed):  # (jacobian[:, pushed] = 0.0, column by column)
+                        if push:
+                            jacobian[:, column] = 0.0
                     np.matmul(jacobian, transpose, out=system)
                     system += damping
                     mujoco.mju_cholFactor(system, _MIN_PIVOT)
@@ -476,7 +477,7 @@ class IKSolver:
                     rest[self.periodic] = _nearest_turn(rest[self.periodic], q[self.periodic])
                 pull = cfg.null_space_gain * (rest - q)
                 if held is not None:  # out of the task step: the others count on them staying
-                    pull[held] = 0.0
+                    pull[np.array(held, dtype=bool)] = 0.0
                 # The exact null space (I - J^+ J), not the damped one: the damped
                 # projector leaks lambda^2 (J J^T + lambda^2)^-1 J pull into the task every
                 # iteration, an error the task step then chases (a Panda with a pull of 0.3

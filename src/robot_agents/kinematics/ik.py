@@ -77,6 +77,10 @@ class IKSolver:
         config: solver settings.
         rest_qpos: posture ``(n,)`` of the null-space pull (default: mid-range, or 0
             for unlimited joints).
+
+    Attributes:
+        lower / upper: the chain's joint limits ``(n,)`` (read-only arrays: the solver
+            keeps their Python floats for its limit tests).
     """
 
     def __init__(

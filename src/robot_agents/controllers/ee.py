@@ -113,6 +113,9 @@ class PDEEController(Controller):
             else None
         )
         n, num_envs = binding.size, context.num_envs
+        #: The IK solutions (joint targets), ``(num_envs, n)``. This array and
+        #: :attr:`target_pose` are written in place, never replaced (the one-env
+        #: observation copies from them directly: ``state_obs``).
         self.target_qpos: FloatArray = np.zeros((num_envs, n))
         #: Target tool pose in the root frame, ``(num_envs, 7)``.
         self.target_pose: FloatArray = np.tile(np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), (num_envs, 1))
@@ -139,7 +142,7 @@ class PDEEController(Controller):
         self._from_target = config.use_target or not config.use_delta
         self._translate_in_tool = config.translation_frame is CommandFrame.EE
         self._kinematics_load = context.kinematics.load
-        self._tool_bound = BoundFrame(context.kinematics, frame)
+        self._tool_bound = self.solver.frame_bound  # (the tool's pose measured is the IK's at its seed)
         self._root_bound = BoundFrame(context.kinematics, command)
         self._tool, self._root = self._tool_bound.pose, self._root_bound.pose
         self._measured, self._inverse = np.empty(7), np.empty(7)
@@ -258,6 +261,7 @@ class PDEEController(Controller):
     def apply(self, raw: FloatArray, sim: SimView) -> None:
         qpos, qpos_sel = sim.qpos, self.binding.qpos_sel
         from_target, use_target, target_pose = self._from_target, self.config.use_target, self.target_pose
+        posed = not from_target  # the tool's pose at the seed, measured (self._tool_bound is the IK's)
         start = self._start
         start[...] = self.target_qpos if from_target else qpos[:, qpos_sel]
         target, world_target, result, root = self._target, self._world_target, self._result, self._root_bound
@@ -285,7 +289,7 @@ class PDEEController(Controller):
             # compose_into(world_target, root, target) inlined: +1.0 us a call (both: Panda ee step 46 -> 50 us).
             mujoco.mju_mulPose(world_position, world_quat, root.position, root.quat, target_position, target_quat)
             # The scratch data holds `configuration` (IK's start) with its kinematics done.
-            solve_one(configuration, world_target, start[env], result, env, position_only, None, True)
+            solve_one(configuration, world_target, start[env], result, env, position_only, None, True, posed)
             target_pose[env] = target
         solution = result.qpos
         # With feed-forward: the mean position and the velocity of the straight joint
@@ -326,27 +330,48 @@ class PDEEController(Controller):
         qpos_row, qpos_sel = qpos[0], self.binding.qpos_sel
         measured_q = qpos_row[qpos_sel] if isinstance(qpos_sel, slice) else None  # a live view
         take = None if measured_q is not None else np.asarray(qpos_sel, dtype=np.intp)
-        from_target, use_target, rotation = self._from_target, self.config.use_target, self.rotation
+        from_target, rotation = self._from_target, self.rotation
+        posed = not from_target  # the tool's pose at the seed, measured (self._tool_bound is the IK's)
         start_rows, start = self._start, self._start[0]
         target_qpos, target_qpos_row = self.target_qpos, self.target_qpos[0]  # (rewritten in place, never replaced)
         target_row = self.target_pose[0]
-        held_position, held_quat = target_row[:3], target_row[3:]
-        configuration, load, root = self._configuration, self._kinematics_load, self._root_bound
-        target, result, row = self._target, self._result, raw[0]
+        held_quat = target_row[3:]
+        configuration, root_update = self._configuration, self._root_bound.update
+        target, result = self._target, self._result
         (target_position, target_quat), (world_position, world_quat) = self._target_parts, self._world_target_parts
-        world_target, root_position, root_quat = self._world_target, root.position, root.quat
+        world_target, root_position, root_quat = self._world_target, self._root_bound.position, self._root_bound.quat
         solve_one, position_only = self.solver.solve_one, self._position_only
         followers, move_followers = self.solver.followers, self.solver.move_followers
+        # _measure's calls, bound once
+        scratch_qpos, model, data = self.kinematics.data.qpos, self.kinematics.model, self.kinematics.data
+        tool_update, tool_position, tool_quat = (
+            self._tool_bound.update,
+            self._tool_bound.position,
+            self._tool_bound.quat,
+        )
+        # The root's inverse pose, made again only when the root's pose changes (bit for
+        # bit: the same input gives the same inverse): a buffer of this call's own.
+        inverse, root_pose, root_bits = np.empty(7), self._root_bound.pose, [b""]
+        inverse_position, inverse_quat = inverse[:3], inverse[3:]
         measured_position, measured_quat = self._measured_parts
-        measure, set_target = self._measure, self._set_target
+        set_target = self._single_target(raw[0], target_row if self.config.use_target else self._measured)
         solution, success = result.qpos, result.success
         feedforward, dt = self.config.feedforward, self.control_timestep
-        position, velocity = self._position, self._velocity
         columns = self._columns
         drive_position, drive_velocity = self.targets.position, self.targets.velocity
-        if isinstance(columns, slice):  # views of the drives' buffers (never replaced)
-            drive_position, drive_velocity = drive_position[:, columns], drive_velocity[:, columns]
-            columns = slice(None)
+        direct = isinstance(columns, slice)
+        if direct:
+            # The feed-forward targets straight into views of the drives' buffers (never
+            # replaced): the same operations as into the scratch rows, without their copies.
+            position, velocity = drive_position[:, columns], drive_velocity[:, columns]
+        else:
+            position, velocity = self._position, self._velocity
+        kinematics, com_pos, mul_pose, neg_pose = (
+            mujoco.mj_kinematics,
+            mujoco.mj_comPos,
+            mujoco.mju_mulPose,
+            mujoco.mju_negPose,
+        )
 
         def apply_single() -> None:
             if from_target:
@@ -356,21 +381,30 @@ class PDEEController(Controller):
                 configuration[qpos_sel] = start
                 if followers:
                     move_followers(configuration, start)
-                load(configuration)
-                root.update()
+                scratch_qpos[:] = configuration  # Kinematics.load(configuration) inlined
+                kinematics(model, data)
+                com_pos(model, data)
+                root_update()
                 context = configuration
             else:
                 start[...] = qpos_row.take(take) if measured_q is None else measured_q
-                measure(qpos_row)
+                # _measure(qpos_row) inlined (Kinematics.load's calls too)
+                scratch_qpos[:] = qpos_row
+                kinematics(model, data)
+                com_pos(model, data)
+                tool_update()
+                root_update()
+                bits = root_pose.tobytes()
+                if bits != root_bits[0]:  # (a fixed base: once)
+                    neg_pose(inverse_position, inverse_quat, root_position, root_quat)
+                    root_bits[0] = bits
+                mul_pose(measured_position, measured_quat, inverse_position, inverse_quat, tool_position, tool_quat)
                 context = qpos_row
             if not rotation:
                 target_quat[...] = held_quat  # position modes hold the orientation
-            if use_target:
-                set_target(row, held_position, held_quat)
-            else:
-                set_target(row, measured_position, measured_quat)
-            mujoco.mju_mulPose(world_position, world_quat, root_position, root_quat, target_position, target_quat)
-            solve_one(context, world_target, start, result, 0, position_only, None, True)
+            set_target()
+            mul_pose(world_position, world_quat, root_position, root_quat, target_position, target_quat)
+            solve_one(context, world_target, start, result, 0, position_only, None, True, posed)
             target_row[...] = target
             if feedforward:
                 np.add(start_rows, solution, out=position)
@@ -380,13 +414,69 @@ class PDEEController(Controller):
                 if not success.item(0):
                     position[...] = solution
                     velocity[...] = 0.0
-                drive_position[:, columns] = position
-                drive_velocity[:, columns] = velocity
+                if not direct:
+                    drive_position[:, columns] = position
+                    drive_velocity[:, columns] = velocity
+            elif direct:
+                position[...] = solution
             else:
                 drive_position[:, columns] = solution
             target_qpos[...] = solution
 
         return apply_single
+
+    def _single_target(self, row: FloatArray, base: FloatArray) -> Callable[[], None]:
+        """:meth:`_set_target` of one env's action entries ``row`` ``(action_dim,)`` and
+        the base pose ``base`` ``(7,)`` (buffers rewritten before each call) as a call of
+        no arguments: the same operations in the same order, with the mode's branches
+        taken once and the views of the action made once (absolute modes: the call
+        itself)."""
+        base_position, base_quat = base[:3], base[3:]
+        if not self._use_delta:
+            set_target = self._set_target
+            return lambda: set_target(row, base_position, base_quat)
+        target, (position, quat) = self._target, self._target_parts
+        move, rotvec_entries, turn, axis = row[:3], row[3:6], self._turn, self._axis
+        in_tool, rotation, limit, about_root = (
+            self._translate_in_tool,
+            self.rotation,
+            self._turn_limit,
+            self._rotate_about_root,
+        )
+        low, high = self._workspace if self._workspace is not None else (None, None)
+        mul_quat, normalize = mujoco.mju_mulQuat, mujoco.mju_normalize4
+
+        def set_delta_target() -> None:
+            if in_tool:
+                mujoco.mju_rotVecQuat(position, move, base_quat)
+                np.add(position, base_position, out=position)  # (position += base_position)
+            else:
+                np.add(base_position, move, out=position)
+            if rotation:
+                rotvec = rotvec_entries
+                if limit is not None:
+                    lx, ly, lz = limit
+                    rx, ry, rz = rotvec.tolist()
+                    length = math.sqrt((rx / lx) ** 2 + (ry / ly) ** 2 + (rz / lz) ** 2)
+                    if length > 1.0:
+                        rotvec = rotvec / length
+                # rotvec_to_quat_into(turn, rotvec, axis) inlined (the same dot, sqrt and division)
+                angle = math.sqrt(rotvec.dot(rotvec))
+                if angle < 1e-12:
+                    turn[:] = (1.0, 0.0, 0.0, 0.0)
+                else:
+                    mujoco.mju_axisAngle2Quat(turn, np.divide(rotvec, angle, out=axis), angle)
+                if about_root:
+                    mul_quat(quat, turn, base_quat)
+                else:
+                    mul_quat(quat, base_quat, turn)
+            if low is not None:
+                np.clip(position, low, high, out=position)
+            normalize(quat)
+            if target[3] < 0.0:  # one sign per orientation
+                np.multiply(quat, -1.0, out=quat)  # (quat *= -1.0)
+
+        return set_delta_target
 
     def hold_raw(self, sim: SimView) -> FloatArray:
         """Absolute modes: the current target pose (the measured tool pose, in the command
@@ -444,10 +534,11 @@ class PDEEController(Controller):
         return {"target_qpos": self.target_qpos, "target_ee_pose": self.target_pose}
 
     def step_info(self) -> dict[str, npt.NDArray[np.generic]]:
+        result = self._result  # (the properties' arrays, read once)
         return {
-            "ik_success": self.ik_success.copy(),
-            "ik_position_error": self.ik_position_error.copy(),
-            "ik_rotation_error": self.ik_rotation_error.copy(),
+            "ik_success": result.success.copy(),
+            "ik_position_error": result.position_error.copy(),
+            "ik_rotation_error": result.rotation_error.copy(),
         }
 
     def get_state(self) -> dict[str, FloatArray]:

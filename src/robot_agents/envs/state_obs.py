@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.controllers.ee import PDEEController
 from robot_agents.controllers.joint import PDJointPosController, PDJointVelController
 from robot_agents.kinematics.forward import FrameKind, FrameRef
 from robot_agents.sim.world import BatchedWorld
@@ -267,7 +268,7 @@ class StateObservation:
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
         views of the simulation's arrays that stay valid across steps (joint state, a
-        tool body's pose), ``(controller, attribute)`` pairs for a joint-position or
+        tool body's pose; an end-effector controller's targets, written in place), ``(controller, attribute)`` pairs for a joint-position or
         joint- or base-velocity controller's targets (a new array every step), and callables for what else
         changes identity every step (other controllers' observations, touch, a site's or
         offset frame's pose, the task's extras).
@@ -301,6 +302,8 @@ class StateObservation:
                     entries.append((part, "target_qpos"))
                 elif type(part).observe is PDJointVelController.observe:  # {"target_qvel": ...} (bases too)
                     entries.append((part, "target_qvel"))
+                elif isinstance(part, PDEEController) and type(part).observe is PDEEController.observe:
+                    entries.extend((part.target_qpos, part.target_pose))  # its two arrays, written in place
                 else:
                     entries.append(lambda observe=part.observe: observe().values())
             if agent.touch_reader.names:

@@ -76,7 +76,8 @@ class BoundFrame:
         pose: the world pose ``(7,)`` (m, quaternion w-x-y-z) written by :meth:`update`;
             ``position`` and ``quat`` are views of its parts.
         jacp / jacr: the translational and rotational Jacobians ``(3, nv)`` written by
-            :meth:`jacobian` (m/rad, rad/rad or m).
+            :meth:`jacobian` (m/rad, rad/rad or m): rows 0-2 and 3-5 of ``jacobians``
+            ``(6, nv)``.
     """
 
     def __init__(self, kinematics: Kinematics, frame: FrameRef) -> None:
@@ -93,8 +94,11 @@ class BoundFrame:
         self._source_orientation = data.xquat[frame.id] if self._is_body else data.site_xmat[frame.id]
         self.pose: FloatArray = np.empty(7)
         self.position, self.quat = self.pose[:3], self.pose[3:]
-        self.jacp: FloatArray = np.zeros((3, model.nv))
-        self.jacr: FloatArray = np.zeros((3, model.nv))
+        #: Both Jacobians in one array ``(6, nv)``: ``jacp`` is rows 0-2, ``jacr`` rows 3-5
+        #: (views, so a caller can copy a column block of both at once).
+        self.jacobians: FloatArray = np.zeros((6, model.nv))
+        self.jacp: FloatArray = self.jacobians[:3]
+        self.jacr: FloatArray = self.jacobians[3:]
         # With an offset: the body's or site's own pose, and the offset's parts.
         self._origin = np.empty(7)
         self._origin_parts = (self._origin[:3], self._origin[3:])
@@ -104,11 +108,21 @@ class BoundFrame:
 
     def update(self) -> FloatArray:
         """The frame's world pose at the loaded configuration, into :attr:`pose` (returned)."""
-        if self._is_body and self._offset_parts is None:  # the common case, inlined
+        offset = self._offset_parts
+        if offset is None:  # the body's or site's own pose (_origin_into inlined)
             self.position[...] = self._source_position
-            self.quat[...] = self._source_orientation
-        else:
-            self._pose_into(self.position, self.quat)
+            if self._is_body:
+                self.quat[...] = self._source_orientation
+            else:
+                mujoco.mju_mat2Quat(self.quat, self._source_orientation)
+        else:  # _pose_into inlined (the same calls)
+            origin_position, origin_quat = self._origin_parts
+            origin_position[...] = self._source_position
+            if self._is_body:
+                origin_quat[...] = self._source_orientation
+            else:
+                mujoco.mju_mat2Quat(origin_quat, self._source_orientation)
+            mujoco.mju_mulPose(self.position, self.quat, origin_position, origin_quat, offset[0], offset[1])
         return self.pose
 
     def _pose_into(self, position: FloatArray, quat: FloatArray) -> None:

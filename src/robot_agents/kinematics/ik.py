@@ -77,6 +77,10 @@ class IKSolver:
         config: solver settings.
         rest_qpos: posture ``(n,)`` of the null-space pull (default: mid-range, or 0
             for unlimited joints).
+
+    Attributes:
+        lower / upper: the chain's joint limits ``(n,)`` (read-only arrays: the solver
+            keeps their Python floats for its limit tests).
     """
 
     def __init__(
@@ -97,6 +101,10 @@ class IKSolver:
         n = len(self.qpos_adr)
         self.lower = np.asarray(qpos_limits, dtype=np.float64)[:, 0].copy()
         self.upper = np.asarray(qpos_limits, dtype=np.float64)[:, 1].copy()
+        # The limits never change (read-only), so their Python floats are taken once
+        # (:func:`_strictly_within`'s tests).
+        self.lower.flags.writeable = self.upper.flags.writeable = False
+        self._limit_lists = (self.lower.tolist(), self.upper.tolist())
         model = kinematics.model
         for adr in self.dof_adr:
             joint = int(model.dof_jntid[adr])
@@ -155,9 +163,10 @@ class IKSolver:
         }
         self._bound = BoundFrame(kinematics, frame)
         self._scratch_qpos = kinematics.data.qpos
-        # The chain's Jacobian columns as views when the dofs are consecutive (else taken).
+        # The chain's Jacobian columns as views when the dofs are consecutive (else taken):
+        # both halves' (one copy of the 6 rows) and the translational half's.
+        self._chain_jac = self._bound.jacobians[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
         self._chain_jacp = self._bound.jacp[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
-        self._chain_jacr = self._bound.jacr[:, self._dof_sel] if isinstance(self._dof_sel, slice) else None
         #: What :meth:`solve_one` reads each call, in one tuple (unpacked at once: cheaper
         #: than the attribute lookups; every entry is made once and never replaced).
         self._hot = (
@@ -174,16 +183,24 @@ class IKSolver:
             self._difference,
             self._jacobian_position,
             self._jacobian_rotation,
+            self._chain_jac,
             self._chain_jacp,
-            self._chain_jacr,
             self._qpos_sel,
             self._followers,
+            self._limit_lists,
         )
 
     @property
     def size(self) -> int:
         """How many joints the solver moves (the length of its ``qpos_adr``)."""
         return len(self.qpos_adr)
+
+    @property
+    def frame_bound(self) -> BoundFrame:
+        """The solved frame bound to the scratch kinematics, whose pose :meth:`solve_one`
+        reads (a caller that computes the frame's pose at the seed through it passes
+        ``posed``)."""
+        return self._bound
 
     @property
     def followers(self) -> bool:
@@ -319,13 +336,15 @@ class IKSolver:
         position_only: bool = False,
         max_iterations: int | None = None,
         loaded: bool = False,
+        posed: bool = False,
     ) -> None:
         """One DLS descent for one env, written into row ``row`` of ``out``.
 
         ``context`` ``(nq,)``, ``target`` ``(7,)`` world pose, ``seed`` ``(n,)``. With
         ``loaded``, the kinematics' scratch data already holds ``context`` (whose chain
         joints equal ``seed``) with positions computed, and the first forward pass is
-        skipped. Runs per env with MuJoCo's C helpers: on problems this small numpy's
+        skipped; with ``posed`` too, :attr:`frame_bound`'s pose was updated there (read
+        as it is). Runs per env with MuJoCo's C helpers: on problems this small numpy's
         per-call overhead, not arithmetic, dominates, and per-env results do not depend
         on the batch size.
         """
@@ -346,18 +365,27 @@ class IKSolver:
             difference,
             jacobian_position,
             jacobian_rotation,
+            chain_jac,
             chain_jacp,
-            chain_jacr,
             qpos_sel,
             followers,
+            (lower_list, upper_list),
         ) = self._hot
         if not loaded:
             scratch_qpos[:] = context
         rows = 3 if position_only else 6
-        q = np.minimum(np.maximum(seed, lower), upper)
-        if loaded and np.count_nonzero(q != seed):  # a seed past a (soft) limit was clipped
-            loaded = False
-            scratch_qpos[:] = context
+        # A seed strictly inside the limits is its own clip (np.minimum(np.maximum(seed,
+        # lower), upper) gives back its values, bit for bit): the seed itself (never
+        # written here: every later q is a new array); at or past a limit, the clip.
+        seed_values = seed.tolist()
+        if _strictly_within(seed_values, lower_list, upper_list):
+            q = seed
+        else:
+            q = np.minimum(np.maximum(seed, lower), upper)
+            # (np.any(q != seed) on Python floats: the same != )
+            if loaded and q.tolist() != seed_values:  # a seed past a (soft) limit was clipped
+                loaded = False
+                scratch_qpos[:] = context
         best_q, best_cost, best_position, best_rotation = q, math.inf, math.inf, math.inf
         start_pose = best_pose = self._start_pose
         system, solution, damping, jacobian, transpose = self._buffers[rows]
@@ -377,7 +405,8 @@ class IKSolver:
                 if followers:
                     self.move_followers(scratch_qpos, q)
                 mujoco.mj_kinematics(model, data)
-            bound.update()
+            if not (centred and posed):
+                bound.update()
             np.subtract(target_position, pose_position, out=error_position)
             position_norm = math.sqrt(error_position.dot(error_position))
             if position_only:
@@ -403,10 +432,12 @@ class IKSolver:
             if not centred:
                 mujoco.mj_comPos(model, data)
             jacp, jacr = bound.jacobian(updated=True)
-            if chain_jacp is not None and chain_jacr is not None:
-                jacobian_position[...] = chain_jacp
-                if not position_only:
-                    np.multiply(chain_jacr, weight, out=jacobian_rotation)
+            if chain_jac is not None and chain_jacp is not None:
+                if position_only:
+                    jacobian_position[...] = chain_jacp
+                else:  # both halves in one copy, then the rotational rows weighted in place (the same products)
+                    jacobian[...] = chain_jac
+                    np.multiply(jacobian_rotation, weight, out=jacobian_rotation)
             else:
                 jacobian_position[...] = jacp[:, self._dof_sel]
                 if not position_only:
@@ -429,15 +460,20 @@ class IKSolver:
             # problem (their columns zeroed) and the rest solved again: the clip would
             # undo their share, and the others would never make it up (an arm resting
             # on its limits stalls otherwise). No joint at a limit: nothing to take out.
-            at_lower, at_upper = q <= lower, q >= upper
-            held = None
-            if np.count_nonzero(at_lower) or np.count_nonzero(at_upper):
+            # (The tests on Python floats: the comparisons NumPy makes, without its per-call cost.)
+            held: list[bool] | None = None
+            values = q.tolist()
+            if not _strictly_within(values, lower_list, upper_list):  # a joint at (or past) a limit
+                at_lower = [value <= low for value, low in zip(values, lower_list, strict=True)]
+                at_upper = [value >= high for value, high in zip(values, upper_list, strict=True)]
                 for _ in range(len(q)):
-                    blocked = (at_lower & (step < 0.0)) | (at_upper & (step > 0.0))
-                    if not blocked.any():
+                    pushed = _pushed_further(at_lower, at_upper, step.tolist())
+                    if not any(pushed):
                         break
-                    held = blocked if held is None else held | blocked
-                    jacobian[:, blocked] = 0.0
+                    held = pushed if held is None else [a or b for a, b in zip(held, pushed, strict=True)]
+                    for column, push in enumerate(pushed):  # (jacobian[:, pushed] = 0.0, column by column)
+                        if push:
+                            jacobian[:, column] = 0.0
                     np.matmul(jacobian, transpose, out=system)
                     system += damping
                     mujoco.mju_cholFactor(system, _MIN_PIVOT)
@@ -450,7 +486,7 @@ class IKSolver:
                     rest[self.periodic] = _nearest_turn(rest[self.periodic], q[self.periodic])
                 pull = cfg.null_space_gain * (rest - q)
                 if held is not None:  # out of the task step: the others count on them staying
-                    pull[held] = 0.0
+                    pull[np.array(held, dtype=bool)] = 0.0
                 # The exact null space (I - J^+ J), not the damped one: the damped
                 # projector leaks lambda^2 (J J^T + lambda^2)^-1 J pull into the task every
                 # iteration, an error the task step then chases (a Panda with a pull of 0.3
@@ -590,6 +626,26 @@ class LinearFollowers:
         ``qd`` ``(..., n)``."""
         values: FloatArray = self.slope * qd[..., self.leader]
         return values
+
+
+def _strictly_within(values: list[float], lower: list[float], upper: list[float]) -> bool:
+    """Whether every ``lower[i] < values[i] < upper[i]`` (Python floats: the comparisons
+    NumPy's ``<`` makes; a NaN value is not within): ``not np.any((q <= lower) | (q >= upper))``
+    for a ``q`` without NaN, without NumPy's per-call cost on a few joints."""
+    for value, low, high in zip(values, lower, upper, strict=True):  # noqa: SIM110 (a loop: half all()'s generator cost)
+        if not low < value < high:
+            return False
+    return True
+
+
+def _pushed_further(at_lower: list[bool], at_upper: list[bool], step: list[float]) -> list[bool]:
+    """Per joint, whether a step ``step`` (Python floats) pushes it further past the limit
+    it is at: ``(at_lower & (step < 0.0)) | (at_upper & (step > 0.0))`` as a list (a NaN
+    step pushes nowhere, as in NumPy)."""
+    return [
+        (low and value < 0.0) or (high and value > 0.0)
+        for low, high, value in zip(at_lower, at_upper, step, strict=True)
+    ]
 
 
 def _largest_magnitude(values: FloatArray) -> float:

@@ -292,22 +292,31 @@ def test_ik_solve_refuses_bad_arguments_with_a_library_error() -> None:
     scene.close()
 
 
+def targets_from_rest(scene: ra.Scene, solver: IKSolver) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The Panda at ``rest``: 100 targets, the tool's poses at random configurations over
+    the whole joint range (seeded), as ``(context, configurations, targets, seed)``:
+    the scene's qpos and those configurations ``(100, nq)``, the poses ``(100, 7)``, and
+    the rest pose's arm joints ``(100, 7)``, the solver's seed."""
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    limits = agent.qpos_limits[:7]
+    goals = np.random.default_rng(2).uniform(limits[:, 0], limits[:, 1], (100, 7))
+    context = np.repeat(scene.world.qpos, 100, axis=0)
+    configurations = context.copy()
+    configurations[:, agent.qpos_adr[:7]] = goals
+    targets = agent.kinematics.pose(configurations, solver.frame)
+    return context, configurations, targets, np.repeat(agent.qpos[:, :7], 100, axis=0)
+
+
 def test_ik_solves_100_random_reachable_targets_from_rest() -> None:
     """Targets are FK of random configurations over the whole joint range; IK starts at
     the rest keyframe (72 of them are solved from there directly; the others lie on
     another IK branch behind a joint limit and need random restarts)."""
     scene = ra.Scene("panda", robot_poses=[YAWED_MOUNT])
     agent = scene.agents[0]
-    scene.reset(keyframes="rest")
     solver = panda_solver(scene)
-    rng = np.random.default_rng(2)
     limits = agent.qpos_limits[:7]
-    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 7))
-    context = np.repeat(scene.world.qpos, 100, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, :7], 100, axis=0)
+    context, configurations, targets, seed = targets_from_rest(scene, solver)
     result = solver.solve(context, targets, seed, max_iterations=100, restarts=20)
     assert result.success.all(), np.flatnonzero(~result.success)
     assert np.all(result.position_error < 1e-3) and np.all(result.rotation_error < math.radians(1))
@@ -326,17 +335,8 @@ def test_ik_restarts_solve_each_env_of_a_batch_as_a_batch_of_one() -> None:
     of all envs drew from one generator, so env i's restarts depended on how many the
     envs before it had taken: 6 of these 8 came back different)."""
     scene = ra.Scene("panda", robot_poses=[YAWED_MOUNT])
-    agent = scene.agents[0]
-    scene.reset(keyframes="rest")
     solver = panda_solver(scene)
-    rng = np.random.default_rng(2)
-    limits = agent.qpos_limits[:7]
-    goals = rng.uniform(limits[:, 0], limits[:, 1], (100, 7))
-    context = np.repeat(scene.world.qpos, 100, axis=0)
-    configurations = context.copy()
-    configurations[:, agent.qpos_adr[:7]] = goals
-    targets = agent.kinematics.pose(configurations, solver.frame)
-    seed = np.repeat(agent.qpos[:, :7], 100, axis=0)
+    context, _, targets, seed = targets_from_rest(scene, solver)
     # The targets the seed does not reach directly: their solves take restarts.
     direct = solver.solve(context, targets, seed, max_iterations=100)
     hard = np.flatnonzero(~direct.success)[:8]

@@ -233,16 +233,19 @@ def test_drive_controls_written_in_place_equal_the_general_sums(uid: str) -> Non
 
 def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
     """The wheel angles and speeds the one-env after-step writes
-    (``MobileBase._turn_wheels_single``, its roll written out on Python floats) are bit
-    for bit those of the general path's ``_turn_wheels`` (one env) and of a batch's row,
-    over random moves, turns across +-pi, mount yaws and control periods."""
+    (``MobileBase._turn_wheels_single``, its roll written out on Python floats, through
+    the world's one-env writer) are bit for bit those of the general path's
+    ``_turn_wheels`` (one env, through ``write_joint_state``) and of a batch's row, over
+    random moves, turns across +-pi, mount yaws and control periods; read back from the
+    simulation's own ``qpos`` / ``qvel``."""
     env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
     env.reset(seed=0)
     base, world = env.agent.mobile, env.scene.world
-    written: list[tuple[np.ndarray, np.ndarray]] = []
+    assert base._wheel_write is not None  # the one-env writer is the path under test
+    data = world.physics_sources()[0]
 
-    def record(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
-        written.append((np.array(qpos, dtype=np.float64), np.array(qvel, dtype=np.float64)))
+    def written() -> tuple[np.ndarray, np.ndarray]:
+        return data.qpos[base._wheel_qadr].copy(), data.qvel[base._wheel_dadr].copy()
 
     rng = np.random.default_rng(1)
     nq = world.model.nq
@@ -256,18 +259,76 @@ def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
             end[2] = start[2] + rng.choice((-1.0, 1.0)) * (np.pi - 1e-9)
         dt = float(rng.choice((0.05, 0.01, 1 / 30)))
         world.write_joint_state(np.array([0]), base._planar_adr, end[None], base._planar_dofs, np.zeros((1, 3)))
-        world.write_joint_state = record  # type: ignore[method-assign]
-        try:
-            base._turn_wheels_single(start_row.tolist(), dt)
-            base._turn_wheels(start[None], end[None], start_row[base._wheel_qadr][None], dt)
-        finally:
-            del world.write_joint_state
-        (fast_q, fast_v), (general_q, general_v) = written[-2:]
+        data.qpos[base._wheel_qadr] = data.qvel[base._wheel_dadr] = np.nan
+        base._turn_wheels_single(start_row.tolist(), dt)
+        fast_q, fast_v = written()
+        data.qpos[base._wheel_qadr] = data.qvel[base._wheel_dadr] = np.nan
+        base._turn_wheels(start[None], end[None], start_row[base._wheel_qadr][None], dt)
+        general_q, general_v = written()
         rolled = base._wheel_roll(np.stack([start, start]), np.stack([end, end]))[:1]
-        batch_q, batch_v = start_row[base._wheel_qadr][None] + rolled, rolled / dt
+        batch_q, batch_v = (start_row[base._wheel_qadr][None] + rolled)[0], (rolled / dt)[0]
         for fast, general, batch in ((fast_q, general_q, batch_q), (fast_v, general_v, batch_v)):
             assert _bits(fast).tobytes() == _bits(general).tobytes() == _bits(batch).tobytes(), k
     env.close()
+
+
+_DERIVED = (
+    "qpos",
+    "qvel",
+    "qacc_warmstart",
+    "ctrl",
+    "xpos",
+    "xquat",
+    "xmat",
+    "geom_xpos",
+    "site_xpos",
+    "cam_xpos",
+    "cam_xmat",
+    "light_xpos",
+    "light_xdir",
+    "qacc",
+    "qfrc_bias",
+    "sensordata",
+    "act",
+)
+
+
+@pytest.mark.parametrize("forward", [True, False])
+def test_one_env_joint_writer_writes_as_write_joint_state(forward: bool) -> None:
+    """``BatchedWorld.single_joint_writer`` (the per-step writes of wheels, a kinematic
+    base and held legs at one env) leaves every MjData array it touches, the derived ones
+    included, bit for bit as ``write_joint_state`` of env 0 does, from two identical
+    simulations moved apart from what they are written to; with several envs there is none."""
+    envs = [ra.make_env("Empty-v1", robot_uids="spot", max_episode_steps=None).unwrapped for _ in range(2)]
+    rng = np.random.default_rng(3)
+    action = rng.uniform(-1.0, 1.0, envs[0].action_space.shape)
+    for env in envs:
+        env.reset(seed=0)
+        env.step(action)
+    legs = envs[0].agent._held_qpos
+    assert len(legs) > 0
+    dofs = envs[0].agent._held_dof
+    for k in range(5):
+        qpos = rng.uniform(-0.5, 0.5, len(legs))
+        qvel = rng.normal(0.0, 1.0, len(dofs))
+        ctrl = rng.normal(0.0, 1.0, envs[0].scene.world.ctrl.shape)
+        for env in envs:
+            env.scene.world.ctrl[...] = ctrl  # copied into the controls by both writes
+            env.scene.world.physics_sources()[0].qacc_warmstart[:] = 1.5  # cleared by both
+        envs[0].scene.world.write_joint_state(np.array([0]), legs, qpos[None], dofs, qvel[None], forward=forward)
+        write = envs[1].scene.world.single_joint_writer(legs, dofs, forward=forward)
+        assert write is not None
+        write(qpos, qvel)
+        general, fast = (env.scene.world.physics_sources()[0] for env in envs)
+        for name in _DERIVED:
+            assert _bits(getattr(fast, name)).tobytes() == _bits(getattr(general, name)).tobytes(), (k, name)
+        assert _bits(envs[1].scene.world.qpos).tobytes() == _bits(envs[0].scene.world.qpos).tobytes()  # cache cleared
+    for env in envs:
+        env.close()
+    batch = ra.make_env("Empty-v1", robot_uids="spot", num_envs=2, max_episode_steps=None).unwrapped
+    assert batch.scene.world.single_joint_writer(legs, dofs) is None
+    assert batch.agent._held_write is None and batch.agent.mobile._planar_write is None
+    batch.close()
 
 
 def test_moves_each_step_follows_the_base_dynamics() -> None:

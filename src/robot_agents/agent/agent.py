@@ -115,6 +115,16 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._every_env = np.arange(self.num_envs)
         self._holds_legs = len(self._held_qpos) > 0  # (read after every step)
         self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
+        # one env: the world's writer of the held legs' state (None: write_joint_state)
+        single_writer = getattr(world, "single_joint_writer", None)
+        self._held_write = (
+            single_writer(self._held_qpos, self._held_dof, forward=False)
+            if single_writer is not None and self._holds_legs
+            else None
+        )
+        self._held_qvel_row = self._held_qvel[0] if self._held_write is not None else self._held_qvel
+        # one env: the drives' position targets (rad, m; the buffer is never replaced), ``(n,)``
+        self._held_position_row = self.drives.targets.position[0]
         # (active mode, its last base velocity part or None), for after_step
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
         self._opt = self.index.model.opt  # reads the live time step (the attribute makes a new wrapper)
@@ -334,6 +344,10 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
             self._base_controller = (active, base)
         mobile.after_step(None if base is None else base.target_qvel, float(self._opt.timestep) * self.world.substeps)
         if self._holds_legs and mobile.dynamics == "kinematic":
+            write = self._held_write
+            if write is not None:  # one env: its row of the targets, taken by column
+                write(self._held_position_row.take(self._held_columns), self._held_qvel_row)
+                return
             pose = self.drives.targets.position.take(self._held_columns, axis=1)  # [:, columns], faster
             self.world.write_joint_state(
                 self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel, forward=False

@@ -493,6 +493,37 @@ class BatchedWorld:
                 camlight(model, data)
         self._cache.clear()
 
+    def single_joint_writer(
+        self, qpos_adr: npt.ArrayLike, dof_adr: npt.ArrayLike, forward: bool = True
+    ) -> Callable[[FloatArray, FloatArray], None] | None:
+        """One env only: :meth:`write_joint_state` of env 0 at fixed addresses as a call
+        ``write(qpos_row, qvel_row)`` (``(len(qpos_adr),)`` and ``(len(dof_adr),)``; rad,
+        m, rad/s, m/s), for the per-step writes (wheels, kinematic bases, held legs): the
+        same writes and MuJoCo calls in the same order (the solver's warm start cleared),
+        without converting the addresses and checking the env id at every call; ``None``
+        with several envs. The MuJoCo functions are looked up at each call, as
+        :meth:`write_joint_state` does."""
+        if self.num_envs != 1:
+            return None
+        qa, da = np.asarray(qpos_adr, dtype=np.int64).copy(), np.asarray(dof_adr, dtype=np.int64).copy()
+        model, data, cache = self.model, self._data0, self._cache
+        qpos0, qvel0, warmstart0 = self._qpos0, self._qvel0, self._warmstart0
+        data_ctrl0, ctrl0 = self._data_ctrl0, self._ctrl0
+
+        def write(qpos_row: FloatArray, qvel_row: FloatArray) -> None:
+            qpos0[qa] = qpos_row
+            qvel0[da] = qvel_row
+            warmstart0.fill(0.0)
+            data_ctrl0[...] = ctrl0
+            if forward:
+                mujoco.mj_forward(model, data)
+            else:
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)
+            cache.clear()
+
+        return write
+
     def _ids(self, env_ids: npt.ArrayLike, where: str) -> list[int]:
         """``env_ids`` as a list of ints, each in ``[0, num_envs)`` (a negative id would
         index the env list from its end): cheap, for the per-step writes' batched path."""

@@ -14,6 +14,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.actuators.drives import DriveOverride
+from robot_agents.errors import StateError
 
 CASES = [
     ("panda", "pd_joint_delta_pos", "Empty-v1"),
@@ -127,6 +128,11 @@ def full_forward_write(world: Any, *args: Any, forward: bool = True) -> None:
     type(world).write_joint_state(world, *args, forward=True)
 
 
+def full_forward_row(world: Any, *args: Any, forward: bool = True) -> None:
+    """``write_joint_row`` (the one-env per-step writes) always followed by ``mj_forward``."""
+    type(world).write_joint_row(world, *args, forward=True)
+
+
 def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> None:
     """Wheels and held legs are written after a step with poses recomputed only
     (``forward=False``: ``mj_kinematics`` and cameras, not ``mj_forward``): the
@@ -138,6 +144,7 @@ def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> 
         world = env.scene.world
         if full:
             world.write_joint_state = functools.partial(full_forward_write, world)
+            world.write_joint_row = functools.partial(full_forward_row, world)
         env.reset(seed=2)
         rng = np.random.default_rng(0)
         observations = [env.step(rng.uniform(-1, 1, env.action_space.shape[-1]))[0] for _ in range(30)]
@@ -234,14 +241,14 @@ def test_drive_controls_written_in_place_equal_the_general_sums(uid: str) -> Non
 def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
     """The wheel angles and speeds the one-env after-step writes
     (``MobileBase._turn_wheels_single``, its roll written out on Python floats, through
-    the world's one-env writer) are bit for bit those of the general path's
+    ``BatchedWorld.write_joint_row``) are bit for bit those of the general path's
     ``_turn_wheels`` (one env, through ``write_joint_state``) and of a batch's row, over
     random moves, turns across +-pi, mount yaws and control periods; read back from the
     simulation's own ``qpos`` / ``qvel``."""
     env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
     env.reset(seed=0)
     base, world = env.agent.mobile, env.scene.world
-    assert base._wheel_write is not None  # the one-env writer is the path under test
+    assert base._write_rows  # the one-env row write is the path under test
     data = world.physics_sources()[0]
 
     def written() -> tuple[np.ndarray, np.ndarray]:
@@ -272,42 +279,24 @@ def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
     env.close()
 
 
-_DERIVED = (
-    "qpos",
-    "qvel",
-    "qacc_warmstart",
-    "ctrl",
-    "xpos",
-    "xquat",
-    "xmat",
-    "geom_xpos",
-    "site_xpos",
-    "cam_xpos",
-    "cam_xmat",
-    "light_xpos",
-    "light_xdir",
-    "qacc",
-    "qfrc_bias",
-    "sensordata",
-    "act",
-)
+_WRITTEN = ("qpos", "qvel", "qacc_warmstart", "ctrl", "xpos", "xquat", "xmat", "geom_xpos", "site_xpos",
+            "cam_xpos", "cam_xmat", "light_xpos", "light_xdir", "qacc", "qfrc_bias", "sensordata", "act")  # fmt: skip
 
 
 @pytest.mark.parametrize("forward", [True, False])
-def test_one_env_joint_writer_writes_as_write_joint_state(forward: bool) -> None:
-    """``BatchedWorld.single_joint_writer`` (the per-step writes of wheels, a kinematic
-    base and held legs at one env) leaves every MjData array it touches, the derived ones
-    included, bit for bit as ``write_joint_state`` of env 0 does, from two identical
-    simulations moved apart from what they are written to; with several envs there is none."""
+def test_one_env_row_write_writes_as_write_joint_state(forward: bool) -> None:
+    """``BatchedWorld.write_joint_row`` (the per-step writes of wheels, a kinematic base
+    and held legs at one env) leaves every MjData array it touches, the derived ones
+    included, bit for bit as ``write_joint_state`` of env 0 does, in two identical
+    simulations; with several envs it raises and writes nothing."""
     envs = [ra.make_env("Empty-v1", robot_uids="spot", max_episode_steps=None).unwrapped for _ in range(2)]
     rng = np.random.default_rng(3)
     action = rng.uniform(-1.0, 1.0, envs[0].action_space.shape)
     for env in envs:
         env.reset(seed=0)
         env.step(action)
-    legs = envs[0].agent._held_qpos
-    assert len(legs) > 0
-    dofs = envs[0].agent._held_dof
+    legs, dofs = envs[0].agent._held_qpos, envs[0].agent._held_dof
+    assert len(legs) > 0 and envs[0].agent._held_rows and envs[0].agent.mobile._write_rows
     for k in range(5):
         qpos = rng.uniform(-0.5, 0.5, len(legs))
         qvel = rng.normal(0.0, 1.0, len(dofs))
@@ -315,19 +304,23 @@ def test_one_env_joint_writer_writes_as_write_joint_state(forward: bool) -> None
         for env in envs:
             env.scene.world.ctrl[...] = ctrl  # copied into the controls by both writes
             env.scene.world.physics_sources()[0].qacc_warmstart[:] = 1.5  # cleared by both
+            env.scene.world.qpos  # noqa: B018 (the read cache filled: both writes clear it)
         envs[0].scene.world.write_joint_state(np.array([0]), legs, qpos[None], dofs, qvel[None], forward=forward)
-        write = envs[1].scene.world.single_joint_writer(legs, dofs, forward=forward)
-        assert write is not None
-        write(qpos, qvel)
+        envs[1].scene.world.write_joint_row(legs, qpos, dofs, qvel, forward=forward)
         general, fast = (env.scene.world.physics_sources()[0] for env in envs)
-        for name in _DERIVED:
+        for name in _WRITTEN:
             assert _bits(getattr(fast, name)).tobytes() == _bits(getattr(general, name)).tobytes(), (k, name)
-        assert _bits(envs[1].scene.world.qpos).tobytes() == _bits(envs[0].scene.world.qpos).tobytes()  # cache cleared
+        assert _bits(envs[1].scene.world.qpos).tobytes() == _bits(envs[0].scene.world.qpos).tobytes()
     for env in envs:
         env.close()
     batch = ra.make_env("Empty-v1", robot_uids="spot", num_envs=2, max_episode_steps=None).unwrapped
-    assert batch.scene.world.single_joint_writer(legs, dofs) is None
-    assert batch.agent._held_write is None and batch.agent.mobile._planar_write is None
+    world = batch.scene.world
+    assert not batch.agent._held_rows and not batch.agent.mobile._write_rows
+    before = world.get_state()
+    with pytest.raises(StateError, match="write_joint_row: expected a world of one env, got 2 envs"):
+        world.write_joint_row(legs, np.zeros(len(legs)), dofs, np.zeros(len(dofs)))
+    after = world.get_state()
+    assert np.array_equal(before, after)
     batch.close()
 
 

@@ -6,7 +6,7 @@ and for a floating root."""
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -86,15 +86,9 @@ class MobileBase:
         self._wheel_speeds = np.zeros((1, len(self.wheels)))
         # one env: the planar joints' positions (m, m, rad) of a kinematic move, ``(1, 3)``
         self._planar_end = np.zeros((1, len(self._planar_list)))
-        # one env: the world's writers of the wheels' and the planar joints' state at their
-        # fixed addresses (BatchedWorld.single_joint_writer; None without one: the general
-        # write_joint_state), and the rows they take
-        single_writer = getattr(world, "single_joint_writer", None)
-        self._wheel_write: Callable[[FloatArray, FloatArray], None] | None = None
-        self._planar_write: Callable[[FloatArray, FloatArray], None] | None = None
-        if single_writer is not None:
-            self._wheel_write = single_writer(self._wheel_qadr, self._wheel_dadr, forward=False)
-            self._planar_write = single_writer(self._planar_adr, self._planar_dofs)
+        # one env: the wheels' and the planar joints' state written as rows
+        # (write_joint_row: addresses resolved here, no env ids)
+        self._write_rows = world.num_envs == 1
         self._wheel_angles_row, self._wheel_speeds_row = self._wheel_angles[0], self._wheel_speeds[0]
         self._planar_end_row = self._planar_end[0]
         #: One env without the collision check: its ``qpos`` at the step's start (Python floats), else None.
@@ -432,9 +426,8 @@ class MobileBase:
         end[0] = start_row[x] + vx * control_dt
         end[1] = start_row[y] + vy * control_dt
         end[2] = start_row[yaw] + wz * control_dt
-        write = self._planar_write
-        if write is not None:
-            write(end, speeds)
+        if self._write_rows:
+            self.world.write_joint_row(self._planar_adr, end, self._planar_dofs, speeds)
         else:
             self.world.write_joint_state(
                 self._all_envs, self._planar_adr, self._planar_end, self._planar_dofs, velocity
@@ -482,9 +475,8 @@ class MobileBase:
             roll = left if k < half else right
             angles[k] = start_row[q] + roll
             speeds[k] = roll / control_dt
-        write = self._wheel_write
-        if write is not None:
-            write(angles, speeds)
+        if self._write_rows:
+            self.world.write_joint_row(self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
             return
         self.world.write_joint_state(
             self._all_envs, self._wheel_qadr, self._wheel_angles, self._wheel_dadr, self._wheel_speeds, forward=False

@@ -29,6 +29,7 @@ from robot_agents.sim.render_mirror import RenderMirror
 from robot_agents.validation import check_array, is_whole
 
 FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
 
 #: Everything needed for a bit-identical continuation: time, qpos, qvel, act, warm-start
 #: accelerations, controls, applied forces, mocap poses, plugin and user data.
@@ -493,36 +494,33 @@ class BatchedWorld:
                 camlight(model, data)
         self._cache.clear()
 
-    def single_joint_writer(
-        self, qpos_adr: npt.ArrayLike, dof_adr: npt.ArrayLike, forward: bool = True
-    ) -> Callable[[FloatArray, FloatArray], None] | None:
-        """One env only: :meth:`write_joint_state` of env 0 at fixed addresses as a call
-        ``write(qpos_row, qvel_row)`` (``(len(qpos_adr),)`` and ``(len(dof_adr),)``; rad,
-        m, rad/s, m/s), for the per-step writes (wheels, kinematic bases, held legs): the
-        same writes and MuJoCo calls in the same order (the solver's warm start cleared),
-        without converting the addresses and checking the env id at every call; ``None``
-        with several envs. The MuJoCo functions are looked up at each call, as
-        :meth:`write_joint_state` does."""
+    def write_joint_row(
+        self, qpos_adr: IntArray, qpos: FloatArray, dof_adr: IntArray, qvel: FloatArray, forward: bool = True
+    ) -> None:
+        """One env only: :meth:`write_joint_state` of env 0, for the per-step writes
+        (wheels, kinematic bases, held legs) whose addresses are resolved once:
+        ``qpos_adr`` and ``dof_adr`` int64 arrays, ``qpos`` ``(len(qpos_adr),)`` (rad, m)
+        and ``qvel`` ``(len(dof_adr),)`` (rad/s, m/s), one row each. The same writes and
+        MuJoCo calls in the same order (the controls copied, the solver's warm start
+        cleared, then ``mj_forward``, or ``mj_kinematics`` and ``mj_camlight`` with
+        ``forward=False``), without converting the addresses and checking env ids.
+        Raises :class:`StateError` with several envs (nothing written)."""
         if self.num_envs != 1:
-            return None
-        qa, da = np.asarray(qpos_adr, dtype=np.int64).copy(), np.asarray(dof_adr, dtype=np.int64).copy()
-        model, data, cache = self.model, self._data0, self._cache
-        qpos0, qvel0, warmstart0 = self._qpos0, self._qvel0, self._warmstart0
-        data_ctrl0, ctrl0 = self._data_ctrl0, self._ctrl0
-
-        def write(qpos_row: FloatArray, qvel_row: FloatArray) -> None:
-            qpos0[qa] = qpos_row
-            qvel0[da] = qvel_row
-            warmstart0.fill(0.0)
-            data_ctrl0[...] = ctrl0
-            if forward:
-                mujoco.mj_forward(model, data)
-            else:
-                mujoco.mj_kinematics(model, data)
-                mujoco.mj_camlight(model, data)
-            cache.clear()
-
-        return write
+            raise StateError(
+                f"BatchedWorld.write_joint_row: expected a world of one env, got {self.num_envs} envs; "
+                "use write_joint_state."
+            )
+        data = self._data0
+        self._qpos0[qpos_adr] = qpos
+        self._qvel0[dof_adr] = qvel
+        self._warmstart0.fill(0.0)
+        self._data_ctrl0[...] = self._ctrl0  # (the same copy as ``[:]``, without a slice)
+        if forward:
+            mujoco.mj_forward(self.model, data)
+        else:
+            mujoco.mj_kinematics(self.model, data)
+            mujoco.mj_camlight(self.model, data)
+        self._cache.clear()
 
     def _ids(self, env_ids: npt.ArrayLike, where: str) -> list[int]:
         """``env_ids`` as a list of ints, each in ``[0, num_envs)`` (a negative id would

@@ -344,3 +344,22 @@ def test_moves_each_step_follows_the_base_dynamics() -> None:
         env.agent.set_base_dynamics(dynamics)
         assert env.agent.writes_after_step
     env.close()
+
+
+@pytest.mark.parametrize("task", ["Empty-v1", "PickCube-v1"])
+def test_a_site_tool_frames_quaternion_is_refreshed_each_step(task: str) -> None:
+    """Google Robot's tool frame is a site, whose quaternion MuJoCo does not store: the
+    one-env observation computes it each step into a buffer (``Refreshed``), copied into
+    the planned row (Empty) or joined with the task's extras (PickCube): the general
+    concatenation's values every step, and a quaternion that follows the arm."""
+    env = ra.make_env(task, robot_uids="google_robot", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    assert (env._observation._out is None) == (task != "Empty-v1")
+    rng = np.random.default_rng(0)
+    quats = []
+    for _ in range(6):
+        obs = env.step(rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32))[0]
+        assert _bits(obs).tobytes() == _bits(_general_obs(env)).tobytes()
+        quats.append(env.agent.tcp_pose[0, 3:].astype(np.float32))
+    assert not np.array_equal(quats[0], quats[-1])  # the arm turned the site
+    env.close()

@@ -114,7 +114,8 @@ def mode_of(uid: str, kind: str) -> str | None:
 
 def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[Any, ...]]]:
     """The MuJoCo calls of ``steps`` env steps: per step a list of ``("step", ctrl, n)``
-    and ``("write", qpos_adr, qpos, dof_adr, qvel)`` in order (one env)."""
+    and ``("write", qpos_adr, qpos, dof_adr, qvel, forward)`` in order (one env: from
+    ``write_joint_state`` and ``write_joint_row``)."""
     world = env.scene.world
     calls: list[tuple[Any, ...]] = []
     step_single = getattr(world, "_step_single", None)  # the one-env path, where the world has one
@@ -137,6 +138,14 @@ def record(env: Any, actions: list[np.ndarray], steps: int) -> list[list[tuple[A
     patches: dict[str, Callable[..., None]] = {"_step_all": recording_step_all, "write_joint_state": recording_write}
     if step_single is not None:
         patches["_step_single"] = recording_step_single
+    write_row = getattr(world, "write_joint_row", None)  # the one-env per-step writes, where the world has them
+    if write_row is not None:
+
+        def recording_write_row(qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
+            calls.append(("write", np.asarray(qpos_adr), np.array(qpos), np.asarray(dof_adr), np.array(qvel), forward))
+            write_row(qpos_adr, qpos, dof_adr, qvel, forward)
+
+        patches["write_joint_row"] = recording_write_row
     return recorded_steps(env, actions, steps, calls, patches)
 
 

@@ -14,6 +14,7 @@ import pytest
 
 import robot_agents as ra
 from robot_agents.actuators.drives import DriveOverride
+from robot_agents.errors import StateError
 
 CASES = [
     ("panda", "pd_joint_delta_pos", "Empty-v1"),
@@ -127,6 +128,11 @@ def full_forward_write(world: Any, *args: Any, forward: bool = True) -> None:
     type(world).write_joint_state(world, *args, forward=True)
 
 
+def full_forward_row(world: Any, *args: Any, forward: bool = True) -> None:
+    """``write_joint_row`` (the one-env per-step writes) always followed by ``mj_forward``."""
+    type(world).write_joint_row(world, *args, forward=True)
+
+
 def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> None:
     """Wheels and held legs are written after a step with poses recomputed only
     (``forward=False``: ``mj_kinematics`` and cameras, not ``mj_forward``): the
@@ -138,6 +144,7 @@ def test_pose_only_writes_leave_the_trajectory_and_poses_of_a_full_forward() -> 
         world = env.scene.world
         if full:
             world.write_joint_state = functools.partial(full_forward_write, world)
+            world.write_joint_row = functools.partial(full_forward_row, world)
         env.reset(seed=2)
         rng = np.random.default_rng(0)
         observations = [env.step(rng.uniform(-1, 1, env.action_space.shape[-1]))[0] for _ in range(30)]
@@ -233,16 +240,19 @@ def test_drive_controls_written_in_place_equal_the_general_sums(uid: str) -> Non
 
 def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
     """The wheel angles and speeds the one-env after-step writes
-    (``MobileBase._turn_wheels_single``, its roll written out on Python floats) are bit
-    for bit those of the general path's ``_turn_wheels`` (one env) and of a batch's row,
-    over random moves, turns across +-pi, mount yaws and control periods."""
+    (``MobileBase._turn_wheels_single``, its roll written out on Python floats, through
+    ``BatchedWorld.write_joint_row``) are bit for bit those of the general path's
+    ``_turn_wheels`` (one env, through ``write_joint_state``) and of a batch's row, over
+    random moves, turns across +-pi, mount yaws and control periods; read back from the
+    simulation's own ``qpos`` / ``qvel``."""
     env = ra.make_env("Empty-v1", robot_uids="fetch", max_episode_steps=None).unwrapped
     env.reset(seed=0)
     base, world = env.agent.mobile, env.scene.world
-    written: list[tuple[np.ndarray, np.ndarray]] = []
+    assert base._write_rows  # the one-env row write is the path under test
+    data = world.physics_sources()[0]
 
-    def record(env_ids: Any, qpos_adr: Any, qpos: Any, dof_adr: Any, qvel: Any, forward: bool = True) -> None:
-        written.append((np.array(qpos, dtype=np.float64), np.array(qvel, dtype=np.float64)))
+    def written() -> tuple[np.ndarray, np.ndarray]:
+        return data.qpos[base._wheel_qadr].copy(), data.qvel[base._wheel_dadr].copy()
 
     rng = np.random.default_rng(1)
     nq = world.model.nq
@@ -256,18 +266,62 @@ def test_one_env_wheel_write_matches_the_general_write_bit_for_bit() -> None:
             end[2] = start[2] + rng.choice((-1.0, 1.0)) * (np.pi - 1e-9)
         dt = float(rng.choice((0.05, 0.01, 1 / 30)))
         world.write_joint_state(np.array([0]), base._planar_adr, end[None], base._planar_dofs, np.zeros((1, 3)))
-        world.write_joint_state = record  # type: ignore[method-assign]
-        try:
-            base._turn_wheels_single(start_row.tolist(), dt)
-            base._turn_wheels(start[None], end[None], start_row[base._wheel_qadr][None], dt)
-        finally:
-            del world.write_joint_state
-        (fast_q, fast_v), (general_q, general_v) = written[-2:]
+        data.qpos[base._wheel_qadr] = data.qvel[base._wheel_dadr] = np.nan
+        base._turn_wheels_single(start_row.tolist(), dt)
+        fast_q, fast_v = written()
+        data.qpos[base._wheel_qadr] = data.qvel[base._wheel_dadr] = np.nan
+        base._turn_wheels(start[None], end[None], start_row[base._wheel_qadr][None], dt)
+        general_q, general_v = written()
         rolled = base._wheel_roll(np.stack([start, start]), np.stack([end, end]))[:1]
-        batch_q, batch_v = start_row[base._wheel_qadr][None] + rolled, rolled / dt
+        batch_q, batch_v = (start_row[base._wheel_qadr][None] + rolled)[0], (rolled / dt)[0]
         for fast, general, batch in ((fast_q, general_q, batch_q), (fast_v, general_v, batch_v)):
             assert _bits(fast).tobytes() == _bits(general).tobytes() == _bits(batch).tobytes(), k
     env.close()
+
+
+_WRITTEN = ("qpos", "qvel", "qacc_warmstart", "ctrl", "xpos", "xquat", "xmat", "geom_xpos", "site_xpos",
+            "cam_xpos", "cam_xmat", "light_xpos", "light_xdir", "qacc", "qfrc_bias", "sensordata", "act")  # fmt: skip
+
+
+@pytest.mark.parametrize("forward", [True, False])
+def test_one_env_row_write_writes_as_write_joint_state(forward: bool) -> None:
+    """``BatchedWorld.write_joint_row`` (the per-step writes of wheels, a kinematic base
+    and held legs at one env) leaves every MjData array it touches, the derived ones
+    included, bit for bit as ``write_joint_state`` of env 0 does, in two identical
+    simulations; with several envs it raises and writes nothing."""
+    envs = [ra.make_env("Empty-v1", robot_uids="spot", max_episode_steps=None).unwrapped for _ in range(2)]
+    rng = np.random.default_rng(3)
+    action = rng.uniform(-1.0, 1.0, envs[0].action_space.shape)
+    for env in envs:
+        env.reset(seed=0)
+        env.step(action)
+    legs, dofs = envs[0].agent._held_qpos, envs[0].agent._held_dof
+    assert len(legs) > 0 and envs[0].agent._held_rows and envs[0].agent.mobile._write_rows
+    for k in range(5):
+        qpos = rng.uniform(-0.5, 0.5, len(legs))
+        qvel = rng.normal(0.0, 1.0, len(dofs))
+        ctrl = rng.normal(0.0, 1.0, envs[0].scene.world.ctrl.shape)
+        for env in envs:
+            env.scene.world.ctrl[...] = ctrl  # copied into the controls by both writes
+            env.scene.world.physics_sources()[0].qacc_warmstart[:] = 1.5  # cleared by both
+            env.scene.world.qpos  # noqa: B018 (the read cache filled: both writes clear it)
+        envs[0].scene.world.write_joint_state(np.array([0]), legs, qpos[None], dofs, qvel[None], forward=forward)
+        envs[1].scene.world.write_joint_row(legs, qpos, dofs, qvel, forward=forward)
+        general, fast = (env.scene.world.physics_sources()[0] for env in envs)
+        for name in _WRITTEN:
+            assert _bits(getattr(fast, name)).tobytes() == _bits(getattr(general, name)).tobytes(), (k, name)
+        assert _bits(envs[1].scene.world.qpos).tobytes() == _bits(envs[0].scene.world.qpos).tobytes()
+    for env in envs:
+        env.close()
+    batch = ra.make_env("Empty-v1", robot_uids="spot", num_envs=2, max_episode_steps=None).unwrapped
+    world = batch.scene.world
+    assert not batch.agent._held_rows and not batch.agent.mobile._write_rows
+    before = world.get_state()
+    with pytest.raises(StateError, match="write_joint_row: expected a world of one env, got 2 envs"):
+        world.write_joint_row(legs, np.zeros(len(legs)), dofs, np.zeros(len(dofs)))
+    after = world.get_state()
+    assert np.array_equal(before, after)
+    batch.close()
 
 
 def test_moves_each_step_follows_the_base_dynamics() -> None:
@@ -289,4 +343,23 @@ def test_moves_each_step_follows_the_base_dynamics() -> None:
     for dynamics in ("kinematic", "dynamic"):
         env.agent.set_base_dynamics(dynamics)
         assert env.agent.writes_after_step
+    env.close()
+
+
+@pytest.mark.parametrize("task", ["Empty-v1", "PickCube-v1"])
+def test_a_site_tool_frames_quaternion_is_refreshed_each_step(task: str) -> None:
+    """Google Robot's tool frame is a site, whose quaternion MuJoCo does not store: the
+    one-env observation computes it each step into a buffer (``Refreshed``), copied into
+    the planned row (Empty) or joined with the task's extras (PickCube): the general
+    concatenation's values every step, and a quaternion that follows the arm."""
+    env = ra.make_env(task, robot_uids="google_robot", max_episode_steps=None).unwrapped
+    env.reset(seed=0)
+    assert (env._observation._out is None) == (task != "Empty-v1")
+    rng = np.random.default_rng(0)
+    quats = []
+    for _ in range(6):
+        obs = env.step(rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32))[0]
+        assert _bits(obs).tobytes() == _bits(_general_obs(env)).tobytes()
+        quats.append(env.agent.tcp_pose[0, 3:].astype(np.float32))
+    assert not np.array_equal(quats[0], quats[-1])  # the arm turned the site
     env.close()

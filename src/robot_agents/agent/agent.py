@@ -115,6 +115,11 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
         self._every_env = np.arange(self.num_envs)
         self._holds_legs = len(self._held_qpos) > 0  # (read after every step)
         self._held_qvel = np.zeros((self.num_envs, len(held)))  # written, never changed
+        # one env: the held legs' state written as rows (BatchedWorld.write_joint_row)
+        self._held_rows = self._holds_legs and self.num_envs == 1
+        self._held_qvel_row = self._held_qvel[0]
+        # one env: the drives' position targets (rad, m; the buffer is never replaced), ``(n,)``
+        self._held_position_row = self.drives.targets.position[0]
         # (active mode, its last base velocity part or None), for after_step
         self._base_controller: tuple[CombinedController | None, PDBaseVelController | None] = (None, None)
         self._opt = self.index.model.opt  # reads the live time step (the attribute makes a new wrapper)
@@ -334,6 +339,12 @@ class Agent(MobileManipulatorAPI, AgentDefinition):
             self._base_controller = (active, base)
         mobile.after_step(None if base is None else base.target_qvel, float(self._opt.timestep) * self.world.substeps)
         if self._holds_legs and mobile.dynamics == "kinematic":
+            if self._held_rows:  # one env: its row of the targets, taken by column
+                pose_row = self._held_position_row.take(self._held_columns)
+                self.world.write_joint_row(
+                    self._held_qpos, pose_row, self._held_dof, self._held_qvel_row, forward=False
+                )
+                return
             pose = self.drives.targets.position.take(self._held_columns, axis=1)  # [:, columns], faster
             self.world.write_joint_state(
                 self._every_env, self._held_qpos, pose, self._held_dof, self._held_qvel, forward=False

@@ -86,6 +86,11 @@ class MobileBase:
         self._wheel_speeds = np.zeros((1, len(self.wheels)))
         # one env: the planar joints' positions (m, m, rad) of a kinematic move, ``(1, 3)``
         self._planar_end = np.zeros((1, len(self._planar_list)))
+        # one env: the wheels' and the planar joints' state written as rows
+        # (write_joint_row: addresses resolved here, no env ids)
+        self._write_rows = world.num_envs == 1
+        self._wheel_angles_row, self._wheel_speeds_row = self._wheel_angles[0], self._wheel_speeds[0]
+        self._planar_end_row = self._planar_end[0]
         #: One env without the collision check: its ``qpos`` at the step's start (Python floats), else None.
         self._start_row: list[float] | None = None
         # one env: a read-only view of its live qpos, ``(1, nq)``, looked up on first use
@@ -415,12 +420,18 @@ class MobileBase:
         same IEEE products and sums as the batched ``start + velocity * control_dt``),
         written through a row kept for it (the world copies it)."""
         velocity = np.zeros((1, 3)) if commanded is None else np.asarray(commanded, dtype=np.float64)
-        end = self._planar_end
-        (x, y, yaw), (vx, vy, wz) = self._planar_list, velocity[0].tolist()
-        end[0, 0] = start_row[x] + vx * control_dt
-        end[0, 1] = start_row[y] + vy * control_dt
-        end[0, 2] = start_row[yaw] + wz * control_dt
-        self.world.write_joint_state(self._all_envs, self._planar_adr, end, self._planar_dofs, velocity)
+        end = self._planar_end_row
+        (x, y, yaw), speeds = self._planar_list, velocity[0]
+        vx, vy, wz = speeds.tolist()
+        end[0] = start_row[x] + vx * control_dt
+        end[1] = start_row[y] + vy * control_dt
+        end[2] = start_row[yaw] + wz * control_dt
+        if self._write_rows:
+            self.world.write_joint_row(self._planar_adr, end, self._planar_dofs, speeds)
+        else:
+            self.world.write_joint_state(
+                self._all_envs, self._planar_adr, self._planar_end, self._planar_dofs, velocity
+            )
         self.last_refused[0] = False
 
     def _penetration(self) -> FloatArray:
@@ -459,12 +470,17 @@ class MobileBase:
         x, y, yaw = self._planar_list
         left, right = self._side_rolls(start_row[x], start_row[y], start_row[yaw], end_row[x], end_row[y], end_row[yaw])
         half = self._half_wheels
-        angles, speeds = self._wheel_angles, self._wheel_speeds
+        angles, speeds = self._wheel_angles_row, self._wheel_speeds_row
         for k, q in enumerate(self._wheel_qlist):
             roll = left if k < half else right
-            angles[0, k] = start_row[q] + roll
-            speeds[0, k] = roll / control_dt
-        self.world.write_joint_state(self._all_envs, self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
+            angles[k] = start_row[q] + roll
+            speeds[k] = roll / control_dt
+        if self._write_rows:
+            self.world.write_joint_row(self._wheel_qadr, angles, self._wheel_dadr, speeds, forward=False)
+            return
+        self.world.write_joint_state(
+            self._all_envs, self._wheel_qadr, self._wheel_angles, self._wheel_dadr, self._wheel_speeds, forward=False
+        )
 
     def _wheel_roll(self, start: FloatArray, end: FloatArray) -> FloatArray:
         """Differential kinematics: left wheels roll ``v - w b / 2``, right wheels

@@ -156,13 +156,15 @@ class PDBaseVelController(PDJointVelController):
         if type(self) is not PDBaseVelController or not isinstance(columns, slice) or self._velocity.shape[0] != 1:
             return None
         row, qpos_row, yaw_adr = raw[0], qpos[0], self._yaw_adr
-        velocity = self._velocity[:, columns]  # the drives' buffer (never replaced)
+        velocity = self._velocity[:, columns]  # the drives' buffer (never replaced), (1, 3)
+        velocity_row = velocity[0]
         single_target = self._single_target
 
         def apply_single() -> None:
-            target = np.array([single_target(row.tolist(), qpos_row.item(yaw_adr))])
-            self.target_qvel = target
-            velocity[...] = target
+            # the targets written into the drives' row by element, then copied out as the
+            # new target array (the same float64 values as building it first)
+            velocity_row[0], velocity_row[1], velocity_row[2] = single_target(row.tolist(), qpos_row.item(yaw_adr))
+            self.target_qvel = velocity.copy()
 
         return apply_single
 

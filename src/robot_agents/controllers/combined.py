@@ -18,6 +18,7 @@ from robot_agents.controllers.base import (
     one_pass_clip_exact,
     scale_directions,
 )
+from robot_agents.controllers.joint import PDJointPosController
 from robot_agents.errors import StateError
 
 _FLOAT64 = np.dtype(np.float64)
@@ -159,9 +160,21 @@ class CombinedController:
         if qpos is None:
             return
         plan = []
+        offsets = self._offset_row[0]
         for name, controller in self.parts.items():
             single_apply = getattr(controller, "single_apply", None)
-            call = None if single_apply is None else single_apply(self._raw_single[:, self.slices[name]], qpos)
+            raw = self._raw_single[:, self.slices[name]]
+            if single_apply is None:
+                call = None
+            elif type(controller) is PDJointPosController:
+                # _to_raw_single adds the offsets last: an entry whose offset is not -0.0
+                # is never -0.0 (round to nearest: x + c is -0.0 only when both are -0.0)
+                no_negative_zero = not np.any(
+                    (offsets[self.slices[name]] == 0.0) & np.signbit(offsets[self.slices[name]])
+                )
+                call = controller.single_apply(raw, qpos, raw_never_negative_zero=no_negative_zero)
+            else:
+                call = single_apply(raw, qpos)
             if call is None:
                 return
             plan.append(call)

@@ -51,6 +51,11 @@ UNBOUNDED_TARGET = 2 * np.pi
 TURN = 2 * np.pi
 
 
+def _has_negative_zero(values: FloatArray) -> bool:
+    """Whether any of ``values`` is ``-0.0``."""
+    return bool(np.any((values == 0.0) & np.signbit(values)))
+
+
 def nearest_turn(targets: FloatArray, reference: FloatArray) -> FloatArray:
     """``targets`` shifted by whole turns to the angles nearest ``reference`` (rad, both
     ``(num_envs, k)``): ``targets + 2 pi round((reference - targets) / 2 pi)``, a new
@@ -396,7 +401,9 @@ class PDJointPosController(Controller):
             else:
                 self._position.put(self._column_put, targets)
 
-    def single_apply(self, raw: FloatArray, qpos: FloatArray) -> Callable[[], None] | None:
+    def single_apply(
+        self, raw: FloatArray, qpos: FloatArray, raw_never_negative_zero: bool = False
+    ) -> Callable[[], None] | None:
         """One env: :meth:`apply` of the action entries ``raw`` (a ``(1, action_dim)``
         view of a buffer the caller rewrites before each call) as a call of no arguments,
         reading the measured positions from ``qpos``, a ``(1, nq)`` view that follows the
@@ -404,7 +411,16 @@ class PDJointPosController(Controller):
         bit, without the per-call branches, slicing and cached copies of the state. Each
         call leaves a new :attr:`target_qpos` array (never a view of ``raw``). ``None``
         where :meth:`apply` has more to do (interpolated targets, unlimited hinges with
-        absolute targets, a mimic's delta from the leader's measured position)."""
+        absolute targets, a mimic's delta from the leader's measured position).
+
+        ``raw_never_negative_zero``: the caller's entries are never ``-0.0`` (the combined
+        controller's raw actions, whose last operation adds offsets that are not
+        ``-0.0``). A plain part's targets (``raw``, ``raw`` plus offsets, measured
+        positions or previous targets; a sum is ``-0.0`` only when both terms are) are
+        then never ``-0.0`` either, so with no bound ``-0.0`` no target and bound are
+        zeros of opposite signs, the one case where the one-pass clip and the two-pass
+        ``maximum`` / ``minimum`` may return different bits: the one-pass clip is taken
+        even with a zero bound (a zero joint limit), the same targets for less."""
         base = self._base
         if (
             type(self) is not PDJointPosController
@@ -417,7 +433,14 @@ class PDJointPosController(Controller):
             return None
         plain, multipliers = self._plain, self._multipliers_row
         offsets = self._offsets_row if self._has_offsets else None
-        one_pass, two_pass = self._one_pass_clip, self._clip and not self._one_pass_clip
+        one_pass = self._one_pass_clip or (
+            self._clip
+            and plain
+            and raw_never_negative_zero
+            and not _has_negative_zero(self._lower_limit)
+            and not _has_negative_zero(self._upper_limit)
+        )
+        two_pass = self._clip and not one_pass
         lower, upper, max_bound, min_bound = self._lower_row, self._upper_row, self._max_bound, self._min_bound
         # the measured positions: a view of the live qpos, or the indices to take
         take = self._qpos_take

@@ -55,13 +55,12 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         position, matrix = data.site_xpos[frame.id], data.site_xmat[frame.id]
         quat = np.empty(4)
         if frame.offset is None:
-            site_quat_row = [quat[None]]
+            to_quat = mujoco.mju_mat2Quat
 
-            def site_quat() -> list[FloatArray]:
-                mujoco.mju_mat2Quat(quat, matrix)
-                return site_quat_row
+            def site_quat() -> None:
+                to_quat(quat, matrix)
 
-            return [position[None], site_quat]
+            return [position[None], Refreshed(site_quat, [quat[None]])]
     offset = np.asarray(frame.offset, dtype=np.float64)
     offset_position, offset_quat = offset[:3].copy(), offset[3:].copy()
     shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
@@ -107,6 +106,25 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         return pose()
 
     return [site_offset_pose]
+
+
+class Refreshed:
+    """A piece of :meth:`StateObservation._single_state` that MuJoCo does not store,
+    computed into fixed buffers: :attr:`refresh` ``()`` rewrites the ``(1, k)`` float64
+    arrays :attr:`rows` in place (a site's quaternion from its rotation matrix). Called,
+    it refreshes and returns :attr:`rows`, as the other callable pieces return theirs; the
+    planned row refreshes it first and then copies the rows as it copies views of the
+    simulation (no list of results to walk each step)."""
+
+    __slots__ = ("refresh", "rows")
+
+    def __init__(self, refresh: Callable[[], None], rows: list[FloatArray]) -> None:
+        self.refresh = refresh
+        self.rows = rows
+
+    def __call__(self) -> list[FloatArray]:
+        self.refresh()
+        return self.rows
 
 
 class StateObservation:
@@ -155,6 +173,8 @@ class StateObservation:
         self._copies: list[tuple[Any, FloatArray]] = []
         self._attributes: list[tuple[Any, Any, str]] = []
         self._calls: list[tuple[list[Any], Callable[[], Any]]] = []
+        #: The :class:`Refreshed` pieces' refreshes, run before the copies (their rows are among them).
+        self._refreshes: list[Callable[[], None]] = []
         #: The observation of every env (float32 arrays; see the class doc).
         self.observe: Callable[[], Any]
         if flat:
@@ -216,6 +236,8 @@ class StateObservation:
             entries = self._single_state_plan()
         out = self._out
         if out is not None:  # each piece rounded into its columns of one float32 row
+            for refresh in self._refreshes:  # (buffers that the copies below read)
+                refresh()
             for dest, array in self._copies:
                 dest[...] = array
             for dest, owner, name in self._attributes:  # the one array a controller observes
@@ -263,7 +285,11 @@ class StateObservation:
         self._out = out
         self._copies = [(dest, entry) for dest, entry in writes if entry.__class__ is np.ndarray]
         self._attributes = [(dest, entry[0], entry[1]) for dest, entry in writes if entry.__class__ is tuple]
-        self._calls = [(dest, entry) for dest, entry in writes if callable(entry)]
+        self._calls = [(dest, entry) for dest, entry in writes if callable(entry) and entry.__class__ is not Refreshed]
+        self._refreshes = [entry.refresh for _, entry in writes if entry.__class__ is Refreshed]
+        for dest, entry in writes:
+            if entry.__class__ is Refreshed:
+                self._copies.extend(zip(dest, entry.rows, strict=True))
 
     def _single_state_plan(self) -> list[Any]:
         """What the ``state`` observation of one env concatenates, in order: read-only
@@ -284,7 +310,7 @@ class StateObservation:
         world = self.scene.world
         entries: list[Any] = []
         self._out = None
-        self._copies, self._attributes, self._calls = [], [], []
+        self._copies, self._attributes, self._calls, self._refreshes = [], [], [], []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)

@@ -96,6 +96,19 @@ class SimBackend(Protocol):
         start of those dofs (the others' kept, a saved state restored); ``None``: every
         dof's cleared (a new configuration)."""
 
+    def write_joint_row(
+        self,
+        qpos_adr: npt.NDArray[np.int64],
+        qpos: FloatArray,
+        dof_adr: npt.NDArray[np.int64],
+        qvel: FloatArray,
+        forward: bool = True,
+    ) -> None:
+        """One env only: :meth:`write_joint_state` of env 0 with addresses resolved once
+        (int64 arrays) and one row each of ``qpos`` and ``qvel``, the warm start cleared
+        (the per-step writes of wheels, kinematic bases and held legs); raises
+        :class:`~robot_agents.errors.StateError` with several envs."""
+
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
         """Reset envs to one integration state."""
 

@@ -29,6 +29,7 @@ from robot_agents.sim.render_mirror import RenderMirror
 from robot_agents.validation import check_array, is_whole
 
 FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
 
 #: Everything needed for a bit-identical continuation: time, qpos, qvel, act, warm-start
 #: accelerations, controls, applied forces, mocap poses, plugin and user data.
@@ -491,6 +492,34 @@ class BatchedWorld:
             else:
                 kinematics(model, data)
                 camlight(model, data)
+        self._cache.clear()
+
+    def write_joint_row(
+        self, qpos_adr: IntArray, qpos: FloatArray, dof_adr: IntArray, qvel: FloatArray, forward: bool = True
+    ) -> None:
+        """One env only: :meth:`write_joint_state` of env 0, for the per-step writes
+        (wheels, kinematic bases, held legs) whose addresses are resolved once:
+        ``qpos_adr`` and ``dof_adr`` int64 arrays, ``qpos`` ``(len(qpos_adr),)`` (rad, m)
+        and ``qvel`` ``(len(dof_adr),)`` (rad/s, m/s), one row each. The same writes and
+        MuJoCo calls in the same order (the controls copied, the solver's warm start
+        cleared, then ``mj_forward``, or ``mj_kinematics`` and ``mj_camlight`` with
+        ``forward=False``), without converting the addresses and checking env ids.
+        Raises :class:`StateError` with several envs (nothing written)."""
+        if self.num_envs != 1:
+            raise StateError(
+                f"BatchedWorld.write_joint_row: expected a world of one env, got {self.num_envs} envs; "
+                "use write_joint_state."
+            )
+        data = self._data0
+        self._qpos0[qpos_adr] = qpos
+        self._qvel0[dof_adr] = qvel
+        self._warmstart0.fill(0.0)
+        self._data_ctrl0[...] = self._ctrl0  # (the same copy as ``[:]``, without a slice)
+        if forward:
+            mujoco.mj_forward(self.model, data)
+        else:
+            mujoco.mj_kinematics(self.model, data)
+            mujoco.mj_camlight(self.model, data)
         self._cache.clear()
 
     def _ids(self, env_ids: npt.ArrayLike, where: str) -> list[int]:

@@ -149,7 +149,7 @@ def test_the_push_rises_where_it_presses_the_cube_down(monkeypatch: pytest.Monke
     part when the episode ends, the cube short of the goal); with it, the cube slides
     into the goal."""
     assert solver.success_rate("PushCube-v1", "stretch", 1, seed=0)[0] == 1
-    monkeypatch.setattr(solver, "PRESS", np.inf)
+    monkeypatch.setattr(solver, "RISE", 0.0)
     env = ra.make_env("PushCube-v1", robot_uids="stretch").unwrapped
     try:
         assert not solver.solve_push(env, 0)[0]

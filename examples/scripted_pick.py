@@ -34,7 +34,9 @@ itself: :meth:`Arm.self_contact`; straight down where the arm's IK cannot hold t
 along the push: :func:`path_error`), to above the push start behind the cube (on the far
 side from the goal, clear of it); then end-effector deltas: down until the fingertips touch the table, lift them
 off it, push the cube along its line to the goal with the closed fingers (a one-jaw
-gripper's beside its grasp point: :func:`push_point`; :func:`solve_push`).
+gripper's beside its grasp point: :func:`push_point`; :func:`solve_push`), rising a
+little each step once the cube has stalled for a few steps with the robot pressing it
+down onto the table (:data:`PRESS`).
 
 ReachPose: the same turn straight to the goal pose (position only on arms of fewer
 than 6 joints), then end-effector deltas towards it (``pd_ee_target_delta_pose`` on arms
@@ -289,6 +291,26 @@ class Arm:
                     touching[env] = True
                     break
         return touching
+
+    def force_on(self, body: str) -> np.ndarray:
+        """The robot's contact force on ``body`` now, per env ``(num_envs, 3)`` (N, world
+        axes; the sum over the env's contacts between the robot's bodies and it)."""
+        model = self.env.model
+        target = model.body(body).id
+        robot = set(self.agent.index.subtree_bodies(self.agent.index.root_body_id))
+        bodies = model.geom_bodyid
+        total = np.zeros((self.env.num_envs, 3))
+        wrench = np.zeros(6)
+        for env, data in enumerate(self.env.scene.world.datas):
+            for i, c in enumerate(data.contact[: data.ncon]):
+                first, second = int(bodies[c.geom1]), int(bodies[c.geom2])
+                if target not in (first, second) or not (first in robot or second in robot):
+                    continue
+                # the force geom1 exerts on geom2, in the contact frame (its rows: normal, tangents)
+                mujoco.mj_contactForce(model, data, i, wrench)
+                force = c.frame.reshape(3, 3).T @ wrench[:3]
+                total[env] += force if second == target else -force
+        return total
 
     def _touching(self, q: np.ndarray, robot_bodies: int, skip: int = -1) -> np.ndarray:
         """Per env: any contact closer than 1 mm at ``q`` between ``robot_bodies`` (2:
@@ -714,6 +736,26 @@ AIM_BEHIND = 0.25
 #: the cube's centre to the goal), the tool backs off to ``BACK_OFF`` edges behind the
 #: cube's centre on the line, and pushes on once back within half of it.
 OFF_LINE, BACK_OFF = 0.2, 1.5
+#: While pushing, once the cube has stalled for ``STALL_STEPS`` steps in a row (moved
+#: less than ``STALL`` times the push's top speed, ``PUSH_SPEED`` reaches, in each) with
+#: the robot's contact force on it pointing down by more than ``PRESS`` times its
+#: horizontal part, the tool point rises ``RISE`` cube edges each step. A push that
+#: presses the cube onto the table adds that force to what the table's friction holds
+#: (coefficient 1 here, MuJoCo's default for both geoms): once the downward part reaches
+#: the horizontal one, no push slides the cube. Stretch's pushes stalled so (seed 0, its
+#: last 45 steps: 10.5 N along the table, 10-11 N down, the table carrying 14-16 N
+#: under the 4.0 N cube): its arm's IK, which solves for the position alone, put part of
+#: the tool's 3.7 cm lead into the wrist pitch (0.022 rad, which would raise the leaning
+#: fingers) and the lift 1.2 mm lower to make up for it; the cube's face held the rubber
+#: tip by friction, the pitch stayed, and the stiff lift (10000 N/m) pressed down while
+#: the telescope (5000 N/m on its lead segment, 312 N/m at the tip) pushed with 10 N.
+#: A cube that moves, or that is pressed down only as the push starts, is left alone:
+#: rising whenever the robot pressed down cost the SO-100 seed 4 of 20 and the bare
+#: xArm6 seed 8; rising after one stalled step cost the Panda with the wrist camera seed
+#: 130 of 200 (its first contact presses down before the cube slides; the raised tool
+#: ended its push short at the end of its reach; with 4 steps it rises twice there,
+#: 1.2 mm, and the cube still ends 0.6 mm outside the goal).
+PRESS, RISE, STALL, STALL_STEPS = 0.5, 0.015, 0.25, 4
 
 
 def push_orientation(
@@ -792,8 +834,10 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     centre from behind along the line from the cube to the goal (redrawn every step,
     which steers the cube back onto it; off the line by more than ``OFF_LINE`` edges,
     the tool first backs off behind the cube on the line), at most ``PUSH_SPEED``
-    reaches a step (twice that coming down), and stops commanding once the cube's
-    centre is within a quarter of the goal's radius."""
+    reaches a step (twice that coming down), rising ``RISE`` edges each step once the
+    cube has stalled for ``STALL_STEPS`` steps with the robot's force on it pointing
+    down more than ``PRESS`` times its horizontal part, and stops commanding once the
+    cube's centre is within a quarter of the goal's radius."""
     episode = Episode(env, seed, frames)
     arm = Arm(env)
     layout = env.layout
@@ -862,6 +906,8 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
     height = np.full(n, layout.table_height + half)  # of the tool point while pushing
     last_z = np.full(n, np.inf)
     realign = np.zeros(n, dtype=bool)
+    last_cube = env.body_pose("cube")[:, :3]
+    pressed = np.zeros(n, dtype=int)  # steps in a row the cube has stalled pressed down
     while episode.running:
         cube = env.body_pose("cube")[:, :3]
         tool = arm.tool()
@@ -874,6 +920,13 @@ def solve_push(env: Any, seed: int, turn_steps: int = 30, frames: list[np.ndarra
         realign = np.where(
             lateral > OFF_LINE * 2.0 * half, True, np.where(lateral < 0.5 * OFF_LINE * 2.0 * half, False, realign)
         )
+        # Stalled, pressing the cube down rather than along it: the push rises (PRESS, RISE, STALL).
+        force = arm.force_on("cube")
+        stalled = np.linalg.norm((cube - last_cube)[:, :2], axis=1) < STALL * PUSH_SPEED * reach
+        pressing = (stage == PUSH) & stalled & (-force[:, 2] > PRESS * np.linalg.norm(force[:, :2], axis=1))
+        pressed = np.where(pressing, pressed + 1, 0)
+        last_cube = cube
+        height = np.where(pressed >= STALL_STEPS, height + RISE * 2.0 * half, height)
         aim = cube - np.where(realign, BACK_OFF, AIM_BEHIND)[:, None] * 2.0 * half * along
         aim[:, 2] = height
         lifted = behind.copy()

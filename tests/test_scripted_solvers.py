@@ -20,15 +20,11 @@ SEEDS, REQUIRED = 20, 18
 
 #: Where the example's PushCube solver, which pushes with the fingers pointing down
 #: (leaning 17 deg into the push, or back from it where leaning in would put the arm into
-#: itself) from behind the cube, falls short (seeds 0-19, measured 2026-11-28): limits of
-#: that one strategy, not of the robots, so they are not the robots' ``task_limits``.
-#: Strict: a solver that starts to succeed fails the test until its entry goes.
-SOLVER_SHORTFALLS = {
-    (
-        "PushCube-v1",
-        "stretch",
-    ): "9/20 (2026-11-29): most misses stall 4-6 cm into the push, the tip pressing the cube down",
-}
+#: itself) from behind the cube, falls short: limits of that one strategy, not of the
+#: robots, so they are not the robots' ``task_limits``. Strict: a solver that starts to
+#: succeed fails the test until its entry goes. Empty since the push rises where it
+#: presses the cube down (Stretch, 9/20 before: its stalled pushes).
+SOLVER_SHORTFALLS: dict[tuple[str, str], str] = {}
 
 
 def load_solver() -> ModuleType:
@@ -145,6 +141,22 @@ def test_the_turns_ik_restarts_where_joint_limits_trap_it(monkeypatch: pytest.Mo
         lambda self, position, quat, iterations=200, restarts=0, refuse=None: solve(self, position, quat, 200, 0),
     )
     assert solver.success_rate("PickCube-v1", "widowx250s", 1, seed=37)[0] == 0
+
+
+def test_the_push_rises_where_it_presses_the_cube_down(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Stretch, PushCube seed 0: without the rise, the push stalls pressing the cube onto
+    the table (the robot's force on it pointing down by more than half its horizontal
+    part when the episode ends, the cube short of the goal); with it, the cube slides
+    into the goal."""
+    assert solver.success_rate("PushCube-v1", "stretch", 1, seed=0)[0] == 1
+    monkeypatch.setattr(solver, "RISE", 0.0)
+    env = ra.make_env("PushCube-v1", robot_uids="stretch").unwrapped
+    try:
+        assert not solver.solve_push(env, 0)[0]
+        force = solver.Arm(env).force_on("cube")[0]
+        assert -force[2] > 0.5 * np.linalg.norm(force[:2]) > 1.0, force
+    finally:
+        env.close()
 
 
 def test_video_records_the_episode_as_rendered(tmp_path: Path) -> None:

@@ -60,6 +60,7 @@ RUNS = {
     ("random_press.py", "so100", "--seeds", "0", "--floor-solref", "0.004", "1"): "so100  (sim_freq 200)",
     ("integrator_claims.py", "floating_panda_gripper", "160"): "| `floating_panda_gripper` | 160 |",
     ("mobile_pick_seeds.py", "spot", "--seeds", "1"): "| `spot` | 1/1 |",
+    ("push_forces.py", "so100", "--seeds", "1", "--no-rise", "--all"): "| 0 | True |",
     ("base_odometry.py", "stretch", "--dynamics", "kinematic"): "| `stretch` | kinematic | ",
     ("rated_speed.py", "so100", "--bridge"): "| `so100` | 0.57 | 12 |",
     ("sleep_option.py", "--rounds", "1"): "round trip",

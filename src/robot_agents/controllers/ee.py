@@ -144,7 +144,6 @@ class PDEEController(Controller):
         self._kinematics_load = context.kinematics.load
         self._tool_bound = self.solver.frame_bound  # (the tool's pose measured is the IK's at its seed)
         self._root_bound = BoundFrame(context.kinematics, command)
-        self._tool, self._root = self._tool_bound.pose, self._root_bound.pose
         self._measured, self._inverse = np.empty(7), np.empty(7)
         self._target, self._world_target, self._turn, self._axis = np.empty(7), np.empty(7), np.empty(4), np.empty(3)
         # Position and quaternion views (MuJoCo's functions take views made once faster than slices).
@@ -207,8 +206,8 @@ class PDEEController(Controller):
         )
 
     def _measure(self, configuration: FloatArray) -> None:
-        """Forward kinematics of one env: world poses of the root (``self._root``) and the
-        tool, and the tool in the root frame (``self._measured``)."""
+        """Forward kinematics of one env: world poses of the root and the tool (their bound
+        frames' ``pose``), and the tool in the root frame (``self._measured``)."""
         self._kinematics_load(configuration)
         tool, root = self._tool_bound, self._root_bound
         (inverse_position, inverse_quat), (measured_position, measured_quat) = self._inverse_parts, self._measured_parts

@@ -87,3 +87,37 @@ def test_negative_zero_offsets_or_bounds_keep_the_two_pass_clip() -> None:
     part.apply(combined._raw_single[:, part_slice].copy(), world)
     assert fast.tobytes() == part.target_qpos.tobytes()
     env.close()
+
+
+def test_the_planned_call_takes_the_one_pass_clip_only_without_negative_zeros(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The guard itself (with this NumPy both clips agree even on zeros of opposite signs,
+    so equal targets cannot tell them apart): Spot's arm, whose limits have a zero bound,
+    clips in one pass (``clip_ufunc``) when its raw entries cannot be ``-0.0``, and in
+    two when an offset of ``-0.0`` can carry one."""
+    import robot_agents.controllers.joint as joint
+
+    one_pass_calls = []
+    clip = joint.clip_ufunc
+
+    def counted(*args: object) -> object:
+        one_pass_calls.append(1)
+        return clip(*args)
+
+    monkeypatch.setattr(joint, "clip_ufunc", counted)
+    for negative_zero_offsets, expected in ((False, 1), (True, 0)):
+        env = ra.make_env("Empty-v1", robot_uids="spot", control_mode="pd_joint_delta_pos", max_episode_steps=None)
+        env = env.unwrapped
+        env.reset(seed=0)
+        world, combined = env.scene.world, env.agent.controller
+        part_slice = combined.slices["arm"]
+        if negative_zero_offsets:
+            combined._offset_row[0, part_slice] = -0.0
+        combined._plan_single(world)
+        plan = combined._single_plan
+        assert plan is not None
+        call = plan[list(combined.parts).index("arm")]
+        combined._to_raw_single(np.zeros((1, combined.action_dim)))
+        one_pass_calls.clear()
+        call()
+        assert len(one_pass_calls) == expected, (negative_zero_offsets, one_pass_calls)
+        env.close()

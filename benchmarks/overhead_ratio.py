@@ -528,7 +528,7 @@ def python_cost(
     ``RuntimeError`` if the env flagged a step unstable or its time did not advance by
     the control steps' (then the figure would not be a real step's). End-effector modes:
     the arm does not move, so the IK may take another number of iterations than in a real
-    step (6 of the 22 built-in robots with such a mode at one env, docs/benchmarks.md)."""
+    step (6 of the 22 built-in robots with such a mode at one env, docs/notes/speed-log.md)."""
     env = ra.make_env(
         "Empty-v1", robot_uids=uid, control_mode=mode, num_envs=num_envs, num_threads=1, max_episode_steps=None
     ).unwrapped

@@ -106,6 +106,10 @@ class CombinedController:
         #: One env, joint-position parts only: the whole action's call on Python floats
         #: (:meth:`_fuse_single`), made with :attr:`_single_plan`; ``None`` where it has none.
         self.single_values: Callable[[list[float]], None] | None = None
+        #: With :attr:`single_values`: the drives' targets of every part, ``(1, n)``, in
+        #: part order (a view of the drives' buffer), which the call leaves equal to the
+        #: parts' :attr:`target_qpos` concatenated, bit for bit.
+        self.single_targets: FloatArray | None = None
 
     @property
     def needs_substep(self) -> bool:
@@ -157,7 +161,7 @@ class CombinedController:
         entries of :attr:`_raw_single` and the live ``qpos``, when every part has one and
         no entry is a direction; otherwise none (:meth:`set_action` takes the general
         path)."""
-        self._single_sim, self._single_plan, self.single_values = sim, None, None
+        self._single_sim, self._single_plan, self.single_values, self.single_targets = sim, None, None, None
         live_view = getattr(sim, "live_view", None)
         qpos = None if live_view is None or self._directions else live_view("qpos")
         if qpos is None:
@@ -177,6 +181,9 @@ class CombinedController:
             plan.append(call)
         self._single_plan = plan
         self.single_values = self._fuse_single(sim, qpos)
+        if self.single_values is not None:
+            columns = [c for part in self.parts.values() for c in part.binding.columns.tolist()]
+            self.single_targets = self.drives.targets.position[:, columns[0] : columns[0] + len(columns)]
 
     def _never_negative_zero(self, name: str) -> bool:
         """Whether part ``name``'s raw entries are never ``-0.0``: :meth:`_to_raw_single`
@@ -378,6 +385,14 @@ def _part_targets(
 
         return measured_clipped
     leading = constants[0]  # (a mimic's one entry)
+    if multipliers is not None and not from_target and offsets is None and bounds is None:  # a mimic gripper's
+
+        def mimic_absolute(values: list[float], qpos: list[float]) -> list[float]:
+            v, (lo, hi, s, o) = values[start], leading
+            entry = (lo if v < lo else hi if v > hi else v) * s + o
+            return [m * entry for m in multipliers]
+
+        return mimic_absolute
 
     def targets_of(values: list[float], qpos: list[float]) -> list[float]:
         if multipliers is None:

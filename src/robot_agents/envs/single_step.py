@@ -52,18 +52,23 @@ def plain_single_step(env: RobotEnv) -> Callable[[Any], StepResult | None] | Non
     ):
         return None
     control = agent.control
-    # the active controller the plan is for, its fused call (None: not this path), and
-    # the two action shapes it takes, (A,) and (1, A)
-    plan: list[Any] = [None, None, None, None]
+    observation = env._observation
+    observe = observation.observe  # the env's own observation (a wrapper put in its place is called instead)
+    # the active controller the plan is for, its fused call (None: not this path), the
+    # two action shapes it takes, (A,) and (1, A), and the observation reading the
+    # parts' targets from the drives' row (None: the env's)
+    plan: list[Any] = [None, None, None, None, None]
     ndarray, isfinite = np.ndarray, math.isfinite
 
     def replan(active: CombinedController) -> None:
-        fused = None
+        fused = reading = None
         if not active.needs_substep and not active._reporting:  # no substep hooks; info reports nothing
             if active._single_sim is not world:  # (what CombinedController.set_action does first)
                 active._plan_single(world)
-            fused = active.single_values
-        plan[:] = [active, fused, (active.action_dim,), (1, active.action_dim)]
+            fused, targets = active.single_values, active.single_targets
+            if fused is not None and targets is not None:
+                reading = observation.single_state_reading(list(active.parts.values()), targets)
+        plan[:] = [active, fused, (active.action_dim,), (1, active.action_dim), reading]
 
     def step(action: Any) -> StepResult | None:
         active = control.active
@@ -92,6 +97,8 @@ def plain_single_step(env: RobotEnv) -> Callable[[Any], StepResult | None] | Non
             env._raise_unstable(unstable)
         info: dict[str, Any] = {"elapsed_steps": elapsed.copy(), "physics_unstable": unstable.copy()}
         limit = env.max_episode_steps
-        return env._get_obs(), 0.0, False, limit is not None and bool(count >= limit), info
+        reading = plan[4]
+        obs = reading() if reading is not None and env._get_obs is observe else env._get_obs()
+        return obs, 0.0, False, limit is not None and bool(count >= limit), info
 
     return step

@@ -5,6 +5,7 @@ fast path concatenates."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
@@ -172,6 +173,8 @@ class StateObservation:
         #: ``(columns list, callable)``.
         self._copies: list[tuple[Any, FloatArray]] = []
         self._attributes: list[tuple[Any, Any, str]] = []
+        #: Each of :attr:`_attributes`' columns ``(start, stop)`` in the row.
+        self._attribute_columns: list[tuple[int, int]] = []
         self._calls: list[tuple[list[Any], Callable[[], Any]]] = []
         #: The :class:`Refreshed` pieces' refreshes, run before the copies (their rows are among them).
         self._refreshes: list[Callable[[], None]] = []
@@ -259,6 +262,47 @@ class StateObservation:
         obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
         return obs
 
+    def single_state_reading(
+        self, owners: list[Any], source: FloatArray
+    ) -> Callable[[], npt.NDArray[np.float32]] | None:
+        """One robot, one env: :meth:`_single_state` for its active control mode, made
+        now, with the targets of the controllers ``owners`` (the mode's parts, in order:
+        every attribute the row reads) copied in one piece from ``source`` ``(1, n)``
+        (rad or m), which the caller keeps equal to their ``target_qpos`` concatenated
+        (:attr:`CombinedController.single_targets
+        <robot_agents.controllers.combined.CombinedController.single_targets>` after the
+        fused call): the same row, one copy instead of one per part. Valid while that
+        mode stays active (the caller plans again when it changes). ``None`` where the
+        row is not planned (a task's extras, another backend) or reads other attributes."""
+        if not self._one_robot or self._sensors is not None or self.observe != self._single_state:
+            return None
+        self._single_state_plan()
+        out = self._out
+        if out is None or [(owner, name) for _, owner, name in self._attributes] != [
+            (o, "target_qpos") for o in owners
+        ]:
+            return None
+        columns = self._attribute_columns
+        adjacent = all(a[1] == b[0] for a, b in itertools.pairwise(columns))
+        if not columns or not adjacent or columns[-1][1] - columns[0][0] != source.shape[1]:
+            return None
+        targets = out[:, columns[0][0] : columns[-1][1]]
+        refreshes, copies, calls = list(self._refreshes), list(self._copies), list(self._calls)
+
+        def single_state() -> npt.NDArray[np.float32]:
+            for refresh in refreshes:
+                refresh()
+            for dest, array in copies:
+                dest[...] = array
+            targets[...] = source
+            for views, call in calls:
+                for view, array in zip(views, call(), strict=True):
+                    view[...] = array
+            row: npt.NDArray[np.float32] = out.copy()  # a new array: the caller may keep it
+            return row
+
+        return single_state
+
     def _plan_columns(self, entries: list[Any]) -> None:
         """The float32 row :meth:`_single_state` fills and, per entry, the view of its
         columns (a list of views for an entry that gives several arrays): the same
@@ -276,12 +320,15 @@ class StateObservation:
         out = np.empty((1, sum(a.shape[1] for arrays in pieces for a in arrays)), dtype=np.float32)
         writes: list[tuple[Any, Any]] = []
         start = 0
+        self._attribute_columns = []
         for entry, arrays in zip(entries, pieces, strict=True):
             views = []
             for array in arrays:
                 views.append(out[:, start : start + array.shape[1]])
                 start += array.shape[1]
             writes.append((views if callable(entry) else views[0], entry))
+            if entry.__class__ is tuple:
+                self._attribute_columns.append((start - arrays[0].shape[1], start))
         self._out = out
         self._copies = [(dest, entry) for dest, entry in writes if entry.__class__ is np.ndarray]
         self._attributes = [(dest, entry[0], entry[1]) for dest, entry in writes if entry.__class__ is tuple]
@@ -311,6 +358,7 @@ class StateObservation:
         entries: list[Any] = []
         self._out = None
         self._copies, self._attributes, self._calls, self._refreshes = [], [], [], []
+        self._attribute_columns = []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)

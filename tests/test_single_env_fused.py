@@ -307,3 +307,24 @@ def test_a_negative_zero_offset_leaves_a_zero_bound_part_unfused() -> None:
     combined._offset_row[0, combined.slices["arm"]] = -0.0
     assert not combined._never_negative_zero("arm") and part.single_terms(False) is None
     env.close()
+
+
+def test_an_observation_put_in_the_envs_place_is_still_called() -> None:
+    """The planned step reads the parts' targets from the drives' row only while the env
+    observes with its own observation: a callable put in ``_get_obs``'s place (a
+    profiler's wrapper) is called instead, and gives the same row here."""
+    env, reference = make("panda"), general(make("panda"))
+    calls = []
+    own = env._get_obs
+
+    def wrapped() -> Any:
+        calls.append(1)
+        return own()
+
+    env._get_obs = wrapped
+    for i in range(5):
+        action = np.full(env.agent.single_action_space.shape, 0.1 * i, dtype=np.float32)
+        assert result_bytes(env.step(action)) == result_bytes(reference.step(action))
+    assert len(calls) == 5
+    env.close()
+    reference.close()

@@ -368,3 +368,37 @@ def test_an_offset_tool_frames_one_env_observation_is_the_batched_concatenation(
         obs = env.step(rng.uniform(-1, 1, env.agent.single_action_space.shape).astype(np.float32))[0]
         assert obs.tobytes() == env._observation._flat_state().tobytes()
     env.close()
+
+
+def test_the_fused_call_of_each_robot_in_a_scene_of_two_matches_the_general_path() -> None:
+    """Two robots in one env (no planned env step): each robot's
+    ``CombinedController.set_action`` takes its fused call (integer actions too: a scene of
+    several robots validates each robot's action into float64 first); the same bits as the
+    general path."""
+    fused, reference = make(("panda", "widowx250s")), make(("panda", "widowx250s"))  # type: ignore[arg-type]
+    assert fused._planned_step is None
+    calls = []
+    for agent, other in zip(fused.agents, reference.agents, strict=True):
+        for mode in agent.control.modes:
+            controller, slow = agent.control.controller_for(mode), other.control.controller_for(mode)
+            controller._plan_single(fused.scene.world)
+            slow._single_sim, slow._single_plan, slow.single_values = reference.scene.world, None, None
+            call = controller.single_values
+            if call is not None:
+
+                def counted(values: list[float], call: Any = call) -> None:
+                    calls.append(1)
+                    call(values)
+
+                controller.single_values = counted
+    rng = np.random.default_rng(4)
+    for i in range(40):
+        action = {}
+        for rid, agent in zip(fused.scene.robot_ids, fused.agents, strict=True):
+            row = rng.uniform(-1.5, 1.5, agent.single_action_space.shape)
+            action[rid] = np.round(row).astype(np.int64) if i % 3 == 0 else row.astype(np.float32)
+        assert result_bytes(fused.step(action)) == result_bytes(reference.step(action))
+        assert fused.get_state()["physics"].tobytes() == reference.get_state()["physics"].tobytes()
+    assert len(calls) == 2 * 40  # both robots, every step
+    fused.close()
+    reference.close()

@@ -330,34 +330,6 @@ def test_an_observation_put_in_the_envs_place_is_still_called() -> None:
     reference.close()
 
 
-def test_mujocos_pose_transform_is_its_rotation_plus_numpys_addition() -> None:
-    """``state_obs.pose_entries`` computes an offset tool frame's position with
-    ``mju_trnVecPose`` where ``RobotFrames.measured_pose`` rotates the offset
-    (``mju_rotVecQuat``) and adds the position with NumPy: the same bits, on random
-    poses with zero components, signed zeros and magnitudes from 1e-3 to 1e2."""
-    import mujoco
-
-    rng = np.random.default_rng(13)
-    res, shifted, summed = np.empty(3), np.empty(3), np.empty(3)
-    for i in range(20000):
-        quat = rng.standard_normal(4)
-        quat /= np.linalg.norm(quat)
-        if i % 7 == 0:
-            quat[rng.integers(4)] = (-0.0, 0.0)[i % 2]
-        if i % 97 == 0:
-            quat = np.array([1.0, 0.0, 0.0, 0.0])
-        vec = rng.standard_normal(3) * 10.0 ** rng.uniform(-3, 1, 3)
-        pos = rng.standard_normal(3) * 10.0 ** rng.uniform(-3, 2, 3)
-        if i % 5 == 0:
-            vec[rng.integers(3)] = (-0.0, 0.0)[i % 2]
-        if i % 11 == 0:
-            pos[rng.integers(3)] = -0.0
-        mujoco.mju_trnVecPose(res, pos, quat, vec)
-        mujoco.mju_rotVecQuat(shifted, vec, quat)
-        np.add(pos, shifted, out=summed)
-        assert res.tobytes() == summed.tobytes(), (i, quat, vec, pos)
-
-
 def test_an_offset_tool_frames_one_env_observation_is_the_batched_concatenation() -> None:
     """The SO-100's jaw (a tool frame offset from its body): the planned one-env row
     against :meth:`StateObservation._flat_state` (the pieces of ``state_arrays``, the tool

@@ -64,18 +64,17 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
             return [position[None], Refreshed(site_quat, [quat[None]])]
     offset = np.asarray(frame.offset, dtype=np.float64)
     offset_position, offset_quat = offset[:3].copy(), offset[3:].copy()
-    out_position, out_quat = np.empty(3), np.empty(4)
+    shifted, out_position, out_quat = np.empty(3), np.empty(3), np.empty(4)
     rows = [out_position[None], out_quat[None]]
 
     # the arithmetic of RobotFrames.measured_pose (which batches the additions over
     # envs), written out: a helper call would add to every one-env step; the functions
-    # bound once (no module lookups per step). ``mju_trnVecPose`` is ``mju_rotVecQuat``
-    # then ``mju_addTo3`` (the rotated offset plus the position: the sums NumPy's add of
-    # the two makes), in one call instead of two
-    transform, multiply = mujoco.mju_trnVecPose, mujoco.mju_mulQuat
+    # bound once (no module lookups per step)
+    rotate, multiply, add = mujoco.mju_rotVecQuat, mujoco.mju_mulQuat, np.add
 
     def offset_pose() -> list[FloatArray]:
-        transform(out_position, position, quat, offset_position)
+        rotate(shifted, offset_position, quat)
+        add(position, shifted, out=out_position)
         multiply(out_quat, quat, offset_quat)
         return rows
 
@@ -89,7 +88,8 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
         components, isfinite = quat.tolist, math.isfinite
 
         def shifted_pose() -> list[FloatArray]:
-            transform(out_position, position, quat, offset_position)
+            rotate(shifted, offset_position, quat)
+            add(position, shifted, out=out_position)
             q = components()
             if 0.0 in q or not isfinite(q[0] + q[1] + q[2] + q[3]):  # (an overflowing sum falls back too)
                 multiply(out_quat, quat, offset_quat)

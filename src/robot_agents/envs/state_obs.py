@@ -46,8 +46,8 @@ def space_for(tree: Any) -> gym.Space[Any]:
 def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
     """The world pose of ``frame`` in ``data`` for :meth:`StateObservation._single_state`:
     position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
-    stores them, else a callable that computes them into reused buffers with the same arithmetic as
-    :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
+    stores them, else a :class:`Refreshed` piece that computes them into fixed rows with
+    the same arithmetic as :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
     if frame.kind is FrameKind.BODY:
         position, quat = data.xpos[frame.id], data.xquat[frame.id]
         if frame.offset is None:
@@ -69,44 +69,44 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
 
     # the arithmetic of RobotFrames.measured_pose (which batches the additions over
     # envs), written out: a helper call would add to every one-env step; the functions
-    # bound once (no module lookups per step)
+    # bound once (no module lookups per step). Each pose is refreshed into the two fixed
+    # rows (a :class:`Refreshed` piece: the planned row copies them with the views).
     rotate, multiply, add = mujoco.mju_rotVecQuat, mujoco.mju_mulQuat, np.add
 
-    def offset_pose() -> list[FloatArray]:
+    def offset_pose() -> None:
         rotate(shifted, offset_position, quat)
         add(position, shifted, out=out_position)
         multiply(out_quat, quat, offset_quat)
-        return rows
 
-    pose: Callable[[], list[FloatArray]] = offset_pose
+    pose: Callable[[], None] = offset_pose
     if offset_quat.tolist() == [1.0, 0.0, 0.0, 0.0]:  # an offset that only shifts (the SO-100's jaw)
         # The product by the identity has in each component one term q_k * 1 = q_k and
         # three products by zero (+-0): it is q_k itself, bit for bit, unless q_k is a
         # zero (the sign may change) or a component is not finite (inf * 0 is NaN).
-        # Where neither occurs the frame's own quaternion is written (the call saved).
-        rows_as_is = [out_position[None], quat[None]]
+        # Where neither occurs the frame's own quaternion is copied (the call saved).
         components, isfinite = quat.tolist, math.isfinite
 
-        def shifted_pose() -> list[FloatArray]:
+        def shifted_pose() -> None:
             rotate(shifted, offset_position, quat)
             add(position, shifted, out=out_position)
             q = components()
             if 0.0 in q or not isfinite(q[0] + q[1] + q[2] + q[3]):  # (an overflowing sum falls back too)
                 multiply(out_quat, quat, offset_quat)
-                return rows
-            return rows_as_is
+            else:
+                out_quat[...] = quat
 
         pose = shifted_pose
 
     if frame.kind is FrameKind.BODY:
-        return [pose]
+        return [Refreshed(pose, rows)]
     to_quat = mujoco.mju_mat2Quat
+    shifted_or_offset = pose
 
-    def site_offset_pose() -> list[FloatArray]:
+    def site_offset_pose() -> None:
         to_quat(quat, matrix)
-        return pose()
+        shifted_or_offset()
 
-    return [site_offset_pose]
+    return [Refreshed(site_offset_pose, rows)]
 
 
 class Refreshed:
@@ -343,8 +343,9 @@ class StateObservation:
         views of the simulation's arrays that stay valid across steps (joint state, a
         tool body's pose; an end-effector controller's targets, written in place), ``(controller, attribute)`` pairs for a joint-position or
         joint- or base-velocity controller's targets (a new array every step), and callables for what else
-        changes identity every step (other controllers' observations, touch, a site's or
-        offset frame's pose, the task's extras).
+        changes identity every step (other controllers' observations, touch, the task's
+        extras; :class:`Refreshed` ones for a site's or offset frame's pose, computed
+        into fixed rows).
         Rebuilt only when a robot's active controller changes."""
         plan = self._plan
         if plan is not None:

@@ -277,6 +277,7 @@ def test_a_parts_fused_targets_match_its_planned_call(uid: str, name: str, mode:
         )
     )
     fused = _part_targets(part_slice, constants[part_slice], terms, part)
+    assert fused is not None
     data = world.physics_sources()[0]
     qpos_adr = np.asarray(part.binding.qpos_adr)
     rng = np.random.default_rng(7)

@@ -81,9 +81,12 @@ def plain_single_step(env: RobotEnv) -> Callable[[Any], StepResult | None] | Non
         if dtype.kind != "f" or dtype.itemsize > 8:  # (long double: rounded first by the general path)
             return None
         shape = action.shape
-        if shape != plan[2] and shape != plan[3]:
+        if shape == plan[2]:
+            values = action.tolist()
+        elif shape == plan[3]:
+            values = action.tolist()[0]
+        else:
             return None
-        values = action.ravel().tolist()
         # ControlModes.checked_action's one-env test (a finite sum: every entry finite;
         # an overflowing one, or NaN / inf, goes to the general path's exact check)
         if not isfinite(sum(values)) or world.closed:

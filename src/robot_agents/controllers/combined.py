@@ -18,7 +18,7 @@ from robot_agents.controllers.base import (
     one_pass_clip_exact,
     scale_directions,
 )
-from robot_agents.controllers.joint import PDJointPosController
+from robot_agents.controllers.joint import PDJointPosController, SingleTerms
 from robot_agents.errors import StateError
 
 _FLOAT64 = np.dtype(np.float64)
@@ -103,6 +103,13 @@ class CombinedController:
         self._single_sim: object = None
         self._single_plan: list[Callable[[], None]] | None = None
         self._raw_single: FloatArray = np.empty((1, self.action_dim))
+        #: One env, joint-position parts only: the whole action's call on Python floats
+        #: (:meth:`_fuse_single`), made with :attr:`_single_plan`; ``None`` where it has none.
+        self.single_values: Callable[[list[float]], None] | None = None
+        #: With :attr:`single_values`: the drives' targets of every part, ``(1, n)``, in
+        #: part order (a view of the drives' buffer), which the call leaves equal to the
+        #: parts' :attr:`target_qpos` concatenated, bit for bit.
+        self.single_targets: FloatArray | None = None
 
     @property
     def needs_substep(self) -> bool:
@@ -154,31 +161,111 @@ class CombinedController:
         entries of :attr:`_raw_single` and the live ``qpos``, when every part has one and
         no entry is a direction; otherwise none (:meth:`set_action` takes the general
         path)."""
-        self._single_sim, self._single_plan = sim, None
+        self._single_sim, self._single_plan, self.single_values, self.single_targets = sim, None, None, None
         live_view = getattr(sim, "live_view", None)
         qpos = None if live_view is None or self._directions else live_view("qpos")
         if qpos is None:
             return
         plan = []
-        offsets = self._offset_row[0]
         for name, controller in self.parts.items():
             single_apply = getattr(controller, "single_apply", None)
             raw = self._raw_single[:, self.slices[name]]
             if single_apply is None:
                 call = None
             elif type(controller) is PDJointPosController:
-                # _to_raw_single adds the offsets last: an entry whose offset is not -0.0
-                # is never -0.0 (round to nearest: x + c is -0.0 only when both are -0.0)
-                no_negative_zero = not np.any(
-                    (offsets[self.slices[name]] == 0.0) & np.signbit(offsets[self.slices[name]])
-                )
-                call = controller.single_apply(raw, qpos, raw_never_negative_zero=no_negative_zero)
+                call = controller.single_apply(raw, qpos, raw_never_negative_zero=self._never_negative_zero(name))
             else:
                 call = single_apply(raw, qpos)
             if call is None:
                 return
             plan.append(call)
         self._single_plan = plan
+        self.single_values = self._fuse_single(sim, qpos)
+        if self.single_values is not None:
+            columns = [c for part in self.parts.values() for c in part.binding.columns.tolist()]
+            self.single_targets = self.drives.targets.position[:, columns[0] : columns[0] + len(columns)]
+
+    def _never_negative_zero(self, name: str) -> bool:
+        """Whether part ``name``'s raw entries are never ``-0.0``: :meth:`_to_raw_single`
+        adds the offsets last, and an entry whose offset is not ``-0.0`` is never ``-0.0``
+        (round to nearest: ``x + c`` is ``-0.0`` only when both are)."""
+        offsets = self._offset_row[0, self.slices[name]]
+        return not np.any((offsets == 0.0) & np.signbit(offsets))
+
+    def _fuse_single(self, sim: ControlledSim, qpos: FloatArray) -> Callable[[list[float]], None] | None:
+        """One env, every part a joint-position part with a one-env call that clips in
+        one pass or not at all (:meth:`PDJointPosController.single_terms
+        <robot_agents.controllers.joint.PDJointPosController.single_terms>`), their drive
+        columns consecutive and in action order, the action clipped in one pass: a call
+        taking the action's entries as Python floats (``action_dim`` of them) that
+        computes every part's targets on Python floats, writes them into the drives'
+        buffer in one assignment, gives each part a new :attr:`target_qpos` (a copy of
+        its columns) and writes the controls (:meth:`Drives.write
+        <robot_agents.actuators.drives.Drives.write>`). ``None`` otherwise.
+
+        The same values, bit for bit, as :meth:`_to_raw_single` and the parts' calls:
+        Python's ``*`` and ``+`` on floats are the same IEEE double operations as NumPy's
+        float64 ufuncs (each rounded once, in the same order: ``(v * scale) + offset``,
+        ``measured + change``, ``target + m * entry``, ``m * entry + o``); a float32 or
+        float16 entry becomes the same double either way (exactly). The clips are
+        comparisons (``low if t < low else high if t > high else t``), which return what
+        ``clip_ufunc`` returns wherever no value and bound are zeros of opposite signs
+        (equal values otherwise have the same bits; a NaN is returned as it is by both):
+        the action's one-pass clip has no zero bound (:func:`one_pass_clip_exact`), and a
+        part's one-pass clip either has none or clips targets that are never ``-0.0``
+        against bounds that are not ``-0.0`` (:meth:`PDJointPosController.single_apply
+        <robot_agents.controllers.joint.PDJointPosController.single_apply>`)."""
+        if self._checked or not self._one_pass_clip:
+            return None
+        constants: list[EntryConstants] = list(
+            zip(
+                self._clip_low.tolist(),
+                self._clip_high.tolist(),
+                self._scale.tolist(),
+                self._offset.tolist(),
+                strict=True,
+            )
+        )
+        terms: list[tuple[slice, SingleTerms]] = []
+        makers = []
+        for name, controller in self.parts.items():
+            if type(controller) is not PDJointPosController:
+                return None
+            part_terms = controller.single_terms(self._never_negative_zero(name))
+            if part_terms is None:
+                return None
+            terms.append((self.slices[name], part_terms))
+            entries = self.slices[name]
+            make = _part_targets(entries, constants[entries], part_terms, controller)
+            if make is None:
+                return None
+            makers.append(make)
+        columns = [column for _, t in terms for column in t.columns]
+        if not columns or columns != list(range(columns[0], columns[0] + len(columns))):
+            return None
+        position = self.drives.targets.position  # never replaced
+        row = position[0, columns[0] : columns[0] + len(columns)]  # (1-d: a list is written faster)
+        views, start = [], columns[0]
+        for _, t in terms:
+            views.append(position[:, start : start + len(t.columns)])
+            start += len(t.columns)
+        pairs = list(zip([c for c in self.parts.values()], views, strict=True))
+        measured_row = qpos[0]  # a read-only view that follows the simulation
+        reads_measured = any(t.base == PDJointPosController._FROM_MEASURED for _, t in terms)
+        write = self.drives.write
+
+        def single_values(values: list[float]) -> None:
+            measured = measured_row.tolist() if reads_measured else values
+            targets: list[float] = []
+            for make in makers:
+                targets += make(values, measured)
+            row[...] = targets
+            for part, view in pairs:
+                part._previous_target = part.target_qpos  # type: ignore[attr-defined]
+                part.target_qpos = view.copy()  # type: ignore[attr-defined]
+            write(sim.ctrl)
+
+        return single_values
 
     def _to_raw_single(self, action: npt.NDArray[Any]) -> None:
         """:meth:`_to_raw` of one env's action ``(1, action_dim)`` into :attr:`_raw_single`
@@ -201,7 +288,11 @@ class CombinedController:
         if sim is not self._single_sim:
             self._plan_single(sim)
         plan = self._single_plan
-        if plan is not None:  # one env, joint positions: the parts' own calls
+        if plan is not None:  # one env: the fused call (floats) or the parts' own calls
+            values = self.single_values
+            if values is not None and action.dtype.kind == "f":
+                values(action.ravel().tolist())
+                return
             self._to_raw_single(action)
             for call in plan:
                 call()
@@ -263,3 +354,99 @@ class CombinedController:
     def set_state(self, state: Mapping[str, Any]) -> None:
         for name, controller in self.parts.items():
             controller.set_state(dict(state.get(name, {})))
+
+
+#: Per action entry, the combined controller's ``(clip low, clip high, scale, offset)``.
+EntryConstants = tuple[float, float, float, float]
+
+
+def _part_targets(
+    entries: slice, constants: list[EntryConstants], terms: SingleTerms, part: PDJointPosController
+) -> Callable[[list[float], list[float]], list[float]] | None:
+    """The targets of ``part`` for :meth:`CombinedController._fuse_single`: a call of the
+    whole action and the measured ``qpos`` (Python floats) returning a new list of the
+    part's targets: its entries (``entries`` of the action) clipped, scaled and shifted
+    as :meth:`CombinedController._to_raw_single` does (``constants``: its entries'),
+    then the operations of :meth:`PDJointPosController.single_apply
+    <robot_agents.controllers.joint.PDJointPosController.single_apply>` in its order
+    (``terms``). For the parts the robots have: a plain part clipped to its limits from
+    its measured positions, its current targets or nothing (absolute); a plain part's one unclipped absolute entry; a mimic's unclipped absolute
+    targets without offsets. ``None`` for another part (the parts' own calls stay).
+
+    The comprehensions' ``zip`` calls take no ``strict=``: their lengths are equal by
+    construction, and the keyword costs ~0.2 us a call here."""
+    start, stop = entries.start, entries.stop
+    multipliers, offsets, bounds = terms.multipliers, terms.offsets, terms.bounds
+    addresses = terms.qpos
+    first, end = addresses[0], addresses[0] + len(addresses)
+    base = terms.base
+    if multipliers is None and offsets is None and bounds is not None:  # a plain part clipped to its limits
+        limited = [(*c, *b) for c, b in zip(constants, bounds, strict=True)]
+        if base == PDJointPosController._FROM_MEASURED and addresses != list(range(first, end)):
+
+            def gathered_clipped(values: list[float], qpos: list[float]) -> list[float]:  # (Fetch's body)
+                return [
+                    low
+                    if (t := qpos[a] + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
+                    else high
+                    if t > high
+                    else t
+                    for a, v, (lo, hi, s, o, low, high) in zip(addresses, values[start:stop], limited)  # noqa: B905
+                ]
+
+            return gathered_clipped
+        if base == PDJointPosController._FROM_MEASURED:
+
+            def measured_clipped(values: list[float], qpos: list[float]) -> list[float]:
+                return [
+                    low
+                    if (t := q + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
+                    else high
+                    if t > high
+                    else t
+                    for q, v, (lo, hi, s, o, low, high) in zip(qpos[first:end], values[start:stop], limited)  # noqa: B905
+                ]
+
+            return measured_clipped
+        if base == PDJointPosController._FROM_TARGET:
+
+            def target_clipped(values: list[float], qpos: list[float]) -> list[float]:
+                return [
+                    low
+                    if (t := p + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
+                    else high
+                    if t > high
+                    else t
+                    for p, v, (lo, hi, s, o, low, high) in zip(  # noqa: B905
+                        part.target_qpos.tolist()[0], values[start:stop], limited
+                    )
+                ]
+
+            return target_clipped
+
+        def absolute_clipped(values: list[float], qpos: list[float]) -> list[float]:
+            return [
+                low if (t := (lo if v < lo else hi if v > hi else v) * s + o) < low else high if t > high else t
+                for v, (lo, hi, s, o, low, high) in zip(values[start:stop], limited)  # noqa: B905
+            ]
+
+        return absolute_clipped
+    if base != PDJointPosController._ABSOLUTE or offsets is not None or bounds is not None:
+        return None
+    lo, hi, s, o = constants[0]  # (a gripper's one entry)
+    if multipliers is None:
+        if stop - start != 1:
+            return None
+
+        def absolute_entry(values: list[float], qpos: list[float]) -> list[float]:
+            v = values[start]
+            return [(lo if v < lo else hi if v > hi else v) * s + o]
+
+        return absolute_entry
+
+    def mimic_absolute(values: list[float], qpos: list[float]) -> list[float]:
+        v = values[start]
+        entry = (lo if v < lo else hi if v > hi else v) * s + o
+        return [m * entry for m in multipliers]
+
+    return mimic_absolute

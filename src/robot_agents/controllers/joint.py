@@ -108,6 +108,32 @@ def mimic_leader_range(
     return np.array([low, high]), turns
 
 
+@dataclass(frozen=True)
+class SingleTerms:
+    """A plain or mimic joint-position part's one-env arithmetic
+    (:meth:`PDJointPosController.single_terms`), as Python numbers.
+
+    Attributes:
+        base: what the change adds to: ``PDJointPosController._ABSOLUTE`` (0: nothing),
+            ``_FROM_TARGET`` (1: the current targets), ``_FROM_MEASURED`` (2: the measured
+            positions; plain parts only).
+        multipliers: a mimic's ``m_i`` (its one action entry times each), ``None`` for a
+            plain part (one entry per joint, taken as it is).
+        offsets: a mimic's ``o_i`` added to an absolute change, ``None`` where none is.
+        bounds: each joint's ``(lower, upper)`` limits (rad or m) for a one-pass clip,
+            ``None`` where the part does not clip.
+        qpos: each joint's ``qpos`` address (the measured positions read).
+        columns: each joint's column in the drives' target buffer.
+    """
+
+    base: int
+    multipliers: list[float] | None
+    offsets: list[float] | None
+    bounds: list[tuple[float, float]] | None
+    qpos: list[int]
+    columns: list[int]
+
+
 @checked_keywords
 @dataclass(frozen=True, kw_only=True)
 class PDJointPosConfig(ControllerConfig):
@@ -422,24 +448,11 @@ class PDJointPosController(Controller):
         ``maximum`` / ``minimum`` may return different bits: the one-pass clip is taken
         even with a zero bound (a zero joint limit), the same targets for less."""
         base = self._base
-        if (
-            type(self) is not PDJointPosController
-            or not self._write_now
-            or self._leader_measured is not None
-            or (base == self._ABSOLUTE and self._periodic is not None)
-            or (not isinstance(self._columns, slice) and self._column_put is None)
-            or self._position.shape[0] != 1
-        ):
+        if not self._single_supported():
             return None
         plain, multipliers = self._plain, self._multipliers_row
         offsets = self._offsets_row if self._has_offsets else None
-        one_pass = self._one_pass_clip or (
-            self._clip
-            and plain
-            and raw_never_negative_zero
-            and not _has_negative_zero(self._lower_limit)
-            and not _has_negative_zero(self._upper_limit)
-        )
+        one_pass = self._single_one_pass(raw_never_negative_zero)
         two_pass = self._clip and not one_pass
         lower, upper, max_bound, min_bound = self._lower_row, self._upper_row, self._max_bound, self._min_bound
         # the measured positions: a view of the live qpos, or the indices to take
@@ -486,6 +499,54 @@ class PDJointPosController(Controller):
                 position.put(put, targets)
 
         return apply_single
+
+    def _single_supported(self) -> bool:
+        """Whether :meth:`single_apply` (and :meth:`single_terms`) can make a call: one env,
+        targets written at once, no unlimited hinge with absolute targets, no mimic's delta
+        from the leader's measured position, drive columns consecutive or put by index."""
+        return not (
+            type(self) is not PDJointPosController
+            or not self._write_now
+            or self._leader_measured is not None
+            or (self._base == self._ABSOLUTE and self._periodic is not None)
+            or (not isinstance(self._columns, slice) and self._column_put is None)
+            or self._position.shape[0] != 1
+        )
+
+    def _single_one_pass(self, raw_never_negative_zero: bool) -> bool:
+        """Whether the one-env call clips in one pass (see :meth:`single_apply`)."""
+        return bool(
+            self._one_pass_clip
+            or (
+                self._clip
+                and self._plain
+                and raw_never_negative_zero
+                and not _has_negative_zero(self._lower_limit)
+                and not _has_negative_zero(self._upper_limit)
+            )
+        )
+
+    def single_terms(self, raw_never_negative_zero: bool = False) -> SingleTerms | None:
+        """One env: what :meth:`single_apply`'s call computes, as Python numbers for
+        :meth:`CombinedController._fuse_single
+        <robot_agents.controllers.combined.CombinedController._fuse_single>`, which
+        computes the targets of several parts on Python floats in one call. ``None`` where
+        :meth:`single_apply` makes no call or would clip in two passes (``maximum`` then
+        ``minimum``, whose zero of two opposite-sign zeros is not a comparison's)."""
+        if not self._single_supported() or (self._clip and not self._single_one_pass(raw_never_negative_zero)):
+            return None
+        columns = self._columns
+        column_list = list(range(columns.start, columns.stop)) if isinstance(columns, slice) else list(columns)
+        return SingleTerms(
+            base=self._base,
+            multipliers=None if self._plain else self.multipliers.tolist(),
+            offsets=self.offsets.tolist() if self._has_offsets and self._base == self._ABSOLUTE else None,
+            bounds=list(zip(self._lower_limit.tolist(), self._upper_limit.tolist(), strict=True))
+            if self._clip
+            else None,
+            qpos=self.binding.qpos_adr.tolist(),
+            columns=[int(c) for c in column_list],
+        )
 
     @property
     def needs_substep(self) -> bool:

@@ -25,6 +25,7 @@ from robot_agents.envs import episode_checks
 from robot_agents.envs.clearance import Clearance
 from robot_agents.envs.markers import Marker, draw_markers
 from robot_agents.envs.observations import SensorObservation, parse_obs_mode
+from robot_agents.envs.single_step import StepResult, plain_single_step
 from robot_agents.envs.state_obs import StateObservation
 from robot_agents.envs.state_source import check_source, state_source
 from robot_agents.errors import (
@@ -235,6 +236,8 @@ class RobotEnv(gym.Env[Any, Any]):
         )
         #: The observation of every env (:meth:`StateObservation.observe`, bound once).
         self._get_obs: Callable[[], Any] = self._observation.observe
+        #: The planned one-env step (:mod:`robot_agents.envs.single_step`), ``None`` where it has none.
+        self._planned_step: Callable[[Any], StepResult | None] | None = plain_single_step(self)
         self._update_spaces()
 
     # ------------------------------------------------------------------ task hooks
@@ -484,6 +487,11 @@ class RobotEnv(gym.Env[Any, Any]):
         robots), advance one control step, and return Gymnasium's five values."""
         if self._closed:
             self._check_open(f"{type(self).__name__}.step")
+        planned = self._planned_step
+        if planned is not None:  # one env, one robot, joint-position parts, a float action
+            result = planned(action)
+            if result is not None:
+                return result
         if self._one_robot:
             self._agent0.set_action(action)
         else:

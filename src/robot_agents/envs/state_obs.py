@@ -5,6 +5,7 @@ fast path concatenates."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
@@ -45,8 +46,8 @@ def space_for(tree: Any) -> gym.Space[Any]:
 def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
     """The world pose of ``frame`` in ``data`` for :meth:`StateObservation._single_state`:
     position then quaternion (w, x, y, z), as ``(1, k)`` views of ``data`` where MuJoCo
-    stores them, else a callable that computes them into reused buffers with the same arithmetic as
-    :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
+    stores them, else a :class:`Refreshed` piece that computes them into fixed rows with
+    the same arithmetic as :meth:`~robot_agents.agent.frames.RobotFrames.measured_pose`."""
     if frame.kind is FrameKind.BODY:
         position, quat = data.xpos[frame.id], data.xquat[frame.id]
         if frame.offset is None:
@@ -68,44 +69,44 @@ def pose_entries(frame: FrameRef, data: mujoco.MjData) -> list[Any]:
 
     # the arithmetic of RobotFrames.measured_pose (which batches the additions over
     # envs), written out: a helper call would add to every one-env step; the functions
-    # bound once (no module lookups per step)
+    # bound once (no module lookups per step). Each pose is refreshed into the two fixed
+    # rows (a :class:`Refreshed` piece: the planned row copies them with the views).
     rotate, multiply, add = mujoco.mju_rotVecQuat, mujoco.mju_mulQuat, np.add
 
-    def offset_pose() -> list[FloatArray]:
+    def offset_pose() -> None:
         rotate(shifted, offset_position, quat)
         add(position, shifted, out=out_position)
         multiply(out_quat, quat, offset_quat)
-        return rows
 
-    pose: Callable[[], list[FloatArray]] = offset_pose
+    pose: Callable[[], None] = offset_pose
     if offset_quat.tolist() == [1.0, 0.0, 0.0, 0.0]:  # an offset that only shifts (the SO-100's jaw)
         # The product by the identity has in each component one term q_k * 1 = q_k and
         # three products by zero (+-0): it is q_k itself, bit for bit, unless q_k is a
         # zero (the sign may change) or a component is not finite (inf * 0 is NaN).
-        # Where neither occurs the frame's own quaternion is written (the call saved).
-        rows_as_is = [out_position[None], quat[None]]
+        # Where neither occurs the frame's own quaternion is copied (the call saved).
         components, isfinite = quat.tolist, math.isfinite
 
-        def shifted_pose() -> list[FloatArray]:
+        def shifted_pose() -> None:
             rotate(shifted, offset_position, quat)
             add(position, shifted, out=out_position)
             q = components()
             if 0.0 in q or not isfinite(q[0] + q[1] + q[2] + q[3]):  # (an overflowing sum falls back too)
                 multiply(out_quat, quat, offset_quat)
-                return rows
-            return rows_as_is
+            else:
+                out_quat[...] = quat
 
         pose = shifted_pose
 
     if frame.kind is FrameKind.BODY:
-        return [pose]
+        return [Refreshed(pose, rows)]
     to_quat = mujoco.mju_mat2Quat
+    shifted_or_offset = pose
 
-    def site_offset_pose() -> list[FloatArray]:
+    def site_offset_pose() -> None:
         to_quat(quat, matrix)
-        return pose()
+        shifted_or_offset()
 
-    return [site_offset_pose]
+    return [Refreshed(site_offset_pose, rows)]
 
 
 class Refreshed:
@@ -172,6 +173,8 @@ class StateObservation:
         #: ``(columns list, callable)``.
         self._copies: list[tuple[Any, FloatArray]] = []
         self._attributes: list[tuple[Any, Any, str]] = []
+        #: Each of :attr:`_attributes`' columns ``(start, stop)`` in the row.
+        self._attribute_columns: list[tuple[int, int]] = []
         self._calls: list[tuple[list[Any], Callable[[], Any]]] = []
         #: The :class:`Refreshed` pieces' refreshes, run before the copies (their rows are among them).
         self._refreshes: list[Callable[[], None]] = []
@@ -259,6 +262,47 @@ class StateObservation:
         obs: npt.NDArray[np.float32] = np.concatenate(arrays, axis=1, dtype=np.float32)
         return obs
 
+    def single_state_reading(
+        self, owners: list[Any], source: FloatArray
+    ) -> Callable[[], npt.NDArray[np.float32]] | None:
+        """One robot, one env: :meth:`_single_state` for its active control mode, made
+        now, with the targets of the controllers ``owners`` (the mode's parts, in order:
+        every attribute the row reads) copied in one piece from ``source`` ``(1, n)``
+        (rad or m), which the caller keeps equal to their ``target_qpos`` concatenated
+        (:attr:`CombinedController.single_targets
+        <robot_agents.controllers.combined.CombinedController.single_targets>` after the
+        fused call): the same row, one copy instead of one per part. Valid while that
+        mode stays active (the caller plans again when it changes). ``None`` where the
+        row is not planned (a task's extras, another backend) or reads other attributes."""
+        if not self._one_robot or self._sensors is not None or self.observe != self._single_state:
+            return None
+        self._single_state_plan()
+        out = self._out
+        if out is None or [(owner, name) for _, owner, name in self._attributes] != [
+            (o, "target_qpos") for o in owners
+        ]:
+            return None
+        columns = self._attribute_columns
+        adjacent = all(a[1] == b[0] for a, b in itertools.pairwise(columns))
+        if not columns or not adjacent or columns[-1][1] - columns[0][0] != source.shape[1]:
+            return None
+        targets = out[:, columns[0][0] : columns[-1][1]]
+        refreshes, copies, calls = list(self._refreshes), list(self._copies), list(self._calls)
+
+        def single_state() -> npt.NDArray[np.float32]:
+            for refresh in refreshes:
+                refresh()
+            for dest, array in copies:
+                dest[...] = array
+            targets[...] = source
+            for views, call in calls:
+                for view, array in zip(views, call(), strict=True):
+                    view[...] = array
+            row: npt.NDArray[np.float32] = out.copy()  # a new array: the caller may keep it
+            return row
+
+        return single_state
+
     def _plan_columns(self, entries: list[Any]) -> None:
         """The float32 row :meth:`_single_state` fills and, per entry, the view of its
         columns (a list of views for an entry that gives several arrays): the same
@@ -276,12 +320,15 @@ class StateObservation:
         out = np.empty((1, sum(a.shape[1] for arrays in pieces for a in arrays)), dtype=np.float32)
         writes: list[tuple[Any, Any]] = []
         start = 0
+        self._attribute_columns = []
         for entry, arrays in zip(entries, pieces, strict=True):
             views = []
             for array in arrays:
                 views.append(out[:, start : start + array.shape[1]])
                 start += array.shape[1]
             writes.append((views if callable(entry) else views[0], entry))
+            if entry.__class__ is tuple:
+                self._attribute_columns.append((start - arrays[0].shape[1], start))
         self._out = out
         self._copies = [(dest, entry) for dest, entry in writes if entry.__class__ is np.ndarray]
         self._attributes = [(dest, entry[0], entry[1]) for dest, entry in writes if entry.__class__ is tuple]
@@ -296,8 +343,9 @@ class StateObservation:
         views of the simulation's arrays that stay valid across steps (joint state, a
         tool body's pose; an end-effector controller's targets, written in place), ``(controller, attribute)`` pairs for a joint-position or
         joint- or base-velocity controller's targets (a new array every step), and callables for what else
-        changes identity every step (other controllers' observations, touch, a site's or
-        offset frame's pose, the task's extras).
+        changes identity every step (other controllers' observations, touch, the task's
+        extras; :class:`Refreshed` ones for a site's or offset frame's pose, computed
+        into fixed rows).
         Rebuilt only when a robot's active controller changes."""
         plan = self._plan
         if plan is not None:
@@ -311,6 +359,7 @@ class StateObservation:
         entries: list[Any] = []
         self._out = None
         self._copies, self._attributes, self._calls, self._refreshes = [], [], [], []
+        self._attribute_columns = []
         if not isinstance(world, BatchedWorld):  # another backend: the generic reads
             entries.append(self.state_arrays)
             self._plan = (key, entries)

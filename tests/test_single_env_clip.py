@@ -6,18 +6,16 @@ controller's raw entries cannot be ``-0.0``: bit for bit the general path's two-
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 import pytest
 
 import robot_agents as ra
 from robot_agents.controllers.joint import PDJointPosController, _has_negative_zero
+from tests.special_values import edge_cases
 
 #: (robot, part): parts whose joint limits include a zero bound.
 ZERO_BOUND_PARTS = [("fetch", "body"), ("stretch", "arm"), ("spot", "arm")]
 MODES = ("pd_joint_pos", "pd_joint_delta_pos", "pd_joint_target_delta_pos")
-SPECIAL = (-0.0, 0.0, 0.05, -0.05, 5e-324, -5e-324, 0.5, -0.5, 1.0, -1.0, 3.0, -3.0)
 
 
 @pytest.mark.parametrize(("uid", "name"), ZERO_BOUND_PARTS)
@@ -35,20 +33,7 @@ def test_one_pass_clip_with_a_zero_bound_matches_the_general_path(uid: str, name
     assert plan is not None
     call = plan[list(combined.parts).index(name)]
     part_slice = combined.slices[name]
-    data = world.physics_sources()[0]
-    qpos_adr = np.asarray(part.binding.qpos_adr)
-    rng = np.random.default_rng(7)
-    dim = combined.action_dim
-    for k, (measured, entry, previous) in enumerate(itertools.product(SPECIAL, SPECIAL, (-0.0, 0.0, 0.05))):
-        # the part's joints at the special value (the others random), its action entries
-        # at the special value scaled back through the part's action scale
-        data.qpos[qpos_adr] = np.where(rng.random(len(qpos_adr)) < 0.7, measured, rng.uniform(-1, 1, len(qpos_adr)))
-        world.invalidate()
-        action = rng.uniform(-1.0, 1.0, (1, dim))
-        scale = combined._scale_row[0, part_slice]
-        action[0, part_slice] = np.where(rng.random(scale.shape) < 0.7, entry / scale, entry)
-        start_target = np.full(part.target_qpos.shape, previous)
-        part.target_qpos = start_target.copy()
+    for k, measured, entry, previous, action, start_target in edge_cases(world, combined, name):
         combined._to_raw_single(action)
         call()
         fast = part.target_qpos.copy()

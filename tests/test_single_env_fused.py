@@ -7,7 +7,6 @@ nothing changed."""
 
 from __future__ import annotations
 
-import itertools
 from typing import Any
 
 import numpy as np
@@ -16,6 +15,7 @@ import pytest
 import robot_agents as ra
 from robot_agents.controllers.combined import CombinedController, _part_targets
 from robot_agents.controllers.joint import PDJointPosController
+from tests.special_values import edge_cases
 
 JOINT_MODES = ("pd_joint_pos", "pd_joint_delta_pos", "pd_joint_target_delta_pos")
 FUSED_ROBOTS = (
@@ -27,7 +27,6 @@ FUSED_ROBOTS = (
     "ur_10e",
     "floating_robotiq_2f_85_gripper",
 )
-SPECIAL = (-0.0, 0.0, 0.05, -0.05, 5e-324, -5e-324, 0.5, -0.5, 1.0, -1.0, 3.0, -3.0)
 
 
 def make(uid: str, mode: str | None = None, **kwargs: Any) -> ra.RobotEnv:
@@ -279,17 +278,7 @@ def test_a_parts_fused_targets_match_its_planned_call(uid: str, name: str, mode:
     fused = _part_targets(part_slice, constants[part_slice], terms, part)
     assert fused is not None
     data = world.physics_sources()[0]
-    qpos_adr = np.asarray(part.binding.qpos_adr)
-    rng = np.random.default_rng(7)
-    dim = combined.action_dim
-    for k, (measured, entry, previous) in enumerate(itertools.product(SPECIAL, SPECIAL, (-0.0, 0.0, 0.05))):
-        data.qpos[qpos_adr] = np.where(rng.random(len(qpos_adr)) < 0.7, measured, rng.uniform(-1, 1, len(qpos_adr)))
-        world.invalidate()
-        action = rng.uniform(-1.0, 1.0, (1, dim))
-        scale = combined._scale_row[0, part_slice]
-        action[0, part_slice] = np.where(rng.random(scale.shape) < 0.7, entry / scale, entry)
-        start_target = np.full(part.target_qpos.shape, previous)
-        part.target_qpos = start_target.copy()
+    for k, measured, entry, previous, action, _ in edge_cases(world, combined, name):
         values = fused(action[0].tolist(), data.qpos.tolist())
         combined._to_raw_single(action)
         call()

@@ -3,6 +3,7 @@ gripper, base, ...), their drive overrides, and the drive stage they feed."""
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
@@ -382,47 +383,38 @@ def _part_targets(
     base = terms.base
     if multipliers is None and offsets is None and bounds is not None:  # a plain part clipped to its limits
         limited = [(*c, *b) for c, b in zip(constants, bounds, strict=True)]
-        if base == PDJointPosController._FROM_MEASURED and addresses != list(range(first, end)):
-
-            def gathered_clipped(values: list[float], qpos: list[float]) -> list[float]:  # (Fetch's body)
-                return [
-                    low
-                    if (t := qpos[a] + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
-                    else high
-                    if t > high
-                    else t
-                    for a, v, (lo, hi, s, o, low, high) in zip(addresses, values[start:stop], limited)  # noqa: B905
-                ]
-
-            return gathered_clipped
+        # what the change adds to, read per call: the measured positions (a slice where
+        # the part's joints are consecutive in qpos, else gathered: Fetch's body) or the
+        # part's current targets
+        starts: Callable[[list[float]], list[float]] | None = None
         if base == PDJointPosController._FROM_MEASURED:
+            if addresses == list(range(first, end)):
+                starts = operator.itemgetter(slice(first, end))
+            else:
 
-            def measured_clipped(values: list[float], qpos: list[float]) -> list[float]:
-                return [
-                    low
-                    if (t := q + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
-                    else high
-                    if t > high
-                    else t
-                    for q, v, (lo, hi, s, o, low, high) in zip(qpos[first:end], values[start:stop], limited)  # noqa: B905
-                ]
+                def starts(qpos: list[float]) -> list[float]:
+                    return [qpos[a] for a in addresses]
 
-            return measured_clipped
-        if base == PDJointPosController._FROM_TARGET:
+        elif base == PDJointPosController._FROM_TARGET:
 
-            def target_clipped(values: list[float], qpos: list[float]) -> list[float]:
+            def starts(qpos: list[float]) -> list[float]:
+                row: list[float] = part.target_qpos.tolist()[0]
+                return row
+
+        if starts is not None:
+            added = starts
+
+            def added_clipped(values: list[float], qpos: list[float]) -> list[float]:
                 return [
                     low
                     if (t := p + ((lo if v < lo else hi if v > hi else v) * s + o)) < low
                     else high
                     if t > high
                     else t
-                    for p, v, (lo, hi, s, o, low, high) in zip(  # noqa: B905
-                        part.target_qpos.tolist()[0], values[start:stop], limited
-                    )
+                    for p, v, (lo, hi, s, o, low, high) in zip(added(qpos), values[start:stop], limited)  # noqa: B905
                 ]
 
-            return target_clipped
+            return added_clipped
 
         def absolute_clipped(values: list[float], qpos: list[float]) -> list[float]:
             return [

@@ -266,16 +266,7 @@ def test_a_parts_fused_targets_match_its_planned_call(uid: str, name: str, mode:
     terms = part.single_terms(combined._never_negative_zero(name))
     assert terms is not None
     part_slice = combined.slices[name]
-    constants = list(
-        zip(
-            combined._clip_low.tolist(),
-            combined._clip_high.tolist(),
-            combined._scale.tolist(),
-            combined._offset.tolist(),
-            strict=True,
-        )
-    )
-    fused = _part_targets(part_slice, constants[part_slice], terms, part)
+    fused = _part_targets(part_slice, combined.entry_constants()[part_slice], terms, part)
     assert fused is not None
     data = world.physics_sources()[0]
     for k, measured, entry, previous, action, _ in edge_cases(world, combined, name):

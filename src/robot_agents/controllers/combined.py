@@ -193,6 +193,20 @@ class CombinedController:
         offsets = self._offset_row[0, self.slices[name]]
         return not np.any((offsets == 0.0) & np.signbit(offsets))
 
+    def entry_constants(self) -> list[EntryConstants]:
+        """Per action entry, ``(clip low, clip high, scale, offset)`` as Python floats: what
+        :meth:`_to_raw_single` applies to the entry (clipped, times the scale, plus the
+        offset), for the fused call's arithmetic on floats."""
+        return list(
+            zip(
+                self._clip_low.tolist(),
+                self._clip_high.tolist(),
+                self._scale.tolist(),
+                self._offset.tolist(),
+                strict=True,
+            )
+        )
+
     def _fuse_single(self, sim: ControlledSim, qpos: FloatArray) -> Callable[[list[float]], None] | None:
         """One env, every part a joint-position part with a one-env call that clips in
         one pass or not at all (:meth:`PDJointPosController.single_terms
@@ -218,15 +232,7 @@ class CombinedController:
         <robot_agents.controllers.joint.PDJointPosController.single_apply>`)."""
         if self._checked or not self._one_pass_clip:
             return None
-        constants: list[EntryConstants] = list(
-            zip(
-                self._clip_low.tolist(),
-                self._clip_high.tolist(),
-                self._scale.tolist(),
-                self._offset.tolist(),
-                strict=True,
-            )
-        )
+        constants = self.entry_constants()
         terms: list[tuple[slice, SingleTerms]] = []
         makers = []
         for name, controller in self.parts.items():

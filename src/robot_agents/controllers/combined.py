@@ -233,7 +233,7 @@ class CombinedController:
         if self._checked or not self._one_pass_clip:
             return None
         constants = self.entry_constants()
-        terms: list[tuple[slice, SingleTerms]] = []
+        terms: list[SingleTerms] = []
         makers = []
         for name, controller in self.parts.items():
             if type(controller) is not PDJointPosController:
@@ -241,24 +241,24 @@ class CombinedController:
             part_terms = controller.single_terms(self._never_negative_zero(name))
             if part_terms is None:
                 return None
-            terms.append((self.slices[name], part_terms))
+            terms.append(part_terms)
             entries = self.slices[name]
             make = _part_targets(entries, constants[entries], part_terms, controller)
             if make is None:
                 return None
             makers.append(make)
-        columns = [column for _, t in terms for column in t.columns]
+        columns = [column for t in terms for column in t.columns]
         if not columns or columns != list(range(columns[0], columns[0] + len(columns))):
             return None
         position = self.drives.targets.position  # never replaced
         row = position[0, columns[0] : columns[0] + len(columns)]  # (1-d: a list is written faster)
         views, start = [], columns[0]
-        for _, t in terms:
+        for t in terms:
             views.append(position[:, start : start + len(t.columns)])
             start += len(t.columns)
-        pairs = list(zip([c for c in self.parts.values()], views, strict=True))
+        pairs = list(zip(self.parts.values(), views, strict=True))
         measured_row = qpos[0]  # a read-only view that follows the simulation
-        reads_measured = any(t.base == PDJointPosController._FROM_MEASURED for _, t in terms)
+        reads_measured = any(t.base == PDJointPosController._FROM_MEASURED for t in terms)
         write = self.drives.write
 
         def single_values(values: list[float]) -> None:

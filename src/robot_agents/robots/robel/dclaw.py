@@ -28,10 +28,12 @@ Sources of the numbers:
 - Servos: ROBEL's scene names the D'Claw's servos DYNAMIXEL X-series 430s (its class
   ``dclaw3xh``, meshes ``xh_*``); the model variant was not readable in the sources we
   could reach, so the drives take the project's cited XM430-W350-T
-  (:data:`~robot_agents.robots.servo_arms.servos.XM430_W350`, the 28.5 x 46.5 x 34 mm
-  case and the 353.5 : 1 gearing of the XH430-W350 too): its stall torque (4.1 N*m) is
-  the effort limit, its no-load speed (4.82 rad/s) the velocity limit, its estimated
-  reflected rotor inertia (0.0171 kg*m^2) the joints' armature.
+  (:data:`~robot_agents.robots.servo_arms.servos.XM430_W350`; the XH430-W350 has its
+  28.5 x 46.5 x 34 mm case and 353.5 : 1 gearing, and 3.4 N*m stall torque and 30
+  rev/min at 12 V, ROBOTIS e-manual ``emanual.robotis.com/docs/en/dxl/x/xh430-w350``):
+  its stall torque (4.1 N*m) is the effort limit, its no-load speed (4.82 rad/s) the
+  velocity limit, its estimated reflected rotor inertia (0.0171 kg*m^2) the joints'
+  armature.
 - Drives: ManiSkill's gains, kp 100 N*m/rad and kv 10 N*m*s/rad on every joint. Its
   force limit, 20 N*m, is five times what the servo can give; we take the stall torque.
   ROBEL's scene's position servos (kp 2 N*m/rad, joint damping 0.1 N*m*s/rad,
@@ -117,8 +119,8 @@ OPEN = (0.0,) * 9
 CLOSED = (*(0.0 for _ in FINGER_IDS), *(CURL_IN[f] * PINCH for f in FINGER_IDS), *(0.0 for _ in FINGER_IDS))
 
 #: The pinched cube: 4 cm, its centre on the claw's axis 0.205 m below ``base_link``
-#: (along its x), level with the pinching fingertips' rods (0.185..0.213 m) and below
-#: their flanges (0.176 m).
+#: (along its x), level with the pinching fingertips' rods (their axes 0.185..0.213 m)
+#: and below their flanges (at most 0.181 m down).
 GRASP_CUBE_EDGE = 0.04
 GRASP_DEPTH = 0.205
 POWER_GRASP = PowerGrasp(

@@ -83,6 +83,7 @@ SHARED = {
     "google_robot": "googlerobot",
     "unitree_h1": "unitree_h1",
     "allegro_hand_right": "allegro_hand_right",
+    "dclaw": "dclaw",
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
 }

@@ -168,7 +168,7 @@ class TriFingerPro(Agent):
 
     uid = "trifingerpro"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 trifingerpro``,
-    #: 2026-11-29 19:10 UTC, 20 Hz control): every claim holds from 6.25 ms (160 Hz) down
+    #: 2026-11-29 18:21 UTC, 20 Hz control): every claim holds from 6.25 ms (160 Hz) down
     #: to 1 ms (random-action overshoot 0.008-0.025 rad, bound 0.25; settle 0.049 rad/s
     #: at 160 Hz, 0.02 at 200 Hz, bound 0.05; the pinch's slip 0.37-1.0 mm, bound 2;
     #: deepest contact 0.12 mm); at 100 Hz and coarser settle fails (1.4-5.7 rad/s) and

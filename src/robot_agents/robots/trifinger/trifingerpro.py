@@ -17,7 +17,8 @@ Sources of the numbers:
   0.0092 kg, which URDF parsers that read one ignore; we take the first): 1.876 kg of
   moving links in all. Hub and links carry no other mass (the URDF's are 0).
 - Collision shapes: boxes sized from the extents of the URDF's meshes (``pro/prox-sim``:
-  x -0.022..0.022, y 0.0235..0.2404, z +-0.0255 m; ``int_sim``: a joint housing
+  y 0.0235..0.2404, z +-0.021 m over most of its length, x -0.0085..0.0165 there (it
+  widens to +-0.022 at its outer end, the motor's mount); ``int_sim``: a joint housing
   x 0..0.045, z -0.03..0.02 and a leg x 0.026..0.05, y +-0.021, down to z -0.184;
   ``tip_link_sim``: a housing x 0..0.026 and a shaft x 0.0105..0.0275, y +-0.012, down
   to z -0.1385; ``center_axis_sim``: 58 x 50 x 36 mm); fingertips: capsules of the tip
@@ -41,8 +42,10 @@ Sources of the numbers:
   objects only (the fingers' other geoms take a higher contact priority).
 - Gravity: compensated on every body (the library's default for a fixed root): the
   keyframe is held exactly and the 0.396 N*m is left to motion and contact (the real
-  robot's position controller has no gravity term; the upper joint carries up to
-  0.37 N*m of its finger's weight).
+  robot's position controller has no gravity term). Over the joint ranges a finger's
+  weight loads its upper joint with up to 0.37 N*m and its middle joint with up to
+  0.44 N*m, more than its motor's 0.396 (0.24 N*m each at ``rest``; MuJoCo's bias
+  forces at 20000 random poses, 2026-11-29).
 - Mount: ``base_link`` on the arena floor (the makers' simulation loads the robot at the
   origin over its table's top at z = 0); the floor, the arena's boundary and the cube
   are a task's, not the robot's. ManiSkill's RotateCube task raises the robot 0.0545 m.
@@ -58,8 +61,9 @@ Sources of the numbers:
   time-step sweep's grasp claim): a cube of the makers' cube's weight (80 g: 65 mm at
   291.3 kg/m^3, ``cube_multicolor_rrc.urdf``) at the library's cube density, 43 mm.
   ManiSkill's RotateCube cube (65 mm at water's density, 275 g, with as much again
-  pulling) slid 11-12 mm out of the pinch at 500 Hz: the drives' 0.396 N*m squeeze
-  it with about 1.2 N per tip. In tests/test_trifinger.py the cube is also lifted off
+  pulling), pinched the same way at 200 Hz, left the pinch (57 mm in the claim's 2 s;
+  ``test_maniskills_cube_slides_out_of_the_pinch``, 2026-11-29 18:24 UTC): the drives'
+  0.396 N*m cannot hold it. In tests/test_trifinger.py the cube is also lifted off
   the arena floor, the tips' contact forces summing to its weight.
 """
 

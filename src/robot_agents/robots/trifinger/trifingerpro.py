@@ -29,8 +29,9 @@ Sources of the numbers:
   kp (15, 15, 9) N*m/rad and kd (0.5, 1.0, 0.5) N*m*s/rad (upper, middle, lower), its
   ``max_motor_torque`` 0.396 N*m; ``trifingerpro_limits.py`` (commit f9d7170): torque
   0.396 N*m ("the actual max. torque is 0.396"), velocity 10 rad/s. The real robot's
-  driver (``open-dynamic-robot-initiative/robot_fingers``, ``TriFingerDriver``): torque
-  constant 0.02 N*m/A, gear ratio 9 (0.396 N*m = 0.02 * 9 * 2.2 A). ManiSkill's gains
+  driver (``open-dynamic-robot-initiative/robot_fingers``,
+  ``include/robot_fingers/trifinger_driver.hpp``, ``TriFingerDriver``; commit e2cb3ec):
+  motor torque constant 0.02 N*m/A, gear ratio 9. ManiSkill's gains
   (kp 100, kv 10 N*m*s/rad, force limit 20 N*m, 50 times the motors' torque) are not
   the robot's and are not used.
 - Armature: 8e-4 kg*m^2 per joint, an order-of-magnitude estimate of the rotor's
@@ -46,10 +47,14 @@ Sources of the numbers:
   objects only (the fingers' other geoms take a higher contact priority).
 - Gravity: compensated on every body (the library's default for a fixed root): the
   keyframe is held exactly and the 0.396 N*m is left to motion and contact (the real
-  robot's position controller has no gravity term). Over the joint ranges a finger's
-  weight loads its upper joint with up to 0.37 N*m and its middle joint with up to
-  0.44 N*m, more than its motor's 0.396 (0.24 N*m each at ``rest``; MuJoCo's bias
-  forces at 20000 random poses, 2026-11-29).
+  robot's position controller has no gravity term). A finger's weight loads its upper
+  and middle joints with 0.24 N*m each at ``rest``, and its middle joint with more than
+  its motor's 0.396 N*m with the middle link level
+  (``test_the_fingers_weight_exceeds_a_motor_without_gravity_compensation``).
+- The frame: the URDF's hub (``center_axis_sim``) is all of it the public model has;
+  the structure the three finger modules are bolted to (with the upper joints' motors)
+  is static, not in the URDF, and not modelled. The upper and middle links carry the
+  URDF's motor visuals (``motor_sim``: 44 mm across, 16 mm deep).
 - Mount: ``base_link`` on the arena floor (the makers' simulation loads the robot at the
   origin over its table's top at z = 0); the floor, the arena's boundary and the cube
   are a task's, not the robot's. ManiSkill's RotateCube task raises the robot 0.0545 m.

@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -89,6 +90,22 @@ def test_the_chain_check_can_fail() -> None:
 MASSES = {"finger_upper_link": 0.26689, "finger_middle_link": 0.27163, "finger_lower_link": 0.05569}
 MASSES |= {"finger_tip_link": 0.031}
 RANGES = [(-0.33, 1.0), (0.0, 1.57), (-2.7, 0.0)]
+#: The URDF's centres of mass (m) and inertia tensors (ixx, iyy, izz, ixy, ixz, iyz).
+INERTIALS = {
+    "finger_upper_link": (
+        (0.006, 0.122, 0.0),
+        (0.00102362, 0.0000645, 0.00102225, 0.00000889, -0.00000019, 0.00000106),
+    ),
+    "finger_middle_link": (
+        (0.03935008, -0.00012438, -0.08666705),
+        (0.0009406, 0.00094824, 0.00007573, -0.00000046, -0.00003479, 0.00000164),
+    ),
+    "finger_lower_link": (
+        (0.016327, -0.00001095, -0.04284052),
+        (0.00013626, 0.00013372, 0.00000667, 0.0, -0.00000662, 0.00000004),
+    ),
+    "finger_tip_link": ((0.0, 0.0, 0.0), (5.16667e-07, 5.16667e-07, 5.16667e-07, 0.0, 0.0, 0.0)),
+}
 
 
 def test_masses_ranges_and_drives_match_the_sources() -> None:
@@ -101,11 +118,18 @@ def test_masses_ranges_and_drives_match_the_sources() -> None:
             assert body.mass[0] == pytest.approx(mass, abs=1e-9)
             total += float(body.mass[0])
     assert total == pytest.approx(1.87563)
-    # the upper link's inertia about its own centre of mass: the URDF's tensor's eigenvalues
-    urdf = np.array([[0.00102362, 0.00000889, -0.00000019], [0.00000889, 0.0000645, 0.00000106]])
-    urdf = np.vstack([urdf, [-0.00000019, 0.00000106, 0.00102225]])
-    upper = model.body(f"{agent.prefix}finger_upper_link_120")
-    np.testing.assert_allclose(np.sort(upper.inertia), np.sort(np.linalg.eigvalsh(urdf)), rtol=1e-6)
+    # each link's centre of mass and full inertia tensor (kg*m^2, about the centre of
+    # mass, in the link's frame) as the URDF's
+    for finger in (0, 120, 240):
+        for link, (com, tensor) in INERTIALS.items():
+            body = model.body(f"{agent.prefix}{link}_{finger}")
+            np.testing.assert_allclose(body.ipos, com, atol=1e-12)
+            rotation = np.empty(9)
+            mujoco.mju_quat2Mat(rotation, body.iquat)
+            rotation = rotation.reshape(3, 3)
+            ixx, iyy, izz, ixy, ixz, iyz = tensor
+            urdf = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+            np.testing.assert_allclose(rotation @ np.diag(body.inertia) @ rotation.T, urdf, atol=1e-10)
     assert list(agent.joint_names) == list(JOINTS)
     ranges = np.array([model.joint(f"{agent.prefix}{name}").range for name in agent.joint_names])
     np.testing.assert_allclose(ranges, RANGES * 3, atol=1e-12)
@@ -255,8 +279,6 @@ def test_the_fingers_weight_exceeds_a_motor_without_gravity_compensation() -> No
     """The weight a finger puts on its joints (MuJoCo's bias forces, N*m): 0.24 on the
     upper and middle joints at rest; the middle link held out level (1.57 rad, the lower
     straight on) loads the middle joint with more than the motor's 0.396."""
-    import mujoco
-
     model = mujoco.MjModel.from_xml_path(str(TriFingerPro.mjcf_path))
     data = mujoco.MjData(model)
     data.qpos[:] = REST

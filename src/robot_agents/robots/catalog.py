@@ -32,6 +32,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "dclaw": "robot_agents.robots.robel.dclaw:DClaw",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
+    "trifingerpro": "robot_agents.robots.trifinger.trifingerpro:TriFingerPro",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
 }
 

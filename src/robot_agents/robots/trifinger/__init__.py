@@ -1,0 +1,1 @@
+"""The TriFinger Pro (:mod:`robot_agents.robots.trifinger.trifingerpro`)."""

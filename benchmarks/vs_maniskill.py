@@ -83,6 +83,8 @@ SHARED = {
     "google_robot": "googlerobot",
     "unitree_h1": "unitree_h1",
     "allegro_hand_right": "allegro_hand_right",
+    "allegro_hand_left": "allegro_hand_left",
+    "allegro_hand_right_touch": "allegro_hand_right_touch",
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
 }

@@ -16,8 +16,10 @@ import pytest
 import robot_agents as ra
 from robot_agents.errors import ModelError
 from robot_agents.model.mirror import mirror_spec
+from robot_agents.robots.wonik.allegro import AllegroHandRight
 from robot_agents.robots.wonik.allegro_left import SPREAD_JOINTS, AllegroHandLeft
 from tests.chain_check import axis_rotation, transform
+from tests.random_actions import after_random_actions
 from tests.test_allegro import FINGER_RANGES, MASSES, THUMB_RANGES, rpy_matrix
 from tests.test_allegro import tip_in_base as right_tip_in_base
 
@@ -173,6 +175,43 @@ def test_keyframes_and_modes_are_maniskill_s() -> None:
     modes = set(cls.modes())
     assert {"pd_joint_delta_pos", "pd_joint_pos", "pd_joint_target_delta_pos"} <= modes
     assert cls.default_control_mode == "pd_joint_delta_pos"
+
+
+class _PureMirror(AllegroHandRight):
+    """The right hand's file mirrored with nothing kept: the spread axes turned too."""
+
+    @classmethod
+    def edit_model(cls, spec: mujoco.MjSpec, where: str) -> None:
+        mirror_spec(spec, where)
+
+
+def test_a_mirrored_hand_moves_as_the_right_one_and_wonik_s_spread_axes_make_the_difference() -> None:
+    """The right hand's file mirrored whole moves, under the same random actions (the
+    sweep's 10 s of ``pd_joint_pos_vel``, seed 1, 160 Hz), through the same joint angles as the
+    right hand (to 1e-9 rad: the mirror image, contacts and all); the left hand, whose
+    spread axes Wonik keeps, does not once fingers touch (its spread joints turn the
+    fingers the other way: without contacts the joint motion is the same)."""
+    finals = {}
+    for cls in (AllegroHandRight, _PureMirror, AllegroHandLeft):
+        scene = after_random_actions(cls, "pd_joint_pos_vel", 160, seed=1)
+        finals[cls] = scene.agents[0].qpos[0].copy()
+        scene.close()
+    np.testing.assert_allclose(finals[_PureMirror], finals[AllegroHandRight], atol=1e-9)
+    assert np.max(np.abs(finals[AllegroHandLeft] - finals[AllegroHandRight])) > 0.01
+
+
+def test_a_mounted_left_hand_is_mirrored_as_a_piece_too() -> None:
+    """``edit_model`` applies where the class is mounted on another robot: the left hand
+    on an xArm6's flange has its thumb at -y of its palm."""
+    from robot_agents.robots.ufactory.xarm6 import XArm6NoGripper
+
+    class ArmWithLeftHand(XArm6NoGripper):
+        uid = "arm_with_left_allegro_test"
+        attachments = (ra.Attachment(AllegroHandLeft, at="link_eef", prefix="hand/", pos=(0.0, 0.0, 0.1)),)
+
+    model = ArmWithLeftHand.build_spec().compile()
+    np.testing.assert_allclose(model.body("hand/link_12.0").pos, WONIK_LEFT["thumb"][0], atol=1e-12)
+    np.testing.assert_allclose(model.joint("hand/joint_13.0").axis, MINUS_Z, atol=1e-12)
 
 
 # ---------------------------------------------------------------- mirror_spec on its own

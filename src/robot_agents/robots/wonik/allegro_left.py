@@ -68,9 +68,11 @@ class AllegroHandLeft(AllegroHandRight):
     #: 1 ms (random-action overshoot 0.102 rad at 200 Hz, 0.051 at 320 Hz, bound 0.25;
     #: settle at most 1.5e-4 rad/s, bound 0.05; the power grasp's slip 0.06-0.08 mm;
     #: deepest contact 4.2 mm, bound 5); at 160 Hz the random actions press a joint
-    #: 0.257 rad past its limit (the right hand 0.15: the same actions move the mirrored
-    #: hand differently, its spread joints turning the fingers the other way relative to
-    #: the thumb). Default one tried step finer: 320 Hz (3.125 ms).
+    #: 0.257 rad past its limit (``joint_3.0``, bound 0.25). The right hand there: 0.150,
+    #: and so is its file mirrored with the spread axes turned too (0.150, equal to
+    #: 4e-15; tests/test_allegro_left.py checks the two move alike): the difference is
+    #: Wonik's spread axes, which the same random actions turn the other way. Default
+    #: one tried step finer: 320 Hz (3.125 ms).
     sim_freq: ClassVar[int | None] = 320
 
     @classmethod

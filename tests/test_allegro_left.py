@@ -214,6 +214,26 @@ def test_a_mounted_left_hand_is_mirrored_as_a_piece_too() -> None:
     np.testing.assert_allclose(model.joint("hand/joint_13.0").axis, MINUS_Z, atol=1e-12)
 
 
+def test_one_file_read_once_serves_both_hands() -> None:
+    """Within one read scope the right hand's file is parsed once and handed out as
+    copies: the left hand's mirror edits its copy only (the right hand built after it in
+    the same scope, and a right hand mounted beside a left one, keep the thumb at +y)."""
+    from robot_agents.model.load_scope import one_read_per_file
+
+    class BothHands(AllegroHandRight):
+        uid = "both_allegro_hands_test"
+        attachments = (ra.Attachment(AllegroHandLeft, at="base_link", prefix="left/", pos=(0.0, 0.5, 0.0)),)
+
+    with one_read_per_file():
+        left = AllegroHandLeft.build_spec().compile()
+        right = AllegroHandRight.build_spec().compile()
+        both = BothHands.build_spec().compile()
+    assert left.body("link_12.0").pos[1] == pytest.approx(-0.019333)
+    assert right.body("link_12.0").pos[1] == pytest.approx(0.019333)
+    assert both.body("link_12.0").pos[1] == pytest.approx(0.019333)
+    assert both.body("left/link_12.0").pos[1] == pytest.approx(-0.019333)
+
+
 # ---------------------------------------------------------------- mirror_spec on its own
 MIRROR_MJCF = """
 <mujoco>

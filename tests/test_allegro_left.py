@@ -242,9 +242,11 @@ MIRROR_MJCF = """
       <joint name="hinge" type="hinge" axis="0.2 0.5 0.8" pos="0 0.01 0"/>
       <geom name="box" type="box" size="0.01 0.02 0.03" pos="0.01 0.02 0.03" quat="0.8 0.2 0.1 0.4"/>
       <site name="s" pos="0.02 0.03 0.04"/>
+      <camera name="c" pos="0.01 0.02 0.03" quat="0.9 0.1 0.2 0.3"/>
       <body name="b" pos="0.05 -0.04 0.02" quat="0.7 -0.2 0.5 0.1">
         <joint name="slide" type="slide" axis="0.3 0.4 0.5"/>
         <geom name="stick" type="capsule" fromto="0 0 0 0.03 0.05 0.02" size="0.005"/>
+        <light name="l" pos="0.1 0.2 0.3" dir="0.3 0.4 -0.8"/>
       </body>
     </body>
   </worldbody>
@@ -253,12 +255,16 @@ MIRROR_MJCF = """
 
 
 def world_frames(spec: mujoco.MjSpec, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Site and geom world positions (m) and geom rotation matrices at ``qpos``."""
+    """Site, geom, camera and light world positions (m) and the light's direction; geom
+    and camera rotation matrices at ``qpos``."""
     model = spec.compile()
     data = mujoco.MjData(model)
     data.qpos[:] = qpos
     mujoco.mj_kinematics(model, data)
-    return np.concatenate([data.site_xpos, data.geom_xpos]), data.geom_xmat.reshape(-1, 3, 3).copy()
+    mujoco.mj_camlight(model, data)
+    points = np.concatenate([data.site_xpos, data.geom_xpos, data.cam_xpos, data.light_xpos, data.light_xdir])
+    frames = np.concatenate([data.geom_xmat, data.cam_xmat]).reshape(-1, 3, 3).copy()
+    return points, frames
 
 
 def test_mirror_spec_reflects_every_frame_at_every_configuration() -> None:
@@ -282,6 +288,17 @@ def test_mirror_spec_refuses_what_it_cannot_mirror(tmp_path: Path) -> None:
     with pytest.raises(ModelError, match="where: joint 'hinge' is a ball joint"):
         mirror_spec(spec, "where")
     assert spec.to_xml() == before  # nothing changed
+    mesh = MIRROR_MJCF.replace(
+        "<worldbody>", '<asset><mesh name="tetra" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset><worldbody>'
+    )
+    mesh = mesh.replace(
+        '<geom name="box" type="box" size="0.01 0.02 0.03"', '<geom name="box" type="mesh" mesh="tetra"'
+    )
+    spec = mujoco.MjSpec.from_string(mesh)
+    before = spec.to_xml()
+    with pytest.raises(ModelError, match="geom 'box' is a mjGEOM_MESH"):
+        mirror_spec(spec, "where")
+    assert spec.to_xml() == before
     euler = MIRROR_MJCF.replace('<site name="s" pos="0.02 0.03 0.04"/>', '<site name="s" euler="0.1 0.2 0.3"/>')
     spec = mujoco.MjSpec.from_string(euler)
     before = spec.to_xml()

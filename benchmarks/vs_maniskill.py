@@ -84,6 +84,8 @@ SHARED = {
     "unitree_h1": "unitree_h1",
     "allegro_hand_right": "allegro_hand_right",
     "dclaw": "dclaw",
+    "allegro_hand_left": "allegro_hand_left",
+    "allegro_hand_right_touch": "allegro_hand_right_touch",
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
     "trifingerpro": "trifingerpro",

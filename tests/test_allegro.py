@@ -1,7 +1,9 @@
 """The Allegro Hand (right) checked against numbers: fingertip forward kinematics against
 the URDF's joint origins chained here, Wonik's link masses and the joint ranges, both
 keyframes held, random actions in every mode, and a power grasp of a cube lying in the
-upturned palm that holds against a pull away from the palm."""
+upturned palm that holds against a pull away from the palm. The physics claims run on
+the left hand (its right hand mirrored) and the touch variant too
+(tests/test_allegro_left.py and tests/test_allegro_touch.py check their own numbers)."""
 
 from __future__ import annotations
 
@@ -24,12 +26,18 @@ from robot_agents.robots.wonik.allegro import (
     TIP_LINKS,
     AllegroHandRight,
 )
+from robot_agents.robots.wonik.allegro_left import AllegroHandLeft
+from robot_agents.robots.wonik.allegro_touch import AllegroHandRightTouch
 from robot_agents.tuning.claims import Penetration
 from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import axis_rotation, transform
 from tests.random_actions import after_random_actions
 
 UID = "allegro_hand_right"
+#: The hands whose physics claims are checked here: the right hand, the left (the right
+#: mirrored) and the right with touch sensors.
+HANDS: tuple[type[ra.Agent], ...] = (AllegroHandRight, AllegroHandLeft, AllegroHandRightTouch)
+HAND_UIDS = [hand.uid for hand in HANDS]
 
 # ---------------------------------------------------------------- independent kinematics
 # The Allegro Hand URDF (Wonik's allegro_hand_description_right; ManiSkill's and
@@ -129,11 +137,12 @@ def test_masses_and_ranges_match_the_sources() -> None:
     scene.close()
 
 
-def test_keyframes_hold_and_random_actions_stay_stable() -> None:
-    held = check_holds(ra.get_agent(UID), seconds=2.0)  # on the palm_side mount
+@pytest.mark.parametrize("uid", HAND_UIDS)
+def test_keyframes_hold_and_random_actions_stay_stable(uid: str) -> None:
+    held = check_holds(ra.get_agent(uid), seconds=2.0)  # on the palm_side mount
     assert held.passed, held.detail
     # palm_up on its own mount: 2 s of its hold action, every joint within 0.01 rad
-    scene = ra.Scene(UID, robot_poses=[PALM_UP_MOUNT])
+    scene = ra.Scene(uid, robot_poses=[PALM_UP_MOUNT])
     scene.reset(keyframes="palm_up")
     agent = scene.agents[0]
     action = hold_action(agent)
@@ -144,7 +153,7 @@ def test_keyframes_hold_and_random_actions_stay_stable() -> None:
         drift = max(drift, float(np.max(np.abs(agent.qpos[0] - agent.keyframe_qpos("palm_up")))))
     assert drift < 0.01
     scene.close()
-    random = check_random_actions(ra.get_agent(UID), seconds=10.0)
+    random = check_random_actions(ra.get_agent(uid), seconds=10.0)
     assert random.passed, random.detail
 
 
@@ -162,9 +171,10 @@ def in_world(point: tuple[float, float, float]) -> tuple[float, float, float]:
     return (PALM_UP_MOUNT[0] - point[2], PALM_UP_MOUNT[1] + point[1], PALM_UP_MOUNT[2] + point[0])
 
 
-def test_power_grasp_holds_a_cube_against_a_pull_away_from_the_palm() -> None:
+@pytest.mark.parametrize("uid", HAND_UIDS)
+def test_power_grasp_holds_a_cube_against_a_pull_away_from_the_palm(uid: str) -> None:
     cube = ra.Prop("cube", "box", (CUBE_HALF,) * 3, pos=(0.3, 0.0, CUBE_HALF), mass=CUBE_MASS)
-    scene = ra.Scene(UID, props=[cube], robot_poses=[PALM_UP_MOUNT], control_modes="pd_joint_pos")
+    scene = ra.Scene(uid, props=[cube], robot_poses=[PALM_UP_MOUNT], control_modes="pd_joint_pos")
     scene.reset(keyframes="palm_up")
     agent = scene.agents[0]
     hand = agent.gripper()
@@ -255,10 +265,11 @@ def test_tip_links_are_maniskills() -> None:
 
 
 # ---------------------------------------------------------------- the sweep's grasp claim
-def test_the_sweeps_grasp_claim_holds_the_declared_power_grasp() -> None:
+@pytest.mark.parametrize("hand", HANDS, ids=HAND_UIDS)
+def test_the_sweeps_grasp_claim_holds_the_declared_power_grasp(hand: type[ra.Agent]) -> None:
     """The time-step sweep's grasp claim for a hand: the declared 5.5 cm cube (water's
     density, 166 g) held against a 1 g pull away from the palm, at the default step."""
-    claim = grasp_claim(AllegroHandRight, AllegroHandRight.sim_freq, 20, Penetration())
+    claim = grasp_claim(hand, hand.sim_freq, 20, Penetration())
     assert claim is not None and claim.passed, claim
     assert claim.value < 0.001 and "not opposed" not in claim.detail
 

@@ -38,6 +38,8 @@ def test_list_shows_every_robot_with_dof_and_modes() -> None:
         rows.items()
         >= {
             "allegro_hand_right": "16",
+            "allegro_hand_left": "16",
+            "allegro_hand_right_touch": "16",
             "anymal_c": "12",
             "floating_panda_gripper": "8",
             "panda": "9",
@@ -59,6 +61,13 @@ def test_info_shows_joints_keyframes_modes() -> None:
     assert "pd_joint_delta_pos (default)  8" in text
     assert "pd_joint_pos_vel              15" in text
     assert "sensors: none" in text
+    assert "changed as read" not in text
+
+
+def test_info_says_when_a_model_file_is_changed_as_read() -> None:
+    code, text = run("info", "allegro_hand_left")
+    assert code == 0
+    assert "allegro_hand_right.xml (changed as read by AllegroHandLeft.edit_model)" in text
 
 
 def test_a_directory_named_like_a_uid_does_not_hide_the_robot(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -143,7 +143,13 @@ def cmd_info(uid: str, out: TextIO, floating: bool = False, cls: type[Agent] | N
     agent = scene.agents[0]
     summary = (cls.__doc__ or "").strip().splitlines()
     out.write(f"{uid}: {summary[0] if summary else cls.__name__}\n")
-    out.write(f"model: {cls.model_path()}\n")
+    editor = next((k for k in cls.__mro__ if "edit_model" in vars(k)), None)
+    edited = (
+        f" (changed as read by {editor.__name__}.edit_model)"
+        if editor is not None and editor.__name__ != "AgentDefinition"
+        else ""
+    )
+    out.write(f"model: {cls.model_path()}{edited}\n")
     for prefix, piece in composition(cls).pieces:
         out.write(f"  + {piece.__name__} ({piece.model_path().name}){f' as {prefix!r}' if prefix else ''}\n")
     links = {ee.name: ee.link for part in cls.check().parts for ee in getattr(part, "end_effectors", ())}

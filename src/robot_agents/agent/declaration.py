@@ -288,10 +288,12 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
 def _raw_spec(
     cls: type[AgentDefinition], where: str, compiler: CompilerSettings | None = None, attached: bool = True
 ) -> tuple[mujoco.MjSpec, frozenset[str]]:
-    """The model file with every mounted piece attached (no options applied yet; the
-    file alone with ``attached=False``), and the names of the joints of the robot's own
+    """The model file, as the class's :meth:`~AgentDefinition.edit_model` leaves it, with
+    every mounted piece attached (no options applied yet; the file alone with
+    ``attached=False``), and the names of the joints of the robot's own
     file (not of its pieces)."""
     spec = load_spec(model_path(cls), compiler if compiler is not None else cls.compiler)
+    cls.edit_model(spec, where)
     own = frozenset(j.name for j in spec.joints)
     for attachment in cls.attachments if attached else ():
         attach(spec, _raw_spec(attachment.piece, where)[0], attachment, where)

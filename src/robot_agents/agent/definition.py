@@ -28,7 +28,8 @@ class AgentDefinition:
 
     Declaration (class attributes):
         uid: registry id, e.g. ``"panda"``.
-        mjcf_path / urdf_path: the model file (exactly one).
+        mjcf_path / urdf_path: the model file (exactly one); a variant may change it as
+            read in :meth:`edit_model`.
         fix_root_link: weld the root to the world (arms) or give it a free joint.
         root_body: which top-level body of the file is the robot, when it has several
             (a target marker beside it); ``None``: the one holding the actuated joints.
@@ -113,6 +114,13 @@ class AgentDefinition:
     impratio: ClassVar[float | None] = None
 
     # ------------------------------------------------------------------ declaration
+    @classmethod
+    def edit_model(cls, spec: mujoco.MjSpec, where: str) -> None:
+        """Change the model file's spec as read, before any declared option is applied
+        to it: a variant built from another robot's file (the left Allegro Hand, the
+        right one's file mirrored). ``where`` names the robot for error messages. The
+        default changes nothing."""
+
     @classmethod
     def model_path(cls) -> Path:
         """The declared model file (not checked for existence)."""

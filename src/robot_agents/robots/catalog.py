@@ -31,6 +31,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "unitree_h1": "robot_agents.robots.unitree.h1:UnitreeH1",
     "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "dclaw": "robot_agents.robots.robel.dclaw:DClaw",
+    "allegro_hand_left": "robot_agents.robots.wonik.allegro_left:AllegroHandLeft",
+    "allegro_hand_right_touch": "robot_agents.robots.wonik.allegro_touch:AllegroHandRightTouch",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "trifingerpro": "robot_agents.robots.trifinger.trifingerpro:TriFingerPro",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",

@@ -1,7 +1,93 @@
 """PSYONIC Ability Hand, right hand: a piece to mount on arms (:class:`AbilityHandRight`),
 and the hand alone on a floating mount (``floating_ability_hand_right``, as ManiSkill's).
 
-DOCSTRING-TODO
+Sources of the numbers (all read as data; no model text or mesh is copied):
+- ManiSkill 3.0.1's agent (``mani_skill/agents/robots/floating_ability_hand/
+  floating_ability_hand.py``): uid, the mount's joint names and drives (kp 1000, kv 100,
+  100 N), the ``rest`` keyframe (every joint 0), the distal joints' mimic
+  ``q2 = 0.72349796 + 1.05851325 q1``, the pads' material on the ``*_L2`` links (static
+  friction 2.0, dynamic 1.5), the end-effector link ``base`` (the wrist), the tip links.
+- Kinematics, joint ranges, effort and velocity limits, link masses: its
+  ``assets/robots/ability_hand/ability_hand_right_floating.urdf`` (PSYONIC's
+  description). The wrist ``base`` is turned -pi/2 about z on the mount (``base_joint``);
+  the palm ``thumb_base`` sits at (-24.048, 3.781, 32.330) mm on the wrist, rpy
+  (3.14148, -0.08849, -3.14037); knuckles ``<f>_q1`` at (9.49, -13.04, -62.95) (index),
+  (-9.653, -15.310, -67.854) (middle), (-29.954, -14.212, -67.286) (ring) and
+  (-49.521, -11.005, -63.029) mm (pinky) in the palm; each distal joint 38.473 mm along
+  its knuckle link (3.258 mm off, turned 0.0845 rad), its tip 35 mm on and 18 mm back;
+  the thumb's rotator at the palm's origin, its flexor (27.828, 0, 14.751) mm along the
+  rotator's link, its tip (65, 16, 0) mm on. Every joint turns about its z. Ranges (rad):
+  knuckles 0..2.0944, distal 0..2.6586, thumb rotator -2.0944..0, flexor 0..2.0944.
+  Limits: 6 N*m and 8.068 rad/s on the fingers and the flexor, 1.2 N*m and 40.34 rad/s on
+  the rotator. Masses: knuckle links 6.359 g, distal 6.45 g, thumb 2.683 g and 5.5 g.
+  Joint damping and friction 0.001 (the URDF: "not from quantitative measurement").
+- PSYONIC's own MuJoCo models (``psyonicinc/ability-hand-api``): ``URDF/mujoco/
+  abh_right.xml`` (commit 5da4563e) gives the same joint frames and link masses and a
+  0.4 kg palm (the URDF's 0.2 kg is marked "NOT correct"); ``URDF/mujoco/hands/
+  abh_right_large.xml`` (commit 47a5e134) the wrist flange (a 0.01591 kg cylinder),
+  position servos with kp 1 N*m/rad, and the contact parameters taken here (links
+  solref 0.01 0.99, solimp 0.95 0.99 0.002; palm solref 0.01 1, solimp 0.98 0.995
+  0.0005). Its distal range, 0.766..2.61 rad, starts where the coupling puts a stretched
+  finger (0.7235). The whole hand: 0.4753 kg.
+- Speed: the hand "closes in about 200 milliseconds" (PSYONIC's CEO, WMAR2 News,
+  2021-07-14).
+
+The coupling: each finger's distal joint follows its knuckle through a joint equality
+with ManiSkill's ratio (the real finger's four-bar linkage, linearised there and in
+PSYONIC's API); only the six motors (four knuckles, the thumb's rotator and flexor) are
+driven. The distal joint's range ends first: it stops the knuckle at
+(2.6586 - 0.7235) / 1.0585 = 1.828 rad, short of the knuckle's own 2.094.
+
+Shapes and inertias: boxes and capsules fitted to the principal extents of ManiSkill's
+collision meshes (palm 117.6 x 84.4 x 47.8 mm; thumb links 44 x 23 x 20 mm and a
+25 mm capsule 80 mm long; distal links 15 mm capsules 45 mm long), the knuckle links the
+URDF's own box and sphere; each carries its link's mass and MuJoCo computes the inertia
+of the solid. The URDF's inertias are not used: they are 100 times PSYONIC's MuJoCo
+models' (index_L1: ixx 2.98e-5 kg*m^2 against a smallest principal moment of 2.96e-7) and its thumb_L2's, 1.8e-3 kg*m^2
+for 5.5 g, is a radius of gyration of 0.57 m.
+
+Drives (no source gives the real servo's gains):
+- kp 1 N*m/rad (PSYONIC's MuJoCo model). ManiSkill's kp 1000 / kv 100 (force limit
+  50) do not work in MuJoCo on links of 1e-7..1e-6 kg*m^2 (the Allegro's case,
+  robots/wonik/allegro.py): PhysX integrates its drive implicitly, MuJoCo only the damping.
+- kv 0.12 N*m*s/rad: an overdamped response on the armature below; a 1.6 rad step of
+  the target reaches 90 % in 0.26 s (about the 200 ms closure above) and peaks at
+  10.4 rad/s (the URDF's limit is 8.07: a PD drive cannot cap its speed; kv 0.2 would
+  keep it under, at 0.45 s), measured at 500 Hz with the hand on the mount
+  (2026-11-29). In the control modes the hand's targets move at most 0.1 rad per 20 Hz
+  step (2 rad/s).
+- Armature 0.001 kg*m^2 on every hand joint, an order-of-magnitude estimate of the
+  motors' reflected rotor inertia (as the Allegro's; none is published), 1000 times
+  the links' own (1e-7..1e-6 kg*m^2).
+- Effort and velocity limits: the URDF's.
+
+The floating mount: ManiSkill's joint names, gains and 100 N / N*m limit; the hinges'
+armature as the 2F-85's mount (robots/robotiq/robotiq.py: 0.5 kg, 0.3 kg*m^2), which
+puts the hinges' torque-limit cycle bound at 166 Hz. The mount stands 0.5 m up
+(ManiSkill's keyframe puts the wrist at the origin, in the floor of a scene with one).
+
+Keyframe ``rest``: every joint 0 as ManiSkill's, the distal joints where the coupling
+puts them (0.7235 rad; ManiSkill's keyframe writes 0 and its mimic controller drives
+them there at the first step): fingers stretched up, the palm facing +x, the thumb out
+to the side.
+
+Control modes: ManiSkill's agent has one, ``pd_joint_pos``: the mount's six absolute
+targets (m, rad, not normalized) and the hand's six (the knuckles through the mimic, the
+thumb's two). Here the modes are generated from the parts (the mount as the arm, the
+hand as a hand riding on it): the six joint modes and ``pd_ee_delta_pose`` /
+``pd_ee_pose`` for the mount, and in every mode the hand takes +-0.1 rad deltas from its
+targets (ManiSkill's hands on arms, ``xarm7_ability``'s ``hand_target_delta_pos``):
+``pd_joint_pos`` has ManiSkill's 12 entries, the hand's six as deltas. The hand's qpos
+order is MuJoCo's depth-first :data:`JOINTS` (ManiSkill's is breadth-first: the five
+first joints, then the five second ones).
+
+Grasp (tests/test_ability_hand.py): a 3 cm, 27 g cube in front of the upper palm between
+the opposed thumb below and the fingers above; closing (``pd_joint_pos``, 2 s, the cube
+weightless) the thumb presses it up and into the palm (about 20 N) and the index,
+middle and ring fingers down (8-12 N each); given its weight, the hand's contact forces
+carry it (0.2649 N of 0.2649 N) and lifting the mount 5 cm moves it 1.3 mm in the hand.
+The same grasp is the hand's :data:`POWER_GRASP`, the sweep's grasp claim: 1.02 mm of
+slip at 200 Hz (bound 2 mm).
 """
 
 from __future__ import annotations
@@ -154,6 +240,13 @@ class FloatingAbilityHandRight(Agent):
     """
 
     uid = "floating_ability_hand_right"
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+    #: floating_ability_hand_right``, 2026-11-29 18:19-18:22 UTC, 20 Hz control): every
+    #: claim holds from 6.25 ms (160 Hz; random 0.15 rad, grasp slip 0.91 mm, deepest
+    #: contact 0.61 mm) and at 80 Hz; at 100 Hz the grasp slips 2.29 mm (bound 2), at 40
+    #: Hz random actions press 0.74 rad past a limit. The mount's hinges could cycle
+    #: between their torque limits below 166 Hz (``robot_agents.tuning.cycles``).
+    #: Default one tried step finer, 200 Hz (random 0.138 rad, grasp 1.02 mm).
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "floating_mount.xml"
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(AbilityHandRight, at="root", quat=HAND_ON_MOUNT),)
@@ -161,6 +254,14 @@ class FloatingAbilityHandRight(Agent):
     parts = (mount_arm(WRIST),)
     keyframes = {"rest": Keyframe(qpos={"root_.*_joint": 0.0, **REST})}
     default_control_mode = "pd_joint_pos"
+    task_limits: ClassVar[Mapping[str, str]] = {
+        "PickCube-v1": (
+            "the generic scripted solver closes two opposed jaws on the cube from above; the jaw "
+            "geometry the task derives from the hand's five fingers has no approach axis (the fingers "
+            "close in different directions) and the solver succeeds in 0 of 20 seeds (measured "
+            "2026-11-29 18:25 UTC); the hand holds a cube in its own power grasp (tests/test_ability_hand.py)"
+        )
+    }
 
 
 __all__ = [

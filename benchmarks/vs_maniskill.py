@@ -86,6 +86,7 @@ SHARED = {
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
     "floating_ability_hand_right": "floating_ability_hand_right",
+    "xarm7_ability": "xarm7_ability",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

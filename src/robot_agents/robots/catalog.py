@@ -33,6 +33,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
     "floating_ability_hand_right": "robot_agents.robots.psyonic.ability_hand:FloatingAbilityHandRight",
+    "xarm7_ability": "robot_agents.robots.ufactory.xarm7:XArm7Ability",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

@@ -27,16 +27,16 @@ Sources of the numbers (all read as data; no model text or mesh is copied):
   abh_right_large.xml`` (commit 47a5e134) the wrist flange (a 0.01591 kg cylinder),
   position servos with kp 1 N*m/rad, and the contact parameters taken here (links
   solref 0.01 0.99, solimp 0.95 0.99 0.002; palm solref 0.01 1, solimp 0.98 0.995
-  0.0005). Its distal range, 0.766..2.61 rad, starts where the coupling puts a stretched
-  finger (0.7235). The whole hand: 0.4753 kg.
+  0.0005). Its distal range, 0.766..2.61 rad, starts near where the coupling puts a
+  stretched finger (0.7235). The whole hand: 0.4753 kg.
 - Speed: the hand "closes in about 200 milliseconds" (PSYONIC's CEO, WMAR2 News,
   2021-07-14).
 
 The coupling: each finger's distal joint follows its knuckle through a joint equality
-with ManiSkill's ratio (the real finger's four-bar linkage, linearised there and in
-PSYONIC's API); only the six motors (four knuckles, the thumb's rotator and flexor) are
-driven. The distal joint's range ends first: it stops the knuckle at
-(2.6586 - 0.7235) / 1.0585 = 1.828 rad, short of the knuckle's own 2.094.
+with ManiSkill's ratio (the real finger's four-bar linkage, linearised there); only the
+six motors (four knuckles, the thumb's rotator and flexor) are driven. The distal joint's range would stop the knuckle at
+(2.6586 - 0.7235) / 1.0585 = 1.828 rad, short of the knuckle's own 2.094; driven to 2.094
+(60 steps of +0.1 rad, 2026-11-29), the curled fingers meet the palm first, at 1.62 rad.
 
 Shapes and inertias: boxes and capsules fitted to the principal extents of ManiSkill's
 collision meshes (palm 117.6 x 84.4 x 47.8 mm; thumb links 44 x 23 x 20 mm and a
@@ -118,7 +118,7 @@ JOINT_PATTERN = r"(thumb|index|middle|ring|pinky)_q[12]"
 KNUCKLES = r"(index|middle|ring|pinky)_q1"
 THUMB_FLEXOR = "thumb_q2"
 THUMB_ROTATOR = "thumb_q1"
-#: ManiSkill's mimic (and PSYONIC's linearised four-bar): ``q2 = OFFSET + RATIO * q1`` (rad).
+#: ManiSkill's mimic (the finger's four-bar linkage, linearised): ``q2 = OFFSET + RATIO * q1`` (rad).
 COUPLING_OFFSET = 0.72349796
 COUPLING_RATIO = 1.05851325
 #: Tip links (ManiSkill's ``finger_tip_links`` order) and the pads (its ``hand_front_links``).

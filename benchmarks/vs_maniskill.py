@@ -89,9 +89,14 @@ SHARED = {
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
     "trifingerpro": "trifingerpro",
+    "floating_ability_hand_right": "floating_ability_hand_right",
+    "xarm7_ability": "xarm7_ability",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"
+#: Robots whose ManiSkill agent has only these modes (its floating Ability Hand: only
+#: ``pd_joint_pos``, the mount's absolute targets and the hand's).
+PEER_ONLY_MODES = {"floating_ability_hand_right": ["pd_joint_pos"]}
 
 
 def modes_of(uid: str) -> list[str]:
@@ -99,6 +104,8 @@ def modes_of(uid: str) -> list[str]:
     ours = ra.get_agent(uid).modes()
     if BRIDGE_MODE in ours and uid.startswith("widowx250s_bridgedataset"):
         return [BRIDGE_MODE]
+    if uid in PEER_ONLY_MODES:
+        return list(PEER_ONLY_MODES[uid])
     ee = next((m for m in ("pd_ee_delta_pose", "pd_ee_delta_pos") if m in ours), None)
     return ["pd_joint_delta_pos"] + ([ee] if ee else [])  # legs or a hand alone: no end effector
 

@@ -205,6 +205,7 @@ WRIST_MJCF = """
 #: its flange (Franka), the stick's tip, the 2F-85's pad centres closed (Menagerie), the
 #: WidowX gripper's ee_gripper_link (0.043 + 0.023 + 0.027575 m, Interbotix).
 TCP_OUT = {"franka_hand": 0.1034, "panda_stick": 0.15, "robotiq_2f85": 0.1553, "widowx250s_gripper": 0.093575}
+TCP_OUT |= {"ability_hand_right": 0.09}  # the Ability Hand: level with its power grasp's cube
 
 
 @pytest.mark.parametrize("name", sorted(BUILTIN_PIECES))

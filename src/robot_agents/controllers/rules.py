@@ -273,7 +273,8 @@ def modes_from_parts(
     The main part (the first arm; else the first hand; else the first part that is not
     a gripper) gets the six joint modes and, for an arm with a task space, the five
     end-effector modes; a gripper adds one normalized open/close action to every mode;
-    every other part adds delta joint-position actions (a mobile manipulator with a
+    every other part adds delta joint-position actions (a hand riding on an arm: from its
+    targets, as ManiSkill's; a mobile manipulator with a
     torso or head also gets ``pd_joint_delta_pos_stiff_body``: the arm's deltas with the
     body at absolute joint targets). ``velocity_limits`` holds the
     driven joints (rad/s or m/s; ``inf`` where unknown). When any of the main part's
@@ -363,11 +364,14 @@ def modes_from_parts(
             elif moving:
                 # legs that carry the robot, and the parts riding on them (a head, a tail),
                 # take deltas from their targets: a zero delta from the measured pose would
-                # let them give under their weight step by step
+                # let them give under their weight step by step; so does a hand on an arm
+                # (ManiSkill's hands on arms: xarm7_ability's hand_target_delta_pos), whose
+                # targets then close on an object and keep pressing where a delta from the
+                # measured pose would squeeze with one step's delta at most
                 others[part.name] = PDJointPosConfig(
                     joint_names=moving,
                     use_delta=True,
-                    use_target=standing,
+                    use_target=standing or isinstance(part, Hand),
                     lower=-part.max_delta,
                     upper=part.max_delta,
                 )

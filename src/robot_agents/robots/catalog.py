@@ -36,6 +36,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "trifingerpro": "robot_agents.robots.trifinger.trifingerpro:TriFingerPro",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
+    "floating_ability_hand_right": "robot_agents.robots.psyonic.ability_hand:FloatingAbilityHandRight",
+    "xarm7_ability": "robot_agents.robots.ufactory.xarm7:XArm7Ability",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name
@@ -46,4 +48,5 @@ BUILTIN_PIECES: dict[str, str] = {
     "franka_hand": "robot_agents.robots.panda.panda:PandaHand",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStickTool",
     "widowx250s_gripper": "robot_agents.robots.widowx.widowx250s:WidowX250SGripperPiece",
+    "ability_hand_right": "robot_agents.robots.psyonic.ability_hand:AbilityHandRight",
 }

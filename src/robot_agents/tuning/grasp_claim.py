@@ -15,6 +15,7 @@ import numpy as np
 from robot_agents.agent import Agent
 from robot_agents.checks import hold_action, raw_hold
 from robot_agents.controllers.ee import PDEEController
+from robot_agents.controllers.joint import PDJointPosController
 from robot_agents.errors import ConfigError
 from robot_agents.kinematics.rotations import quat_to_matrix
 from robot_agents.parts.declaration import Hand, is_jaw_gripper
@@ -191,13 +192,35 @@ def _hand_grasp(
     closed = dict(zip(names, shut, strict=True))
     agent.reset(qpos=_with_joints(agent, agent.qpos[0], names, opened))
 
-    # The hand's slice of the action: its ``closed`` pose; every other part holds.
-    action = hold_action(agent)
+    # The hand's slice of the action: its ``closed`` pose; every other part holds. A hand
+    # that takes deltas in this mode (a hand riding on an arm) is given, at every step,
+    # the change from its targets (or measured pose) to ``closed``, clipped to its bounds.
+    hold = hold_action(agent)
+    stepped: list[tuple[str, PDJointPosController]] = []
     for part_name, controller in agent.controller.parts.items():
         joints = controller.config.joint_names
         if set(joints) & set(names):
             raw = np.array([closed.get(j, agent.qpos[0, agent.joint_names.index(j)]) for j in joints])
-            action[agent.controller.slices[part_name]] = controller.from_raw(raw[: controller.action_dim])
+            if isinstance(controller, PDJointPosController) and controller.config.use_delta:
+                stepped.append((part_name, controller))
+                continue
+            hold[agent.controller.slices[part_name]] = controller.from_raw(raw[: controller.action_dim])
+
+    def closing() -> np.ndarray:
+        """The action that moves the hand's targets to ``closed``."""
+        if not stepped:
+            return hold
+        action: np.ndarray = hold.copy()
+        for part_name, controller in stepped:
+            joints = controller.config.joint_names
+            goal = np.array([closed[j] for j in joints])
+            base = (
+                controller.target_qpos[0]
+                if controller.config.use_target
+                else agent.qpos[0, [agent.joint_names.index(j) for j in joints]]
+            )
+            action[agent.controller.slices[part_name]] = controller.from_raw(goal - base)
+        return action
 
     def palm() -> tuple[np.ndarray, np.ndarray]:
         pose = agent.frame_pose(grasp.link)[0]
@@ -212,7 +235,7 @@ def _hand_grasp(
         return np.asarray(rotation.T @ (scene.body_pose("sweep_cube")[0, :3] - origin))
 
     for _ in range(round(HAND_CLOSE_SECONDS * control_freq)):  # weightless while the fingers close
-        agent.set_action(action)
+        agent.set_action(closing())
         scene.step()
     start = in_palm()
     pull = HAND_PULL * float(np.linalg.norm(weight)) * np.array(grasp.outward)  # in the palm's axes
@@ -220,7 +243,7 @@ def _hand_grasp(
     for _ in range(round(GRASP_HOLD_SECONDS * control_freq)):
         _, rotation = palm()  # (a hand on an arm: the palm may turn)
         data.xfrc_applied[body, :3] = weight + rotation @ pull
-        agent.set_action(action)
+        agent.set_action(closing())
         scene.step()
         depth.measure(scene)
         slip = max(slip, float(np.linalg.norm(in_palm() - start)))

@@ -1,0 +1,1 @@
+"""PSYONIC: the Ability Hand (:mod:`robot_agents.robots.psyonic.ability_hand`)."""

@@ -34,6 +34,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "trifingerpro": "robot_agents.robots.trifinger.trifingerpro:TriFingerPro",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
+    "unitree_go2_simplified_locomotion": "robot_agents.robots.unitree.go2:UnitreeGo2Simplified",
+    "unitree_h1_simplified": "robot_agents.robots.unitree.h1:UnitreeH1Simplified",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

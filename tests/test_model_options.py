@@ -130,6 +130,8 @@ def test_collision_links_refuse_unknown_bodies_bad_types_and_pieces(pendulum_fil
     for bad in ("link2", (1,), ("",), 3):
         with pytest.raises(ra.ConfigError, match=r"collision_links: expected a tuple of body names or None"):
             make_pendulum_class(pendulum_file, collision_links=bad).validate_definition()
+    with pytest.raises(ra.UnknownNameError, match=r"'collision_link'. Did you mean 'collision_links'"):  # misspelt
+        make_pendulum_class(pendulum_file, collision_link=("link2",)).validate_definition()
     robot = ra.get_agent("xarm6_robotiq")
     attachment = robot.attachments[0]
     piece = type("FewerPiece", (attachment.piece,), {"collision_links": ("base",)})

@@ -69,6 +69,9 @@ RUNS = {
     ("jaw_close.py", "so100", "--seeds", "1", "--rate", "0.05", "--cube-share", "0.5", "--against", "1.5"): "/1: seeds",
     ("jaw_close.py", "so100", "--trace", "0", "--rate", "0.05"): "Moving_Jaw",
     ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
+    ("simplified_collisions.py", "--steps", "2", "--rounds", "1", "--block", "1"): (
+        "| `unitree_h1_simplified` | random (`pd_joint_pos`) | 500 | 29 / 21 |"
+    ),
     ("task_throughput.py", "--rounds", "1", "--block", "2", "--batch-block", "1", "--maniskill-python", "/absent"): (
         "ours x1"
     ),

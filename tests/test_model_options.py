@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import mujoco
@@ -87,6 +88,58 @@ def test_self_collision_exclusions_filter_named_pairs() -> None:
     other.agents[0].reset(qpos=q)
     assert self_contacts(other, other.agents[0]) == []
     assert other.model.nexclude == scene.model.nexclude + len(bodies)
+
+
+def colliding_bodies(scene: ra.Scene, agent: ra.Agent) -> set[str]:
+    """The robot's bodies (unprefixed names) with a geom that takes part in contacts."""
+    model = scene.model
+    return {
+        model.body(model.geom_bodyid[g]).name[len(agent.prefix) :]
+        for g in robot_geoms(scene, agent)
+        if model.geom_contype[g] or model.geom_conaffinity[g]
+    }
+
+
+def test_collision_links_keep_contacts_on_the_named_bodies_only(pendulum_file: Path) -> None:
+    full = ra.Scene(make_pendulum_class(pendulum_file))
+    assert colliding_bodies(full, full.agents[0]) == {"base", "link1", "link2"}
+    kept = ra.Scene(make_pendulum_class(pendulum_file, collision_links=("link2",)))
+    model, agent = kept.model, kept.agents[0]
+    assert colliding_bodies(kept, agent) == {"link2"}
+    # The others keep their shapes and masses (drawn only): the same model otherwise.
+    np.testing.assert_array_equal(model.geom_size, full.model.geom_size)
+    np.testing.assert_array_equal(model.body_mass, full.model.body_mass)
+    np.testing.assert_array_equal(model.geom_rgba, full.model.geom_rgba)
+    # The panda folded onto itself: with the touching bodies' contacts off, none is left.
+    panda = ra.Scene("panda", floor=False)
+    q = _folded_panda_pose(panda)
+    touching = {b for pair in self_contacts(panda, panda.agents[0]) for b in pair}
+    everything = colliding_bodies(panda, panda.agents[0])
+    cls = type(
+        "PandaFewer", (ra.get_agent("panda"),), {"uid": "panda_fewer", "collision_links": tuple(everything - touching)}
+    )
+    other = ra.Scene(cls, floor=False)
+    other.agents[0].reset(qpos=q)
+    assert self_contacts(other, other.agents[0]) == []
+    assert colliding_bodies(other, other.agents[0]) == everything - touching
+
+
+def test_collision_links_refuse_unknown_bodies_bad_types_and_pieces(pendulum_file: Path) -> None:
+    with pytest.raises(ra.UnknownNameError, match=r"collision_links.*'lnk2'.*link2"):
+        ra.Scene(make_pendulum_class(pendulum_file, collision_links=("lnk2",)))
+    for bad in ("link2", (1,), ("",), 3):
+        with pytest.raises(ra.ConfigError, match=r"collision_links: expected a tuple of body names or None"):
+            make_pendulum_class(pendulum_file, collision_links=bad).validate_definition()
+    with pytest.raises(ra.UnknownNameError, match=r"'collision_link'. Did you mean 'collision_links'"):  # misspelt
+        make_pendulum_class(pendulum_file, collision_link=("link2",)).validate_definition()
+    robot = ra.get_agent("xarm6_robotiq")
+    attachment = robot.attachments[0]
+    piece = type("FewerPiece", (attachment.piece,), {"collision_links": ("base",)})
+    cls = type(
+        "XArmFewer", (robot,), {"uid": "xarm_fewer", "attachments": (dataclasses.replace(attachment, piece=piece),)}
+    )
+    with pytest.raises(ra.ConfigError, match=r"piece FewerPiece declares collision_links.*robot it is mounted on"):
+        ra.Scene(cls)
 
 
 def test_fixed_root_is_welded_and_free_root_has_a_free_joint(pendulum_file: Path) -> None:

@@ -138,6 +138,12 @@ def composition(cls: type[AgentDefinition]) -> Composition:
     for attachment in cls.attachments:
         if not isinstance(attachment, Attachment):
             raise ConfigError(f"{cls.__name__}.attachments: expected Attachment entries, got {attachment!r}.")
+        if attachment.piece.collision_links is not None:
+            raise ConfigError(
+                f"{cls.__name__}.attachments: piece {attachment.piece.__name__} declares collision_links, which "
+                "applies to a whole robot; declare them on the robot it is mounted on instead, with the piece's "
+                f"bodies under its prefix {attachment.prefix!r}."
+            )
         inner = composition(attachment.piece)
         p = attachment.prefix
         actuators += [dataclasses.replace(a, joints=prefixed(a.joints, p)) for a in inner.actuators]
@@ -204,6 +210,11 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     for flag in ("fix_root_link", "disable_self_collisions", "replace_file_actuators", "convex_decomposition"):
         if not isinstance(getattr(cls, flag), bool):
             raise ConfigError(f"{name}: expected {flag} to be a bool, got {getattr(cls, flag)!r}.")
+    links = cls.collision_links
+    if links is not None and (
+        isinstance(links, str) or not isinstance(links, Sequence) or not all(isinstance(b, str) and b for b in links)
+    ):
+        raise ConfigError(f"{name}.collision_links: expected a tuple of body names or None, got {links!r}.")
     if cls.rest_on_floor is not None and not isinstance(cls.rest_on_floor, bool):
         raise ConfigError(f"{name}: expected rest_on_floor to be a bool or None, got {cls.rest_on_floor!r}.")
     gravcomp = cls.gravity_compensation
@@ -375,6 +386,7 @@ def _build(
     robot_spec.set_root_joint(spec, cls.fix_root_link, where, declared)
     gravcomp = cls.fix_root_link if cls.gravity_compensation is None else cls.gravity_compensation
     robot_spec.set_gravity_compensation(spec, gravcomp, where)
+    robot_spec.keep_collisions(spec, cls.collision_links, where)
     robot_spec.set_materials(spec, parts.link_materials, cls.default_material, where)
     robot_spec.set_pad_contact(spec, [b for b in pads if b not in parts.link_materials], where)
     if derived is not None:  # derived drives: the file's stops get stiff too

@@ -60,6 +60,10 @@ class AgentDefinition:
             generated from the parts.
         default_control_mode: defaults to the first control mode.
         disable_self_collisions / self_collision_exclusions: contact filtering.
+        collision_links: the bodies whose geoms take part in contacts (names as in the
+            composed robot); every other body's geoms are drawn only. ``None``: every
+            body's, as the file has them. A simplified collision model, as ManiSkill's
+            ``unitree_go2_simplified_locomotion`` (base, thighs and feet).
         convex_decomposition: split each markedly non-convex colliding mesh (a jaw with
             a notch: MuJoCo collides a mesh as its convex hull) into convex pieces for
             contacts, with CoACD (the ``robot-agents[meshes]`` extra; seconds per mesh,
@@ -103,6 +107,7 @@ class AgentDefinition:
     disable_self_collisions: ClassVar[bool] = False
     convex_decomposition: ClassVar[bool] = False
     self_collision_exclusions: ClassVar[tuple[tuple[str, str], ...]] = ()
+    collision_links: ClassVar[tuple[str, ...] | None] = None
     gravity_compensation: ClassVar[bool | tuple[str, ...] | None] = None
     link_materials: ClassVar[Mapping[str, FrictionMaterial]] = {}
     default_material: ClassVar[FrictionMaterial | None] = None

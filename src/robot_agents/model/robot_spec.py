@@ -235,6 +235,25 @@ def set_materials(
                 material.apply(geom)
 
 
+def keep_collisions(spec: mujoco.MjSpec, links: Sequence[str] | None, where: str) -> None:
+    """Let only the geoms of the bodies ``links`` collide (``None``: every body's, the
+    file as it is): every other body's colliding geoms become visual-only
+    (``contype = conaffinity = 0``); they keep their shape and mass and are still drawn.
+    A contact ``<pair>`` of the file still acts (MuJoCo's explicit pairs ignore
+    ``contype``)."""
+    if links is None:
+        return
+    all_bodies = robot_bodies(spec)
+    _check_names(where, "body (collision_links)", links, [b.name for b in all_bodies])
+    kept = set(links)
+    for body in all_bodies:
+        if body.name in kept:
+            continue
+        for geom in body.geoms:
+            geom.contype = 0
+            geom.conaffinity = 0
+
+
 def set_pad_contact(spec: mujoco.MjSpec, bodies: Iterable[str], where: str) -> None:
     """Give the colliding geoms of ``bodies`` (a derived gripper's fingers) stiff pad
     contact: ``priority`` :data:`~robot_agents.model.materials.STIFF_PRIORITY` with

@@ -38,6 +38,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
     "floating_ability_hand_right": "robot_agents.robots.psyonic.ability_hand:FloatingAbilityHandRight",
     "xarm7_ability": "robot_agents.robots.ufactory.xarm7:XArm7Ability",
+    "unitree_go2_simplified_locomotion": "robot_agents.robots.unitree.go2:UnitreeGo2Simplified",
+    "unitree_h1_simplified": "robot_agents.robots.unitree.h1:UnitreeH1Simplified",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

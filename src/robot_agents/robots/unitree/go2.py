@@ -168,14 +168,52 @@ class UnitreeGo2(Agent):
     default_control_mode = "pd_joint_pos"
 
 
+#: The bodies of ManiSkill's ``go2_description_simplified_locomotion.urdf`` that keep a
+#: collision shape: the base (with the head, whose URDF links ``Head_upper`` and
+#: ``Head_lower`` are fixed to it; our head's cylinder and sphere are on ``base``), the
+#: thighs and the feet. The hips' motor cylinders and the calves' two cylinders collide
+#: no more.
+SIMPLIFIED_COLLISION_LINKS = ("base", *(f"{leg}_{link}" for leg in LEGS for link in ("thigh", "foot")))
+
+
+@register_agent()
+class UnitreeGo2Simplified(UnitreeGo2):
+    """Unitree Go2 with ManiSkill's simplified collision model for locomotion (uid
+    ``unitree_go2_simplified_locomotion``, ManiSkill's ``UnitreeGo2Simplified``): our
+    ``unitree_go2`` whose contacts are those of the base (with the head), the thighs and
+    the feet, as ManiSkill 3.0.1's ``go2_description_simplified_locomotion.urdf`` (read
+    as data) keeps them; the hips and calves are drawn only.
+
+    What differs from the peer: the shapes are our Go2's (Menagerie's primitives), which
+    ManiSkill's simplified URDF also has on these links (the base box 0.3762 x 0.0935 x
+    0.114 m, the head's cylinder r 0.05 m and sphere r 0.047 m, the thigh boxes 0.213 x
+    0.0245 x 0.034 m, the foot spheres r 0.022 m): the simplification removes the same
+    links' shapes, as in ManiSkill (where the full model's are the same primitives too).
+    Everything else (drives, keyframes, modes, ``sim_freq``) is ``unitree_go2``'s, as
+    ManiSkill's variant changes only the URDF.
+    """
+
+    uid = "unitree_go2_simplified_locomotion"
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+    #: unitree_go2_simplified_locomotion unitree_h1_simplified``, 2026-11-29 18:33-18:35
+    #: UTC, seeds 0-2, 20 Hz control; docs/timestep-sweep.md): every claim holds from 200
+    #: Hz, as the full Go2's (hold, standing and penetration the same to the digit: it
+    #: stands on its feet alone; random 0.224 rad at 200 Hz, the full Go2's 0.227); the
+    #: default stays the full Go2's 400 Hz.
+    sim_freq: ClassVar[int | None] = 400
+    collision_links = SIMPLIFIED_COLLISION_LINKS
+
+
 __all__ = [
     "ACTION_JOINTS",
     "LEG_JOINTS",
     "MAX_DELTA",
+    "SIMPLIFIED_COLLISION_LINKS",
     "STANDING_HEIGHT",
     "STANDING_LEG",
     "TOUCHING_HEIGHT",
     "UNITREE_KD",
     "UNITREE_KP",
     "UnitreeGo2",
+    "UnitreeGo2Simplified",
 ]

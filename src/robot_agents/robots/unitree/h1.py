@@ -229,12 +229,58 @@ class UnitreeH1(Agent):
     }
 
 
+#: The bodies of our H1 that keep their collision shapes in ``unitree_h1_simplified``:
+#: those where ManiSkill's ``h1_simplified.urdf`` has a body-sized shape, and ours has
+#: one too: ``torso_link`` (our torso box, head and the capsule across the pelvis; the
+#: URDF's torso box 0.08 x 0.16 x 0.1 m and pelvis sphere r 0.05 m), the thighs
+#: (``*_hip_pitch_link``; the URDF's cylinder r 0.05 x 0.2 m), the shins
+#: (``*_knee_link``; the same), the feet (``*_ankle_link``; the URDF's box 0.28 x 0.03 x
+#: 0.024 m, the same as ours) and the forearms (``*_elbow_link``; r 0.03 x 0.09 m). The
+#: URDF gives the hip yaw and roll links and the shoulder roll and yaw links only token
+#: shapes (cylinders r 0.01-0.04 m, 0.01-0.02 m long, 6-50 cm^3), which our hip motor
+#: cylinders, shoulders and upper arms are not: on those links ours collide no more.
+#: (``*_shoulder_pitch_link`` has no collision shape in ours.)
+SIMPLIFIED_COLLISION_LINKS = (
+    "torso_link",
+    *(f"{side}_{link}_link" for side in ("left", "right") for link in ("hip_pitch", "knee", "ankle", "elbow")),
+)
+
+
+@register_agent()
+class UnitreeH1Simplified(UnitreeH1):
+    """Unitree H1 with a simplified collision model (uid ``unitree_h1_simplified``,
+    ManiSkill's ``UnitreeH1Simplified``): our ``unitree_h1`` whose contacts are those of
+    :data:`SIMPLIFIED_COLLISION_LINKS`.
+
+    What differs from the peer: ManiSkill's ``unitree_h1`` collides CoACD convex pieces of
+    every link's mesh, and its ``h1_simplified.urdf`` (read as data) swaps them for one
+    primitive per link; our ``unitree_h1`` is already primitive (Menagerie's capsules,
+    cylinders and spheres, 1-4 per link), so our simplification keeps its shapes and
+    takes the contacts off the links where the peer's simplified model leaves only a
+    token shape (the hip yaw, hip roll, shoulder roll and shoulder yaw links). Everything
+    else (drives, keyframes, modes, ``sim_freq``) is ``unitree_h1``'s, as ManiSkill's
+    variant changes only the URDF.
+    """
+
+    uid = "unitree_h1_simplified"
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+    #: unitree_go2_simplified_locomotion unitree_h1_simplified``, 2026-11-29 18:33-18:35
+    #: UTC, seeds 0-2, 20 Hz control; docs/timestep-sweep.md): every claim holds from 200
+    #: Hz, as the full H1's (hold, standing and penetration the same to the digit; random
+    #: 0.199 rad at 200 Hz, the full H1's 0.157); the default stays the full H1's 500 Hz,
+    #: above its light drives' torque-limit cycle bound (485 Hz).
+    sim_freq: ClassVar[int | None] = 500
+    collision_links = SIMPLIFIED_COLLISION_LINKS
+
+
 __all__ = [
     "H1_BODY",
     "HOME_HEIGHT",
     "MANISKILL_JOINTS",
+    "SIMPLIFIED_COLLISION_LINKS",
     "STANDING_HEIGHT",
     "STANDING_LEG",
     "UnitreeH1",
+    "UnitreeH1Simplified",
     "joint_kind",
 ]

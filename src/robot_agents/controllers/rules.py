@@ -372,6 +372,18 @@ def modes_from_parts(
                     upper=part.max_delta,
                 )
     combined = combine_parts(main.name, table, **others)
+    # A hand riding on an arm (a floating mount) takes absolute joint targets where the
+    # main part does (ManiSkill's floating hands' pd_joint_pos): deltas from the measured
+    # pose would let a finger pressing on an object, or the wrist under its load, give.
+    hands = {
+        name: PDJointPosConfig(joint_names=config.joint_names, normalize_action=False)
+        for name, config in others.items()
+        if isinstance(next(p for p in parts if p.name == name), Hand) and isinstance(config, PDJointPosConfig)
+    }
+    for mode, config in table.items():
+        entry = combined[mode]
+        if hands and _absolute_positions(config) and isinstance(entry, Mapping):
+            combined[mode] = {**entry, **hands}
     # A mobile manipulator's body (torso, head) held at absolute targets while the arm
     # takes delta commands: ManiSkill's Fetch mode of that name.
     body = {
@@ -389,6 +401,12 @@ def modes_from_parts(
             joint_names=every, normalize_action=bounded, stiffness=0.0, damping=0.0
         )
     return combined
+
+
+def _absolute_positions(config: ControllerConfig) -> bool:
+    """A config that writes absolute position targets (``pd_joint_pos``,
+    ``pd_joint_pos_vel``, ``pd_ee_pose``), not deltas or velocities alone."""
+    return "position" in config.target_kinds() and not bool(getattr(config, "use_delta", True))
 
 
 def _velocity_only(config: ControllerConfig) -> bool:

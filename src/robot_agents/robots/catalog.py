@@ -32,6 +32,10 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
+    "fixed_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandRight",
+    "fixed_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandLeft",
+    "floating_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandRight",
+    "floating_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandLeft",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name
@@ -42,4 +46,6 @@ BUILTIN_PIECES: dict[str, str] = {
     "franka_hand": "robot_agents.robots.panda.panda:PandaHand",
     "panda_stick": "robot_agents.robots.panda.panda:PandaStickTool",
     "widowx250s_gripper": "robot_agents.robots.widowx.widowx250s:WidowX250SGripperPiece",
+    "inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:InspireHandRight",
+    "inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:InspireHandLeft",
 }

@@ -85,6 +85,10 @@ SHARED = {
     "allegro_hand_right": "allegro_hand_right",
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
+    "fixed_inspire_hand_right": "fixed_inspire_hand_right",
+    "fixed_inspire_hand_left": "fixed_inspire_hand_left",
+    "floating_inspire_hand_right": "floating_inspire_hand_right",
+    "floating_inspire_hand_left": "floating_inspire_hand_left",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

@@ -305,6 +305,7 @@ def test_maniskill_keyframe_poses_on_the_floating_mount() -> None:
 # ---------------------------------------------------------------- a pick
 CUBE_EDGE = 0.04
 CUBE_MASS = 0.05
+THUMB_LINKS = ("thumb_metacarpal", "thumb_proximal", "thumb_distal")
 
 
 @pytest.mark.parametrize("side", SIDES)
@@ -362,15 +363,14 @@ def test_the_floating_hand_picks_a_cube_palm_down_and_carries_its_weight(side: s
     hand_bodies = [
         i for i in range(scene.model.nbody) if scene.model.body(i).name.startswith(f"{agent.prefix}{side}_hand_")
     ]
-    thumb = [
-        int(scene.model.body(f"{agent.prefix}{side}_hand_{link}").id) for link in ("thumb_proximal", "thumb_distal")
-    ]
-    carried, from_pedestal, by_thumb = scene.world.contact_forces(
-        [hand_bodies, [int(scene.model.body("pedestal").id)], thumb], body
-    )[0]
+    thumb = [int(scene.model.body(f"{agent.prefix}{side}_hand_{link}").id) for link in THUMB_LINKS]
+    carried, from_pedestal = scene.world.contact_forces([hand_bodies, [int(scene.model.body("pedestal").id)]], body)[0]
     assert not np.any(from_pedestal)
     np.testing.assert_allclose(carried, (0.0, 0.0, CUBE_MASS * 9.81), atol=0.05)
-    assert np.linalg.norm(by_thumb) > 0.5  # the thumb presses on it
+    # the thumb presses on one side of the cube and the fingers on the other
+    by_thumb, by_fingers = scene.world.contact_forces([thumb, [b for b in hand_bodies if b not in thumb]], body)[0]
+    assert np.linalg.norm(by_thumb) > 1.0
+    assert float(np.dot(by_thumb, by_fingers)) < 0.0
     act(OPEN, lift=0.1, steps=20)
     assert not agent.is_grasping("cube")[0]
     assert scene.body_pose("cube")[0, 2] < cube_pose[2] - 0.05  # it dropped

@@ -244,8 +244,20 @@ class InspireHandLeft(Agent):
     keyframes = {"rest": zero_pose("left")}
 
 
-#: Time-step sweep result shared by the four robots (see each class).
-SIM_FREQ = 200
+#: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+#: fixed_inspire_hand_right fixed_inspire_hand_left floating_inspire_hand_right
+#: floating_inspire_hand_left``, 2026-11-29 18:28-18:31 UTC, 20 Hz control; both sides
+#: alike): on the fixed mount every claim holds from 100 Hz to 1 kHz (at 100 Hz the power
+#: grasp's slip 1.18 mm, bound 2; random-action overshoot 0.006 rad, bound 0.25; deepest
+#: contact 0.5 mm, bound 5); at 80 Hz the grasp slips 2.6 mm. Default one tried step
+#: finer: 160 Hz (slip 0.77 mm). No drive can cycle between its torque limits above
+#: 50 Hz (``robot_agents.tuning.cycles``; 496 Hz with the Allegro's armature, 0.001).
+FIXED_SIM_FREQ = 160
+#: On the floating mount every claim holds from 160 Hz (random-action overshoot 0.126
+#: rad right, 0.089 left; at 100 Hz 0.309 / 0.328 FAIL), as the other floating grippers':
+#: the mount's hinges (100 N*m, kv 100 on 0.3 kg*m^2) could cycle between their torque
+#: limits below 166 Hz. Default one tried step finer: 200 Hz, above that bound.
+FLOATING_SIM_FREQ = 200
 
 
 @register_agent()
@@ -255,7 +267,7 @@ class FixedInspireHandRight(InspireHandRight):
     the robot at :data:`PALM_UP_MOUNT` (``robot_poses=[PALM_UP_MOUNT]``)."""
 
     uid = "fixed_inspire_hand_right"
-    sim_freq: ClassVar[int | None] = SIM_FREQ
+    sim_freq: ClassVar[int | None] = FIXED_SIM_FREQ
     mount_pose: ClassVar[tuple[float, ...]] = PALM_SIDE_MOUNT
     keyframes = {"palm_side": zero_pose("right"), "palm_up": zero_pose("right"), "rest": zero_pose("right")}
     default_control_mode = "pd_joint_delta_pos"
@@ -266,7 +278,7 @@ class FixedInspireHandLeft(InspireHandLeft):
     """The left RH56DFX on a fixed mount, ManiSkill's ``fixed_inspire_hand_left``."""
 
     uid = "fixed_inspire_hand_left"
-    sim_freq: ClassVar[int | None] = SIM_FREQ
+    sim_freq: ClassVar[int | None] = FIXED_SIM_FREQ
     mount_pose: ClassVar[tuple[float, ...]] = PALM_SIDE_MOUNT
     keyframes = {"palm_side": zero_pose("left"), "palm_up": zero_pose("left"), "rest": zero_pose("left")}
     default_control_mode = "pd_joint_delta_pos"
@@ -315,7 +327,7 @@ class FloatingInspireHandRight(Agent):
     the hand's (:class:`InspireHandRight`)."""
 
     uid = "floating_inspire_hand_right"
-    sim_freq: ClassVar[int | None] = SIM_FREQ
+    sim_freq: ClassVar[int | None] = FLOATING_SIM_FREQ
     mjcf_path = FLOATING_MOUNT
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandRight, at="root", quat=HAND_ON_MOUNT),)
     actuators = (MOUNT_DRIVES,)
@@ -334,7 +346,7 @@ class FloatingInspireHandLeft(Agent):
     """The left RH56DFX on a 6-DoF floating mount, ManiSkill's ``floating_inspire_hand_left``."""
 
     uid = "floating_inspire_hand_left"
-    sim_freq: ClassVar[int | None] = SIM_FREQ
+    sim_freq: ClassVar[int | None] = FLOATING_SIM_FREQ
     mjcf_path = FLOATING_MOUNT
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandLeft, at="root", quat=HAND_ON_MOUNT),)
     actuators = (MOUNT_DRIVES,)

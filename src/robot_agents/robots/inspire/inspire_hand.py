@@ -68,7 +68,7 @@ deltas in every mode (ManiSkill's ``pd_joint_pos`` gives the fingers absolute ta
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import ClassVar
 
@@ -214,6 +214,33 @@ def zero_pose(side: str) -> Keyframe:
     return Keyframe(qpos=driven_zeros(side))
 
 
+#: Body pairs of a side's hand that touch at its zero pose (the palm on the wrist's base
+#: and on the thumb's metacarpal): excluded from contacts where the piece is mounted on
+#: another robot (the hand robots below turn every self-collision off, as ManiSkill's).
+def touching_pairs(side: str) -> tuple[tuple[str, str], ...]:
+    """The pairs of :func:`names`-prefixed links that touch at the zero pose."""
+    palm = f"{side}_hand_hand_base_link"
+    return ((palm, f"{side}_hand_wrist_base_link"), (palm, f"{side}_hand_thumb_metacarpal"))
+
+
+#: Why the example's generic scripted solvers cannot do ManiSkill's table-top tasks with
+#: the floating hands (measured 2026-11-29 18:34 UTC, ``success_rate`` of
+#: examples/scripted_pick.py, 20 seeds): they open and close a gripper at its
+#: controller's unit bounds, which for a hand's eight joint targets are every joint's
+#: limits, the wrist's too, not a grasp.
+HAND_TASK_LIMITS = {
+    "PickCube-v1": (
+        "the generic solver opens and closes a gripper at its controller's bounds, for a hand every joint's "
+        "limits (its wrist's too): 0/20 picks, both sides; the hand's own grasp is its power grasp "
+        "(tests/test_inspire_hand.py picks a cube with it)"
+    ),
+    "PushCube-v1": (
+        "the generic solver pushes with the closed gripper's fingertips pointing down, for a hand every "
+        "joint at its limit (the wrist's too): 4/20 right, 10/20 left"
+    ),
+}
+
+
 class InspireHandRight(Agent):
     """The right RH56DFX with its wrist (a piece): root body ``right_hand_wrist_base_link``
     (its z axis up the forearm), palm ``right_hand_hand_base_link``, part ``hand``.
@@ -228,6 +255,7 @@ class InspireHandRight(Agent):
     parts = (hand_part("right"),)
     link_materials = {link: FINGER_PAD for link in names("right", PAD_LINKS)}
     disable_self_collisions = True
+    self_collision_exclusions = touching_pairs("right")
     keyframes = {"rest": zero_pose("right")}
 
 
@@ -241,6 +269,7 @@ class InspireHandLeft(Agent):
     parts = (hand_part("left"),)
     link_materials = {link: FINGER_PAD for link in names("left", PAD_LINKS)}
     disable_self_collisions = True
+    self_collision_exclusions = touching_pairs("left")
     keyframes = {"rest": zero_pose("left")}
 
 
@@ -332,6 +361,7 @@ class FloatingInspireHandRight(Agent):
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandRight, at="root", quat=HAND_ON_MOUNT),)
     actuators = (MOUNT_DRIVES,)
     disable_self_collisions = True
+    task_limits: ClassVar[Mapping[str, str]] = HAND_TASK_LIMITS
     parts = (mount_arm("right_hand_hand_base_link"),)
     keyframes = {
         "palm_side": floating("right", palm_up=False),
@@ -351,6 +381,7 @@ class FloatingInspireHandLeft(Agent):
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandLeft, at="root", quat=HAND_ON_MOUNT),)
     actuators = (MOUNT_DRIVES,)
     disable_self_collisions = True
+    task_limits: ClassVar[Mapping[str, str]] = HAND_TASK_LIMITS
     parts = (mount_arm("left_hand_hand_base_link"),)
     keyframes = {
         "palm_side": floating("left", palm_up=False),

@@ -4,13 +4,17 @@ them: ``fixed_inspire_hand_right`` / ``_left`` (on a fixed mount) and
 ``floating_inspire_hand_right`` / ``_left`` (on a 6-DoF floating mount).
 
 Sources of the numbers:
-- Product: "Degrees of freedom 6, Numbers of joints 12" (Inspire's RH56DFX data, as
-  quoted in a survey's hand table; the maker's datasheet itself could not be read from
-  the stored corpora, and no other number here rests on it): six linear actuators
-  (thumb yaw, thumb bend, index, middle, ring, pinky), each finger's distal joint
-  coupled to its proximal, the thumb's two outer joints to its bend. Fingertip forces
-  measured on a real RH56DFX at its full force setting (correlllab/rh56_controller
-  README, 2025-11-04): index 7.06 N, middle 6.47 N, thumb bend 12.93 N.
+- Product: Inspire's RH56DFX data ("Degrees of freedom 6, Numbers of joints 12"; 540 g;
+  fingertip force 10 N for the four fingers, 15 N for the thumb; RS485), as quoted from
+  Inspire's product page (fetched 2026-09-17) in a public hand survey's Table 2 (row
+  ``inspire_rh56dfx_2023``, found through the code index; the maker's page itself could
+  not be read from the stored corpora): six linear actuators (thumb yaw, thumb bend,
+  index, middle, ring, pinky), each finger's distal joint coupled to its proximal, the
+  thumb's two outer joints to its bend. Fingertip forces measured on a real RH56DFX at
+  its full force setting (correlllab/rh56_controller README, 2025-11-04): index 7.06 N,
+  middle 6.47 N, thumb bend 12.93 N. The URDF's link masses (below) sum to 344 g with the
+  wrist, under the 540 g quoted: we keep the URDF's, which describe its links (where the
+  difference sits is not known).
 - Kinematics, ranges, couplings, masses and inertias: ManiSkill 3.0.1's
   ``assets/robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_{right,left}.urdf`` (from
   Inspire's support team, per its README; read as data; the numbers are written out in
@@ -30,7 +34,8 @@ Sources of the numbers:
   meshes (palm 80 x 80 x 31 mm below the finger bases; finger links 45 x 25 x 14 mm and
   12.6 mm capsules; thumb links 68 x 33 x 19 mm, 45 x 24 x 16 mm, 30 x 17 x 15 mm).
 - Drives: the URDF's effort limit, 1 N*m on every joint (the fingertip forces above at
-  the fingers' 0.077 m reach are 0.5 N*m, the thumb's 12.93 N at 0.1 m 1.3 N*m), and its
+  the fingers' 0.077 m reach are 0.5-0.8 N*m, the thumb's 12.9-15 N at 0.1 m 1.3-1.5
+  N*m), and its
   velocity limit, 0.5 rad/s, which bounds the velocity modes. ManiSkill's PhysX gains
   (kp 1000, kv 100 N*m*s/rad, force limits 20 / 100 N*m) are not the hand's: with them
   1 N*m saturates at 1 mrad of error and PhysX integrates its drives implicitly. Ours:
@@ -46,14 +51,27 @@ Sources of the numbers:
   carry ManiSkill's passive damping (0.001 N*m*s/rad) and 1e-4 kg*m^2 of armature (an
   estimate: the share of the same actuator's inertia the linkage reflects on them; it
   keeps the grams-light links stable against their stiff couplings).
-- Friction: ManiSkill's finger material (static and dynamic friction 2.0) on the palm
-  and every finger link; self-collisions off, as ManiSkill's (its note: the hand's
-  design keeps its fingers apart).
+- Contact: ManiSkill's finger material (static and dynamic friction 2.0) on the palm
+  and every finger link, with the library's near-rigid pad contact (priority, solref
+  0.01, impedance 0.9999: Menagerie's ``trs_so_arm100`` pad values, as the other pads';
+  with MuJoCo's default contact a finger's saturated drive pressed 17.5 mm into the
+  sweep's 64 g cube); self-collisions off, as ManiSkill's (its note: the hand's design
+  keeps its fingers apart).
 - Fixed mount: ManiSkill's keyframe poses: the wrist's base 0.4 m up, turned -pi/2
   about z (``palm_side``) and then pi/2 about x (``palm_up``); gravity compensated (the
   library's default for a fixed root). Floating mount: the library's 6-DoF mount
   (``robots/robotiq/assets/floating_mount.xml``: ManiSkill's ``root_*`` joint names; kp
-  1000, kv 100, 100 N as ManiSkill's) with the hand's wrist base on it.
+  1000, kv 100, 100 N as ManiSkill's) with the hand's wrist base on it, turned so that
+  both keyframes reach ManiSkill's poses clear of the mount's gimbal lock
+  (:data:`HAND_ON_MOUNT`).
+- Power grasp (ours; tests/test_inspire_hand.py): open is every drive at 0 (the thumb
+  stretched out beside the palm); closed swings the thumb in front of the palm (yaw
+  -1.2), bends it (-0.47) and curls the fingers to their MCP limit. A 4 cm cube on the
+  palm's face 85 mm up the palm is held between the thumb's metacarpal and the curled
+  fingers: the sweep's grasp claim (the cube pulled away from the palm at 1 g net) slips
+  0.77 mm at 160 Hz on the fixed mount and 0.56 mm at 200 Hz on the floating one; the
+  floating hand palm down picks such a cube (50 g) from a pedestal, the thumb pressing
+  about 52 N against the fingers, the hand's contacts carrying its weight.
 
 ManiSkill differences: its qpos is in breadth-first order (the MCPs before the PIPs), ours
 in the model's depth-first order (each finger's joints together); its keyframes put the
@@ -61,8 +79,12 @@ thumb's IP at -0.0723 rad where its own coupling puts it at -0.0407 (ours follow
 coupling). Its two modes are ``pd_joint_pos`` and ``pd_joint_delta_pos`` (wrist and six
 drives, +-0.1 rad per step); ours are generated from the parts: the same two (plus the
 library's target-delta and velocity variants) for the fixed hands; on the floating mount
-the mount is the arm part (joint and end-effector modes) and the hand takes +-0.1 rad
-deltas in every mode (ManiSkill's ``pd_joint_pos`` gives the fingers absolute targets).
+the mount is the arm part (the six joint modes, ``pd_ee_delta_pose``, ``pd_ee_pose``) and
+the hand takes absolute targets where the mount's are absolute (``pd_joint_pos`` as
+ManiSkill's, ``pd_joint_pos_vel``, ``pd_ee_pose``) and +-0.1 rad deltas in the others.
+ManiSkill's wrist drive has its own 100 N force limit, ours the URDF's 1 N*m as every
+joint's. The example's generic scripted Pick/Push solvers do not fit a hand
+(:data:`HAND_TASK_LIMITS`).
 """
 
 from __future__ import annotations

@@ -14,7 +14,12 @@ other link: z). A link origin ``(p, R)`` in its parent's frame becomes
 link's z axis, which the reflection ``M_z`` leaves as it is, so the left hand's joint
 angles, ranges, couplings and keyframes are the right hand's. The upstream left URDF
 (``inspire_hand_left.urdf``) is this mirror of the right one to its printed digits
-(origins exactly, masses and inertias within 0.1 %: two exports of one CAD model).
+(joint frames within 3e-7: it prints the thumb MCP's yaw -0.003172 where the right one
+prints -0.0031723; masses and inertias within 0.1 %: two exports of one CAD model).
+
+Inertials are the URDF's, except that most of its products of inertia under 1e-10
+kg*m^2 and centre-of-mass offsets under 1e-7 m are written as 0, and that the four
+finger proximals take the middle, ring and pinky's 7.4556 g (the index's is 7.4557 g).
 """
 
 from __future__ import annotations

@@ -408,3 +408,27 @@ def test_a_hand_on_an_arm_takes_absolute_targets_in_the_absolute_modes() -> None
         config = modes[mode]["hand"]  # type: ignore[index]
         assert config.use_delta is delta, mode
     assert modes["pd_joint_delta_pos"]["hand"].upper == 0.1  # type: ignore[index]
+
+
+def test_the_hand_mounted_on_an_arm_brings_its_part_drives_and_couplings() -> None:
+    """The right hand as a piece on the xArm6's flange: its hand part (power grasp on the
+    prefixed palm), its eight drives and six couplings come along, and the arm's absolute
+    modes give the hand absolute targets."""
+    from robot_agents.robots.inspire.inspire_hand import InspireHandRight
+    from robot_agents.robots.ufactory.xarm6 import XArm6NoGripper
+
+    class ArmWithHand(XArm6NoGripper):
+        uid = "arm_with_inspire_test"
+        attachments = (ra.Attachment(InspireHandRight, at="link_eef", prefix="hand/"),)
+
+    checked = ArmWithHand.check()
+    hand = next(p for p in checked.parts if isinstance(p, ra.Hand))
+    assert hand.power_grasp is not None and hand.power_grasp.link == "hand/right_hand_hand_base_link"
+    modes = ArmWithHand.modes()
+    name = hand.name  # the piece's part, named with its prefix
+    assert modes["pd_joint_pos"][name].use_delta is False  # type: ignore[index,union-attr]
+    assert modes["pd_joint_delta_pos"][name].use_delta is True  # type: ignore[index,union-attr]
+    assert modes["pd_joint_pos"][name].joint_names == tuple(f"hand/right_hand_{j}" for j in DRIVEN)  # type: ignore[index,union-attr]
+    spec = ArmWithHand.build_spec()
+    couplings = [eq for eq in spec.equalities if eq.name1.startswith("hand/")]
+    assert len(couplings) == len(COUPLED)

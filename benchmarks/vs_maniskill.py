@@ -93,6 +93,10 @@ SHARED = {
     "xarm7_ability": "xarm7_ability",
     "unitree_go2_simplified_locomotion": "unitree_go2_simplified_locomotion",
     "unitree_h1_simplified": "unitree_h1_simplified",
+    "fixed_inspire_hand_right": "fixed_inspire_hand_right",
+    "fixed_inspire_hand_left": "fixed_inspire_hand_left",
+    "floating_inspire_hand_right": "floating_inspire_hand_right",
+    "floating_inspire_hand_left": "floating_inspire_hand_left",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

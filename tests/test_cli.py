@@ -21,6 +21,7 @@ from PIL import Image
 import robot_agents
 from robot_agents.cli import main, show_note
 from robot_agents.media.label import LABEL_BACKGROUND
+from robot_agents.robots.catalog import BUILTIN_PIECES
 
 
 def run(*argv: str) -> tuple[int, str]:
@@ -601,7 +602,9 @@ def test_show_note_names_a_warning_that_is_not_a_note() -> None:
         ),
         (
             ["info", "panda", "--gripper", "robotiq"],
-            "argument --gripper: invalid choice: 'robotiq' (choose from 'franka_hand', 'panda_stick', 'robotiq_2f85', 'widowx250s_gripper'). Did you mean 'robotiq_2f85'?",
+            "argument --gripper: invalid choice: 'robotiq' (choose from "
+            + ", ".join(repr(name) for name in sorted(BUILTIN_PIECES))
+            + "). Did you mean 'robotiq_2f85'?",
         ),
         (
             ["check", "arm.urdf", "--up", "Y"],

@@ -242,3 +242,23 @@ def test_a_part_takes_its_joints_in_the_order_of_its_patterns(pendulum_file: Pat
     # one pattern matching both keeps the model's order
     cls = make_pendulum_class(pendulum_file, parts=(ra.Arm(name="arm", joints="elbow|shoulder"),), control_modes={})
     assert ra.Scene(cls).agents[0].part_joints["arm"] == ("shoulder", "elbow")
+
+
+def test_a_hand_on_an_arm_takes_absolute_targets_where_the_arm_does() -> None:
+    """A hand beside an arm: absolute joint targets in the arm's absolute modes, deltas
+    in the others; a body part beside the arm keeps its deltas everywhere."""
+    from robot_agents.controllers.joint import PDJointPosConfig
+    from robot_agents.controllers.rules import modes_from_parts
+
+    hand = ra.Hand(name="hand", joints=("f1", "f2"), open=0.0, closed=1.0)
+    parts = (ra.Arm(name="arm", joints=("a1", "a2")), hand, ra.Body(name="head", joints=("h",)))
+    joints = {"arm": ("a1", "a2"), "hand": ("f1", "f2"), "head": ("h",)}
+    modes = modes_from_parts(parts, joints, dict.fromkeys(("a1", "a2", "f1", "f2", "h"), 1.0))
+    for mode, absolute in (("pd_joint_pos", True), ("pd_joint_pos_vel", True), ("pd_joint_delta_pos", False)):
+        entry = modes[mode]
+        assert isinstance(entry, dict)
+        config, head = entry["hand"], entry["head"]
+        assert isinstance(config, PDJointPosConfig) and isinstance(head, PDJointPosConfig)
+        assert config.use_delta is not absolute and config.normalize_action is not absolute, mode
+        assert config.joint_names == ("f1", "f2") and head.use_delta, mode
+    assert modes["pd_joint_vel"]["hand"].use_delta  # type: ignore[index,union-attr]

@@ -102,14 +102,22 @@ def test_masses_ranges_and_limits_match_the_sources() -> None:
 
 
 def test_modes_include_maniskills_and_the_hand_takes_target_deltas() -> None:
+    """The hand takes +-0.1 rad deltas from its targets (ManiSkill's hand_target_delta_pos)
+    in every mode but those where the arm's targets are absolute; there its targets are
+    absolute too (the library's rule for a hand on an arm; ManiSkill keeps deltas)."""
     modes = XArm7Ability.modes()
     assert {"pd_joint_delta_pos", "pd_joint_pos", "pd_ee_delta_pose", "pd_ee_target_delta_pose"} <= set(modes)
     assert XArm7Ability.default_mode() == "pd_joint_delta_pos"
-    for mode in modes.values():
+    absolute = {"pd_joint_pos", "pd_joint_pos_vel", "pd_ee_pose"}
+    for name, mode in modes.items():
         assert isinstance(mode, dict)
         hand = mode["hand"]
-        assert isinstance(hand, ra.PDJointPosConfig) and hand.use_delta and hand.use_target
-        assert hand.lower == -0.1 and hand.upper == 0.1
+        assert isinstance(hand, ra.PDJointPosConfig)
+        if name in absolute:
+            assert not hand.use_delta and not hand.normalize_action, name
+        else:
+            assert hand.use_delta and hand.use_target, name
+            assert hand.lower == -0.1 and hand.upper == 0.1
 
 
 def test_keyframe_holds_and_random_actions_stay_stable() -> None:

@@ -274,7 +274,8 @@ def modes_from_parts(
     a gripper) gets the six joint modes and, for an arm with a task space, the five
     end-effector modes; a gripper adds one normalized open/close action to every mode;
     every other part adds delta joint-position actions (a hand riding on an arm: from its
-    targets, as ManiSkill's; a mobile manipulator with a
+    targets, as ManiSkill's, and absolute targets in the modes where the main part's are
+    absolute; a mobile manipulator with a
     torso or head also gets ``pd_joint_delta_pos_stiff_body``: the arm's deltas with the
     body at absolute joint targets). ``velocity_limits`` holds the
     driven joints (rad/s or m/s; ``inf`` where unknown). When any of the main part's
@@ -376,6 +377,18 @@ def modes_from_parts(
                     upper=part.max_delta,
                 )
     combined = combine_parts(main.name, table, **others)
+    # A hand riding on an arm (a floating mount) takes absolute joint targets where the
+    # main part does (ManiSkill's floating hands' pd_joint_pos): deltas from the measured
+    # pose would let a finger pressing on an object, or the wrist under its load, give.
+    hands = {
+        name: PDJointPosConfig(joint_names=config.joint_names, normalize_action=False)
+        for name, config in others.items()
+        if isinstance(next(p for p in parts if p.name == name), Hand) and isinstance(config, PDJointPosConfig)
+    }
+    for mode, config in table.items():
+        entry = combined[mode]
+        if hands and _absolute_positions(config) and isinstance(entry, Mapping):
+            combined[mode] = {**entry, **hands}
     # A mobile manipulator's body (torso, head) held at absolute targets while the arm
     # takes delta commands: ManiSkill's Fetch mode of that name.
     body = {
@@ -393,6 +406,12 @@ def modes_from_parts(
             joint_names=every, normalize_action=bounded, stiffness=0.0, damping=0.0
         )
     return combined
+
+
+def _absolute_positions(config: ControllerConfig) -> bool:
+    """A config that writes absolute position targets (``pd_joint_pos``,
+    ``pd_joint_pos_vel``, ``pd_ee_pose``), not deltas or velocities alone."""
+    return "position" in config.target_kinds() and not bool(getattr(config, "use_delta", True))
 
 
 def _velocity_only(config: ControllerConfig) -> bool:

@@ -40,6 +40,10 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "xarm7_ability": "robot_agents.robots.ufactory.xarm7:XArm7Ability",
     "unitree_go2_simplified_locomotion": "robot_agents.robots.unitree.go2:UnitreeGo2Simplified",
     "unitree_h1_simplified": "robot_agents.robots.unitree.h1:UnitreeH1Simplified",
+    "fixed_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandRight",
+    "fixed_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandLeft",
+    "floating_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandRight",
+    "floating_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandLeft",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name
@@ -51,4 +55,6 @@ BUILTIN_PIECES: dict[str, str] = {
     "panda_stick": "robot_agents.robots.panda.panda:PandaStickTool",
     "widowx250s_gripper": "robot_agents.robots.widowx.widowx250s:WidowX250SGripperPiece",
     "ability_hand_right": "robot_agents.robots.psyonic.ability_hand:AbilityHandRight",
+    "inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:InspireHandRight",
+    "inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:InspireHandLeft",
 }

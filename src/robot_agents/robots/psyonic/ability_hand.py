@@ -75,9 +75,11 @@ Control modes: ManiSkill's agent has one, ``pd_joint_pos``: the mount's six abso
 targets (m, rad, not normalized) and the hand's six (the knuckles through the mimic, the
 thumb's two). Here the modes are generated from the parts (the mount as the arm, the
 hand as a hand riding on it): the six joint modes and ``pd_ee_delta_pose`` /
-``pd_ee_pose`` for the mount, and in every mode the hand takes +-0.1 rad deltas from its
-targets (ManiSkill's hands on arms, ``xarm7_ability``'s ``hand_target_delta_pos``):
-``pd_joint_pos`` has ManiSkill's 12 entries, the hand's six as deltas. The hand's qpos
+``pd_ee_pose`` for the mount; the hand takes absolute targets where the mount's are
+absolute (``pd_joint_pos``, ManiSkill's 12 entries; ``pd_joint_pos_vel``, ``pd_ee_pose``)
+and +-0.1 rad deltas from its targets in the other modes (ManiSkill's hands on arms,
+``xarm7_ability``'s ``hand_target_delta_pos``; the library's rule for a hand riding on
+an arm, ``controllers/rules.py``). The hand's qpos
 order is MuJoCo's depth-first :data:`JOINTS` (ManiSkill's is breadth-first: the five
 first joints, then the five second ones).
 

@@ -32,10 +32,13 @@ down, every hand joint 0 with the distal joints where the coupling puts them).
 
 Control modes: generated from the parts: the arm's six joint modes and five end-effector
 modes (on the wrist ``base``), ManiSkill's four (``pd_joint_delta_pos``, the default,
-``pd_joint_pos``, ``pd_ee_delta_pose``, ``pd_ee_target_delta_pose``) among them, and in
-each the hand's six motors take +-0.1 rad deltas from their targets, as ManiSkill's
+``pd_joint_pos``, ``pd_ee_delta_pose``, ``pd_ee_target_delta_pose``) among them; the
+hand's six motors take +-0.1 rad deltas from their targets, as ManiSkill's
 ``hand_target_delta_pos`` (ManiSkill drives all ten hand joints so, the distal ones too;
-here they follow through the coupling). The hand's qpos order is MuJoCo's depth-first
+here they follow through the coupling), except where the arm's targets are absolute
+(``pd_joint_pos``, ``pd_joint_pos_vel``, ``pd_ee_pose``): there the hand's are absolute
+too (the library's rule for a hand riding on an arm; ManiSkill keeps the deltas in its
+``pd_joint_pos``). The hand's qpos order is MuJoCo's depth-first
 one (ManiSkill's: breadth-first).
 
 Grasp (tests/test_xarm7_ability.py): at the rest pose the hand's power grasp holds the

@@ -32,6 +32,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "allegro_hand_right": "robot_agents.robots.wonik.allegro:AllegroHandRight",
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
+    "unitree_g1_simplified_upper_body": "robot_agents.robots.unitree.g1:UnitreeG1UpperBody",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

@@ -85,6 +85,7 @@ SHARED = {
     "allegro_hand_right": "allegro_hand_right",
     "anymal_c": "anymal_c",
     "unitree_go2": "unitree_go2",
+    "unitree_g1_simplified_upper_body": "unitree_g1_simplified_upper_body",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

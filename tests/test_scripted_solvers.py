@@ -24,7 +24,13 @@ SEEDS, REQUIRED = 20, 18
 #: robots, so they are not the robots' ``task_limits``. Strict: a solver that starts to
 #: succeed fails the test until its entry goes. Empty since the push rises where it
 #: presses the cube down (Stretch, 9/20 before: its stalled pushes).
-SOLVER_SHORTFALLS: dict[tuple[str, str], str] = {}
+SOLVER_SHORTFALLS: dict[tuple[str, str], str] = {
+    (task, "unitree_g1_simplified_upper_body"): (
+        "ManiSkill's modes command the G1's 25 joints as one part (its action order); the solver "
+        "commands an arm part of its own and a one-action gripper (the G1's hands take an action per joint)"
+    )
+    for task in ("PickCube-v1", "PushCube-v1", "ReachPose-v1")
+}
 
 
 def load_solver() -> ModuleType:

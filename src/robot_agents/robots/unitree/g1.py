@@ -267,6 +267,16 @@ class UnitreeG1UpperBody(Agent):
     """
 
     uid = "unitree_g1_simplified_upper_body"
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+    #: unitree_g1_simplified_upper_body``, 2026-11-29, 20 Hz control; see docs/timestep.md):
+    #: every claim holds from 2 ms (500 Hz) down to 1 ms (random-action overshoot
+    #: 0.088-0.117 rad, bound 0.25, with the stiff joint limits: 0.36 rad at 500 Hz with
+    #: MuJoCo's default ones; settle 0.003-0.009 rad/s, bound 0.05; the power grasp's slip
+    #: 0.39-0.42 mm; deepest contact 0.017 mm). At 400 Hz and coarser settle fails (2.3
+    #: rad/s at 400 Hz): the forearms' roll drives (kv 10.5 on 0.0105 kg*m^2 apparent inertia)
+    #: cycle between their torque limits below 455 Hz (``robot_agents.tuning.cycles``), the
+    #: random claim from 200 Hz. Default 500 Hz, the first tried step above that bound (as
+    #: the H1's).
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "g1_simplified_upper_body.xml"
     mount_pose: ClassVar[tuple[float, ...]] = STANDING_MOUNT

@@ -23,8 +23,10 @@ from robot_agents.robots.unitree.g1 import (
     LEFT_CLOSED,
     MANISKILL_JOINTS,
     OPEN,
+    RIGHT_ARM_JOINTS,
     STANDING_HEIGHT,
     UnitreeG1UpperBody,
+    UnitreeG1UpperBodyRightArm,
 )
 from robot_agents.tuning.claims import Penetration
 from robot_agents.tuning.grasp_claim import grasp_claim
@@ -316,3 +318,53 @@ def test_the_sweeps_grasp_claim_fails_when_the_hand_does_not_close() -> None:
     claim = grasp_claim(_NeverCloses, UnitreeG1UpperBody.sim_freq or 500, 20, Penetration())
     assert claim is not None and not claim.passed
     assert "not opposed" in claim.detail
+
+
+# ---------------------------------------------------------------- variants
+def test_the_head_camera_variant_is_the_base_robot_with_a_camera() -> None:
+    """Same model and modes; one camera, ``head_camera`` on ``head_link``
+    (tests/test_camera_sources.py checks its pose and projection against ManiSkill's)."""
+    base = ra.Scene(UID)
+    cam = ra.Scene(f"{UID}_with_head_camera")
+    assert cam.model.nbody == base.model.nbody and cam.model.njnt == base.model.njnt
+    assert set(cam.cameras.params(cam.world)) == {"head_camera"}
+    assert base.cameras.params(base.world) == {}
+    assert ra.get_agent(f"{UID}_with_head_camera").modes() == UnitreeG1UpperBody.modes()
+    base.close()
+    cam.close()
+
+
+def test_the_right_arm_variant_commands_maniskills_11_joints_and_leaves_the_rest_passive() -> None:
+    """ManiSkill's ``..._right_arm``: the right arm but its shoulder pitch, and the right
+    hand, in its order, deltas of at most 0.2 rad on all 11; the other joints take no
+    action: under random delta actions for 2 s the torso and the left arm and hand stay
+    within 2 mrad of the keyframe (passive, damped, gravity compensated), the right
+    shoulder pitch, which carries the moving arm, is turned by its reaction (0.060 rad,
+    seed 0) but not driven, while the commanded joints move."""
+    uid = "unitree_g1_simplified_upper_body_right_arm"
+    scene = ra.Scene(uid, control_modes="pd_joint_delta_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    assert agent.controller.parts["body"].config.joint_names == RIGHT_ARM_JOINTS
+    assert agent.controller.action_dim == 11
+    np.testing.assert_allclose(agent.controller.parts["body"].to_raw(np.ones((1, 11)))[0], 0.2)
+    rng = np.random.default_rng(0)
+    start = agent.qpos[0].copy()
+    commanded = [agent.joint_names.index(j) for j in RIGHT_ARM_JOINTS]
+    passive = [i for i in range(len(agent.joint_names)) if i not in commanded]
+    for _ in range(2 * scene.control_freq):
+        agent.set_action(rng.uniform(-1.0, 1.0, 11))
+        scene.step()
+    moved = dict(zip(agent.joint_names, np.abs(agent.qpos[0] - start), strict=True))
+    carried = "right_shoulder_pitch_joint"
+    assert max(moved[agent.joint_names[i]] for i in passive if agent.joint_names[i] != carried) < 0.002, moved
+    assert 0.01 < moved[carried] < 0.2
+    assert max(moved[j] for j in RIGHT_ARM_JOINTS) > 0.2
+    scene.close()
+    assert UnitreeG1UpperBodyRightArm.default_mode() == "pd_joint_pos"
+
+
+def test_the_right_arm_variants_grasp_claim_is_the_right_hands() -> None:
+    claim = grasp_claim(UnitreeG1UpperBodyRightArm, UnitreeG1UpperBodyRightArm.sim_freq or 500, 20, Penetration())
+    assert claim is not None and claim.passed, claim
+    assert claim.value < 0.001 and "not opposed" not in claim.detail

@@ -33,6 +33,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "anymal_c": "robot_agents.robots.anybotics.anymal_c:AnymalC",
     "unitree_go2": "robot_agents.robots.unitree.go2:UnitreeGo2",
     "unitree_g1_simplified_upper_body": "robot_agents.robots.unitree.g1:UnitreeG1UpperBody",
+    "unitree_g1_simplified_upper_body_with_head_camera": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyWithHeadCamera",
+    "unitree_g1_simplified_upper_body_right_arm": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyRightArm",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

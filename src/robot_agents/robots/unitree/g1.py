@@ -44,6 +44,9 @@ Sources of the numbers:
   ``left_tcp_link``/``right_tcp_link``, ManiSkill's TCPs, no end-effector modes: ManiSkill's
   agent has none), ``left_hand`` and ``right_hand`` (7 joints each: thumb base ``zero``,
   thumb ``one``/``two``, upper finger ``three``/``four``, lower finger ``five``/``six``).
+- Variants (ManiSkill's): ``..._with_head_camera`` (:data:`HEAD_CAMERA`) and
+  ``..._right_arm`` (:class:`UnitreeG1UpperBodyRightArm`: ManiSkill's 11 joints commanded,
+  the others passive, damped by their drives' kv where ManiSkill's use its 100).
 - Control modes: ManiSkill's ``pd_joint_delta_pos`` and ``pd_joint_pos`` (the default,
   ManiSkill's first with an absolute target: ``pd_joint_delta_pos`` is first there) and the
   library's four other joint modes, over the whole body in ManiSkill's order (one part,
@@ -54,18 +57,23 @@ Sources of the numbers:
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import ClassVar
 
 from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
+from robot_agents.controllers.base import ControllerConfig
 from robot_agents.controllers.joint import PDJointPosConfig
+from robot_agents.controllers.passive import PassiveConfig
 from robot_agents.controllers.rules import JointGroup, ModeConfig, joint_control_modes
 from robot_agents.keyframe import Keyframe
+from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT, quat_multiply
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.parts.declaration import Arm, EndEffector, Hand, PowerGrasp, Torso
+from robot_agents.parts.declaration import Arm, EndEffector, Hand, Part, PowerGrasp, Torso
 from robot_agents.registry import register_agent
+from robot_agents.sensors.camera import CameraConfig
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -151,25 +159,33 @@ def _limits(joint: str) -> tuple[float, float]:
     return FINGER_LIMITS if kind in FINGER_KINDS else ARM_LIMITS
 
 
-def _body_modes() -> dict[str, ModeConfig]:
-    """The six joint modes over the body in ManiSkill's order, with ManiSkill's per-joint
-    delta bounds (0.2 rad on the torso and arms, 0.5 on the fingers)."""
-    group = JointGroup(
-        MANISKILL_JOINTS,
-        max_delta=BODY_DELTA,
-        max_velocity=tuple(_limits(j)[1] for j in MANISKILL_JOINTS),
-    )
-    step = tuple(FINGER_DELTA if _limits(j) == FINGER_LIMITS else BODY_DELTA for j in MANISKILL_JOINTS)
+def _body_modes(
+    body: tuple[str, ...], passive: tuple[str, ...] = (), finger_delta: float = FINGER_DELTA
+) -> dict[str, ModeConfig]:
+    """The six joint modes over ``body`` (ManiSkill's order), with ManiSkill's per-joint
+    delta bounds (0.2 rad on the torso and arms, ``finger_delta`` on the fingers); the
+    ``passive`` joints, if any, move freely in every mode, damped by their drives' own kv
+    (ManiSkill's ``PassiveControllerConfig``)."""
+    group = JointGroup(body, max_delta=BODY_DELTA, max_velocity=tuple(_limits(j)[1] for j in body))
+    step = tuple(finger_delta if _limits(j) == FINGER_LIMITS else BODY_DELTA for j in body)
     lower = tuple(-s for s in step)
     modes: dict[str, ModeConfig] = {}
     for mode, config in joint_control_modes(group).items():
         if isinstance(config, PDJointPosConfig) and config.use_delta:
             config = dataclasses.replace(config, lower=lower, upper=step)
-        modes[mode] = {"body": config}
+        parts: dict[str, ControllerConfig] = {"body": config}
+        if passive:
+            damping = tuple(DAMPING_TIME * _limits(j)[0] / _max_delta(j) for j in passive)
+            parts["passive"] = PassiveConfig(joint_names=passive, damping=damping)
+        modes[mode] = parts
     return modes
 
 
-G1_MODES = _body_modes()
+def _max_delta(joint: str) -> float:
+    return FINGER_DELTA if _limits(joint) == FINGER_LIMITS else BODY_DELTA
+
+
+G1_MODES = _body_modes(MANISKILL_JOINTS)
 
 #: Open (rad): every finger straight, ManiSkill's open grasp (its ``*_dist_to_open_grasp``
 #: measures from 0), in :data:`FINGER_KINDS` order.
@@ -281,7 +297,7 @@ class UnitreeG1UpperBody(Agent):
     mjcf_path = ASSETS / "g1_simplified_upper_body.xml"
     mount_pose: ClassVar[tuple[float, ...]] = STANDING_MOUNT
     actuators = G1_DRIVES
-    parts = G1_PARTS
+    parts: ClassVar[tuple[Part, ...]] = G1_PARTS
     control_modes: ClassVar[Mapping[str, ModeConfig]] = G1_MODES
     default_control_mode = "pd_joint_pos"
     link_materials = {link: FINGER_PAD for link in PAD_LINKS}
@@ -289,16 +305,91 @@ class UnitreeG1UpperBody(Agent):
     keyframes: ClassVar[Mapping[str, Keyframe]] = {"standing": STANDING, "rest": STANDING}
 
 
+#: ManiSkill's ``head_camera``: 0.05 m ahead of and 0.46 m above ``head_link``'s origin,
+#: pitched down pi/6 (``euler2quat(0, pi/6, 0)`` in SAPIEN's camera axes: x forward, z
+#: up), 128 x 128, vertical field of view pi/2, near 0.01 m, far 100 m.
+HEAD_CAMERA_PITCH = math.pi / 6
+_HEAD_CAMERA_QUAT = quat_multiply(
+    (math.cos(HEAD_CAMERA_PITCH / 2), 0.0, math.sin(HEAD_CAMERA_PITCH / 2), 0.0), FORWARD_X_UP_Z_CAMERA_QUAT
+)
+HEAD_CAMERA = CameraConfig(
+    uid="head_camera",
+    mount="head_link",
+    pos=(0.05, 0.0, 0.46),
+    quat=(
+        float(_HEAD_CAMERA_QUAT[0]),
+        float(_HEAD_CAMERA_QUAT[1]),
+        float(_HEAD_CAMERA_QUAT[2]),
+        float(_HEAD_CAMERA_QUAT[3]),
+    ),
+    width=128,
+    height=128,
+    fovy=90.0,
+    near=0.01,
+    far=100.0,
+)
+
+
+@register_agent()
+class UnitreeG1UpperBodyWithHeadCamera(UnitreeG1UpperBody):
+    """``unitree_g1_simplified_upper_body`` with ManiSkill's ``head_camera`` (:data:`HEAD_CAMERA`)."""
+
+    uid = "unitree_g1_simplified_upper_body_with_head_camera"
+    cameras = (HEAD_CAMERA,)
+
+
+#: ManiSkill's ``UnitreeG1UpperBodyRightArm.body_joints``: the right arm but its shoulder
+#: pitch, and the right hand, in ManiSkill's order; every other joint is passive.
+RIGHT_ARM_JOINTS = (
+    "right_shoulder_roll_joint",
+    "right_shoulder_yaw_joint",
+    "right_elbow_pitch_joint",
+    "right_elbow_roll_joint",
+    "right_zero_joint",
+    "right_three_joint",
+    "right_five_joint",
+    "right_one_joint",
+    "right_four_joint",
+    "right_six_joint",
+    "right_two_joint",
+)
+RIGHT_ARM_PASSIVE = tuple(j for j in MANISKILL_JOINTS if j not in RIGHT_ARM_JOINTS)
+
+
+@register_agent()
+class UnitreeG1UpperBodyRightArm(UnitreeG1UpperBody):
+    """``unitree_g1_simplified_upper_body`` commanding its right arm (but the shoulder
+    pitch) and right hand, as ManiSkill's ``..._right_arm``: the torso, the left arm and
+    hand and the right shoulder pitch are passive (no action), damped by their drives' kv
+    and held up by the gravity compensation. ManiSkill's delta bound, 0.2 rad, on all 11
+    joints (its base robot gives the fingers 0.5)."""
+
+    uid = "unitree_g1_simplified_upper_body_right_arm"
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
+    #: unitree_g1_simplified_upper_body_right_arm``, 2026-11-29): every claim holds from
+    #: 400 Hz (settle 2.88 rad/s at 320 Hz); the base robot's 500 Hz kept, above the right
+    #: forearm roll drive's cycle bound (455 Hz).
+    parts = (G1_PARTS[2], G1_PARTS[4])
+    control_modes: ClassVar[Mapping[str, ModeConfig]] = _body_modes(
+        RIGHT_ARM_JOINTS, RIGHT_ARM_PASSIVE, finger_delta=BODY_DELTA
+    )
+    default_control_mode = "pd_joint_pos"
+
+
 __all__ = [
     "G1_DRIVES",
     "GRASP_CUBE_CENTRE",
     "GRASP_CUBE_EDGE",
+    "HEAD_CAMERA",
     "LEFT_CLOSED",
     "LEFT_GRASP",
     "MANISKILL_JOINTS",
+    "RIGHT_ARM_JOINTS",
     "RIGHT_CLOSED",
     "RIGHT_GRASP",
     "STANDING_HEIGHT",
     "STANDING_MOUNT",
     "UnitreeG1UpperBody",
+    "UnitreeG1UpperBodyRightArm",
+    "UnitreeG1UpperBodyWithHeadCamera",
 ]

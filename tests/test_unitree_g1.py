@@ -153,9 +153,10 @@ def test_joint_ranges_and_limits_are_the_urdfs() -> None:
         assert tuple(limits[f"left_{kind}_joint"]) == pytest.approx((low, high)), kind
         right = (-high, -low) if kind in MIRRORED else (low, high)
         assert tuple(limits[f"right_{kind}_joint"]) == pytest.approx(right), kind
-    # the URDF's efforts, and kp = effort / ManiSkill's largest delta, kv = 0.1 s * kp
+    # the URDF's efforts; kp = effort / ManiSkill's largest delta (torso, arms) or / 0.1 rad
+    # (fingers), kv = 0.1 s * kp
     drives = sorted((d.effort_limit, d.velocity_limit, d.stiffness, d.damping) for d in G1_DRIVES)
-    expected = [(0.7, 23.0, 1.4, 0.14), (21.0, 53.0, 105.0, 10.5), (88.0, 32.0, 440.0, 44.0)]
+    expected = [(0.7, 23.0, 7.0, 0.7), (21.0, 53.0, 105.0, 10.5), (88.0, 32.0, 440.0, 44.0)]
     np.testing.assert_allclose(np.array(drives, dtype=np.float64), expected, rtol=1e-12)
     scene.close()
 
@@ -280,6 +281,33 @@ def hand_grasp(side: str, closed: tuple[float, ...], mass: float = CUBE_MASS) ->
     }
     scene.close()
     return result
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_a_free_hand_closes_and_opens_again_within_its_tolerance(side: str) -> None:
+    """Without an object, 2 s to ``closed`` then 2 s to ``open`` (the fingers' top speed
+    is about 1.4 rad/s: 0.7 N*m against the joints' 0.5 N*m*s/rad): each time every finger
+    joint ends within 0.03 rad (the hand's tolerance: the friction loss over kp leaves up
+    to 0.014 rad) and ``is_gripper_closed`` / ``is_gripper_open`` say so. (With the thumb's
+    tip passing inside the curled fingers the hand jammed and stayed 1 rad from open.)"""
+    scene = ra.Scene(UID, control_modes="pd_joint_pos")
+    scene.reset()
+    agent = scene.agents[0]
+    hand = f"{side}_hand"
+    names = agent.part_joints[hand]
+    part = next(p for p in G1_PARTS if p.name == hand)
+    opened, closed = part.positions(len(names))
+    for pose, check in ((closed, agent.is_gripper_closed), (opened, agent.is_gripper_open)):
+        target = agent.qpos[0].copy()
+        target[[agent.joint_names.index(n) for n in names]] = pose
+        action = np.array([target[agent.joint_names.index(j)] for j in MANISKILL_JOINTS])
+        for _ in range(2 * scene.control_freq):
+            agent.set_action(action)
+            scene.step()
+        error = np.abs(agent.qpos[0, [agent.joint_names.index(n) for n in names]] - pose)
+        assert np.max(error) < 0.03, error
+        assert check(gripper=hand)[0]
+    scene.close()
 
 
 @pytest.mark.parametrize("side", ["left", "right"])

@@ -23,11 +23,15 @@ Sources of the numbers:
   every joint, fingers included) do not fit MuJoCo with the URDF's efforts: a finger's
   0.7 N*m drive at kp 1000 saturates 0.7 mrad from its target, and a clamped drive's
   damping is integrated explicitly (``robot_agents.tuning.cycles``): kv 100 on the fingers'
-  and forearms' 0.01 kg*m^2 can cycle between the torque limits below about 5 kHz. Ours
-  follow one rule: kp is the joint's effort limit over ManiSkill's largest delta action
-  (0.2 rad for the torso and arms, 0.5 rad for the fingers), so that the largest delta
-  just reaches the rated torque; kv = 0.1 s * kp, ManiSkill's kv / kp. Torso kp 440,
-  kv 44; arms kp 105, kv 10.5; fingers kp 1.4 N*m/rad, kv 0.14 N*m*s/rad.
+  and forearms' 0.01 kg*m^2 can cycle between the torque limits below about 5 kHz. Ours:
+  the torso's and arms' kp is the effort limit over ManiSkill's largest delta action
+  (0.2 rad), so that the largest delta just reaches the rated torque; a finger's kp is
+  its effort limit over 0.1 rad: held 0.1 rad short of its target (on an object) it
+  presses with its full 0.7 N*m, and a free finger stops within 0.1 / 7 = 0.014 rad of
+  its target against the friction loss (the ``Hand`` parts' tolerance is 0.03 rad). (The
+  arm rule with ManiSkill's finger delta, 0.5 rad, gives kp 1.4: a free finger stopped
+  0.07 rad short, and took over 1.5 s to close.) kv = 0.1 s * kp, ManiSkill's kv / kp.
+  Torso kp 440, kv 44; arms kp 105, kv 10.5; fingers kp 7 N*m/rad, kv 0.7 N*m*s/rad.
 - Gravity: compensated on every body (the library's default for a fixed root), as
   ManiSkill's ``balance_passive_force=True``.
 - Fingers' contact: ManiSkill's finger material (static and dynamic friction 2.0) on the
@@ -112,6 +116,11 @@ MANISKILL_JOINTS = (
 
 #: ManiSkill's largest delta action (rad): torso and arms, fingers.
 BODY_DELTA, FINGER_DELTA = 0.2, 0.5
+#: How far short of its target (rad) a finger presses with its full torque (kp's rule).
+FINGER_PRESS = 0.1
+#: A hand's open / closed tolerance (rad): a free finger stops up to friction loss / kp
+#: = 0.014 rad short of its target.
+HAND_TOLERANCE = 0.03
 #: The URDF's limits per joint group: (effort N*m, velocity rad/s).
 TORSO_LIMITS = (88.0, 32.0)
 ARM_LIMITS = (21.0, 53.0)
@@ -130,10 +139,11 @@ def side_pattern(side: str, kinds: tuple[str, ...]) -> str:
     return f"{side}_({'|'.join(kinds)})_joint"
 
 
-def _drive(joints: str, limits: tuple[float, float], max_delta: float) -> PDActuator:
-    """A PD drive whose largest delta action asks for its effort limit (see the module doc)."""
+def _drive(joints: str, limits: tuple[float, float], full_torque_error: float) -> PDActuator:
+    """A PD drive reaching its effort limit ``full_torque_error`` rad from its target
+    (see the module doc); kv = 0.1 s * kp."""
     effort, speed = limits
-    stiffness = effort / max_delta
+    stiffness = effort / full_torque_error
     return PDActuator(
         joints=joints,
         stiffness=stiffness,
@@ -148,7 +158,7 @@ BOTH = "(left|right)"
 G1_DRIVES = (
     _drive(TORSO_JOINT, TORSO_LIMITS, BODY_DELTA),
     _drive(f"{BOTH}_({'|'.join(ARM_KINDS)})_joint", ARM_LIMITS, BODY_DELTA),
-    _drive(f"{BOTH}_({'|'.join(FINGER_KINDS)})_joint", FINGER_LIMITS, FINGER_DELTA),
+    _drive(f"{BOTH}_({'|'.join(FINGER_KINDS)})_joint", FINGER_LIMITS, FINGER_PRESS),
 )
 
 
@@ -175,14 +185,15 @@ def _body_modes(
             config = dataclasses.replace(config, lower=lower, upper=step)
         parts: dict[str, ControllerConfig] = {"body": config}
         if passive:
-            damping = tuple(DAMPING_TIME * _limits(j)[0] / _max_delta(j) for j in passive)
+            damping = tuple(DAMPING_TIME * _limits(j)[0] / _full_torque_error(j) for j in passive)
             parts["passive"] = PassiveConfig(joint_names=passive, damping=damping)
         modes[mode] = parts
     return modes
 
 
-def _max_delta(joint: str) -> float:
-    return FINGER_DELTA if _limits(joint) == FINGER_LIMITS else BODY_DELTA
+def _full_torque_error(joint: str) -> float:
+    """The error (rad) at which ``joint``'s drive reaches its effort limit (kp's rule)."""
+    return FINGER_PRESS if _limits(joint) == FINGER_LIMITS else BODY_DELTA
 
 
 G1_MODES = _body_modes(MANISKILL_JOINTS)
@@ -191,10 +202,13 @@ G1_MODES = _body_modes(MANISKILL_JOINTS)
 #: measures from 0), in :data:`FINGER_KINDS` order.
 OPEN = (0.0,) * 7
 #: Closed (power grasp, rad), left hand: the thumb (standing out of the palm's face, -y)
-#: swung towards the fingers, the two fingers curled over towards it; on an object the
-#: joints stop short of these targets and press with their drives' torque limit (0.7 N*m).
-#: The right hand's mirror it.
-LEFT_CLOSED = (0.0, 1.2, 0.5, -1.5, -0.6, -1.5, -0.6)
+#: swung towards the fingers, the two fingers curled over towards it; on the power
+#: grasp's cube the joints stop short of these targets and press with their drives'
+#: torque limit (0.7 N*m). Without an object the thumb's tip meets the fingertips outside
+#: them (further in, with the thumb at 1.2 rad and the fingers at -1.5, it passed inside
+#: the curled fingers and the hand jammed: it did not open again). The right hand's
+#: mirror it.
+LEFT_CLOSED = (0.0, 0.6, 0.2, -1.15, -0.4, -1.15, -0.4)
 RIGHT_CLOSED = tuple(-q for q in LEFT_CLOSED)
 #: The power grasp's cube, in the palm link's frame (m): a 4 cm cube 2 cm in front of the
 #: palm's face (the face at y = -0.017 on the left hand), between the open thumb (its
@@ -230,6 +244,7 @@ def hand(side: str, closed: tuple[float, ...], grasp: PowerGrasp) -> Hand:
         ),
         max_delta=FINGER_DELTA,
         max_velocity=FINGER_LIMITS[1],
+        tolerance=HAND_TOLERANCE,
         power_grasp=grasp,
     )
 
@@ -284,15 +299,15 @@ class UnitreeG1UpperBody(Agent):
 
     uid = "unitree_g1_simplified_upper_body"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
-    #: unitree_g1_simplified_upper_body``, 2026-11-29, 20 Hz control; see docs/timestep.md):
-    #: every claim holds from 2 ms (500 Hz) down to 1 ms (random-action overshoot
-    #: 0.088-0.117 rad, bound 0.25, with the stiff joint limits: 0.36 rad at 500 Hz with
-    #: MuJoCo's default ones; settle 0.003-0.009 rad/s, bound 0.05; the power grasp's slip
-    #: 0.39-0.42 mm; deepest contact 0.017 mm). At 400 Hz and coarser settle fails (2.3
-    #: rad/s at 400 Hz): the forearms' roll drives (kv 10.5 on 0.0105 kg*m^2 apparent inertia)
-    #: cycle between their torque limits below 455 Hz (``robot_agents.tuning.cycles``), the
-    #: random claim from 200 Hz. Default 500 Hz, the first tried step above that bound (as
-    #: the H1's).
+    #: unitree_g1_simplified_upper_body``, 2026-11-29 18:35 UTC, 20 Hz control; see
+    #: docs/timestep.md): every claim holds from 2 ms (500 Hz) down to 1 ms (random-action
+    #: overshoot 0.080-0.118 rad, bound 0.25, with the stiff joint limits: with MuJoCo's
+    #: default ones an elbow roll went 0.36 rad past its stop at 500 Hz; settle
+    #: 0.002-0.007 rad/s, bound 0.05; the power grasp's slip 0.65-0.67 mm; deepest contact
+    #: 0.019 mm). At 400 Hz and coarser settle fails (2.33 rad/s at 400 Hz): the forearms'
+    #: roll drives (kv 10.5 on 0.0105 kg*m^2 apparent inertia) cycle between their torque
+    #: limits below 455 Hz (``robot_agents.tuning.cycles``); the random claim fails from
+    #: 200 Hz. Default 500 Hz, the first tried step above that bound (as the H1's).
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "g1_simplified_upper_body.xml"
     mount_pose: ClassVar[tuple[float, ...]] = STANDING_MOUNT
@@ -366,9 +381,9 @@ class UnitreeG1UpperBodyRightArm(UnitreeG1UpperBody):
 
     uid = "unitree_g1_simplified_upper_body_right_arm"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
-    #: unitree_g1_simplified_upper_body_right_arm``, 2026-11-29): every claim holds from
-    #: 400 Hz (settle 2.88 rad/s at 320 Hz); the base robot's 500 Hz kept, above the right
-    #: forearm roll drive's cycle bound (455 Hz).
+    #: unitree_g1_simplified_upper_body_right_arm``, 2026-11-29 18:35 UTC): every claim
+    #: holds from 400 Hz (settle 2.91 rad/s at 320 Hz); the base robot's 500 Hz kept, above
+    #: the right forearm roll drive's cycle bound (455 Hz).
     parts = (G1_PARTS[2], G1_PARTS[4])
     control_modes: ClassVar[Mapping[str, ModeConfig]] = _body_modes(
         RIGHT_ARM_JOINTS, RIGHT_ARM_PASSIVE, finger_delta=BODY_DELTA

@@ -209,7 +209,7 @@ def test_actions_follow_maniskills_joint_order_and_bounds() -> None:
     np.testing.assert_allclose(controller.to_raw(np.ones((1, 25)))[0], [0.2] * 11 + [0.5] * 14)
     delta.close()
     assert set(UnitreeG1UpperBody.modes()) >= {"pd_joint_pos", "pd_joint_delta_pos"}
-    assert UnitreeG1UpperBody.default_mode() == "pd_joint_pos"
+    assert UnitreeG1UpperBody.default_mode() == "pd_joint_delta_pos"  # ManiSkill's first
 
 
 def test_keyframes_hold_and_random_actions_stay_stable() -> None:
@@ -389,7 +389,7 @@ def test_the_right_arm_variant_commands_maniskills_11_joints_and_leaves_the_rest
     assert 0.01 < moved[carried] < 0.2
     assert max(moved[j] for j in RIGHT_ARM_JOINTS) > 0.2
     scene.close()
-    assert UnitreeG1UpperBodyRightArm.default_mode() == "pd_joint_pos"
+    assert UnitreeG1UpperBodyRightArm.default_mode() == "pd_joint_pos"  # ManiSkill's first there
 
 
 def test_the_right_arm_variants_grasp_claim_is_the_right_hands() -> None:

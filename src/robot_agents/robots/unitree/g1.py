@@ -51,9 +51,9 @@ Sources of the numbers:
 - Variants (ManiSkill's): ``..._with_head_camera`` (:data:`HEAD_CAMERA`) and
   ``..._right_arm`` (:class:`UnitreeG1UpperBodyRightArm`: ManiSkill's 11 joints commanded,
   the others passive, damped by their drives' kv where ManiSkill's use its 100).
-- Control modes: ManiSkill's ``pd_joint_delta_pos`` and ``pd_joint_pos`` (the default,
-  ManiSkill's first with an absolute target: ``pd_joint_delta_pos`` is first there) and the
-  library's four other joint modes, over the whole body in ManiSkill's order (one part,
+- Control modes: ManiSkill's ``pd_joint_delta_pos`` (the default, first in ManiSkill's
+  table) and ``pd_joint_pos`` (the right-arm variant's default, first in its table) and
+  the library's four other joint modes, over the whole body in ManiSkill's order (one part,
   ``body``, :data:`MANISKILL_JOINTS`), the delta bounds ManiSkill's (0.2 rad for the torso
   and arms, 0.5 rad for the fingers), the velocity bounds the URDF's.
 """
@@ -314,7 +314,7 @@ class UnitreeG1UpperBody(Agent):
     actuators = G1_DRIVES
     parts: ClassVar[tuple[Part, ...]] = G1_PARTS
     control_modes: ClassVar[Mapping[str, ModeConfig]] = G1_MODES
-    default_control_mode = "pd_joint_pos"
+    default_control_mode = "pd_joint_delta_pos"
     link_materials = {link: FINGER_PAD for link in PAD_LINKS}
     self_collision_exclusions = SELF_COLLISION_EXCLUSIONS
     keyframes: ClassVar[Mapping[str, Keyframe]] = {"standing": STANDING, "rest": STANDING}

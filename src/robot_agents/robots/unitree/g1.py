@@ -29,14 +29,19 @@ Sources of the numbers:
   its effort limit over 0.1 rad: held 0.1 rad short of its target (on an object) it
   presses with its full 0.7 N*m, and a free finger stops within 0.1 / 7 = 0.014 rad of
   its target against the friction loss (the ``Hand`` parts' tolerance is 0.03 rad). (The
-  arm rule with ManiSkill's finger delta, 0.5 rad, gives kp 1.4: a free finger stopped
-  0.07 rad short, and took over 1.5 s to close.) kv = 0.1 s * kp, ManiSkill's kv / kp.
+  arm rule with ManiSkill's finger delta, 0.5 rad, gives kp 1.4: a free finger can stop
+  0.07 rad short, and was still 0.13 rad from its closed target after 1.5 s.) kv = 0.1 s * kp, ManiSkill's kv / kp.
   Torso kp 440, kv 44; arms kp 105, kv 10.5; fingers kp 7 N*m/rad, kv 0.7 N*m*s/rad.
 - Gravity: compensated on every body (the library's default for a fixed root), as
   ManiSkill's ``balance_passive_force=True``.
+- Joint limits: stiff (``solreflimit`` 5 ms), the G1's are mechanical stops: with MuJoCo's
+  default 20 ms random velocity actions pressed an elbow roll 0.36 rad past its stop at
+  500 Hz (0.12 rad with them).
 - Fingers' contact: ManiSkill's finger material (static and dynamic friction 2.0) on the
   palms and finger links; MuJoCo has one coefficient, 2.0, with the torsional and
-  rolling friction the Allegro's pads use.
+  rolling friction the Allegro's pads use and the library's near-rigid pad contact
+  (solref 0.01 s, solimp 0.9999, Menagerie's ``trs_so_arm100`` values): with MuJoCo's
+  default contact the fingers sank 7-8 mm into a held 50 g cube.
 - Self-collisions: ManiSkill's collision groups: a hand's palm, fingers (but the thumb tip,
   ``two_link``, which may meet the other fingers and the palm) and forearm
   (``elbow_roll_link``) do not collide with each other, and the torso not with the

@@ -97,6 +97,9 @@ SHARED = {
     "fixed_inspire_hand_left": "fixed_inspire_hand_left",
     "floating_inspire_hand_right": "floating_inspire_hand_right",
     "floating_inspire_hand_left": "floating_inspire_hand_left",
+    "unitree_g1_simplified_upper_body": "unitree_g1_simplified_upper_body",
+    "unitree_g1_simplified_upper_body_with_head_camera": "unitree_g1_simplified_upper_body_with_head_camera",
+    "unitree_g1_simplified_upper_body_right_arm": "unitree_g1_simplified_upper_body_right_arm",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

@@ -240,6 +240,20 @@ SOURCES = [
         100.0,
         (0.02, 0.01, 1.0),
     ),
+    # ManiSkill 3.0.1 g1_upper_body.py: head_camera at Pose([0.05, 0, 0.46],
+    # euler2quat(0, pi / 6, 0)) on head_link, 128 x 128, fov pi / 2, near 0.01, far 100
+    # (euler2quat's (w, x, y, z) of a pi / 6 pitch written out here).
+    Source(
+        "unitree_g1_simplified_upper_body_with_head_camera",
+        "head_camera",
+        "head_link",
+        maniskill(np.eye(4), (0.05, 0.0, 0.46), (math.cos(math.pi / 12), 0.0, math.sin(math.pi / 12), 0.0)),
+        centred(WRIST_FOV, 128, 128),
+        (128, 128),
+        0.01,
+        100.0,
+        (0.3, -0.3, 1.0),
+    ),
 ]
 
 

@@ -44,6 +44,9 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "fixed_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandLeft",
     "floating_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandRight",
     "floating_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandLeft",
+    "unitree_g1_simplified_upper_body": "robot_agents.robots.unitree.g1:UnitreeG1UpperBody",
+    "unitree_g1_simplified_upper_body_with_head_camera": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyWithHeadCamera",
+    "unitree_g1_simplified_upper_body_right_arm": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyRightArm",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

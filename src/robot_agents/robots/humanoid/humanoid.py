@@ -15,6 +15,10 @@ Sources of the numbers:
   model: 40.844 kg (ManiSkill's loaded links sum to 40.844 kg: its worker, 2026-11-29).
 - Torque limits: the model's motor gears (``ctrlrange`` +-1): abdomen and hips x/z
   40 N*m, hip_y 120, knee 80, ankles 20, shoulders 20, elbows 40 (:data:`GEAR`).
+- Joint limits: stiff (``solreflimit`` 5 ms), as our H1's: with the model's soft ones
+  (``solimplimit`` 0, 0.99, 0.01) random actions pressed the hips 0.30-0.38 rad past
+  their stops at 320-1000 Hz, with MuJoCo's default limits 0.25-0.60 (bound 0.25); now
+  0.035-0.155 from 200 Hz up.
 - Armature 0.01 kg*m^2: the model's class ``body``. The model's passive joint springs
   (1-20 N*m/rad towards the zero pose) and damping (0.2-5 N*m*s/rad) are left out: they
   would bend every held pose off its targets, and ManiSkill's loader drops them too.
@@ -30,25 +34,27 @@ Sources of the numbers:
   keyframe (its joint angles, the torso at 1.13 m, level; the soles 5.7 mm up).
 - Gains: ManiSkill's kp 100 / kv 10 on every joint cannot hold the stand: the body is
   an inverted pendulum on its ankles (m g h = 40.84 kg * 9.81 * 0.745 m = 299 N*m/rad
-  over two ankles of 100 N*m/rad each), it leans 9.1 deg in 0.3 s and 30 deg in 1 s, both
-  ankle_y drives reach their 20 N*m, and it is on the floor in 2 s. Ours follow one rule: kp = 50 x gear (a
-  drive gives the model's full torque 20 mrad off its target; ankles 1000 N*m/rad),
-  kv = kp / 10 (ManiSkill's kv / kp). kp = 10 x gear (ankles 200) still fell forward
-  from the stand (tilt 9.7 deg at 1 s, with kv = gear), and with ManiSkill's kv 10 (or kv = gear) the
-  kp = 50 x gear stand sways 2.2-2.8 cm after its first second (the standing bound:
-  1 cm). See :data:`KP` / :data:`KV`.
+  against two ankles of 100 N*m/rad); it leans 9.1 deg in 0.3 s and 30 deg in 1 s, both
+  ankle_y drives reach their 20 N*m, and it is on the floor in 2 s. Ours follow one
+  rule: kp = 50 x gear (each drive gives the model's full torque 20 mrad off its
+  target; ankles 1000 N*m/rad), kv = kp / 10 (ManiSkill's kv / kp). With kp = 10 x gear
+  (ankles 200, kv = gear) it still falls forward (tilt 9.7 deg at 1 s, on the floor in
+  2 s); with kp = 50 x gear and ManiSkill's kv 10 (or kv = gear) it stands but sways:
+  the torso moves 2.8 (2.2) cm after its first second (the standing bound: 1 cm).
+  Measured with the standing claim at 500 Hz, 2026-11-29 18:45 UTC.
 
 Why not registered: ManiSkill's ``squat`` cannot stand within the model's torques.
 Level, as ManiSkill places it, its feet are pitched 6.4 deg toe-down and rolled 14 deg
-(the hip_x and hip_z angles turn the ankle axes): it lands on its toes, and the centre
-of mass lies 1.0 mm ahead of their rounded ends (held flat there, each ankle_y would
-need 31 N*m). The most it can be turned back with its soles still flat
-(the torso pitched back 4.2 deg, the inner capsules on the floor) leaves the centre of
-mass 11.5 cm ahead of the ankle_y axes: holding it takes 22.6 N*m at each ankle_y (knee
-16.6 N*m, hip_y 9.7 N*m), over the model's 20 N*m; turned back further, the feet rest on
-their heels and it tips forward onto its toes. With our gains it falls from the squat
-within 1 s (ankle_y drives at 20 N*m), from ManiSkill's pose and from the tilted one
-alike. Every other claim tried holds (tests/test_humanoid.py).
+(the hip_x and hip_z angles turn the ankle axes): it lands on its toes, and its centre
+of mass lies 1.0 mm ahead of their rounded ends. Turned back as far as its soles stay
+flat (the torso pitched back 4.2 deg, the inner sole capsules on the floor), the centre
+of mass is 11.5 cm ahead of the ankle_y axes: holding that takes 22.6 N*m at each
+ankle_y (knee 16.6 N*m, hip_y 9.7 N*m), over the model's 20 N*m; turned back further,
+the feet rest on their heels and it tips forward onto its toes. With our gains it
+falls from both (ankle_y drives at 20 N*m; tilt 28.5 and 19.2 deg at 1 s, on the floor
+at 2 s). Every other claim holds from ``stand`` (tests/test_humanoid.py; the sweep in
+:attr:`Humanoid.sim_freq`'s comment). Registering it with ``stand`` alone would pass
+every claim, but would drop ManiSkill's only keyframe: that is the maintainers' call.
 """
 
 from __future__ import annotations
@@ -201,8 +207,13 @@ class Humanoid(Agent):
     """
 
     uid = "humanoid"
-    #: Not swept (the robot is not registered): 500 Hz, ManiSkill's humanoid tasks'
-    #: 200 Hz raised for the stiff ankles and hips.
+    #: Time-step sweep of the claims with ``stand`` alone (``sweep_timestep`` on the class
+    #: with its ``stand`` keyframe, 2026-11-29 18:43 UTC, 20 Hz control; the squat fails
+    #: at every step): every claim holds from 160 Hz to 1 kHz (random-action overshoot
+    #: 0.233 rad at 160 Hz, 0.155 at 200, 0.13 at 320, 0.068 at 500; standing 7.8, 3.5,
+    #: 1.5, 2.2 mm); at 100 Hz hold, random and standing fail. The hips' torque-limit
+    #: cycles (``robot_agents.tuning.cycles``: kv 200-600 on 0.02-0.027 kg*m^2) are free
+    #: only above 4.8-11 kHz, out of reach; none was seen. Default 500 Hz, as our H1's.
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "humanoid.xml"
     fix_root_link = False

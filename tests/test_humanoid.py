@@ -178,6 +178,9 @@ def test_joint_ranges_torque_limits_and_armature_are_the_models() -> None:
     for joint in RANGES_DEG:
         assert drives[joint].effort_limit == GEAR[joint_kind(joint)], joint
     assert sorted({GEAR[joint_kind(j)] for j in RANGES_DEG}) == [20.0, 40.0, 80.0, 120.0]
+    for joint in RANGES_DEG:  # our rule: full torque 20 mrad off target; ManiSkill's kv / kp
+        assert drives[joint].stiffness == pytest.approx(GEAR[joint_kind(joint)] / 0.02), joint
+        assert drives[joint].damping == pytest.approx(drives[joint].stiffness / 10.0), joint
     scene.close()
 
 

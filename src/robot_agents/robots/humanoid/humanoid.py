@@ -53,7 +53,11 @@ ankle_y (knee 16.6 N*m, hip_y 9.7 N*m), over the model's 20 N*m; turned back fur
 the feet rest on their heels and it tips forward onto its toes. With our gains it
 falls from both (ankle_y drives at 20 N*m; tilt 28.5 and 19.2 deg at 1 s, on the floor
 at 2 s). Every other claim holds from ``stand`` (tests/test_humanoid.py; the sweep in
-:attr:`Humanoid.sim_freq`'s comment). Registering it with ``stand`` alone would pass
+:attr:`Humanoid.sim_freq`'s comment). ManiSkill's own humanoid falls from both poses
+too (its worker, CPU PhysX, ``pd_joint_pos`` repeating the pose's targets, its drives
+unlimited, 2026-11-29 18:45 UTC): from ``squat`` tilt 46.6 deg at 1 s and the torso at
+0.27 m at 2 s; from the stand 28.1 deg at 1 s and 0.24 m at 2 s (its tasks train a
+policy to stand; nothing holds a pose). Registering it with ``stand`` alone would pass
 every claim, but would drop ManiSkill's only keyframe: that is the maintainers' call.
 """
 

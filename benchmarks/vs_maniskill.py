@@ -93,6 +93,7 @@ SHARED = {
     "xarm7_ability": "xarm7_ability",
     "unitree_go2_simplified_locomotion": "unitree_go2_simplified_locomotion",
     "unitree_h1_simplified": "unitree_h1_simplified",
+    "humanoid": "humanoid",
     "fixed_inspire_hand_right": "fixed_inspire_hand_right",
     "fixed_inspire_hand_left": "fixed_inspire_hand_left",
     "floating_inspire_hand_right": "floating_inspire_hand_right",

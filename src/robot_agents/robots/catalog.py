@@ -40,6 +40,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "xarm7_ability": "robot_agents.robots.ufactory.xarm7:XArm7Ability",
     "unitree_go2_simplified_locomotion": "robot_agents.robots.unitree.go2:UnitreeGo2Simplified",
     "unitree_h1_simplified": "robot_agents.robots.unitree.h1:UnitreeH1Simplified",
+    "humanoid": "robot_agents.robots.humanoid.humanoid:Humanoid",
     "fixed_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandRight",
     "fixed_inspire_hand_left": "robot_agents.robots.inspire.inspire_hand:FixedInspireHandLeft",
     "floating_inspire_hand_right": "robot_agents.robots.inspire.inspire_hand:FloatingInspireHandRight",

@@ -243,12 +243,13 @@ class FloatingAbilityHandRight(Agent):
 
     uid = "floating_ability_hand_right"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1
-    #: floating_ability_hand_right``, 2026-11-29 18:19-18:22 UTC, 20 Hz control): every
-    #: claim holds from 6.25 ms (160 Hz; random 0.15 rad, grasp slip 0.91 mm, deepest
-    #: contact 0.61 mm) and at 80 Hz; at 100 Hz the grasp slips 2.29 mm (bound 2), at 40
-    #: Hz random actions press 0.74 rad past a limit. The mount's hinges could cycle
-    #: between their torque limits below 166 Hz (``robot_agents.tuning.cycles``).
-    #: Default one tried step finer, 200 Hz (random 0.138 rad, grasp 1.02 mm).
+    #: floating_ability_hand_right``, 2026-11-29 18:49-18:50 UTC, 20 Hz control, after the
+    #: hand came to take absolute targets in the absolute modes): every claim holds from
+    #: 5 ms (200 Hz; random 0.0006 rad, settle 0.0005 rad/s, grasp slip 0.67 mm, deepest
+    #: contact 0.42 mm); at 160 Hz the settle claim fails (0.13 rad/s: the mount's
+    #: hinges can cycle between their torque limits below 166 Hz,
+    #: ``robot_agents.tuning.cycles``). Default 200 Hz. (With the hand's target deltas
+    #: in every mode, 18:19-18:22 UTC, every claim held from 160 Hz.)
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "floating_mount.xml"
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(AbilityHandRight, at="root", quat=HAND_ON_MOUNT),)

@@ -1,0 +1,1 @@
+"""The classic MuJoCo capsule humanoid (a simulated character, not a product)."""

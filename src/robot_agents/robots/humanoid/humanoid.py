@@ -223,7 +223,7 @@ class Humanoid(Agent):
 
     uid = "humanoid"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 humanoid``,
-    #: 2026-11-29 18:55 UTC, 20 Hz control; the same as ``sweep_timestep`` on the class
+    #: 2026-11-29 18:53-18:54 UTC, 20 Hz control; the same as ``sweep_timestep`` on the class
     #: with ``stand`` alone at 18:43 UTC): every claim holds from 160 Hz to 1 kHz
     #: (random-action overshoot 0.233 rad at 160 Hz, 0.155 at 200, 0.13 at 320, 0.068 at 500; standing 7.8, 3.5,
     #: 1.5, 2.2 mm); at 100 Hz hold, random and standing fail. The hips' torque-limit

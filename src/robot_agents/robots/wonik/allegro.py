@@ -35,16 +35,35 @@ Sources of the numbers:
   in section) and fingertip capsules (radius 12 mm, the URDF's fingertip sphere).
 - Fingertip pads: ManiSkill's tip material (static friction 2.0, dynamic 1.0); MuJoCo
   has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
-  torsional friction (condim 4) and the near-rigid pad contact the library's other
-  pads use (Menagerie's ``trs_so_arm100`` values), against objects only: the hand's
-  other collision geoms take a higher contact priority, so a fingertip pressing on
-  another finger meets MuJoCo's default contact. With the pads' contact there, a thumb
-  tip pressed by its drive on the index finger (the targets random
-  ``pd_joint_target_delta_pos`` actions left, seed 2, held) chattered, sliding at the
-  edge of its friction cone and losing and regaining contact every 0.24 s, at 200-400
-  Hz, 0.06-0.1 rad/s for as long as it was held (10 s tried; 2026-11-28). With the
-  links first it comes to rest, and random actions no longer press joints past their
-  limits at 160 Hz (0.78 -> 0.14 rad).
+  torsional friction (condim 4), against objects only: the hand's other collision geoms
+  take a higher contact priority, so a fingertip pressing on another finger meets the
+  links' contact. The pads' contact itself is MuJoCo's default (solref 0.02 s, critically
+  damped; solimp 0.9-0.95 over 1 mm), as Menagerie's ``wonik_allegro/right_hand.xml``
+  (commit 28ffb48) leaves its fingertip capsules. Until 2026-11-29 they had the
+  near-rigid pad contact of the library's servo-arm pads (Menagerie's ``trs_so_arm100``
+  values: solref 0.01 s, impedance 0.9999), and a fingertip pressed on a fixed block
+  never came to rest (tests/test_allegro_press.py: the middle finger's proximal target
+  0.3 rad past contact, ``palm_side``, the last second of 3 s; 2026-11-29): the tip lost
+  and regained the block, 0-43 N and 1.3-1.5 rad/s at 160-320 Hz, 21-38 N and 0.87
+  rad/s at 500 Hz, 25-36 N and 0.66 rad/s at 1 kHz, 32-35 N and 0.10 rad/s at 2 kHz,
+  its tangential force at the edge of the friction cone. Varied one at a time (200 Hz
+  to 2 kHz): condim 3 gave the same numbers and condim 1 (no friction) still 0.25-1.1
+  rad/s, so it is no stick-slip of the torsional or sliding friction; nor a torque-limit
+  cycle (the drive asks for 3 N*m of its 50; without the 7 rad/s clamp the numbers are
+  identical); without the joints' frictionloss, with armature 0 or 0.01 kg*m^2, drive
+  kv 0.1-3 N*m*s/rad, or the Euler or implicit integrator it still chattered (0.1-3.9
+  rad/s). The contact's impedance decides it: at 0.9999 the tip chattered at every
+  solref tried (0.01-0.03 s), at 0.99 below 500 Hz, at MuJoCo's default 0.9-0.95 with
+  solref 0.01 s at 160-200 Hz (there 2 time steps, MuJoCo's lower bound), and with
+  MuJoCo's default contact it rests at every step from 160 Hz to 2 kHz (18.4 N, steady
+  to 1e-6 N, 0.85 mm deep). The links' priority was added on 2026-11-28 for the
+  near-rigid pads: a thumb tip pressed by its drive on the index finger (the targets
+  random ``pd_joint_target_delta_pos`` actions left, seed 2, held) chattered, sliding at
+  the edge of its friction cone and losing and regaining contact every 0.24 s, at
+  200-400 Hz, and random actions pressed joints 0.78 rad past their limits at 160 Hz
+  (0.14 rad with the links first). With the default pad contact the thumb rests on the
+  index with or without the links' priority (below 1e-5 rad/s, tests/test_allegro.py);
+  the priority is kept.
 - Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml`` (commit 28ffb48):
   position servos with kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad,
   taken as the drives' kv (as the UR10e takes Menagerie's joint damping); ManiSkill's

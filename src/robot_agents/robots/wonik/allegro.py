@@ -35,16 +35,36 @@ Sources of the numbers:
   in section) and fingertip capsules (radius 12 mm, the URDF's fingertip sphere).
 - Fingertip pads: ManiSkill's tip material (static friction 2.0, dynamic 1.0); MuJoCo
   has one coefficient and we take the dynamic 1.0 (silicone on a dry object), with
-  torsional friction (condim 4) and the near-rigid pad contact the library's other
-  pads use (Menagerie's ``trs_so_arm100`` values), against objects only: the hand's
-  other collision geoms take a higher contact priority, so a fingertip pressing on
-  another finger meets MuJoCo's default contact. With the pads' contact there, a thumb
-  tip pressed by its drive on the index finger (the targets random
+  torsional friction (condim 4), against objects only: the hand's other collision geoms
+  take a higher contact priority, so a fingertip pressing on another finger meets the
+  links' contact. The pads' contact itself is MuJoCo's default (solref 0.02 s, critically
+  damped; solimp 0.9-0.95 over 1 mm), as Menagerie's ``wonik_allegro/right_hand.xml``
+  (commit 28ffb48) leaves its fingertip capsules. Until 2026-11-29 they had the
+  near-rigid pad contact of the library's servo-arm pads (Menagerie's ``trs_so_arm100``
+  values: solref 0.01 s, impedance 0.9999), and a fingertip pressed on a fixed block
+  never came to rest (tests/test_allegro_press.py: the middle finger's proximal target
+  0.3 rad past contact, ``palm_side``, the last second of 3 s; 2026-11-29): the tip lost
+  and regained the block, 0-43 N and 1.3-1.5 rad/s at 160-320 Hz, 21-38 N and 0.87
+  rad/s at 500 Hz, 25-36 N and 0.66 rad/s at 1 kHz, 32-35 N and 0.10 rad/s at 2 kHz,
+  its tangential force at the edge of the friction cone. Varied one at a time (200 Hz
+  to 2 kHz): condim 3 gave the same numbers and condim 1 (no friction) still 0.25-1.1
+  rad/s, so it is no stick-slip of the torsional or sliding friction; nor a torque-limit
+  cycle (the drive asks for 3 N*m of its 50; without the 7 rad/s clamp the numbers are
+  identical); without the joints' frictionloss, with armature 0 or 0.01 kg*m^2, drive
+  kv 0.1-3 N*m*s/rad, or the Euler or implicit integrator it still chattered (0.1-3.9
+  rad/s; RK4 came to rest only at 4 kHz). The contact's impedance decides it: at 0.9999
+  the tip chattered at every solref tried (0.01-0.03 s), at 0.99 below 500 Hz, at
+  MuJoCo's default 0.9-0.95 with solref 0.01 s at 160-200 Hz (2 time steps or less
+  there, which MuJoCo raises to 2), and with MuJoCo's default contact it rests at every
+  step from 160 Hz to 2 kHz (18.4 N, steady to 2e-5 N, every joint below 1.4e-5 rad/s,
+  0.85 mm deep). The links' priority was added on 2026-11-28 for the near-rigid pads: a
+  thumb tip pressed by its drive on the index finger (the targets random
   ``pd_joint_target_delta_pos`` actions left, seed 2, held) chattered, sliding at the
   edge of its friction cone and losing and regaining contact every 0.24 s, at 200-400
-  Hz, 0.06-0.1 rad/s for as long as it was held (10 s tried; 2026-11-28). With the
-  links first it comes to rest, and random actions no longer press joints past their
-  limits at 160 Hz (0.78 -> 0.14 rad).
+  Hz, and random actions pressed joints 0.78 rad past their limits at 160 Hz (0.14 rad
+  with the links first). With the default pad contact the thumb rests on the index
+  with or without the links' priority (4.6e-6 and 4.0e-6 rad/s at 320 Hz,
+  tests/test_allegro.py); the priority is kept.
 - Drives: MuJoCo Menagerie's ``wonik_allegro/right_hand.xml`` (commit 28ffb48):
   position servos with kp 10 N*m/rad on every joint and its joint damping, 1 N*m*s/rad,
   taken as the drives' kv (as the UR10e takes Menagerie's joint damping); ManiSkill's
@@ -78,13 +98,15 @@ Sources of the numbers:
 - Grasp (tests/test_allegro.py): the palm up, the hand open (:data:`OPEN`: the thumb
   stands up opposite the fingers), a 5.5 cm, 100 g cube laid flat in the palm 15 mm
   from the finger bases; closing (:data:`CLOSED`, ``pd_joint_pos``, 2 s) the middle
-  finger and the thumb press on it from opposite sides (about 30 N each, the ring
-  finger 4 N, the index misses it) and ``is_grasping`` holds; its weight cancelled and
-  as much again pulling it away from the palm for 2 s (1 g net, as with the hand
-  turned over) it moves 0.22 mm relative to the palm at 320 Hz (0.40 mm at 200 Hz,
-  0.17 mm at 1 kHz); opened, ``is_grasping`` is false. The same grasp is declared as the
-  hand's :data:`POWER_GRASP`, the time-step sweep's grasp claim (a 166 g cube of water's
-  density there): 0.30 mm at 320 Hz, held from 80 Hz up.
+  finger and the thumb press on it from opposite sides (the middle finger's links 40-48
+  N in all, the thumb's 34-37 N, the ring finger 6 N, the index misses it; 200 Hz-1
+  kHz) and ``is_grasping`` holds; its weight cancelled and as much again pulling it away
+  from the palm for 2 s (1 g net, as with the hand turned over) it moves 0.09 mm
+  relative to the palm at 200 Hz (0.08 mm at 320 Hz, 0.07 mm at 1 kHz; with the former
+  near-rigid pads 0.088, 0.073 and 0.069 mm; 2026-11-29). Opened, ``is_grasping`` is
+  false. The same grasp is declared as the hand's :data:`POWER_GRASP`, the time-step
+  sweep's grasp claim (a 166 g cube of water's density there): 0.15 mm at 200 Hz,
+  0.14 mm at 320 Hz, held from 80 Hz up.
 """
 
 from __future__ import annotations
@@ -186,12 +208,15 @@ class AllegroHandRight(Agent):
     """
 
     uid = "allegro_hand_right"
-    #: Time-step sweep (``python benchmarks/timestep_sweep.py allegro_hand_right``,
-    #: 2026-11-28, 20 Hz control): every claim holds from 6.25 ms (160 Hz) down to 1 ms
-    #: (random-action overshoot 0.136 rad at 160 Hz, 0.095 at 200 Hz, bound 0.25; settle
-    #: below 1e-4 rad/s, bound 0.05; the power grasp's slip 0.06-0.13 mm; deepest contact
-    #: 4.2-4.5 mm, bound 5); at 100 Hz and coarser the random actions press joints 0.3-1
-    #: rad past their limits. Default one tried step finer: 200 Hz (5 ms; 320 Hz until
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 allegro_hand_right
+    #: allegro_hand_left allegro_hand_right_touch``, 2026-11-29 18:48 UTC, after the pads
+    #: took MuJoCo's default contact; 20 Hz control): every claim holds from 6.25 ms (160
+    #: Hz) down to 1 ms (random-action overshoot 0.147 rad at 160 Hz, 0.102 at 200 Hz,
+    #: bound 0.25; settle below 1e-4 rad/s, bound 0.05; the power grasp's slip 0.13-0.16
+    #: mm; deepest contact 4.5 mm, bound 5); at 100 Hz and coarser the random actions
+    #: press joints 0.3-1.7 rad past their limits (with the former near-rigid pads,
+    #: 2026-11-28: 0.136 and 0.095 rad at 160 and 200 Hz, slip 0.06-0.13 mm, deepest
+    #: 4.2-4.5 mm). Default one tried step finer: 200 Hz (5 ms; 320 Hz until
     #: the fingertips' pad contact stopped applying between fingers, see the module
     #: docstring). The distal joints could cycle between their torque limits below 397
     #: Hz, but not at the joints' rated speed (``robot_agents.tuning.cycles``). Without

@@ -63,17 +63,16 @@ class AllegroHandLeft(AllegroHandRight):
     """
 
     uid = "allegro_hand_left"
-    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 allegro_hand_left``,
-    #: 2026-11-29 18:15 UTC, 20 Hz control): every claim holds from 5 ms (200 Hz) down to
-    #: 1 ms (random-action overshoot 0.102 rad at 200 Hz, 0.051 at 320 Hz, bound 0.25;
-    #: settle at most 1.5e-4 rad/s, bound 0.05; the power grasp's slip 0.06-0.08 mm;
-    #: deepest contact 4.2 mm, bound 5); at 160 Hz the random actions press a joint
-    #: 0.257 rad past its limit (``joint_3.0``, bound 0.25). The right hand there: 0.150,
-    #: and so is its file mirrored with the spread axes turned too (0.150, equal to
-    #: 4e-15; tests/test_allegro_left.py checks the two move alike): the difference is
-    #: Wonik's spread axes, which the same random actions turn the other way. Default
-    #: one tried step finer: 320 Hz (3.125 ms).
-    sim_freq: ClassVar[int | None] = 320
+    #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 allegro_hand_right
+    #: allegro_hand_left allegro_hand_right_touch``, 2026-11-29 18:48-18:49 UTC, 20 Hz
+    #: control): every claim holds from 6.25 ms (160 Hz) down to 1 ms (random-action
+    #: overshoot 0.151 rad at 160 Hz, 0.103 at 200 Hz, bound 0.25; settle at most 1.5e-4
+    #: rad/s, bound 0.05; the power grasp's slip 0.13-0.16 mm; deepest contact 4.5 mm,
+    #: bound 5), as the right hand's. Default one tried step finer: 200 Hz (5 ms), the
+    #: right hand's. It was 320 Hz while the fingertip pads had a near-rigid contact
+    #: (allegro.py): random actions then pressed ``joint_3.0`` 0.257 rad past its limit at
+    #: 160 Hz (the right hand 0.150; 2026-11-29 18:15 UTC).
+    sim_freq: ClassVar[int | None] = 200
 
     @classmethod
     def edit_model(cls, spec: mujoco.MjSpec, where: str) -> None:

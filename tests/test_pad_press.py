@@ -47,7 +47,7 @@ FINE_FREQ = 1000
 #: last second (share of its mean): a chattering pad jumps (the TriFingerPro's tip at
 #: 200 Hz: 3.6 -> 8.1 -> 3.6 N), while a pad whose robot still creeps drifts smoothly (a
 #: mobile base pushed back by the block: the Google Robot's force falls 18.6 -> 16.2 N over
-#: the last second in steps of 0.14 N, 0.8 %).
+#: the last second in steps of 0.14 N, 0.8 %, its base backing at 1.3 mm/s).
 FORCE_JUMP = 0.05
 
 #: uid -> (pad body, keyframe, driven joint or ``None``: the pad's nearest driven ancestor).
@@ -94,7 +94,8 @@ def near_rigid_pads(model: mujoco.MjModel) -> list[int]:
 def action_for(agent: ra.Agent, model: mujoco.MjModel, targets: Mapping[str, float]) -> np.ndarray:
     """The ``pd_joint_pos`` action, shape (1, action_dim), that holds every joint where it
     is except those in ``targets`` (joint name -> rad or m); a mimic part is commanded
-    through its first joint, a base velocity part is told to stand still."""
+    through its first joint, a part that takes steps (``use_delta``) and a base velocity
+    part are told to stand still."""
     qpos = np.asarray(agent.qpos[0], dtype=np.float64)
     addresses = list(agent.qpos_adr)
 
@@ -108,6 +109,11 @@ def action_for(agent: ra.Agent, model: mujoco.MjModel, targets: Mapping[str, flo
         config = part.config
         if "BaseVel" in type(part).__name__:
             parts.append(np.zeros(part.action_dim))
+            continue
+        if config.use_delta:  # a part commanding steps (the Google Robot's head): no step
+            if set(config.joint_names) & set(targets):
+                raise LookupError(f"{config.joint_names}: a delta part cannot take a target")
+            parts.append(part.from_raw(np.zeros((1, part.action_dim)))[0])
             continue
         if hasattr(config, "multipliers"):
             raw = [(value(config.joint_names[0]) - config.offsets[0]) / config.multipliers[0]]

@@ -8,9 +8,15 @@ the gripper it carries (see each robot's module).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from robot_agents.controllers.task_space import FloatingMountTaskSpace
 from robot_agents.parts.declaration import Arm, EndEffector
 
+#: The mount file with ManiSkill's joint names and the armature that keeps its kp 1000
+#: hinges out of torque-limit cycles above 166 Hz: the Robotiq 2F-85's, which the
+#: floating hands (Ability, Inspire) mount too.
+MANISKILL_MOUNT_MJCF = Path(__file__).parent / "robotiq" / "assets" / "floating_mount.xml"
 #: The mount's six joints (a pattern over the joint names).
 MOUNT_JOINTS = "root_.*_joint"
 #: The slides' travel either side of the mount's home in the built-in mounts' files (m;
@@ -33,4 +39,4 @@ def mount_arm(tcp: str) -> Arm:
     )
 
 
-__all__ = ["MOUNT_JOINTS", "SLIDE_TRAVEL", "mount_arm"]
+__all__ = ["MANISKILL_MOUNT_MJCF", "MOUNT_JOINTS", "SLIDE_TRAVEL", "mount_arm"]

@@ -91,7 +91,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import ClassVar
 
 from robot_agents.actuators.config import PDActuator
@@ -101,10 +100,8 @@ from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Hand, PowerGrasp
 from robot_agents.registry import register_agent
-from robot_agents.robots.floating_mount import MOUNT_JOINTS, mount_arm
+from robot_agents.robots.floating_mount import MANISKILL_MOUNT_MJCF, MOUNT_JOINTS, mount_arm
 from robot_agents.robots.inspire.model import ASSETS
-
-FLOATING_MOUNT = Path(__file__).parent.parent / "robotiq" / "assets" / "floating_mount.xml"
 
 #: The driven joints in ManiSkill's action order (without the side's prefix): the wrist,
 #: then the six actuators.
@@ -379,7 +376,7 @@ class FloatingInspireHandRight(Agent):
 
     uid = "floating_inspire_hand_right"
     sim_freq: ClassVar[int | None] = FLOATING_SIM_FREQ
-    mjcf_path = FLOATING_MOUNT
+    mjcf_path = MANISKILL_MOUNT_MJCF
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandRight, at="root", quat=HAND_ON_MOUNT),)
     actuators = (MOUNT_DRIVES,)
     disable_self_collisions = True
@@ -394,23 +391,17 @@ class FloatingInspireHandRight(Agent):
 
 
 @register_agent()
-class FloatingInspireHandLeft(Agent):
-    """The left RH56DFX on a 6-DoF floating mount, ManiSkill's ``floating_inspire_hand_left``."""
+class FloatingInspireHandLeft(FloatingInspireHandRight):
+    """The left RH56DFX on the same floating mount, ManiSkill's ``floating_inspire_hand_left``."""
 
     uid = "floating_inspire_hand_left"
-    sim_freq: ClassVar[int | None] = FLOATING_SIM_FREQ
-    mjcf_path = FLOATING_MOUNT
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(InspireHandLeft, at="root", quat=HAND_ON_MOUNT),)
-    actuators = (MOUNT_DRIVES,)
-    disable_self_collisions = True
-    task_limits: ClassVar[Mapping[str, str]] = HAND_TASK_LIMITS
     parts = (mount_arm("left_hand_hand_base_link"),)
     keyframes = {
         "palm_side": floating("left", palm_up=False),
         "palm_up": floating("left", palm_up=True),
         "rest": floating("left", palm_up=False),
     }
-    default_control_mode = "pd_joint_delta_pos"
 
 
 __all__ = [

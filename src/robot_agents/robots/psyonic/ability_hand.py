@@ -61,8 +61,8 @@ Drives (no source gives the real servo's gains):
   the links' own (1e-7..1e-6 kg*m^2).
 - Effort and velocity limits: the URDF's.
 
-The floating mount: ManiSkill's joint names, gains and 100 N / N*m limit; the hinges'
-armature as the 2F-85's mount (robots/robotiq/robotiq.py: 0.5 kg, 0.3 kg*m^2), which
+The floating mount: ManiSkill's joint names, gains and 100 N / N*m limit; the 2F-85's
+mount file (``MANISKILL_MOUNT_MJCF``), whose hinges' armature (0.5 kg, 0.3 kg*m^2)
 puts the hinges' torque-limit cycle bound at 166 Hz. The mount stands 0.5 m up
 (ManiSkill's keyframe puts the wrist at the origin, in the floor of a scene with one).
 
@@ -106,7 +106,7 @@ from robot_agents.model.compose import Attachment
 from robot_agents.model.materials import FrictionMaterial
 from robot_agents.parts.declaration import Hand, PowerGrasp
 from robot_agents.registry import register_agent
-from robot_agents.robots.floating_mount import MOUNT_JOINTS, mount_arm
+from robot_agents.robots.floating_mount import MANISKILL_MOUNT_MJCF, MOUNT_JOINTS, mount_arm
 
 ASSETS = Path(__file__).parent / "assets"
 
@@ -251,7 +251,7 @@ class FloatingAbilityHandRight(Agent):
     #: ``robot_agents.tuning.cycles``). Default 200 Hz. (With the hand's target deltas
     #: in every mode, 18:19-18:22 UTC, every claim held from 160 Hz.)
     sim_freq: ClassVar[int | None] = 200
-    mjcf_path = ASSETS / "floating_mount.xml"
+    mjcf_path = MANISKILL_MOUNT_MJCF
     attachments: ClassVar[Sequence[Attachment]] = (Attachment(AbilityHandRight, at="root", quat=HAND_ON_MOUNT),)
     actuators = (PDActuator(joints=MOUNT_JOINTS, stiffness=1e3, damping=1e2, effort_limit=100.0),)
     parts = (mount_arm(WRIST),)

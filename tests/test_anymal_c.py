@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -190,6 +191,21 @@ def test_mujocos_default_friction_cone_lets_the_feet_creep() -> None:
     assert slid["AnymalC"] < 1e-3 and slid["AnymalCPyramidal"] > 3e-3, slid  # 0.5 mm, 6 mm
 
 
+def test_scenes_with_the_anymal_take_its_sparse_jacobian() -> None:
+    """The ANYmal declares MuJoCo's sparse constraint Jacobian (faster for it: its module);
+    a scene with it uses that, one without any robot asking keeps MuJoCo's choice, and a
+    robot asking for the dense one gets it unless another asks for the sparse one."""
+    sparse, dense, auto = (
+        int(j) for j in (mujoco.mjtJacobian.mjJAC_SPARSE, mujoco.mjtJacobian.mjJAC_DENSE, mujoco.mjtJacobian.mjJAC_AUTO)
+    )
+    assert ra.Scene("anymal_c").model.opt.jacobian == sparse
+    assert ra.Scene(["panda", "anymal_c"]).model.opt.jacobian == sparse
+    assert ra.Scene("panda").model.opt.jacobian == auto
+    panda_dense = type("PandaDense", (ra.get_agent("panda"),), {"uid": "", "jacobian": "dense"})
+    assert ra.Scene(panda_dense).model.opt.jacobian == dense
+    assert ra.Scene([panda_dense, "anymal_c"]).model.opt.jacobian == sparse
+
+
 def test_scene_takes_the_contact_options() -> None:
     assert AnymalC.friction_cone == "elliptic" and AnymalC.impratio == 100.0
     alone = ra.Scene("anymal_c")
@@ -197,7 +213,7 @@ def test_scene_takes_the_contact_options() -> None:
     mixed = ra.Scene(["panda", "anymal_c"])
     assert mixed.model.opt.cone == 1 and mixed.model.opt.impratio == 100.0
     assert ra.Scene("panda").model.opt.cone == 0
-    for bad in ({"friction_cone": "round"}, {"impratio": 0.5}):
+    for bad in ({"friction_cone": "round"}, {"impratio": 0.5}, {"jacobian": "auto"}):
         with pytest.raises(ra.ConfigError, match=next(iter(bad))):
             type("BadAnymal", (AnymalC,), {"uid": "", **bad}).validate_definition()
 

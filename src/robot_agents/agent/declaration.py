@@ -238,6 +238,8 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     ratio = cls.impratio
     if ratio is not None and (isinstance(ratio, bool) or not isinstance(ratio, (int, float)) or not ratio >= 1.0):
         raise ConfigError(f"{name}.impratio: expected a number >= 1 or None, got {ratio!r}.")
+    if cls.jacobian not in (None, "dense", "sparse"):
+        raise ConfigError(f"{name}.jacobian: expected 'dense', 'sparse' or None, got {cls.jacobian!r}.")
     for attr, kind in (
         ("actuators", ActuatorConfig),
         ("parts", Part),

@@ -84,6 +84,11 @@ class AgentDefinition:
             (a robot's own options are lost when it is composed into a scene). A scene
             uses the elliptic cone when any of its robots asks for it, and the largest
             ``impratio`` asked for; ``None``: MuJoCo's defaults (pyramidal, 1).
+        jacobian: MuJoCo's constraint Jacobian this robot's scenes step fastest with
+            (``"sparse"``, ``"dense"``; the same physics up to rounding), measured
+            (``benchmarks/sim_options.py``). A scene uses the sparse one when any of its
+            robots asks for it, else the dense one when any asks for that; ``None``:
+            MuJoCo's choice (dense below 60 degrees of freedom).
         task_limits: task id -> why this robot cannot do it although it has the parts
             the task asks for (read by the tests of the tasks' scripted solvers).
     """
@@ -117,6 +122,7 @@ class AgentDefinition:
     sim_freq: ClassVar[int | None] = None
     friction_cone: ClassVar[str | None] = None
     impratio: ClassVar[float | None] = None
+    jacobian: ClassVar[str | None] = None
 
     # ------------------------------------------------------------------ declaration
     @classmethod

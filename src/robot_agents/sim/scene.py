@@ -58,6 +58,13 @@ def contact_options(classes: Sequence[type[Agent]]) -> tuple[str, float]:
     return cone, max((float(cls.impratio or 1.0) for cls in classes), default=1.0)
 
 
+def jacobian_option(classes: Sequence[type[Agent]]) -> str:
+    """The constraint Jacobian a scene of these robots uses: sparse when any of them
+    declares it, else dense when any declares that, else MuJoCo's choice (``"auto"``)."""
+    asked = {cls.jacobian for cls in classes}
+    return "sparse" if "sparse" in asked else "dense" if "dense" in asked else "auto"
+
+
 class Scene:
     """One or more robots, props and a floor, simulated in ``num_envs`` copies.
 
@@ -160,7 +167,9 @@ class Scene:
                 for rid, cls, p in zip(self.robot_ids, classes, poses, strict=True)
             ]
         cone, impratio = contact_options(classes)
-        options = SceneOptions(timestep=1.0 / sim_freq, floor=floor, cone=cone, impratio=impratio)
+        options = SceneOptions(
+            timestep=1.0 / sim_freq, floor=floor, cone=cone, impratio=impratio, jacobian=jacobian_option(classes)
+        )
         self.spec = compose_scene(mounts, self.props, options, [c.config for c in planned if c.robot is None])
         #: The model renderers draw: the whole scene as composed.
         self.render_model = compile_scene(self.spec)

@@ -27,6 +27,15 @@ Sources of the numbers:
   gains, 0.5 mm with the elliptic cone; 0.22 m in 5 s at ManiSkill's gains, the belly
   coming down to 0.31 m; ``tests/test_anymal_c.py``). Self-collisions stay on, except base / thighs
   (Menagerie's exclusions: the HFE drives sit against the base); ManiSkill turns them off.
+- Constraint Jacobian: sparse (declared: ``jacobian``). Its scene steps 1.14-1.30x as
+  fast as with MuJoCo's choice for 18 degrees of freedom (dense), the same physics up to
+  rounding: nearly all of the step is the constraint solve under the elliptic cone with
+  impratio 100 (54 of 79 µs a physics step standing, MuJoCo's timers). Measured on
+  recorded controls: ``python benchmarks/sim_options.py anymal_c --variants "as
+  built,jacobian sparse" --blocks 15 --clock cpu`` 1.32 (``pd_joint_delta_pos``, the legs
+  folded, 2026-11-29 20:37 UTC); standing (``pd_joint_target_delta_pos``) 1.14 and
+  ``pd_joint_pos`` 1.16 (a replay of 100 control steps, 20:40 UTC). No other robot gains
+  (the other legged robots 0.92-0.97: ``benchmarks/sim_options.py``, docs/benchmarks.md).
 - Drives: position PD on every joint, effort limit 80 N*m and velocity limit 7.5 rad/s:
   ANYbotics' own ``anymal_c_simple_description`` URDF (``urdf/anymal.urdf``, commit
   87b68511: ``effort="80.0"``, ``velocity="7.5"`` on all 12 joints; Menagerie's
@@ -113,7 +122,12 @@ class AnymalC(Agent):
     #: 2.7-4.5 mm). At 200 Hz the hold drifts 0.013 rad, random actions push HAA 0.40 rad
     #: past its stop, settle 0.95 rad/s, the feet press 7 mm into the floor; at 160 Hz the
     #: base moves 6 cm while standing; from 100 Hz down MuJoCo goes unstable. Default one
-    #: tried step finer than 320 Hz: 400 Hz (margin: 2.5 ms against 3.125 ms).
+    #: tried step finer than 320 Hz: 400 Hz (margin: 2.5 ms against 3.125 ms). Rerun
+    #: 2026-11-29 20:37-20:44 UTC with the sparse Jacobian (``python
+    #: benchmarks/timestep_sweep.py anymal_c``; and ``--substeps 16,20 --seeds 0,...,9``
+    #: with either Jacobian): random actions push a hip 0.392 rad past its stop at 320 Hz
+    #: (ten seeds, dense: 0.256; both over the bound), 0.17-0.22 from 400 Hz; so 400 Hz is
+    #: the largest passing step itself, no margin step (the 320 Hz pass was three seeds' luck).
     sim_freq: ClassVar[int | None] = 400
     mjcf_path = ASSETS / "anymal_c.xml"
     fix_root_link = False
@@ -123,6 +137,7 @@ class AnymalC(Agent):
     default_control_mode = "pd_joint_target_delta_pos"
     friction_cone = "elliptic"
     impratio = 100.0
+    jacobian = "sparse"
 
 
 __all__ = ["ANYMAL_DRIVES", "ANYMAL_LEGS", "LEG_JOINTS", "STANDING_HEIGHT", "STANDING_QPOS", "AnymalC"]

@@ -62,13 +62,17 @@ Sources of the numbers:
   free step (0.58 rad/s, 0.46 mm deep): a cycle of 12-13 steps. A tip driven onto the
   floor by random actions (``pd_joint_pos_vel``, seed 2) cycled so at 0.26 rad/s, and
   a tip pressed on a fixed block (tests/test_pad_press.py), the old shaft box touching
-  the block beside it, at 3.2-8.1 N and 0.145 rad/s (at 1 kHz, one free step presses
-  25 times less deep: both rested). With zeta = 4, k is 16 times smaller (1/64 of the
+  the block beside it, at 3.2-8.1 N and 0.145 rad/s (at 1 kHz, where a free step
+  presses 25 times less deep, the block press rested: 6.61-6.68 N). With zeta = 4, k is 16 times smaller (1/64 of the
   depth per step) and b, which alone acts along the friction directions, is unchanged:
   at 200 Hz the tip pressed on the block rests (2.724-2.725 N, 6e-4 rad/s; with the
   old shaft box 6.26-6.29 N), the sweep's settle claim is 3e-5 to 3e-4 rad/s from
   160 Hz to 1 kHz, and the pinch slips 0.27-0.28 mm (0.37-1.0 mm before: the tips
-  chattered on the cube too); zeta = 2 rests as well, the pinch 0.35-1.0 mm. Rejected
+  chattered on the cube too); zeta = 2 rests as well, the pinch 0.35-1.0 mm. The block
+  press rests from 160 Hz to 1 kHz (2.716-2.735 N, at most 7.1e-4 rad/s), and with ten
+  other random-action seeds (3-12) the settle claim is 7.2e-4, 1.2e-4, 2.9e-4 and
+  3.6e-3 rad/s at 160, 200, 320 Hz and 1 kHz (the former model: 0.066 at 160 Hz, past
+  the bound, 0.047 at 200; 2026-11-29 20:36-20:37 UTC). Rejected
   earlier the same day: MuJoCo's default tip contact (the press rests, the pinch claim
   fails) and impedance 0.99-0.999 (the pinch slips 1.7 mm at 200 Hz); and the fitted
   shaft alone leaves the floor cycle (``test_a_tip_pressed_on_the_floor_rests_only_with_the_overdamped_contact``,

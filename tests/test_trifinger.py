@@ -8,28 +8,32 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import mujoco
 import numpy as np
 import pytest
 
 import robot_agents as ra
-from robot_agents.checks import check_holds, check_random_actions
+from robot_agents.checks import check_holds, check_random_actions, run_random_actions
 from robot_agents.robots.trifinger.trifingerpro import (
     CLOSED,
+    EFFORT_LIMIT,
     FINGERS,
     GRASP_CUBE_EDGE,
     JOINTS,
     OPEN,
     REST,
+    TIP_DAMPING_RATIO,
     TIP_LINKS,
     TRIFINGER_DRIVES,
     TRIFINGER_HAND,
     TriFingerPro,
 )
-from robot_agents.tuning.claims import Penetration
+from robot_agents.tuning.claims import RANDOM_SECONDS, SETTLE_SPEED, Penetration, claim_scene, settle_hold
 from robot_agents.tuning.grasp_claim import grasp_claim
 from tests.chain_check import axis_rotation, transform
+from tests.test_pad_press import press
 
 UID = "trifingerpro"
 
@@ -257,11 +261,9 @@ def test_the_sweeps_grasp_claim_fails_when_the_tips_do_not_close() -> None:
     assert math.isfinite(claim.value)
 
 
-def test_maniskills_cube_slides_out_of_the_pinch() -> None:
-    """ManiSkill's RotateCube cube, 65 mm (water's density: 275 g), pinched the same way
-    (tips 10 mm into it at its centre's height, the cube resting on the floor) slides
-    out under the claim's 1 g pull: the motors' 0.396 N*m cannot hold it (why the
-    declared cube is the makers' cube's 80 g)."""
+def maniskill_cube_pinch() -> type[TriFingerPro]:
+    """The TriFinger pinching ManiSkill's RotateCube cube, 65 mm (water's density: 275 g),
+    the same way as the declared cube (tips 10 mm into it at its centre's height)."""
     edge = 0.065
     start = np.array(CLOSED[:3], dtype=np.float64)
     at = np.array([0.0, 0.5 * edge + 0.01, 0.5 * edge])  # the tip's centre on the face
@@ -269,10 +271,60 @@ def test_maniskills_cube_slides_out_of_the_pinch() -> None:
     closed = solve_tip(at - np.array([0.0, 0.01, 0.0]), start)
     grasp = dataclasses.replace(TRIFINGER_HAND.power_grasp, cube_centre=(0.0, 0.0, 0.5 * edge - 0.29), cube_edge=edge)
     hand = dataclasses.replace(TRIFINGER_HAND, open=tuple(np.tile(opened, 3)), closed=tuple(np.tile(closed, 3)))
-    big = type("BigCube", (TriFingerPro,), {"parts": (dataclasses.replace(hand, power_grasp=grasp),)})
-    claim = grasp_claim(big, TriFingerPro.sim_freq or 500, 20, Penetration())
+    return type("BigCube", (TriFingerPro,), {"parts": (dataclasses.replace(hand, power_grasp=grasp),)})
+
+
+def pinch_capacity(edge: float, friction: float = 1.0) -> float:
+    """The largest upward force (N) three tips can hold on a cube of ``edge`` (m) pinched
+    at the middle of its faces under the hub, every finger alike (the fingers' 120-degree
+    symmetry then balances the forces and moments), within the drives' 0.396 N*m and the
+    tips' ``friction``: a two-variable linear program (each tip's normal force N and
+    upward friction T; ``|J^T f| <= 0.396`` on the finger's joints, ``T <= friction N``)
+    solved at its vertices. Statics only: no simulation."""
+    model = mujoco.MjModel.from_xml_path(str(TriFingerPro.mjcf_path))
+    data = mujoco.MjData(model)
+    data.qpos[:3] = solve_tip(np.array([0.0, 0.5 * edge + 0.01, 0.5 * edge]), np.array(CLOSED[:3], dtype=np.float64))
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    tip = model.body("finger_tip_link_0").id
+    inward = np.array([0.0, -1.0, 0.0])  # finger 0 presses along -y onto the face
+    jac = np.zeros((3, model.nv))
+    mujoco.mj_jac(model, data, jac, None, data.xpos[tip] + 0.01 * inward, tip)
+    per_n, per_t = jac[:, :3].T @ inward, jac[:, :3].T @ np.array([0.0, 0.0, 1.0])  # N*m per N
+    limit = EFFORT_LIMIT
+    lines = [(per_n[j], per_t[j], sign * limit) for j in range(3) for sign in (1.0, -1.0)]
+    lines += [(-friction, 1.0, 0.0), (1.0, 0.0, 0.0)]  # T = friction N; N = 0
+    best = 0.0
+    for i, (a1, b1, c1) in enumerate(lines):
+        for a2, b2, c2 in lines[i + 1 :]:
+            det = a1 * b2 - a2 * b1
+            if abs(det) < 1e-12:
+                continue
+            n, t = (c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det
+            if n >= 0.0 and t <= friction * n + 1e-12 and np.all(np.abs(per_n * n + per_t * t) <= limit + 1e-9):
+                best = max(best, 3.0 * t)
+    return best
+
+
+def test_the_drives_can_hold_both_cubes_statically() -> None:
+    """The middle joint bounds the pinch (0.254 N*m per newton pressed, 0.028 per newton
+    carried): 4.22 N for the declared 43 mm cube (its 1 g pull: 0.78 N) and 4.57 N for
+    ManiSkill's 65 mm, 275 g cube (2.69 N). Without friction nothing is held."""
+    assert pinch_capacity(GRASP_CUBE_EDGE) == pytest.approx(4.215, abs=0.005)
+    assert pinch_capacity(0.065) == pytest.approx(4.575, abs=0.005)
+    assert pinch_capacity(0.065) > 0.2746 * 9.81
+    assert pinch_capacity(0.065, friction=0.0) == 0.0
+
+
+def test_maniskills_cube_creeps_past_the_claims_bound() -> None:
+    """ManiSkill's cube, within the drives' static reach (above), is not held within the
+    claim's 2 mm at the default step: pulled with 3.4 times the declared cube's force,
+    the tips' contact creeps (2.5 mm in the claim's 2 s; the declared cube 0.27 mm). It
+    does not fall out (it did, 57 mm, while the tips' contact chattered: the module doc).
+    Why the declared cube is the makers' cube's 80 g."""
+    claim = grasp_claim(maniskill_cube_pinch(), TriFingerPro.sim_freq or 500, 20, Penetration())
     assert claim is not None and not claim.passed
-    assert claim.value > 0.005, claim
+    assert 0.002 < claim.value < 0.005, claim
 
 
 def test_the_fingers_weight_exceeds_a_motor_without_gravity_compensation() -> None:
@@ -295,11 +347,60 @@ class _NoArmature(TriFingerPro):
     actuators = (dataclasses.replace(TRIFINGER_DRIVES, armature=0.0),)
 
 
-def test_without_the_armature_estimate_the_pinch_slips_at_the_default_step() -> None:
-    """The armature is an estimate (no source gives one): without it the pinch the sweep
-    claims slips more than the claim's 2 mm at the default step; with it, less than 1."""
+def settle_after_random(cls: type[TriFingerPro], sim_freq: int, mode: str, seed: int) -> float:
+    """The settle claim's fastest joint (rad/s) after the random-action claim's actions of
+    ``seed`` in ``mode`` at ``sim_freq`` (one case of ``claims.measure_step``)."""
+    scene = claim_scene(cls, sim_freq, 20, mode)
+    scene.reset()
+    run_random_actions(scene, RANDOM_SECONDS, seed)
+    fastest, _ = settle_hold(scene, scene.agents[0])
+    scene.close()
+    return fastest
+
+
+def test_without_the_armature_estimate_a_drive_cycles_and_the_pinch_slips_more() -> None:
+    """The armature is an estimate (no source gives one): without it a lower joint left by
+    random actions turns at 1.8 rad/s at 160 Hz (the sweep's coarsest passing step; a
+    drive's torque-limit cycle), and the pinch slips 1.1 mm at the default step, four
+    times as far as with it (0.27 mm)."""
+    assert settle_after_random(_NoArmature, 160, "pd_joint_delta_pos_vel", 2) > 1.0
+    assert settle_after_random(TriFingerPro, 160, "pd_joint_delta_pos_vel", 2) < SETTLE_SPEED
     step = TriFingerPro.sim_freq or 500
     bare = grasp_claim(_NoArmature, step, 20, Penetration())
-    assert bare is not None and not bare.passed and bare.value > 0.005, bare
     held = grasp_claim(TriFingerPro, step, 20, Penetration())
-    assert held is not None and held.value < 0.001
+    assert bare is not None and held is not None and held.passed
+    assert held.value < 0.0005 and bare.value > 2 * held.value, (bare, held)
+
+
+# ---------------------------------------------------------------- the tips' contact
+def with_tip_damping_ratio(ratio: float, folder: Path) -> type[TriFingerPro]:
+    """The TriFinger whose tips' contact has damping ratio ``ratio`` (its model written
+    to ``folder``)."""
+    xml = TriFingerPro.mjcf_path.read_text()
+    tip = f'priority="1" solref="0.01 {TIP_DAMPING_RATIO:g}"'
+    assert xml.count(tip) == 1
+    path = folder / "trifingerpro.xml"
+    path.write_text(xml.replace(tip, f'priority="1" solref="0.01 {ratio:g}"'))
+    return type("TipDamping", (TriFingerPro,), {"mjcf_path": path})
+
+
+def test_a_tip_pressed_on_the_floor_rests_only_with_the_overdamped_contact(tmp_path: Path) -> None:
+    """The case random actions left at the default step (``pd_joint_pos_vel``, seed 2):
+    finger 0's tip driven into the floor by its saturated middle and lower drives. With a
+    critically damped tip contact it loses and regains the floor (0.26 rad/s); with the
+    damping ratio 4 it rests."""
+    step = TriFingerPro.sim_freq or 500
+    critical = with_tip_damping_ratio(1.0, tmp_path)
+    assert settle_after_random(critical, step, "pd_joint_pos_vel", 2) > 0.2
+    assert settle_after_random(TriFingerPro, step, "pd_joint_pos_vel", 2) < 0.001
+
+
+def test_a_flat_block_pressed_on_a_tip_meets_the_tip_alone() -> None:
+    """The shaft ends 17 mm across, inside the 20 mm tip: the pad-press block
+    (tests/test_pad_press.py) pressed by the lower joint touches finger 0's tip and
+    nothing else, with a steady force within the lower drive's 0.396 N*m over the tip
+    capsule's reach from the lower joint (0.1385-0.17 m: 2.33-2.86 N)."""
+    forces, speeds, _, touching = press(UID, TriFingerPro.sim_freq or 500)
+    assert touching == {"finger_tip_link_0"}
+    assert forces.min() > 0.396 / 0.17 and forces.max() < 0.396 / 0.1385
+    assert np.ptp(forces) < 0.01 and speeds.max() < 0.001

@@ -20,10 +20,15 @@ Sources of the numbers:
   y 0.0235..0.2404, z +-0.021 m over most of its length, x -0.0085..0.0165 there (it
   widens to +-0.022 at its outer end, the motor's mount); ``int_sim``: a joint housing
   x 0..0.045, z -0.03..0.02 and a leg x 0.026..0.05, y +-0.021, down to z -0.184;
-  ``tip_link_sim``: a housing x 0..0.026 and a shaft x 0.0105..0.0275, y +-0.012, down
-  to z -0.1385; ``center_axis_sim``: 58 x 50 x 36 mm); fingertips: capsules of the tip
-  mesh's 10 mm radius (``tip_sim``: +-0.01 m, up to 0.0215 m), their centre on the tip
-  frame.
+  ``tip_link_sim``: a housing x 0..0.026 and a shaft x 0.0105..0.0275 down to z -0.1385
+  that tapers from y +-0.015 at z -0.027 to +-0.0085 below z -0.11, three boxes over
+  it with the mesh's extents: +-0.015 to z -0.0789, +-0.0099 to -0.0996 and +-0.0087
+  to its end (its fillet into the housing, up to +-0.0168 in the last 5 mm above
+  z -0.02, left out; ``center_axis_sim``: 58 x 50 x 36 mm); fingertips: capsules of the
+  tip mesh's 10 mm radius (``tip_sim``: +-0.01 m, up to 0.0215 m), their centre on the
+  tip frame, which stand out of the shaft's end. Until 2026-11-29 the shaft was one box,
+  y +-0.012 down to z -0.138: 2 mm out of the tip's side, it met a flat block the tip
+  was pressed on (tests/test_pad_press.py) beside the tip.
 - Drives: the makers' simulation of the Pro (``open-dynamic-robot-initiative/
   trifinger_simulation``, ``sim_finger.py``, ``SimFinger``; commit 0b34b04): PD gains
   kp (15, 15, 9) N*m/rad and kd (0.5, 1.0, 0.5) N*m*s/rad (upper, middle, lower), its
@@ -37,14 +42,41 @@ Sources of the numbers:
 - Armature: 8e-4 kg*m^2 per joint, an order-of-magnitude estimate of the rotor's
   inertia reflected through the 9:1 reduction (no public model or datasheet we could
   read gives one): a small outrunner's rotor, of order 1e-5 kg*m^2, times 9^2. Without
-  it the pinch below slips 8.8 mm at 200 Hz (bound 2; 0.74 mm with it) and random
-  actions leave a lower joint turning at 1.8 rad/s at 160 Hz (settle bound 0.05;
-  ``claims.measure_step`` on the robot without armature, 2026-11-29 18:24 UTC;
-  ``test_without_the_armature_estimate_the_pinch_slips_at_the_default_step``).
+  it random actions leave a lower joint turning at 1.8 rad/s at 160 Hz (a drive's
+  torque-limit cycle; settle bound 0.05) and the pinch below slips 1.1 mm at 200 Hz
+  (0.27 mm with it; ``claims.measure_step`` on the robot without armature, 2026-11-29
+  20:29 UTC; ``test_without_the_armature_estimate_a_drive_cycles_and_the_pinch_slips_more``).
+  With the tips' former critically damped contact it slipped 8.8 mm (0.74 with it).
 - Fingertip pads: ManiSkill's tip material (static friction 2.0, dynamic 1.0); MuJoCo
   has one coefficient and we take the dynamic 1.0, with torsional friction (condim 4)
-  and the near-rigid pad contact of the library's other pads (the Allegro's), against
-  objects only (the fingers' other geoms take a higher contact priority).
+  and the near-rigid pad contact of the library's servo-arm pads (solref 0.01 s,
+  impedance 0.9999), overdamped (damping ratio 4, :data:`TIP_DAMPING_RATIO`), against
+  objects only (the fingers' other geoms take a higher contact priority). Why
+  overdamped (2026-11-29, scratch runs 20:22-20:32 UTC): MuJoCo drives a contact's
+  depth r with the reference acceleration -b v - k r, b = 2 / (dmax tau) and
+  k = 1 / (dmax^2 tau^2 zeta^2); at tau = 0.01 s, two steps of 200 Hz, and zeta = 1,
+  k dt^2 = 1/4: a near-rigid tip gives back a quarter of its depth each step (0.109,
+  0.079, 0.058 mm ...), is out in about 12 steps and, with no contact margin, loses
+  the surface. Its drive, saturated against the surface, is then a constant 0.396 N*m
+  without damping (a clamped PD's kv is gone), and the finger falls back in over one
+  free step (0.58 rad/s, 0.46 mm deep): a cycle of 12-13 steps. A tip driven onto the
+  floor by random actions (``pd_joint_pos_vel``, seed 2) cycled so at 0.26 rad/s, and
+  a tip pressed on a fixed block (tests/test_pad_press.py), the old shaft box touching
+  the block beside it, at 3.2-8.1 N and 0.145 rad/s (at 1 kHz, where a free step
+  presses 25 times less deep, the block press rested: 6.61-6.68 N). With zeta = 4, k is 16 times smaller (1/64 of the
+  depth per step) and b, which alone acts along the friction directions, is unchanged:
+  at 200 Hz the tip pressed on the block rests (2.724-2.725 N, 6e-4 rad/s; with the
+  old shaft box 6.26-6.29 N), the sweep's settle claim is 3e-5 to 3e-4 rad/s from
+  160 Hz to 1 kHz, and the pinch slips 0.27-0.28 mm (0.37-1.0 mm before: the tips
+  chattered on the cube too); zeta = 2 rests as well, the pinch 0.35-1.0 mm. The block
+  press rests from 160 Hz to 1 kHz (2.716-2.735 N, at most 7.1e-4 rad/s), and with ten
+  other random-action seeds (3-12) the settle claim is 7.2e-4, 1.2e-4, 2.9e-4 and
+  3.6e-3 rad/s at 160, 200, 320 Hz and 1 kHz (the former model: 0.066 at 160 Hz, past
+  the bound, 0.047 at 200; 2026-11-29 20:36-20:37 UTC). Rejected
+  earlier the same day: MuJoCo's default tip contact (the press rests, the pinch claim
+  fails) and impedance 0.99-0.999 (the pinch slips 1.7 mm at 200 Hz); and the fitted
+  shaft alone leaves the floor cycle (``test_a_tip_pressed_on_the_floor_rests_only_with_the_overdamped_contact``,
+  ``test_a_flat_block_pressed_on_a_tip_meets_the_tip_alone``).
 - Gravity: compensated on every body (the library's default for a fixed root): the
   keyframe is held exactly and the 0.396 N*m is left to motion and contact (the real
   robot's position controller has no gravity term). A finger's weight loads its upper
@@ -69,11 +101,14 @@ Sources of the numbers:
 - Grasp: three tips pinching a cube on the axis under the hub (:data:`POWER_GRASP`, the
   time-step sweep's grasp claim): a cube of the makers' cube's weight (80 g: 65 mm at
   291.3 kg/m^3, ``cube_multicolor_rrc.urdf``) at the library's cube density, 43 mm.
-  ManiSkill's RotateCube cube (65 mm at water's density, 275 g, with as much again
-  pulling), pinched the same way at 200 Hz, left the pinch (57 mm in the claim's 2 s;
-  ``test_maniskills_cube_slides_out_of_the_pinch``, 2026-11-29 18:24 UTC): the drives'
-  0.396 N*m cannot hold it. In tests/test_trifinger.py the cube is also lifted off
-  the arena floor, the tips' contact forces summing to its weight.
+  Statically the middle joints bound the pinch (0.254 N*m per newton a tip presses,
+  0.028 per newton it carries): 4.22 N up for that cube (pulled with 0.78 N), 4.57 N for
+  ManiSkill's RotateCube cube (65 mm at water's density, 275 g: 2.69 N)
+  (``test_the_drives_can_hold_both_cubes_statically``). Pinched the same way at 200 Hz,
+  ManiSkill's cube creeps 2.5 mm in the claim's 2 s (bound 2;
+  ``test_maniskills_cube_creeps_past_the_claims_bound``, 2026-11-29 20:29 UTC; 57 mm,
+  out of the pinch, while the tips chattered). In tests/test_trifinger.py the cube is
+  also lifted off the arena floor, the tips' contact forces summing to its weight.
 """
 
 from __future__ import annotations
@@ -169,6 +204,9 @@ TRIFINGER_HAND = Hand(
 
 #: Fingertip pads (ManiSkill's dynamic friction of its tip material).
 TIP_PAD = FrictionMaterial(sliding=1.0, torsional=0.01, rolling=0.0001)
+#: The damping ratio of the tips' contact (solref 0.01 s; the model's ``tf_tip`` class):
+#: overdamped, so that a tip pressed by a saturated drive rests (see the module doc).
+TIP_DAMPING_RATIO = 4.0
 
 
 @register_agent()
@@ -181,11 +219,12 @@ class TriFingerPro(Agent):
 
     uid = "trifingerpro"
     #: Time-step sweep (``python benchmarks/timestep_sweep.py --jobs 1 trifingerpro``,
-    #: 2026-11-29 18:21 UTC, 20 Hz control): every claim holds from 6.25 ms (160 Hz) down
-    #: to 1 ms (random-action overshoot 0.008-0.025 rad, bound 0.25; settle 0.049 rad/s
-    #: at 160 Hz, 0.02 at 200 Hz, bound 0.05; the pinch's slip 0.37-1.0 mm, bound 2;
-    #: deepest contact 0.12 mm); at 100 Hz and coarser settle fails (1.4-5.7 rad/s) and
-    #: the pinch loses its cube. Default one tried step finer: 200 Hz (5 ms).
+    #: 2026-11-29 20:32-20:33 UTC, 20 Hz control, with the overdamped tips): every claim
+    #: holds from 6.25 ms (160 Hz) down to 1 ms (random-action overshoot 0.009-0.045 rad,
+    #: bound 0.25; settle 3.2e-4 rad/s at 160 Hz, 3.4e-5 at 200 Hz, bound 0.05; the
+    #: pinch's slip 0.27-0.28 mm, bound 2; deepest contact 0.064 mm); at 100 Hz and
+    #: coarser settle fails (1.4-5.7 rad/s). Default one tried step finer: 200 Hz (5 ms),
+    #: where a tip pressed on a fixed block rests (tests/test_pad_press.py).
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "trifingerpro.xml"
     actuators = (TRIFINGER_DRIVES,)
@@ -207,6 +246,7 @@ __all__ = [
     "OPEN",
     "POWER_GRASP",
     "REST",
+    "TIP_DAMPING_RATIO",
     "TIP_LINKS",
     "TRIFINGER_DRIVES",
     "TRIFINGER_HAND",

@@ -73,10 +73,6 @@ CHATTERS: Mapping[tuple[str, int], str] = {
         "the tip bounces every 0.2 s: 3.2-8.1 N, the lower joint at 0.145 rad/s over the last second (settles at 1 kHz: "
         "6.61-6.68 N, 1e-4 rad/s; with MuJoCo's default pad contact at 200 Hz: 5.06-5.13 N, 0.002 rad/s)"
     ),
-    ("stretch", 200): (
-        "the finger leaves the block twice in the last second: 0-2.8 N, 0.078 rad/s (at 1 kHz it stays on, 1.9-2.4 N "
-        "drifting as the base is pushed back; with MuJoCo's default pad contact at 200 Hz: 1.88-2.33 N)"
-    ),
 }
 
 

@@ -81,11 +81,16 @@ no finger frictionloss, armature 0.001 kg*m^2 or a base that does not yield (its
 x 1000) each let this press rest, but the margin stays the 0.1 µm. A deeper rest depth settles it: impedance
 0.999 (0.8-1.0 µm deep; but the sweep's cube then slips 2.6 mm in its 2 s hold at
 200 Hz, bound 2 mm), MuJoCo's default contact (0.32-0.37 mm; slip 15.8 mm), or the
-damping ratio: 1.5 (0.15-0.19 µm) and 2 rest at every step tried from 100 Hz to 2 kHz.
+damping ratio: 1.5 (0.15-0.19 µm) and 2 rest at every step tried from 100 Hz to 2 kHz,
+and with the press's contact angle 0.2 / 0.3 / 0.4 of the range from the keyframe and its
+target 0.05 / 0.15 / 0.3 of it past that (scratch runs of the test's press, 200 Hz) ratio 2
+rested in all nine (0.63-4.8 N), ratio 1 lost the block in seven.
 Ratio 2 quarters the stiffness (rest 0.26-0.33 µm at 200 Hz, 0.32-0.41 µm at 1 kHz; the
 return overdamped: its slower rate 13 /s, was 100 /s) and leaves the friction as it was:
-MuJoCo's reference for the friction rows is ``-b v`` with ``b = 2 / (d_max timeconst)``,
-which the ratio does not enter: the sweep's cube slips 0.428 mm at 200 Hz (0.421 with
+the ratio enters only the stiffness of the reference's ``-k r`` (MuJoCo's ``efc_KBIP``:
+k 10002 -> 2500 /s^2), which is the same on every edge of the pyramidal friction cone and
+so pushes along the normal alone; the sliding is resisted by ``-b v``, ``b = 2 / (d_max
+timeconst)`` = 200 /s either way: the sweep's cube slips 0.428 mm at 200 Hz (0.421 with
 ratio 1). The cost of the slower return: random actions pressed a rubber tip 4.2 mm
 into the floor at 200 Hz (1.8 mm with ratio 1; ``benchmarks/random_press.py``).
 """

@@ -78,15 +78,16 @@ Not the cause, varied one at a time in stretch.xml at 200 Hz (2026-11-29): timec
 0.005 s (raised to two steps: identical), condim 1 or the wrist gains x 10 (still
 losing the block), the finger's armature 0.1 kg*m^2 (1.90-2.79 N, jumping); condim 3,
 no finger frictionloss, armature 0.001 kg*m^2 or a base that does not yield (its damping
-x 1000) each let this press rest, but the margin stays the 0.1 µm. A deeper rest depth settles it: impedance
-0.999 (0.8-1.0 µm deep; but the sweep's cube then slips 2.6 mm in its 2 s hold at
-200 Hz, bound 2 mm), MuJoCo's default contact (0.32-0.37 mm; slip 15.8 mm), or the
-damping ratio: 1.5 (0.15-0.19 µm) and 2 rest at every step tried from 100 Hz to 2 kHz,
-and with the press's contact angle 0.2 / 0.3 / 0.4 of the range from the keyframe and its
-target 0.05 / 0.15 / 0.3 of it past that (scratch runs of the test's press, 200 Hz) ratio 2
-rested in all nine (0.63-4.8 N), ratio 1 lost the block in seven.
-Ratio 2 quarters the stiffness (rest 0.26-0.33 µm at 200 Hz, 0.32-0.41 µm at 1 kHz; the
-return overdamped: its slower rate 13 /s, was 100 /s) and leaves the friction as it was:
+x 1000) each let this press rest, but the margin stays the 0.1 µm. A deeper rest depth
+settles it: impedance 0.999 (0.8-1.0 µm deep; but the sweep's cube then slips 2.6 mm in
+its 2 s hold at 200 Hz, bound 2 mm), MuJoCo's default contact (0.32-0.37 mm; slip
+15.8 mm), or the damping ratio: 1.5 (0.15-0.19 µm) and 2 rest at every step tried from
+100 Hz to 2 kHz, and with the press's contact angle 0.2 / 0.3 / 0.4 of the range from
+the keyframe and its target 0.05 / 0.15 / 0.3 of it past that (scratch runs of the
+test's press, 200 Hz) ratio 2 rested in all nine (0.63-4.8 N), ratio 1 lost the block
+in seven. Ratio 2 quarters the stiffness (rest 0.26-0.33 µm at 200 Hz, 0.32-0.41 µm at
+1 kHz; the return overdamped: its slower rate ``100 - sqrt(100^2 - 2500)`` = 13 /s, was
+100 /s) and leaves the friction as it was:
 the ratio enters only the stiffness of the reference's ``-k r`` (MuJoCo's ``efc_KBIP``:
 k 10002 -> 2500 /s^2), which is the same on every edge of the pyramidal friction cone and
 so pushes along the normal alone; the sliding is resisted by ``-b v``, ``b = 2 / (d_max

@@ -68,6 +68,7 @@ RUNS = {
     ("ik_reach.py", "--robots", "so100", "--count", "2", "--jacobians"): "| `so100` (position) | 5 |",
     ("jaw_close.py", "so100", "--seeds", "1", "--rate", "0.05", "--cube-share", "0.5", "--against", "1.5"): "/1: seeds",
     ("jaw_close.py", "so100", "--trace", "0", "--rate", "0.05"): "Moving_Jaw",
+    ("pad_press_trace.py", "stretch", "--seconds", "1", "--trace", "0.99", "1"): "| 1.000 |",
     ("collision_pairs.py", "panda_stick", "--rounds", "1", "--steps", "2"): "panda_stick",
     ("simplified_collisions.py", "--steps", "2", "--rounds", "1", "--block", "1"): (
         "| `unitree_h1_simplified` | random (`pd_joint_pos`) | 500 | 29 / 21 |"

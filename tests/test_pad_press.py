@@ -69,12 +69,7 @@ CASES: Mapping[str, tuple[str, str, str | None]] = {
 }
 
 #: (uid, physics Hz) -> measured numbers of the cases that do not come to rest.
-CHATTERS: Mapping[tuple[str, int], str] = {
-    ("stretch", 200): (
-        "the finger leaves the block twice in the last second: 0-2.8 N, 0.078 rad/s (at 1 kHz it stays on, 1.9-2.4 N "
-        "drifting as the base is pushed back; with MuJoCo's default pad contact at 200 Hz: 1.88-2.33 N)"
-    ),
-}
+CHATTERS: Mapping[tuple[str, int], str] = {}
 
 
 def near_rigid_pads(model: mujoco.MjModel) -> list[int]:

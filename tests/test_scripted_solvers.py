@@ -155,15 +155,17 @@ def test_the_turns_ik_restarts_where_joint_limits_trap_it(monkeypatch: pytest.Mo
 
 
 def test_the_push_rises_where_it_presses_the_cube_down(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Stretch, PushCube seed 0: without the rise, the push stalls pressing the cube onto
+    """Stretch, PushCube seed 4: without the rise, the push stalls pressing the cube onto
     the table (the robot's force on it pointing down by more than half its horizontal
     part when the episode ends, the cube short of the goal); with it, the cube slides
-    into the goal."""
-    assert solver.success_rate("PushCube-v1", "stretch", 1, seed=0)[0] == 1
+    into the goal. (Seed 0 until the Stretch's finger pads became overdamped,
+    2026-11-29: without the rise seed 0 now slides too; seeds 4, 5, 6, 8 and 11 of 0-19
+    still stall, docs/tasks.md.)"""
+    assert solver.success_rate("PushCube-v1", "stretch", 1, seed=4)[0] == 1
     monkeypatch.setattr(solver, "RISE", 0.0)
     env = ra.make_env("PushCube-v1", robot_uids="stretch").unwrapped
     try:
-        assert not solver.solve_push(env, 0)[0]
+        assert not solver.solve_push(env, 4)[0]
         force = solver.Arm(env).force_on("cube")[0]
         assert -force[2] > 0.5 * np.linalg.norm(force[:2]) > 1.0, force
     finally:

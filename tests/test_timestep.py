@@ -358,16 +358,19 @@ def test_grasp_claim_tries_the_cube_deeper_between_the_fingers(tmp_path: Path) -
 #: former contact in its model files (with MuJoCo's soft friction the held cube then
 #: creeps out).
 NEAR_RIGID = 'solref="0.01 1" solimp="0.9999 0.9999 0.01"'
+#: The Stretch's pads: the same, overdamped (damping ratio 2) so that a pressed pad rests
+#: (tests/test_pad_press.py; robots/stretch/stretch.py).
+STRETCH_PADS = 'solref="0.01 2" solimp="0.9999 0.9999 0.01"'
 FIXED_GRASPS: dict[str, tuple[float, tuple[tuple[str, str], ...]]] = {
     "google_robot": (0.0015, ((f'<geom priority="1" {NEAR_RIGID} rgba', "<geom rgba"),)),
     "stretch": (
         0.001,
         (
             (
-                f'<geom rgba="0.95 0.95 0.95 1" condim="4" priority="1" {NEAR_RIGID}/>',
+                f'<geom rgba="0.95 0.95 0.95 1" condim="4" priority="1" {STRETCH_PADS}/>',
                 '<geom rgba="0.95 0.95 0.95 1"/>',
             ),
-            (NEAR_RIGID, 'solref="0.002 1" solimp="0.95 0.99 0.001"'),
+            (STRETCH_PADS, 'solref="0.002 1" solimp="0.95 0.99 0.001"'),
         ),
     ),
     # both through their shared pad class (servo_arm_defaults.xml)
@@ -391,7 +394,7 @@ def former_contact_variant(uid: str, tmp_path: Path) -> type[ra.Agent]:
         assert any(fixed in text for text in texts.values()), fixed
         texts = {name: text.replace(fixed, former) for name, text in texts.items()}
     for name, text in texts.items():
-        assert NEAR_RIGID not in text, name
+        assert NEAR_RIGID not in text and STRETCH_PADS not in text, name
         (tmp_path / name).write_text(text)
     return type(f"Former{cls.__name__}", (cls,), {"uid": "", "mjcf_path": tmp_path / path.name})
 
@@ -400,7 +403,7 @@ def former_contact_variant(uid: str, tmp_path: Path) -> type[ra.Agent]:
 def test_fingertips_hold_the_cube_at_the_default_step(uid: str) -> None:
     """The sweep's grasp at the robot's declared step: the cube moves less than its
     bound (measured: google_robot 0.21 mm at 500 Hz (its 77.9 mm cube at its grasp frame,
-    2026-11-29, SimplerEnv's current arm gains), stretch 0.52 mm at 160 Hz, so100 0.25 mm at 200 Hz, koch-v1.1 0.01 mm at
+    2026-11-29, SimplerEnv's current arm gains), stretch 0.43 mm at 200 Hz (its pads overdamped, 2026-11-29), so100 0.25 mm at 200 Hz, koch-v1.1 0.01 mm at
     320 Hz; 4.8, 10.4 and 2.4 mm for the first three with the former contacts)."""
     cls = ra.get_agent(uid)
     assert cls.sim_freq is not None

@@ -61,6 +61,39 @@ fingers touch before the tips, pivoted about the line through the two finger con
 as it was lifted (43-50 mm) and crept 7.7-12.5 mm in the 2 s hold, inside its friction
 cone. Self-collisions are off (the telescoping
 segments overlap by design; Menagerie excludes most of the same pairs).
+
+Pad damping ratio 2 (``solref="0.01 2"``; 1 until 2026-11-29). A finger pressed on a
+fixed block (tests/test_pad_press.py: driven 0.105 rad past touching it, the last second
+of 3 s) did not rest with the critically damped pads at 200 Hz: MuJoCo dropped the
+contact 12 times a second (0-3.15 N; the wrist yaw at 0.078 rad/s), at 160 Hz too, while
+from 320 Hz it rested. The cause is the near-rigid contact's rest depth, ``(1 - d) (F /
+m) timeconst^2 dampratio^2`` (``robot_agents.model.materials``): 0.08-0.10 µm for this
+finger's 1.9-2.4 N at impedance 0.9999 (1 kHz). Pushed back out of the block after a
+deeper press (timeconst 0.01 s is two 5 ms steps), the pad came out 0.24 and then
+0.10 µm per step and went past that depth to 0.03 µm outside the block; MuJoCo then
+found no contact (margin 0), the drive moved the finger freely for a step, 91 µm into
+the block (117 µm and 3.15 N the step after), and the 85 ms cycle began again (``python
+benchmarks/pad_press_trace.py stretch --solref 0.01 1 --trace 2.0 2.06``, 2026-11-29).
+Not the cause, varied one at a time in stretch.xml at 200 Hz (2026-11-29): timeconst
+0.005 s (raised to two steps: identical), condim 1 or the wrist gains x 10 (still
+losing the block), the finger's armature 0.1 kg*m^2 (1.90-2.79 N, jumping); condim 3,
+no finger frictionloss, armature 0.001 kg*m^2 or a base that does not yield (its damping
+x 1000) each let this press rest, but the margin stays the 0.1 µm. A deeper rest depth
+settles it: impedance 0.999 (0.8-1.0 µm deep; but the sweep's cube then slips 2.6 mm in
+its 2 s hold at 200 Hz, bound 2 mm), MuJoCo's default contact (0.32-0.37 mm; slip
+15.8 mm), or the damping ratio: 1.5 (0.15-0.19 µm) and 2 rest at every step tried from
+100 Hz to 2 kHz, and with the press's contact angle 0.2 / 0.3 / 0.4 of the range from
+the keyframe and its target 0.05 / 0.15 / 0.3 of it past that (scratch runs of the
+test's press, 200 Hz) ratio 2 rested in all nine (0.63-4.8 N), ratio 1 lost the block
+in seven. Ratio 2 quarters the stiffness (rest 0.26-0.33 µm at 200 Hz, 0.32-0.41 µm at
+1 kHz; the return overdamped: its slower rate ``100 - sqrt(100^2 - 2500)`` = 13 /s, was
+100 /s) and leaves the friction as it was:
+the ratio enters only the stiffness of the reference's ``-k r`` (MuJoCo's ``efc_KBIP``:
+k 10002 -> 2500 /s^2), which is the same on every edge of the pyramidal friction cone and
+so pushes along the normal alone; the sliding is resisted by ``-b v``, ``b = 2 / (d_max
+timeconst)`` = 200 /s either way: the sweep's cube slips 0.428 mm at 200 Hz (0.421 with
+ratio 1). The cost of the slower return: random actions pressed a rubber tip 4.2 mm
+into the floor at 200 Hz (1.8 mm with ratio 1; ``benchmarks/random_press.py``).
 """
 
 from __future__ import annotations
@@ -194,7 +227,13 @@ class Stretch(Agent):
     #: random actions in pd_joint_pos_vel (seed 2) then left the wrist pitch cycling
     #: between its torque limits at 160 Hz (settle 0.29 rad/s, bound 0.05; the drives
     #: can cycle below 476 Hz, ``tuning.cycles``); every claim holds from 200 Hz (settle
-    #: 0.009 rad/s there). Default 200 Hz, again the largest passing step.
+    #: 0.009 rad/s there). Default 200 Hz, again the largest passing step. Rerun
+    #: 2026-11-29 20:26 UTC after the pads' damping ratio became 2 (module docstring;
+    #: ``python benchmarks/timestep_sweep.py --jobs 1 stretch``): every claim holds from
+    #: 160 Hz, as in the 07:11 UTC run (settle 0.006 rad/s there); at 200 Hz grasp 0.428
+    #: of 2 mm (was 0.421), penetration 0.005 mm of 5, settle 0.0015 rad/s; at 100 Hz and
+    #: coarser, where the grasp fails as before, the penetration claim now fails too (a
+    #: finger 5.4 mm into the sweep's cube at 100 Hz, 23 mm at 40 Hz; 0 before).
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "stretch.xml"
     actuators = STRETCH_DRIVES

@@ -1,7 +1,64 @@
 """K-Scale Labs' Stompy humanoid (uid ``stompy``, ManiSkill's): 37 joints on a free
 torso, two arms ending in two-finger rack-and-pinion grippers, a two-joint head.
 
-DOC_PLACEHOLDER
+Sources of the numbers:
+- Kinematics, masses, inertias, joint axes and ranges: the URDF ManiSkill 3.0.1 downloads
+  for ``stompy``, ``haosulab/ManiSkill-Stompy`` ``robot.urdf`` at tag v0.1.0 (commit
+  f7cd030c42a1b68b5aa211beec5d5ba948656296; K-Scale Labs' Onshape export, MIT licence),
+  read as data into our own primitive MJCF (``assets/stompy.xml``: one body per moving
+  joint with the fixed-joint links merged, one box per URDF mesh fitted to its vertices,
+  five boxes sized from their links' inertia where the mesh is absent from the archive;
+  its header says how). The bodies' poses match SAPIEN loading that URDF at ManiSkill's
+  ``standing`` within 1e-6, and ``tests/test_stompy.py`` chains the URDF's origins
+  independently. Total mass 27.601 kg. Body and joint names are the URDF's.
+- What the joints are: K-Scale Labs' joint map (``kscalelabs/sim``
+  ``sim/stompy/joints.py``, commit 5aade28): per leg hip roll (``legs_1_x8_*``), hip yaw,
+  hip pitch, a knee motor, the knee, an ankle motor, the ankle and a foot roll; per arm
+  shoulder yaw, pitch and roll, elbow yaw and roll, hand roll, the gripper's pinion
+  (``hand_1_x4_2``) and its two racks (``hand_1_slider_1`` / ``_2``); head yaw and
+  pitch; torso. The knee and ankle motors drive the knee and ankle through belts the URDF
+  does not model: there (and so here) they turn only their own rotor and pulley.
+- Names and order: ManiSkill's ``Stompy``: uid ``stompy``, its ``standing`` keyframe, its
+  modes ``pd_joint_pos`` (default) and ``pd_joint_delta_pos`` over one part ``body`` in
+  SAPIEN's joint order (:data:`MANISKILL_JOINTS`), the delta bound 0.1; its head camera;
+  friction 2.0 on the fingers; no self-collisions.
+- Differences from ManiSkill's agent, each measured (2026-11-29, ``robot-agents check
+  stompy`` and the scripts behind tests/test_stompy.py):
+
+  * ``standing``: the torso 0.972 m up, not 0.965: at 0.965 the soles' boxes reach 5.9 mm
+    into the floor (ManiSkill's meshes 4.6 mm); and the head pitch at its upper limit
+    0.2618 rad (ManiSkill's 0.5 lies past it). ``rest`` is the same pose.
+  * Leg drives: kp 2000 N*m/rad, kv 200 N*m*s/rad (ours). With ManiSkill's 100 / 10 the
+    robot falls over from ``standing`` within 1 s (tests). The standing load is up to
+    16.6 N*m (knee), 13 N*m (hip roll), 5.3 N*m (foot roll): at kp 2000 each joint gives
+    under 9 mrad. kv 200: with 50 (100) the torso still moves 21 (4.4) mm after the
+    first second on its feet, with 200 0.8 mm.
+  * No effort limits, as ManiSkill's drives (``force_limit`` 1e10): the URDF's efforts
+    (:data:`URDF_EFFORT`: 1.5 N*m for the x4 joints, 3 x6, 6 x8 and ankles, 12 x10,
+    13.9 knees, 80 N sliders) cannot hold ``standing`` (13 N*m at the 6 N*m hip rolls,
+    5.3 at the 1.5 N*m foot rolls); the robot falls with them (tests).
+  * Modes: ManiSkill's two only, both with the drives above (ManiSkill's
+    ``pd_joint_delta_pos`` sets 20 / 5 on every joint, under which the robot cannot stand).
+    The library's velocity modes are left out: with unlimited drives a velocity target
+    (kv x 31.4 rad/s, 6280 N*m on the legs) spins the beltless ankle motor rotors 4.8 rad
+    through their joint limits (sweep, ``pd_joint_vel``, every step from 40 Hz to 1 kHz).
+  * Armature 0.01 kg*m^2 (kg on the sliders) on every joint: an estimate (the URDF gives
+    none; MyActuator's geared motors reflect rotor inertia of this order), set so that kp
+    2000 stays stable at the step: the beltless rotors weigh 54-203 g (largest kp /
+    (4 I / dt^2) 0.2 at 500 Hz).
+  * Contacts: the feet near-rigid (``solref`` 5 ms, as PhysX's rigid contacts): ManiSkill's
+    ``standing`` sets the soles rolled 4.3 deg and pitched 2 deg (the peer's meshes too),
+    so the robot lands on their edges; with MuJoCo's default 20 ms they sank and the torso
+    still moved 10.4 mm after the first second (0.8 mm with ours). The fingers take the library's stiff pad
+    contact (``PAD_SOLREF``): with MuJoCo's default a held 4 cm cube sank 2 mm into them
+    and crept out at 3 mm/s.
+- Grippers: each a ``Gripper`` of two rack sliders, open at 0 (68 mm between the finger
+  boxes), closed at -0.034 m (they meet); fingers the slider bodies (each carries the
+  URDF's ``gripper_1`` / ``gripper_2`` link). A 4 cm cube is held under its weight in
+  either (tests). No end effector: ManiSkill's agent has no TCP, so the sweep's grasp claim
+  (which needs an end-effector mode) does not apply.
+- Camera: ManiSkill's ``head_camera`` on ``link_head_1_head_1`` (a body of its own in our
+  model, welded to the head pitch link).
 """
 
 from __future__ import annotations
@@ -16,7 +73,7 @@ from robot_agents.agent.agent import Agent
 from robot_agents.controllers.rules import JointGroup, ModeConfig, joint_control_modes
 from robot_agents.keyframe import Keyframe
 from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT, quat_multiply
-from robot_agents.model.materials import FrictionMaterial
+from robot_agents.model.materials import PAD_SOLIMP, PAD_SOLREF, FrictionMaterial
 from robot_agents.parts.declaration import Arm, Gripper, Head, Legs, Torso
 from robot_agents.registry import register_agent
 from robot_agents.sensors.camera import CameraConfig
@@ -149,12 +206,17 @@ STOMPY_BODY = JointGroup(
     max_delta=MANISKILL_DELTA,
     max_velocity=tuple(SPEED[joint_kind(j)] for j in MANISKILL_JOINTS),
 )
+#: ManiSkill's two modes (see the module doc for why not the library's other joint modes).
+MANISKILL_MODES = ("pd_joint_pos", "pd_joint_delta_pos")
 STOMPY_MODES: dict[str, ModeConfig] = {
-    mode: {"body": config} for mode, config in joint_control_modes(STOMPY_BODY).items()
+    mode: {"body": config} for mode, config in joint_control_modes(STOMPY_BODY).items() if mode in MANISKILL_MODES
 }
 
-#: ManiSkill's gripper material (static and dynamic friction 2.0) on the fingers.
-FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001)
+#: ManiSkill's gripper material (static and dynamic friction 2.0) on the fingers, with the
+#: library's stiff pad contact (:data:`~robot_agents.model.materials.PAD_SOLREF`, as PhysX's
+#: rigid contacts): with MuJoCo's default contact a held 4 cm cube sank 2 mm into the
+#: finger boxes and crept out at 3 mm/s.
+FINGER_PAD = FrictionMaterial(sliding=2.0, torsional=0.01, rolling=0.0001, solref=PAD_SOLREF, solimp=PAD_SOLIMP)
 #: The feet (the bodies carrying the URDF's ``foot_1`` and ``rubber_1`` links): MuJoCo's
 #: default friction 1.0, near-rigid contact (``solref`` 5 ms, as PhysX's rigid contacts):
 #: ManiSkill's ``standing`` sets the soles 4.3 deg rolled, so the robot lands on their
@@ -165,7 +227,9 @@ FEET = ("link_legs_1_right_leg_1_x4_1_outer_1", "link_legs_1_left_leg_1_x4_1_out
 #: ManiSkill's ``head_camera``: 0.12 m along ``link_head_1_head_1``'s x and 0.02 m along
 #: its z, turned ``euler2quat(-pi/2, 0, 0)`` (about x) in SAPIEN's camera axes (x
 #: forward, z up); 128 x 128, field of view 1.57 rad, near 0.01 m, far 100 m.
-_HEAD_CAMERA_QUAT = quat_multiply((math.cos(-math.pi / 4), math.sin(-math.pi / 4), 0.0, 0.0), FORWARD_X_UP_Z_CAMERA_QUAT)
+_HEAD_CAMERA_QUAT = quat_multiply(
+    (math.cos(-math.pi / 4), math.sin(-math.pi / 4), 0.0, 0.0), FORWARD_X_UP_Z_CAMERA_QUAT
+)
 HEAD_CAMERA = CameraConfig(
     uid="head_camera",
     mount="link_head_1_head_1",
@@ -193,6 +257,12 @@ class Stompy(Agent):
     a free torso. Actions follow ManiSkill's joint order (:data:`MANISKILL_JOINTS`)."""
 
     uid = "stompy"
+    #: Time-step sweep (``PYTHONPATH=src python benchmarks/timestep_sweep.py --jobs 1
+    #: stompy``, 2026-11-29 20:34-20:35 UTC, seeds 0-2, 20 Hz control, load average 5.7;
+    #: docs/timestep-sweep.md): every claim holds from 400 Hz (standing: the torso moves
+    #: 3.6 mm after its first second, 0.8 mm at 500 Hz; random 0.058 rad past a stop);
+    #: at 320 Hz the standing claim fails (34.8 mm). Default 500 Hz, one tried step finer.
+    #: (No drive has an effort limit, so no torque-limit cycle is possible.)
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "stompy.xml"
     fix_root_link = False

@@ -32,7 +32,11 @@ Sources of the numbers:
     robot falls over from ``standing`` within 1 s (tests). The standing load is up to
     16.6 N*m (knee), 13 N*m (hip roll), 5.3 N*m (foot roll): at kp 2000 each joint gives
     under 9 mrad. kv 200: with 50 (100) the torso still moves 21 (4.4) mm after the
-    first second on its feet, with 200 0.8 mm.
+    first second on its feet, with 200 0.8 mm. ManiSkill's own Stompy falls from
+    ``standing`` too (its ``Empty-v1`` on CPU PhysX at its 100 Hz, the URDF with the five
+    absent collision meshes left out, 2026-11-29 20:39 UTC): repeating the keyframe's
+    targets in ``pd_joint_pos`` it tilts 37.7 deg at 1 s and lies on the floor (torso
+    0.22 m up) at 1.5 s; with zero ``pd_joint_delta_pos`` actions it is down at 1 s.
   * No effort limits, as ManiSkill's drives (``force_limit`` 1e10): the URDF's efforts
     (:data:`URDF_EFFORT`: 1.5 N*m for the x4 joints, 3 x6, 6 x8 and ankles, 12 x10,
     13.9 knees, 80 N sliders) cannot hold ``standing`` (13 N*m at the 6 N*m hip rolls,

@@ -5,7 +5,8 @@ Sources of the numbers:
 - Kinematics, masses, inertias, joint axes and ranges: the URDF ManiSkill 3.0.1 downloads
   for ``stompy``, ``haosulab/ManiSkill-Stompy`` ``robot.urdf`` at tag v0.1.0 (commit
   f7cd030c42a1b68b5aa211beec5d5ba948656296; K-Scale Labs' Onshape export, MIT licence),
-  read as data into our own primitive MJCF (``assets/stompy.xml``: one body per moving
+  read as data into our own primitive MJCF (``assets/stompy.xml``, written by
+  ``python benchmarks/stompy_mjcf.py URDF_DIR --write``: one body per moving
   joint with the fixed-joint links merged, one box per URDF mesh fitted to its vertices,
   five boxes sized from their links' inertia where the mesh is absent from the archive;
   its header says how). The bodies' poses match SAPIEN loading that URDF at ManiSkill's

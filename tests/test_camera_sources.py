@@ -254,6 +254,20 @@ SOURCES = [
         100.0,
         (0.3, -0.3, 1.0),
     ),
+    # ManiSkill 3.0.1 stompy.py: head_camera at Pose([0.12, 0, 0.02], euler2quat(-pi / 2,
+    # 0, 0)) on link_head_1_head_1, 128 x 128, fov 1.57, near 0.01, far 100 (euler2quat's
+    # (w, x, y, z) of a -pi / 2 roll written out here).
+    Source(
+        "stompy",
+        "head_camera",
+        "link_head_1_head_1",
+        maniskill(np.eye(4), (0.12, 0.0, 0.02), (math.cos(-math.pi / 4), math.sin(-math.pi / 4), 0.0, 0.0)),
+        centred(1.57, 128, 128),
+        (128, 128),
+        0.01,
+        100.0,
+        (0.3, -0.3, 1.0),
+    ),
 ]
 
 

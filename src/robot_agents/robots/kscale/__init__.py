@@ -1,0 +1,1 @@
+"""K-Scale Labs robots."""

@@ -44,8 +44,12 @@ Sources of the numbers:
   of mass at y = 0.5 mm, 8.4 cm inside the stance foot's inner edge (y 0.085-0.151 m):
   no position hold keeps that up, and the standing claim holds every keyframe.
 - Parts: ``legs`` (both legs, not held: they carry the robot), then the upper-body
-  model's ``torso``, ``left_arm``/``right_arm`` (tool frames ``left_tcp``/``right_tcp``)
-  and ``left_hand``/``right_hand`` with its power grasps (checked standing on the floor).
+  model's ``torso``, ``left_arm``/``right_arm`` and ``left_hand``/``right_hand`` with its
+  power grasps (checked standing on the floor). The arms declare no tool frame:
+  ManiSkill's full G1 (``g1.urdf``, ``UnitreeG1``) has no TCP, unlike its upper body
+  (the ``*_tcp_link`` bodies of the shared torso piece are in the model, unused), so it
+  has no end-effector modes and the table-top tasks, which place a table under a tool,
+  do not take it (as the H1); ManiSkill gives it only its standing task.
   Finger pads, self-collision exclusions: the upper-body model's (ManiSkill's collision
   groups).
 - Control modes: ManiSkill's ``pd_joint_pos`` (the default, first in its table) and
@@ -71,7 +75,7 @@ from robot_agents.actuators.config import PDActuator
 from robot_agents.agent.agent import Agent
 from robot_agents.controllers.rules import JointGroup, ModeConfig, joint_control_modes
 from robot_agents.keyframe import Keyframe
-from robot_agents.parts.declaration import Hand, Legs, Part
+from robot_agents.parts.declaration import Arm, Hand, Legs, Part
 from robot_agents.registry import register_agent
 from robot_agents.robots.unitree import g1
 
@@ -160,6 +164,12 @@ G1_BODY = JointGroup(
     max_velocity=tuple(joint_limits(j)[1] for j in MANISKILL_JOINTS),
 )
 G1_FULL_MODES: dict[str, ModeConfig] = {mode: {"body": config} for mode, config in joint_control_modes(G1_BODY).items()}
+#: ``legs``, then the upper body's parts, the arms without tool frames (ManiSkill's full
+#: G1 has no TCP; see the module doc).
+G1_FULL_PARTS: tuple[Part, ...] = (
+    Legs(name="legs", joints=LEG_PATTERN, max_delta=0.2),
+    *(dataclasses.replace(p, end_effectors=()) if isinstance(p, Arm) else p for p in g1.G1_PARTS),
+)
 STANDING = Keyframe(
     qpos=dict(zip(MANISKILL_JOINTS, MANISKILL_STANDING, strict=True)), base_pos=(0.0, 0.0, STANDING_HEIGHT)
 )
@@ -189,7 +199,7 @@ class UnitreeG1(Agent):
     fix_root_link = False
     gravity_compensation = False
     actuators = G1_FULL_DRIVES
-    parts: ClassVar[tuple[Part, ...]] = (Legs(name="legs", joints=LEG_PATTERN, max_delta=0.2), *g1.G1_PARTS)
+    parts: ClassVar[tuple[Part, ...]] = G1_FULL_PARTS
     control_modes: ClassVar[Mapping[str, ModeConfig]] = G1_FULL_MODES
     default_control_mode = "pd_joint_pos"
     link_materials = {link: g1.FINGER_PAD for link in g1.PAD_LINKS}
@@ -225,6 +235,7 @@ class UnitreeG1SimplifiedLegs(UnitreeG1):
 __all__ = [
     "G1_BODY",
     "G1_FULL_DRIVES",
+    "G1_FULL_PARTS",
     "LEG_KINDS",
     "LEG_LIMITS",
     "MANISKILL_JOINTS",

@@ -342,6 +342,17 @@ def test_the_sweeps_grasp_claim_holds_the_declared_power_grasp_standing() -> Non
     assert claim.value < 0.002 and "not opposed" not in claim.detail
 
 
+def test_in_the_air_the_grasp_claim_would_lose_the_cube(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Why the claim stands a legged robot on the floor: without one (as for a fixed
+    robot) the robot falls with its hand while the weightless cube stays: lost."""
+    import robot_agents.tuning.grasp_claim as module
+
+    monkeypatch.setattr(module, "standing_leg_joints", lambda cls: ())
+    claim = grasp_claim(UnitreeG1, UnitreeG1.sim_freq or 500, 20, Penetration())
+    assert claim is not None and not claim.passed
+    assert "cube lost" in claim.detail
+
+
 def test_the_simplified_variant_declares_no_power_grasp() -> None:
     """Its hands have no contacts (ManiSkill's simplified legs model collides only its
     shins and feet): no grasp claim."""

@@ -23,7 +23,12 @@ Sources of the numbers:
   every joint) cannot hold the robot up: two ankles give 100 N*m/rad against gravity's
   toppling stiffness about them, m g h = 31.46 kg * 9.81 m/s^2 * 0.617 m = 191 N*m/rad
   (the body above the ankle axes, its centre of mass 0.617 m above them and 2.6 cm
-  ahead), and it falls on its face within 2 s (tests/test_unitree_g1_full.py). Ours:
+  ahead), and it falls on its face within 2 s (tests/test_unitree_g1_full.py: pelvis
+  0.094 m, tilted 94 deg). ManiSkill's own ``unitree_g1`` does the same: from
+  ``standing``, repeating its targets in ``pd_joint_pos`` (its worker on CPU PhysX,
+  2026-11-29 20:44 UTC), tilted 13 deg at 1 s, on the floor at 2 s (pelvis 0.099 m,
+  94 deg); its ``unitree_g1_simplified_legs``, whose body has no contacts, falls
+  through the floor (pelvis -0.31 m at 2 s): its standing task trains a policy. Ours:
   kp 1000 N*m/rad on every leg joint (the ``body_stiffness`` of ManiSkill's G1 upper-body
   agent): the standing load (ankle pitch 4.1 N*m, knees 3.1, hip pitch 1.2) bends no joint
   more than 4.1 mrad, and the ankles' 2000 N*m/rad are 10 times gravity's 191. kv 10
@@ -49,7 +54,8 @@ Sources of the numbers:
   ManiSkill's full G1 (``g1.urdf``, ``UnitreeG1``) has no TCP, unlike its upper body
   (the ``*_tcp_link`` bodies of the shared torso piece are in the model, unused), so it
   has no end-effector modes and the table-top tasks, which place a table under a tool,
-  do not take it (as the H1); ManiSkill gives it only its standing task.
+  do not take it (as the H1); ManiSkill's only task for a full G1 is its humanoid
+  standing task (``unitree_g1_simplified_legs``).
   Finger pads, self-collision exclusions: the upper-body model's (ManiSkill's collision
   groups).
 - Control modes: ManiSkill's ``pd_joint_pos`` (the default, first in its table) and

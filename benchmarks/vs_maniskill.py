@@ -101,6 +101,8 @@ SHARED = {
     "unitree_g1_simplified_upper_body": "unitree_g1_simplified_upper_body",
     "unitree_g1_simplified_upper_body_with_head_camera": "unitree_g1_simplified_upper_body_with_head_camera",
     "unitree_g1_simplified_upper_body_right_arm": "unitree_g1_simplified_upper_body_right_arm",
+    "unitree_g1": "unitree_g1",
+    "unitree_g1_simplified_legs": "unitree_g1_simplified_legs",
 }
 #: The only mode ManiSkill gives the Bridge setups.
 BRIDGE_MODE = "arm_pd_ee_target_delta_pose_align2_gripper_pd_joint_pos"

@@ -49,6 +49,8 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "unitree_g1_simplified_upper_body_with_head_camera": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyWithHeadCamera",
     "unitree_g1_simplified_upper_body_right_arm": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyRightArm",
     "stompy": "robot_agents.robots.kscale.stompy:Stompy",
+    "unitree_g1": "robot_agents.robots.unitree.g1_full:UnitreeG1",
+    "unitree_g1_simplified_legs": "robot_agents.robots.unitree.g1_full:UnitreeG1SimplifiedLegs",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from robot_agents.agent import Agent
-from robot_agents.checks import hold_action, raw_hold
+from robot_agents.checks import hold_action, raw_hold, standing_leg_joints
 from robot_agents.controllers.ee import PDEEController
 from robot_agents.controllers.joint import PDJointPosController
 from robot_agents.errors import ConfigError
@@ -184,7 +184,8 @@ def _hand_grasp(
     if grasp is None or HAND_MODE not in cls.modes():
         return None
     cube = free_cube("sweep_cube", 0.5 * grasp.cube_edge, (0.8, 0.2, 0.2, 1.0))
-    scene = claim_scene(cls, sim_freq, control_freq, HAND_MODE, props=[cube], floor=False)
+    # a robot whose legs carry it stands on the floor (without one it would fall with the hand)
+    scene = claim_scene(cls, sim_freq, control_freq, HAND_MODE, props=[cube], floor=bool(standing_leg_joints(cls)))
     scene.reset()
     agent = scene.agents[0]
     names = agent.part_joints[hand.name]

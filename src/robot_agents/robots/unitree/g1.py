@@ -8,7 +8,9 @@ Sources of the numbers:
   Unitree's ``unitree_ros`` ``robots/g1_description``, BSD-3-Clause; read as data; MuJoCo
   Menagerie's ``unitree_g1/g1.xml`` at commit 95659f9, the same G1 revision, has the same
   joint origins and ranges). Total mass 32.24 kg (legs included). Names: the URDF's links
-  and joints. See ``assets/g1_simplified_upper_body.xml`` for the joint origins and the
+  and joints. See ``assets/g1_simplified_upper_body.xml`` (the torso, arms and hands in
+  ``assets/g1_torso.xml``, the piece the full G1's model includes too,
+  :mod:`robot_agents.robots.unitree.g1_full`) for the joint origins and the
   collision shapes (our own primitives sized from the URDF meshes' extents, where the URDF
   gives no primitive).
 - Arms: 5 joints each (shoulder pitch, roll, yaw, elbow pitch, elbow roll), as this G1
@@ -167,7 +169,8 @@ G1_DRIVES = (
 )
 
 
-def _limits(joint: str) -> tuple[float, float]:
+def joint_limits(joint: str) -> tuple[float, float]:
+    """The URDF's (effort N*m, velocity rad/s) of the torso, an arm or a finger joint."""
     if joint == TORSO_JOINT:
         return TORSO_LIMITS
     kind = joint.removesuffix("_joint").split("_", 1)[1]
@@ -181,8 +184,8 @@ def _body_modes(
     delta bounds (0.2 rad on the torso and arms, ``finger_delta`` on the fingers); the
     ``passive`` joints, if any, move freely in every mode, damped by their drives' own kv
     (ManiSkill's ``PassiveControllerConfig``)."""
-    group = JointGroup(body, max_delta=BODY_DELTA, max_velocity=tuple(_limits(j)[1] for j in body))
-    step = tuple(finger_delta if _limits(j) == FINGER_LIMITS else BODY_DELTA for j in body)
+    group = JointGroup(body, max_delta=BODY_DELTA, max_velocity=tuple(joint_limits(j)[1] for j in body))
+    step = tuple(finger_delta if joint_limits(j) == FINGER_LIMITS else BODY_DELTA for j in body)
     lower = tuple(-s for s in step)
     modes: dict[str, ModeConfig] = {}
     for mode, config in joint_control_modes(group).items():
@@ -190,7 +193,7 @@ def _body_modes(
             config = dataclasses.replace(config, lower=lower, upper=step)
         parts: dict[str, ControllerConfig] = {"body": config}
         if passive:
-            damping = tuple(DAMPING_TIME * _limits(j)[0] / _full_torque_error(j) for j in passive)
+            damping = tuple(DAMPING_TIME * joint_limits(j)[0] / _full_torque_error(j) for j in passive)
             parts["passive"] = PassiveConfig(joint_names=passive, damping=damping)
         modes[mode] = parts
     return modes
@@ -198,7 +201,7 @@ def _body_modes(
 
 def _full_torque_error(joint: str) -> float:
     """The error (rad) at which ``joint``'s drive reaches its effort limit (kp's rule)."""
-    return FINGER_PRESS if _limits(joint) == FINGER_LIMITS else BODY_DELTA
+    return FINGER_PRESS if joint_limits(joint) == FINGER_LIMITS else BODY_DELTA
 
 
 G1_MODES = _body_modes(MANISKILL_JOINTS)

@@ -48,6 +48,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "unitree_g1_simplified_upper_body": "robot_agents.robots.unitree.g1:UnitreeG1UpperBody",
     "unitree_g1_simplified_upper_body_with_head_camera": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyWithHeadCamera",
     "unitree_g1_simplified_upper_body_right_arm": "robot_agents.robots.unitree.g1:UnitreeG1UpperBodyRightArm",
+    "xlerobot": "robot_agents.robots.xlerobot.xlerobot:Xlerobot",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

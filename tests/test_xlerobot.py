@@ -369,3 +369,52 @@ def test_each_jaw_grasps_lifts_and_holds_a_cube(suffix: str) -> None:
     run(lift, 1.0, 10)
     assert not agent.is_grasping("cube", gripper="gripper" + suffix)[0]
     scene.close()
+
+
+def test_table_top_cubes_lie_beyond_the_arms_reach() -> None:
+    """Why the robot declares PickCube-v1, PushCube-v1 and MobilePickCube-v1 out of reach
+    (``task_limits``): the table-top layout's near edge clears the cart's turning circle
+    (0.30 m) 0.31 m ahead of base_link and its cubes lie about 0.40 m ahead, at 0.80 m;
+    there, each arm's tool reaches 0.175 m ahead pointing down (IK succeeds at 0.17 m and
+    fails at 0.18 m and at the table's edge) and 0.34 m in any orientation."""
+    from robot_agents.envs.tasks.layout import table_top_layout
+
+    cls = ra.get_agent(UID)
+    layout = table_top_layout(cls)
+    near_edge = layout.table_center[0] - layout.table_half_size[0] - layout.robot_pose[0]
+    assert layout.turning_radius == pytest.approx(0.3016, abs=1e-3)
+    assert near_edge == pytest.approx(0.312, abs=0.002)
+    assert -layout.robot_pose[0] == pytest.approx(0.396, abs=0.002)  # the workspace centre, ahead of base_link
+    height = layout.table_height + layout.cube_half_size
+    assert height == pytest.approx(0.80, abs=0.001)
+    assert set(cls.task_limits) == {"PickCube-v1", "PushCube-v1", "MobilePickCube-v1"}
+    scene = ra.Scene(UID)
+    scene.reset(keyframes="rest")
+    agent = scene.agents[0]
+    context = scene.world.qpos.copy()
+    for suffix in SUFFIXES:
+        arm = np.array([agent.joint_names.index(k + suffix) for k in KINDS])
+        solver = IKSolver(
+            agent.kinematics,
+            agent.frames.end_effector("tcp" + suffix, "test"),
+            agent.qpos_adr[arm],
+            agent.dof_adr[arm],
+            agent.qpos_limits[arm],
+            IKConfig(max_iterations=300),
+        )
+        q = agent.qpos[0].copy()
+        q[arm] = DOWN
+        down = agent.frame_pose("tcp" + suffix, q)[0]
+
+        def reaches(solver: IKSolver, down: np.ndarray, x: float, position_only: bool = False) -> bool:
+            """Whether the tool gets to ``x`` ahead of base_link at the cubes' height,
+            pointing down as at ``DOWN`` (or in any orientation)."""
+            target = down.copy()
+            target[[0, 2]] = x, height
+            result = solver.solve(context, target[None], np.array(DOWN)[None], position_only=position_only, restarts=20)
+            return bool(result.success[0])
+
+        assert reaches(solver, down, 0.17) and not reaches(solver, down, 0.18)
+        assert not reaches(solver, down, near_edge)
+        assert reaches(solver, down, 0.34, position_only=True) and not reaches(solver, down, 0.35, position_only=True)
+    scene.close()

@@ -308,6 +308,17 @@ REST = Keyframe(
 )
 
 
+#: The table-top tasks the robot cannot do from the stance the table-top layout gives it.
+TABLE_TOP_TASKS = ("PickCube-v1", "PushCube-v1", "MobilePickCube-v1")
+TABLE_TOP_LIMIT = (
+    "the arms sit at the back of the cart top (0.135 m behind its centre, 0.76 m up): with the jaw "
+    "pointing down at the table's height (0.78 m, 0.15 R under the rest tool) a tool reaches 0.175 m "
+    "ahead of base_link and at most 0.34 m in any orientation, while the table-top layout's near edge "
+    "clears the cart's turning circle 0.31 m ahead and draws cubes about 0.40 m ahead "
+    "(tests/test_xlerobot.py, test_table_top_cubes_lie_beyond_the_arms_reach)"
+)
+
+
 @register_agent()
 class Xlerobot(Agent):
     """XLeRobot: two SO-100 arms with jaw grippers and a pan-tilt head on a cart.
@@ -338,6 +349,7 @@ class Xlerobot(Agent):
     )
     cameras = (HEAD_CAMERA, RIGHT_ARM_CAMERA, LEFT_ARM_CAMERA)
     keyframes: ClassVar[Mapping[str, Keyframe]] = {"rest": REST}
+    task_limits: ClassVar[Mapping[str, str]] = {task: TABLE_TOP_LIMIT for task in TABLE_TOP_TASKS}
 
 
 __all__ = [

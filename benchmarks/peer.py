@@ -8,6 +8,7 @@ virtual environment, made by ``/work/shared/peers/setup_maniskill.sh``) running
 from __future__ import annotations
 
 import subprocess
+import textwrap
 import time
 from pathlib import Path
 
@@ -20,32 +21,39 @@ def default_peer_python() -> str | None:
     return str(DEFAULT_PEER_PYTHON) if DEFAULT_PEER_PYTHON.exists() else None
 
 
+#: Peer-side code that lets SAPIEN load robots without a GPU: it builds render materials
+#: and visual meshes even with render_backend="none"; they are replaced by inert
+#: stand-ins (visuals only: the physics is untouched). Top-level code; indent it to
+#: run it inside a block.
+INERT_VISUALS = """
+import sapien.render, sapien.wrapper.urdf_loader as urdf_loader, sapien.wrapper.actor_builder as builder
+class Inert:
+    def __init__(self, *a, **k): pass
+    def __getattr__(self, name): return Inert()
+    def __call__(self, *a, **k): return Inert()
+    def __getitem__(self, k): return [1.0, 1.0, 1.0, 1.0][k]
+    def __iter__(self): return iter([1.0, 1.0, 1.0, 1.0])
+    def __len__(self): return 4
+for module in (sapien.render, urdf_loader):
+    for name in ("RenderMaterial", "RenderTexture2D"):
+        if hasattr(module, name):
+            setattr(module, name, Inert)
+for name in dir(builder.ActorBuilder):
+    if name.startswith("add_") and "visual" in name:
+        setattr(builder.ActorBuilder, name, lambda self, *a, **k: self)
+"""
+
 #: The peer's worker, run by the peer's own Python: makes ``Empty-v1`` with the robot
 #: and mode given on the command line, then for every line ``N`` it reads, steps N
-#: small actions of alternating sign and answers with the seconds the steps took.
-#: SAPIEN builds render materials and visual meshes even with render_backend="none";
-#: on a machine without a GPU they are replaced by inert stand-ins (visuals only: the
-#: physics is untouched).
-PEER_WORKER = """
+#: small actions of alternating sign and answers with the seconds the steps took
+#: (visuals replaced by :data:`INERT_VISUALS`).
+PEER_WORKER = (
+    """
 import sys, time
 import numpy as np
-try:
-    import sapien.render, sapien.wrapper.urdf_loader as urdf_loader, sapien.wrapper.actor_builder as builder
-    class Inert:
-        def __init__(self, *a, **k): pass
-        def __getattr__(self, name): return Inert()
-        def __call__(self, *a, **k): return Inert()
-        def __getitem__(self, k): return [1.0, 1.0, 1.0, 1.0][k]
-        def __iter__(self): return iter([1.0, 1.0, 1.0, 1.0])
-        def __len__(self): return 4
-    for module in (sapien.render, urdf_loader):
-        for name in ("RenderMaterial", "RenderTexture2D"):
-            if hasattr(module, name):
-                setattr(module, name, Inert)
-    for name in dir(builder.ActorBuilder):
-        if name.startswith("add_") and "visual" in name:
-            setattr(builder.ActorBuilder, name, lambda self, *a, **k: self)
-    import builtins
+try:"""
+    + textwrap.indent(INERT_VISUALS, "    ")
+    + """    import builtins
     builtins.input = lambda *a: "n"  # asset downloads ask; never download here
     import gymnasium as gym, mani_skill, mani_skill.envs
     env = gym.make("Empty-v1", robot_uids=sys.argv[1], obs_mode="state", control_mode=sys.argv[2],
@@ -69,6 +77,7 @@ for line in sys.stdin:
         count += 1
     print(time.perf_counter() - start, flush=True)
 """
+)
 
 
 class Peer:

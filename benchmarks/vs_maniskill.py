@@ -34,7 +34,7 @@ switches gravity off on them). The row names both modes.
 
 The peer downloads some robots' assets at first use (``xarm6_*``, ``widowxai*``,
 ``widowx250s*``, ``ur_10e``, ``googlerobot``, ``floating_robotiq_2f_85_gripper``,
-``anymal_c``, ``unitree_h1``, ``unitree_go2`` and their simplified variants); a machine without network needs them
+``anymal_c``, ``unitree_h1``, ``unitree_go2`` and their simplified variants, ``xlerobot``); a machine without network needs them
 under ``$MS_ASSET_DIR/data/robots/`` in ManiSkill's layout (the repositories and tags
 named in ``mani_skill/utils/assets/data.py``, each tag's files in its target folder). A robot the peer
 cannot load is reported with its error. Needs the peer's interpreter
@@ -91,6 +91,7 @@ SHARED = {
     "trifingerpro": "trifingerpro",
     "floating_ability_hand_right": "floating_ability_hand_right",
     "xarm7_ability": "xarm7_ability",
+    "xlerobot": "xlerobot",
     "unitree_go2_simplified_locomotion": "unitree_go2_simplified_locomotion",
     "unitree_h1_simplified": "unitree_h1_simplified",
     "humanoid": "humanoid",

@@ -268,6 +268,37 @@ SOURCES = [
         100.0,
         (0.3, -0.3, 1.0),
     ),
+    # Vector-Wangel/ManiSkill-XLeRobot v0.2.1 xlerobot.urdf: head_camera_joint (0.055, 0,
+    # 0.0225) on head_tilt_link, Right_Arm_Camera_joint / Left_Arm_Camera_joint (0, -0.02,
+    # 0.05), rpy (1.5708, 0, -1.5708) on Fixed_Jaw / Fixed_Jaw_2; ManiSkill 3.0.1
+    # xlerobot.py: fetch_head at Pose([0, 0, 0], [1, 0, 0, 0]) on head_camera_link, 256 x 256,
+    # fov 1.6; the arm cameras at the identity on their links, 128 x 128, fov 1.3; near
+    # 0.01, far 100.
+    Source(
+        "xlerobot",
+        "fetch_head",
+        "head_tilt_link",
+        maniskill(transform(np.eye(3), np.array([0.055, 0.0, 0.0225])), (0.0, 0.0, 0.0), IDENTITY),
+        centred(1.6, 256, 256),
+        (256, 256),
+        0.01,
+        100.0,
+        (0.3, -0.2, 2.0),
+    ),
+    *(
+        Source(
+            "xlerobot",
+            camera,
+            jaw,
+            maniskill(transform(rpy(1.5708, 0.0, -1.5708), np.array([0.0, -0.02, 0.05])), (0.0, 0.0, 0.0), IDENTITY),
+            centred(1.3, 128, 128),
+            (128, 128),
+            0.01,
+            100.0,
+            (-0.1, 0.05, 0.8),
+        )
+        for camera, jaw in (("fetch_right_arm_camera", "Fixed_Jaw"), ("fetch_left_arm_camera", "Fixed_Jaw_2"))
+    ),
 ]
 
 

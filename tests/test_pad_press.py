@@ -60,6 +60,7 @@ CASES: Mapping[str, tuple[str, str, str | None]] = {
     "xarm7_ability": ("index_L2", "rest", "index_q1"),
     "trifingerpro": ("finger_tip_link_0", "rest", None),
     "so100": ("Moving_Jaw", "rest", None),
+    "xlerobot": ("Moving_Jaw", "rest", None),
     "koch-v1.1": ("gripper", "rest", None),
     "floating_robotiq_2f_85_gripper": ("right_pad", "open_facing_side", "right_driver_joint"),
     "xarm6_robotiq": ("right_pad", "rest", "right_driver_joint"),
@@ -99,6 +100,8 @@ def action_for(agent: ra.Agent, model: mujoco.MjModel, targets: Mapping[str, flo
     parts = []
     for part in agent.controller.parts.values():
         config = part.config
+        if part.action_dim == 0:  # a passive part (an idle arm): no action
+            continue
         if "BaseVel" in type(part).__name__:
             parts.append(np.zeros(part.action_dim))
             continue

@@ -51,6 +51,7 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "stompy": "robot_agents.robots.kscale.stompy:Stompy",
     "unitree_g1": "robot_agents.robots.unitree.g1_full:UnitreeG1",
     "unitree_g1_simplified_legs": "robot_agents.robots.unitree.g1_full:UnitreeG1SimplifiedLegs",
+    "xlerobot": "robot_agents.robots.xlerobot.xlerobot:Xlerobot",
 }
 
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name

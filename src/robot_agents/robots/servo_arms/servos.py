@@ -163,6 +163,20 @@ STS3215 = Servo(
     friction=0.0515,
 )
 
+#: Feetech STS3215, 12 V version with the same 1 : 345 gear (XLeRobot's arms, whose bill
+#: of materials asks for 12 V servos): stall torque 30 kg*cm = 2.94 N*m, no-load speed
+#: 45 rev/min (the figures above). Armature and friction are the 7.4 V servo's
+#: identified ones (same gearbox and housing; an estimate: the 12 V rotor was not
+#: identified).
+STS3215_12V = Servo(
+    model="Feetech STS3215 (12 V, 1:345)",
+    gear_ratio=345.0,
+    stall_torque=30.0 * 0.0980665,
+    no_load_speed=rpm(45.0),
+    armature=0.0261,
+    friction=0.0515,
+)
+
 #: Closed-loop bandwidth of every joint's PD drive (rad/s).
 BANDWIDTH = 40.0
 #: Damping ratio of every joint's PD drive.
@@ -213,6 +227,7 @@ __all__ = [
     "DAMPING_RATIO",
     "ROTOR_INERTIA_PER_TORQUE",
     "STS3215",
+    "STS3215_12V",
     "XL330_M288",
     "XL430_W250",
     "XM430_W350",

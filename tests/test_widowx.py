@@ -504,3 +504,20 @@ def test_widowxai_with_mujocos_default_contact_sinks_into_its_base(tmp_path: Pat
     speed, depth = folded_press(former)
     assert depth > 0.02, depth
     assert speed > SETTLE_SPEED, speed
+
+
+def test_stiff_arm_joint_limits_keep_random_actions_within_the_overshoot_bound() -> None:
+    """The WidowX AI's arm joint limits take a 5 ms time constant (wxai.xml): with
+    MuJoCo's 20 ms, random absolute end-effector targets (seed 9 of the sweep's random
+    claim, at the declared 1 kHz) drove the wrist-camera variant's joint_4 0.317 rad past
+    its stop, over the claim's 0.25 (2026-11-29); now a few centimetres of a radian."""
+    from robot_agents.tuning.claims import OVERSHOOT_BOUND, Penetration, _random
+
+    cls = ra.get_agent("widowxai_wristcam")
+    scene = ra.Scene(cls)
+    model, prefix = scene.model, scene.agents[0].prefix
+    for j in range(6):
+        np.testing.assert_allclose(model.jnt_solref[model.joint(f"{prefix}joint_{j}").id], (0.005, 1.0))
+    scene.close()
+    random, _ = _random(cls, 1000, 20, [9], Penetration())
+    assert random.value < 0.2 * OVERSHOOT_BOUND, random.detail  # 0.024 rad

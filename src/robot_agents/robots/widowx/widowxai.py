@@ -129,7 +129,13 @@ class WidowXAI(Agent):
     #: joint 0.26 rad past its limit (bound 0.25): it keeps 1 kHz, above the bound. Before the links' contacts were
     #: made stiff (``widowx_rigid``) no step passed: random actions folded the arm until
     #: the gripper sank 33 mm into the base link and the jammed contact jittered
-    #: (settle 0.09 rad/s at 1 kHz).
+    #: (settle 0.09 rad/s at 1 kHz). Rerun 2026-11-29 21:00 UTC after the arm joints'
+    #: limits took a 5 ms time constant (``solreflimit``, wxai.xml): at MuJoCo's 20 ms,
+    #: absolute end-effector targets drove joint_3 / joint_4 up to 0.32 rad past a stop
+    #: at 1 kHz (0.27 at 2 kHz: the soft limit, not the step), one of ten random-action
+    #: seeds over the bound for the wrist-camera variant; now at most 0.048 over seeds
+    #: 0-9. Largest passing steps 800 Hz (widowxai) and 500 Hz (the wrist-camera variant,
+    #: whose joint 5 cycles at 400 Hz); both keep 1 kHz, above the cycle bounds.
     sim_freq: ClassVar[int | None] = 1000
     mjcf_path = ASSETS / "wxai.xml"
     actuators = (WXAI_ARM_DRIVES, WXAI_GRIPPER_DRIVE)

@@ -336,7 +336,11 @@ class Xlerobot(Agent):
     #: 0.0075 rad/s, the first jaw's grasp slip 0.12 mm, deepest contact 0.023 mm); at
     #: 40 Hz settle (0.071) and the grasp (3.6 mm) fail. Default 200 Hz, the SO-100's and
     #: Fetch's: the head's drives (Fetch's) could cycle between their torque limits below
-    #: 248 Hz, at 0.0084 rad/s at most at 200 Hz (Fetch's 0.0082).
+    #: 248 Hz, at 0.0084 rad/s at most at 200 Hz (Fetch's 0.0082). With ten random-action
+    #: seeds (2026-11-29 20:58 UTC, docs/timestep.md) the settle claim fails at every step
+    #: (seed 3, ``pd_joint_delta_pos_stiff_body_arm2``: the head pan, swung by random
+    #: absolute targets, oscillates +-0.7 rad for seconds under its drive clamped at
+    #: 0.32 N*m); not fixed.
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "xlerobot.xml"
     actuators = XLEROBOT_DRIVES

@@ -4,8 +4,12 @@ For each registered robot (or the ones named), on ``Empty-v1`` at one env and th
 robot's default steps:
 
 - ``<uid>/model``: a hash of the compiled model's physical arrays (body masses and
-  inertias, joint ranges, damping and armature, actuator gains, biases and force
-  ranges, geom sizes and friction, the time step);
+  inertias, joint ranges, damping, armature and friction loss, joint-limit and contact
+  parameters (``solref`` / ``solimp``, geom priority and contact dimensionality),
+  equality constraints' data, actuator gains, biases and force ranges, geom sizes and
+  friction, the time step, integrator, friction cone, impratio and constraint
+  Jacobian: since 2026-11-29 21:45 UTC, when a contact's damping ratio and a joint
+  limit's time constant changed robots without moving this hash);
 - ``<uid>/<mode>``: for every control mode, a hash of the observations of a reset
   (seed 3) and 8 steps of uniform random actions in [-1, 1] (seed 0).
 
@@ -63,6 +67,15 @@ def model_digest(m: mujoco.MjModel) -> str:
         m.geom_size,
         m.geom_friction,
         m.opt.timestep,
+        m.dof_frictionloss,
+        m.jnt_solref,
+        m.jnt_solimp,
+        m.geom_solref,
+        m.geom_solimp,
+        m.geom_priority,
+        m.geom_condim,
+        m.eq_data,
+        np.array([m.opt.integrator, m.opt.cone, m.opt.jacobian, m.opt.impratio], dtype=np.float64),
     )
 
 

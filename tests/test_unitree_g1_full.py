@@ -31,9 +31,9 @@ from tests.chain_check import axis_rotation, transform
 from tests.test_unitree_g1 import (
     ARM_KINDS,
     LEFT_RANGES,
-    MASSES,
     MIRRORED,
     arm_chain,
+    assert_masses_are_the_urdfs,
     body_pose,
     joints,
     mirror,
@@ -129,17 +129,7 @@ def stand(cls: type[ra.Agent] | str, seconds: float = 5.0) -> dict[str, float | 
 # ---------------------------------------------------------------- data
 def test_masses_are_the_urdfs() -> None:
     """The same 32.2389 kg as the upper-body model (the URDFs' links are the same)."""
-    scene = ra.Scene(UID)
-    model, prefix = scene.model, scene.agents[0].prefix
-    total = 0.0
-    for name, mass in MASSES.items():
-        for side in ("",) if name in ("pelvis", "torso_link", "head_link", "logo_link") else ("left_", "right_"):
-            assert model.body(prefix + side + name).mass[0] == pytest.approx(mass, abs=1e-9), side + name
-            total += mass
-    robot = [b for b in range(model.nbody) if model.body(b).name.startswith(prefix)]
-    assert float(model.body_mass[robot].sum()) == pytest.approx(total, abs=1e-9)
-    assert total == pytest.approx(32.2389, abs=1e-4)
-    scene.close()
+    assert_masses_are_the_urdfs(UID)
 
 
 def test_joint_ranges_and_leg_drives_are_the_urdfs() -> None:

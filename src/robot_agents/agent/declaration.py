@@ -63,7 +63,7 @@ from robot_agents.model.fallbacks import compile_with_fallbacks
 from robot_agents.model.load_scope import load_spec, one_read_per_file
 from robot_agents.model.loading import urdf_velocity_limits
 from robot_agents.model.materials import FrictionMaterial
-from robot_agents.model.scene import FRICTION_CONES
+from robot_agents.model.scene import FRICTION_CONES, ROBOT_JACOBIANS
 from robot_agents.parts.declaration import Arm, Base, Body, EndEffector, Gripper, Hand, Legs, Part, is_jaw_gripper
 from robot_agents.patterns import claim, prefixed
 from robot_agents.sensors.camera import CameraConfig
@@ -238,8 +238,8 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     ratio = cls.impratio
     if ratio is not None and (isinstance(ratio, bool) or not isinstance(ratio, (int, float)) or not ratio >= 1.0):
         raise ConfigError(f"{name}.impratio: expected a number >= 1 or None, got {ratio!r}.")
-    if cls.jacobian not in (None, "dense", "sparse"):
-        raise ConfigError(f"{name}.jacobian: expected 'dense', 'sparse' or None, got {cls.jacobian!r}.")
+    if cls.jacobian not in (None, *ROBOT_JACOBIANS):
+        raise ConfigError(f"{name}.jacobian: expected one of {ROBOT_JACOBIANS} or None, got {cls.jacobian!r}.")
     for attr, kind in (
         ("actuators", ActuatorConfig),
         ("parts", Part),

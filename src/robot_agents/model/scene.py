@@ -111,6 +111,8 @@ JACOBIANS = {
     "dense": mujoco.mjtJacobian.mjJAC_DENSE,
     "sparse": mujoco.mjtJacobian.mjJAC_SPARSE,
 }
+#: The Jacobians a robot may declare (``"auto"`` is what declaring none gives).
+ROBOT_JACOBIANS = tuple(name for name in JACOBIANS if name != "auto")
 
 
 #: The floor's contact (MuJoCo's ``solref``, ``solimp`` and ``solmix``): MuJoCo's

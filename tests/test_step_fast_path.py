@@ -322,6 +322,17 @@ def test_one_env_row_write_writes_as_write_joint_state(forward: bool) -> None:
     after = world.get_state()
     assert np.array_equal(before, after)
     batch.close()
+    # One env: a row that is not one value per address is refused before anything is
+    # written (a valid qpos row with a short qvel row left the qpos written before).
+    single = ra.make_env("Empty-v1", robot_uids="spot", max_episode_steps=None).unwrapped
+    world = single.scene.world
+    before = world.get_state()
+    with pytest.raises(StateError, match=r"expected qpos of shape \(12,\) and qvel of shape \(12,\)"):
+        world.write_joint_row(legs, np.full(len(legs), 0.3), dofs, np.zeros(len(dofs) - 1))
+    with pytest.raises(StateError, match="one value per address"):
+        world.write_joint_row(legs, np.full((1, len(legs)), 0.3), dofs, np.zeros(len(dofs)))
+    assert np.array_equal(world.get_state(), before)
+    single.close()
 
 
 def test_moves_each_step_follows_the_base_dynamics() -> None:

@@ -107,7 +107,8 @@ class SimBackend(Protocol):
         """One env only: :meth:`write_joint_state` of env 0 with addresses resolved once
         (int64 arrays) and one row each of ``qpos`` and ``qvel``, the warm start cleared
         (the per-step writes of wheels, kinematic bases and held legs); raises
-        :class:`~robot_agents.errors.StateError` with several envs."""
+        :class:`~robot_agents.errors.StateError` with several envs or rows that are not
+        one value per address (nothing written)."""
 
     def reset_envs(self, env_ids: npt.ArrayLike, state: FloatArray) -> None:
         """Reset envs to one integration state."""

@@ -504,11 +504,18 @@ class BatchedWorld:
         MuJoCo calls in the same order (the controls copied, the solver's warm start
         cleared, then ``mj_forward``, or ``mj_kinematics`` and ``mj_camlight`` with
         ``forward=False``), without converting the addresses and checking env ids.
-        Raises :class:`StateError` with several envs (nothing written)."""
+        Raises :class:`StateError` with several envs, or where ``qpos`` / ``qvel`` is not
+        one value per address (nothing written)."""
         if self.num_envs != 1:
             raise StateError(
                 f"BatchedWorld.write_joint_row: expected a world of one env, got {self.num_envs} envs; "
                 "use write_joint_state."
+            )
+        if qpos.shape != qpos_adr.shape or qvel.shape != dof_adr.shape:
+            raise StateError(
+                "BatchedWorld.write_joint_row: expected qpos of shape "
+                f"{qpos_adr.shape} and qvel of shape {dof_adr.shape} (one value per address), "
+                f"got {np.shape(qpos)} and {np.shape(qvel)}; nothing written."
             )
         data = self._data0
         self._qpos0[qpos_adr] = qpos

@@ -142,7 +142,11 @@ class SO100(Agent):
     #: of 20 seeds (20 at 200 Hz, the test asks 18). Was 320 Hz while the grasp failed
     #: at 200 Hz. Rerun 2026-11-29 10:14 UTC after the back-EMF became the joints' damping:
     #: every claim still holds from 80 Hz (joint-limit overshoot 0.027 rad at 200 Hz, was
-    #: 0.069; grasp slip 0.26 mm as before).
+    #: 0.069; grasp slip 0.26 mm as before). Tried 160 Hz again (2026-11-29 22:40-22:42
+    #: UTC, after the back-EMF change: the joint step overshoots 0.12 mrad there): the
+    #: scripted solvers over 200 seeds fall to 185/200 PickCube-v1 and 188/200 PushCube-v1
+    #: (196 and 194 at 200 Hz; ``python examples/scripted_pick.py --task T --robots so100
+    #: --seeds 200``); kept 200 Hz.
     sim_freq = 200
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)

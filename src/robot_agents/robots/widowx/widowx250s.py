@@ -285,7 +285,11 @@ class WidowX250S(Agent):
     #: against 10 ms). Rerun 2026-11-29 10:11 UTC after the arm's back-EMF damping moved
     #: outside the torque limit: every claim holds from 80 Hz (joint-limit overshoot 0.056
     #: rad there, 0.020 at 160 Hz, was 0.080; grasp slip 0.8 mm at 160 Hz as before);
-    #: 160 Hz kept.
+    #: 160 Hz kept. 100 Hz tried (2026-11-29 22:42-22:45 UTC): every claim holds there with
+    #: ten random-action seeds (``--substeps 5 --seeds 0,...,9``: random 0.042 rad, grasp
+    #: slip 1.2 mm) and the robot's tests pass, but the scripted PushCube-v1 solver falls
+    #: to 184/200 (199/200 at 160 Hz; PickCube and ReachPose 200/200 at both:
+    #: ``python examples/scripted_pick.py --task T --robots widowx250s --seeds 200``); kept.
     sim_freq: ClassVar[int | None] = 160
     mjcf_path = ASSETS / "wx250s_arm.xml"
     actuators = (WX250S_ARM_DRIVES,)

@@ -110,6 +110,43 @@ FINGER_PATTERN = "|".join(FINGER_JOINTS)
 #: takes its joints in the order listed, so a ManiSkill policy's action ports as is).
 BODY_JOINTS = ("head_pan_joint", "head_tilt_joint", "torso_lift_joint")
 
+HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
+#: The URDF's head efforts (N*m, pan then tilt) and speed (rad/s), read as the head
+#: motors' stall torque and no-load speed.
+HEAD_EFFORT = (0.32, 0.68)
+HEAD_VELOCITY = 1.57
+#: The head motors' back-EMF, stall torque / no-load speed (N*m*s/rad, pan then tilt):
+#: the joints' own damping, outside the drive's effort limit (the torque-speed line of a
+#: voltage-driven motor, as :func:`~robot_agents.robots.servo_arms.servos.back_emf_damping`
+#: for the servo arms).
+HEAD_BACK_EMF = tuple(effort / HEAD_VELOCITY for effort in HEAD_EFFORT)
+#: ManiSkill's head gains: stiffness (N*m/rad) and total damping (N*m*s/rad), of which
+#: the back-EMF is the joints' share and the rest the drive's.
+HEAD_STIFFNESS = 1e3
+HEAD_DAMPING = 1e2
+
+
+def head_drive(armature: float | None = None) -> PDActuator:
+    """The pan-tilt head's PD drive: ManiSkill's gains, clamped at the URDF's efforts,
+    with the motors' back-EMF (:data:`HEAD_BACK_EMF`) as the joints' own damping, so the
+    drive's damping is the rest of ManiSkill's 1e2 (below saturation the torque is as
+    before). Saturated, a drive without it brakes the head with its effort alone (0.32
+    N*m on 0.225 kg*m^2: 1.42 rad/s^2, while the switching line ``kp e = kv v`` asks for
+    ``kp / kv * v`` = 10 v: the head overshoots from any speed above 0.14 rad/s), and
+    the head swings about its target for seconds; the back-EMF adds ``b v`` to the
+    braking and caps the head's speed near its no-load speed. ``armature``: the joints'
+    reflected inertia (kg*m^2); ``None`` keeps the model file's."""
+    return PDActuator(
+        joints="|".join(HEAD_JOINTS),
+        stiffness=HEAD_STIFFNESS,
+        damping=tuple(HEAD_DAMPING - b for b in HEAD_BACK_EMF),
+        joint_damping=HEAD_BACK_EMF,
+        effort_limit=HEAD_EFFORT,
+        velocity_limit=HEAD_VELOCITY,
+        armature=armature,
+    )
+
+
 #: The URDF's joint effort (N*m) and speed (rad/s) limits of the arm.
 ARM_EFFORT = (33.82, 131.76, 76.94, 66.18, 29.35, 25.7, 7.36)
 ARM_VELOCITY = (1.256, 1.454, 1.571, 1.521, 1.571, 2.268, 2.268)
@@ -123,13 +160,7 @@ FETCH_DRIVES = (
     # torso sink under delta commands (measured: 1.9 cm in 4.5 s of a grasp and lift with a
     # 150 g cube); 1e5 N/m with 5e3 N*s/m (near critical on the 30 kg it carries) holds it.
     PDActuator(joints="torso_lift_joint", stiffness=1e5, damping=5e3, effort_limit=450.0, velocity_limit=0.1),
-    PDActuator(
-        joints="head_pan_joint|head_tilt_joint",
-        stiffness=1e3,
-        damping=1e2,
-        effort_limit=(0.32, 0.68),
-        velocity_limit=1.57,
-    ),
+    head_drive(),
     PDActuator(joints=ARM_PATTERN, stiffness=1e3, damping=1e2, effort_limit=ARM_EFFORT, velocity_limit=ARM_VELOCITY),
     PDActuator(joints=FINGER_PATTERN, stiffness=1e3, damping=1e2, effort_limit=60.0, velocity_limit=0.05),
 )

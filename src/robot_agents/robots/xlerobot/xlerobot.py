@@ -94,6 +94,7 @@ from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Head, Part
 from robot_agents.registry import register_agent
+from robot_agents.robots.fetch.fetch import HEAD_JOINTS, head_drive
 from robot_agents.robots.servo_arms.servos import STS3215_12V, critically_damped_gains, split_damping
 from robot_agents.robots.servo_arms.so100 import TCP_ON_FIXED_JAW
 from robot_agents.sensors import CameraConfig
@@ -101,7 +102,8 @@ from robot_agents.sensors import CameraConfig
 ASSETS = Path(__file__).parent / "assets"
 
 BASE_JOINTS = ("root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint")
-HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
+#: The head joints' reflected inertia (kg*m^2): Fetch's (ours; the URDF gives none).
+HEAD_ARMATURE = 0.2
 #: One arm's joints, the first arm's names (the second adds ``_2``).
 ARM_KINDS = ("Rotation", "Pitch", "Elbow", "Wrist_Pitch", "Wrist_Roll")
 JAW = "Jaw"
@@ -138,14 +140,7 @@ def _arm_drive(suffix: str) -> PDActuator:
 
 XLEROBOT_DRIVES = (
     VelocityActuator(joints="|".join(BASE_JOINTS), damping=(8000.0, 8000.0, 2000.0)),
-    PDActuator(
-        joints="|".join(HEAD_JOINTS),
-        stiffness=1e3,
-        damping=1e2,
-        effort_limit=(0.32, 0.68),
-        velocity_limit=1.57,
-        armature=0.2,
-    ),
+    head_drive(armature=HEAD_ARMATURE),
     _arm_drive(""),
     _arm_drive("_2"),
 )

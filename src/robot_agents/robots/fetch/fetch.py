@@ -47,6 +47,19 @@ Sources of the numbers:
   and 0.0225 m above ``head_tilt_link``, looking along its x) and ``fetch_hand`` on
   ``gripper_link`` at (-0.1, 0, 0.1); both 128 x 128 with a 2 rad vertical field of view.
 - Finger friction 2.0 (ManiSkill's gripper material).
+- Head motors: the URDF's head efforts and speed (0.32 / 0.68 N*m, 1.57 rad/s) are read
+  as each motor's stall torque and no-load speed, and its back-EMF, their ratio (0.204 /
+  0.433 N*m*s/rad), is the joint's own damping, outside the drive's effort limit, as the
+  servo arms' (:mod:`~robot_agents.robots.servo_arms.servos`); the drive keeps the rest of
+  ManiSkill's 1e2 (:func:`head_drive`). Since 2026-11-29: before, the model file's default
+  joint damping, 1.0 N*m*s/rad (the URDF gives the head none; its 1.0 is the arm's), held
+  the head to 0.32 / 0.68 rad/s, a fifth and under half of the URDF's 1.57; with ManiSkill's
+  drive alone (the XLeRobot, which has this head) a saturated drive loses its damping and
+  brakes the head at L / I = 0.32 / 0.225 = 1.4 rad/s^2 while the switching line
+  ``kp e = kv v`` asks for 10 v: from any speed above 0.14 rad/s the head overshoots, and
+  under a fixed (absolute) target swings about it for seconds (the XLeRobot's pan +-0.7 rad
+  after random actions). Under a full-effort command the pan now peaks
+  at 1.42 rad/s (0.32 before).
 - Ours: the arm's joints carry 0.6 kg*m^2 of armature and the head's 0.2 (motor reflected
   inertia; the URDF gives none). Without it the roll joints (a few 1e-3 kg*m^2 about the
   arm's axis) are left in a torque-limit cycle by the 1e2 damping below 500 Hz (settle
@@ -286,6 +299,10 @@ class Fetch(Agent):
     default_control_mode = "pd_joint_delta_pos"
     #: The time-step sweep (grasp claim included) passes every claim down to 160 Hz
     #: (at 100 Hz the pads press 14.7 mm into the cube); 200 Hz is one tried step finer.
+    #: With the head's back-EMF (2026-11-29): the same with seeds 0-2 (``python
+    #: benchmarks/timestep_sweep.py --jobs 1 xlerobot fetch``, 22:43-22:47 UTC), and every
+    #: claim holds at 200 Hz with ten seeds (``--substeps 10 --seeds 0,1,2,3,4,5,6,7,8,9``,
+    #: 22:48-22:49 UTC; settle 0.0084 rad/s, random 0.064 rad, as before).
     sim_freq = 200
 
 

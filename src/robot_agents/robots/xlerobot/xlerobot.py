@@ -32,9 +32,19 @@ Sources of the numbers:
   at ``rest``): kp = 41.8 .. 55.9 N*m/rad, kv = 2.09 .. 2.80 N*m*s/rad, of which the
   servo's back-EMF (2.94 / 4.71 = 0.624 N*m*s/rad) is each joint's own damping
   (:func:`~robot_agents.robots.servo_arms.servos.split_damping`).
-- Head drive: Fetch's (:mod:`~robot_agents.robots.fetch.fetch`: the same head links and
-  limits): stiffness 1e3, damping 1e2, 0.2 kg*m^2 armature (ours); ManiSkill's body
-  drive is 1e4 / 1e2 with a 200 N*m force limit.
+- Head drive: Fetch's (:func:`~robot_agents.robots.fetch.fetch.head_drive`: the same head
+  links and limits): stiffness 1e3, damping 1e2, clamped at the URDF's 0.32 / 0.68 N*m,
+  of which the motors' back-EMF (effort / speed: 0.204 / 0.433 N*m*s/rad) is each joint's
+  own damping, outside the clamp; 0.2 kg*m^2 armature (ours, :data:`HEAD_ARMATURE`).
+  ManiSkill's body drive is 1e4 / 1e2 with a 200 N*m force limit. Until 2026-11-29 the
+  drive had all of the 1e2 and the joints none: saturated, it lost its damping and braked
+  the pan at 0.32 N*m on 0.225 kg*m^2, 1.42 rad/s^2, where the switching line
+  ``kp e = kv v`` needs 10 v (the head overshoots from any speed above 0.14 rad/s); random
+  absolute head targets (``pd_joint_delta_pos_stiff_body``) drove the pan to 1.6 rad/s
+  (2.7 rad/s under a full 2.9 rad command), and held at a fixed target it swung +-0.7 rad
+  for seconds (a relay oscillation). With the back-EMF the pan's speed
+  under full effort tends to the URDF's 1.57 rad/s (1.44 at most over the 2.9 rad move),
+  random actions reach 0.94 rad/s, and braking gains ``b v``.
 - Base: ManiSkill's ``PDBaseForwardVelController`` bounds, 1 m/s forward and 3.14 rad/s
   of yaw rate (a differential drive: the real XLeRobot rolls on three omni wheels, the
   ManiSkill model on planar joints without wheels); the velocity drives are Fetch's, 8000
@@ -326,16 +336,18 @@ class Xlerobot(Agent):
 
     uid = "xlerobot"
     #: Time-step sweep (``PYTHONPATH=src python benchmarks/timestep_sweep.py --jobs 1
-    #: xlerobot``, 2026-11-29 20:30-20:33 UTC, load average 7, 20 Hz control): every claim
-    #: holds from 80 Hz down to 1 kHz (at 200 Hz: random-action overshoot 0.028 rad, settle
-    #: 0.0075 rad/s, the first jaw's grasp slip 0.12 mm, deepest contact 0.023 mm); at
-    #: 40 Hz settle (0.071) and the grasp (3.6 mm) fail. Default 200 Hz, the SO-100's and
-    #: Fetch's: the head's drives (Fetch's) could cycle between their torque limits below
-    #: 248 Hz, at 0.0084 rad/s at most at 200 Hz (Fetch's 0.0082). With ten random-action
-    #: seeds (2026-11-29 20:58 UTC, docs/timestep.md) the settle claim fails at every step
-    #: (seed 3, ``pd_joint_delta_pos_stiff_body_arm2``: the head pan, swung by random
-    #: absolute targets, oscillates +-0.7 rad for seconds under its drive clamped at
-    #: 0.32 N*m); not fixed.
+    #: xlerobot fetch``, 2026-11-29 22:43-22:47 UTC, load average 1.8, 20 Hz control, after
+    #: the head's back-EMF): every claim holds from 80 Hz down to 1 kHz (at 200 Hz:
+    #: random-action overshoot 0.028 rad, settle 0.0036 rad/s, the first jaw's grasp slip
+    #: 0.12 mm, deepest contact 0.023 mm); at 40 Hz the grasp (3.6 mm) fails. Default
+    #: 200 Hz, the SO-100's and Fetch's: the head's drives (Fetch's) could cycle between
+    #: their torque limits below 245 Hz, at 0.0084 rad/s at most at 200 Hz. With ten
+    #: random-action seeds (``--substeps 10,16,50 --seeds 0,1,2,3,4,5,6,7,8,9``, 22:47-22:49
+    #: UTC) every claim holds at 200, 320 Hz and 1 kHz (settle 0.0084, 3.3e-4, 1.4e-4
+    #: rad/s); before the back-EMF the settle claim failed at all three (0.43-0.54 rad/s,
+    #: seed 3, ``pd_joint_delta_pos_stiff_body_arm2``: the head pan swinging +-0.7 rad
+    #: about its hold target). Seeds 10-49 hold every claim at 200 Hz too
+    #: (``--substeps 10 --seeds $(seq -s, 10 49)``, 22:49-22:50 UTC).
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "xlerobot.xml"
     actuators = XLEROBOT_DRIVES

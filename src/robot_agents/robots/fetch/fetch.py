@@ -58,8 +58,8 @@ Sources of the numbers:
   brakes the head at L / I = 0.32 / 0.225 = 1.4 rad/s^2 while the switching line
   ``kp e = kv v`` asks for 10 v: from any speed above 0.14 rad/s the head overshoots, and
   under a fixed (absolute) target swings about it for seconds (the XLeRobot's pan +-0.7 rad
-  after random actions). Under a full-effort command the pan now peaks
-  at 1.42 rad/s (0.32 before).
+  after random actions). Commanded 2.9 rad at full effort (-1.45 -> 1.45 rad)
+  the pan now peaks at 1.42 rad/s (0.32 before; ``tests/test_head_drive.py``).
 - Ours: the arm's joints carry 0.6 kg*m^2 of armature and the head's 0.2 (motor reflected
   inertia; the URDF gives none). Without it the roll joints (a few 1e-3 kg*m^2 about the
   arm's axis) are left in a torque-limit cycle by the 1e2 damping below 500 Hz (settle
@@ -143,12 +143,15 @@ def head_drive(armature: float | None = None) -> PDActuator:
     """The pan-tilt head's PD drive: ManiSkill's gains, clamped at the URDF's efforts,
     with the motors' back-EMF (:data:`HEAD_BACK_EMF`) as the joints' own damping, so the
     drive's damping is the rest of ManiSkill's 1e2 (below saturation the torque is as
-    before). Saturated, a drive without it brakes the head with its effort alone (0.32
-    N*m on 0.225 kg*m^2: 1.42 rad/s^2, while the switching line ``kp e = kv v`` asks for
-    ``kp / kv * v`` = 10 v: the head overshoots from any speed above 0.14 rad/s), and
-    the head swings about its target for seconds; the back-EMF adds ``b v`` to the
-    braking and caps the head's speed near its no-load speed. ``armature``: the joints'
-    reflected inertia (kg*m^2); ``None`` keeps the model file's."""
+    before). Saturated, a drive without it brakes the head with its effort alone (the
+    XLeRobot's pan: 0.32 N*m on 0.225 kg*m^2, 1.42 rad/s^2, while the switching line
+    ``kp e = kv v`` asks for ``kp / kv * v`` = 10 v: the head overshoots from any speed
+    above 0.14 rad/s) and swings about a fixed target for seconds; the back-EMF adds
+    ``b v`` to the braking and caps the head's speed at its no-load speed.
+
+    Args:
+        armature: the joints' reflected inertia (kg*m^2); ``None`` keeps the model file's.
+    """
     return PDActuator(
         joints="|".join(HEAD_JOINTS),
         stiffness=HEAD_STIFFNESS,
@@ -312,10 +315,17 @@ __all__ = [
     "FINGER_JOINTS",
     "HABITAT_ARM_INIT",
     "HAND_CAMERA",
+    "HEAD_BACK_EMF",
     "HEAD_CAMERA",
+    "HEAD_DAMPING",
+    "HEAD_EFFORT",
+    "HEAD_JOINTS",
+    "HEAD_STIFFNESS",
+    "HEAD_VELOCITY",
     "REST_ARM",
     "WHEELS",
     "WHEEL_RADIUS",
     "WHEEL_SEPARATION",
     "Fetch",
+    "head_drive",
 ]

@@ -373,6 +373,7 @@ class Xlerobot(Agent):
 __all__ = [
     "ARM_KINDS",
     "BASE_JOINTS",
+    "HEAD_ARMATURE",
     "HEAD_CAMERA",
     "HEAD_JOINTS",
     "LEFT_ARM_CAMERA",

@@ -47,6 +47,19 @@ Sources of the numbers:
   and 0.0225 m above ``head_tilt_link``, looking along its x) and ``fetch_hand`` on
   ``gripper_link`` at (-0.1, 0, 0.1); both 128 x 128 with a 2 rad vertical field of view.
 - Finger friction 2.0 (ManiSkill's gripper material).
+- Head motors: the URDF's head efforts and speed (0.32 / 0.68 N*m, 1.57 rad/s) are read
+  as each motor's stall torque and no-load speed, and its back-EMF, their ratio (0.204 /
+  0.433 N*m*s/rad), is the joint's own damping, outside the drive's effort limit, as the
+  servo arms' (:mod:`~robot_agents.robots.servo_arms.servos`); the drive keeps the rest of
+  ManiSkill's 1e2 (:func:`head_drive`). Since 2026-11-29: before, the model file's default
+  joint damping, 1.0 N*m*s/rad (the URDF gives the head none; its 1.0 is the arm's), held
+  the head to 0.32 / 0.68 rad/s, a fifth and under half of the URDF's 1.57; with ManiSkill's
+  drive alone (the XLeRobot, which has this head) a saturated drive loses its damping and
+  brakes the head at L / I = 0.32 / 0.225 = 1.4 rad/s^2 while the switching line
+  ``kp e = kv v`` asks for 10 v: from any speed above 0.14 rad/s the head overshoots, and
+  under a fixed (absolute) target swings about it for seconds (the XLeRobot's pan +-0.7 rad
+  after random actions). Commanded 2.9 rad at full effort (-1.45 -> 1.45 rad)
+  the pan now peaks at 1.42 rad/s (0.32 before; ``tests/test_head_drive.py``).
 - Ours: the arm's joints carry 0.6 kg*m^2 of armature and the head's 0.2 (motor reflected
   inertia; the URDF gives none). Without it the roll joints (a few 1e-3 kg*m^2 about the
   arm's axis) are left in a torque-limit cycle by the 1e2 damping below 500 Hz (settle
@@ -110,6 +123,46 @@ FINGER_PATTERN = "|".join(FINGER_JOINTS)
 #: takes its joints in the order listed, so a ManiSkill policy's action ports as is).
 BODY_JOINTS = ("head_pan_joint", "head_tilt_joint", "torso_lift_joint")
 
+HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
+#: The URDF's head efforts (N*m, pan then tilt) and speed (rad/s), read as the head
+#: motors' stall torque and no-load speed.
+HEAD_EFFORT = (0.32, 0.68)
+HEAD_VELOCITY = 1.57
+#: The head motors' back-EMF, stall torque / no-load speed (N*m*s/rad, pan then tilt):
+#: the joints' own damping, outside the drive's effort limit (the torque-speed line of a
+#: voltage-driven motor, as :func:`~robot_agents.robots.servo_arms.servos.back_emf_damping`
+#: for the servo arms).
+HEAD_BACK_EMF = tuple(effort / HEAD_VELOCITY for effort in HEAD_EFFORT)
+#: ManiSkill's head gains: stiffness (N*m/rad) and total damping (N*m*s/rad), of which
+#: the back-EMF is the joints' share and the rest the drive's.
+HEAD_STIFFNESS = 1e3
+HEAD_DAMPING = 1e2
+
+
+def head_drive(armature: float | None = None) -> PDActuator:
+    """The pan-tilt head's PD drive: ManiSkill's gains, clamped at the URDF's efforts,
+    with the motors' back-EMF (:data:`HEAD_BACK_EMF`) as the joints' own damping, so the
+    drive's damping is the rest of ManiSkill's 1e2 (below saturation the torque is as
+    before). Saturated, a drive without it brakes the head with its effort alone (the
+    XLeRobot's pan: 0.32 N*m on 0.225 kg*m^2, 1.42 rad/s^2, while the switching line
+    ``kp e = kv v`` asks for ``kp / kv * v`` = 10 v: the head overshoots from any speed
+    above 0.14 rad/s) and swings about a fixed target for seconds; the back-EMF adds
+    ``b v`` to the braking and caps the head's speed at its no-load speed.
+
+    Args:
+        armature: the joints' reflected inertia (kg*m^2); ``None`` keeps the model file's.
+    """
+    return PDActuator(
+        joints="|".join(HEAD_JOINTS),
+        stiffness=HEAD_STIFFNESS,
+        damping=tuple(HEAD_DAMPING - b for b in HEAD_BACK_EMF),
+        joint_damping=HEAD_BACK_EMF,
+        effort_limit=HEAD_EFFORT,
+        velocity_limit=HEAD_VELOCITY,
+        armature=armature,
+    )
+
+
 #: The URDF's joint effort (N*m) and speed (rad/s) limits of the arm.
 ARM_EFFORT = (33.82, 131.76, 76.94, 66.18, 29.35, 25.7, 7.36)
 ARM_VELOCITY = (1.256, 1.454, 1.571, 1.521, 1.571, 2.268, 2.268)
@@ -123,13 +176,7 @@ FETCH_DRIVES = (
     # torso sink under delta commands (measured: 1.9 cm in 4.5 s of a grasp and lift with a
     # 150 g cube); 1e5 N/m with 5e3 N*s/m (near critical on the 30 kg it carries) holds it.
     PDActuator(joints="torso_lift_joint", stiffness=1e5, damping=5e3, effort_limit=450.0, velocity_limit=0.1),
-    PDActuator(
-        joints="head_pan_joint|head_tilt_joint",
-        stiffness=1e3,
-        damping=1e2,
-        effort_limit=(0.32, 0.68),
-        velocity_limit=1.57,
-    ),
+    head_drive(),
     PDActuator(joints=ARM_PATTERN, stiffness=1e3, damping=1e2, effort_limit=ARM_EFFORT, velocity_limit=ARM_VELOCITY),
     PDActuator(joints=FINGER_PATTERN, stiffness=1e3, damping=1e2, effort_limit=60.0, velocity_limit=0.05),
 )
@@ -255,6 +302,10 @@ class Fetch(Agent):
     default_control_mode = "pd_joint_delta_pos"
     #: The time-step sweep (grasp claim included) passes every claim down to 160 Hz
     #: (at 100 Hz the pads press 14.7 mm into the cube); 200 Hz is one tried step finer.
+    #: With the head's back-EMF (2026-11-29): the same with seeds 0-2 (``python
+    #: benchmarks/timestep_sweep.py --jobs 1 xlerobot fetch``, 22:43-22:47 UTC), and every
+    #: claim holds at 200 Hz with ten seeds (``--substeps 10 --seeds 0,1,2,3,4,5,6,7,8,9``,
+    #: 22:48-22:49 UTC; settle 0.0084 rad/s, random 0.064 rad, as before).
     sim_freq = 200
 
 
@@ -264,10 +315,17 @@ __all__ = [
     "FINGER_JOINTS",
     "HABITAT_ARM_INIT",
     "HAND_CAMERA",
+    "HEAD_BACK_EMF",
     "HEAD_CAMERA",
+    "HEAD_DAMPING",
+    "HEAD_EFFORT",
+    "HEAD_JOINTS",
+    "HEAD_STIFFNESS",
+    "HEAD_VELOCITY",
     "REST_ARM",
     "WHEELS",
     "WHEEL_RADIUS",
     "WHEEL_SEPARATION",
     "Fetch",
+    "head_drive",
 ]

@@ -32,9 +32,19 @@ Sources of the numbers:
   at ``rest``): kp = 41.8 .. 55.9 N*m/rad, kv = 2.09 .. 2.80 N*m*s/rad, of which the
   servo's back-EMF (2.94 / 4.71 = 0.624 N*m*s/rad) is each joint's own damping
   (:func:`~robot_agents.robots.servo_arms.servos.split_damping`).
-- Head drive: Fetch's (:mod:`~robot_agents.robots.fetch.fetch`: the same head links and
-  limits): stiffness 1e3, damping 1e2, 0.2 kg*m^2 armature (ours); ManiSkill's body
-  drive is 1e4 / 1e2 with a 200 N*m force limit.
+- Head drive: Fetch's (:func:`~robot_agents.robots.fetch.fetch.head_drive`: the same head
+  links and limits): stiffness 1e3, damping 1e2, clamped at the URDF's 0.32 / 0.68 N*m,
+  of which the motors' back-EMF (effort / speed: 0.204 / 0.433 N*m*s/rad) is each joint's
+  own damping, outside the clamp; 0.2 kg*m^2 armature (ours, :data:`HEAD_ARMATURE`).
+  ManiSkill's body drive is 1e4 / 1e2 with a 200 N*m force limit. Until 2026-11-29 the
+  drive had all of the 1e2 and the joints none: saturated, it lost its damping and braked
+  the pan at 0.32 N*m on 0.225 kg*m^2, 1.42 rad/s^2, where the switching line
+  ``kp e = kv v`` needs 10 v (the head overshoots from any speed above 0.14 rad/s); random
+  absolute head targets (``pd_joint_delta_pos_stiff_body``) drove the pan to 1.6 rad/s
+  (2.7 rad/s under a full 2.9 rad command), and held at a fixed target it swung +-0.7 rad
+  for seconds (a relay oscillation). With the back-EMF the pan's speed
+  under full effort tends to the URDF's 1.57 rad/s (1.44 at most over the 2.9 rad move),
+  random actions reach 0.94 rad/s, and braking gains ``b v``.
 - Base: ManiSkill's ``PDBaseForwardVelController`` bounds, 1 m/s forward and 3.14 rad/s
   of yaw rate (a differential drive: the real XLeRobot rolls on three omni wheels, the
   ManiSkill model on planar joints without wheels); the velocity drives are Fetch's, 8000
@@ -94,6 +104,7 @@ from robot_agents.kinematics.ik_config import POSITION_IK
 from robot_agents.kinematics.rotations import FORWARD_X_UP_Z_CAMERA_QUAT
 from robot_agents.parts.declaration import Arm, Base, EndEffector, Gripper, Head, Part
 from robot_agents.registry import register_agent
+from robot_agents.robots.fetch.fetch import HEAD_JOINTS, head_drive
 from robot_agents.robots.servo_arms.servos import STS3215_12V, critically_damped_gains, split_damping
 from robot_agents.robots.servo_arms.so100 import TCP_ON_FIXED_JAW
 from robot_agents.sensors import CameraConfig
@@ -101,7 +112,8 @@ from robot_agents.sensors import CameraConfig
 ASSETS = Path(__file__).parent / "assets"
 
 BASE_JOINTS = ("root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint")
-HEAD_JOINTS = ("head_pan_joint", "head_tilt_joint")
+#: The head joints' reflected inertia (kg*m^2): Fetch's (ours; the URDF gives none).
+HEAD_ARMATURE = 0.2
 #: One arm's joints, the first arm's names (the second adds ``_2``).
 ARM_KINDS = ("Rotation", "Pitch", "Elbow", "Wrist_Pitch", "Wrist_Roll")
 JAW = "Jaw"
@@ -138,14 +150,7 @@ def _arm_drive(suffix: str) -> PDActuator:
 
 XLEROBOT_DRIVES = (
     VelocityActuator(joints="|".join(BASE_JOINTS), damping=(8000.0, 8000.0, 2000.0)),
-    PDActuator(
-        joints="|".join(HEAD_JOINTS),
-        stiffness=1e3,
-        damping=1e2,
-        effort_limit=(0.32, 0.68),
-        velocity_limit=1.57,
-        armature=0.2,
-    ),
+    head_drive(armature=HEAD_ARMATURE),
     _arm_drive(""),
     _arm_drive("_2"),
 )
@@ -331,16 +336,18 @@ class Xlerobot(Agent):
 
     uid = "xlerobot"
     #: Time-step sweep (``PYTHONPATH=src python benchmarks/timestep_sweep.py --jobs 1
-    #: xlerobot``, 2026-11-29 20:30-20:33 UTC, load average 7, 20 Hz control): every claim
-    #: holds from 80 Hz down to 1 kHz (at 200 Hz: random-action overshoot 0.028 rad, settle
-    #: 0.0075 rad/s, the first jaw's grasp slip 0.12 mm, deepest contact 0.023 mm); at
-    #: 40 Hz settle (0.071) and the grasp (3.6 mm) fail. Default 200 Hz, the SO-100's and
-    #: Fetch's: the head's drives (Fetch's) could cycle between their torque limits below
-    #: 248 Hz, at 0.0084 rad/s at most at 200 Hz (Fetch's 0.0082). With ten random-action
-    #: seeds (2026-11-29 20:58 UTC, docs/timestep.md) the settle claim fails at every step
-    #: (seed 3, ``pd_joint_delta_pos_stiff_body_arm2``: the head pan, swung by random
-    #: absolute targets, oscillates +-0.7 rad for seconds under its drive clamped at
-    #: 0.32 N*m); not fixed.
+    #: xlerobot fetch``, 2026-11-29 22:43-22:47 UTC, load average 1.8, 20 Hz control, after
+    #: the head's back-EMF): every claim holds from 80 Hz down to 1 kHz (at 200 Hz:
+    #: random-action overshoot 0.028 rad, settle 0.0036 rad/s, the first jaw's grasp slip
+    #: 0.12 mm, deepest contact 0.023 mm); at 40 Hz the grasp (3.6 mm) fails. Default
+    #: 200 Hz, the SO-100's and Fetch's: the head's drives (Fetch's) could cycle between
+    #: their torque limits below 245 Hz, at 0.0084 rad/s at most at 200 Hz. With ten
+    #: random-action seeds (``--substeps 10,16,50 --seeds 0,1,2,3,4,5,6,7,8,9``, 22:47-22:49
+    #: UTC) every claim holds at 200, 320 Hz and 1 kHz (settle 0.0084, 3.3e-4, 1.4e-4
+    #: rad/s); before the back-EMF the settle claim failed at all three (0.43-0.54 rad/s,
+    #: seed 3, ``pd_joint_delta_pos_stiff_body_arm2``: the head pan swinging +-0.7 rad
+    #: about its hold target). Seeds 10-49 hold every claim at 200 Hz too
+    #: (``--substeps 10 --seeds $(seq -s, 10 49)``, 22:49-22:50 UTC).
     sim_freq: ClassVar[int | None] = 200
     mjcf_path = ASSETS / "xlerobot.xml"
     actuators = XLEROBOT_DRIVES
@@ -366,6 +373,7 @@ class Xlerobot(Agent):
 __all__ = [
     "ARM_KINDS",
     "BASE_JOINTS",
+    "HEAD_ARMATURE",
     "HEAD_CAMERA",
     "HEAD_JOINTS",
     "LEFT_ARM_CAMERA",

@@ -158,7 +158,9 @@ class SO100(Agent):
     #: cone (160/200) or noslip (176/200). ManiSkill's SO-100 gripper friction 2.0 on the
     #: pads (1.5 here) makes PickCube 200/200 at 160 Hz and 199/200 at 200 Hz, but
     #: PushCube-v1 191/200 at both (194 now at 200 Hz; seed 5 at 160 Hz pushes the cube
-    #: past the goal, no grasp involved): not taken.
+    #: past the goal, no grasp involved); a pad impedance rising with depth (solimp
+    #: "0.99 0.9999 0.0005", so the contact settles deeper) makes PickCube 200/200 at 160
+    #: and 200 Hz, PushCube 192 and 189 (23:30-23:34 UTC): neither taken.
     sim_freq = 200
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)

@@ -371,6 +371,22 @@ def test_each_jaw_grasps_lifts_and_holds_a_cube(suffix: str) -> None:
     scene.close()
 
 
+def test_scene_takes_the_smallest_solver_tolerance() -> None:
+    """The XLeRobot declares a solver tolerance (its jaw's grasp at 160 Hz needs it: see
+    ``Xlerobot.sim_freq``); a scene takes the smallest declared, MuJoCo's 1e-8 without
+    one, and a bad declaration says what it expected."""
+    Xlerobot = ra.get_agent(UID)
+    assert Xlerobot.solver_tolerance == 1e-11 and Xlerobot.sim_freq == 160
+    assert ra.Scene(UID).model.opt.tolerance == 1e-11
+    assert ra.Scene("so100").model.opt.tolerance == 1e-8
+    assert ra.Scene(["so100", UID]).model.opt.tolerance == 1e-11
+    looser = type("LooserXlerobot", (Xlerobot,), {"uid": "", "solver_tolerance": 1e-9})
+    assert ra.Scene([looser, UID]).model.opt.tolerance == 1e-11
+    for bad in (0.0, 1.0, -1e-9, True, "1e-9", float("nan")):
+        with pytest.raises(ra.ConfigError, match="solver_tolerance: expected a number in"):
+            type("BadXlerobot", (Xlerobot,), {"uid": "", "solver_tolerance": bad}).validate_definition()
+
+
 def test_table_top_cubes_lie_beyond_the_arms_reach() -> None:
     """Why the robot declares PickCube-v1, PushCube-v1 and MobilePickCube-v1 out of reach
     (``task_limits``): the table-top layout's near edge clears the cart's turning circle

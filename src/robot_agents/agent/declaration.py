@@ -238,6 +238,9 @@ def validate_definition(cls: type[AgentDefinition]) -> None:
     ratio = cls.impratio
     if ratio is not None and (isinstance(ratio, bool) or not isinstance(ratio, (int, float)) or not ratio >= 1.0):
         raise ConfigError(f"{name}.impratio: expected a number >= 1 or None, got {ratio!r}.")
+    tol = cls.solver_tolerance
+    if tol is not None and (isinstance(tol, bool) or not isinstance(tol, (int, float)) or not 0.0 < tol < 1.0):
+        raise ConfigError(f"{name}.solver_tolerance: expected a number in (0, 1) or None, got {tol!r}.")
     if cls.jacobian not in (None, *ROBOT_JACOBIANS):
         raise ConfigError(f"{name}.jacobian: expected one of {ROBOT_JACOBIANS} or None, got {cls.jacobian!r}.")
     for attr, kind in (

@@ -89,6 +89,11 @@ class AgentDefinition:
             (``benchmarks/sim_options.py``). A scene uses the sparse one when any of its
             robots asks for it, else the dense one when any asks for that; ``None``:
             MuJoCo's choice (dense below 60 degrees of freedom).
+        solver_tolerance: the constraint solver's tolerance this robot's contacts need,
+            where MuJoCo's 1e-8 stops the solver early: MuJoCo compares it with the
+            cost and gradient divided by ``meaninertia * nv``, so a heavy robot loosens
+            it, in absolute terms, for a light body it holds. A scene uses the smallest
+            declared; ``None``: MuJoCo's 1e-8.
         task_limits: task id -> why this robot cannot do it although it has the parts
             the task asks for (read by the tests of the tasks' scripted solvers).
     """
@@ -123,6 +128,7 @@ class AgentDefinition:
     friction_cone: ClassVar[str | None] = None
     impratio: ClassVar[float | None] = None
     jacobian: ClassVar[str | None] = None
+    solver_tolerance: ClassVar[float | None] = None
 
     # ------------------------------------------------------------------ declaration
     @classmethod

@@ -91,6 +91,9 @@ class SceneOptions:
         jacobian: MuJoCo's constraint Jacobian (``"auto"``: dense below 60 degrees of
             freedom, ``"dense"``, ``"sparse"``): the same physics up to rounding, at
             another cost.
+        tolerance: the constraint solver's tolerance (MuJoCo's default 1e-8), which
+            MuJoCo applies to the cost and gradient divided by ``meaninertia * nv``:
+            a heavy robot loosens it, in absolute terms, for a light grasped body.
     """
 
     timestep: float = 0.002
@@ -100,6 +103,7 @@ class SceneOptions:
     cone: str = "pyramidal"
     impratio: float = 1.0
     jacobian: str = "auto"
+    tolerance: float = 1e-8
 
 
 #: MuJoCo's friction cones by name.
@@ -164,6 +168,9 @@ def compose_scene(
     if options.jacobian not in JACOBIANS:
         raise ConfigError(f"SceneOptions.jacobian: expected one of {sorted(JACOBIANS)}, got {options.jacobian!r}.")
     spec.option.jacobian = JACOBIANS[options.jacobian]
+    if not 0.0 < options.tolerance < 1.0:
+        raise ConfigError(f"SceneOptions.tolerance: expected a number in (0, 1), got {options.tolerance!r}.")
+    spec.option.tolerance = float(options.tolerance)
     spec.visual.global_.offwidth = 1280
     spec.visual.global_.offheight = 960
     spec.visual.headlight.ambient = [0.35, 0.35, 0.35]

@@ -58,6 +58,12 @@ def contact_options(classes: Sequence[type[Agent]]) -> tuple[str, float]:
     return cone, max((float(cls.impratio or 1.0) for cls in classes), default=1.0)
 
 
+def solver_tolerance(classes: Sequence[type[Agent]]) -> float:
+    """The constraint solver's tolerance a scene of these robots uses: the smallest any
+    of them declares (MuJoCo's 1e-8 when none declares one)."""
+    return min((float(cls.solver_tolerance) for cls in classes if cls.solver_tolerance is not None), default=1e-8)
+
+
 def jacobian_option(classes: Sequence[type[Agent]]) -> str:
     """The constraint Jacobian a scene of these robots uses: sparse when any of them
     declares it, else dense when any declares that, else MuJoCo's choice (``"auto"``)."""
@@ -168,7 +174,12 @@ class Scene:
             ]
         cone, impratio = contact_options(classes)
         options = SceneOptions(
-            timestep=1.0 / sim_freq, floor=floor, cone=cone, impratio=impratio, jacobian=jacobian_option(classes)
+            timestep=1.0 / sim_freq,
+            floor=floor,
+            cone=cone,
+            impratio=impratio,
+            jacobian=jacobian_option(classes),
+            tolerance=solver_tolerance(classes),
         )
         self.spec = compose_scene(mounts, self.props, options, [c.config for c in planned if c.robot is None])
         #: The model renderers draw: the whole scene as composed.

@@ -146,7 +146,21 @@ class SO100(Agent):
     #: UTC, after the back-EMF change: the joint step overshoots 0.12 mrad there): the
     #: scripted solvers over 200 seeds fall to 185/200 PickCube-v1 and 188/200 PushCube-v1
     #: (196 and 194 at 200 Hz; ``python examples/scripted_pick.py --task T --robots so100
-    #: --seeds 200``); kept 200 Hz.
+    #: --seeds 200``); kept 200 Hz. Why (scratch runs, 2026-11-29 23:05-23:28 UTC): all
+    #: 15 PickCube failures at 160 Hz (and the 4 at 200 Hz) drop the cube on the solver's
+    #: first raise step: the fixed pad's near-rigid contact, whose force does not grow
+    #: with depth, keeps its 28-29 N while its depth shrinks 6-9 um a physics step from
+    #: 0.02-0.04 mm until the contact is gone (seeds 29, 40, 58, 121), and the jaw closes
+    #: on nothing. That pad carries 24.6-25.4 N along its face (the jaw's wedge; the cube
+    #: weighs 0.31 N), 0.77-0.82 of MuJoCo's pyramidal friction bound ``|f_t1| + |f_t2|
+    #: <= mu f_n``. Not MuJoCo's ``refsafe`` (pad solref 0.025 s at 160 Hz: 170/200),
+    #: nor the solver's tolerance (1e-10: 185/200; the XLeRobot's cause), the elliptic
+    #: cone (160/200) or noslip (176/200). ManiSkill's SO-100 gripper friction 2.0 on the
+    #: pads (1.5 here) makes PickCube 200/200 at 160 Hz and 199/200 at 200 Hz, but
+    #: PushCube-v1 191/200 at both (194 now at 200 Hz; seed 5 at 160 Hz pushes the cube
+    #: past the goal, no grasp involved); a pad impedance rising with depth (solimp
+    #: "0.99 0.9999 0.0005", so the contact settles deeper) makes PickCube 200/200 at 160
+    #: and 200 Hz, PushCube 192 and 189 (23:30-23:34 UTC): neither taken.
     sim_freq = 200
     mjcf_path = ASSETS / "so100.xml"
     actuators = (SO100_DRIVES,)

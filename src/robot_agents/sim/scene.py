@@ -60,8 +60,9 @@ def contact_options(classes: Sequence[type[Agent]]) -> tuple[str, float]:
 
 def solver_tolerance(classes: Sequence[type[Agent]]) -> float:
     """The constraint solver's tolerance a scene of these robots uses: the smallest any
-    of them declares (MuJoCo's 1e-8 when none declares one)."""
-    return min((float(cls.solver_tolerance) for cls in classes if cls.solver_tolerance is not None), default=1e-8)
+    of them declares (:class:`SceneOptions`' default, MuJoCo's 1e-8, when none declares one)."""
+    declared = (float(cls.solver_tolerance) for cls in classes if cls.solver_tolerance is not None)
+    return min(declared, default=SceneOptions.tolerance)
 
 
 def jacobian_option(classes: Sequence[type[Agent]]) -> str:

@@ -766,7 +766,9 @@ OFF_LINE, BACK_OFF = 0.2, 1.5
 #: the table pressing up on it with 10-14 N and holding it back with 8-10 N, the drives
 #: at a third of their torque limits at most, the target 18 mm ahead, the cube creeping
 #: 0.3 mm a step. Rising then: 200/200 at 100 Hz and at 160 Hz (199/200 before: seed
-#: 191 dragged so at 160 Hz too, 13-15 N held back); every other robot's 20-seed count the same.
+#: 191 dragged so at both steps, 50 of the last 55 steps at 160 Hz); every other robot's
+#: 20-seed count the same, on 200 seeds Stretch and both bare xArm6s one more each
+#: (docs/tasks.md, "The WidowX 250 S's dragged pushes").
 PRESS, RISE, STALL, STALL_STEPS = 0.5, 0.015, 0.25, 4
 
 

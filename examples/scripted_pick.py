@@ -1039,7 +1039,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     print("| task | robot | successes | time |\n|---|---|---|---|")
     for task in args.task or TASKS:
         for uid in args.robots or robots_for(task):
-            successes, seconds = success_rate(task, uid, args.seeds)
+            reason = ra.get_agent(uid).task_limits.get(task)
+            if reason and not args.robots:  # declared out of reach: listed, not run
+                print(f"| {task} | {uid} | not run: the robot declares it cannot do the task | - |", flush=True)
+                continue
+            try:
+                successes, seconds = success_rate(task, uid, args.seeds)
+            except ra.ActionError as error:  # a robot whose action layout the solver cannot fill
+                what = str(error).splitlines()[0].rsplit(": ", 1)[-1]
+                print(f"| {task} | {uid} | not run: the solver cannot command it ({what}) | - |", flush=True)
+                continue
             print(f"| {task} | {uid} | {successes}/{args.seeds} | {seconds:.1f} s |", flush=True)
     return 0
 

@@ -111,6 +111,27 @@ def test_measurement_script_prints_the_table() -> None:
     assert result.stdout.splitlines()[-1].startswith("| ReachPose-v1 | panda | 2/2 |")
 
 
+def test_the_table_reports_robots_it_does_not_run(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Listing every robot, the script skips one that declares the task out of reach and
+    reports a robot whose action layout the solver cannot fill (the G1 upper body's one
+    25-joint part) as a row, where it stopped with that ActionError before."""
+    monkeypatch.setattr(solver, "robots_for", lambda task: ["xlerobot"])
+    assert solver.main(["--task", "PickCube-v1", "--seeds", "1"]) == 0
+    assert (
+        "| PickCube-v1 | xlerobot | not run: the robot declares it cannot do the task | - |" in capsys.readouterr().out
+    )
+    uid = "unitree_g1_simplified_upper_body"
+    with pytest.raises(ra.ActionError):
+        solver.success_rate("ReachPose-v1", uid, 1)
+    assert solver.main(["--task", "ReachPose-v1", "--robots", uid, "--seeds", "1"]) == 0
+    row = capsys.readouterr().out.splitlines()[-1]
+    assert row.startswith(
+        f"| ReachPose-v1 | {uid} | not run: the solver cannot command it (expected finite raw commands"
+    )
+
+
 def test_the_turns_ik_moves_stretchs_telescope_segments_with_their_leader() -> None:
     """Frame poses at a given ``qpos`` move only the joints it sets; the solver's IK
     finds the three telescope segments that follow ``joint_arm_l0`` (``l1 = l0``,

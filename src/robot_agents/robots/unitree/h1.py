@@ -209,6 +209,11 @@ class UnitreeH1(Agent):
     #: claim as holding from 320 Hz; the light drives (ankles, shoulders, elbows: kv 100
     #: on 0.10-0.11 kg*m^2) can cycle between their torque limits below 473-485 Hz
     #: (``robot_agents.tuning.cycles``): default 500 Hz, the first tried step above them.
+    #: Since the settle claim leaves out, for robots standing on their legs, the modes that
+    #: keep no targets and counts only joints that cycle (docs/timestep.md), every claim
+    #: holds from 200 Hz (``python benchmarks/timestep_sweep.py --jobs 2``, 2026-11-29
+    #: 03:38-03:47 UTC: hold 0.0050 rad, random 0.157 rad, settle 0, standing 6.0 mm at
+    #: 200 Hz; docs/timestep-sweep.md); the default stays 500 Hz, above the cycle bound.
     sim_freq: ClassVar[int | None] = 500
     mjcf_path = ASSETS / "h1.xml"
     fix_root_link = False

@@ -61,6 +61,8 @@ VARIANTS: dict[str, Variant | None] = {
     "integrator discrete": _set("integrator", int(mujoco.mjtIntegrator.mjINT_DISCRETE)),
     "solver iterations 20": _set("iterations", 20),
     "solver tolerance 1e-6": _set("tolerance", 1e-6),
+    # MuJoCo's default, for a robot that declares a tighter one (``solver_tolerance``)
+    "solver tolerance 1e-8": _set("tolerance", 1e-8),
     "cone elliptic": _set("cone", int(mujoco.mjtCone.mjCONE_ELLIPTIC)),
     "jacobian dense": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_DENSE)),
     "jacobian sparse": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_SPARSE)),

@@ -97,3 +97,35 @@ def test_register_without_parentheses_or_with_the_class(pendulum_file: Path) -> 
         ra.unregister_agent("direct_pendulum")
     with pytest.raises(ra.RegistryError, match=r"expected a uid string or an Agent subclass, got 3"):
         ra.register_agent(3)  # type: ignore[arg-type]
+
+
+def test_maniskill_uid_alias_gives_the_builtin_robot(pendulum_file: Path) -> None:
+    from robot_agents.registry import is_known_uid
+    from robot_agents.robot_source import resolve_robot
+
+    google = ra.get_agent("google_robot")
+    assert ra.get_agent("googlerobot") is google  # ManiSkill 3.0.1's uid for it
+    assert resolve_robot("googlerobot") is google
+    assert is_known_uid("googlerobot") and not is_known_uid("googlerobott")
+    assert "googlerobot" not in ra.list_agents()  # uids only
+    env = ra.make_env("Empty-v1", robot_uids="googlerobot")
+    try:
+        assert type(env.unwrapped.agent) is google
+    finally:
+        env.close()
+    # A robot registered under the alias itself comes first.
+    mine = make_pendulum_class(pendulum_file, uid="googlerobot")
+    ra.register_agent()(mine)
+    try:
+        assert ra.get_agent("googlerobot") is mine
+    finally:
+        ra.unregister_agent("googlerobot")
+    assert ra.get_agent("googlerobot") is google
+    # An alias of an unregistered robot resolves to nothing.
+    ra.unregister_agent("google_robot")
+    try:
+        with pytest.raises(ra.UnknownNameError):
+            ra.get_agent("googlerobot")
+        assert not is_known_uid("googlerobot")
+    finally:
+        ra.register_agent()(google)

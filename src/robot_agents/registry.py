@@ -11,7 +11,7 @@ import importlib
 from typing import TYPE_CHECKING, TypeVar
 
 from robot_agents.errors import ConfigError, RegistryError, UnknownNameError
-from robot_agents.robots.catalog import BUILTIN_PIECES, BUILTIN_ROBOTS
+from robot_agents.robots.catalog import BUILTIN_ALIASES, BUILTIN_PIECES, BUILTIN_ROBOTS
 
 if TYPE_CHECKING:
     from robot_agents.agent import Agent
@@ -82,16 +82,28 @@ def _available() -> list[str]:
 
 
 def get_agent(uid: str) -> type[Agent]:
-    """The agent class registered under ``uid``.
+    """The agent class registered under ``uid``, or under the uid that ``uid`` is an
+    alias of (:data:`~robot_agents.robots.catalog.BUILTIN_ALIASES`: ManiSkill's
+    ``googlerobot`` is our ``google_robot``; a robot registered under the alias itself
+    comes first).
 
     Raises:
         UnknownNameError: no agent has that uid; the message lists close matches.
     """
     if isinstance(uid, str):
         found = _REGISTRY.get(uid) or _builtin(uid)
+        if found is None and uid in BUILTIN_ALIASES:
+            target = BUILTIN_ALIASES[uid]
+            found = _REGISTRY.get(target) or _builtin(target)
         if found is not None:
             return found
     raise UnknownNameError("get_agent", "robot uid", str(uid), _available())
+
+
+def is_known_uid(uid: str) -> bool:
+    """Whether :func:`get_agent` finds ``uid``: a registered uid or an alias of one."""
+    available = _available()
+    return uid in available or BUILTIN_ALIASES.get(uid) in available
 
 
 def get_piece(name: str) -> type[Agent]:

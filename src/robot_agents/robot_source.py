@@ -18,7 +18,7 @@ from robot_agents.agent import Agent
 from robot_agents.errors import ConfigError, UnknownNameError
 from robot_agents.keywords import checked_keywords
 from robot_agents.model.compose import Attachment
-from robot_agents.registry import get_agent, get_piece, list_agents
+from robot_agents.registry import get_agent, get_piece, is_known_uid
 from robot_agents.robots.catalog import BUILTIN_PIECES
 from robot_agents.validation import check_bool
 
@@ -216,7 +216,7 @@ def resolve_robot(spec: str, options: FileOptions) -> type[Agent]:
     if not isinstance(spec, str) or not spec:
         raise ConfigError(f"resolve_robot: expected a robot uid, a model file path or module:Class, got {spec!r}.")
     path = Path(spec).expanduser()
-    registered = spec in list_agents()
+    registered = is_known_uid(spec)
     if path.suffix.lower() in MODEL_SUFFIXES or (path.is_file() and not registered):
         return _file_robot(path, options, "resolve_robot")
     options.check("resolve_robot")

@@ -54,6 +54,15 @@ BUILTIN_ROBOTS: dict[str, str] = {
     "xlerobot": "robot_agents.robots.xlerobot.xlerobot:Xlerobot",
 }
 
+#: Other names of built-in robots: the uids ManiSkill 3.0.1 registers them under where
+#: ours differ, so that a uid copied from ManiSkill code works here (``get_agent``,
+#: ``make_env(robot_uids=...)``, the command line). An alias gives the robot itself: the
+#: class, and the robot id in a scene, are the uid's (``google_robot``). ``list_agents``
+#: lists uids only.
+BUILTIN_ALIASES: dict[str, str] = {
+    "googlerobot": "google_robot",
+}
+
 #: Pieces (unregistered Agent classes) a robot can mount with ``Attachment``, by the name
 #: the command line's ``--gripper`` takes: each declares its ``tcp``, and its root frame's
 #: z axis points out of the flange it is mounted on.

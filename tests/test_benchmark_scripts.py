@@ -1,7 +1,7 @@
 """Every benchmark script still runs (on its smallest setting): the figures in the docs
 come from them, and a script that no longer runs cannot be rerun. Not a speed test:
-nothing here is timed. Left out: vs_maniskill.py, peer_link_poses.py and task_throughput's
-peer rows (need mani-skill), public_models.py (downloads a wheel), timestep_sweep.py (the sweep has its
+nothing here is timed. Left out: vs_maniskill.py, peer_link_poses.py, peer_joint_drives.py
+and task_throughput's peer rows (need mani-skill), public_models.py (downloads a wheel), timestep_sweep.py (the sweep has its
 own tests in test_timestep.py)."""
 
 from __future__ import annotations

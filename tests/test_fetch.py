@@ -119,6 +119,60 @@ def test_limits_masses_and_wheels_from_the_urdf() -> None:
     scene.close()
 
 
+#: fetch_description/robots/fetch.urdf's ``<dynamics damping>`` (the same in ManiSkill
+#: 3.0.1's copy): arm in ARM order (N*m*s/rad), torso and fingers (N*s/m).
+URDF_ARM_DAMPING = (1.0, 1.0, 5.0, 1.0, 5.0, 1.0, 5.0)
+URDF_TORSO_DAMPING = 100.0
+URDF_FINGER_DAMPING = 100.0
+
+
+def test_joint_damping_is_the_urdfs_and_the_total_is_maniskills() -> None:
+    """Each joint's own damping is the URDF's; the drive adds the rest of ManiSkill's
+    kv = 1e2 on the arm and the fingers (its PhysX joints carry the drive's damping only:
+    the controller replaces the URDF's), and of our 5e3 N*s/m on the torso."""
+    scene = ra.Scene("fetch")
+    model, agent = scene.model, scene.agents[0]
+    drives = {d.joint: d for d in type(agent).check().drives}
+    expected = [
+        *((joint, b, 1e3, 1e2) for joint, b in zip(ARM, URDF_ARM_DAMPING, strict=True)),
+        ("torso_lift_joint", URDF_TORSO_DAMPING, 1e5, 5e3),
+        *((joint, URDF_FINGER_DAMPING, 1e3, 1e2) for joint in FINGERS),
+    ]
+    for joint, own, stiffness, total in expected:
+        dof = model.jnt_dofadr[model.joint(agent.prefix + joint).id]
+        assert model.dof_damping[dof] == own, joint
+        assert drives[joint].stiffness == stiffness, joint
+        assert drives[joint].damping + model.dof_damping[dof] == pytest.approx(total, rel=1e-12), joint
+    scene.close()
+
+
+def test_fingers_close_from_open_at_the_peers_pace() -> None:
+    """Open (0.05 m) to the closing command (target -0.01 m, 60 N at the first step) in
+    free air, control at the 200 Hz physics rate: the fingers' own damping (100 N*s/m,
+    implicit in every step) caps their speed at 60 N / 100 N*s/m = 0.6 m/s (peak 0.565);
+    ManiSkill's PhysX fingers under the same gains peak at 0.551 m/s and are at 26.6 mm
+    after 0.05 s (0.026 here). With the damping all in the clamped drive the first step
+    was explicit: 3.34 m/s, 17 mm in 5 ms."""
+    scene = ra.Scene("fetch", control_modes="pd_joint_pos", control_freq=200)
+    agent = scene.agents[0]
+    scene.reset(keyframes="rest")
+    fingers, arm = index(agent, FINGERS), index(agent, ARM)
+    qpos = agent.qpos[0].copy()
+    qpos[fingers] = 0.05
+    agent.reset(qpos=qpos)
+    action = np.concatenate([agent.qpos[0, arm], [-1.0], np.zeros(3), [0.0, 0.0]])
+    speeds, positions = [], []
+    for _ in range(100):
+        agent.set_action(action)
+        scene.step()
+        speeds.append(float(np.max(np.abs(agent.qvel[0, fingers]))))
+        positions.append(agent.qpos[0, fingers].copy())
+    assert max(speeds) < 0.6
+    assert positions[9] == pytest.approx([0.0266, 0.0266], abs=0.002)  # after 0.05 s
+    assert np.all(positions[-1] < 0.0)  # closed, pressing the target past the pads' contact
+    scene.close()
+
+
 # ---------------------------------------------------------------- control modes
 
 

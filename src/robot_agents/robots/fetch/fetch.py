@@ -21,8 +21,8 @@ Sources of the numbers:
   base's motion; the base moves on the planar joints under ``pd_base_forward_vel``.
 - Drives, action bounds and control modes: ManiSkill 3.0.1's ``Fetch`` agent
   (``mani_skill/agents/robots/fetch/fetch.py``, read as data): arm, head and fingers at
-  stiffness 1e3 and damping 1e2 (the torso lift, a lead screw that does not back-drive,
-  is ours at 1e5 N/m and 5e3 N*s/m: at 1e3 a loaded torso sank 1.9 cm in 4.5 s under
+  stiffness 1e3 and damping 1e2 in all (joint damping below; the torso lift, a lead
+  screw that does not back-drive, is ours at 1e5 N/m and 5e3 N*s/m: at 1e3 a loaded torso sank 1.9 cm in 4.5 s under
   delta commands; the base's velocity drives are ours at 8000 N*s/m and 2000 N*m*s/rad,
   a 15 ms time constant on the 121 kg robot, where ManiSkill's 1000 lags 0.12 s);
   joint deltas of +-0.1 per step;
@@ -36,6 +36,30 @@ Sources of the numbers:
   along the command frame's axes, rotation about the tool's own axes), which ManiSkill
   3.0.1 lists but cannot run. The body action is in ManiSkill's order (head pan, head
   tilt, torso lift: the part lists its joints so), though the model has the torso first.
+- Joint damping: the URDF's ``<dynamics damping>`` is each joint's own damping, outside
+  the drives' effort limits: arm 1.0 N*m*s/rad (shoulder pan and lift, elbow and wrist
+  flex) and 5.0 (the three rolls), torso 100 N*s/m, each finger 100 N*s/m
+  (:data:`ARM_JOINT_DAMPING`, :data:`TORSO_JOINT_DAMPING`, :data:`FINGER_JOINT_DAMPING`);
+  the head joints have none in the URDF. Each drive carries the rest of the total:
+  ManiSkill's 1e2 on the arm and the fingers (the fingers' drive is then a pure P servo),
+  our 5e3 on the torso. Why: in ManiSkill 3.0.1 (SAPIEN 3.0.3's PhysX) a joint has one
+  damping, its drive's. ManiSkill's URDF loader (``ArticulationBuilder._build_entities``,
+  read as data) gives each joint a drive of stiffness 0 and the URDF's damping, and the
+  controller's ``set_drive_properties(stiffness, damping, force_limit)`` replaces it
+  (queried on the loaded Fetch: drive damping 100, force limit 100, friction 0 and
+  armature 0 on every arm, finger, head and torso joint; the URDF's ``friction`` on the
+  planar base joints is not applied). The peer's total damping is thus 1e2; ours is
+  the same below the effort limit, and the URDF's share still acts when a drive
+  saturates. Fetch's own Gazebo simulation leaves the fingers the URDF's 100 as their
+  only damping (ZebraDevs/fetch_gazebo ``fetch_gazebo/config/default_controllers.yaml``,
+  commit 94974ba9b4fc288183d7eb0e57ab96251cbc7f09: finger position gains p 5000, d 0).
+  Since 2026-11-30: before, the fingers had no damping of their own and the drive all of
+  the 1e2, and a closing command from open (60 N, at the effort limit) made an explicit
+  step (the clamped drive's velocity term is left out of the implicit integration): the
+  fingers jumped at 3.34 m/s, 17 mm in 5 ms; now their own damping, integrated
+  implicitly, caps them at 60 / 100 = 0.6 m/s (peak 0.565 m/s, each finger at 26 mm of its
+  50 after 0.05 s; ManiSkill's PhysX fingers: 0.551 m/s, 26.6 mm;
+  ``tests/test_fetch.py``). The arm's totals were 101 and 105 before, the torso's 5100.
 - Grasp frame: ManiSkill's ``ee_link_name`` ``gripper_link`` (the URDF's fixed
   ``gripper_axis``, 0.16645 m past ``wrist_roll_link``), midway between the finger pads.
   Habitat-lab's FetchRobot adds an ``ee_offset`` of 0.08 m along x for its own model.
@@ -61,9 +85,13 @@ Sources of the numbers:
   after random actions). Commanded 2.9 rad at full effort (-1.45 -> 1.45 rad)
   the pan now peaks at 1.42 rad/s (0.32 before; ``tests/test_head_drive.py``).
 - Ours: the arm's joints carry 0.6 kg*m^2 of armature and the head's 0.2 (motor reflected
-  inertia; the URDF gives none). Without it the roll joints (a few 1e-3 kg*m^2 about the
-  arm's axis) are left in a torque-limit cycle by the 1e2 damping below 500 Hz (settle
-  2.2 rad/s at 200 Hz); with it the time-step sweep passes every claim down to 80 Hz, and
+  inertia; the URDF gives none). Neither has a public source: no rotor inertia or gear
+  ratio of Fetch's motors was found (searched 2026-11-30: fetch_description's URDF has no
+  ``<transmission>``; fetch_gazebo's controller configuration gives Gazebo PID gains
+  only; Fetch Robotics' "Robot Hardware Overview" describes the joints by the URDF;
+  ManiSkill's PhysX joints carry armature 0), so both are chosen for the physics step.
+  Without the arm's the roll joints (a few 1e-3 kg*m^2 about the arm's axis) are left
+  in a torque-limit cycle by the 1e2 damping below 500 Hz (settle 2.2 rad/s at 200 Hz); with it the time-step sweep passes every claim down to 80 Hz, and
   the robot runs at 200 Hz (ManiSkill runs its Fetch at 100 Hz). The finger inertia is
   the pad box's (the URDF's 0.002 / 0.0002 / 0.0002 kg*m^2 breaks the triangle
   inequality MuJoCo checks). The fingers' contacts take precedence (``priority``) with
@@ -167,6 +195,22 @@ def head_drive(armature: float | None = None) -> PDActuator:
 ARM_EFFORT = (33.82, 131.76, 76.94, 66.18, 29.35, 25.7, 7.36)
 ARM_VELOCITY = (1.256, 1.454, 1.571, 1.521, 1.571, 2.268, 2.268)
 
+#: The URDF's ``<dynamics damping>`` (fetch_description/robots/fetch.urdf, the same in
+#: ManiSkill 3.0.1's copy): the joints' own damping, outside the drives' effort limits
+#: (N*m*s/rad: arm in :data:`ARM_JOINTS` order; N*s/m: torso and each finger). The head
+#: joints have none in the URDF (their own damping is the motors' back-EMF,
+#: :data:`HEAD_BACK_EMF`).
+ARM_JOINT_DAMPING = (1.0, 1.0, 5.0, 1.0, 5.0, 1.0, 5.0)
+TORSO_JOINT_DAMPING = 100.0
+FINGER_JOINT_DAMPING = 100.0
+#: ManiSkill's arm and gripper gains: stiffness and total damping (N*m/rad, N*m*s/rad or
+#: N/m, N*s/m), of which the URDF's damping is the joints' share and the rest the drive's.
+ARM_STIFFNESS = FINGER_STIFFNESS = 1e3
+ARM_DAMPING = FINGER_DAMPING = 1e2
+#: Ours for the torso (see :data:`FETCH_DRIVES`): stiffness 1e5 N/m, total damping 5e3 N*s/m.
+TORSO_STIFFNESS = 1e5
+TORSO_DAMPING = 5e3
+
 FETCH_DRIVES = (
     # ManiSkill's base controller: damping 1000 on every planar joint; ours is stiffer in
     # translation so the 118 kg robot follows a speed command within 2 % (time constant
@@ -174,11 +218,35 @@ FETCH_DRIVES = (
     VelocityActuator(joints=BASE_PATTERN, damping=(8000.0, 8000.0, 2000.0)),
     # The torso is a lead screw that does not back-drive: ManiSkill's 1e3 N/m let a loaded
     # torso sink under delta commands (measured: 1.9 cm in 4.5 s of a grasp and lift with a
-    # 150 g cube); 1e5 N/m with 5e3 N*s/m (near critical on the 30 kg it carries) holds it.
-    PDActuator(joints="torso_lift_joint", stiffness=1e5, damping=5e3, effort_limit=450.0, velocity_limit=0.1),
+    # 150 g cube); 1e5 N/m with 5e3 N*s/m (near critical on the 30 kg it carries) holds it,
+    # the URDF's 100 N*s/m of it the joint's own.
+    PDActuator(
+        joints="torso_lift_joint",
+        stiffness=TORSO_STIFFNESS,
+        damping=TORSO_DAMPING - TORSO_JOINT_DAMPING,
+        joint_damping=TORSO_JOINT_DAMPING,
+        effort_limit=450.0,
+        velocity_limit=0.1,
+    ),
     head_drive(),
-    PDActuator(joints=ARM_PATTERN, stiffness=1e3, damping=1e2, effort_limit=ARM_EFFORT, velocity_limit=ARM_VELOCITY),
-    PDActuator(joints=FINGER_PATTERN, stiffness=1e3, damping=1e2, effort_limit=60.0, velocity_limit=0.05),
+    # ManiSkill's total damping 1e2 on the arm and the fingers, the URDF's damping the
+    # joints' share (the fingers': all of it, so their drive is a pure P servo).
+    PDActuator(
+        joints=ARM_PATTERN,
+        stiffness=ARM_STIFFNESS,
+        damping=tuple(ARM_DAMPING - b for b in ARM_JOINT_DAMPING),
+        joint_damping=ARM_JOINT_DAMPING,
+        effort_limit=ARM_EFFORT,
+        velocity_limit=ARM_VELOCITY,
+    ),
+    PDActuator(
+        joints=FINGER_PATTERN,
+        stiffness=FINGER_STIFFNESS,
+        damping=FINGER_DAMPING - FINGER_JOINT_DAMPING,
+        joint_damping=FINGER_JOINT_DAMPING,
+        effort_limit=60.0,
+        velocity_limit=0.05,
+    ),
 )
 
 #: End-effector commands in torso_lift_link's frame; 0.1 m / 0.1 rad per step (ManiSkill);
@@ -305,14 +373,20 @@ class Fetch(Agent):
     #: With the head's back-EMF (2026-11-29): the same with seeds 0-2 (``python
     #: benchmarks/timestep_sweep.py --jobs 1 xlerobot fetch``, 22:43-22:47 UTC), and every
     #: claim holds at 200 Hz with ten seeds (``--substeps 10 --seeds 0,1,2,3,4,5,6,7,8,9``,
-    #: 22:48-22:49 UTC; settle 0.0084 rad/s, random 0.064 rad, as before).
+    #: 22:48-22:49 UTC; settle 0.0084 rad/s, random 0.064 rad, as before). With the URDF's
+    #: joint damping as the arm's, torso's and fingers' own (2026-11-30), every claim holds
+    #: down to 100 Hz (``python benchmarks/timestep_sweep.py fetch --jobs 1 --seeds 0,1,2``,
+    #: 00:51-00:54 UTC), at 100 and 200 Hz with ten seeds (``--substeps 5,10 --seeds
+    #: 0,1,2,3,4,5,6,7,8,9``, 01:02-01:03 UTC; settle 0.0167 and 0.0084 rad/s); 200 Hz kept.
     sim_freq = 200
 
 
 __all__ = [
     "ARM_JOINTS",
+    "ARM_JOINT_DAMPING",
     "BODY_JOINTS",
     "FINGER_JOINTS",
+    "FINGER_JOINT_DAMPING",
     "HABITAT_ARM_INIT",
     "HAND_CAMERA",
     "HEAD_BACK_EMF",
@@ -323,6 +397,7 @@ __all__ = [
     "HEAD_STIFFNESS",
     "HEAD_VELOCITY",
     "REST_ARM",
+    "TORSO_JOINT_DAMPING",
     "WHEELS",
     "WHEEL_RADIUS",
     "WHEEL_SEPARATION",

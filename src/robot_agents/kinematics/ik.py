@@ -425,10 +425,12 @@ class IKSolver:
             if cost < best_cost:
                 best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
                 if iteration:  # the pose of iteration 0 is start_pose (neither is written later)
-                    best_pose = self._best_pose
-                    best_pose[...] = pose
+                    best_pose = pose  # (the frame's own buffer: copied below if the descent goes on)
             if cost <= 1.0 or iteration == iterations:
                 break
+            if best_pose is pose:  # the next forward pass rewrites the frame's pose
+                best_pose = self._best_pose
+                best_pose[...] = pose
             if not centred:
                 mujoco.mj_comPos(model, data)
             jacp, jacr = bound.jacobian(updated=True)

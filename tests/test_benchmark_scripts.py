@@ -35,6 +35,21 @@ RUNS = {
         "--num-envs",
         "3",
     ): ("| `fetch` | `pd_joint_delta_pos`"),
+    ("ee_step_split.py", "--robots", "so100:pd_ee_delta_pos", "--rounds", "1", "--block", "2"): (
+        "| `so100` | `pd_ee_delta_pos` |"
+    ),
+    (
+        "ee_step_split.py",
+        "--robots",
+        "panda:pd_ee_delta_pose",
+        "--rounds",
+        "2",
+        "--block",
+        "2",
+        "--against",
+        str(BENCHMARKS.parent / "src"),  # (this checkout against itself: its code loaded again, the general path)
+        "--python-only",
+    ): "| `panda` | `pd_ee_delta_pose` |",
     ("sim_options.py", "so100", "--blocks", "1", "--steps", "5", "--variants", "visual geoms simulated"): "| yes |",
     ("batch_stepping.py", "--num-envs", "2", "--rounds", "1"): "BatchedWorld",
     ("thread_schedules.py", "--num-envs", "3", "--rounds", "1"): "| 3 | ",

@@ -135,6 +135,20 @@ SOLVER_CASES = [
 ]
 
 
+def test_the_cases_cover_both_clips_of_the_descent() -> None:
+    """The descent clips each iterate to the limits in one pass (NumPy's clip ufunc)
+    where no limit is zero, else in two (``np.minimum(np.maximum(...))``, which the plain
+    descent below uses): :data:`SOLVER_CASES` holds arms of both kinds."""
+    one_pass = {}
+    for uid, mode, _ in SOLVER_CASES:
+        env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None)
+        agent = env.unwrapped.agents[0]
+        ee = next(c for c in agent.control.active.parts.values() if isinstance(c, PDEEController))
+        one_pass[uid] = ee.solver._one_pass_clip
+        env.close()
+    assert one_pass["panda"] and one_pass["ur_10e"] and not one_pass["stretch"], one_pass
+
+
 @pytest.mark.parametrize(("uid", "mode", "gain"), SOLVER_CASES)
 def test_solve_one_matches_the_plain_numpy_descent_bit_for_bit(uid: str, mode: str, gain: float | None) -> None:
     env = ra.make_env("Empty-v1", robot_uids=uid, control_mode=mode, max_episode_steps=None)

@@ -13,7 +13,6 @@ override the drives' gains while its mode is active (``stiffness``, ``damping``,
 from __future__ import annotations
 
 import abc
-import importlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
@@ -24,6 +23,8 @@ import numpy.typing as npt
 
 from robot_agents.actuators.config import PerJoint
 from robot_agents.actuators.drives import JointTargets
+from robot_agents.clipping import clip_ufunc as clip_ufunc  # (re-exported: the controllers' clip)
+from robot_agents.clipping import one_pass_clip_exact as one_pass_clip_exact
 from robot_agents.errors import ActionError, ConfigError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import FrameRef, Kinematics, resolve_frame
@@ -83,11 +84,6 @@ class JointBinding:
         return len(self.joint_names)
 
 
-#: NumPy's one-pass clip ufunc, ``minimum(maximum(x, low), high)`` in one call (in
-#: ``numpy._core.umath`` since NumPy 2, ``numpy.core.umath`` before; not in the stubs).
-clip_ufunc: np.ufunc = importlib.import_module("numpy._core.umath" if hasattr(np, "_core") else "numpy.core.umath").clip
-
-
 def scale_directions(action: FloatArray, entries: Sequence[slice]) -> FloatArray:
     """``action`` ``(num_envs, A)`` with each group of ``entries`` (a direction, e.g. a
     quaternion) whose largest magnitude exceeds 1 divided by it, so that a later clip to
@@ -98,15 +94,6 @@ def scale_directions(action: FloatArray, entries: Sequence[slice]) -> FloatArray
             action = np.array(action, dtype=np.float64)
             action[:, group] /= np.maximum(largest, 1.0)[:, None]
     return action
-
-
-def one_pass_clip_exact(low: FloatArray, high: FloatArray) -> bool:
-    """True when ``clip_ufunc`` with these bounds returns exactly the bits of
-    ``np.minimum(np.maximum(x, low), high)`` for every ``x``: they can only differ where
-    ``x`` equals a bound of the other sign of zero (``-0.0`` against ``0.0``; which zero
-    each returns is not specified across NumPy versions and SIMD paths), so no bound may
-    be zero (NaN bounds never occur: they are rejected earlier)."""
-    return not (np.any(low == 0.0) or np.any(high == 0.0))
 
 
 @dataclass(frozen=True)

@@ -331,8 +331,17 @@ class PDEEController(Controller):
         take = None if measured_q is not None else np.asarray(qpos_sel, dtype=np.intp)
         from_target, rotation = self._from_target, self.rotation
         posed = not from_target  # the tool's pose at the seed, measured (self._tool_bound is the IK's)
-        start_rows, start = self._start, self._start[0]
         target_qpos, target_qpos_row = self.target_qpos, self.target_qpos[0]  # (rewritten in place, never replaced)
+        # The IK's seed, ``(n,)``, and its row ``(1, n)``: read, never written, by the call
+        # until its last line; views of the values themselves where they need no copy
+        # (the previous targets, or the measured positions where the joints are
+        # consecutive in ``qpos``), else the scratch row they are gathered into.
+        if from_target:
+            start_rows, start = target_qpos, target_qpos_row
+        elif measured_q is not None:
+            start_rows, start = qpos[:, qpos_sel], measured_q
+        else:
+            start_rows, start = self._start, self._start[0]
         target_row = self.target_pose[0]
         held_quat = target_row[3:]
         configuration, root_update = self._configuration, self._root_bound.update
@@ -374,7 +383,6 @@ class PDEEController(Controller):
 
         def apply_single() -> None:
             if from_target:
-                start[...] = target_qpos_row
                 # Forward kinematics at the IK seed: gives the root pose, and IK starts there.
                 configuration[:] = qpos_row
                 configuration[qpos_sel] = start
@@ -386,7 +394,8 @@ class PDEEController(Controller):
                 root_update()
                 context = configuration
             else:
-                start[...] = qpos_row.take(take) if measured_q is None else measured_q
+                if take is not None:
+                    qpos_row.take(take, out=start)
                 # _measure(qpos_row) inlined (Kinematics.load's calls too)
                 scratch_qpos[:] = qpos_row
                 kinematics(model, data)

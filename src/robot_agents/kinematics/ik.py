@@ -45,6 +45,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from robot_agents.clipping import clip_ufunc, one_pass_clip_exact
 from robot_agents.errors import ConfigError, StateError
 from robot_agents.indexing import index_selector
 from robot_agents.kinematics.forward import BoundFrame, FrameRef, Kinematics
@@ -105,6 +106,9 @@ class IKSolver:
         # (:func:`_strictly_within`'s tests).
         self.lower.flags.writeable = self.upper.flags.writeable = False
         self._limit_lists = (self.lower.tolist(), self.upper.tolist())
+        #: Whether each iteration's clip to the limits takes NumPy's one-pass clip (the
+        #: same bits as ``np.minimum(np.maximum(...))`` where no limit is zero).
+        self._one_pass_clip = one_pass_clip_exact(self.lower, self.upper)
         model = kinematics.model
         for adr in self.dof_adr:
             joint = int(model.dof_jntid[adr])
@@ -425,10 +429,12 @@ class IKSolver:
             if cost < best_cost:
                 best_q, best_cost, best_position, best_rotation = q, cost, position_norm, rotation_norm
                 if iteration:  # the pose of iteration 0 is start_pose (neither is written later)
-                    best_pose = self._best_pose
-                    best_pose[...] = pose
+                    best_pose = pose  # (the frame's own buffer: copied below if the descent goes on)
             if cost <= 1.0 or iteration == iterations:
                 break
+            if best_pose is pose:  # the next forward pass rewrites the frame's pose
+                best_pose = self._best_pose
+                best_pose[...] = pose
             if not centred:
                 mujoco.mj_comPos(model, data)
             jacp, jacr = bound.jacobian(updated=True)
@@ -495,7 +501,11 @@ class IKSolver:
             largest = _largest_magnitude(step)
             if largest > cfg.max_step:
                 step *= cfg.max_step / largest
-            q = np.minimum(np.maximum(q + step, lower), upper)
+            q = q + step  # (a new array: best_q may hold the last one)
+            if self._one_pass_clip:
+                clip_ufunc(q, lower, upper, out=q)
+            else:
+                np.minimum(np.maximum(q, lower), upper, out=q)
             done += 1
         success = best_position <= tol_position and (position_only or best_rotation <= tol_rotation)
         if self.periodic is not None:

@@ -4,6 +4,8 @@ each robot's scenes, and how far the solver gets during the time-step sweep's gr
     python benchmarks/solver_tolerance.py                       # every registered robot
     python benchmarks/solver_tolerance.py fetch spot --tolerances 1e-8,1e-11
     python benchmarks/solver_tolerance.py fetch --substeps 5,4  # at these steps (default: the declared one)
+    python benchmarks/solver_tolerance.py --tolerances 1e-8,1e-11 --sim-freq fetch:160 \
+        --test tests/test_fetch.py::test_gripper_grasps_lifts_and_holds_a_cube   # a robot's own test
 
 MuJoCo's Newton solver stops when the cost's improvement or its gradient, both divided
 by ``meaninertia * nv`` of the whole scene, falls below ``opt.tolerance``: a heavy robot
@@ -17,18 +19,23 @@ over the 2 s hold: iterations (mean, max; the share of steps with none, and with
 gradient still at or above the tolerance (unconverged), and the last iteration's
 improvement (median) and gradient (median, largest) as MuJoCo scales them (per step the
 largest over the islands). Only ``opt.tolerance`` differs between the runs of a
-robot (set on each claim scene before its reset). Not run in CI.
+robot (set on each claim scene before its reset). ``--test``: instead, run these pytest
+node ids once per tolerance, each in a process of its own where every registered robot
+class's ``solver_tolerance`` is that tolerance (and ``--sim-freq UID:HZ`` that robot's
+``sim_freq``), and report pytest's verdict. Not run in CI.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import subprocess
 import sys
 import time
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -190,6 +197,38 @@ def grasp_run(uid: str, sim_freq: int, tolerance: float | None, control_freq: in
     )
 
 
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def patch_classes(tolerance: str, sim_freq: str) -> None:
+    """Every registered robot class's ``solver_tolerance`` (``none``: MuJoCo's 1e-8), and
+    ``UID:HZ``'s ``sim_freq`` (subclasses that do not set their own follow it)."""
+    for uid in ra.list_agents():
+        ra.get_agent(uid).solver_tolerance = None if tolerance == "none" else float(tolerance)
+    if sim_freq:
+        uid, rate = sim_freq.split(":")
+        ra.get_agent(uid).sim_freq = int(rate)
+
+
+def run_tests(tests: Sequence[str], tolerances: Sequence[str], sim_freq: str) -> list[str]:
+    """Each pytest node id at each tolerance, each run in a child process: table rows."""
+    rows = ["| test | sim_freq | tolerance | pytest |", "|---|---|---|---|"]
+    for test in tests:
+        for tolerance in tolerances:
+            child = [sys.executable, __file__, "--child", tolerance, "--sim-freq", sim_freq, test]
+            run = subprocess.run(child, cwd=ROOT, capture_output=True, text=True, check=False)
+            lines = run.stdout.strip().splitlines()
+            verdict = lines[-1] if lines else f"exit {run.returncode}: {run.stderr.strip()[-200:]}"
+            failure = next((line.strip() for line in lines if line.startswith("E  ")), "")
+            print(f"{test} {sim_freq or 'declared'} {tolerance}: {verdict}", file=sys.stderr, flush=True)
+            rows.append(
+                f"| `{test}` | {sim_freq or 'declared'} | {tolerance} | {verdict}"
+                + (f" (`{failure[:160]}`)" if failure else "")
+                + " |"
+            )
+    return rows
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("uids", nargs="*", help="robots (default: every registered robot)")
@@ -200,7 +239,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--substeps", default="", help="substeps per 20 Hz control step to run it at (default: the declared step)"
     )
     parser.add_argument("--no-scales", action="store_true", help="skip the Empty-v1 / PickCube-v1 scales")
-    args = parser.parse_args(argv)
+    parser.add_argument("--test", action="append", default=[], help="a pytest node id to run at each tolerance")
+    parser.add_argument("--sim-freq", default="", help="UID:HZ, that robot's sim_freq in the --test runs")
+    parser.add_argument("--child", default=None, help=argparse.SUPPRESS)  # a --test run's own process
+    args, rest = parser.parse_known_args(argv)
+    if args.child is not None:
+        import pytest
+
+        patch_classes(args.child, args.sim_freq)
+        return int(pytest.main(["-q", "-p", "no:cacheprovider", *args.uids, *rest]))
+    if rest:
+        parser.error(f"unrecognized arguments: {' '.join(rest)}")
+    if args.test:
+        print("\n".join(run_tests(args.test, [t for t in args.tolerances.split(",") if t] or ["none"], args.sim_freq)))
+        return 0
     uids = args.uids or ra.list_agents()
     tolerances: list[float | None] = [float(t) for t in args.tolerances.split(",") if t] or [None]
     control_freq = DEFAULT_CONTROL_FREQ

@@ -63,6 +63,8 @@ VARIANTS: dict[str, Variant | None] = {
     "solver tolerance 1e-6": _set("tolerance", 1e-6),
     # MuJoCo's default, for a robot that declares a tighter one (``solver_tolerance``)
     "solver tolerance 1e-8": _set("tolerance", 1e-8),
+    # the XLeRobot's declared one, for a robot at MuJoCo's default (benchmarks/solver_tolerance.py)
+    "solver tolerance 1e-11": _set("tolerance", 1e-11),
     "cone elliptic": _set("cone", int(mujoco.mjtCone.mjCONE_ELLIPTIC)),
     "jacobian dense": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_DENSE)),
     "jacobian sparse": _set("jacobian", int(mujoco.mjtJacobian.mjJAC_SPARSE)),

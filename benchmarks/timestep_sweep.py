@@ -7,6 +7,7 @@ physics step (largest first) and the largest step at which all hold.
     python benchmarks/timestep_sweep.py --seeds 0 so100 # one random-action sequence (default: 0,1,2)
     python benchmarks/timestep_sweep.py --output docs/timestep-sweep.md
     python benchmarks/timestep_sweep.py --jobs 2       # robots swept in 2 processes
+    python benchmarks/timestep_sweep.py --solver-tolerance 1e-11 spot  # every claim scene's opt.tolerance
 
 Writes a markdown report (summary table, then each robot's table) to ``--output``
 (default: stdout). Not run in CI.
@@ -23,7 +24,8 @@ from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 
 import robot_agents as ra
-from robot_agents.tuning.claims import RANDOM_SEEDS
+from robot_agents.sim.scene import Scene
+from robot_agents.tuning.claims import RANDOM_SEEDS, scene_setup
 from robot_agents.tuning.cycles import DriveCycleBound, drive_cycle_bounds
 from robot_agents.tuning.timestep import DEFAULT_SUBSTEPS, SweepResult, sweep_timestep
 
@@ -79,10 +81,19 @@ def report(results: Sequence[SweepResult], seconds: Sequence[float], seeds: Sequ
     return "\n".join(lines) + "\n"
 
 
-def timed_sweep(uid: str, substeps: Sequence[int], seeds: Sequence[int], quick: bool) -> tuple[SweepResult, float]:
-    """One robot's sweep and its wall-clock seconds (reported on stderr as it ends)."""
+def timed_sweep(
+    uid: str, substeps: Sequence[int], seeds: Sequence[int], quick: bool, tolerance: float | None = None
+) -> tuple[SweepResult, float]:
+    """One robot's sweep and its wall-clock seconds (reported on stderr as it ends);
+    ``tolerance``: every claim scene's constraint-solver tolerance (``None``: as built)."""
+
+    def set_tolerance(scene: Scene) -> None:
+        if tolerance is not None:
+            scene.model.opt.tolerance = tolerance
+
     start = time.perf_counter()
-    result = sweep_timestep(uid, substeps=substeps, seeds=seeds, stop_after=2 if quick else None)
+    with scene_setup(set_tolerance):
+        result = sweep_timestep(uid, substeps=substeps, seeds=seeds, stop_after=2 if quick else None)
     took = time.perf_counter() - start
     print(f"{uid}: largest passing {result.largest_passing} Hz ({took:.1f} s)", file=sys.stderr, flush=True)
     return result, took
@@ -108,11 +119,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         default=1,
         help="robots swept at once, each in its own process (the sweep times then share the machine's cores)",
     )
+    parser.add_argument(
+        "--solver-tolerance",
+        type=float,
+        default=None,
+        help="the constraint solver's tolerance of every claim scene (default: the scene as built, a robot's "
+        "declared solver_tolerance or MuJoCo's 1e-8)",
+    )
     args = parser.parse_args(argv)
     uids = args.uids or ra.list_agents()
     substeps = [int(n) for n in args.substeps.split(",")]
     seeds = [int(n) for n in args.seeds.split(",")]
-    sweep = functools.partial(timed_sweep, substeps=substeps, seeds=seeds, quick=args.quick)
+    sweep = functools.partial(
+        timed_sweep, substeps=substeps, seeds=seeds, quick=args.quick, tolerance=args.solver_tolerance
+    )
     if args.jobs > 1:
         with ProcessPoolExecutor(args.jobs) as pool:
             timed = list(pool.map(sweep, uids))

@@ -51,6 +51,14 @@ RUNS = {
         "--python-only",
     ): "| `panda` | `pd_ee_delta_pose` |",
     ("sim_options.py", "so100", "--blocks", "1", "--steps", "5", "--variants", "visual geoms simulated"): "| yes |",
+    ("solver_tolerance.py", "so100", "--tolerances", "1e-8,1e-11"): "| `so100` | 200 | 1e-11 | 0.294 |",
+    (
+        "solver_tolerance.py",
+        "--tolerances",
+        "1e-11",
+        "--test",
+        "tests/test_xlerobot.py::test_each_jaw_grasps_lifts_and_holds_a_cube",
+    ): "| declared | 1e-11 | 2 passed",
     ("batch_stepping.py", "--num-envs", "2", "--rounds", "1"): "BatchedWorld",
     ("thread_schedules.py", "--num-envs", "3", "--rounds", "1"): "| 3 | ",
     (

@@ -467,8 +467,8 @@ def test_info_takes_a_class_whose_docstring_is_blank(
 def test_pd_stability_is_checked_at_the_robots_own_step() -> None:
     from robot_agents.checks import check_pd_stability
 
-    assert robot_agents.get_agent("fetch").sim_freq == 200
-    assert "dt 0.005 s" in check_pd_stability(robot_agents.get_agent("fetch")).detail
+    assert robot_agents.get_agent("fetch").sim_freq == 160
+    assert "dt 0.00625 s" in check_pd_stability(robot_agents.get_agent("fetch")).detail
     assert "dt 0.002 s" in check_pd_stability(robot_agents.get_agent("panda")).detail  # the library's 500 Hz
     assert "dt 0.001 s" in check_pd_stability(robot_agents.get_agent("panda"), timestep=0.001).detail
 

@@ -377,8 +377,18 @@ class Fetch(Agent):
     #: joint damping as the arm's, torso's and fingers' own (2026-11-30), every claim holds
     #: down to 100 Hz (``python benchmarks/timestep_sweep.py fetch --jobs 1 --seeds 0,1,2``,
     #: 00:51-00:54 UTC), at 100 and 200 Hz with ten seeds (``--substeps 5,10 --seeds
-    #: 0,1,2,3,4,5,6,7,8,9``, 01:02-01:03 UTC; settle 0.0167 and 0.0084 rad/s); 200 Hz kept.
-    sim_freq = 200
+    #: 0,1,2,3,4,5,6,7,8,9``, 01:02-01:03 UTC; settle 0.0167 and 0.0084 rad/s) and at 100
+    #: and 160 Hz, not 80, with ten seeds (``--substeps 4,5,8 --seeds 0,1,2,3,4,5,6,7,8,9``,
+    #: 01:04-01:07 UTC; at 80 Hz settle 0.171 rad/s, penetration 5.01 mm; at 160 Hz settle
+    #: 0.0105, grasp slip 1.15 mm). So 160 Hz, one tried step finer than 100 (200 until
+    #: 2026-11-30): at 160 and at 200 Hz the scripted PickCube-v1, PushCube-v1 and
+    #: ReachPose-v1 solvers succeed 200/200 each (``python examples/scripted_pick.py
+    #: --robots fetch --seeds 200``), ``python benchmarks/mobile_pick_seeds.py fetch`` 50/50
+    #: with every column equal, and ``python benchmarks/random_press.py fetch`` presses a
+    #: finger 2.5 cm into the floor (2.3 at 200 Hz), every claim holding on the rigid floor
+    #: (01:05-01:16 UTC; docs/timestep.md). The head tilt's drive can cycle between its
+    #: torque limits below 245 Hz, as on the XLeRobot, which runs at 160 Hz too.
+    sim_freq = 160
 
 
 __all__ = [
